@@ -1,0 +1,106 @@
+//! Photon tracing on the CPU (twin: `shaders/trace_photons.wgsl`): one path per index, keyed
+//! by (seed, stream, pass, index) so the result does not depend on thread scheduling.
+
+use crate::bvh::Bvh;
+use crate::geometry::{offset_origin, Ray};
+use crate::light::{aims_at, LightTable};
+use crate::material::{photon_bounce, Bounce};
+use crate::photon::{Budget, Photon};
+use crate::rng::{Rng, Stream};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// What one photon pass needs.
+pub struct TraceContext<'a> {
+    pub scene: &'a Scene,
+    pub bvh: &'a Bvh,
+    pub lights: &'a LightTable,
+    pub settings: &'a RenderSettings,
+    pub pass: u32,
+}
+
+/// Traces the global photon paths `0..budget.total()`; stores a photon at every diffuse or
+/// glossy hit, in path-index order.
+pub fn trace_photons(ctx: &TraceContext, budget: &Budget) -> Vec<Photon> {
+    (0..budget.total())
+        .into_par_iter()
+        .fold(Vec::new, |mut out, i| {
+            trace_path(ctx, budget, Stream::Photon, i, None, &mut out);
+            out
+        })
+        .reduce(Vec::new, |mut a, mut b| {
+            a.append(&mut b);
+            a
+        })
+}
+
+/// Traces caustic paths `0..budget.total()` aimed at `bounds`: emissions that miss the
+/// bounds are rejected (the budget's path power already divides by all attempts), paths
+/// whose first hit is not specular are dropped, and each remaining path stores one photon
+/// at its first diffuse hit after one or more specular bounces.
+pub fn trace_caustic_photons(ctx: &TraceContext, budget: &Budget, bounds: &[crate::geometry::Aabb]) -> Vec<Photon> {
+    (0..budget.total())
+        .into_par_iter()
+        .fold(Vec::new, |mut out, i| {
+            trace_path(ctx, budget, Stream::Caustic, i, Some(bounds), &mut out);
+            out
+        })
+        .reduce(Vec::new, |mut a, mut b| {
+            a.append(&mut b);
+            a
+        })
+}
+
+/// One photon path. With `aim` (a caustic path) only L S+ D is stored.
+fn trace_path(ctx: &TraceContext, budget: &Budget, stream: Stream, i: u32, aim: Option<&[crate::geometry::Aabb]>, out: &mut Vec<Photon>) {
+    let s = ctx.settings;
+    let mut rng = Rng::new(s.seed, stream, ctx.pass, i);
+    let l = budget.light_of(i);
+    let e = ctx.lights.emit(ctx.scene, l, [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()]);
+    if let Some(bounds) = aim {
+        if !aims_at(bounds, e.origin, e.dir) {
+            return;
+        }
+    }
+    let mut power = budget.path_power[l];
+    let mut ray = Ray {
+        origin: if e.normal == Vec3::ZERO { e.origin } else { offset_origin(e.origin, e.normal, e.dir) },
+        dir: e.dir,
+    };
+    let mut all_specular = true;
+    for depth in 0..s.max_photon_bounces {
+        let Some(hit) = ctx.bvh.intersect(ctx.scene, &ray, f32::INFINITY) else { return };
+        let m = &ctx.scene.materials[hit.material as usize];
+        if m.stores_photons() {
+            let caustic = depth > 0 && all_specular;
+            if aim.is_some() {
+                if caustic {
+                    out.push(Photon::new(hit.position, power, ray.dir, depth, true));
+                }
+                return;
+            }
+            out.push(Photon::new(hit.position, power, ray.dir, depth, caustic));
+        } else if aim.is_some() && !m.is_specular() {
+            return;
+        }
+        let u = [rng.next(), rng.next(), rng.next()];
+        let (dir, weight) = match photon_bounce(m, ray.dir, hit.normal, s.fresnel, u) {
+            Bounce::Absorb => return,
+            Bounce::Diffuse { dir, weight } => {
+                all_specular = false;
+                (dir, weight)
+            }
+            Bounce::Specular { dir, weight, delta } => {
+                all_specular &= delta;
+                (dir, weight)
+            }
+        };
+        power *= weight;
+        if !(power.max_element() > 0.0) || !power.is_finite() {
+            return;
+        }
+        ray = Ray { origin: offset_origin(hit.position, hit.normal, dir), dir };
+    }
+}

@@ -1,0 +1,191 @@
+//! Images: accumulation, EXR (linear float) and PNG (sRGB with exposure) input and output,
+//! written atomically, and the statistics `gpu-photon diff` prints.
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// A linear RGB image, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Self {
+        Image { width, height, pixels: vec![[0.0; 3]; (width * height) as usize] }
+    }
+
+    /// Per-channel mean.
+    pub fn mean(&self) -> [f64; 3] {
+        let mut m = [0.0f64; 3];
+        for p in &self.pixels {
+            for c in 0..3 {
+                m[c] += p[c] as f64;
+            }
+        }
+        m.map(|v| v / self.pixels.len().max(1) as f64)
+    }
+
+    /// Number of pixels with a NaN or infinite channel.
+    pub fn non_finite(&self) -> usize {
+        self.pixels.iter().filter(|p| p.iter().any(|c| !c.is_finite())).count()
+    }
+
+    /// Reads an EXR (linear) or PNG (sRGB, decoded to linear) image.
+    pub fn read(path: &Path) -> Result<Image> {
+        let ext = extension(path);
+        let err = |message: String| Error::Image { path: path.to_path_buf(), message };
+        if !path.exists() {
+            return Err(Error::Io { path: path.to_path_buf(), source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file") });
+        }
+        match ext.as_str() {
+            "exr" => {
+                let img = exr::prelude::read_first_rgba_layer_from_file(
+                    path,
+                    |res, _| Self::new(res.width() as u32, res.height() as u32),
+                    |img: &mut Self, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                        let i = pos.y() * img.width as usize + pos.x();
+                        img.pixels[i] = [r, g, b];
+                    },
+                )
+                .map_err(|e| err(e.to_string()))?;
+                Ok(img.layer_data.channel_data.pixels)
+            }
+            "png" => {
+                let img = image::open(path).map_err(|e| err(e.to_string()))?.to_rgb8();
+                let (w, h) = img.dimensions();
+                let pixels = img.pixels().map(|p| p.0.map(|v| srgb_to_linear(v as f32 / 255.0))).collect();
+                Ok(Image { width: w, height: h, pixels })
+            }
+            _ => Err(err(format!("unknown image type '.{ext}' (expected .exr or .png)"))),
+        }
+    }
+
+    /// Writes `.exr` (linear float) or `.png` (sRGB, scaled by 2^exposure) atomically: to a
+    /// temporary file beside `path`, then renamed over it.
+    pub fn write(&self, path: &Path, exposure: f32) -> Result<()> {
+        let ext = extension(path);
+        let err = |message: String| Error::Image { path: path.to_path_buf(), message };
+        if ext != "exr" && ext != "png" {
+            return Err(err(format!("unknown image type '.{ext}' (expected .exr or .png)")));
+        }
+        let tmp = temp_path(path, &ext);
+        let result = match ext.as_str() {
+            "exr" => {
+                let (w, h) = (self.width as usize, self.height as usize);
+                exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
+                    let p = self.pixels[y * w + x];
+                    (p[0], p[1], p[2])
+                })
+                .map_err(|e| err(e.to_string()))
+            }
+            _ => {
+                let scale = 2f32.powf(exposure);
+                let bytes: Vec<u8> = self
+                    .pixels
+                    .iter()
+                    .flat_map(|p| p.map(|c| (linear_to_srgb(c * scale) * 255.0 + 0.5).clamp(0.0, 255.0) as u8))
+                    .collect();
+                image::save_buffer_with_format(&tmp, &bytes, self.width, self.height, image::ColorType::Rgb8, image::ImageFormat::Png)
+                    .map_err(|e| err(e.to_string()))
+            }
+        };
+        if let Err(e) = result {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
+        std::fs::rename(&tmp, path).map_err(|source| {
+            let _ = std::fs::remove_file(&tmp);
+            Error::Io { path: path.to_path_buf(), source }
+        })
+    }
+}
+
+fn extension(path: &Path) -> String {
+    path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()
+}
+
+/// `dir/.name.PID.tmp.EXT`: same directory (so rename is atomic), keeps the extension.
+fn temp_path(path: &Path, ext: &str) -> PathBuf {
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
+    path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
+}
+
+/// The sRGB transfer function (linear in [0,1] to encoded).
+pub fn linear_to_srgb(c: f32) -> f32 {
+    let c = if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 };
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The inverse sRGB transfer function.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// How two images differ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiffStats {
+    /// Root mean square error over all pixels and channels.
+    pub rmse: f64,
+    /// RMSE of the means of `block` x `block` pixel blocks (noise suppressed, bias kept).
+    pub block_rmse: f64,
+    /// Relative MSE: mean of (a - b)^2 / (b^2 + 0.01).
+    pub rel_mse: f64,
+    /// Per-channel mean of `a` over mean of `b`.
+    pub mean_ratio: [f64; 3],
+    /// Largest absolute difference of any channel.
+    pub max_error: f64,
+}
+
+/// Compares `a` with reference `b` (same size required).
+pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, String> {
+    if a.width != b.width || a.height != b.height {
+        return Err(format!("sizes differ: {}x{} vs {}x{}", a.width, a.height, b.width, b.height));
+    }
+    let (mut se, mut rel, mut max) = (0.0f64, 0.0f64, 0.0f64);
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        for c in 0..3 {
+            let d = p[c] as f64 - q[c] as f64;
+            se += d * d;
+            rel += d * d / (q[c] as f64 * q[c] as f64 + 0.01);
+            max = max.max(d.abs());
+        }
+    }
+    let n = (a.pixels.len() * 3).max(1) as f64;
+    let (ma, mb) = (a.mean(), b.mean());
+    let mean_ratio = [0, 1, 2].map(|c| if mb[c] != 0.0 { ma[c] / mb[c] } else if ma[c] == 0.0 { 1.0 } else { f64::INFINITY });
+    let block = block.max(1);
+    let (bw, bh) = (a.width / block, a.height / block);
+    let mut bse = 0.0f64;
+    for by in 0..bh {
+        for bx in 0..bw {
+            let mut sa = [0.0f64; 3];
+            let mut sb = [0.0f64; 3];
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    let i = (y * a.width + x) as usize;
+                    for c in 0..3 {
+                        sa[c] += a.pixels[i][c] as f64;
+                        sb[c] += b.pixels[i][c] as f64;
+                    }
+                }
+            }
+            let k = (block * block) as f64;
+            for c in 0..3 {
+                bse += ((sa[c] - sb[c]) / k).powi(2);
+            }
+        }
+    }
+    let block_rmse = if bw * bh > 0 { (bse / (bw * bh * 3) as f64).sqrt() } else { 0.0 };
+    Ok(DiffStats { rmse: (se / n).sqrt(), block_rmse, rel_mse: rel / n, mean_ratio, max_error: max })
+}

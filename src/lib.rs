@@ -1,0 +1,26 @@
+//! gpu-photon: a photon-mapping renderer (Jensen) with a WGSL/wgpu GPU backend and a
+//! rayon CPU backend that is its reference.
+#![forbid(unsafe_code)]
+
+pub mod camera;
+pub mod error;
+pub mod scene;
+pub mod settings;
+
+pub use error::{Error, Result};
+pub use scene::Scene;
+pub use settings::RenderSettings;
+pub mod bvh;
+pub mod cpu;
+pub mod estimate;
+pub mod film;
+pub mod geometry;
+pub mod light;
+pub mod material;
+pub mod photon;
+pub mod render;
+pub mod rng;
+pub mod sampling;
+
+pub use film::Image;
+pub use render::{render, Backend, Progress, RenderReport};

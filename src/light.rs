@@ -1,0 +1,220 @@
+//! Light sampling: the power-proportional photon budget, photon emission, and the points
+//! that shadow rays aim at. Twin: `shaders/common/light.wgsl`.
+
+use crate::geometry::Aabb;
+use crate::sampling::{cosine_hemisphere, uniform_sphere, uniform_triangle};
+use crate::scene::{LightShape, Scene};
+use glam::Vec3;
+
+/// Scalar power used to split budgets: the mean of the three channels.
+pub fn scalar_power(power: Vec3) -> f64 {
+    (power.x as f64 + power.y as f64 + power.z as f64) / 3.0
+}
+
+/// Splits `total` photons between lights in proportion to their scalar power (largest
+/// remainder method, so the counts add up to `total` exactly). Lights of zero power get none.
+pub fn split_budget(powers: &[f64], total: u32) -> Vec<u32> {
+    let sum: f64 = powers.iter().sum();
+    if sum <= 0.0 || powers.is_empty() {
+        return vec![0; powers.len()];
+    }
+    let exact: Vec<f64> = powers.iter().map(|p| p / sum * total as f64).collect();
+    let mut counts: Vec<u32> = exact.iter().map(|e| e.floor() as u32).collect();
+    let left = total - counts.iter().sum::<u32>();
+    let mut order: Vec<usize> = (0..powers.len()).filter(|&i| powers[i] > 0.0).collect();
+    order.sort_by(|&a, &b| (exact[b] - exact[b].floor()).total_cmp(&(exact[a] - exact[a].floor())).then(a.cmp(&b)));
+    for &i in order.iter().cycle().take(left as usize) {
+        counts[i] += 1;
+    }
+    counts
+}
+
+/// Sampling tables for every light of a scene.
+#[derive(Clone, Debug)]
+pub struct LightTable {
+    /// Per light: cumulative area of its triangles (normalised to end at 1), into `tri_cdf`.
+    pub cdf_start: Vec<u32>,
+    /// Concatenated per-light triangle CDFs.
+    pub tri_cdf: Vec<f32>,
+    /// Per light: total emitting area (0 for point lights).
+    pub area: Vec<f32>,
+}
+
+/// A photon leaving a light.
+#[derive(Clone, Copy, Debug)]
+pub struct Emission {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    /// Normal of the emitting surface (zero for point lights), for the ray offset.
+    pub normal: Vec3,
+}
+
+/// A point on a light seen from a shading point, for a shadow ray.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Position on the light.
+    pub point: Vec3,
+    /// Incident radiance times the geometry term over the pdf, excluding the receiver's cosine
+    /// and BRDF: `Le cos_l / (d^2 pdf_A)` for area lights, `I / d^2` for point lights.
+    pub weight: Vec3,
+    /// Unit normal of the light surface at `point` (zero for point lights).
+    pub normal: Vec3,
+}
+
+impl LightTable {
+    pub fn new(scene: &Scene) -> Self {
+        let mut t = LightTable { cdf_start: vec![], tri_cdf: vec![], area: vec![] };
+        for l in &scene.lights {
+            t.cdf_start.push(t.tri_cdf.len() as u32);
+            match l.shape {
+                LightShape::Point { .. } => t.area.push(0.0),
+                LightShape::Sphere { index } => {
+                    let r = scene.spheres[index as usize].radius;
+                    t.area.push(4.0 * std::f32::consts::PI * r * r);
+                }
+                LightShape::Triangles { first, count } => {
+                    let tris = &scene.triangles[first as usize..(first + count) as usize];
+                    let mut acc = 0.0f64;
+                    let start = t.tri_cdf.len();
+                    for tri in tris {
+                        acc += tri.area() as f64;
+                        t.tri_cdf.push(acc as f32);
+                    }
+                    for c in &mut t.tri_cdf[start..] {
+                        *c = if acc > 0.0 { (*c as f64 / acc) as f32 } else { 1.0 };
+                    }
+                    t.area.push(acc as f32);
+                }
+            }
+        }
+        t
+    }
+
+    /// Picks a triangle of light `l` with probability proportional to area.
+    fn pick_triangle(&self, scene: &Scene, l: usize, u: f32) -> usize {
+        let LightShape::Triangles { first, count } = scene.lights[l].shape else { unreachable!() };
+        let start = self.cdf_start[l] as usize;
+        let cdf = &self.tri_cdf[start..start + count as usize];
+        let i = cdf.partition_point(|&c| c <= u).min(count as usize - 1);
+        first as usize + i
+    }
+
+    /// A uniform point on light `l`'s surface with its front normal.
+    fn surface_point(&self, scene: &Scene, l: usize, u: [f32; 3]) -> (Vec3, Vec3) {
+        match scene.lights[l].shape {
+            LightShape::Point { position, .. } => (position, Vec3::ZERO),
+            LightShape::Sphere { index } => {
+                let s = &scene.spheres[index as usize];
+                let n = uniform_sphere(u[1], u[2]);
+                (s.center + s.radius * n, n)
+            }
+            LightShape::Triangles { .. } => {
+                let tri = &scene.triangles[self.pick_triangle(scene, l, u[0])];
+                let (b1, b2) = uniform_triangle(u[1], u[2]);
+                (tri.v0 + b1 * tri.e1 + b2 * tri.e2, tri.normal())
+            }
+        }
+    }
+
+    /// Emits a photon from light `l` using five uniform numbers: area lights pick a triangle
+    /// by area and a uniform point on it, then a cosine-weighted direction around the front
+    /// normal (or a random face when two-sided); point lights emit uniformly over the sphere.
+    pub fn emit(&self, scene: &Scene, l: usize, u: [f32; 5]) -> Emission {
+        let (p, mut n) = self.surface_point(scene, l, [u[0], u[1], u[2]]);
+        if n == Vec3::ZERO {
+            return Emission { origin: p, dir: uniform_sphere(u[3], u[4]), normal: n };
+        }
+        let mut u3 = u[3];
+        if self.two_sided(scene, l) {
+            // Reuse u3: its lower half picks the front face, upper half the back.
+            if u3 >= 0.5 {
+                n = -n;
+                u3 = u3 * 2.0 - 1.0;
+            } else {
+                u3 *= 2.0;
+            }
+        }
+        Emission { origin: p, dir: cosine_hemisphere(n, u3, u[4]), normal: n }
+    }
+
+    fn two_sided(&self, scene: &Scene, l: usize) -> bool {
+        let mat = match scene.lights[l].shape {
+            LightShape::Point { .. } => return false,
+            LightShape::Sphere { index } => scene.spheres[index as usize].material,
+            LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
+        };
+        scene.materials[mat as usize].two_sided_emission
+    }
+
+    /// A shadow-ray target on light `l` for shading point `x`, from three uniform numbers.
+    /// Area lights are sampled uniformly by area.
+    pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, u: [f32; 3]) -> LightSample {
+        let light = &scene.lights[l];
+        if let LightShape::Point { position, intensity } = light.shape {
+            let d2 = (position - x).length_squared().max(1e-20);
+            return LightSample { point: position, weight: intensity / d2, normal: Vec3::ZERO };
+        }
+        let (p, n) = self.surface_point(scene, l, u);
+        let mat = match light.shape {
+            LightShape::Sphere { index } => scene.spheres[index as usize].material,
+            LightShape::Triangles { .. } => {
+                scene.triangles[self.pick_triangle(scene, l, u[0])].material
+            }
+            LightShape::Point { .. } => unreachable!(),
+        };
+        let m = &scene.materials[mat as usize];
+        let to_x = x - p;
+        let d2 = to_x.length_squared();
+        if d2 <= 0.0 {
+            return LightSample { point: p, weight: Vec3::ZERO, normal: n };
+        }
+        let mut cos_l = n.dot(to_x) / d2.sqrt();
+        if m.two_sided_emission {
+            cos_l = cos_l.abs();
+        }
+        if cos_l <= 0.0 {
+            return LightSample { point: p, weight: Vec3::ZERO, normal: n };
+        }
+        LightSample { point: p, weight: m.emission * (cos_l * self.area[l] / d2), normal: n }
+    }
+}
+
+/// Bounds of the specular (mirror and glass) surfaces that caustic photons are aimed at:
+/// one box per specular material over its triangles, and each specular sphere's box.
+pub fn specular_bounds(scene: &Scene) -> Vec<Aabb> {
+    let mut per_material: Vec<Aabb> = vec![Aabb::EMPTY; scene.materials.len()];
+    for t in &scene.triangles {
+        if scene.materials[t.material as usize].is_specular() {
+            per_material[t.material as usize] = per_material[t.material as usize].union(Aabb::of_triangle(t));
+        }
+    }
+    let mut out: Vec<Aabb> = per_material.into_iter().filter(|b| !b.is_empty()).collect();
+    for s in &scene.spheres {
+        if scene.materials[s.material as usize].is_specular() {
+            out.push(Aabb::of_sphere(s));
+        }
+    }
+    out
+}
+
+/// Whether a ray from `origin` along `dir` enters any of `bounds`.
+pub fn aims_at(bounds: &[Aabb], origin: Vec3, dir: Vec3) -> bool {
+    let inv = dir.recip();
+    bounds.iter().any(|b| b.hit(origin, inv, f32::INFINITY))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budget_split_is_proportional_and_exact() {
+        let c = split_budget(&[3.0, 1.0, 0.0, 4.0], 1000);
+        assert_eq!(c, vec![375, 125, 0, 500]);
+        let c = split_budget(&[1.0, 1.0, 1.0], 100);
+        assert_eq!(c.iter().sum::<u32>(), 100);
+        assert!(c.iter().all(|&n| n == 33 || n == 34));
+        assert_eq!(split_budget(&[], 10), Vec::<u32>::new());
+        assert_eq!(split_budget(&[0.0], 10), vec![0]);
+    }
+}

@@ -1,0 +1,183 @@
+//! The `gpu-photon` command line: render, diff.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use gpu_photon::film::{diff, Image};
+use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "gpu-photon", version, about = "Photon-mapping renderer (WGSL compute kernels via wgpu, rayon CPU reference)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to an EXR (linear float) or PNG (sRGB) image.
+    Render(RenderArgs),
+    /// Compare two images: RMSE, per-channel mean ratio, max error.
+    Diff {
+        /// The image to measure.
+        a: PathBuf,
+        /// The reference.
+        b: PathBuf,
+        /// Side of the blocks whose means the block RMSE compares.
+        #[arg(long, default_value_t = 16)]
+        block: u32,
+        /// Also write |a - b| per pixel to this image (.exr or .png).
+        #[arg(long)]
+        error_image: Option<PathBuf>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BackendArg {
+    /// The GPU when an adapter is there, else the CPU (with a warning).
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Scene file (TOML; see scenes/README.md).
+    scene: PathBuf,
+    /// Output image: .exr or .png.
+    #[arg(short, long)]
+    output: PathBuf,
+    #[arg(long, value_enum, default_value = "auto")]
+    backend: BackendArg,
+    /// Photon paths for the global map.
+    #[arg(long)]
+    photons: Option<u32>,
+    /// Photons aimed at specular surfaces for the caustic map (0: none).
+    #[arg(long)]
+    caustic_photons: Option<u32>,
+    /// K nearest photons in the radiance estimate.
+    #[arg(long)]
+    k: Option<u32>,
+    /// Maximum search radius of the global map.
+    #[arg(long)]
+    radius: Option<f32>,
+    /// Maximum search radius of the caustic map.
+    #[arg(long)]
+    caustic_radius: Option<f32>,
+    /// Camera samples per pixel (a perfect square gives an n x n jittered grid).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Shadow rays per area light per camera sample (direct mode).
+    #[arg(long)]
+    shadow_samples: Option<u32>,
+    /// photon | direct | direct-only | global-only | caustic-only
+    #[arg(long)]
+    mode: Option<String>,
+    /// disc | cone | epanechnikov
+    #[arg(long)]
+    filter: Option<String>,
+    /// Use Schlick's approximation instead of exact Fresnel.
+    #[arg(long)]
+    schlick: bool,
+    #[arg(long)]
+    seed: Option<u32>,
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// PNG exposure in stops.
+    #[arg(long)]
+    exposure: Option<f32>,
+    /// No progress bars or timings.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+impl RenderArgs {
+    fn apply(&self, s: &mut RenderSettings) -> Result<()> {
+        macro_rules! set {
+            ($($f:ident),*) => { $(if let Some(v) = self.$f { s.$f = v; })* };
+        }
+        set!(photons, caustic_photons, k, radius, caustic_radius, spp, shadow_samples, seed, width, height, exposure);
+        if let Some(m) = &self.mode {
+            s.mode = Mode::parse(m).with_context(|| format!("--mode {m}: expected one of {}", Mode::NAMES.join(", ")))?;
+        }
+        if let Some(f) = &self.filter {
+            s.filter = Filter::parse(f).with_context(|| format!("--filter {f}: expected one of {}", Filter::NAMES.join(", ")))?;
+        }
+        if self.schlick {
+            s.fresnel = FresnelMode::Schlick;
+        }
+        Ok(())
+    }
+}
+
+fn run_render(args: &RenderArgs) -> Result<()> {
+    let scene = gpu_photon::scene::load(&args.scene)?;
+    let mut settings = scene.settings.clone();
+    args.apply(&mut settings)?;
+    let backend = match args.backend {
+        BackendArg::Cpu | BackendArg::Auto => Backend::Cpu,
+        BackendArg::Gpu => Backend::Gpu,
+    };
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    let (image, report) = render(&scene, &settings, backend, Progress { enabled: show })?;
+    image.write(&args.output, settings.exposure)?;
+    if !args.quiet {
+        eprintln!(
+            "{}: {}x{}, {} spp, mode {}, backend {}",
+            args.output.display(),
+            settings.width,
+            settings.height,
+            settings.spp,
+            settings.mode.name(),
+            report.backend
+        );
+        eprintln!("  photons stored: {} global, {} caustic", report.global_stored, report.caustic_stored);
+        for (name, d) in &report.phases {
+            eprintln!("  {name:<16} {:>9.3} s", d.as_secs_f64());
+        }
+        eprintln!("  {:<16} {:>9.3} s", "total", report.total().as_secs_f64());
+    }
+    Ok(())
+}
+
+fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>) -> Result<()> {
+    let ia = Image::read(a)?;
+    let ib = Image::read(b)?;
+    let d = match diff(&ia, &ib, block) {
+        Ok(d) => d,
+        Err(e) => bail!("{} vs {}: {e}", a.display(), b.display()),
+    };
+    if let Some(path) = error_image {
+        let mut err = ia.clone();
+        for (p, q) in err.pixels.iter_mut().zip(&ib.pixels) {
+            *p = [0, 1, 2].map(|c| (p[c] - q[c]).abs());
+        }
+        err.write(path, 0.0)?;
+    }
+    println!("rmse        {:.6}", d.rmse);
+    println!("block_rmse  {:.6} ({block}x{block} blocks)", d.block_rmse);
+    println!("rel_mse     {:.6}", d.rel_mse);
+    println!("mean_ratio  {:.4} {:.4} {:.4}", d.mean_ratio[0], d.mean_ratio[1], d.mean_ratio[2]);
+    println!("max_error   {:.6}", d.max_error);
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(args) => run_render(args),
+        Command::Diff { a, b, block, error_image } => run_diff(a, b, *block, error_image.as_ref()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

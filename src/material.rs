@@ -1,0 +1,190 @@
+//! Scattering: Fresnel, Snell, and the per-material sampling used by photons and camera rays.
+//!
+//! Twin: `shaders/common/material.wgsl`.
+
+use crate::sampling::{cosine_hemisphere, phong_lobe};
+use crate::scene::{Material, MaterialKind};
+use crate::settings::FresnelMode;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Mirror reflection of `d` (pointing towards the surface) about unit `n`.
+#[inline]
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Snell refraction of unit `d` through unit `n` (facing against `d`) with `eta` = n_i / n_t.
+/// `None` on total internal reflection.
+#[inline]
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((eta * d + (eta * cos_i - cos_t) * n).normalize())
+}
+
+/// Exact unpolarised Fresnel reflectance for light arriving at cosine `cos_i` (>= 0) from a
+/// medium of index `n_i` onto one of index `n_t`. 1 on total internal reflection.
+#[inline]
+pub fn fresnel_exact(cos_i: f32, n_i: f32, n_t: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let eta = n_i / n_t;
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (n_i * cos_i - n_t * cos_t) / (n_i * cos_i + n_t * cos_t);
+    let rp = (n_t * cos_i - n_i * cos_t) / (n_t * cos_i + n_i * cos_t);
+    (0.5 * (rs * rs + rp * rp)).clamp(0.0, 1.0)
+}
+
+/// Schlick's approximation, using the cosine on the optically thinner side so that total
+/// internal reflection is exact.
+#[inline]
+pub fn fresnel_schlick(cos_i: f32, n_i: f32, n_t: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let r0 = ((n_i - n_t) / (n_i + n_t)).powi(2);
+    let c = if n_i > n_t {
+        let eta = n_i / n_t;
+        let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    } else {
+        cos_i
+    };
+    r0 + (1.0 - r0) * (1.0 - c).powi(5)
+}
+
+/// Fresnel reflectance by the chosen formula.
+#[inline]
+pub fn fresnel(mode: FresnelMode, cos_i: f32, n_i: f32, n_t: f32) -> f32 {
+    match mode {
+        FresnelMode::Exact => fresnel_exact(cos_i, n_i, n_t),
+        FresnelMode::Schlick => fresnel_schlick(cos_i, n_i, n_t),
+    }
+}
+
+/// The two ways a ray leaves a dielectric interface, with the Fresnel weight of reflection.
+#[derive(Clone, Copy, Debug)]
+pub struct Dielectric {
+    pub reflected: Vec3,
+    /// `None` on total internal reflection.
+    pub refracted: Option<Vec3>,
+    /// Fresnel reflectance (1 on total internal reflection).
+    pub reflectance: f32,
+}
+
+/// Splits unit `d` arriving at a glass surface with front (outward) normal `n`.
+pub fn dielectric(d: Vec3, n: Vec3, ior: f32, mode: FresnelMode) -> Dielectric {
+    let entering = d.dot(n) < 0.0;
+    let (nn, n_i, n_t) = if entering { (n, 1.0, ior) } else { (-n, ior, 1.0) };
+    let cos_i = -d.dot(nn);
+    let reflected = reflect(d, nn);
+    let refracted = refract(d, nn, n_i / n_t);
+    let reflectance = if refracted.is_none() { 1.0 } else { fresnel(mode, cos_i, n_i, n_t) };
+    Dielectric { reflected, refracted, reflectance }
+}
+
+/// Normalised Phong lobe value `(n + 2) / (2 pi) cos^n(alpha)` for unit `wi`, `wo` (both
+/// pointing away from the surface) about unit normal `n`.
+#[inline]
+pub fn phong_lobe_value(wi: Vec3, wo: Vec3, n: Vec3, exponent: f32) -> f32 {
+    let cos_a = reflect(-wo, n).dot(wi);
+    if cos_a <= 0.0 {
+        return 0.0;
+    }
+    (exponent + 2.0) / (2.0 * PI) * cos_a.powf(exponent)
+}
+
+/// The non-delta BRDF `f(wi, wo)` of a diffuse or glossy material, both directions on the
+/// side of unit normal `n`.
+pub fn brdf(m: &Material, wi: Vec3, wo: Vec3, n: Vec3) -> Vec3 {
+    match m.kind {
+        MaterialKind::Diffuse => m.kd / PI,
+        MaterialKind::Glossy => m.kd / PI + m.ks * phong_lobe_value(wi, wo, n, m.exponent),
+        _ => Vec3::ZERO,
+    }
+}
+
+/// The outcome of Russian roulette at a photon hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bounce {
+    /// Photon continues in `dir` with its power multiplied by `weight`.
+    Diffuse { dir: Vec3, weight: Vec3 },
+    /// Continues by a specular event (mirror, glass, glossy lobe); `delta` for mirror/glass.
+    Specular { dir: Vec3, weight: Vec3, delta: bool },
+    Absorb,
+}
+
+/// Russian roulette for a photon travelling in unit `d` that hits a surface with front normal
+/// `n`: chooses diffuse reflection, specular reflection (or refraction) or absorption with the
+/// material's coefficients, and returns the power weight that keeps the estimate unbiased.
+/// Consumes the uniform numbers `u` (three of them).
+pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, u: [f32; 3]) -> Bounce {
+    // Shading normal on the side the photon arrived from.
+    let ns = if d.dot(n) < 0.0 { n } else { -n };
+    match m.kind {
+        MaterialKind::Black => Bounce::Absorb,
+        MaterialKind::Diffuse | MaterialKind::Glossy => {
+            // Choice probabilities: the larger of each coefficient's channels, scaled so that
+            // p_d + p_s <= max(kd + ks) <= 1.
+            let total = (m.kd + m.ks).max_element();
+            let (sd, ss) = (m.kd.element_sum(), m.ks.element_sum());
+            if total <= 0.0 || sd + ss <= 0.0 {
+                return Bounce::Absorb;
+            }
+            let pd = total * sd / (sd + ss);
+            let ps = total * ss / (sd + ss);
+            if u[0] < pd {
+                Bounce::Diffuse { dir: cosine_hemisphere(ns, u[1], u[2]), weight: m.kd / pd }
+            } else if u[0] < pd + ps {
+                let axis = reflect(d, ns);
+                let dir = phong_lobe(axis, m.exponent, u[1], u[2]);
+                let cos = dir.dot(ns);
+                if cos <= 0.0 {
+                    return Bounce::Absorb;
+                }
+                // f cos / pdf = ks (n+2)/(n+1) cos(theta).
+                let w = (m.exponent + 2.0) / (m.exponent + 1.0) * cos;
+                Bounce::Specular { dir, weight: m.ks * (w / ps), delta: false }
+            } else {
+                Bounce::Absorb
+            }
+        }
+        MaterialKind::Mirror => {
+            let p = m.ks.max_element();
+            if u[0] < p {
+                Bounce::Specular { dir: reflect(d, ns), weight: m.ks / p, delta: true }
+            } else {
+                Bounce::Absorb
+            }
+        }
+        MaterialKind::Glass => {
+            let g = dielectric(d, n, m.ior, fresnel_mode);
+            match g.refracted {
+                Some(t) if u[0] >= g.reflectance => Bounce::Specular { dir: t, weight: Vec3::ONE, delta: true },
+                _ => Bounce::Specular { dir: g.reflected, weight: Vec3::ONE, delta: true },
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_normal_incidence_matches_closed_form() {
+        // ((n1 - n2) / (n1 + n2))^2 = 0.04 for glass of 1.5, from either side.
+        assert!((fresnel_exact(1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((fresnel_exact(1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
+        assert!((fresnel_schlick(1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+    }
+}
