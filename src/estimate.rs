@@ -43,6 +43,12 @@ pub fn estimate_r2(found: usize, k: usize, farthest_d2: f32, max_r2: f32) -> f32
 /// Reflected radiance towards the viewer from photons `(d2, photon)` around a point with unit
 /// normal `ns` (facing the viewer), for a BRDF `f` evaluated per incident direction.
 /// Photons that arrived from behind the surface are ignored.
+///
+/// When K photons were found, the K-th lies on the boundary of the disc it defines and is
+/// left out: the K-nearest density estimate `K / (pi r_K^2)` is biased high by K / (K - 1)
+/// (for uniformly distributed photons `E[1 / r_K^2] = pi density / (K - 1)`), while
+/// `(K - 1) / (pi r_K^2)` is unbiased. The cone and Epanechnikov kernels give that photon
+/// zero weight anyway.
 pub fn radiance(
     neighbours: &[(f32, &Photon)],
     k: usize,
@@ -56,9 +62,13 @@ pub fn radiance(
     }
     let farthest = neighbours.iter().map(|n| n.0).fold(0.0f32, f32::max);
     let r2 = estimate_r2(neighbours.len(), k, farthest, max_r2);
+    let skip = if neighbours.len() >= k { neighbours.iter().position(|n| n.0 == farthest) } else { None };
     let mut sum = Vec3::ZERO;
-    for &(d2, p) in neighbours {
+    for (i, &(d2, p)) in neighbours.iter().enumerate() {
         let dir = Vec3::from(p.dir);
+        if Some(i) == skip {
+            continue;
+        }
         if dir.dot(ns) >= 0.0 {
             continue;
         }

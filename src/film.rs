@@ -38,7 +38,7 @@ impl Image {
         let ext = extension(path);
         let err = |message: String| Error::Image { path: path.to_path_buf(), message };
         if !path.exists() {
-            return Err(Error::Io { path: path.to_path_buf(), source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file") });
+            return Err(Error::Image { path: path.to_path_buf(), message: "no such file".into() });
         }
         match ext.as_str() {
             "exr" => {

@@ -24,3 +24,4 @@ pub mod sampling;
 
 pub use film::Image;
 pub use render::{render, Backend, Progress, RenderReport};
+pub mod gpu;

@@ -137,6 +137,9 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             report.backend
         );
         eprintln!("  photons stored: {} global, {} caustic", report.global_stored, report.caustic_stored);
+        if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
+            eprintln!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches");
+        }
         for (name, d) in &report.phases {
             eprintln!("  {name:<16} {:>9.3} s", d.as_secs_f64());
         }

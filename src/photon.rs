@@ -20,19 +20,20 @@ pub struct Photon {
     pub flags: u32,
     /// Power per channel (W).
     pub power: [f32; 3],
-    pub _pad0: u32,
+    /// Index of the path that stored it (with `flags`, a stable identity for tie-breaks).
+    pub id: u32,
     /// Unit direction of travel when it arrived.
     pub dir: [f32; 3],
     pub _pad1: u32,
 }
 
 impl Photon {
-    pub fn new(position: Vec3, power: Vec3, dir: Vec3, depth: u32, caustic: bool) -> Self {
+    pub fn new(position: Vec3, power: Vec3, dir: Vec3, id: u32, depth: u32, caustic: bool) -> Self {
         Photon {
             position: position.to_array(),
             flags: depth.min(DEPTH_MASK) | if caustic { FLAG_CAUSTIC } else { 0 },
             power: power.to_array(),
-            _pad0: 0,
+            id,
             dir: dir.to_array(),
             _pad1: 0,
         }

@@ -27,6 +27,8 @@ pub struct RenderReport {
     pub caustic_stored: usize,
     /// Which backend ran, in words.
     pub backend: String,
+    /// GPU bound counters (photon overflow, loop budget, gather truncation), if on the GPU.
+    pub gpu_stats: Vec<u32>,
 }
 
 impl RenderReport {
@@ -167,6 +169,6 @@ pub fn render(scene: &Scene, settings: &RenderSettings, backend: Backend, progre
             report.backend = format!("cpu ({} threads)", rayon::current_num_threads());
             Ok((img, report))
         }
-        Backend::Gpu => Err(Error::Gpu("the GPU backend is not built yet".into())),
+        Backend::Gpu => crate::gpu::render(scene, settings, 0, &progress),
     }
 }

@@ -77,11 +77,11 @@ fn trace_path(ctx: &TraceContext, budget: &Budget, stream: Stream, i: u32, aim: 
             let caustic = depth > 0 && all_specular;
             if aim.is_some() {
                 if caustic {
-                    out.push(Photon::new(hit.position, power, ray.dir, depth, true));
+                    out.push(Photon::new(hit.position, power, ray.dir, i, depth, true));
                 }
                 return;
             }
-            out.push(Photon::new(hit.position, power, ray.dir, depth, caustic));
+            out.push(Photon::new(hit.position, power, ray.dir, i, depth, caustic));
         } else if aim.is_some() && !m.is_specular() {
             return;
         }

@@ -1,0 +1,108 @@
+// build_grid: the photon map's spatial hash grid, built on the device by a counting sort.
+// Entry points, dispatched in order over one map's group-1 buffers:
+//   count_cells   (one invocation per photon slot)  cell_count[h] += 1
+//   scan_blocks   (256-wide, one per 256 cells)     cell_start = exclusive scan within blocks
+//   scan_sums     (one workgroup of 256)            block_sums = exclusive scan of block totals
+//   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
+//   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = photon
+// cell_start[table_size] ends up holding the number of photons in the grid.
+
+fn stored_count() -> u32 {
+    return min(atomicLoad(&counters[0]), map_params.capacity);
+}
+
+@compute @workgroup_size(64)
+fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if i >= stored_count() {
+        return;
+    }
+    let p = photons[i];
+    if !keep_photon(p, map_params.drop_flags) {
+        return;
+    }
+    let h = cell_hash(cell_of(p.position, map_params.cell_size), map_params.table_size);
+    atomicAdd(&cell_count[h], 1u);
+}
+
+var<workgroup> scan_tmp: array<u32, 256>;
+
+// Inclusive Hillis-Steele scan of scan_tmp (8 steps of 256 lanes).
+fn workgroup_scan(tid: u32) {
+    for (var off = 1u; off < 256u; off = off * 2u) {
+        workgroupBarrier();
+        var v = scan_tmp[tid];
+        if tid >= off {
+            v += scan_tmp[tid - off];
+        }
+        workgroupBarrier();
+        scan_tmp[tid] = v;
+    }
+    workgroupBarrier();
+}
+
+@compute @workgroup_size(256)
+fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let block = wid.x + wid.y * nwg.x;
+    let idx = block * 256u + lid.x;
+    var v = 0u;
+    if idx < map_params.table_size {
+        v = atomicLoad(&cell_count[idx]);
+    }
+    scan_tmp[lid.x] = v;
+    workgroup_scan(lid.x);
+    if idx < map_params.table_size {
+        cell_start[idx] = scan_tmp[lid.x] - v;
+    }
+    if lid.x == 255u {
+        block_sums[block] = scan_tmp[255];
+    }
+}
+
+@compute @workgroup_size(256)
+fn scan_sums(@builtin(local_invocation_id) lid: vec3<u32>) {
+    let blocks = (map_params.table_size + 255u) / 256u;
+    let chunk = (blocks + 255u) / 256u;
+    let start = lid.x * chunk;
+    let end = min(start + chunk, blocks);
+    var total = 0u;
+    for (var b = start; b < end; b += 1u) {
+        total += block_sums[b];
+    }
+    scan_tmp[lid.x] = total;
+    workgroup_scan(lid.x);
+    var running = scan_tmp[lid.x] - total;
+    for (var b = start; b < end; b += 1u) {
+        let s = block_sums[b];
+        block_sums[b] = running;
+        running += s;
+    }
+    if lid.x == 255u {
+        cell_start[map_params.table_size] = scan_tmp[255];
+    }
+}
+
+@compute @workgroup_size(64)
+fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if i >= map_params.table_size {
+        return;
+    }
+    cell_start[i] += block_sums[i / 256u];
+    atomicStore(&cell_count[i], 0u);
+}
+
+@compute @workgroup_size(64)
+fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if i >= stored_count() {
+        return;
+    }
+    let p = photons[i];
+    if !keep_photon(p, map_params.drop_flags) {
+        return;
+    }
+    let h = cell_hash(cell_of(p.position, map_params.cell_size), map_params.table_size);
+    let k = atomicAdd(&cell_count[h], 1u);
+    sorted[cell_start[h] + k] = p;
+}

@@ -1,0 +1,24 @@
+// Hash-grid cells; twin of src/gpu/grid.rs.
+
+const DROP_DIRECT: u32 = 1u;
+const DROP_CAUSTIC: u32 = 2u;
+
+fn cell_of(p: vec3<f32>, cell_size: f32) -> vec3<i32> {
+    return vec3<i32>(floor(p / cell_size));
+}
+
+fn cell_hash(c: vec3<i32>, table_size: u32) -> u32 {
+    let h = pcg_hash(bitcast<u32>(c.x) ^ pcg_hash(bitcast<u32>(c.y) ^ pcg_hash(bitcast<u32>(c.z))));
+    return h & (table_size - 1u);
+}
+
+// Whether a photon belongs in a map that drops the kinds in `drop`.
+fn keep_photon(p: Photon, drop: u32) -> bool {
+    if (drop & DROP_DIRECT) != 0u && (p.flags & DEPTH_MASK) == 0u {
+        return false;
+    }
+    if (drop & DROP_CAUSTIC) != 0u && (p.flags & FLAG_CAUSTIC) != 0u {
+        return false;
+    }
+    return true;
+}

@@ -1,0 +1,162 @@
+// Ray-primitive intersection and BVH traversal; twin of src/geometry.rs and src/bvh.rs.
+
+const OFFSET_SCALE: f32 = 3.0e-5;
+const OFFSET_FLOOR: f32 = 1.0e-5;
+const BVH_STACK: u32 = 66u;
+
+struct Hit {
+    t: f32,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    material: u32,
+    light: u32,
+    found: bool,
+}
+
+fn max_abs(p: vec3<f32>) -> f32 {
+    let a = abs(p);
+    return max(a.x, max(a.y, a.z));
+}
+
+fn offset_origin(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    let eps = OFFSET_SCALE * (max_abs(p) + OFFSET_FLOOR);
+    return select(p - n * eps, p + n * eps, dot(dir, n) >= 0.0);
+}
+
+// (t, u, v) with t < 0 for a miss.
+fn intersect_triangle(tri: Triangle, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> vec3<f32> {
+    let miss = vec3<f32>(-1.0, 0.0, 0.0);
+    let p = cross(d, tri.e2);
+    let det = dot(tri.e1, p);
+    if abs(det) < 1e-30 {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let s = o - tri.v0;
+    let u = dot(s, p) * inv;
+    if u < 0.0 || u > 1.0 {
+        return miss;
+    }
+    let q = cross(s, tri.e1);
+    let v = dot(d, q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return miss;
+    }
+    let t = dot(tri.e2, q) * inv;
+    if t > 0.0 && t < t_max {
+        return vec3<f32>(t, u, v);
+    }
+    return miss;
+}
+
+// Nearest t in (0, t_max), or -1.
+fn intersect_sphere(s: Sphere, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> f32 {
+    let oc = o - s.center;
+    let b = dot(oc, d);
+    let perp = oc - b * d;
+    let disc = s.radius * s.radius - dot(perp, perp);
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let c = dot(oc, oc) - s.radius * s.radius;
+    let sq = sqrt(disc);
+    let q = select(-b + sq, -b - sq, b > 0.0);
+    var t0 = 0.0;
+    var t1 = 0.0;
+    if q != 0.0 {
+        t0 = c / q;
+        t1 = q;
+    }
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    if lo > 0.0 && lo < t_max {
+        return lo;
+    }
+    if hi > 0.0 && hi < t_max {
+        return hi;
+    }
+    return -1.0;
+}
+
+fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max: f32) -> bool {
+    let t0 = (bmin - o) * inv;
+    let t1 = (bmax - o) * inv;
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    let tmin = max(max(lo.x, max(lo.y, lo.z)), 0.0);
+    let tmax = min(min(hi.x, min(hi.y, hi.z)), t_max);
+    return tmin <= tmax;
+}
+
+// Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
+fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
+    var best_id = 0u;
+    var best_uv = vec2<f32>(0.0);
+    let inv = 1.0 / d;
+    var stack: array<u32, BVH_STACK>;
+    var sp = 1u;
+    stack[0] = 0u;
+    var axis = 2u;
+    if abs(d.x) > abs(d.y) && abs(d.x) > abs(d.z) {
+        axis = 0u;
+    } else if abs(d.y) > abs(d.z) {
+        axis = 1u;
+    }
+    let dir_pos = d[axis] >= 0.0;
+    while sp > 0u && spend() {
+        sp -= 1u;
+        let ni = stack[sp];
+        let node = nodes[ni];
+        if !hit_box(node.bmin, node.bmax, o, inv, best.t) {
+            continue;
+        }
+        if node.count > 0u {
+            for (var i = 0u; i < node.count; i += 1u) {
+                let id = prim_ids[node.left_first + i];
+                if (id & SPHERE_BIT) == 0u {
+                    let h = intersect_triangle(triangles[id], o, d, best.t);
+                    if h.x > 0.0 {
+                        best.t = h.x;
+                        best.found = true;
+                        best_id = id;
+                        best_uv = h.yz;
+                    }
+                } else if HAS_SPHERES {
+                    let t = intersect_sphere(spheres[id & ~SPHERE_BIT], o, d, best.t);
+                    if t > 0.0 {
+                        best.t = t;
+                        best.found = true;
+                        best_id = id;
+                    }
+                }
+            }
+            if any_hit && best.found {
+                return best;
+            }
+        } else if sp + 2u <= BVH_STACK {
+            let left = ni + 1u;
+            let right = node.left_first;
+            stack[sp] = select(left, right, dir_pos);
+            stack[sp + 1u] = select(right, left, dir_pos);
+            sp += 2u;
+        }
+    }
+    if best.found {
+        if (best_id & SPHERE_BIT) == 0u {
+            let tri = triangles[best_id];
+            best.position = tri.v0 + best_uv.x * tri.e1 + best_uv.y * tri.e2;
+            best.normal = normalize(cross(tri.e1, tri.e2));
+            best.material = tri.material;
+            best.light = tri.light;
+        } else {
+            let s = spheres[best_id & ~SPHERE_BIT];
+            let n = normalize(o + best.t * d - s.center);
+            best.position = s.center + n * s.radius;
+            best.normal = n;
+            best.material = s.material;
+            best.light = s.light;
+        }
+    }
+    return best;
+}

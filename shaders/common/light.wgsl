@@ -1,0 +1,114 @@
+// Light emission and shadow-ray targets; twin of src/light.rs.
+
+struct SurfacePoint {
+    p: vec3<f32>,
+    n: vec3<f32>,
+    material: u32,
+}
+
+// Triangle of light l by area: binary search of its CDF (bounded by 32 steps).
+fn pick_triangle(l: Light, u: f32) -> u32 {
+    var lo = 0u;
+    var hi = l.count;
+    for (var i = 0u; i < 32u && lo < hi; i += 1u) {
+        let mid = (lo + hi) / 2u;
+        if light_cdf[l.cdf_start + mid] <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return l.first + min(lo, l.count - 1u);
+}
+
+fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
+    var sp: SurfacePoint;
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
+        sp.p = l.position;
+        sp.n = vec3<f32>(0.0);
+        sp.material = 0u;
+    } else if HAS_SPHERES && l.kind == LIGHT_SPHERE {
+        let s = spheres[l.first];
+        let n = uniform_sphere(u.y, u.z);
+        sp.p = s.center + s.radius * n;
+        sp.n = n;
+        sp.material = s.material;
+    } else {
+        let tri = triangles[pick_triangle(l, u.x)];
+        let s = sqrt(u.y);
+        let b1 = 1.0 - s;
+        let b2 = u.z * s;
+        sp.p = tri.v0 + b1 * tri.e1 + b2 * tri.e2;
+        sp.n = normalize(cross(tri.e1, tri.e2));
+        sp.material = tri.material;
+    }
+    return sp;
+}
+
+struct Emission {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    normal: vec3<f32>,
+}
+
+fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
+    let sp = light_point(l, u0);
+    var e: Emission;
+    e.origin = sp.p;
+    e.normal = sp.n;
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
+        e.dir = uniform_sphere(u3, u4);
+        return e;
+    }
+    var n = sp.n;
+    var v = u3;
+    if materials[sp.material].two_sided != 0u {
+        if v >= 0.5 {
+            n = -n;
+            v = v * 2.0 - 1.0;
+        } else {
+            v = v * 2.0;
+        }
+    }
+    e.normal = n;
+    e.dir = cosine_hemisphere(n, v, u4);
+    return e;
+}
+
+struct LightSample {
+    point: vec3<f32>,
+    weight: vec3<f32>,
+}
+
+fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
+        let d = l.position - x;
+        return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20));
+    }
+    let sp = light_point(l, u);
+    let m = materials[sp.material];
+    let to_x = x - sp.p;
+    let d2 = dot(to_x, to_x);
+    if d2 <= 0.0 {
+        return LightSample(sp.p, vec3<f32>(0.0));
+    }
+    var cos_l = dot(sp.n, to_x) / sqrt(d2);
+    if m.two_sided != 0u {
+        cos_l = abs(cos_l);
+    }
+    if cos_l <= 0.0 {
+        return LightSample(sp.p, vec3<f32>(0.0));
+    }
+    return LightSample(sp.p, m.emission * (cos_l * l.area / d2));
+}
+
+fn aims_at(o: vec3<f32>, d: vec3<f32>) -> bool {
+    let inv = 1.0 / d;
+    for (var i = 0u; i < params.n_bounds && spend(); i += 1u) {
+        let b = spec_bounds[i];
+        if hit_box(b.bmin, b.bmax, o, inv, 3.0e38) {
+            return true;
+        }
+    }
+    return false;
+}

@@ -1,0 +1,15 @@
+// Group 1 of the map-building kernels (trace_photons.wgsl, build_grid.wgsl): one photon
+// map's buffers and parameters, and the hash-grid cell functions (twin: src/gpu/grid.rs).
+
+@group(1) @binding(0) var<storage, read_write> photons: array<Photon>;
+@group(1) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read_write> cell_count: array<atomic<u32>>;
+@group(1) @binding(3) var<storage, read_write> cell_start: array<u32>;
+@group(1) @binding(4) var<storage, read_write> sorted: array<Photon>;
+@group(1) @binding(5) var<storage, read_write> block_sums: array<u32>;
+@group(1) @binding(6) var<uniform> map_params: MapParams;
+
+// Flat invocation index of a 2D dispatch of 64-wide workgroups.
+fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
+    return gid.x + gid.y * nwg.x * 64u;
+}

@@ -1,0 +1,34 @@
+// Group 0: the scene, bound read-only by every kernel, and the loop budget that keeps every
+// invocation well below lavapipe's 65,535 loop iterations (see DEVELOPERS.md).
+
+@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
+@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(3) var<storage, read> prim_ids: array<u32>;
+@group(0) @binding(4) var<storage, read> materials: array<Material>;
+@group(0) @binding(5) var<storage, read> lights: array<Light>;
+@group(0) @binding(6) var<storage, read> light_cdf: array<f32>;
+@group(0) @binding(7) var<storage, read> spec_bounds: array<Aabb>;
+@group(0) @binding(8) var<uniform> params: Params;
+@group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
+
+// Scene features, set per render as pipeline-overridable constants: code for what a scene
+// lacks folds away when the pipeline is compiled.
+override HAS_GLASS: bool = true;
+override HAS_SPHERES: bool = true;
+override HAS_POINT_LIGHTS: bool = true;
+
+// Loop iterations one invocation may spend in total, across all its loops: well below
+// lavapipe's silent 65,535 cut. Exhausting it ends the invocation's work and is counted in
+// stats[STAT_LOOP_BUDGET].
+const LOOP_BUDGET: u32 = 50000u;
+var<private> loop_iters: u32 = 0u;
+
+// Spends one loop iteration; false once the budget is gone (counted once).
+fn spend() -> bool {
+    loop_iters += 1u;
+    if loop_iters == LOOP_BUDGET {
+        atomicAdd(&stats[STAT_LOOP_BUDGET], 1u);
+    }
+    return loop_iters < LOOP_BUDGET;
+}

@@ -1,0 +1,143 @@
+// Types shared by every kernel. Each struct has a Rust twin with the same name prefixed by
+// `Gpu` (or the same name: BvhNode, Photon) in src/gpu/types.rs, src/bvh.rs, src/photon.rs;
+// tests/gpu_layout.rs checks sizes and offsets against naga's reflection of this file.
+
+struct Triangle {
+    v0: vec3<f32>,
+    material: u32,
+    e1: vec3<f32>,
+    light: u32,
+    e2: vec3<f32>,
+    _pad: u32,
+}
+
+struct Sphere {
+    center: vec3<f32>,
+    radius: f32,
+    material: u32,
+    light: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+struct BvhNode {
+    bmin: vec3<f32>,
+    left_first: u32,
+    bmax: vec3<f32>,
+    count: u32,
+}
+
+struct Material {
+    kd: vec3<f32>,
+    kind: u32,
+    ks: vec3<f32>,
+    exponent: f32,
+    emission: vec3<f32>,
+    ior: f32,
+    two_sided: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+struct Light {
+    position: vec3<f32>,
+    kind: u32,
+    intensity: vec3<f32>,
+    first: u32,
+    global_power: vec3<f32>,
+    count: u32,
+    caustic_power: vec3<f32>,
+    cdf_start: u32,
+    area: f32,
+    global_offset: u32,
+    global_count: u32,
+    caustic_offset: u32,
+    caustic_count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+struct Aabb {
+    bmin: vec3<f32>,
+    _pad0: u32,
+    bmax: vec3<f32>,
+    _pad1: u32,
+}
+
+struct Photon {
+    position: vec3<f32>,
+    flags: u32,
+    power: vec3<f32>,
+    id: u32,
+    dir: vec3<f32>,
+    _pad1: u32,
+}
+
+// Per-render parameters (one uniform buffer; `sample` changes per gather dispatch).
+struct Params {
+    eye: vec3<f32>,
+    width: u32,
+    forward: vec3<f32>,
+    height: u32,
+    right: vec3<f32>,
+    spp: u32,
+    up: vec3<f32>,
+    sample: u32,
+    seed: u32,
+    pass_index: u32,
+    k: u32,
+    filter_kind: u32,
+    mode: u32,
+    max_depth: u32,
+    max_photon_bounces: u32,
+    shadow_samples: u32,
+    fresnel: u32,
+    n_lights: u32,
+    n_bounds: u32,
+    n_triangles: u32,
+    terms: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// Per photon map: what to trace and how its hash grid is laid out.
+struct MapParams {
+    stream: u32,
+    paths: u32,
+    capacity: u32,
+    table_size: u32,
+    cell_size: f32,
+    is_caustic: u32,
+    drop_flags: u32,
+    radius2: f32,
+}
+
+const MAT_DIFFUSE: u32 = 0u;
+const MAT_GLOSSY: u32 = 1u;
+const MAT_MIRROR: u32 = 2u;
+const MAT_GLASS: u32 = 3u;
+const MAT_BLACK: u32 = 4u;
+
+const LIGHT_POINT: u32 = 0u;
+const LIGHT_TRIANGLES: u32 = 1u;
+const LIGHT_SPHERE: u32 = 2u;
+
+const NO_LIGHT: u32 = 0xffffffffu;
+const SPHERE_BIT: u32 = 0x80000000u;
+const FLAG_CAUSTIC: u32 = 256u;
+const DEPTH_MASK: u32 = 255u;
+
+// Params.terms bits: which terms a mode adds at a diffuse or glossy hit (src/cpu/gather.rs).
+const TERM_DIRECT: u32 = 1u;
+const TERM_POINT_LOBE: u32 = 2u;
+const TERM_LOBE_RAY: u32 = 4u;
+
+const PI: f32 = 3.14159265358979;
+
+// Indices into the stats buffer (counted when a bound is hit).
+const STAT_PHOTON_OVERFLOW: u32 = 0u;
+const STAT_LOOP_BUDGET: u32 = 1u;
+const STAT_GATHER_TRUNCATED: u32 = 2u;

@@ -1,0 +1,84 @@
+// trace_photons: one invocation per photon path (global or caustic map, per map_params),
+// the twin of src/cpu/photons.rs. Dispatch: ceil(paths / 64) workgroups of 64 (2D when
+// large). Writes: photons[] appended through counters[0]; overflow past map_params.capacity
+// is dropped and counted in stats[STAT_PHOTON_OVERFLOW].
+
+fn store_photon(p: Photon) {
+    let slot = atomicAdd(&counters[0], 1u);
+    if slot < map_params.capacity {
+        photons[slot] = p;
+    } else {
+        atomicAdd(&stats[STAT_PHOTON_OVERFLOW], 1u);
+    }
+}
+
+@compute @workgroup_size(64)
+fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = flat_index(gid, nwg);
+    if i >= map_params.paths {
+        return;
+    }
+    let caustic_map = map_params.is_caustic != 0u;
+    // The light that owns path i (light count is small; bounded by n_lights).
+    var li = 0u;
+    for (var l = 0u; l < params.n_lights && spend(); l += 1u) {
+        let lt = lights[l];
+        let off = select(lt.global_offset, lt.caustic_offset, caustic_map);
+        let cnt = select(lt.global_count, lt.caustic_count, caustic_map);
+        if i >= off && i < off + cnt {
+            li = l;
+        }
+    }
+    let light = lights[li];
+    var rng = Rng(path_key(params.seed, map_params.stream, params.pass_index, i), 0u);
+    let u0 = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
+    let u3 = rng_next(&rng);
+    let u4 = rng_next(&rng);
+    let e = emit(light, u0, u3, u4);
+    if caustic_map && !aims_at(e.origin, e.dir) {
+        return;
+    }
+    var power = select(light.global_power, light.caustic_power, caustic_map);
+    var o = e.origin;
+    if any(e.normal != vec3<f32>(0.0)) {
+        o = offset_origin(e.origin, e.normal, e.dir);
+    }
+    var d = e.dir;
+    var all_specular = true;
+    for (var depth = 0u; depth < params.max_photon_bounces && spend(); depth += 1u) {
+        let hit = trace_ray(o, d, 3.0e38, false);
+        if !hit.found {
+            return;
+        }
+        let m = materials[hit.material];
+        let stores = m.kind == MAT_DIFFUSE || m.kind == MAT_GLOSSY;
+        let specular = m.kind == MAT_MIRROR || m.kind == MAT_GLASS;
+        if stores {
+            let caustic = depth > 0u && all_specular;
+            let flags = min(depth, DEPTH_MASK) | select(0u, FLAG_CAUSTIC, caustic);
+            if caustic_map {
+                if caustic {
+                    store_photon(Photon(hit.position, flags, power, i, d, 0u));
+                }
+                return;
+            }
+            store_photon(Photon(hit.position, flags, power, i, d, 0u));
+        } else if caustic_map && !specular {
+            return;
+        }
+        let u = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
+        let b = photon_bounce(m, d, hit.normal, u);
+        if b.kind == BOUNCE_ABSORB {
+            return;
+        }
+        if b.kind != BOUNCE_DELTA {
+            all_specular = false;
+        }
+        power *= b.weight;
+        if !(max3(power) > 0.0) {
+            return;
+        }
+        d = b.dir;
+        o = offset_origin(hit.position, hit.normal, d);
+    }
+}

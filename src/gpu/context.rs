@@ -1,0 +1,127 @@
+//! The wgpu instance, adapter, device and queue, created once per render.
+
+use crate::error::{Error, Result};
+use std::sync::{Arc, Mutex};
+
+/// Largest storage binding the backend uses: lavapipe's 128 MiB, or less when the adapter
+/// says so.
+pub const MAX_BINDING: u64 = 128 << 20;
+
+/// A device ready for compute work.
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// Storage binding size in bytes that every buffer stays within.
+    pub max_binding: u64,
+    /// The first error the device reported outside an error scope (instead of a panic).
+    pub uncaptured: Arc<Mutex<Option<String>>>,
+}
+
+/// One adapter, described for `gpu-photon adapters`.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    pub max_storage_buffer_binding_size: u64,
+    pub max_buffer_size: u64,
+    pub max_compute_workgroups_per_dimension: u32,
+    pub max_compute_invocations_per_workgroup: u32,
+    pub max_storage_buffers_per_shader_stage: u32,
+}
+
+fn instance() -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = wgpu::Backends::VULKAN;
+    wgpu::Instance::new(desc)
+}
+
+/// Every Vulkan adapter wgpu finds.
+pub fn list_adapters() -> Vec<AdapterSummary> {
+    let adapters = pollster::block_on(instance().enumerate_adapters(wgpu::Backends::VULKAN));
+    adapters
+        .iter()
+        .map(|a| {
+            let info = a.get_info();
+            let l = a.limits();
+            AdapterSummary {
+                name: info.name,
+                backend: format!("{:?}", info.backend),
+                device_type: format!("{:?}", info.device_type),
+                driver: format!("{} {}", info.driver, info.driver_info),
+                max_storage_buffer_binding_size: l.max_storage_buffer_binding_size as u64,
+                max_buffer_size: l.max_buffer_size,
+                max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
+                max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
+                max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
+            }
+        })
+        .collect()
+}
+
+/// Storage buffers the kernels bind in one stage (scene group + map group).
+pub const STORAGE_BUFFERS_NEEDED: u32 = 15;
+
+impl GpuContext {
+    /// Opens the default adapter (high performance preferred).
+    pub fn new() -> Result<Self> {
+        let instance = instance();
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| Error::Gpu(format!("no Vulkan adapter found ({e}); install mesa-vulkan-drivers for lavapipe, or use --backend cpu")))?;
+        let limits = adapter.limits();
+        if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
+            return Err(Error::Gpu(format!(
+                "adapter {} allows {} storage buffers per stage; {STORAGE_BUFFERS_NEEDED} are needed",
+                adapter.get_info().name,
+                limits.max_storage_buffers_per_shader_stage
+            )));
+        }
+        let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size).min(MAX_BINDING);
+        let mut required = wgpu::Limits::downlevel_defaults();
+        required.max_storage_buffers_per_shader_stage = STORAGE_BUFFERS_NEEDED;
+        required.max_storage_buffer_binding_size = max_binding as _;
+        required.max_buffer_size = max_binding;
+        required.max_compute_workgroups_per_dimension = limits.max_compute_workgroups_per_dimension;
+        required.max_compute_invocations_per_workgroup = 256.min(limits.max_compute_invocations_per_workgroup);
+        required.max_compute_workgroup_size_x = 256.min(limits.max_compute_workgroup_size_x);
+        required.max_bind_groups = 2;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("gpu-photon device"),
+            required_features: wgpu::Features::empty(),
+            required_limits: required,
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| Error::Gpu(format!("could not open the device: {e}")))?;
+        let uncaptured: Arc<Mutex<Option<String>>> = Arc::default();
+        let slot = uncaptured.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut s) = slot.lock() {
+                s.get_or_insert_with(|| e.to_string());
+            }
+        }));
+        Ok(GpuContext { adapter, device, queue, max_binding, uncaptured })
+    }
+
+    /// Fails with the first uncaptured device error, if there was one.
+    pub fn check(&self) -> Result<()> {
+        match self.uncaptured.lock().ok().and_then(|mut s| s.take()) {
+            Some(e) => Err(Error::Gpu(e)),
+            None => Ok(()),
+        }
+    }
+
+    /// "name (backend, type)".
+    pub fn describe(&self) -> String {
+        let i = self.adapter.get_info();
+        format!("gpu: {} ({:?}, {:?})", i.name, i.backend, i.device_type)
+    }
+}

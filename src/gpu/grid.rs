@@ -1,0 +1,56 @@
+//! The hash grid's cell functions (twin: shaders/common/grid.wgsl) and its sizing.
+
+use crate::rng::pcg_hash;
+
+/// Integer cell coordinates of `p`.
+pub fn cell_of(p: [f32; 3], cell_size: f32) -> [i32; 3] {
+    p.map(|c| (c / cell_size).floor() as i32)
+}
+
+/// Hash-table slot of cell `c` (`table_size` a power of two).
+pub fn cell_hash(c: [i32; 3], table_size: u32) -> u32 {
+    let h = pcg_hash(c[0] as u32 ^ pcg_hash(c[1] as u32 ^ pcg_hash(c[2] as u32)));
+    h & (table_size - 1)
+}
+
+/// Table size: the power of two at or above `expected` photons (load factor <= 1), at least
+/// 256 (one scan block) and within one storage binding.
+pub fn table_size_for(expected: u32, max_binding: u64) -> u32 {
+    let cap = ((max_binding / 4).saturating_sub(1) as u32).max(256);
+    let cap = 1u32 << (31 - cap.leading_zeros());
+    expected.max(256).checked_next_power_of_two().unwrap_or(cap).min(cap)
+}
+
+/// Cell size: twice the expected distance to the K-th photon if `expected` photons covered
+/// `area * concentration` uniformly (so the first ring of 27 cells usually holds the K
+/// nearest), kept within [radius / 5, radius] so a search visits at most 11^3 cells
+/// (`MAX_CELLS` in gather.wgsl).
+pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentration: f32) -> f32 {
+    let density = expected.max(1) as f32 / (area * concentration).max(1e-30);
+    let r_k = 2.0 * (k as f32 / (std::f32::consts::PI * density)).sqrt();
+    if r_k.is_finite() {
+        r_k.clamp(radius / 5.0, radius)
+    } else {
+        radius
+    }
+}
+
+/// The CPU counting sort the device grid build must equal: `(cell_start, sorted ids)` with
+/// photons in each cell listed by their position in `keys` (the device's order within a cell
+/// is unspecified, so tests compare cells as sets).
+pub fn counting_sort(keys: &[u32], table_size: u32) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; table_size as usize + 1];
+    for &h in keys {
+        start[h as usize + 1] += 1;
+    }
+    for i in 0..table_size as usize {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut order = vec![0u32; keys.len()];
+    for (i, &h) in keys.iter().enumerate() {
+        order[fill[h as usize] as usize] = i as u32;
+        fill[h as usize] += 1;
+    }
+    (start, order)
+}

@@ -1,0 +1,464 @@
+//! The GPU render: scene upload, the pipelines (created once), and the passes recorded per
+//! photon map (trace, then the grid build) and per camera sample (gather).
+
+use super::context::GpuContext;
+use super::grid::{cell_size_for, table_size_for};
+use super::shaders::Kernel;
+use super::types::*;
+use crate::bvh::{Bvh, BvhNode};
+use crate::error::{Error, Result};
+use crate::film::Image;
+use crate::light::LightTable;
+use crate::photon::{Budget, Photon};
+use crate::render::{MapPlan, Progress, RenderReport};
+use crate::rng::Stream;
+use crate::scene::Scene;
+use crate::settings::{FresnelMode, Mode, RenderSettings};
+use bytemuck::Pod;
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Largest K the gather kernel's heap holds (`MAX_HEAP` in shaders/gather.wgsl).
+pub const MAX_HEAP: u32 = 256;
+/// Indices of the stats buffer (`STAT_*` in shaders/common/types.wgsl).
+pub const STAT_PHOTON_OVERFLOW: usize = 0;
+pub const STAT_LOOP_BUDGET: usize = 1;
+pub const STAT_GATHER_TRUNCATED: usize = 2;
+const STATS_LEN: usize = 4;
+/// Drop flags of a map's grid (`DROP_*` in shaders/common/grid.wgsl).
+const DROP_DIRECT: u32 = 1;
+const DROP_CAUSTIC: u32 = 2;
+
+fn storage_buffer<T: Pod>(dev: &wgpu::Device, label: &str, data: &[T], extra: wgpu::BufferUsages) -> wgpu::Buffer {
+    let mut bytes = bytemuck::cast_slice::<T, u8>(data).to_vec();
+    if bytes.is_empty() {
+        bytes.resize(64, 0); // bindings may not be empty: one zeroed element of any struct
+    }
+    dev.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &bytes, usage: wgpu::BufferUsages::STORAGE | extra })
+}
+
+fn empty_buffer(dev: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    dev.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(64), usage, mapped_at_creation: false })
+}
+
+fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+const RO: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+const RW: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
+const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+
+/// The bind-group layouts, declared once: group 0 (scene) for every kernel, group 1 for the
+/// map-building kernels or for the gather.
+pub struct Layouts {
+    pub scene: wgpu::BindGroupLayout,
+    pub map: wgpu::BindGroupLayout,
+    pub gather: wgpu::BindGroupLayout,
+}
+
+impl Layouts {
+    pub fn new(dev: &wgpu::Device) -> Self {
+        let mk = |label: &str, tys: &[wgpu::BufferBindingType]| {
+            let entries: Vec<_> = tys.iter().enumerate().map(|(i, &t)| layout_entry(i as u32, t)).collect();
+            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
+        };
+        Layouts {
+            scene: mk("scene layout", &[RO, RO, RO, RO, RO, RO, RO, RO, UNIFORM, RW]),
+            map: mk("photon map layout", &[RW, RW, RW, RW, RW, RW, UNIFORM]),
+            gather: mk("gather layout", &[RO, RO, UNIFORM, RO, RO, UNIFORM, RW]),
+        }
+    }
+}
+
+fn bind_group(dev: &wgpu::Device, label: &str, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+    let entries: Vec<_> =
+        buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+    dev.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+}
+
+/// Scene features as pipeline-overridable constants.
+pub fn feature_constants(scene: &Scene) -> Vec<(&'static str, f64)> {
+    vec![
+        ("HAS_GLASS", scene.has_glass() as u32 as f64),
+        ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
+        ("HAS_POINT_LIGHTS", scene.has_point_lights() as u32 as f64),
+    ]
+}
+
+/// The compute pipelines of a render, each created once.
+pub struct Pipelines {
+    pub trace_photons: wgpu::ComputePipeline,
+    pub count_cells: wgpu::ComputePipeline,
+    pub scan_blocks: wgpu::ComputePipeline,
+    pub scan_sums: wgpu::ComputePipeline,
+    pub add_offsets: wgpu::ComputePipeline,
+    pub scatter: wgpu::ComputePipeline,
+    pub gather: wgpu::ComputePipeline,
+}
+
+impl Pipelines {
+    pub fn new(ctx: &GpuContext, layouts: &Layouts, constants: &[(&str, f64)]) -> Result<Self> {
+        let dev = &ctx.device;
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = |k: Kernel| {
+            dev.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(k.name()), source: wgpu::ShaderSource::Wgsl(k.source().into()) })
+        };
+        let map_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("photon map pipeline layout"),
+            bind_group_layouts: &[Some(&layouts.scene), Some(&layouts.map)],
+            immediate_size: 0,
+        });
+        let gather_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gather pipeline layout"),
+            bind_group_layouts: &[Some(&layouts.scene), Some(&layouts.gather)],
+            immediate_size: 0,
+        });
+        let pipeline = |m: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, entry: &str| {
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(layout),
+                module: m,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions { constants, zero_initialize_workgroup_memory: true },
+                cache: None,
+            })
+        };
+        let trace = module(Kernel::TracePhotons);
+        let grid = module(Kernel::BuildGrid);
+        let gather = module(Kernel::Gather);
+        let p = Pipelines {
+            trace_photons: pipeline(&trace, &map_layout, "trace_photons"),
+            count_cells: pipeline(&grid, &map_layout, "count_cells"),
+            scan_blocks: pipeline(&grid, &map_layout, "scan_blocks"),
+            scan_sums: pipeline(&grid, &map_layout, "scan_sums"),
+            add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
+            scatter: pipeline(&grid, &map_layout, "scatter"),
+            gather: pipeline(&gather, &gather_layout, "gather"),
+        };
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("pipeline creation failed: {e}")));
+        }
+        Ok(p)
+    }
+}
+
+/// The scene in device buffers, with the group-0 bind group.
+pub struct SceneBuffers {
+    pub params: wgpu::Buffer,
+    pub stats: wgpu::Buffer,
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl SceneBuffers {
+    pub fn new(ctx: &GpuContext, layouts: &Layouts, scene: &Scene, bvh: &Bvh, table: &LightTable, lights: &[GpuLight], bounds: &[GpuAabb], params: &GpuParams) -> Self {
+        let dev = &ctx.device;
+        let none = wgpu::BufferUsages::empty();
+        let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
+        let spheres: Vec<GpuSphere> = scene.spheres.iter().map(GpuSphere::from).collect();
+        let mats: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::from).collect();
+        let nodes: &[BvhNode] = &bvh.nodes;
+        let buffers = [
+            storage_buffer(dev, "triangles", &tris, none),
+            storage_buffer(dev, "spheres", &spheres, none),
+            storage_buffer(dev, "bvh nodes", nodes, none),
+            storage_buffer(dev, "bvh prim ids", &bvh.prim_ids, none),
+            storage_buffer(dev, "materials", &mats, none),
+            storage_buffer(dev, "lights", lights, none),
+            storage_buffer(dev, "light cdf", &table.tri_cdf, none),
+            storage_buffer(dev, "specular bounds", bounds, none),
+        ];
+        let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::bytes_of(params),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let stats = storage_buffer(dev, "stats", &[0u32; STATS_LEN], wgpu::BufferUsages::COPY_SRC);
+        let mut refs: Vec<&wgpu::Buffer> = buffers.iter().collect();
+        refs.push(&params_buf);
+        refs.push(&stats);
+        let bind_group = bind_group(dev, "scene bind group", &layouts.scene, &refs);
+        SceneBuffers { params: params_buf, stats, bind_group }
+    }
+}
+
+/// One photon map on the device: the traced photons, the hash grid and its parameters.
+pub struct MapBuffers {
+    pub params: GpuMapParams,
+    pub photons: wgpu::Buffer,
+    pub counters: wgpu::Buffer,
+    pub cell_count: wgpu::Buffer,
+    pub cell_start: wgpu::Buffer,
+    pub sorted: wgpu::Buffer,
+    pub params_buf: wgpu::Buffer,
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl MapBuffers {
+    pub fn new(ctx: &GpuContext, layouts: &Layouts, label: &str, params: GpuMapParams) -> Self {
+        let dev = &ctx.device;
+        let rw = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        let photon_bytes = params.capacity as u64 * std::mem::size_of::<Photon>() as u64;
+        let t = params.table_size as u64;
+        let photons = empty_buffer(dev, &format!("{label} photons"), photon_bytes, rw);
+        let counters = empty_buffer(dev, &format!("{label} counters"), 16, rw);
+        let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);
+        let cell_start = empty_buffer(dev, &format!("{label} cell starts"), 4 * (t + 1), rw);
+        let sorted = empty_buffer(dev, &format!("{label} sorted photons"), photon_bytes, rw);
+        let block_sums = empty_buffer(dev, &format!("{label} block sums"), 4 * t.div_ceil(256), rw);
+        let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(&format!("{label} map params")),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = bind_group(
+            dev,
+            &format!("{label} map bind group"),
+            &layouts.map,
+            &[&photons, &counters, &cell_count, &cell_start, &sorted, &block_sums, &params_buf],
+        );
+        MapBuffers { params, photons, counters, cell_count, cell_start, sorted, params_buf, bind_group }
+    }
+
+    /// Records tracing this map's photons and building its grid into `enc`.
+    pub fn record_build(&self, enc: &mut wgpu::CommandEncoder, p: &Pipelines, scene_bg: &wgpu::BindGroup) {
+        enc.clear_buffer(&self.counters, 0, None);
+        enc.clear_buffer(&self.cell_count, 0, None);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("build photon map"), timestamp_writes: None });
+        pass.set_bind_group(0, scene_bg, &[]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        let cap = self.params.capacity;
+        let t = self.params.table_size;
+        for (pipeline, n, wg) in [
+            (&p.trace_photons, self.params.paths, 64),
+            (&p.count_cells, cap, 64),
+            (&p.scan_blocks, t, 256),
+            (&p.scan_sums, 256, 256),
+            (&p.add_offsets, t, 64),
+            (&p.scatter, cap, 64),
+        ] {
+            pass.set_pipeline(pipeline);
+            let (x, y) = grid_2d(n.div_ceil(wg));
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+}
+
+/// Splits a workgroup count over x and y so that x stays within the 65,535 limit.
+pub fn grid_2d(groups: u32) -> (u32, u32) {
+    let groups = groups.max(1);
+    let x = groups.min(65_535);
+    (x, groups.div_ceil(x))
+}
+
+fn fill_budget(lights: &mut [GpuLight], b: &Budget, caustic: bool) {
+    for (l, g) in lights.iter_mut().enumerate() {
+        if caustic {
+            (g.caustic_offset, g.caustic_count, g.caustic_power) = (b.offsets[l], b.counts[l], b.path_power[l].to_array());
+        } else {
+            (g.global_offset, g.global_count, g.global_power) = (b.offsets[l], b.counts[l], b.path_power[l].to_array());
+        }
+    }
+}
+
+/// `Params` of a render (`sample` set per gather dispatch).
+pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -> GpuParams {
+    let terms = crate::cpu::gather::Terms::of(s.mode);
+    let c = &scene.camera;
+    GpuParams {
+        eye: c.eye.to_array(),
+        width: s.width,
+        forward: c.forward.to_array(),
+        height: s.height,
+        right: c.right.to_array(),
+        spp: s.spp,
+        up: c.up.to_array(),
+        sample: 0,
+        seed: s.seed,
+        pass_index: pass,
+        k: s.k,
+        filter_kind: match s.filter {
+            crate::settings::Filter::Disc => 0,
+            crate::settings::Filter::Cone => 1,
+            crate::settings::Filter::Epanechnikov => 2,
+        },
+        mode: s.mode as u32,
+        max_depth: s.max_depth,
+        max_photon_bounces: s.max_photon_bounces,
+        shadow_samples: s.shadow_samples,
+        fresnel: (s.fresnel == FresnelMode::Schlick) as u32,
+        n_lights: scene.lights.len() as u32,
+        n_bounds,
+        n_triangles: scene.triangles.len() as u32,
+        terms: terms.direct as u32 | (terms.point_lobe as u32) << 1 | (terms.lobe_ray as u32) << 2,
+        ..Default::default()
+    }
+}
+
+/// Reads a buffer back to the host.
+pub fn read_back<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, bytes: u64) -> Result<Vec<T>> {
+    let dev = &ctx.device;
+    let staging = empty_buffer(dev, "readback", bytes, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    enc.copy_buffer_to_buffer(src, 0, &staging, 0, bytes);
+    ctx.queue.submit([enc.finish()]);
+    staging.map_async(wgpu::MapMode::Read, .., |_| {});
+    dev.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+    ctx.check()?;
+    let view = staging.get_mapped_range(..bytes).map_err(|e| Error::Gpu(format!("mapping the read-back buffer: {e:?}")))?;
+    Ok(bytemuck::cast_slice(&view).to_vec())
+}
+
+/// Renders `scene` with one photon pass on the GPU.
+pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress) -> Result<(Image, RenderReport)> {
+    if s.k > MAX_HEAP {
+        return Err(Error::Setting { field: "k", message: format!("{} exceeds the GPU backend's limit of {MAX_HEAP}", s.k) });
+    }
+    let mut report = RenderReport::default();
+    let t = Instant::now();
+    let ctx = GpuContext::new()?;
+    let accum_bytes = s.width as u64 * s.height as u64 * 16;
+    if accum_bytes > ctx.max_binding {
+        return Err(Error::Gpu(format!(
+            "a {}x{} image needs {accum_bytes} bytes in one binding; the limit is {} (use --backend cpu)",
+            s.width, s.height, ctx.max_binding
+        )));
+    }
+    report.backend = ctx.describe();
+    report.phase("open device", t);
+
+    let t = Instant::now();
+    let bvh = Bvh::build(scene);
+    let table = LightTable::new(scene);
+    let plan = MapPlan::new(scene, s);
+    let mut lights = lights(scene, &table);
+    let bounds: Vec<GpuAabb> = plan
+        .caustic
+        .as_ref()
+        .map(|(_, b)| b.iter().map(|a| GpuAabb { bmin: a.min.to_array(), bmax: a.max.to_array(), ..Default::default() }).collect())
+        .unwrap_or_default();
+    if let Some(b) = &plan.global {
+        fill_budget(&mut lights, b, false);
+    }
+    if let Some((b, _)) = &plan.caustic {
+        fill_budget(&mut lights, b, true);
+    }
+    let params = gpu_params(scene, s, pass, bounds.len() as u32);
+    let layouts = Layouts::new(&ctx.device);
+    let sb = SceneBuffers::new(&ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params);
+    let pipelines = Pipelines::new(&ctx, &layouts, &feature_constants(scene))?;
+    report.phase("upload + pipelines", t);
+
+    let photon_size = std::mem::size_of::<Photon>() as u64;
+    let max_photons = (ctx.max_binding / photon_size) as u32;
+    let area = storing_area(scene);
+    let global_params = match &plan.global {
+        Some(b) => {
+            let paths = b.total();
+            let capacity = (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
+            let expected = paths.saturating_mul(3);
+            let drop = match s.mode {
+                Mode::Direct => DROP_DIRECT | if plan.caustic.is_some() { DROP_CAUSTIC } else { 0 },
+                Mode::Photon if plan.caustic.is_some() => DROP_CAUSTIC,
+                _ => 0,
+            };
+            GpuMapParams {
+                stream: Stream::Photon as u32,
+                paths,
+                capacity,
+                table_size: table_size_for(expected, ctx.max_binding),
+                cell_size: cell_size_for(s.radius, s.k, expected, area, 1.0),
+                is_caustic: 0,
+                drop_flags: drop,
+                radius2: s.radius * s.radius,
+            }
+        }
+        None => GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, ..Default::default() },
+    };
+    let caustic_params = match &plan.caustic {
+        Some((b, _)) => {
+            let paths = b.total();
+            let capacity = paths.min(max_photons);
+            let expected = s.caustic_photons;
+            GpuMapParams {
+                stream: Stream::Caustic as u32,
+                paths,
+                capacity,
+                table_size: table_size_for(expected, ctx.max_binding),
+                cell_size: cell_size_for(s.caustic_radius, s.k, expected, area, 0.05),
+                is_caustic: 1,
+                drop_flags: 0,
+                radius2: s.caustic_radius * s.caustic_radius,
+            }
+        }
+        None => GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, is_caustic: 1, ..Default::default() },
+    };
+    let t = Instant::now();
+    let global = MapBuffers::new(&ctx, &layouts, "global", global_params);
+    let caustic = MapBuffers::new(&ctx, &layouts, "caustic", caustic_params);
+    let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon maps") });
+    for m in [&global, &caustic] {
+        if m.params.paths > 0 {
+            m.record_build(&mut enc, &pipelines, &sb.bind_group);
+        }
+    }
+    ctx.queue.submit([enc.finish()]);
+    let gc: Vec<u32> = read_back(&ctx, &global.counters, 16)?;
+    let cc: Vec<u32> = read_back(&ctx, &caustic.counters, 16)?;
+    report.global_stored = gc[0] as usize;
+    report.caustic_stored = cc[0] as usize;
+    report.phase("photons + grids", t);
+
+    let t = Instant::now();
+    let accum = empty_buffer(&ctx.device, "image accumulator", accum_bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
+    let gather_bg = bind_group(
+        &ctx.device,
+        "gather bind group",
+        &layouts.gather,
+        &[&global.sorted, &global.cell_start, &global.params_buf, &caustic.sorted, &caustic.cell_start, &caustic.params_buf, &accum],
+    );
+    let bar = progress.bar(s.spp as u64, "gather");
+    let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
+    for sample in 0..s.spp {
+        let p = GpuParams { sample, ..params };
+        ctx.queue.write_buffer(&sb.params, 0, bytemuck::bytes_of(&p));
+        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gather") });
+        {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gather"), timestamp_writes: None });
+            cp.set_pipeline(&pipelines.gather);
+            cp.set_bind_group(0, &sb.bind_group, &[]);
+            cp.set_bind_group(1, &gather_bg, &[]);
+            cp.dispatch_workgroups(wx, wy, 1);
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let px: Vec<[f32; 4]> = read_back(&ctx, &accum, accum_bytes)?;
+    let stats: Vec<u32> = read_back(&ctx, &sb.stats, (STATS_LEN * 4) as u64)?;
+    report.phase("gather", t);
+    report.gpu_stats = stats;
+    let mut image = Image::new(s.width, s.height);
+    for (dst, src) in image.pixels.iter_mut().zip(&px) {
+        *dst = [src[0], src[1], src[2]];
+    }
+    Ok((image, report))
+}
+
+/// Total area of the surfaces that store photons.
+pub fn storing_area(scene: &Scene) -> f32 {
+    let tris: f32 = scene.triangles.iter().filter(|t| scene.materials[t.material as usize].stores_photons()).map(|t| t.area()).sum();
+    let spheres: f32 = scene
+        .spheres
+        .iter()
+        .filter(|s| scene.materials[s.material as usize].stores_photons())
+        .map(|s| 4.0 * std::f32::consts::PI * s.radius * s.radius)
+        .sum();
+    tris + spheres
+}
