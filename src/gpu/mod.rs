@@ -4,6 +4,7 @@
 
 pub mod context;
 pub mod grid;
+pub mod probe;
 pub mod render;
 pub mod shaders;
 pub mod types;

@@ -225,23 +225,27 @@ impl MapBuffers {
         MapBuffers { params, photons, counters, cell_count, cell_start, sorted, params_buf, bind_group }
     }
 
-    /// Records tracing this map's photons and building its grid into `enc`.
-    pub fn record_build(&self, enc: &mut wgpu::CommandEncoder, p: &Pipelines, scene_bg: &wgpu::BindGroup) {
-        enc.clear_buffer(&self.counters, 0, None);
+    /// Records tracing this map's photons (when `trace`) and building its grid into `enc`.
+    pub fn record_build(&self, enc: &mut wgpu::CommandEncoder, p: &Pipelines, scene_bg: &wgpu::BindGroup, trace: bool) {
+        if trace {
+            enc.clear_buffer(&self.counters, 0, None);
+        }
         enc.clear_buffer(&self.cell_count, 0, None);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("build photon map"), timestamp_writes: None });
         pass.set_bind_group(0, scene_bg, &[]);
         pass.set_bind_group(1, &self.bind_group, &[]);
         let cap = self.params.capacity;
         let t = self.params.table_size;
-        for (pipeline, n, wg) in [
-            (&p.trace_photons, self.params.paths, 64),
+        let trace_stage = [(&p.trace_photons, self.params.paths, 64)];
+        let grid_stages = [
             (&p.count_cells, cap, 64),
             (&p.scan_blocks, t, 256),
             (&p.scan_sums, 256, 256),
             (&p.add_offsets, t, 64),
             (&p.scatter, cap, 64),
-        ] {
+        ];
+        let stages = if trace { &trace_stage[..] } else { &[] };
+        for &(pipeline, n, wg) in stages.iter().chain(&grid_stages) {
             pass.set_pipeline(pipeline);
             let (x, y) = grid_2d(n.div_ceil(wg));
             pass.dispatch_workgroups(x, y, 1);
@@ -314,6 +318,122 @@ pub fn read_back<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, bytes: u64) -> Re
     Ok(bytemuck::cast_slice(&view).to_vec())
 }
 
+/// Everything one render (or one probe) sets up on the device, once.
+pub struct GpuRun<'a> {
+    pub ctx: &'a GpuContext,
+    pub layouts: Layouts,
+    pub scene_buffers: SceneBuffers,
+    pub pipelines: Pipelines,
+    pub params: GpuParams,
+    pub plan: MapPlan,
+}
+
+impl<'a> GpuRun<'a> {
+    /// Uploads the scene and creates the pipelines, specialised to the scene's features.
+    pub fn new(ctx: &'a GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
+        let bvh = Bvh::build(scene);
+        let table = LightTable::new(scene);
+        let plan = MapPlan::new(scene, s);
+        let mut lights = lights(scene, &table);
+        let bounds: Vec<GpuAabb> = plan
+            .caustic
+            .as_ref()
+            .map(|(_, b)| b.iter().map(|a| GpuAabb { bmin: a.min.to_array(), bmax: a.max.to_array(), ..Default::default() }).collect())
+            .unwrap_or_default();
+        if let Some(b) = &plan.global {
+            fill_budget(&mut lights, b, false);
+        }
+        if let Some((b, _)) = &plan.caustic {
+            fill_budget(&mut lights, b, true);
+        }
+        let params = gpu_params(scene, s, pass, bounds.len() as u32);
+        let layouts = Layouts::new(&ctx.device);
+        let scene_buffers = SceneBuffers::new(ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params);
+        let pipelines = Pipelines::new(ctx, &layouts, &feature_constants(scene))?;
+        Ok(GpuRun { ctx, layouts, scene_buffers, pipelines, params, plan })
+    }
+
+    /// A zeroed read-write buffer for the image (or probe results).
+    pub fn accum_buffer(&self, bytes: u64) -> wgpu::Buffer {
+        empty_buffer(&self.ctx.device, "image accumulator", bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST)
+    }
+
+    /// An absent map (`paths == 0`), bound where a mode or scene has none.
+    pub fn empty_map(&self, caustic: bool) -> MapBuffers {
+        let p = GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, is_caustic: caustic as u32, ..Default::default() };
+        MapBuffers::new(self.ctx, &self.layouts, if caustic { "caustic (absent)" } else { "global (absent)" }, p)
+    }
+
+    /// Uploads `photons` as a map and builds its grid (no tracing).
+    pub fn upload_map(&self, photons: &[Photon], cell_size: f32, table_size: u32, radius2: f32) -> Result<MapBuffers> {
+        let n = photons.len() as u32;
+        let map = MapBuffers::new(self.ctx, &self.layouts, "uploaded", super::probe::probe_map_params(n, cell_size, table_size, radius2));
+        if n > 0 {
+            self.ctx.queue.write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
+        }
+        self.ctx.queue.write_buffer(&map.counters, 0, bytemuck::bytes_of(&[n, 0, 0, 0]));
+        let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grid build") });
+        map.record_build(&mut enc, &self.pipelines, &self.scene_buffers.bind_group, false);
+        self.ctx.queue.submit([enc.finish()]);
+        self.ctx.check()?;
+        Ok(map)
+    }
+
+    /// Runs the gather module's entry point `entry` over `n` invocations (64-wide) and reads
+    /// `accum` back.
+    pub fn dispatch_probe(&self, entry: &str, accum: &wgpu::Buffer, n: u32, bg: Option<&wgpu::BindGroup>) -> Result<Vec<[f32; 4]>> {
+        let dev = &self.ctx.device;
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("probe"), source: wgpu::ShaderSource::Wgsl(Kernel::Gather.source().into()) });
+        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("probe pipeline layout"),
+            bind_group_layouts: &[Some(&self.layouts.scene), Some(&self.layouts.gather)],
+            immediate_size: 0,
+        });
+        let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("probe pipeline: {e}")));
+        }
+        let owned;
+        let bg = match bg {
+            Some(b) => b,
+            None => {
+                let (g, c) = (self.empty_map(false), self.empty_map(true));
+                owned = bind_group_for_gather(self.ctx, &self.layouts, &g, &c, accum);
+                &owned
+            }
+        };
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("probe") });
+        {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("probe"), timestamp_writes: None });
+            cp.set_pipeline(&pipeline);
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[]);
+            cp.set_bind_group(1, bg, &[]);
+            let (x, y) = grid_2d(n.div_ceil(64));
+            cp.dispatch_workgroups(x, y, 1);
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        read_back(self.ctx, accum, accum.size())
+    }
+}
+
+/// The gather kernel's group 1 over two maps and the accumulator.
+pub fn bind_group_for_gather(ctx: &GpuContext, layouts: &Layouts, global: &MapBuffers, caustic: &MapBuffers, accum: &wgpu::Buffer) -> wgpu::BindGroup {
+    bind_group(
+        &ctx.device,
+        "gather bind group",
+        &layouts.gather,
+        &[&global.sorted, &global.cell_start, &global.params_buf, &caustic.sorted, &caustic.cell_start, &caustic.params_buf, accum],
+    )
+}
+
 /// Renders `scene` with one photon pass on the GPU.
 pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress) -> Result<(Image, RenderReport)> {
     if s.k > MAX_HEAP {
@@ -333,81 +453,11 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
     report.phase("open device", t);
 
     let t = Instant::now();
-    let bvh = Bvh::build(scene);
-    let table = LightTable::new(scene);
-    let plan = MapPlan::new(scene, s);
-    let mut lights = lights(scene, &table);
-    let bounds: Vec<GpuAabb> = plan
-        .caustic
-        .as_ref()
-        .map(|(_, b)| b.iter().map(|a| GpuAabb { bmin: a.min.to_array(), bmax: a.max.to_array(), ..Default::default() }).collect())
-        .unwrap_or_default();
-    if let Some(b) = &plan.global {
-        fill_budget(&mut lights, b, false);
-    }
-    if let Some((b, _)) = &plan.caustic {
-        fill_budget(&mut lights, b, true);
-    }
-    let params = gpu_params(scene, s, pass, bounds.len() as u32);
-    let layouts = Layouts::new(&ctx.device);
-    let sb = SceneBuffers::new(&ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params);
-    let pipelines = Pipelines::new(&ctx, &layouts, &feature_constants(scene))?;
+    let run = GpuRun::new(&ctx, scene, s, pass)?;
     report.phase("upload + pipelines", t);
 
-    let photon_size = std::mem::size_of::<Photon>() as u64;
-    let max_photons = (ctx.max_binding / photon_size) as u32;
-    let area = storing_area(scene);
-    let global_params = match &plan.global {
-        Some(b) => {
-            let paths = b.total();
-            let capacity = (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
-            let expected = paths.saturating_mul(3);
-            let drop = match s.mode {
-                Mode::Direct => DROP_DIRECT | if plan.caustic.is_some() { DROP_CAUSTIC } else { 0 },
-                Mode::Photon if plan.caustic.is_some() => DROP_CAUSTIC,
-                _ => 0,
-            };
-            GpuMapParams {
-                stream: Stream::Photon as u32,
-                paths,
-                capacity,
-                table_size: table_size_for(expected, ctx.max_binding),
-                cell_size: cell_size_for(s.radius, s.k, expected, area, 1.0),
-                is_caustic: 0,
-                drop_flags: drop,
-                radius2: s.radius * s.radius,
-            }
-        }
-        None => GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, ..Default::default() },
-    };
-    let caustic_params = match &plan.caustic {
-        Some((b, _)) => {
-            let paths = b.total();
-            let capacity = paths.min(max_photons);
-            let expected = s.caustic_photons;
-            GpuMapParams {
-                stream: Stream::Caustic as u32,
-                paths,
-                capacity,
-                table_size: table_size_for(expected, ctx.max_binding),
-                cell_size: cell_size_for(s.caustic_radius, s.k, expected, area, 0.05),
-                is_caustic: 1,
-                drop_flags: 0,
-                radius2: s.caustic_radius * s.caustic_radius,
-            }
-        }
-        None => GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, is_caustic: 1, ..Default::default() },
-    };
     let t = Instant::now();
-    let global = MapBuffers::new(&ctx, &layouts, "global", global_params);
-    let caustic = MapBuffers::new(&ctx, &layouts, "caustic", caustic_params);
-    let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon maps") });
-    for m in [&global, &caustic] {
-        if m.params.paths > 0 {
-            m.record_build(&mut enc, &pipelines, &sb.bind_group);
-        }
-    }
-    ctx.queue.submit([enc.finish()]);
+    let (global, caustic) = run.trace_maps(scene, s)?;
     let gc: Vec<u32> = read_back(&ctx, &global.counters, 16)?;
     let cc: Vec<u32> = read_back(&ctx, &caustic.counters, 16)?;
     report.global_stored = gc[0] as usize;
@@ -415,23 +465,18 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
     report.phase("photons + grids", t);
 
     let t = Instant::now();
-    let accum = empty_buffer(&ctx.device, "image accumulator", accum_bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
-    let gather_bg = bind_group(
-        &ctx.device,
-        "gather bind group",
-        &layouts.gather,
-        &[&global.sorted, &global.cell_start, &global.params_buf, &caustic.sorted, &caustic.cell_start, &caustic.params_buf, &accum],
-    );
+    let accum = run.accum_buffer(accum_bytes);
+    let gather_bg = bind_group_for_gather(&ctx, &run.layouts, &global, &caustic, &accum);
     let bar = progress.bar(s.spp as u64, "gather");
     let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
     for sample in 0..s.spp {
-        let p = GpuParams { sample, ..params };
-        ctx.queue.write_buffer(&sb.params, 0, bytemuck::bytes_of(&p));
+        let p = GpuParams { sample, ..run.params };
+        ctx.queue.write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
         let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gather") });
         {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gather"), timestamp_writes: None });
-            cp.set_pipeline(&pipelines.gather);
-            cp.set_bind_group(0, &sb.bind_group, &[]);
+            cp.set_pipeline(&run.pipelines.gather);
+            cp.set_bind_group(0, &run.scene_buffers.bind_group, &[]);
             cp.set_bind_group(1, &gather_bg, &[]);
             cp.dispatch_workgroups(wx, wy, 1);
         }
@@ -441,7 +486,7 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
     }
     bar.finish_and_clear();
     let px: Vec<[f32; 4]> = read_back(&ctx, &accum, accum_bytes)?;
-    let stats: Vec<u32> = read_back(&ctx, &sb.stats, (STATS_LEN * 4) as u64)?;
+    let stats: Vec<u32> = read_back(&ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     report.phase("gather", t);
     report.gpu_stats = stats;
     let mut image = Image::new(s.width, s.height);
@@ -449,6 +494,68 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
         *dst = [src[0], src[1], src[2]];
     }
     Ok((image, report))
+}
+
+impl GpuRun<'_> {
+    /// Traces the photon maps the plan asks for and builds their grids on the device.
+    pub fn trace_maps(&self, scene: &Scene, s: &RenderSettings) -> Result<(MapBuffers, MapBuffers)> {
+        let ctx = self.ctx;
+        let plan = &self.plan;
+        let photon_size = std::mem::size_of::<Photon>() as u64;
+        let max_photons = (ctx.max_binding / photon_size) as u32;
+        let area = storing_area(scene);
+        let global = match &plan.global {
+            Some(b) => {
+                let paths = b.total();
+                let capacity = (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
+                let expected = paths.saturating_mul(3);
+                let drop = match s.mode {
+                    Mode::Direct => DROP_DIRECT | if plan.caustic.is_some() { DROP_CAUSTIC } else { 0 },
+                    Mode::Photon if plan.caustic.is_some() => DROP_CAUSTIC,
+                    _ => 0,
+                };
+                let p = GpuMapParams {
+                    stream: Stream::Photon as u32,
+                    paths,
+                    capacity,
+                    table_size: table_size_for(expected, ctx.max_binding),
+                    cell_size: cell_size_for(s.radius, s.k, expected, area, 1.0),
+                    is_caustic: 0,
+                    drop_flags: drop,
+                    radius2: s.radius * s.radius,
+                };
+                MapBuffers::new(ctx, &self.layouts, "global", p)
+            }
+            None => self.empty_map(false),
+        };
+        let caustic = match &plan.caustic {
+            Some((b, _)) => {
+                let paths = b.total();
+                let expected = s.caustic_photons;
+                let p = GpuMapParams {
+                    stream: Stream::Caustic as u32,
+                    paths,
+                    capacity: paths.min(max_photons),
+                    table_size: table_size_for(expected, ctx.max_binding),
+                    cell_size: cell_size_for(s.caustic_radius, s.k, expected, area, 0.05),
+                    is_caustic: 1,
+                    drop_flags: 0,
+                    radius2: s.caustic_radius * s.caustic_radius,
+                };
+                MapBuffers::new(ctx, &self.layouts, "caustic", p)
+            }
+            None => self.empty_map(true),
+        };
+        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon maps") });
+        for m in [&global, &caustic] {
+            if m.params.paths > 0 {
+                m.record_build(&mut enc, &self.pipelines, &self.scene_buffers.bind_group, true);
+            }
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.check()?;
+        Ok((global, caustic))
+    }
 }
 
 /// Total area of the surfaces that store photons.

@@ -1,7 +1,7 @@
 //! The backend-neutral scene: camera, materials, world-space primitives and lights.
 //!
 //! A [`Scene`] is what both backends render. It is built from a TOML description by
-//! [`load`] (see `scenes/README.md` for the format) or directly in code by tests. All
+//! [`load()`] (see `scenes/README.md` for the format) or directly in code by tests. All
 //! geometry is flattened into world-space triangles and analytic spheres; emission lives on
 //! the primitive's material, and every emissive primitive belongs to exactly one area
 //! [`Light`].
@@ -159,6 +159,18 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene with nothing in it (renders black), looking down -z from the origin.
+    pub fn empty() -> Self {
+        Scene {
+            camera: Camera { eye: Vec3::ZERO, forward: -Vec3::Z, right: Vec3::X, up: Vec3::Y },
+            materials: vec![],
+            triangles: vec![],
+            spheres: vec![],
+            lights: vec![],
+            settings: RenderSettings::default(),
+        }
+    }
+
     pub fn material_of_triangle(&self, i: usize) -> &Material {
         &self.materials[self.triangles[i].material as usize]
     }
