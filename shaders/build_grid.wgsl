@@ -6,6 +6,8 @@
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
 //   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = photon
 // cell_start[table_size] ends up holding the number of photons in the grid.
+// Loops: the scan's 8 steps and scan_sums' chunks of at most 256 (table_size <= 2^24) per
+// invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
 
 fn stored_count() -> u32 {
     return min(atomicLoad(&counters[0]), map_params.capacity);

@@ -16,13 +16,15 @@
 // Largest K the GPU heap holds (src/gpu/mod.rs rejects a larger --k).
 const MAX_HEAP: u32 = 256u;
 // Grid cells one estimate may visit (rings of cells around the query).
-const MAX_CELLS: u32 = 1331u;
-// Photons one estimate may examine; past it the estimate uses what it found and counts
-// stats[STAT_GATHER_TRUNCATED].
-const MAX_VISITS: u32 = 16384u;
+const MAX_CELLS: u32 = 1331u; // 11^3: rings 0..=5
+// Photons one estimate may examine (half the loop budget); past it the estimate uses what
+// it found and counts stats[STAT_GATHER_TRUNCATED].
+override MAX_VISITS: u32 = LOOP_BUDGET / 2u;
 
-var<private> heap_d2: array<f32, MAX_HEAP>;
-var<private> heap_ix: array<u32, MAX_HEAP>;
+// The heap: (squared distance bits, photon index) pairs; a max-heap during the search.
+var<private> heap: array<vec2<u32>, MAX_HEAP>;
+// Neighbours found by the last knn() (read by probe_knn).
+var<private> last_found: u32 = 0u;
 
 fn map_photon(which: u32, i: u32) -> Photon {
     if which == 0u {
@@ -51,13 +53,19 @@ fn heap_less(which: u32, d2a: f32, ia: u32, d2b: f32, ib: u32) -> bool {
     return pa.flags < pb.flags;
 }
 
+fn heap_d2(i: u32) -> f32 {
+    return bitcast<f32>(heap[i].x);
+}
+
 fn heap_swap(a: u32, b: u32) {
-    let d = heap_d2[a];
-    heap_d2[a] = heap_d2[b];
-    heap_d2[b] = d;
-    let x = heap_ix[a];
-    heap_ix[a] = heap_ix[b];
-    heap_ix[b] = x;
+    let t = heap[a];
+    heap[a] = heap[b];
+    heap[b] = t;
+}
+
+// Whether heap entry a orders before entry b.
+fn entry_less(which: u32, a: u32, b: u32) -> bool {
+    return heap_less(which, heap_d2(a), heap[a].y, heap_d2(b), heap[b].y);
 }
 
 // Restores the max-heap property below `start` within [0, n).
@@ -69,10 +77,10 @@ fn sift_down(which: u32, start: u32, n: u32) {
             return;
         }
         var c = l;
-        if l + 1u < n && heap_less(which, heap_d2[l], heap_ix[l], heap_d2[l + 1u], heap_ix[l + 1u]) {
+        if l + 1u < n && entry_less(which, l, l + 1u) {
             c = l + 1u;
         }
-        if !heap_less(which, heap_d2[i], heap_ix[i], heap_d2[c], heap_ix[c]) {
+        if !entry_less(which, i, c) {
             return;
         }
         heap_swap(i, c);
@@ -84,7 +92,7 @@ fn sift_up(which: u32, start: u32) {
     var i = start;
     for (var step = 0u; step < 16u && i > 0u && spend(); step += 1u) {
         let p = (i - 1u) / 2u;
-        if !heap_less(which, heap_d2[p], heap_ix[p], heap_d2[i], heap_ix[i]) {
+        if !entry_less(which, p, i) {
             return;
         }
         heap_swap(i, p);
@@ -129,28 +137,28 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
     var visits = 0u;
     var cells = 0u;
     var truncated = false;
-    for (var s = 0; s <= rings && !truncated; s += 1) {
+    for (var s = 0; s <= rings && !truncated && spend(); s += 1) {
         // Ring s covers every point within s * cell_size of x (x lies inside its home cell).
         let covered = f32(s) * mp.cell_size;
-        if s >= 2 && n == k && heap_d2[0] <= (covered - mp.cell_size) * (covered - mp.cell_size) {
+        if s >= 2 && n == k && heap_d2(0u) <= (covered - mp.cell_size) * (covered - mp.cell_size) {
             break;
         }
-        for (var dz = -s; dz <= s && !truncated; dz += 1) {
-            for (var dy = -s; dy <= s && !truncated; dy += 1) {
+        for (var dz = -s; dz <= s && !truncated && spend(); dz += 1) {
+            for (var dy = -s; dy <= s && !truncated && spend(); dy += 1) {
                 for (var dx = -s; dx <= s && !truncated; dx += 1) {
-                    if max(abs(dx), max(abs(dy), abs(dz))) != s {
-                        continue;
-                    }
                     cells += 1u;
                     if cells > MAX_CELLS || !spend() {
                         truncated = true;
                         break;
                     }
+                    if max(abs(dx), max(abs(dy), abs(dz))) != s {
+                        continue;
+                    }
                     let c = home + vec3<i32>(dx, dy, dz);
                     // Skip cells entirely farther than the current K-th photon (or the radius).
                     let lo = vec3<f32>(c) * mp.cell_size;
                     let gap = max(max(lo - x, x - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
-                    let bound = select(r2_max, heap_d2[0], n == k);
+                    let bound = select(r2_max, heap_d2(0u), n == k);
                     if dot(gap, gap) > bound {
                         continue;
                     }
@@ -173,13 +181,11 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
                             continue;
                         }
                         if n < k {
-                            heap_d2[n] = d2;
-                            heap_ix[n] = j;
+                            heap[n] = vec2<u32>(bitcast<u32>(d2), j);
                             sift_up(which, n);
                             n += 1u;
-                        } else if heap_less(which, d2, j, heap_d2[0], heap_ix[0]) {
-                            heap_d2[0] = d2;
-                            heap_ix[0] = j;
+                        } else if heap_less(which, d2, j, heap_d2(0u), heap[0].y) {
+                            heap[0] = vec2<u32>(bitcast<u32>(d2), j);
                             sift_down(which, 0u, n);
                         }
                     }
@@ -190,6 +196,7 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
     if truncated {
         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
     }
+    last_found = n;
     // Heapsort: ascending (nearest first), a fixed order for the sum.
     for (var end = n; end > 1u && spend(); end -= 1u) {
         heap_swap(0u, end - 1u);
@@ -218,16 +225,16 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     var r2 = mp.radius2;
     var count = n;
     if n >= k {
-        r2 = max(heap_d2[n - 1u], 1e-30);
+        r2 = max(heap_d2(n - 1u), 1e-30);
         count = n - 1u;
     }
     var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < count; i += 1u) {
-        let p = map_photon(which, heap_ix[i]);
+    for (var i = 0u; i < count && spend(); i += 1u) {
+        let p = map_photon(which, heap[i].y);
         if dot(p.dir, ns) >= 0.0 {
             continue;
         }
-        sum += f * p.power * kernel_weight(heap_d2[i], r2);
+        sum += f * p.power * kernel_weight(heap_d2(i), r2);
     }
     return sum * kernel_norm(r2);
 }
@@ -373,4 +380,33 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let l = camera_sample(gid.x, gid.y, params.sample);
     let i = gid.y * params.width + gid.x;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
+}
+
+// Oracle probes for tests/gpu_oracle.rs (not used by a render; a pipeline compiles only
+// the entry point it names).
+// probe_rng: accum[i] = (path_key(seed, 1 + i % 4, pass, i), draw_u32(key, i % 9),
+// bits of to_unit(draw), pcg_hash(i)) as raw bits, for i < width.
+@compute @workgroup_size(64)
+fn probe_rng(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let key = path_key(params.seed, 1u + i % 4u, params.pass_index, i);
+    let bits = draw_u32(key, i % 9u);
+    accum[i] = bitcast<vec4<f32>>(vec4<u32>(key, bits, bitcast<u32>(to_unit(bits)), pcg_hash(i)));
+}
+
+// probe_knn: for query i < width, position accum[i].xyz and normal accum[width + i].xyz,
+// writes the global map's estimate with f = 1 and the neighbour count to accum[2 width + i].
+@compute @workgroup_size(64)
+fn probe_knn(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let x = accum[i].xyz;
+    let ns = accum[params.width + i].xyz;
+    let l = estimate(0u, x, ns, vec3<f32>(1.0));
+    accum[2u * params.width + i] = vec4<f32>(l, f32(last_found));
 }

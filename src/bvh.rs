@@ -63,16 +63,29 @@ impl Bvh {
         let mut items: Vec<Item> = Vec::with_capacity(scene.triangles.len() + scene.spheres.len());
         for (i, t) in scene.triangles.iter().enumerate() {
             let b = Aabb::of_triangle(t);
-            items.push(Item { bounds: b, centroid: b.centroid(), id: i as u32 });
+            items.push(Item {
+                bounds: b,
+                centroid: b.centroid(),
+                id: i as u32,
+            });
         }
         for (i, s) in scene.spheres.iter().enumerate() {
             let b = Aabb::of_sphere(s);
-            items.push(Item { bounds: b, centroid: b.centroid(), id: i as u32 | SPHERE_BIT });
+            items.push(Item {
+                bounds: b,
+                centroid: b.centroid(),
+                id: i as u32 | SPHERE_BIT,
+            });
         }
         let mut bvh = Bvh::default();
         if items.is_empty() {
             // One empty leaf whose box no ray enters.
-            bvh.nodes.push(BvhNode { bmin: [1.0; 3], bmax: [-1.0; 3], left_first: 0, count: 0 });
+            bvh.nodes.push(BvhNode {
+                bmin: [1.0; 3],
+                bmax: [-1.0; 3],
+                left_first: 0,
+                count: 0,
+            });
             return bvh;
         }
         bvh.nodes.reserve(2 * items.len());
@@ -97,7 +110,11 @@ impl Bvh {
         }
         // Past SAH_DEPTH only balanced median splits: the depth stays below
         // SAH_DEPTH + log2(N), within MAX_DEPTH for any N < 2^38.
-        let sah = if depth < SAH_DEPTH { sah_split(items, bounds.half_area()) } else { None };
+        let sah = if depth < SAH_DEPTH {
+            sah_split(items, bounds.half_area())
+        } else {
+            None
+        };
         let mid = match sah {
             Some(m) => m,
             // No split beats a leaf; split at the median anyway when the leaf would be large.
@@ -116,20 +133,28 @@ impl Bvh {
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best_t = t_max;
         let mut best: Option<(u32, f32, f32)> = None; // (prim id, u, v)
-        self.walk(ray, |id, t_limit| {
-            if id & SPHERE_BIT == 0 {
-                if let Some((t, u, v)) = intersect_triangle(&scene.triangles[id as usize], ray, t_limit) {
+        self.walk(
+            ray,
+            |id, t_limit| {
+                if id & SPHERE_BIT == 0 {
+                    if let Some((t, u, v)) =
+                        intersect_triangle(&scene.triangles[id as usize], ray, t_limit)
+                    {
+                        best_t = t;
+                        best = Some((id, u, v));
+                        return Some(t);
+                    }
+                } else if let Some(t) =
+                    intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
+                {
                     best_t = t;
-                    best = Some((id, u, v));
+                    best = Some((id, 0.0, 0.0));
                     return Some(t);
                 }
-            } else if let Some(t) = intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit) {
-                best_t = t;
-                best = Some((id, 0.0, 0.0));
-                return Some(t);
-            }
-            None
-        }, t_max);
+                None
+            },
+            t_max,
+        );
         let (id, u, v) = best?;
         Some(if id & SPHERE_BIT == 0 {
             let tri = &scene.triangles[id as usize];
@@ -145,25 +170,36 @@ impl Bvh {
             let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
             let p = ray.origin + best_t * ray.dir;
             let n = (p - s.center).normalize_or_zero();
-            Hit { t: best_t, position: s.center + n * s.radius, normal: n, material: s.material, light: s.light }
+            Hit {
+                t: best_t,
+                position: s.center + n * s.radius,
+                normal: n,
+                material: s.material,
+                light: s.light,
+            }
         })
     }
 
     /// Whether anything blocks `ray` before `t_max`.
     pub fn occluded(&self, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
         let mut hit = false;
-        self.walk(ray, |id, t_limit| {
-            let h = if id & SPHERE_BIT == 0 {
-                intersect_triangle(&scene.triangles[id as usize], ray, t_limit).is_some()
-            } else {
-                intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit).is_some()
-            };
-            if h {
-                hit = true;
-                return Some(-1.0); // negative: stop the walk
-            }
-            None
-        }, t_max);
+        self.walk(
+            ray,
+            |id, t_limit| {
+                let h = if id & SPHERE_BIT == 0 {
+                    intersect_triangle(&scene.triangles[id as usize], ray, t_limit).is_some()
+                } else {
+                    intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
+                        .is_some()
+                };
+                if h {
+                    hit = true;
+                    return Some(-1.0); // negative: stop the walk
+                }
+                None
+            },
+            t_max,
+        );
         hit
     }
 
@@ -179,7 +215,10 @@ impl Bvh {
         while sp > 0 {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
-            let b = Aabb { min: Vec3::from(node.bmin), max: Vec3::from(node.bmax) };
+            let b = Aabb {
+                min: Vec3::from(node.bmin),
+                max: Vec3::from(node.bmax),
+            };
             if !b.hit(ray.origin, inv, t_max) {
                 continue;
             }
@@ -197,14 +236,19 @@ impl Bvh {
                 // Visit the nearer child first: push the farther one.
                 let left = stack[sp] + 1;
                 let right = node.left_first;
-                let axis = if ray.dir.x.abs() > ray.dir.y.abs() && ray.dir.x.abs() > ray.dir.z.abs() {
+                let axis = if ray.dir.x.abs() > ray.dir.y.abs() && ray.dir.x.abs() > ray.dir.z.abs()
+                {
                     0
                 } else if ray.dir.y.abs() > ray.dir.z.abs() {
                     1
                 } else {
                     2
                 };
-                let (near, far) = if ray.dir[axis] >= 0.0 { (left, right) } else { (right, left) };
+                let (near, far) = if ray.dir[axis] >= 0.0 {
+                    (left, right)
+                } else {
+                    (right, left)
+                };
                 if sp + 2 <= stack.len() {
                     stack[sp] = far;
                     stack[sp + 1] = near;
@@ -271,7 +315,10 @@ fn sah_split(items: &mut [Item], parent_half_area: f32) -> Option<usize> {
     let (cost, axis, split) = best?;
     // Leaf cost = N intersections; interior = traversal (1) + weighted children.
     let leaf_cost = items.len() as f32;
-    if parent_half_area > 0.0 && 1.0 + cost / parent_half_area >= leaf_cost && items.len() <= MAX_LEAF * 2 {
+    if parent_half_area > 0.0
+        && 1.0 + cost / parent_half_area >= leaf_cost
+        && items.len() <= MAX_LEAF * 2
+    {
         return None;
     }
     let mut mid = partition(items, |it| it.centroid[axis] < split);

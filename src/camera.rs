@@ -25,7 +25,12 @@ impl Camera {
         if !(t.is_finite() && t > 0.0) {
             return None;
         }
-        Some(Self { eye, forward, right: right * t, up: true_up * t })
+        Some(Self {
+            eye,
+            forward,
+            right: right * t,
+            up: true_up * t,
+        })
     }
 
     /// Unit direction through raster position (px, py) of a `width` x `height` image.

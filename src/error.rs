@@ -7,16 +7,27 @@ use std::path::PathBuf;
 pub enum Error {
     /// A scene file is malformed or describes something impossible.
     #[error("{file}:{line}: {field}: {message}")]
-    Scene { file: String, line: usize, field: String, message: String },
+    Scene {
+        file: String,
+        line: usize,
+        field: String,
+        message: String,
+    },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// An image could not be decoded or encoded.
     #[error("{}: {message}", path.display())]
     Image { path: PathBuf, message: String },
     /// A render setting is out of range (from the command line or the API).
     #[error("invalid setting {field}: {message}")]
-    Setting { field: &'static str, message: String },
+    Setting {
+        field: &'static str,
+        message: String,
+    },
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),

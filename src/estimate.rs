@@ -62,7 +62,11 @@ pub fn radiance(
     }
     let farthest = neighbours.iter().map(|n| n.0).fold(0.0f32, f32::max);
     let r2 = estimate_r2(neighbours.len(), k, farthest, max_r2);
-    let skip = if neighbours.len() >= k { neighbours.iter().position(|n| n.0 == farthest) } else { None };
+    let skip = if neighbours.len() >= k {
+        neighbours.iter().position(|n| n.0 == farthest)
+    } else {
+        None
+    };
     let mut sum = Vec3::ZERO;
     for (i, &(d2, p)) in neighbours.iter().enumerate() {
         let dir = Vec3::from(p.dir);
@@ -91,7 +95,8 @@ mod tests {
             let mut integral = 0.0f64;
             for i in 0..n {
                 let rho = (i as f32 + 0.5) / n as f32 * r;
-                integral += (kernel_weight(filter, rho * rho, r2) * 2.0 * PI * rho * (r / n as f32)) as f64;
+                integral +=
+                    (kernel_weight(filter, rho * rho, r2) * 2.0 * PI * rho * (r / n as f32)) as f64;
             }
             let total = integral * kernel_norm(filter, r2) as f64;
             assert!((total - 1.0).abs() < 1e-3, "{filter:?}: {total}");

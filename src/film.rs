@@ -14,7 +14,11 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: u32, height: u32) -> Self {
-        Image { width, height, pixels: vec![[0.0; 3]; (width * height) as usize] }
+        Image {
+            width,
+            height,
+            pixels: vec![[0.0; 3]; (width * height) as usize],
+        }
     }
 
     /// Per-channel mean.
@@ -30,15 +34,24 @@ impl Image {
 
     /// Number of pixels with a NaN or infinite channel.
     pub fn non_finite(&self) -> usize {
-        self.pixels.iter().filter(|p| p.iter().any(|c| !c.is_finite())).count()
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|c| !c.is_finite()))
+            .count()
     }
 
     /// Reads an EXR (linear) or PNG (sRGB, decoded to linear) image.
     pub fn read(path: &Path) -> Result<Image> {
         let ext = extension(path);
-        let err = |message: String| Error::Image { path: path.to_path_buf(), message };
+        let err = |message: String| Error::Image {
+            path: path.to_path_buf(),
+            message,
+        };
         if !path.exists() {
-            return Err(Error::Image { path: path.to_path_buf(), message: "no such file".into() });
+            return Err(Error::Image {
+                path: path.to_path_buf(),
+                message: "no such file".into(),
+            });
         }
         match ext.as_str() {
             "exr" => {
@@ -56,10 +69,19 @@ impl Image {
             "png" => {
                 let img = image::open(path).map_err(|e| err(e.to_string()))?.to_rgb8();
                 let (w, h) = img.dimensions();
-                let pixels = img.pixels().map(|p| p.0.map(|v| srgb_to_linear(v as f32 / 255.0))).collect();
-                Ok(Image { width: w, height: h, pixels })
+                let pixels = img
+                    .pixels()
+                    .map(|p| p.0.map(|v| srgb_to_linear(v as f32 / 255.0)))
+                    .collect();
+                Ok(Image {
+                    width: w,
+                    height: h,
+                    pixels,
+                })
             }
-            _ => Err(err(format!("unknown image type '.{ext}' (expected .exr or .png)"))),
+            _ => Err(err(format!(
+                "unknown image type '.{ext}' (expected .exr or .png)"
+            ))),
         }
     }
 
@@ -67,9 +89,14 @@ impl Image {
     /// temporary file beside `path`, then renamed over it.
     pub fn write(&self, path: &Path, exposure: f32) -> Result<()> {
         let ext = extension(path);
-        let err = |message: String| Error::Image { path: path.to_path_buf(), message };
+        let err = |message: String| Error::Image {
+            path: path.to_path_buf(),
+            message,
+        };
         if ext != "exr" && ext != "png" {
-            return Err(err(format!("unknown image type '.{ext}' (expected .exr or .png)")));
+            return Err(err(format!(
+                "unknown image type '.{ext}' (expected .exr or .png)"
+            )));
         }
         let tmp = temp_path(path, &ext);
         let result = match ext.as_str() {
@@ -86,10 +113,19 @@ impl Image {
                 let bytes: Vec<u8> = self
                     .pixels
                     .iter()
-                    .flat_map(|p| p.map(|c| (linear_to_srgb(c * scale) * 255.0 + 0.5).clamp(0.0, 255.0) as u8))
+                    .flat_map(|p| {
+                        p.map(|c| (linear_to_srgb(c * scale) * 255.0 + 0.5).clamp(0.0, 255.0) as u8)
+                    })
                     .collect();
-                image::save_buffer_with_format(&tmp, &bytes, self.width, self.height, image::ColorType::Rgb8, image::ImageFormat::Png)
-                    .map_err(|e| err(e.to_string()))
+                image::save_buffer_with_format(
+                    &tmp,
+                    &bytes,
+                    self.width,
+                    self.height,
+                    image::ColorType::Rgb8,
+                    image::ImageFormat::Png,
+                )
+                .map_err(|e| err(e.to_string()))
             }
         };
         if let Err(e) = result {
@@ -98,13 +134,19 @@ impl Image {
         }
         std::fs::rename(&tmp, path).map_err(|source| {
             let _ = std::fs::remove_file(&tmp);
-            Error::Io { path: path.to_path_buf(), source }
+            Error::Io {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     }
 }
 
 fn extension(path: &Path) -> String {
-    path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
 }
 
 /// `dir/.name.PID.tmp.EXT`: same directory (so rename is atomic), keeps the extension.
@@ -115,7 +157,11 @@ fn temp_path(path: &Path, ext: &str) -> PathBuf {
 
 /// The sRGB transfer function (linear in [0,1] to encoded).
 pub fn linear_to_srgb(c: f32) -> f32 {
-    let c = if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 };
+    let c = if c.is_finite() {
+        c.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     if c <= 0.003_130_8 {
         12.92 * c
     } else {
@@ -150,7 +196,10 @@ pub struct DiffStats {
 /// Compares `a` with reference `b` (same size required).
 pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, String> {
     if a.width != b.width || a.height != b.height {
-        return Err(format!("sizes differ: {}x{} vs {}x{}", a.width, a.height, b.width, b.height));
+        return Err(format!(
+            "sizes differ: {}x{} vs {}x{}",
+            a.width, a.height, b.width, b.height
+        ));
     }
     let (mut se, mut rel, mut max) = (0.0f64, 0.0f64, 0.0f64);
     for (p, q) in a.pixels.iter().zip(&b.pixels) {
@@ -163,7 +212,15 @@ pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, 
     }
     let n = (a.pixels.len() * 3).max(1) as f64;
     let (ma, mb) = (a.mean(), b.mean());
-    let mean_ratio = [0, 1, 2].map(|c| if mb[c] != 0.0 { ma[c] / mb[c] } else if ma[c] == 0.0 { 1.0 } else { f64::INFINITY });
+    let mean_ratio = [0, 1, 2].map(|c| {
+        if mb[c] != 0.0 {
+            ma[c] / mb[c]
+        } else if ma[c] == 0.0 {
+            1.0
+        } else {
+            f64::INFINITY
+        }
+    });
     let block = block.max(1);
     let (bw, bh) = (a.width / block, a.height / block);
     let mut bse = 0.0f64;
@@ -186,6 +243,16 @@ pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, 
             }
         }
     }
-    let block_rmse = if bw * bh > 0 { (bse / (bw * bh * 3) as f64).sqrt() } else { 0.0 };
-    Ok(DiffStats { rmse: (se / n).sqrt(), block_rmse, rel_mse: rel / n, mean_ratio, max_error: max })
+    let block_rmse = if bw * bh > 0 {
+        (bse / (bw * bh * 3) as f64).sqrt()
+    } else {
+        0.0
+    };
+    Ok(DiffStats {
+        rmse: (se / n).sqrt(),
+        block_rmse,
+        rel_mse: rel / n,
+        mean_ratio,
+        max_error: max,
+    })
 }

@@ -92,19 +92,34 @@ pub struct Aabb {
 }
 
 impl Aabb {
-    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
     pub fn of_triangle(t: &Triangle) -> Self {
         let (a, b, c) = (t.v0, t.v0 + t.e1, t.v0 + t.e2);
-        Aabb { min: a.min(b).min(c), max: a.max(b).max(c) }
+        Aabb {
+            min: a.min(b).min(c),
+            max: a.max(b).max(c),
+        }
     }
     pub fn of_sphere(s: &Sphere) -> Self {
-        Aabb { min: s.center - Vec3::splat(s.radius), max: s.center + Vec3::splat(s.radius) }
+        Aabb {
+            min: s.center - Vec3::splat(s.radius),
+            max: s.center + Vec3::splat(s.radius),
+        }
     }
     pub fn union(self, o: Aabb) -> Aabb {
-        Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
     }
     pub fn grow(self, p: Vec3) -> Aabb {
-        Aabb { min: self.min.min(p), max: self.max.max(p) }
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
     }
     pub fn centroid(&self) -> Vec3 {
         0.5 * (self.min + self.max)

@@ -22,7 +22,11 @@ pub fn split_budget(powers: &[f64], total: u32) -> Vec<u32> {
     let mut counts: Vec<u32> = exact.iter().map(|e| e.floor() as u32).collect();
     let left = total - counts.iter().sum::<u32>();
     let mut order: Vec<usize> = (0..powers.len()).filter(|&i| powers[i] > 0.0).collect();
-    order.sort_by(|&a, &b| (exact[b] - exact[b].floor()).total_cmp(&(exact[a] - exact[a].floor())).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        (exact[b] - exact[b].floor())
+            .total_cmp(&(exact[a] - exact[a].floor()))
+            .then(a.cmp(&b))
+    });
     for &i in order.iter().cycle().take(left as usize) {
         counts[i] += 1;
     }
@@ -63,7 +67,11 @@ pub struct LightSample {
 
 impl LightTable {
     pub fn new(scene: &Scene) -> Self {
-        let mut t = LightTable { cdf_start: vec![], tri_cdf: vec![], area: vec![] };
+        let mut t = LightTable {
+            cdf_start: vec![],
+            tri_cdf: vec![],
+            area: vec![],
+        };
         for l in &scene.lights {
             t.cdf_start.push(t.tri_cdf.len() as u32);
             match l.shape {
@@ -81,7 +89,11 @@ impl LightTable {
                         t.tri_cdf.push(acc as f32);
                     }
                     for c in &mut t.tri_cdf[start..] {
-                        *c = if acc > 0.0 { (*c as f64 / acc) as f32 } else { 1.0 };
+                        *c = if acc > 0.0 {
+                            (*c as f64 / acc) as f32
+                        } else {
+                            1.0
+                        };
                     }
                     t.area.push(acc as f32);
                 }
@@ -92,7 +104,9 @@ impl LightTable {
 
     /// Picks a triangle of light `l` with probability proportional to area.
     fn pick_triangle(&self, scene: &Scene, l: usize, u: f32) -> usize {
-        let LightShape::Triangles { first, count } = scene.lights[l].shape else { unreachable!() };
+        let LightShape::Triangles { first, count } = scene.lights[l].shape else {
+            unreachable!()
+        };
         let start = self.cdf_start[l] as usize;
         let cdf = &self.tri_cdf[start..start + count as usize];
         let i = cdf.partition_point(|&c| c <= u).min(count as usize - 1);
@@ -122,7 +136,11 @@ impl LightTable {
     pub fn emit(&self, scene: &Scene, l: usize, u: [f32; 5]) -> Emission {
         let (p, mut n) = self.surface_point(scene, l, [u[0], u[1], u[2]]);
         if n == Vec3::ZERO {
-            return Emission { origin: p, dir: uniform_sphere(u[3], u[4]), normal: n };
+            return Emission {
+                origin: p,
+                dir: uniform_sphere(u[3], u[4]),
+                normal: n,
+            };
         }
         let mut u3 = u[3];
         if self.two_sided(scene, l) {
@@ -134,7 +152,11 @@ impl LightTable {
                 u3 *= 2.0;
             }
         }
-        Emission { origin: p, dir: cosine_hemisphere(n, u3, u[4]), normal: n }
+        Emission {
+            origin: p,
+            dir: cosine_hemisphere(n, u3, u[4]),
+            normal: n,
+        }
     }
 
     fn two_sided(&self, scene: &Scene, l: usize) -> bool {
@@ -150,9 +172,17 @@ impl LightTable {
     /// Area lights are sampled uniformly by area.
     pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, u: [f32; 3]) -> LightSample {
         let light = &scene.lights[l];
-        if let LightShape::Point { position, intensity } = light.shape {
+        if let LightShape::Point {
+            position,
+            intensity,
+        } = light.shape
+        {
             let d2 = (position - x).length_squared().max(1e-20);
-            return LightSample { point: position, weight: intensity / d2, normal: Vec3::ZERO };
+            return LightSample {
+                point: position,
+                weight: intensity / d2,
+                normal: Vec3::ZERO,
+            };
         }
         let (p, n) = self.surface_point(scene, l, u);
         let mat = match light.shape {
@@ -166,16 +196,28 @@ impl LightTable {
         let to_x = x - p;
         let d2 = to_x.length_squared();
         if d2 <= 0.0 {
-            return LightSample { point: p, weight: Vec3::ZERO, normal: n };
+            return LightSample {
+                point: p,
+                weight: Vec3::ZERO,
+                normal: n,
+            };
         }
         let mut cos_l = n.dot(to_x) / d2.sqrt();
         if m.two_sided_emission {
             cos_l = cos_l.abs();
         }
         if cos_l <= 0.0 {
-            return LightSample { point: p, weight: Vec3::ZERO, normal: n };
+            return LightSample {
+                point: p,
+                weight: Vec3::ZERO,
+                normal: n,
+            };
         }
-        LightSample { point: p, weight: m.emission * (cos_l * self.area[l] / d2), normal: n }
+        LightSample {
+            point: p,
+            weight: m.emission * (cos_l * self.area[l] / d2),
+            normal: n,
+        }
     }
 }
 
@@ -185,7 +227,8 @@ pub fn specular_bounds(scene: &Scene) -> Vec<Aabb> {
     let mut per_material: Vec<Aabb> = vec![Aabb::EMPTY; scene.materials.len()];
     for t in &scene.triangles {
         if scene.materials[t.material as usize].is_specular() {
-            per_material[t.material as usize] = per_material[t.material as usize].union(Aabb::of_triangle(t));
+            per_material[t.material as usize] =
+                per_material[t.material as usize].union(Aabb::of_triangle(t));
         }
     }
     let mut out: Vec<Aabb> = per_material.into_iter().filter(|b| !b.is_empty()).collect();

@@ -10,7 +10,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "gpu-photon", version, about = "Photon-mapping renderer (WGSL compute kernels via wgpu, rayon CPU reference)")]
+#[command(
+    name = "gpu-photon",
+    version,
+    about = "Photon-mapping renderer (WGSL compute kernels via wgpu, rayon CPU reference)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -101,12 +105,28 @@ impl RenderArgs {
         macro_rules! set {
             ($($f:ident),*) => { $(if let Some(v) = self.$f { s.$f = v; })* };
         }
-        set!(photons, caustic_photons, k, radius, caustic_radius, spp, shadow_samples, seed, width, height, exposure);
+        set!(
+            photons,
+            caustic_photons,
+            k,
+            radius,
+            caustic_radius,
+            spp,
+            shadow_samples,
+            seed,
+            width,
+            height,
+            exposure
+        );
         if let Some(m) = &self.mode {
-            s.mode = Mode::parse(m).with_context(|| format!("--mode {m}: expected one of {}", Mode::NAMES.join(", ")))?;
+            s.mode = Mode::parse(m).with_context(|| {
+                format!("--mode {m}: expected one of {}", Mode::NAMES.join(", "))
+            })?;
         }
         if let Some(f) = &self.filter {
-            s.filter = Filter::parse(f).with_context(|| format!("--filter {f}: expected one of {}", Filter::NAMES.join(", ")))?;
+            s.filter = Filter::parse(f).with_context(|| {
+                format!("--filter {f}: expected one of {}", Filter::NAMES.join(", "))
+            })?;
         }
         if self.schlick {
             s.fresnel = FresnelMode::Schlick;
@@ -136,7 +156,10 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             settings.mode.name(),
             report.backend
         );
-        eprintln!("  photons stored: {} global, {} caustic", report.global_stored, report.caustic_stored);
+        eprintln!(
+            "  photons stored: {} global, {} caustic",
+            report.global_stored, report.caustic_stored
+        );
         if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
             eprintln!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches");
         }
@@ -165,7 +188,10 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
     println!("rmse        {:.6}", d.rmse);
     println!("block_rmse  {:.6} ({block}x{block} blocks)", d.block_rmse);
     println!("rel_mse     {:.6}", d.rel_mse);
-    println!("mean_ratio  {:.4} {:.4} {:.4}", d.mean_ratio[0], d.mean_ratio[1], d.mean_ratio[2]);
+    println!(
+        "mean_ratio  {:.4} {:.4} {:.4}",
+        d.mean_ratio[0], d.mean_ratio[1], d.mean_ratio[2]
+    );
     println!("max_error   {:.6}", d.max_error);
     Ok(())
 }
@@ -174,7 +200,12 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
-        Command::Diff { a, b, block, error_image } => run_diff(a, b, *block, error_image.as_ref()),
+        Command::Diff {
+            a,
+            b,
+            block,
+            error_image,
+        } => run_diff(a, b, *block, error_image.as_ref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

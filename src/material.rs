@@ -84,12 +84,24 @@ pub struct Dielectric {
 /// Splits unit `d` arriving at a glass surface with front (outward) normal `n`.
 pub fn dielectric(d: Vec3, n: Vec3, ior: f32, mode: FresnelMode) -> Dielectric {
     let entering = d.dot(n) < 0.0;
-    let (nn, n_i, n_t) = if entering { (n, 1.0, ior) } else { (-n, ior, 1.0) };
+    let (nn, n_i, n_t) = if entering {
+        (n, 1.0, ior)
+    } else {
+        (-n, ior, 1.0)
+    };
     let cos_i = -d.dot(nn);
     let reflected = reflect(d, nn);
     let refracted = refract(d, nn, n_i / n_t);
-    let reflectance = if refracted.is_none() { 1.0 } else { fresnel(mode, cos_i, n_i, n_t) };
-    Dielectric { reflected, refracted, reflectance }
+    let reflectance = if refracted.is_none() {
+        1.0
+    } else {
+        fresnel(mode, cos_i, n_i, n_t)
+    };
+    Dielectric {
+        reflected,
+        refracted,
+        reflectance,
+    }
 }
 
 /// Normalised Phong lobe value `(n + 2) / (2 pi) cos^n(alpha)` for unit `wi`, `wo` (both
@@ -117,9 +129,16 @@ pub fn brdf(m: &Material, wi: Vec3, wo: Vec3, n: Vec3) -> Vec3 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bounce {
     /// Photon continues in `dir` with its power multiplied by `weight`.
-    Diffuse { dir: Vec3, weight: Vec3 },
+    Diffuse {
+        dir: Vec3,
+        weight: Vec3,
+    },
     /// Continues by a specular event (mirror, glass, glossy lobe); `delta` for mirror/glass.
-    Specular { dir: Vec3, weight: Vec3, delta: bool },
+    Specular {
+        dir: Vec3,
+        weight: Vec3,
+        delta: bool,
+    },
     Absorb,
 }
 
@@ -127,7 +146,13 @@ pub enum Bounce {
 /// `n`: chooses diffuse reflection, specular reflection (or refraction) or absorption with the
 /// material's coefficients, and returns the power weight that keeps the estimate unbiased.
 /// Consumes the uniform numbers `u` (three of them).
-pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, u: [f32; 3]) -> Bounce {
+pub fn photon_bounce(
+    m: &Material,
+    d: Vec3,
+    n: Vec3,
+    fresnel_mode: FresnelMode,
+    u: [f32; 3],
+) -> Bounce {
     // Shading normal on the side the photon arrived from.
     let ns = if d.dot(n) < 0.0 { n } else { -n };
     match m.kind {
@@ -143,7 +168,10 @@ pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, 
             let pd = total * sd / (sd + ss);
             let ps = total * ss / (sd + ss);
             if u[0] < pd {
-                Bounce::Diffuse { dir: cosine_hemisphere(ns, u[1], u[2]), weight: m.kd / pd }
+                Bounce::Diffuse {
+                    dir: cosine_hemisphere(ns, u[1], u[2]),
+                    weight: m.kd / pd,
+                }
             } else if u[0] < pd + ps {
                 let axis = reflect(d, ns);
                 let dir = phong_lobe(axis, m.exponent, u[1], u[2]);
@@ -153,7 +181,11 @@ pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, 
                 }
                 // f cos / pdf = ks (n+2)/(n+1) cos(theta).
                 let w = (m.exponent + 2.0) / (m.exponent + 1.0) * cos;
-                Bounce::Specular { dir, weight: m.ks * (w / ps), delta: false }
+                Bounce::Specular {
+                    dir,
+                    weight: m.ks * (w / ps),
+                    delta: false,
+                }
             } else {
                 Bounce::Absorb
             }
@@ -161,7 +193,11 @@ pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, 
         MaterialKind::Mirror => {
             let p = m.ks.max_element();
             if u[0] < p {
-                Bounce::Specular { dir: reflect(d, ns), weight: m.ks / p, delta: true }
+                Bounce::Specular {
+                    dir: reflect(d, ns),
+                    weight: m.ks / p,
+                    delta: true,
+                }
             } else {
                 Bounce::Absorb
             }
@@ -169,8 +205,16 @@ pub fn photon_bounce(m: &Material, d: Vec3, n: Vec3, fresnel_mode: FresnelMode, 
         MaterialKind::Glass => {
             let g = dielectric(d, n, m.ior, fresnel_mode);
             match g.refracted {
-                Some(t) if u[0] >= g.reflectance => Bounce::Specular { dir: t, weight: Vec3::ONE, delta: true },
-                _ => Bounce::Specular { dir: g.reflected, weight: Vec3::ONE, delta: true },
+                Some(t) if u[0] >= g.reflectance => Bounce::Specular {
+                    dir: t,
+                    weight: Vec3::ONE,
+                    delta: true,
+                },
+                _ => Bounce::Specular {
+                    dir: g.reflected,
+                    weight: Vec3::ONE,
+                    delta: true,
+                },
             }
         }
     }

@@ -78,9 +78,19 @@ impl Budget {
             .lights
             .iter()
             .zip(&counts)
-            .map(|(l, &c)| if c > 0 { l.power / c as f32 } else { Vec3::ZERO })
+            .map(|(l, &c)| {
+                if c > 0 {
+                    l.power / c as f32
+                } else {
+                    Vec3::ZERO
+                }
+            })
             .collect();
-        Budget { counts, offsets, path_power }
+        Budget {
+            counts,
+            offsets,
+            path_power,
+        }
     }
 
     pub fn total(&self) -> u32 {
@@ -89,6 +99,9 @@ impl Budget {
 
     /// The light that owns path `index`.
     pub fn light_of(&self, index: u32) -> usize {
-        self.offsets.partition_point(|&o| o <= index).saturating_sub(1).min(self.counts.len().saturating_sub(1))
+        self.offsets
+            .partition_point(|&o| o <= index)
+            .saturating_sub(1)
+            .min(self.counts.len().saturating_sub(1))
     }
 }

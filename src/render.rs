@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::geometry::Aabb;
-use crate::light::{specular_bounds, split_budget, scalar_power};
+use crate::light::{scalar_power, specular_bounds, split_budget};
 use crate::photon::{Budget, Photon};
 use crate::scene::Scene;
 use crate::settings::{Mode, RenderSettings, MAX_K, MAX_RESOLUTION};
@@ -53,7 +53,9 @@ impl Progress {
             return indicatif::ProgressBar::hidden();
         }
         let bar = indicatif::ProgressBar::new(len);
-        if let Ok(style) = indicatif::ProgressStyle::with_template("{msg:>14} [{bar:40}] {pos}/{len} {elapsed_precise} eta {eta}") {
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{msg:>14} [{bar:40}] {pos}/{len} {elapsed_precise} eta {eta}",
+        ) {
             bar.set_style(style.progress_chars("=> "));
         }
         bar.set_message(what.to_string());
@@ -81,9 +83,14 @@ impl MapPlan {
     pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
         let uses_global = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::GlobalOnly);
         let uses_caustic = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::CausticOnly);
-        let global = (uses_global && !scene.lights.is_empty()).then(|| Budget::split(scene, s.photons));
+        let global =
+            (uses_global && !scene.lights.is_empty()).then(|| Budget::split(scene, s.photons));
         let bounds = specular_bounds(scene);
-        let caustic = (uses_caustic && s.caustic_photons > 0 && !bounds.is_empty() && !scene.lights.is_empty()).then(|| {
+        let caustic = (uses_caustic
+            && s.caustic_photons > 0
+            && !bounds.is_empty()
+            && !scene.lights.is_empty())
+        .then(|| {
             let powers: Vec<f64> = scene.lights.iter().map(|l| scalar_power(l.power)).collect();
             let wanted = split_budget(&powers, s.caustic_photons);
             let attempts = wanted
@@ -99,7 +106,11 @@ impl MapPlan {
                 .collect();
             (Budget::from_counts(scene, attempts), bounds)
         });
-        MapPlan { mode: s.mode, global, caustic }
+        MapPlan {
+            mode: s.mode,
+            global,
+            caustic,
+        }
     }
 
     /// Whether a photon of the global paths belongs in the global map of this mode: `direct`
@@ -123,7 +134,11 @@ fn aim_fraction(scene: &Scene, l: usize, bounds: &[Aabb], seed: u32) -> f64 {
     let hits = (0..PILOT_PHOTONS)
         .filter(|&i| {
             let mut rng = Rng::new(seed, Stream::Pilot, l as u32, i);
-            let e = table.emit(scene, l, [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()]);
+            let e = table.emit(
+                scene,
+                l,
+                [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()],
+            );
             crate::light::aims_at(bounds, e.origin, e.dir)
         })
         .count();
@@ -134,22 +149,34 @@ fn aim_fraction(scene: &Scene, l: usize, bounds: &[Aabb], seed: u32) -> f64 {
 pub fn validate(s: &RenderSettings) -> Result<()> {
     let bad = |field: &'static str, message: String| Err(Error::Setting { field, message });
     if s.width == 0 || s.height == 0 || s.width > MAX_RESOLUTION || s.height > MAX_RESOLUTION {
-        return bad("width/height", format!("{}x{} is outside 1..={MAX_RESOLUTION}", s.width, s.height));
+        return bad(
+            "width/height",
+            format!("{}x{} is outside 1..={MAX_RESOLUTION}", s.width, s.height),
+        );
     }
     if s.k == 0 || s.k > MAX_K {
         return bad("k", format!("{} is outside 1..={MAX_K}", s.k));
     }
     if !(s.radius.is_finite() && s.radius > 0.0) {
-        return bad("radius", format!("{} must be positive and finite", s.radius));
+        return bad(
+            "radius",
+            format!("{} must be positive and finite", s.radius),
+        );
     }
     if !(s.caustic_radius.is_finite() && s.caustic_radius > 0.0) {
-        return bad("caustic-radius", format!("{} must be positive and finite", s.caustic_radius));
+        return bad(
+            "caustic-radius",
+            format!("{} must be positive and finite", s.caustic_radius),
+        );
     }
     if s.spp == 0 || s.spp > 65_536 {
         return bad("spp", format!("{} is outside 1..=65536", s.spp));
     }
     if s.shadow_samples == 0 || s.shadow_samples > 1024 {
-        return bad("shadow-samples", format!("{} is outside 1..=1024", s.shadow_samples));
+        return bad(
+            "shadow-samples",
+            format!("{} is outside 1..=1024", s.shadow_samples),
+        );
     }
     if s.photons == 0 {
         return bad("photons", "must be at least 1".into());
@@ -161,7 +188,12 @@ pub fn validate(s: &RenderSettings) -> Result<()> {
 }
 
 /// Renders `scene` with `settings` on `backend`.
-pub fn render(scene: &Scene, settings: &RenderSettings, backend: Backend, progress: Progress) -> Result<(Image, RenderReport)> {
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    backend: Backend,
+    progress: Progress,
+) -> Result<(Image, RenderReport)> {
     validate(settings)?;
     match backend {
         Backend::Cpu => {

@@ -56,7 +56,10 @@ pub struct Rng {
 
 impl Rng {
     pub fn new(seed: u32, stream: Stream, pass: u32, index: u32) -> Self {
-        Self { key: path_key(seed, stream, pass, index), dim: 0 }
+        Self {
+            key: path_key(seed, stream, pass, index),
+            dim: 0,
+        }
     }
     /// The next uniform float in [0, 1).
     #[inline]

@@ -62,7 +62,13 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal_for_awkward_normals() {
-        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.0, -1.0, 1e-8).normalize(), Vec3::new(1.0, 2.0, -3.0).normalize()] {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.0, -1.0, 1e-8).normalize(),
+            Vec3::new(1.0, 2.0, -3.0).normalize(),
+        ] {
             let (t, b) = basis(n);
             assert!((t.length() - 1.0).abs() < 1e-5 && (b.length() - 1.0).abs() < 1e-5);
             assert!(t.dot(b).abs() < 1e-5 && t.dot(n).abs() < 1e-5 && b.dot(n).abs() < 1e-5);

@@ -17,7 +17,13 @@ pub enum Mode {
 }
 
 impl Mode {
-    pub const NAMES: [&'static str; 5] = ["photon", "direct", "direct-only", "global-only", "caustic-only"];
+    pub const NAMES: [&'static str; 5] = [
+        "photon",
+        "direct",
+        "direct-only",
+        "global-only",
+        "caustic-only",
+    ];
     pub fn parse(s: &str) -> Option<Self> {
         Some(match s {
             "photon" => Mode::Photon,

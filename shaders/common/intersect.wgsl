@@ -112,7 +112,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             continue;
         }
         if node.count > 0u {
-            for (var i = 0u; i < node.count; i += 1u) {
+            for (var i = 0u; i < node.count && spend(); i += 1u) {
                 let id = prim_ids[node.left_first + i];
                 if (id & SPHERE_BIT) == 0u {
                     let h = intersect_triangle(triangles[id], o, d, best.t);

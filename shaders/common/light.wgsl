@@ -10,7 +10,7 @@ struct SurfacePoint {
 fn pick_triangle(l: Light, u: f32) -> u32 {
     var lo = 0u;
     var hi = l.count;
-    for (var i = 0u; i < 32u && lo < hi; i += 1u) {
+    for (var i = 0u; i < 32u && lo < hi && spend(); i += 1u) {
         let mid = (lo + hi) / 2u;
         if light_cdf[l.cdf_start + mid] <= u {
             lo = mid + 1u;

@@ -18,10 +18,13 @@ override HAS_GLASS: bool = true;
 override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
 
-// Loop iterations one invocation may spend in total, across all its loops: well below
-// lavapipe's silent 65,535 cut. Exhausting it ends the invocation's work and is counted in
-// stats[STAT_LOOP_BUDGET].
-const LOOP_BUDGET: u32 = 50000u;
+// Loop iterations one invocation may spend in total, across all its loops. Lavapipe cuts
+// loops silently after 65,535 iterations counted per SIMD group (8 lanes), across all loops,
+// and a group iterates while any lane does: so each lane gets 65,535 / 8 (rounded down to
+// 8,000) there, and every loop in every kernel calls spend() once per iteration, which bounds
+// the group's total by 8 x 8,000 = 64,000. The host raises it on other devices. Exhausting
+// it ends the invocation's work and is counted in stats[STAT_LOOP_BUDGET].
+override LOOP_BUDGET: u32 = 8000u;
 var<private> loop_iters: u32 = 0u;
 
 // Spends one loop iteration; false once the budget is gone (counted once).

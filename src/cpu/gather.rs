@@ -32,10 +32,26 @@ pub struct Terms {
 impl Terms {
     pub fn of(mode: Mode) -> Self {
         match mode {
-            Mode::Photon => Terms { direct: false, point_lobe: true, lobe_ray: true },
-            Mode::Direct => Terms { direct: true, point_lobe: true, lobe_ray: true },
-            Mode::DirectOnly => Terms { direct: true, point_lobe: true, lobe_ray: false },
-            Mode::GlobalOnly | Mode::CausticOnly => Terms { direct: false, point_lobe: false, lobe_ray: false },
+            Mode::Photon => Terms {
+                direct: false,
+                point_lobe: true,
+                lobe_ray: true,
+            },
+            Mode::Direct => Terms {
+                direct: true,
+                point_lobe: true,
+                lobe_ray: true,
+            },
+            Mode::DirectOnly => Terms {
+                direct: true,
+                point_lobe: true,
+                lobe_ray: false,
+            },
+            Mode::GlobalOnly | Mode::CausticOnly => Terms {
+                direct: false,
+                point_lobe: false,
+                lobe_ray: false,
+            },
         }
     }
 }
@@ -60,25 +76,49 @@ impl Gatherer<'_> {
         let pixel_index = y * s.width + x;
         let mut sum = Vec3::ZERO;
         for i in 0..s.spp {
-            let mut rng = Rng::new(s.seed, crate::rng::Stream::Camera, pass, pixel_index.wrapping_mul(s.spp).wrapping_add(i));
+            let mut rng = Rng::new(
+                s.seed,
+                crate::rng::Stream::Camera,
+                pass,
+                pixel_index.wrapping_mul(s.spp).wrapping_add(i),
+            );
             let (jx, jy) = rng.next2();
             let (fx, fy) = if stratified {
-                (((i % n) as f32 + jx) / n as f32, ((i / n) as f32 + jy) / n as f32)
+                (
+                    ((i % n) as f32 + jx) / n as f32,
+                    ((i / n) as f32 + jy) / n as f32,
+                )
             } else {
                 (jx, jy)
             };
-            let dir = self.scene.camera.direction(x as f32 + fx, y as f32 + fy, s.width, s.height);
-            sum += self.radiance(&Ray { origin: self.scene.camera.eye, dir }, 0, &mut rng);
+            let dir = self
+                .scene
+                .camera
+                .direction(x as f32 + fx, y as f32 + fy, s.width, s.height);
+            sum += self.radiance(
+                &Ray {
+                    origin: self.scene.camera.eye,
+                    dir,
+                },
+                0,
+                &mut rng,
+            );
         }
         sum / s.spp as f32
     }
 
     /// Radiance arriving along `ray` (the chain of specular bounces, then shading).
     pub fn radiance(&self, ray: &Ray, depth: u32, rng: &mut Rng) -> Vec3 {
-        let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else { return Vec3::ZERO };
+        let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
+            return Vec3::ZERO;
+        };
         let m = &self.scene.materials[hit.material as usize];
         let front = ray.dir.dot(hit.normal) < 0.0;
-        let emitted = if front || m.two_sided_emission { m.emission } else { Vec3::ZERO };
+        let emitted = if front || m.two_sided_emission {
+            m.emission
+        } else {
+            Vec3::ZERO
+        };
         let can_recurse = depth < self.settings.max_depth;
         match m.kind {
             MaterialKind::Black => emitted,
@@ -88,7 +128,16 @@ impl Gatherer<'_> {
                 }
                 let ns = if front { hit.normal } else { -hit.normal };
                 let dir = reflect(ray.dir, ns);
-                emitted + m.ks * self.radiance(&Ray { origin: offset_origin(hit.position, hit.normal, dir), dir }, depth + 1, rng)
+                emitted
+                    + m.ks
+                        * self.radiance(
+                            &Ray {
+                                origin: offset_origin(hit.position, hit.normal, dir),
+                                dir,
+                            },
+                            depth + 1,
+                            rng,
+                        )
             }
             MaterialKind::Glass => {
                 if !can_recurse {
@@ -96,24 +145,41 @@ impl Gatherer<'_> {
                 }
                 let g = dielectric(ray.dir, hit.normal, m.ior, self.settings.fresnel);
                 let trace = |dir: Vec3, rng: &mut Rng| {
-                    self.radiance(&Ray { origin: offset_origin(hit.position, hit.normal, dir), dir }, depth + 1, rng)
+                    self.radiance(
+                        &Ray {
+                            origin: offset_origin(hit.position, hit.normal, dir),
+                            dir,
+                        },
+                        depth + 1,
+                        rng,
+                    )
                 };
-                let Some(t) = g.refracted else { return emitted + trace(g.reflected, rng) };
+                let Some(t) = g.refracted else {
+                    return emitted + trace(g.reflected, rng);
+                };
                 if depth < GLASS_SPLIT_DEPTH {
-                    emitted + g.reflectance * trace(g.reflected, rng) + (1.0 - g.reflectance) * trace(t, rng)
+                    emitted
+                        + g.reflectance * trace(g.reflected, rng)
+                        + (1.0 - g.reflectance) * trace(t, rng)
                 } else if rng.next() < g.reflectance {
                     emitted + trace(g.reflected, rng)
                 } else {
                     emitted + trace(t, rng)
                 }
             }
-            MaterialKind::Diffuse | MaterialKind::Glossy => emitted + self.shade(&hit, m, -ray.dir, depth, rng),
+            MaterialKind::Diffuse | MaterialKind::Glossy => {
+                emitted + self.shade(&hit, m, -ray.dir, depth, rng)
+            }
         }
     }
 
     /// Radiance leaving a diffuse or glossy hit towards `wo`.
     fn shade(&self, hit: &Hit, m: &Material, wo: Vec3, depth: u32, rng: &mut Rng) -> Vec3 {
-        let ns = if wo.dot(hit.normal) >= 0.0 { hit.normal } else { -hit.normal };
+        let ns = if wo.dot(hit.normal) >= 0.0 {
+            hit.normal
+        } else {
+            -hit.normal
+        };
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
@@ -123,16 +189,35 @@ impl Gatherer<'_> {
         let kd_over_pi = m.kd / std::f32::consts::PI;
         for (map, max_r) in [(self.global, s.radius), (self.caustic, s.caustic_radius)] {
             if let Some(map) = map {
-                l += estimate_at(map, hit.position, ns, s.k as usize, max_r * max_r, s.filter, kd_over_pi);
+                l += estimate_at(
+                    map,
+                    hit.position,
+                    ns,
+                    s.k as usize,
+                    max_r * max_r,
+                    s.filter,
+                    kd_over_pi,
+                );
             }
         }
-        if self.terms.lobe_ray && m.kind == MaterialKind::Glossy && depth < s.max_depth && m.ks.max_element() > 0.0 {
+        if self.terms.lobe_ray
+            && m.kind == MaterialKind::Glossy
+            && depth < s.max_depth
+            && m.ks.max_element() > 0.0
+        {
             let (u1, u2) = rng.next2();
             let dir = phong_lobe(reflect(-wo, ns), m.exponent, u1, u2);
             let cos = dir.dot(ns);
             if cos > 0.0 {
                 let w = m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
-                l += w * self.radiance(&Ray { origin: offset_origin(hit.position, hit.normal, dir), dir }, depth + 1, rng);
+                l += w * self.radiance(
+                    &Ray {
+                        origin: offset_origin(hit.position, hit.normal, dir),
+                        dir,
+                    },
+                    depth + 1,
+                    rng,
+                );
             }
         }
         l
@@ -147,7 +232,11 @@ impl Gatherer<'_> {
             if !self.terms.direct && !is_point {
                 continue;
             }
-            let n_samples = if is_point { 1 } else { self.settings.shadow_samples };
+            let n_samples = if is_point {
+                1
+            } else {
+                self.settings.shadow_samples
+            };
             let mut acc = Vec3::ZERO;
             for _ in 0..n_samples {
                 let u = [rng.next(), rng.next(), rng.next()];
@@ -173,7 +262,11 @@ impl Gatherer<'_> {
                 let origin = offset_origin(hit.position, hit.normal, wi);
                 let end_eps = OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0;
                 let t_max = (ls.point - origin).length() - end_eps;
-                if t_max > 0.0 && self.bvh.occluded(self.scene, &Ray { origin, dir: wi }, t_max) {
+                if t_max > 0.0
+                    && self
+                        .bvh
+                        .occluded(self.scene, &Ray { origin, dir: wi }, t_max)
+                {
                     continue;
                 }
                 acc += f * ls.weight * cos;
@@ -185,7 +278,15 @@ impl Gatherer<'_> {
 }
 
 /// The K-nearest estimate from `map` at `x` with a Lambertian BRDF `kd / pi`.
-pub fn estimate_at(map: &PhotonMap, x: Vec3, ns: Vec3, k: usize, max_r2: f32, filter: crate::settings::Filter, f: Vec3) -> Vec3 {
+pub fn estimate_at(
+    map: &PhotonMap,
+    x: Vec3,
+    ns: Vec3,
+    k: usize,
+    max_r2: f32,
+    filter: crate::settings::Filter,
+    f: Vec3,
+) -> Vec3 {
     let mut found = Vec::with_capacity(k);
     map.nearest(x.to_array(), k, max_r2, &mut found);
     estimate::radiance(&found, k, max_r2, filter, ns, |_| f)

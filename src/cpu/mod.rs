@@ -19,7 +19,12 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// Renders `scene` with one photon pass (`pass`) on the CPU.
-pub fn render(scene: &Scene, settings: &RenderSettings, pass: u32, progress: &Progress) -> (Image, RenderReport) {
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    pass: u32,
+    progress: &Progress,
+) -> (Image, RenderReport) {
     let mut report = RenderReport::default();
     let t = Instant::now();
     let bvh = Bvh::build(scene);
@@ -27,12 +32,21 @@ pub fn render(scene: &Scene, settings: &RenderSettings, pass: u32, progress: &Pr
     report.phase("build BVH", t);
 
     let plan = MapPlan::new(scene, settings);
-    let ctx = TraceContext { scene, bvh: &bvh, lights: &lights, settings, pass };
+    let ctx = TraceContext {
+        scene,
+        bvh: &bvh,
+        lights: &lights,
+        settings,
+        pass,
+    };
     let t = Instant::now();
     let global = plan.global.as_ref().map(|budget| {
         let photons = photons::trace_photons(&ctx, budget);
         report.global_stored = photons.len();
-        let kept: Vec<Photon> = photons.into_iter().filter(|p| plan.keep_in_global(p)).collect();
+        let kept: Vec<Photon> = photons
+            .into_iter()
+            .filter(|p| plan.keep_in_global(p))
+            .collect();
         kept
     });
     let caustic = plan.caustic.as_ref().map(|(budget, bounds)| {
@@ -59,12 +73,16 @@ pub fn render(scene: &Scene, settings: &RenderSettings, pass: u32, progress: &Pr
     };
     let mut image = Image::new(settings.width, settings.height);
     let bar = progress.bar(settings.height as u64, "gather");
-    image.pixels.par_chunks_mut(settings.width as usize).enumerate().for_each(|(y, row)| {
-        for (x, px) in row.iter_mut().enumerate() {
-            *px = g.pixel(x as u32, y as u32, pass).to_array();
-        }
-        bar.inc(1);
-    });
+    image
+        .pixels
+        .par_chunks_mut(settings.width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                *px = g.pixel(x as u32, y as u32, pass).to_array();
+            }
+            bar.inc(1);
+        });
     bar.finish_and_clear();
     report.phase("gather", t);
     (image, report)

@@ -14,7 +14,11 @@ impl PhotonMap {
     /// Builds the map over `photons`.
     pub fn build(photons: Vec<Photon>) -> Self {
         let points: Vec<[f32; 3]> = photons.iter().map(|p| p.position).collect();
-        let tree = if points.is_empty() { None } else { ImmutableKdTree::new_from_slice(&points).ok() };
+        let tree = if points.is_empty() {
+            None
+        } else {
+            ImmutableKdTree::new_from_slice(&points).ok()
+        };
         PhotonMap { photons, tree }
     }
 
@@ -27,10 +31,26 @@ impl PhotonMap {
 
     /// The up to `k` nearest photons within squared distance `max_r2` of `x`, as
     /// `(squared distance, photon)`, nearest first, written into `out`.
-    pub fn nearest<'a>(&'a self, x: [f32; 3], k: usize, max_r2: f32, out: &mut Vec<(f32, &'a Photon)>) {
+    pub fn nearest<'a>(
+        &'a self,
+        x: [f32; 3],
+        k: usize,
+        max_r2: f32,
+        out: &mut Vec<(f32, &'a Photon)>,
+    ) {
         out.clear();
-        let (Some(tree), Some(k)) = (&self.tree, NonZeroUsize::new(k)) else { return };
-        let found = tree.query(&x).nearest_n::<SquaredEuclidean<f32>>(k).within(max_r2).execute();
-        out.extend(found.into_iter().map(|r| (r.distance, &self.photons[r.item as usize])));
+        let (Some(tree), Some(k)) = (&self.tree, NonZeroUsize::new(k)) else {
+            return;
+        };
+        let found = tree
+            .query(&x)
+            .nearest_n::<SquaredEuclidean<f32>>(k)
+            .within(max_r2)
+            .execute();
+        out.extend(
+            found
+                .into_iter()
+                .map(|r| (r.distance, &self.photons[r.item as usize])),
+        );
     }
 }

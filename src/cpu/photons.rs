@@ -40,7 +40,11 @@ pub fn trace_photons(ctx: &TraceContext, budget: &Budget) -> Vec<Photon> {
 /// bounds are rejected (the budget's path power already divides by all attempts), paths
 /// whose first hit is not specular are dropped, and each remaining path stores one photon
 /// at its first diffuse hit after one or more specular bounces.
-pub fn trace_caustic_photons(ctx: &TraceContext, budget: &Budget, bounds: &[crate::geometry::Aabb]) -> Vec<Photon> {
+pub fn trace_caustic_photons(
+    ctx: &TraceContext,
+    budget: &Budget,
+    bounds: &[crate::geometry::Aabb],
+) -> Vec<Photon> {
     (0..budget.total())
         .into_par_iter()
         .fold(Vec::new, |mut out, i| {
@@ -54,11 +58,22 @@ pub fn trace_caustic_photons(ctx: &TraceContext, budget: &Budget, bounds: &[crat
 }
 
 /// One photon path. With `aim` (a caustic path) only L S+ D is stored.
-fn trace_path(ctx: &TraceContext, budget: &Budget, stream: Stream, i: u32, aim: Option<&[crate::geometry::Aabb]>, out: &mut Vec<Photon>) {
+fn trace_path(
+    ctx: &TraceContext,
+    budget: &Budget,
+    stream: Stream,
+    i: u32,
+    aim: Option<&[crate::geometry::Aabb]>,
+    out: &mut Vec<Photon>,
+) {
     let s = ctx.settings;
     let mut rng = Rng::new(s.seed, stream, ctx.pass, i);
     let l = budget.light_of(i);
-    let e = ctx.lights.emit(ctx.scene, l, [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()]);
+    let e = ctx.lights.emit(
+        ctx.scene,
+        l,
+        [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()],
+    );
     if let Some(bounds) = aim {
         if !aims_at(bounds, e.origin, e.dir) {
             return;
@@ -66,12 +81,18 @@ fn trace_path(ctx: &TraceContext, budget: &Budget, stream: Stream, i: u32, aim: 
     }
     let mut power = budget.path_power[l];
     let mut ray = Ray {
-        origin: if e.normal == Vec3::ZERO { e.origin } else { offset_origin(e.origin, e.normal, e.dir) },
+        origin: if e.normal == Vec3::ZERO {
+            e.origin
+        } else {
+            offset_origin(e.origin, e.normal, e.dir)
+        },
         dir: e.dir,
     };
     let mut all_specular = true;
     for depth in 0..s.max_photon_bounces {
-        let Some(hit) = ctx.bvh.intersect(ctx.scene, &ray, f32::INFINITY) else { return };
+        let Some(hit) = ctx.bvh.intersect(ctx.scene, &ray, f32::INFINITY) else {
+            return;
+        };
         let m = &ctx.scene.materials[hit.material as usize];
         if m.stores_photons() {
             let caustic = depth > 0 && all_specular;
@@ -101,6 +122,9 @@ fn trace_path(ctx: &TraceContext, budget: &Budget, stream: Stream, i: u32, aim: 
         if !(power.max_element() > 0.0) || !power.is_finite() {
             return;
         }
-        ray = Ray { origin: offset_origin(hit.position, hit.normal, dir), dir };
+        ray = Ray {
+            origin: offset_origin(hit.position, hit.normal, dir),
+            dir,
+        };
     }
 }

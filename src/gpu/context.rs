@@ -83,13 +83,16 @@ impl GpuContext {
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
-        let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size).min(MAX_BINDING);
+        let max_binding = (limits.max_storage_buffer_binding_size as u64)
+            .min(limits.max_buffer_size)
+            .min(MAX_BINDING);
         let mut required = wgpu::Limits::downlevel_defaults();
         required.max_storage_buffers_per_shader_stage = STORAGE_BUFFERS_NEEDED;
         required.max_storage_buffer_binding_size = max_binding as _;
         required.max_buffer_size = max_binding;
         required.max_compute_workgroups_per_dimension = limits.max_compute_workgroups_per_dimension;
-        required.max_compute_invocations_per_workgroup = 256.min(limits.max_compute_invocations_per_workgroup);
+        required.max_compute_invocations_per_workgroup =
+            256.min(limits.max_compute_invocations_per_workgroup);
         required.max_compute_workgroup_size_x = 256.min(limits.max_compute_workgroup_size_x);
         required.max_bind_groups = 2;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -108,7 +111,13 @@ impl GpuContext {
                 s.get_or_insert_with(|| e.to_string());
             }
         }));
-        Ok(GpuContext { adapter, device, queue, max_binding, uncaptured })
+        Ok(GpuContext {
+            adapter,
+            device,
+            queue,
+            max_binding,
+            uncaptured,
+        })
     }
 
     /// Fails with the first uncaptured device error, if there was one.

@@ -18,7 +18,11 @@ pub fn cell_hash(c: [i32; 3], table_size: u32) -> u32 {
 pub fn table_size_for(expected: u32, max_binding: u64) -> u32 {
     let cap = ((max_binding / 4).saturating_sub(1) as u32).max(256);
     let cap = 1u32 << (31 - cap.leading_zeros());
-    expected.max(256).checked_next_power_of_two().unwrap_or(cap).min(cap)
+    expected
+        .max(256)
+        .checked_next_power_of_two()
+        .unwrap_or(cap)
+        .min(cap)
 }
 
 /// Cell size: twice the expected distance to the K-th photon if `expected` photons covered

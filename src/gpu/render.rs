@@ -29,23 +29,46 @@ const STATS_LEN: usize = 4;
 const DROP_DIRECT: u32 = 1;
 const DROP_CAUSTIC: u32 = 2;
 
-fn storage_buffer<T: Pod>(dev: &wgpu::Device, label: &str, data: &[T], extra: wgpu::BufferUsages) -> wgpu::Buffer {
+fn storage_buffer<T: Pod>(
+    dev: &wgpu::Device,
+    label: &str,
+    data: &[T],
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     let mut bytes = bytemuck::cast_slice::<T, u8>(data).to_vec();
     if bytes.is_empty() {
         bytes.resize(64, 0); // bindings may not be empty: one zeroed element of any struct
     }
-    dev.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &bytes, usage: wgpu::BufferUsages::STORAGE | extra })
+    dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: &bytes,
+        usage: wgpu::BufferUsages::STORAGE | extra,
+    })
 }
 
-fn empty_buffer(dev: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    dev.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(64), usage, mapped_at_creation: false })
+fn empty_buffer(
+    dev: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    dev.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(64),
+        usage,
+        mapped_at_creation: false,
+    })
 }
 
 fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
         count: None,
     }
 }
@@ -65,26 +88,63 @@ pub struct Layouts {
 impl Layouts {
     pub fn new(dev: &wgpu::Device) -> Self {
         let mk = |label: &str, tys: &[wgpu::BufferBindingType]| {
-            let entries: Vec<_> = tys.iter().enumerate().map(|(i, &t)| layout_entry(i as u32, t)).collect();
-            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
+            let entries: Vec<_> = tys
+                .iter()
+                .enumerate()
+                .map(|(i, &t)| layout_entry(i as u32, t))
+                .collect();
+            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            })
         };
         Layouts {
-            scene: mk("scene layout", &[RO, RO, RO, RO, RO, RO, RO, RO, UNIFORM, RW]),
+            scene: mk(
+                "scene layout",
+                &[RO, RO, RO, RO, RO, RO, RO, RO, UNIFORM, RW],
+            ),
             map: mk("photon map layout", &[RW, RW, RW, RW, RW, RW, UNIFORM]),
             gather: mk("gather layout", &[RO, RO, UNIFORM, RO, RO, UNIFORM, RW]),
         }
     }
 }
 
-fn bind_group(dev: &wgpu::Device, label: &str, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-    let entries: Vec<_> =
-        buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
-    dev.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+fn bind_group(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
 }
 
-/// Scene features as pipeline-overridable constants.
-pub fn feature_constants(scene: &Scene) -> Vec<(&'static str, f64)> {
+/// Per-lane loop budget on a CPU device (lavapipe): 65,535 iterations per 8-lane SIMD group
+/// (`LOOP_BUDGET` in shaders/common/scene.wgsl explains the bound).
+pub const CPU_DEVICE_LOOP_BUDGET: u32 = 8000;
+/// Loop budget on devices without lavapipe's cut: a guard against runaway loops only.
+pub const GPU_DEVICE_LOOP_BUDGET: u32 = 1_000_000;
+
+/// Scene features and the device's loop budget as pipeline-overridable constants.
+pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&'static str, f64)> {
+    let budget = if device_type == wgpu::DeviceType::Cpu {
+        CPU_DEVICE_LOOP_BUDGET
+    } else {
+        GPU_DEVICE_LOOP_BUDGET
+    };
     vec![
+        ("LOOP_BUDGET", budget as f64),
         ("HAS_GLASS", scene.has_glass() as u32 as f64),
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         ("HAS_POINT_LIGHTS", scene.has_point_lights() as u32 as f64),
@@ -107,7 +167,10 @@ impl Pipelines {
         let dev = &ctx.device;
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = |k: Kernel| {
-            dev.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(k.name()), source: wgpu::ShaderSource::Wgsl(k.source().into()) })
+            dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(k.name()),
+                source: wgpu::ShaderSource::Wgsl(k.source().into()),
+            })
         };
         let map_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("photon map pipeline layout"),
@@ -125,7 +188,10 @@ impl Pipelines {
                 layout: Some(layout),
                 module: m,
                 entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions { constants, zero_initialize_workgroup_memory: true },
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    zero_initialize_workgroup_memory: true,
+                },
                 cache: None,
             })
         };
@@ -156,7 +222,16 @@ pub struct SceneBuffers {
 }
 
 impl SceneBuffers {
-    pub fn new(ctx: &GpuContext, layouts: &Layouts, scene: &Scene, bvh: &Bvh, table: &LightTable, lights: &[GpuLight], bounds: &[GpuAabb], params: &GpuParams) -> Self {
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        scene: &Scene,
+        bvh: &Bvh,
+        table: &LightTable,
+        lights: &[GpuLight],
+        bounds: &[GpuAabb],
+        params: &GpuParams,
+    ) -> Self {
         let dev = &ctx.device;
         let none = wgpu::BufferUsages::empty();
         let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
@@ -178,12 +253,21 @@ impl SceneBuffers {
             contents: bytemuck::bytes_of(params),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let stats = storage_buffer(dev, "stats", &[0u32; STATS_LEN], wgpu::BufferUsages::COPY_SRC);
+        let stats = storage_buffer(
+            dev,
+            "stats",
+            &[0u32; STATS_LEN],
+            wgpu::BufferUsages::COPY_SRC,
+        );
         let mut refs: Vec<&wgpu::Buffer> = buffers.iter().collect();
         refs.push(&params_buf);
         refs.push(&stats);
         let bind_group = bind_group(dev, "scene bind group", &layouts.scene, &refs);
-        SceneBuffers { params: params_buf, stats, bind_group }
+        SceneBuffers {
+            params: params_buf,
+            stats,
+            bind_group,
+        }
     }
 }
 
@@ -202,7 +286,9 @@ pub struct MapBuffers {
 impl MapBuffers {
     pub fn new(ctx: &GpuContext, layouts: &Layouts, label: &str, params: GpuMapParams) -> Self {
         let dev = &ctx.device;
-        let rw = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        let rw = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC;
         let photon_bytes = params.capacity as u64 * std::mem::size_of::<Photon>() as u64;
         let t = params.table_size as u64;
         let photons = empty_buffer(dev, &format!("{label} photons"), photon_bytes, rw);
@@ -220,18 +306,44 @@ impl MapBuffers {
             dev,
             &format!("{label} map bind group"),
             &layouts.map,
-            &[&photons, &counters, &cell_count, &cell_start, &sorted, &block_sums, &params_buf],
+            &[
+                &photons,
+                &counters,
+                &cell_count,
+                &cell_start,
+                &sorted,
+                &block_sums,
+                &params_buf,
+            ],
         );
-        MapBuffers { params, photons, counters, cell_count, cell_start, sorted, params_buf, bind_group }
+        MapBuffers {
+            params,
+            photons,
+            counters,
+            cell_count,
+            cell_start,
+            sorted,
+            params_buf,
+            bind_group,
+        }
     }
 
     /// Records tracing this map's photons (when `trace`) and building its grid into `enc`.
-    pub fn record_build(&self, enc: &mut wgpu::CommandEncoder, p: &Pipelines, scene_bg: &wgpu::BindGroup, trace: bool) {
+    pub fn record_build(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        p: &Pipelines,
+        scene_bg: &wgpu::BindGroup,
+        trace: bool,
+    ) {
         if trace {
             enc.clear_buffer(&self.counters, 0, None);
         }
         enc.clear_buffer(&self.cell_count, 0, None);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("build photon map"), timestamp_writes: None });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("build photon map"),
+            timestamp_writes: None,
+        });
         pass.set_bind_group(0, scene_bg, &[]);
         pass.set_bind_group(1, &self.bind_group, &[]);
         let cap = self.params.capacity;
@@ -263,9 +375,11 @@ pub fn grid_2d(groups: u32) -> (u32, u32) {
 fn fill_budget(lights: &mut [GpuLight], b: &Budget, caustic: bool) {
     for (l, g) in lights.iter_mut().enumerate() {
         if caustic {
-            (g.caustic_offset, g.caustic_count, g.caustic_power) = (b.offsets[l], b.counts[l], b.path_power[l].to_array());
+            (g.caustic_offset, g.caustic_count, g.caustic_power) =
+                (b.offsets[l], b.counts[l], b.path_power[l].to_array());
         } else {
-            (g.global_offset, g.global_count, g.global_power) = (b.offsets[l], b.counts[l], b.path_power[l].to_array());
+            (g.global_offset, g.global_count, g.global_power) =
+                (b.offsets[l], b.counts[l], b.path_power[l].to_array());
         }
     }
 }
@@ -307,14 +421,24 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
 /// Reads a buffer back to the host.
 pub fn read_back<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, bytes: u64) -> Result<Vec<T>> {
     let dev = &ctx.device;
-    let staging = empty_buffer(dev, "readback", bytes, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    let staging = empty_buffer(
+        dev,
+        "readback",
+        bytes,
+        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+    );
+    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback"),
+    });
     enc.copy_buffer_to_buffer(src, 0, &staging, 0, bytes);
     ctx.queue.submit([enc.finish()]);
     staging.map_async(wgpu::MapMode::Read, .., |_| {});
-    dev.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+    dev.poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
     ctx.check()?;
-    let view = staging.get_mapped_range(..bytes).map_err(|e| Error::Gpu(format!("mapping the read-back buffer: {e:?}")))?;
+    let view = staging
+        .get_mapped_range(..bytes)
+        .map_err(|e| Error::Gpu(format!("mapping the read-back buffer: {e:?}")))?;
     Ok(bytemuck::cast_slice(&view).to_vec())
 }
 
@@ -338,7 +462,15 @@ impl<'a> GpuRun<'a> {
         let bounds: Vec<GpuAabb> = plan
             .caustic
             .as_ref()
-            .map(|(_, b)| b.iter().map(|a| GpuAabb { bmin: a.min.to_array(), bmax: a.max.to_array(), ..Default::default() }).collect())
+            .map(|(_, b)| {
+                b.iter()
+                    .map(|a| GpuAabb {
+                        bmin: a.min.to_array(),
+                        bmax: a.max.to_array(),
+                        ..Default::default()
+                    })
+                    .collect()
+            })
             .unwrap_or_default();
         if let Some(b) = &plan.global {
             fill_budget(&mut lights, b, false);
@@ -348,32 +480,92 @@ impl<'a> GpuRun<'a> {
         }
         let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let layouts = Layouts::new(&ctx.device);
-        let scene_buffers = SceneBuffers::new(ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params);
-        let pipelines = Pipelines::new(ctx, &layouts, &feature_constants(scene))?;
-        Ok(GpuRun { ctx, layouts, scene_buffers, pipelines, params, plan })
+        let scene_buffers = SceneBuffers::new(
+            ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params,
+        );
+        let pipelines = Pipelines::new(
+            ctx,
+            &layouts,
+            &feature_constants(scene, ctx.adapter.get_info().device_type),
+        )?;
+        Ok(GpuRun {
+            ctx,
+            layouts,
+            scene_buffers,
+            pipelines,
+            params,
+            plan,
+        })
     }
 
     /// A zeroed read-write buffer for the image (or probe results).
     pub fn accum_buffer(&self, bytes: u64) -> wgpu::Buffer {
-        empty_buffer(&self.ctx.device, "image accumulator", bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST)
+        empty_buffer(
+            &self.ctx.device,
+            "image accumulator",
+            bytes,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+        )
     }
 
     /// An absent map (`paths == 0`), bound where a mode or scene has none.
     pub fn empty_map(&self, caustic: bool) -> MapBuffers {
-        let p = GpuMapParams { table_size: 256, cell_size: 1.0, capacity: 1, is_caustic: caustic as u32, ..Default::default() };
-        MapBuffers::new(self.ctx, &self.layouts, if caustic { "caustic (absent)" } else { "global (absent)" }, p)
+        let p = GpuMapParams {
+            table_size: 256,
+            cell_size: 1.0,
+            capacity: 1,
+            is_caustic: caustic as u32,
+            ..Default::default()
+        };
+        MapBuffers::new(
+            self.ctx,
+            &self.layouts,
+            if caustic {
+                "caustic (absent)"
+            } else {
+                "global (absent)"
+            },
+            p,
+        )
     }
 
     /// Uploads `photons` as a map and builds its grid (no tracing).
-    pub fn upload_map(&self, photons: &[Photon], cell_size: f32, table_size: u32, radius2: f32) -> Result<MapBuffers> {
+    pub fn upload_map(
+        &self,
+        photons: &[Photon],
+        cell_size: f32,
+        table_size: u32,
+        radius2: f32,
+    ) -> Result<MapBuffers> {
         let n = photons.len() as u32;
-        let map = MapBuffers::new(self.ctx, &self.layouts, "uploaded", super::probe::probe_map_params(n, cell_size, table_size, radius2));
+        let map = MapBuffers::new(
+            self.ctx,
+            &self.layouts,
+            "uploaded",
+            super::probe::probe_map_params(n, cell_size, table_size, radius2),
+        );
         if n > 0 {
-            self.ctx.queue.write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
+            self.ctx
+                .queue
+                .write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
         }
-        self.ctx.queue.write_buffer(&map.counters, 0, bytemuck::bytes_of(&[n, 0, 0, 0]));
-        let mut enc = self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grid build") });
-        map.record_build(&mut enc, &self.pipelines, &self.scene_buffers.bind_group, false);
+        self.ctx
+            .queue
+            .write_buffer(&map.counters, 0, bytemuck::bytes_of(&[n, 0, 0, 0]));
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("grid build"),
+            });
+        map.record_build(
+            &mut enc,
+            &self.pipelines,
+            &self.scene_buffers.bind_group,
+            false,
+        );
         self.ctx.queue.submit([enc.finish()]);
         self.ctx.check()?;
         Ok(map)
@@ -381,10 +573,19 @@ impl<'a> GpuRun<'a> {
 
     /// Runs the gather module's entry point `entry` over `n` invocations (64-wide) and reads
     /// `accum` back.
-    pub fn dispatch_probe(&self, entry: &str, accum: &wgpu::Buffer, n: u32, bg: Option<&wgpu::BindGroup>) -> Result<Vec<[f32; 4]>> {
+    pub fn dispatch_probe(
+        &self,
+        entry: &str,
+        accum: &wgpu::Buffer,
+        n: u32,
+        bg: Option<&wgpu::BindGroup>,
+    ) -> Result<Vec<[f32; 4]>> {
         let dev = &self.ctx.device;
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("probe"), source: wgpu::ShaderSource::Wgsl(Kernel::Gather.source().into()) });
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("probe"),
+            source: wgpu::ShaderSource::Wgsl(Kernel::Gather.source().into()),
+        });
         let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("probe pipeline layout"),
             bind_group_layouts: &[Some(&self.layouts.scene), Some(&self.layouts.gather)],
@@ -410,9 +611,14 @@ impl<'a> GpuRun<'a> {
                 &owned
             }
         };
-        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("probe") });
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("probe"),
+        });
         {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("probe"), timestamp_writes: None });
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("probe"),
+                timestamp_writes: None,
+            });
             cp.set_pipeline(&pipeline);
             cp.set_bind_group(0, &self.scene_buffers.bind_group, &[]);
             cp.set_bind_group(1, bg, &[]);
@@ -425,19 +631,41 @@ impl<'a> GpuRun<'a> {
 }
 
 /// The gather kernel's group 1 over two maps and the accumulator.
-pub fn bind_group_for_gather(ctx: &GpuContext, layouts: &Layouts, global: &MapBuffers, caustic: &MapBuffers, accum: &wgpu::Buffer) -> wgpu::BindGroup {
+pub fn bind_group_for_gather(
+    ctx: &GpuContext,
+    layouts: &Layouts,
+    global: &MapBuffers,
+    caustic: &MapBuffers,
+    accum: &wgpu::Buffer,
+) -> wgpu::BindGroup {
     bind_group(
         &ctx.device,
         "gather bind group",
         &layouts.gather,
-        &[&global.sorted, &global.cell_start, &global.params_buf, &caustic.sorted, &caustic.cell_start, &caustic.params_buf, accum],
+        &[
+            &global.sorted,
+            &global.cell_start,
+            &global.params_buf,
+            &caustic.sorted,
+            &caustic.cell_start,
+            &caustic.params_buf,
+            accum,
+        ],
     )
 }
 
 /// Renders `scene` with one photon pass on the GPU.
-pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress) -> Result<(Image, RenderReport)> {
+pub fn render(
+    scene: &Scene,
+    s: &RenderSettings,
+    pass: u32,
+    progress: &Progress,
+) -> Result<(Image, RenderReport)> {
     if s.k > MAX_HEAP {
-        return Err(Error::Setting { field: "k", message: format!("{} exceeds the GPU backend's limit of {MAX_HEAP}", s.k) });
+        return Err(Error::Setting {
+            field: "k",
+            message: format!("{} exceeds the GPU backend's limit of {MAX_HEAP}", s.k),
+        });
     }
     let mut report = RenderReport::default();
     let t = Instant::now();
@@ -470,18 +698,31 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
     let bar = progress.bar(s.spp as u64, "gather");
     let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
     for sample in 0..s.spp {
-        let p = GpuParams { sample, ..run.params };
-        ctx.queue.write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
-        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gather") });
+        let p = GpuParams {
+            sample,
+            ..run.params
+        };
+        ctx.queue
+            .write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("gather"),
+            });
         {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gather"), timestamp_writes: None });
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("gather"),
+                timestamp_writes: None,
+            });
             cp.set_pipeline(&run.pipelines.gather);
             cp.set_bind_group(0, &run.scene_buffers.bind_group, &[]);
             cp.set_bind_group(1, &gather_bg, &[]);
             cp.dispatch_workgroups(wx, wy, 1);
         }
         ctx.queue.submit([enc.finish()]);
-        ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -498,7 +739,11 @@ pub fn render(scene: &Scene, s: &RenderSettings, pass: u32, progress: &Progress)
 
 impl GpuRun<'_> {
     /// Traces the photon maps the plan asks for and builds their grids on the device.
-    pub fn trace_maps(&self, scene: &Scene, s: &RenderSettings) -> Result<(MapBuffers, MapBuffers)> {
+    pub fn trace_maps(
+        &self,
+        scene: &Scene,
+        s: &RenderSettings,
+    ) -> Result<(MapBuffers, MapBuffers)> {
         let ctx = self.ctx;
         let plan = &self.plan;
         let photon_size = std::mem::size_of::<Photon>() as u64;
@@ -507,10 +752,18 @@ impl GpuRun<'_> {
         let global = match &plan.global {
             Some(b) => {
                 let paths = b.total();
-                let capacity = (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
+                let capacity =
+                    (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
                 let expected = paths.saturating_mul(3);
                 let drop = match s.mode {
-                    Mode::Direct => DROP_DIRECT | if plan.caustic.is_some() { DROP_CAUSTIC } else { 0 },
+                    Mode::Direct => {
+                        DROP_DIRECT
+                            | if plan.caustic.is_some() {
+                                DROP_CAUSTIC
+                            } else {
+                                0
+                            }
+                    }
                     Mode::Photon if plan.caustic.is_some() => DROP_CAUSTIC,
                     _ => 0,
                 };
@@ -546,10 +799,19 @@ impl GpuRun<'_> {
             }
             None => self.empty_map(true),
         };
-        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon maps") });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("photon maps"),
+            });
         for m in [&global, &caustic] {
             if m.params.paths > 0 {
-                m.record_build(&mut enc, &self.pipelines, &self.scene_buffers.bind_group, true);
+                m.record_build(
+                    &mut enc,
+                    &self.pipelines,
+                    &self.scene_buffers.bind_group,
+                    true,
+                );
             }
         }
         ctx.queue.submit([enc.finish()]);
@@ -560,7 +822,12 @@ impl GpuRun<'_> {
 
 /// Total area of the surfaces that store photons.
 pub fn storing_area(scene: &Scene) -> f32 {
-    let tris: f32 = scene.triangles.iter().filter(|t| scene.materials[t.material as usize].stores_photons()).map(|t| t.area()).sum();
+    let tris: f32 = scene
+        .triangles
+        .iter()
+        .filter(|t| scene.materials[t.material as usize].stores_photons())
+        .map(|t| t.area())
+        .sum();
     let spheres: f32 = scene
         .spheres
         .iter()

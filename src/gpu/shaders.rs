@@ -36,22 +36,31 @@ impl Kernel {
 
     /// The composed WGSL source of this kernel's module.
     pub fn source(self) -> String {
-        let libs: &[&str] = &[TYPES, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID];
+        let libs: &[&str] = &[
+            TYPES, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
+        ];
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
             Kernel::Gather => &[GATHER],
         };
-        libs.iter().chain(own).copied().collect::<Vec<_>>().join("\n")
+        libs.iter()
+            .chain(own)
+            .copied()
+            .collect::<Vec<_>>()
+            .join("\n")
     }
 }
 
 /// Parses and validates a composed module with naga (no GPU needed).
 pub fn validate(source: &str) -> Result<naga::Module, String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-        .validate(&module)
-        .map_err(|e| e.emit_to_string(source))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(source))?;
     Ok(module)
 }
 

@@ -127,13 +127,27 @@ pub fn material_code(kind: MaterialKind) -> u32 {
 
 impl From<&Triangle> for GpuTriangle {
     fn from(t: &Triangle) -> Self {
-        GpuTriangle { v0: t.v0.to_array(), material: t.material, e1: t.e1.to_array(), light: t.light, e2: t.e2.to_array(), _pad: 0 }
+        GpuTriangle {
+            v0: t.v0.to_array(),
+            material: t.material,
+            e1: t.e1.to_array(),
+            light: t.light,
+            e2: t.e2.to_array(),
+            _pad: 0,
+        }
     }
 }
 
 impl From<&Sphere> for GpuSphere {
     fn from(s: &Sphere) -> Self {
-        GpuSphere { center: s.center.to_array(), radius: s.radius, material: s.material, light: s.light, _pad0: 0, _pad1: 0 }
+        GpuSphere {
+            center: s.center.to_array(),
+            radius: s.radius,
+            material: s.material,
+            light: s.light,
+            _pad0: 0,
+            _pad1: 0,
+        }
     }
 }
 
@@ -159,9 +173,16 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
         .iter()
         .enumerate()
         .map(|(i, l)| {
-            let mut g = GpuLight { cdf_start: table.cdf_start[i], area: table.area[i], ..Default::default() };
+            let mut g = GpuLight {
+                cdf_start: table.cdf_start[i],
+                area: table.area[i],
+                ..Default::default()
+            };
             match l.shape {
-                LightShape::Point { position, intensity } => {
+                LightShape::Point {
+                    position,
+                    intensity,
+                } => {
                     g.kind = 0;
                     g.position = position.to_array();
                     g.intensity = intensity.to_array();

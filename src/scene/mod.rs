@@ -50,16 +50,34 @@ pub struct Material {
 
 impl Material {
     pub fn diffuse(albedo: Vec3) -> Self {
-        Self { kind: MaterialKind::Diffuse, kd: albedo, ..Self::black() }
+        Self {
+            kind: MaterialKind::Diffuse,
+            kd: albedo,
+            ..Self::black()
+        }
     }
     pub fn glossy(kd: Vec3, ks: Vec3, exponent: f32) -> Self {
-        Self { kind: MaterialKind::Glossy, kd, ks, exponent, ..Self::black() }
+        Self {
+            kind: MaterialKind::Glossy,
+            kd,
+            ks,
+            exponent,
+            ..Self::black()
+        }
     }
     pub fn mirror(reflectance: Vec3) -> Self {
-        Self { kind: MaterialKind::Mirror, ks: reflectance, ..Self::black() }
+        Self {
+            kind: MaterialKind::Mirror,
+            ks: reflectance,
+            ..Self::black()
+        }
     }
     pub fn glass(ior: f32) -> Self {
-        Self { kind: MaterialKind::Glass, ior, ..Self::black() }
+        Self {
+            kind: MaterialKind::Glass,
+            ior,
+            ..Self::black()
+        }
     }
     pub fn black() -> Self {
         Self {
@@ -74,7 +92,10 @@ impl Material {
     }
     /// An area-light surface: emits `radiance` from its front face, reflects nothing.
     pub fn emitter(radiance: Vec3) -> Self {
-        Self { emission: radiance, ..Self::black() }
+        Self {
+            emission: radiance,
+            ..Self::black()
+        }
     }
     /// Mirror and glass: delta BSDFs, the `S` of Heckbert's path notation.
     pub fn is_specular(&self) -> bool {
@@ -102,7 +123,13 @@ pub struct Triangle {
 
 impl Triangle {
     pub fn new(a: Vec3, b: Vec3, c: Vec3, material: u32) -> Self {
-        Self { v0: a, e1: b - a, e2: c - a, material, light: NO_LIGHT }
+        Self {
+            v0: a,
+            e1: b - a,
+            e2: c - a,
+            material,
+            light: NO_LIGHT,
+        }
     }
     pub fn area(&self) -> f32 {
         0.5 * self.e1.cross(self.e2).length()
@@ -162,7 +189,12 @@ impl Scene {
     /// A scene with nothing in it (renders black), looking down -z from the origin.
     pub fn empty() -> Self {
         Scene {
-            camera: Camera { eye: Vec3::ZERO, forward: -Vec3::Z, right: Vec3::X, up: Vec3::Y },
+            camera: Camera {
+                eye: Vec3::ZERO,
+                forward: -Vec3::Z,
+                right: Vec3::X,
+                up: Vec3::Y,
+            },
             materials: vec![],
             triangles: vec![],
             spheres: vec![],
@@ -176,14 +208,19 @@ impl Scene {
     }
     /// Whether any surface is a mirror or glass (then a caustic map is worth building).
     pub fn has_specular(&self) -> bool {
-        self.triangles.iter().map(|t| t.material).chain(self.spheres.iter().map(|s| s.material))
+        self.triangles
+            .iter()
+            .map(|t| t.material)
+            .chain(self.spheres.iter().map(|s| s.material))
             .any(|m| self.materials[m as usize].is_specular())
     }
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
     }
     pub fn has_point_lights(&self) -> bool {
-        self.lights.iter().any(|l| matches!(l.shape, LightShape::Point { .. }))
+        self.lights
+            .iter()
+            .any(|l| matches!(l.shape, LightShape::Point { .. }))
     }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
