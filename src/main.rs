@@ -24,6 +24,8 @@ struct Cli {
 enum Command {
     /// Render a scene to an EXR (linear float) or PNG (sRGB) image.
     Render(RenderArgs),
+    /// List the Vulkan adapters with their type and the limits that matter.
+    Adapters,
     /// Compare two images: RMSE, per-channel mean ratio, max error.
     Diff {
         /// The image to measure.
@@ -139,12 +141,20 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     let scene = gpu_photon::scene::load(&args.scene)?;
     let mut settings = scene.settings.clone();
     args.apply(&mut settings)?;
-    let backend = match args.backend {
-        BackendArg::Cpu | BackendArg::Auto => Backend::Cpu,
-        BackendArg::Gpu => Backend::Gpu,
-    };
     let show = !args.quiet && std::io::stderr().is_terminal();
-    let (image, report) = render(&scene, &settings, backend, Progress { enabled: show })?;
+    let progress = Progress { enabled: show };
+    let (image, report) = match args.backend {
+        BackendArg::Cpu => render(&scene, &settings, Backend::Cpu, progress)?,
+        BackendArg::Gpu => render(&scene, &settings, Backend::Gpu, progress)?,
+        BackendArg::Auto => match render(&scene, &settings, Backend::Gpu, progress) {
+            Ok(r) => r,
+            Err(gpu_photon::Error::Gpu(why)) => {
+                eprintln!("warning: GPU backend unavailable ({why}); rendering on the CPU");
+                render(&scene, &settings, Backend::Cpu, progress)?
+            }
+            Err(e) => return Err(e.into()),
+        },
+    };
     image.write(&args.output, settings.exposure)?;
     if !args.quiet {
         eprintln!(
@@ -167,6 +177,35 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             eprintln!("  {name:<16} {:>9.3} s", d.as_secs_f64());
         }
         eprintln!("  {:<16} {:>9.3} s", "total", report.total().as_secs_f64());
+    }
+    Ok(())
+}
+
+fn run_adapters() -> Result<()> {
+    let adapters = gpu_photon::gpu::list_adapters();
+    if adapters.is_empty() {
+        bail!("no Vulkan adapter found (install mesa-vulkan-drivers for lavapipe)");
+    }
+    for (i, a) in adapters.iter().enumerate() {
+        println!("[{i}] {} ({}, {})", a.name, a.backend, a.device_type);
+        println!("    driver: {}", a.driver);
+        println!(
+            "    max_storage_buffer_binding_size: {} MiB",
+            a.max_storage_buffer_binding_size >> 20
+        );
+        println!("    max_buffer_size: {} MiB", a.max_buffer_size >> 20);
+        println!(
+            "    max_storage_buffers_per_shader_stage: {}",
+            a.max_storage_buffers_per_shader_stage
+        );
+        println!(
+            "    max_compute_workgroups_per_dimension: {}",
+            a.max_compute_workgroups_per_dimension
+        );
+        println!(
+            "    max_compute_invocations_per_workgroup: {}",
+            a.max_compute_invocations_per_workgroup
+        );
     }
     Ok(())
 }
@@ -200,6 +239,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
+        Command::Adapters => run_adapters(),
         Command::Diff {
             a,
             b,
