@@ -10,6 +10,7 @@ pub mod settings;
 pub use error::{Error, Result};
 pub use scene::Scene;
 pub use settings::RenderSettings;
+pub mod bench;
 pub mod bvh;
 pub mod cpu;
 pub mod estimate;

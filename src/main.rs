@@ -26,6 +26,9 @@ enum Command {
     Render(RenderArgs),
     /// List the Vulkan adapters with their type and the limits that matter.
     Adapters,
+    /// Throughput of each available backend on one scene: photon paths traced per second,
+    /// map build time, gather time per megapixel-sample (medians of --runs).
+    Bench(BenchArgs),
     /// Compare two images: RMSE, per-channel mean ratio, max error.
     Diff {
         /// The image to measure.
@@ -39,6 +42,26 @@ enum Command {
         #[arg(long)]
         error_image: Option<PathBuf>,
     },
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Scene file.
+    scene: PathBuf,
+    #[arg(long, default_value_t = 200_000)]
+    photons: u32,
+    #[arg(long, default_value_t = 4)]
+    spp: u32,
+    #[arg(long, default_value_t = 128)]
+    width: u32,
+    #[arg(long, default_value_t = 128)]
+    height: u32,
+    /// Runs per backend (medians are reported).
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Only this backend.
+    #[arg(long, value_enum)]
+    backend: Option<BackendArg>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -181,6 +204,63 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+fn run_bench(args: &BenchArgs) -> Result<()> {
+    use gpu_photon::bench::throughput;
+    let scene = gpu_photon::scene::load(&args.scene)?;
+    let s = RenderSettings {
+        photons: args.photons,
+        spp: args.spp,
+        width: args.width,
+        height: args.height,
+        ..scene.settings.clone()
+    };
+    let backends: Vec<Backend> = match args.backend {
+        Some(BackendArg::Cpu) => vec![Backend::Cpu],
+        Some(BackendArg::Gpu) => vec![Backend::Gpu],
+        _ => vec![Backend::Cpu, Backend::Gpu],
+    };
+    println!(
+        "{}: {}x{} at {} spp, {} photon paths, mode {}, medians of {} runs",
+        args.scene.display(),
+        s.width,
+        s.height,
+        s.spp,
+        s.photons,
+        s.mode.name(),
+        args.runs
+    );
+    println!(
+        "{:<44} {:>14} {:>12} {:>18} {:>10}",
+        "backend", "paths/s", "build (s)", "gather (s/Mpix/spp)", "total (s)"
+    );
+    let mut results = Vec::new();
+    for b in backends {
+        match throughput(&scene, &s, b, args.runs) {
+            Ok(t) => {
+                println!(
+                    "{:<44} {:>14.0} {:>12.4} {:>18.3} {:>10.3}",
+                    t.backend, t.paths_per_s, t.build_s, t.gather_s_per_mpix_sample, t.total_s
+                );
+                results.push(t);
+            }
+            Err(gpu_photon::Error::Gpu(why)) if args.backend.is_none() => {
+                eprintln!("gpu: skipped ({why})")
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    if let [cpu, gpu] = &results[..] {
+        println!(
+            "gpu/cpu time ratios: trace {:.2}, build {:.2}, gather {:.2}, total {:.2}",
+            cpu.paths_per_s / gpu.paths_per_s,
+            gpu.build_s / cpu.build_s.max(1e-9),
+            gpu.gather_s_per_mpix_sample / cpu.gather_s_per_mpix_sample,
+            gpu.total_s / cpu.total_s
+        );
+    }
+    Ok(())
+}
+
 fn run_adapters() -> Result<()> {
     let adapters = gpu_photon::gpu::list_adapters();
     if adapters.is_empty() {
@@ -240,6 +320,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
         Command::Adapters => run_adapters(),
+        Command::Bench(args) => run_bench(args),
         Command::Diff {
             a,
             b,

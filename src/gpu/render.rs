@@ -328,18 +328,22 @@ impl MapBuffers {
         }
     }
 
-    /// Records tracing this map's photons (when `trace`) and building its grid into `enc`.
+    /// Records tracing this map's photons (when `trace`) and building its grid (when
+    /// `grid`) into `enc`.
     pub fn record_build(
         &self,
         enc: &mut wgpu::CommandEncoder,
         p: &Pipelines,
         scene_bg: &wgpu::BindGroup,
         trace: bool,
+        grid: bool,
     ) {
         if trace {
             enc.clear_buffer(&self.counters, 0, None);
         }
-        enc.clear_buffer(&self.cell_count, 0, None);
+        if grid {
+            enc.clear_buffer(&self.cell_count, 0, None);
+        }
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("build photon map"),
             timestamp_writes: None,
@@ -357,7 +361,8 @@ impl MapBuffers {
             (&p.scatter, cap, 64),
         ];
         let stages = if trace { &trace_stage[..] } else { &[] };
-        for &(pipeline, n, wg) in stages.iter().chain(&grid_stages) {
+        let grid_stages = if grid { &grid_stages[..] } else { &[] };
+        for &(pipeline, n, wg) in stages.iter().chain(grid_stages) {
             pass.set_pipeline(pipeline);
             let (x, y) = grid_2d(n.div_ceil(wg));
             pass.dispatch_workgroups(x, y, 1);
@@ -565,6 +570,7 @@ impl<'a> GpuRun<'a> {
             &self.pipelines,
             &self.scene_buffers.bind_group,
             false,
+            true,
         );
         self.ctx.queue.submit([enc.finish()]);
         self.ctx.check()?;
@@ -684,13 +690,7 @@ pub fn render(
     let run = GpuRun::new(&ctx, scene, s, pass)?;
     report.phase("upload + pipelines", t);
 
-    let t = Instant::now();
-    let (global, caustic) = run.trace_maps(scene, s)?;
-    let gc: Vec<u32> = read_back(&ctx, &global.counters, 16)?;
-    let cc: Vec<u32> = read_back(&ctx, &caustic.counters, 16)?;
-    report.global_stored = gc[0] as usize;
-    report.caustic_stored = cc[0] as usize;
-    report.phase("photons + grids", t);
+    let (global, caustic) = run.trace_maps(scene, s, &mut report)?;
 
     let t = Instant::now();
     let accum = run.accum_buffer(accum_bytes);
@@ -743,7 +743,9 @@ impl GpuRun<'_> {
         &self,
         scene: &Scene,
         s: &RenderSettings,
+        report: &mut RenderReport,
     ) -> Result<(MapBuffers, MapBuffers)> {
+        let mut t = Instant::now();
         let ctx = self.ctx;
         let plan = &self.plan;
         let photon_size = std::mem::size_of::<Photon>() as u64;
@@ -799,23 +801,37 @@ impl GpuRun<'_> {
             }
             None => self.empty_map(true),
         };
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("photon maps"),
-            });
-        for m in [&global, &caustic] {
-            if m.params.paths > 0 {
-                m.record_build(
-                    &mut enc,
-                    &self.pipelines,
-                    &self.scene_buffers.bind_group,
-                    true,
-                );
+        // Two submissions, each waited for, so the phases can be timed apart.
+        for (trace, grid, name) in [(true, false, "trace photons"), (false, true, "build grids")] {
+            let mut enc = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) });
+            for m in [&global, &caustic] {
+                if m.params.paths > 0 {
+                    m.record_build(
+                        &mut enc,
+                        &self.pipelines,
+                        &self.scene_buffers.bind_group,
+                        trace,
+                        grid,
+                    );
+                }
+            }
+            ctx.queue.submit([enc.finish()]);
+            ctx.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+            ctx.check()?;
+            report.phase(name, t);
+            t = Instant::now();
+            if trace {
+                let gc: Vec<u32> = read_back(ctx, &global.counters, 16)?;
+                let cc: Vec<u32> = read_back(ctx, &caustic.counters, 16)?;
+                report.global_stored = gc[0] as usize;
+                report.caustic_stored = cc[0] as usize;
+                t = Instant::now();
             }
         }
-        ctx.queue.submit([enc.finish()]);
-        ctx.check()?;
         Ok((global, caustic))
     }
 }
