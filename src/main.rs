@@ -193,6 +193,12 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             "  photons stored: {} global, {} caustic",
             report.global_stored, report.caustic_stored
         );
+        if report.batches > 1 {
+            eprintln!(
+                "  photon maps split into {} batches (one storage binding each); counts are the last batch's",
+                report.batches
+            );
+        }
         if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
             eprintln!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches");
         }

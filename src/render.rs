@@ -29,6 +29,8 @@ pub struct RenderReport {
     pub backend: String,
     /// GPU bound counters (photon overflow, loop budget, gather truncation), if on the GPU.
     pub gpu_stats: Vec<u32>,
+    /// Photon batches the pass was split into (GPU: one storage binding per map).
+    pub batches: u32,
 }
 
 impl RenderReport {

@@ -217,6 +217,8 @@ impl Pipelines {
 /// The scene in device buffers, with the group-0 bind group.
 pub struct SceneBuffers {
     pub params: wgpu::Buffer,
+    /// The lights with their photon budgets (rewritten per pass).
+    pub lights: wgpu::Buffer,
     pub stats: wgpu::Buffer,
     pub bind_group: wgpu::BindGroup,
 }
@@ -244,7 +246,7 @@ impl SceneBuffers {
             storage_buffer(dev, "bvh nodes", nodes, none),
             storage_buffer(dev, "bvh prim ids", &bvh.prim_ids, none),
             storage_buffer(dev, "materials", &mats, none),
-            storage_buffer(dev, "lights", lights, none),
+            storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST),
             storage_buffer(dev, "light cdf", &table.tri_cdf, none),
             storage_buffer(dev, "specular bounds", bounds, none),
         ];
@@ -257,13 +259,14 @@ impl SceneBuffers {
             dev,
             "stats",
             &[0u32; STATS_LEN],
-            wgpu::BufferUsages::COPY_SRC,
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
         let mut refs: Vec<&wgpu::Buffer> = buffers.iter().collect();
         refs.push(&params_buf);
         refs.push(&stats);
         let bind_group = bind_group(dev, "scene bind group", &layouts.scene, &refs);
         SceneBuffers {
+            lights: buffers[5].clone(),
             params: params_buf,
             stats,
             bind_group,
@@ -370,6 +373,29 @@ impl MapBuffers {
     }
 }
 
+/// Most batches one pass is split into (and the stride of batch indices in the RNG's pass).
+pub const MAX_BATCHES: u32 = 64;
+
+/// Settings of batch `b` of `n`: an equal share of the photon paths (the remainder spread
+/// over the first batches).
+pub fn batch_settings(s: &RenderSettings, b: u32, n: u32) -> RenderSettings {
+    let share = |total: u32| total / n + u32::from(b < total % n);
+    RenderSettings {
+        photons: share(s.photons).max(1),
+        caustic_photons: share(s.caustic_photons),
+        ..s.clone()
+    }
+}
+
+/// Photons the map's kernels stored (the reports' counts).
+fn report_count(r: &RenderReport, m: &MapBuffers) -> usize {
+    if m.params.is_caustic != 0 {
+        r.caustic_stored
+    } else {
+        r.global_stored
+    }
+}
+
 /// Splits a workgroup count over x and y so that x stays within the 65,535 limit.
 pub fn grid_2d(groups: u32) -> (u32, u32) {
     let groups = groups.max(1);
@@ -458,6 +484,34 @@ pub struct GpuRun<'a> {
 }
 
 impl<'a> GpuRun<'a> {
+    /// Re-plans the photon budgets for settings `s` and pass index `pass` (the RNG's pass),
+    /// rewriting the lights and parameters on the device; pipelines and geometry stay.
+    pub fn configure_pass(&mut self, scene: &Scene, s: &RenderSettings, pass: u32) {
+        let table = LightTable::new(scene);
+        let plan = MapPlan::new(scene, s);
+        let mut lights = lights(scene, &table);
+        if let Some(b) = &plan.global {
+            fill_budget(&mut lights, b, false);
+        }
+        if let Some((b, _)) = &plan.caustic {
+            fill_budget(&mut lights, b, true);
+        }
+        self.params = gpu_params(scene, s, pass, self.params.n_bounds);
+        if !lights.is_empty() {
+            self.ctx.queue.write_buffer(
+                &self.scene_buffers.lights,
+                0,
+                bytemuck::cast_slice(&lights),
+            );
+        }
+        self.ctx.queue.write_buffer(
+            &self.scene_buffers.params,
+            0,
+            bytemuck::bytes_of(&self.params),
+        );
+        self.plan = plan;
+    }
+
     /// Uploads the scene and creates the pipelines, specialised to the scene's features.
     pub fn new(ctx: &'a GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
         let bvh = Bvh::build(scene);
@@ -687,52 +741,81 @@ pub fn render(
     report.phase("open device", t);
 
     let t = Instant::now();
-    let run = GpuRun::new(&ctx, scene, s, pass)?;
+    let mut run = GpuRun::new(&ctx, scene, s, pass)?;
     report.phase("upload + pipelines", t);
-
-    let (global, caustic) = run.trace_maps(scene, s, &mut report)?;
-
-    let t = Instant::now();
     let accum = run.accum_buffer(accum_bytes);
-    let gather_bg = bind_group_for_gather(&ctx, &run.layouts, &global, &caustic, &accum);
-    let bar = progress.bar(s.spp as u64, "gather");
-    let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
-    for sample in 0..s.spp {
-        let p = GpuParams {
-            sample,
-            ..run.params
-        };
+
+    // Photon maps larger than one storage binding are split into batches: batch b traces
+    // paths of its own (RNG pass `pass * MAX_BATCHES + b`), builds its grid and gathers every
+    // camera sample; the image is the mean of the batches. The batch count grows until no
+    // map overflows (decided by the first batch, so it is deterministic).
+    let mut batches = 1u32;
+    'attempt: loop {
         ctx.queue
-            .write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("gather"),
-            });
-        {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("gather"),
-                timestamp_writes: None,
-            });
-            cp.set_pipeline(&run.pipelines.gather);
-            cp.set_bind_group(0, &run.scene_buffers.bind_group, &[]);
-            cp.set_bind_group(1, &gather_bg, &[]);
-            cp.dispatch_workgroups(wx, wy, 1);
+            .write_buffer(&accum, 0, &vec![0u8; accum_bytes as usize]);
+        for b in 0..batches {
+            let sb = batch_settings(s, b, batches);
+            run.configure_pass(scene, &sb, pass * MAX_BATCHES + b);
+            let (global, caustic) = run.trace_maps(scene, &sb, &mut report)?;
+            let overflow = [&global, &caustic]
+                .iter()
+                .map(|m| report_count(&report, m).div_ceil(m.params.capacity.max(1) as usize))
+                .max()
+                .unwrap_or(1);
+            if overflow > 1 && b == 0 && batches < MAX_BATCHES {
+                batches = (batches * overflow as u32 + batches / 4 + 1).min(MAX_BATCHES);
+                report
+                    .phases
+                    .retain(|p| p.0 == "open device" || p.0 == "upload + pipelines");
+                ctx.queue
+                    .write_buffer(&run.scene_buffers.stats, 0, &[0u8; STATS_LEN * 4]);
+                continue 'attempt;
+            }
+            let t = Instant::now();
+            let gather_bg = bind_group_for_gather(&ctx, &run.layouts, &global, &caustic, &accum);
+            let bar = progress.bar(s.spp as u64, "gather");
+            let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
+            for sample in 0..s.spp {
+                let p = GpuParams {
+                    sample,
+                    ..run.params
+                };
+                ctx.queue
+                    .write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
+                let mut enc = ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("gather"),
+                    });
+                {
+                    let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("gather"),
+                        timestamp_writes: None,
+                    });
+                    cp.set_pipeline(&run.pipelines.gather);
+                    cp.set_bind_group(0, &run.scene_buffers.bind_group, &[]);
+                    cp.set_bind_group(1, &gather_bg, &[]);
+                    cp.dispatch_workgroups(wx, wy, 1);
+                }
+                ctx.queue.submit([enc.finish()]);
+                ctx.device
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+                bar.inc(1);
+            }
+            bar.finish_and_clear();
+            report.phase("gather", t);
         }
-        ctx.queue.submit([enc.finish()]);
-        ctx.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
-        bar.inc(1);
+        break;
     }
-    bar.finish_and_clear();
+    report.batches = batches;
     let px: Vec<[f32; 4]> = read_back(&ctx, &accum, accum_bytes)?;
     let stats: Vec<u32> = read_back(&ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
-    report.phase("gather", t);
     report.gpu_stats = stats;
     let mut image = Image::new(s.width, s.height);
+    let scale = 1.0 / batches as f32;
     for (dst, src) in image.pixels.iter_mut().zip(&px) {
-        *dst = [src[0], src[1], src[2]];
+        *dst = [src[0] * scale, src[1] * scale, src[2] * scale];
     }
     Ok((image, report))
 }
