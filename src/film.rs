@@ -88,6 +88,11 @@ impl Image {
     /// Writes `.exr` (linear float) or `.png` (sRGB, scaled by 2^exposure) atomically: to a
     /// temporary file beside `path`, then renamed over it.
     pub fn write(&self, path: &Path, exposure: f32) -> Result<()> {
+        self.write_tagged(path, exposure, &[])
+    }
+
+    /// [`Image::write`] with text attributes in the EXR header (ignored for PNG).
+    pub fn write_tagged(&self, path: &Path, exposure: f32, tags: &[(&str, String)]) -> Result<()> {
         let ext = extension(path);
         let err = |message: String| Error::Image {
             path: path.to_path_buf(),
@@ -101,12 +106,22 @@ impl Image {
         let tmp = temp_path(path, &ext);
         let result = match ext.as_str() {
             "exr" => {
+                use exr::prelude::*;
                 let (w, h) = (self.width as usize, self.height as usize);
-                exr::prelude::write_rgb_file(&tmp, w, h, |x, y| {
-                    let p = self.pixels[y * w + x];
+                let pixels: &[[f32; 3]] = &self.pixels;
+                let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                    let p: [f32; 3] = pixels[y * w + x];
                     (p[0], p[1], p[2])
-                })
-                .map_err(|e| err(e.to_string()))
+                });
+                let mut image = exr::image::Image::from_channels((w, h), channels);
+                for (k, v) in tags {
+                    image
+                        .layer_data
+                        .attributes
+                        .other
+                        .insert(Text::from(*k), AttributeValue::Text(Text::from(v.as_str())));
+                }
+                image.write().to_file(&tmp).map_err(|e| err(e.to_string()))
             }
             _ => {
                 let scale = 2f32.powf(exposure);
@@ -140,6 +155,40 @@ impl Image {
             }
         })
     }
+}
+
+/// Checks that `path` names a writable image type (before spending time on a render).
+pub fn check_output_path(path: &Path) -> Result<()> {
+    match extension(path).as_str() {
+        "exr" | "png" => Ok(()),
+        ext => Err(Error::Image {
+            path: path.to_path_buf(),
+            message: format!("unknown image type '.{ext}' (expected .exr or .png)"),
+        }),
+    }
+}
+
+/// The text attributes of an EXR file's header (as written by [`Image::write_tagged`]).
+pub fn read_tags(path: &Path) -> Result<Vec<(String, String)>> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| Error::Image {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut tags = Vec::new();
+    if let Some(h) = meta.headers.first() {
+        for (k, v) in h
+            .own_attributes
+            .other
+            .iter()
+            .chain(&h.shared_attributes.other)
+        {
+            if let exr::meta::attribute::AttributeValue::Text(t) = v {
+                tags.push((k.to_string(), t.to_string()));
+            }
+        }
+    }
+    tags.sort();
+    Ok(tags)
 }
 
 fn extension(path: &Path) -> String {

@@ -19,6 +19,7 @@ pub mod geometry;
 pub mod light;
 pub mod material;
 pub mod photon;
+pub mod progressive;
 pub mod render;
 pub mod rng;
 pub mod sampling;

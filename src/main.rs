@@ -26,6 +26,13 @@ enum Command {
     Render(RenderArgs),
     /// List the Vulkan adapters with their type and the limits that matter.
     Adapters,
+    /// Combine progressive slices (`render --pass-range`) into the image of all their passes.
+    Merge {
+        /// Slices (EXR written by `render --pass-range` or `--passes`).
+        inputs: Vec<PathBuf>,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Throughput of each available backend on one scene: photon paths traced per second,
     /// map build time, gather time per megapixel-sample (medians of --runs).
     Bench(BenchArgs),
@@ -120,9 +127,39 @@ struct RenderArgs {
     /// PNG exposure in stops.
     #[arg(long)]
     exposure: Option<f32>,
+    /// Progressive photon mapping: render passes 0..N and write their mean.
+    #[arg(long)]
+    passes: Option<u32>,
+    /// Progressive passes A..B only (a slice of a longer render, for `gpu-photon merge`).
+    #[arg(long, value_parser = parse_range)]
+    pass_range: Option<(u32, u32)>,
+    /// Stop progressive passes after this many seconds (without --passes: pass until then).
+    #[arg(long)]
+    time: Option<f64>,
+    /// Write the running mean every N progressive passes.
+    #[arg(long)]
+    write_every: Option<u32>,
+    /// Radius reduction of progressive passes, in (0, 1).
+    #[arg(long)]
+    alpha: Option<f32>,
+    /// Global-map radius of the first progressive pass (default: chosen from the scene).
+    #[arg(long)]
+    initial_radius: Option<f32>,
     /// No progress bars or timings.
     #[arg(short, long)]
     quiet: bool,
+}
+
+fn parse_range(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (a, b) = s
+        .split_once("..")
+        .ok_or_else(|| format!("'{s}' is not a range A..B"))?;
+    let a: u32 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
+    let b: u32 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
+    if b <= a {
+        return Err(format!("{a}..{b} holds no pass"));
+    }
+    Ok((a, b))
 }
 
 impl RenderArgs {
@@ -141,8 +178,20 @@ impl RenderArgs {
             seed,
             width,
             height,
-            exposure
+            exposure,
+            alpha
         );
+        if self.initial_radius.is_some() {
+            s.initial_radius = self.initial_radius;
+        }
+        s.pass_range = match (self.passes, self.pass_range, self.time) {
+            (Some(_), Some(_), _) => bail!("--passes and --pass-range exclude each other"),
+            (Some(0), _, _) => bail!("--passes must be at least 1"),
+            (Some(n), None, _) => Some((0, n)),
+            (None, Some(r), _) => Some(r),
+            (None, None, Some(_)) => Some((0, u32::MAX >> 8)),
+            (None, None, None) => None,
+        };
         if let Some(m) = &self.mode {
             s.mode = Mode::parse(m).with_context(|| {
                 format!("--mode {m}: expected one of {}", Mode::NAMES.join(", "))
@@ -161,21 +210,31 @@ impl RenderArgs {
 }
 
 fn run_render(args: &RenderArgs) -> Result<()> {
+    gpu_photon::film::check_output_path(&args.output)?;
     let scene = gpu_photon::scene::load(&args.scene)?;
     let mut settings = scene.settings.clone();
     args.apply(&mut settings)?;
     let show = !args.quiet && std::io::stderr().is_terminal();
     let progress = Progress { enabled: show };
+    if settings.pass_range.is_some() {
+        return run_progressive(args, &scene, &settings, progress);
+    }
     let (image, report) = match args.backend {
         BackendArg::Cpu => render(&scene, &settings, Backend::Cpu, progress)?,
         BackendArg::Gpu => render(&scene, &settings, Backend::Gpu, progress)?,
-        BackendArg::Auto => match render(&scene, &settings, Backend::Gpu, progress) {
-            Ok(r) => r,
-            Err(gpu_photon::Error::Gpu(why)) => {
-                eprintln!("warning: GPU backend unavailable ({why}); rendering on the CPU");
+        BackendArg::Auto => match gpu_photon::gpu::hardware_adapter() {
+            Ok(_) => match render(&scene, &settings, Backend::Gpu, progress) {
+                Ok(r) => r,
+                Err(gpu_photon::Error::Gpu(why)) => {
+                    eprintln!("warning: GPU backend failed ({why}); rendering on the CPU");
+                    render(&scene, &settings, Backend::Cpu, progress)?
+                }
+                Err(e) => return Err(e.into()),
+            },
+            Err(why) => {
+                eprintln!("warning: {why}; rendering on the CPU");
                 render(&scene, &settings, Backend::Cpu, progress)?
             }
-            Err(e) => return Err(e.into()),
         },
     };
     image.write(&args.output, settings.exposure)?;
@@ -207,6 +266,204 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         }
         eprintln!("  {:<16} {:>9.3} s", "total", report.total().as_secs_f64());
     }
+    Ok(())
+}
+
+/// A fingerprint of the scene file and every setting but the pass range: slices to merge
+/// must share it.
+fn signature(scene_path: &std::path::Path, s: &RenderSettings) -> Result<String> {
+    let text =
+        std::fs::read(scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325; // FNV-1a
+    for b in text {
+        h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
+    }
+    let s = RenderSettings {
+        pass_range: None,
+        ..s.clone()
+    };
+    Ok(format!("scene-fnv1a {h:016x}; {s:?}"))
+}
+
+fn run_progressive(
+    args: &RenderArgs,
+    scene: &gpu_photon::Scene,
+    settings: &RenderSettings,
+    progress: Progress,
+) -> Result<()> {
+    use gpu_photon::progressive::Flow;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let (a, b) = settings.pass_range.expect("progressive settings");
+    let backend = match args.backend {
+        BackendArg::Gpu => Backend::Gpu,
+        BackendArg::Cpu => Backend::Cpu,
+        BackendArg::Auto if gpu_photon::gpu::hardware_adapter().is_ok() => Backend::Gpu,
+        BackendArg::Auto => Backend::Cpu,
+    };
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    // A second Ctrl-C while finishing the pass is left to the default handler's absence:
+    // the flag is simply set again.
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    let sig = signature(&args.scene, settings)?;
+    let start = std::time::Instant::now();
+    let write = |acc: &gpu_photon::progressive::Accumulator| -> Result<()> {
+        let tags = [
+            (
+                "gpu_photon.pass_range",
+                format!("{}..{}", acc.first, acc.first + acc.count),
+            ),
+            ("gpu_photon.passes", acc.count.to_string()),
+            ("gpu_photon.signature", sig.clone()),
+        ];
+        acc.mean()
+            .write_tagged(&args.output, settings.exposure, &tags)?;
+        Ok(())
+    };
+    let mut write_error = None;
+    let (acc, report) =
+        gpu_photon::render::render_progressive(scene, settings, backend, progress, a..b, |acc| {
+            if let Some(n) = args.write_every {
+                if n > 0 && acc.count % n == 0 {
+                    if let Err(e) = write(acc) {
+                        write_error = Some(e);
+                        return Flow::Stop;
+                    }
+                }
+            }
+            let out_of_time = args
+                .time
+                .is_some_and(|t| start.elapsed().as_secs_f64() >= t);
+            if interrupted.load(Ordering::SeqCst) || out_of_time {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        })?;
+    if let Some(e) = write_error {
+        return Err(e);
+    }
+    write(&acc)?;
+    if !args.quiet {
+        let why = if interrupted.load(Ordering::SeqCst) {
+            " (interrupted)"
+        } else {
+            ""
+        };
+        eprintln!(
+            "{}: passes {}..{}{why}, {}x{}, {} spp per pass, mode {}, backend {}",
+            args.output.display(),
+            acc.first,
+            acc.first + acc.count,
+            settings.width,
+            settings.height,
+            settings.spp,
+            settings.mode.name(),
+            report.backend
+        );
+        for (name, d) in &report.phases {
+            eprintln!("  {name:<18} {:>9.3} s", d.as_secs_f64());
+        }
+        eprintln!("  {:<18} {:>9.3} s", "wall", start.elapsed().as_secs_f64());
+    }
+    Ok(())
+}
+
+fn run_merge(inputs: &[PathBuf], output: &PathBuf) -> Result<()> {
+    gpu_photon::film::check_output_path(output)?;
+    if inputs.is_empty() {
+        bail!("merge needs at least one slice");
+    }
+    let mut slices = Vec::new();
+    for path in inputs {
+        let tags = gpu_photon::film::read_tags(path)?;
+        let get = |k: &str| tags.iter().find(|t| t.0 == k).map(|t| t.1.clone());
+        let range = get("gpu_photon.pass_range").with_context(|| {
+            format!(
+                "{}: no gpu_photon.pass_range in its header (not a progressive slice)",
+                path.display()
+            )
+        })?;
+        let (a, b) = parse_range(&range)
+            .map_err(|e| anyhow::anyhow!("{}: pass range {e}", path.display()))?;
+        let sig = get("gpu_photon.signature").unwrap_or_default();
+        slices.push((path.clone(), a, b, sig, Image::read(path)?));
+    }
+    slices.sort_by_key(|s| s.1);
+    for w in slices.windows(2) {
+        if w[1].1 < w[0].2 {
+            bail!(
+                "{} (passes {}..{}) overlaps {} (passes {}..{})",
+                w[1].0.display(),
+                w[1].1,
+                w[1].2,
+                w[0].0.display(),
+                w[0].1,
+                w[0].2
+            );
+        }
+    }
+    let first = &slices[0];
+    for s in &slices[1..] {
+        if s.3 != first.3 {
+            bail!(
+                "{} was rendered with another scene or other settings than {}",
+                s.0.display(),
+                first.0.display()
+            );
+        }
+        if (s.4.width, s.4.height) != (first.4.width, first.4.height) {
+            bail!(
+                "{} is {}x{}, {} is {}x{}",
+                s.0.display(),
+                s.4.width,
+                s.4.height,
+                first.0.display(),
+                first.4.width,
+                first.4.height
+            );
+        }
+    }
+    let total: u32 = slices.iter().map(|s| s.2 - s.1).sum();
+    let mut sum = vec![[0.0f64; 3]; first.4.pixels.len()];
+    for s in &slices {
+        let w = (s.2 - s.1) as f64;
+        for (acc, p) in sum.iter_mut().zip(&s.4.pixels) {
+            for c in 0..3 {
+                acc[c] += w * p[c] as f64;
+            }
+        }
+    }
+    let image = Image {
+        width: first.4.width,
+        height: first.4.height,
+        pixels: sum
+            .iter()
+            .map(|v| v.map(|x| (x / total as f64) as f32))
+            .collect(),
+    };
+    let contiguous = slices.windows(2).all(|w| w[1].1 == w[0].2);
+    let range = if contiguous {
+        format!("{}..{}", first.1, slices.last().map_or(first.2, |s| s.2))
+    } else {
+        slices
+            .iter()
+            .map(|s| format!("{}..{}", s.1, s.2))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let tags = [
+        ("gpu_photon.pass_range", range.clone()),
+        ("gpu_photon.passes", total.to_string()),
+        ("gpu_photon.signature", first.3.clone()),
+    ];
+    image.write_tagged(output, 0.0, &tags)?;
+    eprintln!(
+        "{}: {} slices, passes {range} ({total} passes)",
+        output.display(),
+        slices.len()
+    );
     Ok(())
 }
 
@@ -321,11 +578,27 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
     Ok(())
 }
 
+/// Mesa's Vulkan drivers print an error on every device creation when XDG_RUNTIME_DIR is
+/// unset (headless machines); give them a private directory instead.
+fn quiet_headless_vulkan() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return;
+    }
+    let dir = std::env::temp_dir().join("gpu-photon-runtime");
+    if std::fs::create_dir_all(&dir).is_ok() {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700));
+        std::env::set_var("XDG_RUNTIME_DIR", &dir);
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    quiet_headless_vulkan();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
         Command::Adapters => run_adapters(),
+        Command::Merge { inputs, output } => run_merge(inputs, output),
         Command::Bench(args) => run_bench(args),
         Command::Diff {
             a,

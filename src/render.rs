@@ -41,6 +41,18 @@ impl RenderReport {
     pub fn total(&self) -> Duration {
         self.phases.iter().map(|p| p.1).sum()
     }
+    /// Adds another report's phases (summing phases of the same name) and counts.
+    pub fn absorb(&mut self, other: &RenderReport) {
+        for &(name, d) in &other.phases {
+            match self.phases.iter_mut().find(|p| p.0 == name) {
+                Some(p) => p.1 += d,
+                None => self.phases.push((name, d)),
+            }
+        }
+        self.global_stored = other.global_stored;
+        self.caustic_stored = other.caustic_stored;
+        self.batches = self.batches.max(other.batches);
+    }
 }
 
 /// Shows progress bars on stderr when enabled.
@@ -189,7 +201,8 @@ pub fn validate(s: &RenderSettings) -> Result<()> {
     Ok(())
 }
 
-/// Renders `scene` with `settings` on `backend`.
+/// Renders `scene` with `settings` on `backend`: one classic pass, or with
+/// `settings.pass_range` the mean of those progressive passes.
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
@@ -197,6 +210,12 @@ pub fn render(
     progress: Progress,
 ) -> Result<(Image, RenderReport)> {
     validate(settings)?;
+    if let Some((a, b)) = settings.pass_range {
+        let (acc, report) = render_progressive(scene, settings, backend, progress, a..b, |_| {
+            crate::progressive::Flow::Continue
+        })?;
+        return Ok((acc.mean(), report));
+    }
     match backend {
         Backend::Cpu => {
             let (img, mut report) = crate::cpu::render(scene, settings, 0, &progress);
@@ -205,4 +224,64 @@ pub fn render(
         }
         Backend::Gpu => crate::gpu::render(scene, settings, 0, &progress),
     }
+}
+
+/// Progressive passes `passes` (see `crate::progressive`), accumulated into a running mean;
+/// `on_pass` sees the accumulator after every pass and may stop early (time budget, Ctrl-C).
+pub fn render_progressive(
+    scene: &Scene,
+    settings: &RenderSettings,
+    backend: Backend,
+    progress: Progress,
+    passes: std::ops::Range<u32>,
+    mut on_pass: impl FnMut(&crate::progressive::Accumulator) -> crate::progressive::Flow,
+) -> Result<(crate::progressive::Accumulator, RenderReport)> {
+    use crate::progressive::{pass_settings, Accumulator, Flow};
+    validate(settings)?;
+    if !(settings.alpha > 0.0 && settings.alpha < 1.0) {
+        return Err(Error::Setting {
+            field: "alpha",
+            message: format!("{} is outside (0, 1)", settings.alpha),
+        });
+    }
+    if passes.is_empty() {
+        return Err(Error::Setting {
+            field: "pass-range",
+            message: format!("{}..{} holds no pass", passes.start, passes.end),
+        });
+    }
+    let mut acc = Accumulator::new(settings.width, settings.height, passes.start);
+    let bar = progress.bar(passes.len() as u64, "passes");
+    let quiet = Progress { enabled: false };
+    let report = match backend {
+        Backend::Cpu => {
+            let mut report = RenderReport {
+                backend: format!("cpu ({} threads)", rayon::current_num_threads()),
+                ..Default::default()
+            };
+            for p in passes {
+                let (img, r) =
+                    crate::cpu::render(scene, &pass_settings(scene, settings, p), p, &quiet);
+                report.absorb(&r);
+                acc.add(&img);
+                bar.inc(1);
+                if on_pass(&acc) == Flow::Stop {
+                    break;
+                }
+            }
+            report
+        }
+        Backend::Gpu => {
+            let list: Vec<(u32, RenderSettings)> = passes
+                .map(|p| (p, pass_settings(scene, settings, p)))
+                .collect();
+            crate::gpu::render::render_passes(scene, &list, &quiet, |img| {
+                acc.add(img);
+                bar.inc(1);
+                on_pass(&acc)
+            })?
+        }
+    };
+    bar.finish_and_clear();
+    Ok((acc, report))
 }

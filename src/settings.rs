@@ -114,6 +114,13 @@ pub struct RenderSettings {
     pub seed: u32,
     /// PNG exposure in stops (EXR is always linear and unscaled).
     pub exposure: f32,
+    /// Progressive photon mapping over passes `start..end` (None: one classic pass with the
+    /// K-nearest estimate). See `crate::progressive`.
+    pub pass_range: Option<(u32, u32)>,
+    /// Radius reduction of progressive passes (Knaus and Zwicker's alpha, in (0, 1)).
+    pub alpha: f32,
+    /// Global-map radius of the first progressive pass (None: chosen from the scene).
+    pub initial_radius: Option<f32>,
 }
 
 impl Default for RenderSettings {
@@ -135,6 +142,9 @@ impl Default for RenderSettings {
             max_depth: 12,
             seed: 1,
             exposure: 0.0,
+            pass_range: None,
+            alpha: 0.7,
+            initial_radius: None,
         }
     }
 }

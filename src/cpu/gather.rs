@@ -277,7 +277,8 @@ impl Gatherer<'_> {
     }
 }
 
-/// The K-nearest estimate from `map` at `x` with a Lambertian BRDF `kd / pi`.
+/// The radiance estimate from `map` at `x` with a Lambertian BRDF `kd / pi`: the K nearest
+/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2`.
 pub fn estimate_at(
     map: &PhotonMap,
     x: Vec3,
@@ -287,7 +288,11 @@ pub fn estimate_at(
     filter: crate::settings::Filter,
     f: Vec3,
 ) -> Vec3 {
-    let mut found = Vec::with_capacity(k);
+    let mut found = Vec::with_capacity(k.max(16));
+    if k == 0 {
+        map.within(x.to_array(), max_r2, &mut found);
+        return estimate::radiance(&found, usize::MAX, max_r2, filter, ns, |_| f);
+    }
     map.nearest(x.to_array(), k, max_r2, &mut found);
     estimate::radiance(&found, k, max_r2, filter, ns, |_| f)
 }

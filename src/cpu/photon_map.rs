@@ -29,6 +29,22 @@ impl PhotonMap {
         self.photons.is_empty()
     }
 
+    /// Every photon within squared distance `r2` of `x`, as `(squared distance, photon)`.
+    pub fn within<'a>(&'a self, x: [f32; 3], r2: f32, out: &mut Vec<(f32, &'a Photon)>) {
+        out.clear();
+        let Some(tree) = &self.tree else { return };
+        let found = tree
+            .query(&x)
+            .within::<SquaredEuclidean<f32>>(r2)
+            .unsorted()
+            .execute();
+        out.extend(
+            found
+                .into_iter()
+                .map(|r| (r.distance, &self.photons[r.item as usize])),
+        );
+    }
+
     /// The up to `k` nearest photons within squared distance `max_r2` of `x`, as
     /// `(squared distance, photon)`, nearest first, written into `out`.
     pub fn nearest<'a>(

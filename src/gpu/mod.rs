@@ -9,5 +9,5 @@ pub mod render;
 pub mod shaders;
 pub mod types;
 
-pub use context::{list_adapters, GpuContext};
+pub use context::{hardware_adapter, list_adapters, GpuContext};
 pub use render::render;

@@ -721,6 +721,33 @@ pub fn render(
     pass: u32,
     progress: &Progress,
 ) -> Result<(Image, RenderReport)> {
+    let mut image = None;
+    let report = render_passes(scene, &[(pass, s.clone())], progress, |img| {
+        image = Some(img.clone());
+        crate::progressive::Flow::Continue
+    })?;
+    Ok((
+        image.unwrap_or_else(|| Image::new(s.width, s.height)),
+        report,
+    ))
+}
+
+/// The RNG pass of batch `b` of pass `pass`: batch 0 is the pass itself (as on the CPU).
+pub fn batch_pass(pass: u32, b: u32) -> u32 {
+    pass ^ (b << 24)
+}
+
+/// Renders each `(pass index, settings)` in turn on one device with pipelines created once,
+/// handing every pass's image to `on_pass` (which may stop the sequence).
+pub fn render_passes(
+    scene: &Scene,
+    passes: &[(u32, RenderSettings)],
+    progress: &Progress,
+    mut on_pass: impl FnMut(&Image) -> crate::progressive::Flow,
+) -> Result<RenderReport> {
+    let Some((first_pass, s)) = passes.first() else {
+        return Ok(RenderReport::default());
+    };
     if s.k > MAX_HEAP {
         return Err(Error::Setting {
             field: "k",
@@ -739,85 +766,105 @@ pub fn render(
     }
     report.backend = ctx.describe();
     report.phase("open device", t);
-
     let t = Instant::now();
-    let mut run = GpuRun::new(&ctx, scene, s, pass)?;
+    let mut run = GpuRun::new(&ctx, scene, s, *first_pass)?;
     report.phase("upload + pipelines", t);
     let accum = run.accum_buffer(accum_bytes);
-
-    // Photon maps larger than one storage binding are split into batches: batch b traces
-    // paths of its own (RNG pass `pass * MAX_BATCHES + b`), builds its grid and gathers every
-    // camera sample; the image is the mean of the batches. The batch count grows until no
-    // map overflows (decided by the first batch, so it is deterministic).
-    let mut batches = 1u32;
-    'attempt: loop {
-        ctx.queue
-            .write_buffer(&accum, 0, &vec![0u8; accum_bytes as usize]);
-        for b in 0..batches {
-            let sb = batch_settings(s, b, batches);
-            run.configure_pass(scene, &sb, pass * MAX_BATCHES + b);
-            let (global, caustic) = run.trace_maps(scene, &sb, &mut report)?;
-            let overflow = [&global, &caustic]
-                .iter()
-                .map(|m| report_count(&report, m).div_ceil(m.params.capacity.max(1) as usize))
-                .max()
-                .unwrap_or(1);
-            if overflow > 1 && b == 0 && batches < MAX_BATCHES {
-                batches = (batches * overflow as u32 + batches / 4 + 1).min(MAX_BATCHES);
-                report
-                    .phases
-                    .retain(|p| p.0 == "open device" || p.0 == "upload + pipelines");
-                ctx.queue
-                    .write_buffer(&run.scene_buffers.stats, 0, &[0u8; STATS_LEN * 4]);
-                continue 'attempt;
-            }
-            let t = Instant::now();
-            let gather_bg = bind_group_for_gather(&ctx, &run.layouts, &global, &caustic, &accum);
-            let bar = progress.bar(s.spp as u64, "gather");
-            let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
-            for sample in 0..s.spp {
-                let p = GpuParams {
-                    sample,
-                    ..run.params
-                };
-                ctx.queue
-                    .write_buffer(&run.scene_buffers.params, 0, bytemuck::bytes_of(&p));
-                let mut enc = ctx
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("gather"),
-                    });
-                {
-                    let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("gather"),
-                        timestamp_writes: None,
-                    });
-                    cp.set_pipeline(&run.pipelines.gather);
-                    cp.set_bind_group(0, &run.scene_buffers.bind_group, &[]);
-                    cp.set_bind_group(1, &gather_bg, &[]);
-                    cp.dispatch_workgroups(wx, wy, 1);
-                }
-                ctx.queue.submit([enc.finish()]);
-                ctx.device
-                    .poll(wgpu::PollType::wait_indefinitely())
-                    .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
-                bar.inc(1);
-            }
-            bar.finish_and_clear();
-            report.phase("gather", t);
+    for (pass, sp) in passes {
+        let image = run.render_pass(scene, sp, *pass, &accum, progress, &mut report)?;
+        if on_pass(&image) == crate::progressive::Flow::Stop {
+            break;
         }
-        break;
     }
-    report.batches = batches;
-    let px: Vec<[f32; 4]> = read_back(&ctx, &accum, accum_bytes)?;
-    let stats: Vec<u32> = read_back(&ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
-    report.gpu_stats = stats;
-    let mut image = Image::new(s.width, s.height);
-    let scale = 1.0 / batches as f32;
-    for (dst, src) in image.pixels.iter_mut().zip(&px) {
-        *dst = [src[0] * scale, src[1] * scale, src[2] * scale];
+    report.gpu_stats = read_back(&ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
+    Ok(report)
+}
+
+impl GpuRun<'_> {
+    /// One pass: photon maps (in batches when one storage binding cannot hold them), then
+    /// every camera sample gathered into `accum`; returns the pass's image.
+    ///
+    /// Batch b traces paths of its own (RNG pass `batch_pass(pass, b)`), builds its grid and
+    /// gathers every camera sample; the image is the mean of the batches. The batch count
+    /// grows until no map overflows (decided by the first batch, so it is deterministic).
+    pub fn render_pass(
+        &mut self,
+        scene: &Scene,
+        s: &RenderSettings,
+        pass: u32,
+        accum: &wgpu::Buffer,
+        progress: &Progress,
+        report: &mut RenderReport,
+    ) -> Result<Image> {
+        let ctx = self.ctx;
+        let accum_bytes = accum.size();
+        let phases_before = report.phases.len();
+        let mut batches = 1u32;
+        'attempt: loop {
+            ctx.queue
+                .write_buffer(accum, 0, &vec![0u8; accum_bytes as usize]);
+            for b in 0..batches {
+                let sb = batch_settings(s, b, batches);
+                self.configure_pass(scene, &sb, batch_pass(pass, b));
+                let (global, caustic) = self.trace_maps(scene, &sb, report)?;
+                let overflow = [&global, &caustic]
+                    .iter()
+                    .map(|m| report_count(report, m).div_ceil(m.params.capacity.max(1) as usize))
+                    .max()
+                    .unwrap_or(1);
+                if overflow > 1 && b == 0 && batches < MAX_BATCHES {
+                    batches = (batches * overflow as u32 + batches / 4 + 1).min(MAX_BATCHES);
+                    report.phases.truncate(phases_before);
+                    ctx.queue
+                        .write_buffer(&self.scene_buffers.stats, 0, &[0u8; STATS_LEN * 4]);
+                    continue 'attempt;
+                }
+                let t = Instant::now();
+                let gather_bg = bind_group_for_gather(ctx, &self.layouts, &global, &caustic, accum);
+                let bar = progress.bar(s.spp as u64, "gather");
+                let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
+                for sample in 0..s.spp {
+                    let p = GpuParams {
+                        sample,
+                        ..self.params
+                    };
+                    ctx.queue
+                        .write_buffer(&self.scene_buffers.params, 0, bytemuck::bytes_of(&p));
+                    let mut enc =
+                        ctx.device
+                            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                                label: Some("gather"),
+                            });
+                    {
+                        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("gather"),
+                            timestamp_writes: None,
+                        });
+                        cp.set_pipeline(&self.pipelines.gather);
+                        cp.set_bind_group(0, &self.scene_buffers.bind_group, &[]);
+                        cp.set_bind_group(1, &gather_bg, &[]);
+                        cp.dispatch_workgroups(wx, wy, 1);
+                    }
+                    ctx.queue.submit([enc.finish()]);
+                    ctx.device
+                        .poll(wgpu::PollType::wait_indefinitely())
+                        .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+                    bar.inc(1);
+                }
+                bar.finish_and_clear();
+                report.phase("gather", t);
+            }
+            break;
+        }
+        report.batches = report.batches.max(batches);
+        let px: Vec<[f32; 4]> = read_back(ctx, accum, accum_bytes)?;
+        let mut image = Image::new(s.width, s.height);
+        let scale = 1.0 / batches as f32;
+        for (dst, src) in image.pixels.iter_mut().zip(&px) {
+            *dst = [src[0] * scale, src[1] * scale, src[2] * scale];
+        }
+        Ok(image)
     }
-    Ok((image, report))
 }
 
 impl GpuRun<'_> {
@@ -857,7 +904,11 @@ impl GpuRun<'_> {
                     paths,
                     capacity,
                     table_size: table_size_for(expected, ctx.max_binding),
-                    cell_size: cell_size_for(s.radius, s.k, expected, area, 1.0),
+                    cell_size: if s.k == 0 {
+                        s.radius
+                    } else {
+                        cell_size_for(s.radius, s.k, expected, area, 1.0)
+                    },
                     is_caustic: 0,
                     drop_flags: drop,
                     radius2: s.radius * s.radius,
@@ -875,7 +926,11 @@ impl GpuRun<'_> {
                     paths,
                     capacity: paths.min(max_photons),
                     table_size: table_size_for(expected, ctx.max_binding),
-                    cell_size: cell_size_for(s.caustic_radius, s.k, expected, area, 0.05),
+                    cell_size: if s.k == 0 {
+                        s.caustic_radius
+                    } else {
+                        cell_size_for(s.caustic_radius, s.k, expected, area, 0.05)
+                    },
                     is_caustic: 1,
                     drop_flags: 0,
                     radius2: s.caustic_radius * s.caustic_radius,

@@ -1,0 +1,110 @@
+//! Progressive photon mapping after Knaus and Zwicker (2011), "Progressive photon mapping: a
+//! probabilistic approach": independent passes, each with fresh photons (the RNG's pass
+//! index), its own photon maps and a fixed-radius estimate whose radius shrinks as
+//! `r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)` (i counted from 1). Pass i's image depends on
+//! nothing but i, the scene and the settings, so ranges of passes rendered anywhere can be
+//! merged into the image the whole range gives (`gpu-photon merge`).
+
+use crate::film::Image;
+use crate::render::MapPlan;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+
+/// `r_i^2 / r_0^2` for 0-based pass `pass`: the product of `(j + alpha) / (j + 1)` for
+/// j = 1..=pass (in f64, so every machine computes the same value).
+pub fn radius2_factor(pass: u32, alpha: f32) -> f64 {
+    let a = alpha as f64;
+    (1..=pass as u64).fold(1.0f64, |f, j| f * (j as f64 + a) / (j as f64 + 1.0))
+}
+
+/// Expected number of photons within `radius`... inverted: the radius holding `k` photons
+/// when `photons` are spread over `area`.
+pub fn radius_for(k: u32, photons: f64, area: f64) -> f64 {
+    (k as f64 * area / (std::f64::consts::PI * photons.max(1.0))).sqrt()
+}
+
+/// The first pass's radii (global, caustic): `initial_radius` when given, else the radius
+/// that would hold K photons if a pass's photons covered the storing surfaces uniformly
+/// (global) or 5% of them (caustic), capped by the configured maximum radii.
+pub fn initial_radii(scene: &Scene, s: &RenderSettings) -> (f32, f32) {
+    let area = crate::gpu::render::storing_area(scene).max(1e-12) as f64;
+    // A global path stores about 1.8 photons in closed scenes of albedo ~0.5.
+    let global = s.initial_radius.unwrap_or_else(|| {
+        radius_for(s.k, s.photons as f64 * 1.8, area).min(s.radius as f64) as f32
+    });
+    let caustic =
+        radius_for(s.k, s.caustic_photons as f64, area * 0.05).min(s.caustic_radius as f64) as f32;
+    let caustic = if s.initial_radius.is_some() {
+        caustic.min(global)
+    } else {
+        caustic
+    };
+    (global, caustic)
+}
+
+/// Settings of progressive pass `pass`: a fixed-radius estimate (`k = 0`) with the pass's
+/// shrunken radii.
+pub fn pass_settings(scene: &Scene, s: &RenderSettings, pass: u32) -> RenderSettings {
+    let (g, c) = initial_radii(scene, s);
+    let f = radius2_factor(pass, s.alpha).sqrt() as f32;
+    RenderSettings {
+        k: 0,
+        radius: g * f,
+        caustic_radius: c * f,
+        pass_range: None,
+        ..s.clone()
+    }
+}
+
+/// What the caller says after each pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    Continue,
+    Stop,
+}
+
+/// A running mean of pass images.
+#[derive(Clone, Debug)]
+pub struct Accumulator {
+    pub sum: Vec<[f64; 3]>,
+    pub width: u32,
+    pub height: u32,
+    /// Passes `first..first + count` are in the sum.
+    pub first: u32,
+    pub count: u32,
+}
+
+impl Accumulator {
+    pub fn new(width: u32, height: u32, first: u32) -> Self {
+        Accumulator {
+            sum: vec![[0.0; 3]; (width * height) as usize],
+            width,
+            height,
+            first,
+            count: 0,
+        }
+    }
+    pub fn add(&mut self, img: &Image) {
+        for (s, p) in self.sum.iter_mut().zip(&img.pixels) {
+            for c in 0..3 {
+                s[c] += p[c] as f64;
+            }
+        }
+        self.count += 1;
+    }
+    /// The mean of the passes so far.
+    pub fn mean(&self) -> Image {
+        let n = self.count.max(1) as f64;
+        Image {
+            width: self.width,
+            height: self.height,
+            pixels: self.sum.iter().map(|s| s.map(|v| (v / n) as f32)).collect(),
+        }
+    }
+}
+
+/// Whether the plan of a pass uses any photon map (else passes differ only in camera noise).
+pub fn uses_maps(scene: &Scene, s: &RenderSettings) -> bool {
+    let p = MapPlan::new(scene, s);
+    p.global.is_some() || p.caustic.is_some()
+}
