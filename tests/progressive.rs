@@ -1,0 +1,190 @@
+//! Progressive photon mapping: error keeps falling with passes on both backends, and slices
+//! of a pass range merge into the image of the whole range.
+
+mod common;
+
+use gpu_photon::film::{diff, Image};
+use gpu_photon::progressive::{radius2_factor, Flow};
+use gpu_photon::render::{render_progressive, Backend, Progress};
+use gpu_photon::settings::RenderSettings;
+use gpu_photon::Scene;
+
+fn load(name: &str) -> Scene {
+    gpu_photon::scene::load(std::path::Path::new(&format!("scenes/{name}.toml"))).unwrap()
+}
+
+/// The reference averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
+/// times smaller (pixels are box-filtered mean radiance).
+fn downsample(img: &Image, f: u32) -> Image {
+    let (w, h) = (img.width / f, img.height / f);
+    let mut out = Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let mut s = [0.0f64; 3];
+            for yy in 0..f {
+                for xx in 0..f {
+                    let p = img.pixels[((y * f + yy) * img.width + x * f + xx) as usize];
+                    for c in 0..3 {
+                        s[c] += p[c] as f64;
+                    }
+                }
+            }
+            out.pixels[(y * w + x) as usize] = s.map(|v| (v / (f * f) as f64) as f32);
+        }
+    }
+    out
+}
+
+fn small(scene: &Scene) -> RenderSettings {
+    RenderSettings {
+        width: 32,
+        height: 32,
+        spp: 1,
+        photons: 20_000,
+        caustic_photons: 10_000,
+        seed: 3,
+        ..scene.settings.clone()
+    }
+}
+
+/// RMSE against `reference` after each pass count in `checkpoints` (one run of the passes).
+fn errors(
+    scene: &Scene,
+    s: &RenderSettings,
+    backend: Backend,
+    reference: &Image,
+    checkpoints: &[u32],
+) -> Vec<f64> {
+    let last = *checkpoints.last().unwrap();
+    let mut out = Vec::new();
+    render_progressive(scene, s, backend, Progress::default(), 0..last, |acc| {
+        if checkpoints.contains(&acc.count) {
+            let img = acc.mean();
+            assert_eq!(img.non_finite(), 0);
+            out.push(diff(&img, reference, 4).unwrap().rmse);
+        }
+        Flow::Continue
+    })
+    .unwrap();
+    out
+}
+
+/// Error after 4N passes is below the error after N passes, N = 1, 4 (and 16 on the CPU).
+/// The passes are independent, so the noise part of the error alone falls by about 2 each
+/// time; the radius shrinks too, so the bias falls as well.
+fn check_falls(name: &str, backend: Backend, checkpoints: &[u32], reference: &Image) {
+    let scene = load(name);
+    let e = errors(&scene, &small(&scene), backend, reference, checkpoints);
+    eprintln!("{name} {backend:?}: rmse after {checkpoints:?} passes = {e:?}");
+    for w in e.windows(2) {
+        assert!(w[1] < w[0], "{name} {backend:?}: error did not fall: {e:?}");
+    }
+}
+
+fn cornell_reference() -> Image {
+    downsample(
+        &Image::read(std::path::Path::new("tests/data/cornell-diffuse.exr")).unwrap(),
+        8,
+    )
+}
+
+/// The caustics scene has no independent reference: a long CPU progressive render (256
+/// passes, other seed) stands in for it.
+fn caustics_reference() -> Image {
+    let scene = load("cornell-caustics");
+    let s = RenderSettings {
+        seed: 99,
+        ..small(&scene)
+    };
+    render_progressive(
+        &scene,
+        &s,
+        Backend::Cpu,
+        Progress::default(),
+        0..256,
+        |_| Flow::Continue,
+    )
+    .unwrap()
+    .0
+    .mean()
+}
+
+#[test]
+fn cpu_error_keeps_falling() {
+    check_falls(
+        "cornell-box",
+        Backend::Cpu,
+        &[1, 4, 16, 64],
+        &cornell_reference(),
+    );
+    check_falls(
+        "cornell-caustics",
+        Backend::Cpu,
+        &[1, 4, 16],
+        &caustics_reference(),
+    );
+}
+
+#[test]
+fn gpu_error_keeps_falling() {
+    if common::gpu().is_none() {
+        return;
+    }
+    check_falls(
+        "cornell-box",
+        Backend::Gpu,
+        &[1, 4, 16],
+        &cornell_reference(),
+    );
+    check_falls(
+        "cornell-caustics",
+        Backend::Gpu,
+        &[1, 4, 16],
+        &caustics_reference(),
+    );
+}
+
+/// Slices 0..3 and 3..8 merged by pass count equal passes 0..8 in one run (up to float
+/// summation order), on the CPU.
+#[test]
+fn slices_merge_into_the_whole_range() {
+    let scene = load("cornell-caustics");
+    let s = small(&scene);
+    let run = |r: std::ops::Range<u32>| {
+        render_progressive(&scene, &s, Backend::Cpu, Progress::default(), r, |_| {
+            Flow::Continue
+        })
+        .unwrap()
+        .0
+    };
+    let (a, b, whole) = (run(0..3), run(3..8), run(0..8));
+    assert_eq!((a.first, a.count, b.first, b.count), (0, 3, 3, 5));
+    let (ma, mb, mw) = (a.mean(), b.mean(), whole.mean());
+    for i in 0..mw.pixels.len() {
+        for c in 0..3 {
+            let merged = (3.0 * ma.pixels[i][c] as f64 + 5.0 * mb.pixels[i][c] as f64) / 8.0;
+            let want = mw.pixels[i][c] as f64;
+            assert!(
+                (merged - want).abs() <= 1e-5 * want.abs().max(1e-3),
+                "pixel {i} channel {c}: {merged} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn radius_schedule_follows_knaus_zwicker() {
+    // r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), i counted from 1.
+    let alpha = 0.7f32;
+    let mut r2 = 1.0f64;
+    for pass in 0..50u32 {
+        assert!(
+            (radius2_factor(pass, alpha) - r2).abs() < 1e-12,
+            "pass {pass}"
+        );
+        let i = (pass + 1) as f64;
+        r2 *= (i + alpha as f64) / (i + 1.0);
+    }
+    // The radius keeps shrinking, slowly: r_i^2 ~ i^(alpha - 1).
+    assert!(radius2_factor(1000, alpha) < radius2_factor(100, alpha));
+}
