@@ -13,18 +13,20 @@ fn stored_count() -> u32 {
     return min(atomicLoad(&counters[0]), map_params.capacity);
 }
 
+// The grid slot of photon slot i, or 0xffffffff when the slot is empty or the map drops it.
+fn photon_slot(i: u32) -> u32 {
+    if i >= stored_count() || !keep_photon(photons[i], map_params.drop_flags) {
+        return 0xffffffffu;
+    }
+    return cell_hash(cell_of(photons[i].position, map_params.cell_size), map_params.table_size);
+}
+
 @compute @workgroup_size(64)
 fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
-    if i >= stored_count() {
-        return;
+    let h = photon_slot(flat_index(gid, nwg));
+    if h != 0xffffffffu {
+        atomicAdd(&cell_count[h], 1u);
     }
-    let p = photons[i];
-    if !keep_photon(p, map_params.drop_flags) {
-        return;
-    }
-    let h = cell_hash(cell_of(p.position, map_params.cell_size), map_params.table_size);
-    atomicAdd(&cell_count[h], 1u);
 }
 
 var<workgroup> scan_tmp: array<u32, 256>;
@@ -97,14 +99,9 @@ fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 @compute @workgroup_size(64)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    if i >= stored_count() {
-        return;
+    let h = photon_slot(i);
+    if h != 0xffffffffu {
+        let k = atomicAdd(&cell_count[h], 1u);
+        sorted[cell_start[h] + k] = photons[i];
     }
-    let p = photons[i];
-    if !keep_photon(p, map_params.drop_flags) {
-        return;
-    }
-    let h = cell_hash(cell_of(p.position, map_params.cell_size), map_params.table_size);
-    let k = atomicAdd(&cell_count[h], 1u);
-    sorted[cell_start[h] + k] = p;
 }

@@ -120,6 +120,46 @@ fn kernel_norm(r2: f32) -> f32 {
     return 1.0 / (PI * r2);
 }
 
+// The heap's K: params.k, or the whole heap for fixed-radius (progressive) estimates.
+fn heap_k() -> u32 {
+    return select(min(params.k, MAX_HEAP), MAX_HEAP, params.k == 0u);
+}
+
+// Sum over every photon of map `which` within its radius of x (any number of them), in
+// cell order: the fixed-radius estimate's fallback when the heap overflows.
+fn sum_within(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> {
+    let home = cell_of(x, mp.cell_size);
+    let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
+    var sum = vec3<f32>(0.0);
+    var visits = 0u;
+    for (var dz = -rings; dz <= rings && spend(); dz += 1) {
+        for (var dy = -rings; dy <= rings && spend(); dy += 1) {
+            for (var dx = -rings; dx <= rings && spend(); dx += 1) {
+                let c = home + vec3<i32>(dx, dy, dz);
+                let range = map_cell(which, cell_hash(c, mp.table_size));
+                for (var j = range.x; j < range.y; j += 1u) {
+                    visits += 1u;
+                    if visits > MAX_VISITS || !spend() {
+                        atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
+                        return sum;
+                    }
+                    let p = map_photon(which, j);
+                    if any(cell_of(p.position, mp.cell_size) != c) {
+                        continue;
+                    }
+                    let dv = p.position - x;
+                    let d2 = dot(dv, dv);
+                    if d2 > mp.radius2 || dot(p.dir, ns) >= 0.0 {
+                        continue;
+                    }
+                    sum += f * p.power * kernel_weight(d2, mp.radius2);
+                }
+            }
+        }
+    }
+    return sum;
+}
+
 // Finds the K nearest photons of map `which` within its radius around x; returns how many
 // are in the heap (then sorted nearest first).
 fn knn(which: u32, x: vec3<f32>) -> u32 {
@@ -129,7 +169,7 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
     } else {
         mp = c_map;
     }
-    let k = min(params.k, MAX_HEAP);
+    let k = heap_k();
     let r2_max = mp.radius2;
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(r2_max) / mp.cell_size));
@@ -221,10 +261,14 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     if n == 0u {
         return vec3<f32>(0.0);
     }
-    let k = min(params.k, MAX_HEAP);
+    let k = heap_k();
     var r2 = mp.radius2;
     var count = n;
-    if n >= k {
+    if params.k == 0u && n >= k {
+        // More photons inside the fixed radius than the heap holds.
+        return sum_within(which, mp, x, ns, f) * kernel_norm(r2);
+    }
+    if params.k != 0u && n >= k {
         r2 = max(heap_d2(n - 1u), 1e-30);
         count = n - 1u;
     }

@@ -881,38 +881,51 @@ impl GpuRun<'_> {
         let photon_size = std::mem::size_of::<Photon>() as u64;
         let max_photons = (ctx.max_binding / photon_size) as u32;
         let area = storing_area(scene);
+        // A map's grid parameters; fixed-radius passes (k = 0) use cells of the radius.
+        let params = |caustic: bool,
+                      paths: u32,
+                      capacity: u32,
+                      expected: u32,
+                      radius: f32,
+                      concentration: f32,
+                      drop_flags: u32| GpuMapParams {
+            stream: if caustic {
+                Stream::Caustic
+            } else {
+                Stream::Photon
+            } as u32,
+            paths,
+            capacity,
+            table_size: table_size_for(expected, ctx.max_binding),
+            cell_size: cell_size_for(radius, s.k, expected, area, concentration),
+            is_caustic: caustic as u32,
+            drop_flags,
+            radius2: radius * radius,
+        };
         let global = match &plan.global {
             Some(b) => {
                 let paths = b.total();
                 let capacity =
                     (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
-                let expected = paths.saturating_mul(3);
+                let caustic_elsewhere = if plan.caustic.is_some() {
+                    DROP_CAUSTIC
+                } else {
+                    0
+                };
                 let drop = match s.mode {
-                    Mode::Direct => {
-                        DROP_DIRECT
-                            | if plan.caustic.is_some() {
-                                DROP_CAUSTIC
-                            } else {
-                                0
-                            }
-                    }
-                    Mode::Photon if plan.caustic.is_some() => DROP_CAUSTIC,
+                    Mode::Direct => DROP_DIRECT | caustic_elsewhere,
+                    Mode::Photon => caustic_elsewhere,
                     _ => 0,
                 };
-                let p = GpuMapParams {
-                    stream: Stream::Photon as u32,
+                let p = params(
+                    false,
                     paths,
                     capacity,
-                    table_size: table_size_for(expected, ctx.max_binding),
-                    cell_size: if s.k == 0 {
-                        s.radius
-                    } else {
-                        cell_size_for(s.radius, s.k, expected, area, 1.0)
-                    },
-                    is_caustic: 0,
-                    drop_flags: drop,
-                    radius2: s.radius * s.radius,
-                };
+                    paths.saturating_mul(3),
+                    s.radius,
+                    1.0,
+                    drop,
+                );
                 MapBuffers::new(ctx, &self.layouts, "global", p)
             }
             None => self.empty_map(false),
@@ -920,21 +933,15 @@ impl GpuRun<'_> {
         let caustic = match &plan.caustic {
             Some((b, _)) => {
                 let paths = b.total();
-                let expected = s.caustic_photons;
-                let p = GpuMapParams {
-                    stream: Stream::Caustic as u32,
+                let p = params(
+                    true,
                     paths,
-                    capacity: paths.min(max_photons),
-                    table_size: table_size_for(expected, ctx.max_binding),
-                    cell_size: if s.k == 0 {
-                        s.caustic_radius
-                    } else {
-                        cell_size_for(s.caustic_radius, s.k, expected, area, 0.05)
-                    },
-                    is_caustic: 1,
-                    drop_flags: 0,
-                    radius2: s.caustic_radius * s.caustic_radius,
-                };
+                    paths.min(max_photons),
+                    s.caustic_photons,
+                    s.caustic_radius,
+                    0.05,
+                    0,
+                );
                 MapBuffers::new(ctx, &self.layouts, "caustic", p)
             }
             None => self.empty_map(true),
