@@ -69,6 +69,15 @@ struct BenchArgs {
     /// Only this backend.
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
+    /// Reference image: with --passes, also measure a progressive curve (error against time).
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// Progressive passes of the curve (measured at 1, 2, 4, ... and the last).
+    #[arg(long)]
+    passes: Option<u32>,
+    /// Write the curve as DIR/progressive.csv.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -497,7 +506,7 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
         "backend", "paths/s", "build (s)", "gather (s/Mpix/spp)", "total (s)"
     );
     let mut results = Vec::new();
-    for b in backends {
+    for &b in &backends {
         match throughput(&scene, &s, b, args.runs) {
             Ok(t) => {
                 println!(
@@ -512,6 +521,17 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
             Err(e) => return Err(e.into()),
         }
     }
+    if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
+        progressive_curve(
+            &scene,
+            &s,
+            &backends,
+            &args.backend,
+            reference,
+            passes,
+            args.out.as_deref(),
+        )?;
+    }
     if let [cpu, gpu] = &results[..] {
         println!(
             "gpu/cpu time ratios: trace {:.2}, build {:.2}, gather {:.2}, total {:.2}",
@@ -520,6 +540,81 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
             gpu.gather_s_per_mpix_sample / cpu.gather_s_per_mpix_sample,
             gpu.total_s / cpu.total_s
         );
+    }
+    Ok(())
+}
+
+/// Error against the reference after 1, 2, 4, ... passes, with the wall time, per backend.
+fn progressive_curve(
+    scene: &gpu_photon::Scene,
+    s: &RenderSettings,
+    backends: &[Backend],
+    only: &Option<BackendArg>,
+    reference: &std::path::Path,
+    passes: u32,
+    out: Option<&std::path::Path>,
+) -> Result<()> {
+    use gpu_photon::progressive::Flow;
+    let reference = Image::read(reference)?;
+    // The curve renders at the reference's size.
+    let s = &RenderSettings {
+        width: reference.width,
+        height: reference.height,
+        ..s.clone()
+    };
+    let mut csv = String::from(
+        "backend,passes,seconds,rmse,rel_mse,mean_ratio_r,mean_ratio_g,mean_ratio_b\n",
+    );
+    println!("progressive curve against the reference ({passes} passes):");
+    println!(
+        "{:<8} {:>7} {:>10} {:>10} {:>10} {:>24}",
+        "backend", "passes", "seconds", "rmse", "rel_mse", "mean ratio"
+    );
+    for &b in backends {
+        let name = if b == Backend::Cpu { "cpu" } else { "gpu" };
+        let start = std::time::Instant::now();
+        let mut failure = None;
+        let result = gpu_photon::render::render_progressive(
+            scene,
+            s,
+            b,
+            Progress::default(),
+            0..passes,
+            |acc| {
+                if acc.count.is_power_of_two() || acc.count == passes {
+                    let secs = start.elapsed().as_secs_f64();
+                    match diff(&acc.mean(), &reference, 16) {
+                        Ok(d) => {
+                            let m = d.mean_ratio;
+                            println!("{name:<8} {:>7} {secs:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}", acc.count, d.rmse, d.rel_mse, m[0], m[1], m[2]);
+                            csv.push_str(&format!(
+                                "{name},{},{secs:.4},{:.6},{:.6},{:.5},{:.5},{:.5}\n",
+                                acc.count, d.rmse, d.rel_mse, m[0], m[1], m[2]
+                            ));
+                        }
+                        Err(e) => {
+                            failure = Some(e);
+                            return Flow::Stop;
+                        }
+                    }
+                }
+                Flow::Continue
+            },
+        );
+        if let Some(e) = failure {
+            bail!("{}: {e}", "reference");
+        }
+        match result {
+            Ok(_) => {}
+            Err(gpu_photon::Error::Gpu(why)) if only.is_none() => eprintln!("gpu: skipped ({why})"),
+            Err(e) => return Err(e.into()),
+        }
+    }
+    if let Some(dir) = out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        let path = dir.join("progressive.csv");
+        std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }
