@@ -521,11 +521,47 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
             Err(e) => return Err(e.into()),
         }
     }
+    let avail: Vec<Backend> = results
+        .iter()
+        .map(|t| {
+            if t.backend.starts_with("cpu") {
+                Backend::Cpu
+            } else {
+                Backend::Gpu
+            }
+        })
+        .collect();
+    if let Some(dir) = &args.out {
+        let reference = match &args.reference {
+            Some(r) => r.clone(),
+            None => {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("creating {}", dir.display()))?;
+                let path = dir.join("reference.exr");
+                println!(
+                    "no --reference: rendering one first with the CPU backend (progressive, 16 passes x 200,000 photons x 16 spp at {}x{}) to {}",
+                    scene.settings.width,
+                    scene.settings.height,
+                    path.display()
+                );
+                let rs = RenderSettings {
+                    photons: 200_000,
+                    spp: 16,
+                    pass_range: Some((1000, 1016)),
+                    ..scene.settings.clone()
+                };
+                let (img, _) = render(&scene, &rs, Backend::Cpu, Progress::default())?;
+                img.write(&path, 0.0)?;
+                path
+            }
+        };
+        ladder_bench(&scene, &s, &avail, &reference, dir)?;
+    }
     if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
         progressive_curve(
             &scene,
             &s,
-            &backends,
+            &avail,
             &args.backend,
             reference,
             passes,
@@ -540,6 +576,45 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
             gpu.gather_s_per_mpix_sample / cpu.gather_s_per_mpix_sample,
             gpu.total_s / cpu.total_s
         );
+    }
+    Ok(())
+}
+
+/// The speed-against-error ladder: every rung on every backend, as DIR/bench.csv and a
+/// log-log plot DIR/bench.png.
+fn ladder_bench(
+    scene: &gpu_photon::Scene,
+    s: &RenderSettings,
+    backends: &[Backend],
+    reference: &std::path::Path,
+    dir: &std::path::Path,
+) -> Result<()> {
+    use gpu_photon::bench::{ladder, ladder_csv, plot, LADDER};
+    let reference = Image::read(reference)?;
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    println!(
+        "speed against error ({}x{}, the reference's size):",
+        reference.width, reference.height
+    );
+    println!(
+        "{:<8} {:>8} {:>5} {:>5} {:>10} {:>10} {:>10} {:>24}",
+        "backend", "photons", "spp", "k", "seconds", "rmse", "rel_mse", "mean ratio"
+    );
+    let rows = ladder(scene, s, backends, &reference, &LADDER, |r| {
+        let m = r.mean_ratio;
+        println!(
+            "{:<8} {:>8} {:>5} {:>5} {:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}",
+            r.backend, r.photons, r.spp, r.k, r.total_s, r.rmse, r.rel_mse, m[0], m[1], m[2]
+        );
+    })?;
+    let csv = dir.join("bench.csv");
+    std::fs::write(&csv, ladder_csv(&rows))
+        .with_context(|| format!("writing {}", csv.display()))?;
+    println!("wrote {}", csv.display());
+    let png = dir.join("bench.png");
+    match plot(&rows, &png, "speed against error") {
+        Ok(()) => println!("wrote {}", png.display()),
+        Err(e) => eprintln!("warning: no plot: {e}"),
     }
     Ok(())
 }
