@@ -60,13 +60,17 @@ fn empty_buffer(
     })
 }
 
-fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+fn layout_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+    dynamic: bool,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
             ty,
-            has_dynamic_offset: false,
+            has_dynamic_offset: dynamic && ty == UNIFORM,
             min_binding_size: None,
         },
         count: None,
@@ -87,11 +91,13 @@ pub struct Layouts {
 
 impl Layouts {
     pub fn new(dev: &wgpu::Device) -> Self {
-        let mk = |label: &str, tys: &[wgpu::BufferBindingType]| {
+        // `dynamic`: the layout's uniform takes a dynamic offset (the scene's per-sample
+        // parameters, PARAMS_STRIDE apart).
+        let mk = |label: &str, tys: &[wgpu::BufferBindingType], dynamic: bool| {
             let entries: Vec<_> = tys
                 .iter()
                 .enumerate()
-                .map(|(i, &t)| layout_entry(i as u32, t))
+                .map(|(i, &t)| layout_entry(i as u32, t, dynamic))
                 .collect();
             dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
@@ -102,9 +108,18 @@ impl Layouts {
             scene: mk(
                 "scene layout",
                 &[RO, RO, RO, RO, RO, RO, RO, RO, UNIFORM, RW],
+                true,
             ),
-            map: mk("photon map layout", &[RW, RW, RW, RW, RW, RW, UNIFORM]),
-            gather: mk("gather layout", &[RO, RO, UNIFORM, RO, RO, UNIFORM, RW]),
+            map: mk(
+                "photon map layout",
+                &[RW, RW, RW, RW, RW, RW, UNIFORM],
+                false,
+            ),
+            gather: mk(
+                "gather layout",
+                &[RO, RO, UNIFORM, RO, RO, UNIFORM, RW],
+                false,
+            ),
         }
     }
 }
@@ -233,6 +248,7 @@ impl SceneBuffers {
         lights: &[GpuLight],
         bounds: &[GpuAabb],
         params: &GpuParams,
+        samples: u32,
     ) -> Self {
         let dev = &ctx.device;
         let none = wgpu::BufferUsages::empty();
@@ -250,21 +266,47 @@ impl SceneBuffers {
             storage_buffer(dev, "light cdf", &table.tri_cdf, none),
             storage_buffer(dev, "specular bounds", bounds, none),
         ];
-        let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        // One PARAMS_STRIDE slot per camera sample: a pass's gathers are all recorded into
+        // one submission, each dispatch reading its sample's slot (dynamic offset).
+        let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
-            contents: bytemuck::bytes_of(params),
+            size: PARAMS_STRIDE * samples.max(1) as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
+        ctx.queue
+            .write_buffer(&params_buf, 0, bytemuck::bytes_of(params));
         let stats = storage_buffer(
             dev,
             "stats",
             &[0u32; STATS_LEN],
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
-        let mut refs: Vec<&wgpu::Buffer> = buffers.iter().collect();
-        refs.push(&params_buf);
-        refs.push(&stats);
-        let bind_group = bind_group(dev, "scene bind group", &layouts.scene, &refs);
+        let mut entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 8,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &params_buf,
+                offset: 0,
+                size: std::num::NonZeroU64::new(std::mem::size_of::<GpuParams>() as u64),
+            }),
+        });
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: stats.as_entire_binding(),
+        });
+        let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene bind group"),
+            layout: &layouts.scene,
+            entries: &entries,
+        });
         SceneBuffers {
             lights: buffers[5].clone(),
             params: params_buf,
@@ -303,7 +345,7 @@ impl MapBuffers {
         let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(&format!("{label} map params")),
             contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let bind_group = bind_group(
             dev,
@@ -351,7 +393,7 @@ impl MapBuffers {
             label: Some("build photon map"),
             timestamp_writes: None,
         });
-        pass.set_bind_group(0, scene_bg, &[]);
+        pass.set_bind_group(0, scene_bg, &[0]);
         pass.set_bind_group(1, &self.bind_group, &[]);
         let cap = self.params.capacity;
         let t = self.params.table_size;
@@ -372,6 +414,22 @@ impl MapBuffers {
         }
     }
 }
+
+/// Parameters of an absent map (`paths == 0`: the gather skips it).
+pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
+    stream: 0,
+    paths: 0,
+    capacity: 1,
+    table_size: 256,
+    cell_size: 1.0,
+    is_caustic: 0,
+    drop_flags: 0,
+    radius2: 0.0,
+};
+
+/// Distance between the per-sample parameter slots (the uniform dynamic-offset alignment
+/// every adapter supports).
+pub const PARAMS_STRIDE: u64 = 256;
 
 /// Most batches one pass is split into (and the stride of batch indices in the RNG's pass).
 pub const MAX_BATCHES: u32 = 64;
@@ -467,10 +525,15 @@ pub fn read_back<T: Pod>(ctx: &GpuContext, src: &wgpu::Buffer, bytes: u64) -> Re
     dev.poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
     ctx.check()?;
-    let view = staging
-        .get_mapped_range(..bytes)
-        .map_err(|e| Error::Gpu(format!("mapping the read-back buffer: {e:?}")))?;
-    Ok(bytemuck::cast_slice(&view).to_vec())
+    let data = {
+        let view = staging
+            .get_mapped_range(..bytes)
+            .map_err(|e| Error::Gpu(format!("mapping the read-back buffer: {e:?}")))?;
+        bytemuck::cast_slice(&view).to_vec()
+    };
+    staging.unmap();
+    staging.destroy();
+    Ok(data)
 }
 
 /// Everything one render (or one probe) sets up on the device, once.
@@ -481,6 +544,9 @@ pub struct GpuRun<'a> {
     pub pipelines: Pipelines,
     pub params: GpuParams,
     pub plan: MapPlan,
+    /// Maps of earlier passes, reused when a pass needs buffers of the same sizes (so
+    /// memory stays flat over passes).
+    pub map_cache: Vec<MapBuffers>,
 }
 
 impl<'a> GpuRun<'a> {
@@ -540,7 +606,7 @@ impl<'a> GpuRun<'a> {
         let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let layouts = Layouts::new(&ctx.device);
         let scene_buffers = SceneBuffers::new(
-            ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params,
+            ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
         );
         let pipelines = Pipelines::new(
             ctx,
@@ -554,6 +620,7 @@ impl<'a> GpuRun<'a> {
             pipelines,
             params,
             plan,
+            map_cache: Vec::new(),
         })
     }
 
@@ -680,7 +747,7 @@ impl<'a> GpuRun<'a> {
                 timestamp_writes: None,
             });
             cp.set_pipeline(&pipeline);
-            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[]);
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
             cp.set_bind_group(1, bg, &[]);
             let (x, y) = grid_2d(n.div_ceil(64));
             cp.dispatch_workgroups(x, y, 1);
@@ -823,36 +890,50 @@ impl GpuRun<'_> {
                 let gather_bg = bind_group_for_gather(ctx, &self.layouts, &global, &caustic, accum);
                 let bar = progress.bar(s.spp as u64, "gather");
                 let (wx, wy) = (s.width.div_ceil(8), s.height.div_ceil(8));
+                // Every sample's parameters, then all the sample layers in one submission.
+                let mut slots = vec![0u8; (PARAMS_STRIDE * s.spp as u64) as usize];
                 for sample in 0..s.spp {
                     let p = GpuParams {
                         sample,
                         ..self.params
                     };
-                    ctx.queue
-                        .write_buffer(&self.scene_buffers.params, 0, bytemuck::bytes_of(&p));
-                    let mut enc =
-                        ctx.device
-                            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                                label: Some("gather"),
-                            });
-                    {
-                        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                            label: Some("gather"),
-                            timestamp_writes: None,
-                        });
-                        cp.set_pipeline(&self.pipelines.gather);
-                        cp.set_bind_group(0, &self.scene_buffers.bind_group, &[]);
-                        cp.set_bind_group(1, &gather_bg, &[]);
+                    let at = (PARAMS_STRIDE * sample as u64) as usize;
+                    slots[at..at + std::mem::size_of::<GpuParams>()]
+                        .copy_from_slice(bytemuck::bytes_of(&p));
+                }
+                ctx.queue
+                    .write_buffer(&self.scene_buffers.params, 0, &slots);
+                let mut enc = ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("gather"),
+                    });
+                {
+                    let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("gather"),
+                        timestamp_writes: None,
+                    });
+                    cp.set_pipeline(&self.pipelines.gather);
+                    cp.set_bind_group(1, &gather_bg, &[]);
+                    for sample in 0..s.spp {
+                        cp.set_bind_group(
+                            0,
+                            &self.scene_buffers.bind_group,
+                            &[(PARAMS_STRIDE * sample as u64) as u32],
+                        );
                         cp.dispatch_workgroups(wx, wy, 1);
                     }
-                    ctx.queue.submit([enc.finish()]);
-                    ctx.device
-                        .poll(wgpu::PollType::wait_indefinitely())
-                        .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
-                    bar.inc(1);
                 }
+                ctx.queue.submit([enc.finish()]);
+                ctx.device
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
+                bar.inc(s.spp as u64);
                 bar.finish_and_clear();
                 report.phase("gather", t);
+                drop(gather_bg);
+                self.map_cache.push(global);
+                self.map_cache.push(caustic);
             }
             break;
         }
@@ -869,15 +950,36 @@ impl GpuRun<'_> {
 
 impl GpuRun<'_> {
     /// Traces the photon maps the plan asks for and builds their grids on the device.
+    /// A map with parameters `p`: a cached one of the same sizes (its parameters rewritten)
+    /// or a new one.
+    fn take_map(&mut self, p: GpuMapParams, label: &str) -> MapBuffers {
+        let same = |m: &MapBuffers| {
+            m.params.capacity == p.capacity
+                && m.params.table_size == p.table_size
+                && m.params.is_caustic == p.is_caustic
+        };
+        match self.map_cache.iter().position(same) {
+            Some(i) => {
+                let mut m = self.map_cache.swap_remove(i);
+                self.ctx
+                    .queue
+                    .write_buffer(&m.params_buf, 0, bytemuck::bytes_of(&p));
+                m.params = p;
+                m
+            }
+            None => MapBuffers::new(self.ctx, &self.layouts, label, p),
+        }
+    }
+
     pub fn trace_maps(
-        &self,
+        &mut self,
         scene: &Scene,
         s: &RenderSettings,
         report: &mut RenderReport,
     ) -> Result<(MapBuffers, MapBuffers)> {
         let mut t = Instant::now();
         let ctx = self.ctx;
-        let plan = &self.plan;
+        let plan = self.plan.clone();
         let photon_size = std::mem::size_of::<Photon>() as u64;
         let max_photons = (ctx.max_binding / photon_size) as u32;
         let area = storing_area(scene);
@@ -926,9 +1028,9 @@ impl GpuRun<'_> {
                     1.0,
                     drop,
                 );
-                MapBuffers::new(ctx, &self.layouts, "global", p)
+                self.take_map(p, "global")
             }
-            None => self.empty_map(false),
+            None => self.take_map(EMPTY_MAP, "global (absent)"),
         };
         let caustic = match &plan.caustic {
             Some((b, _)) => {
@@ -942,9 +1044,15 @@ impl GpuRun<'_> {
                     0.05,
                     0,
                 );
-                MapBuffers::new(ctx, &self.layouts, "caustic", p)
+                self.take_map(p, "caustic")
             }
-            None => self.empty_map(true),
+            None => self.take_map(
+                GpuMapParams {
+                    is_caustic: 1,
+                    ..EMPTY_MAP
+                },
+                "caustic (absent)",
+            ),
         };
         // Two submissions, each waited for, so the phases can be timed apart.
         for (trace, grid, name) in [(true, false, "trace photons"), (false, true, "build grids")] {
