@@ -1004,7 +1004,7 @@ impl GpuRun<'_> {
             drop_flags,
             radius2: radius * radius,
         };
-        let global = match &plan.global {
+        let mut global = match &plan.global {
             Some(b) => {
                 let paths = b.total();
                 let capacity =
@@ -1032,7 +1032,7 @@ impl GpuRun<'_> {
             }
             None => self.take_map(EMPTY_MAP, "global (absent)"),
         };
-        let caustic = match &plan.caustic {
+        let mut caustic = match &plan.caustic {
             Some((b, _)) => {
                 let paths = b.total();
                 let p = params(
@@ -1082,6 +1082,28 @@ impl GpuRun<'_> {
                 let cc: Vec<u32> = read_back(ctx, &caustic.counters, 16)?;
                 report.global_stored = gc[0] as usize;
                 report.caustic_stored = cc[0] as usize;
+                // Size the grid's cells from the photons actually stored (an open scene stores
+                // far fewer per path than a closed one; too small cells would make sparse
+                // searches run out of cells and be cut).
+                for (m, stored, concentration) in
+                    [(&mut global, gc[0], 1.0f32), (&mut caustic, cc[0], 0.05)]
+                {
+                    if m.params.paths == 0 {
+                        continue;
+                    }
+                    let cell = cell_size_for(
+                        m.params.radius2.sqrt(),
+                        s.k,
+                        stored.min(m.params.capacity),
+                        area,
+                        concentration,
+                    );
+                    if cell != m.params.cell_size {
+                        m.params.cell_size = cell;
+                        ctx.queue
+                            .write_buffer(&m.params_buf, 0, bytemuck::bytes_of(&m.params));
+                    }
+                }
                 t = Instant::now();
             }
         }
