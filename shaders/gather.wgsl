@@ -322,7 +322,8 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
                 continue;
             }
             let o = offset_origin(x, n, wi);
-            let end_eps = OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
+            // Area lights: stop short of the light's surface; a point light is no surface.
+            let end_eps = select(OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0, 0.0, is_point);
             let t_max = length(ls.point - o) - end_eps;
             if t_max > 0.0 && trace_ray(o, wi, t_max, true).found {
                 continue;

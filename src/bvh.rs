@@ -207,6 +207,11 @@ impl Bvh {
     /// returns a new `t_max` on a hit (negative stops the walk).
     #[inline]
     fn walk(&self, ray: &Ray, mut visit: impl FnMut(u32, f32) -> Option<f32>, t_max: f32) {
+        // A scene without primitives has one placeholder node and nothing to hit (an inverted
+        // box still passes the slab test, so it must not be walked).
+        if self.prim_ids.is_empty() {
+            return;
+        }
         let inv = ray.dir.recip();
         let mut t_max = t_max;
         let mut stack = [0u32; MAX_DEPTH + 2];

@@ -104,6 +104,10 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         axis = 1u;
     }
     let dir_pos = d[axis] >= 0.0;
+    // A scene without primitives binds a placeholder node that must not be walked.
+    if params.n_triangles == 0u && !HAS_SPHERES {
+        sp = 0u;
+    }
     while sp > 0u && spend() {
         sp -= 1u;
         let ni = stack[sp];

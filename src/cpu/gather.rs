@@ -260,7 +260,13 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let origin = offset_origin(hit.position, hit.normal, wi);
-                let end_eps = OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0;
+                // Area lights: stop short of the light's own surface. A point light is no
+                // surface: the ray runs all the way, so a wall however close still shadows.
+                let end_eps = if is_point {
+                    0.0
+                } else {
+                    OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0
+                };
                 let t_max = (ls.point - origin).length() - end_eps;
                 if t_max > 0.0
                     && self

@@ -37,7 +37,7 @@ fn storage_buffer<T: Pod>(
 ) -> wgpu::Buffer {
     let mut bytes = bytemuck::cast_slice::<T, u8>(data).to_vec();
     if bytes.is_empty() {
-        bytes.resize(64, 0); // bindings may not be empty: one zeroed element of any struct
+        bytes.resize(256, 0); // bindings may not be empty: one zeroed element of any struct
     }
     dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
