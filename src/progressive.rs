@@ -6,7 +6,6 @@
 //! merged into the image the whole range gives (`gpu-photon merge`).
 
 use crate::film::Image;
-use crate::render::MapPlan;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
@@ -101,10 +100,4 @@ impl Accumulator {
             pixels: self.sum.iter().map(|s| s.map(|v| (v / n) as f32)).collect(),
         }
     }
-}
-
-/// Whether the plan of a pass uses any photon map (else passes differ only in camera noise).
-pub fn uses_maps(scene: &Scene, s: &RenderSettings) -> bool {
-    let p = MapPlan::new(scene, s);
-    p.global.is_some() || p.caustic.is_some()
 }

@@ -124,20 +124,26 @@ impl Layouts {
     }
 }
 
+/// Bind-group entries 0, 1, ... each binding a whole buffer.
+fn whole_entries<'b>(
+    buffers: impl Iterator<Item = &'b wgpu::Buffer>,
+) -> Vec<wgpu::BindGroupEntry<'b>> {
+    buffers
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect()
+}
+
 fn bind_group(
     dev: &wgpu::Device,
     label: &str,
     layout: &wgpu::BindGroupLayout,
     buffers: &[&wgpu::Buffer],
 ) -> wgpu::BindGroup {
-    let entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
+    let entries = whole_entries(buffers.iter().copied());
     dev.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
         layout,
@@ -282,14 +288,7 @@ impl SceneBuffers {
             &[0u32; STATS_LEN],
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
-        let mut entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
+        let mut entries = whole_entries(buffers.iter());
         entries.push(wgpu::BindGroupEntry {
             binding: 8,
             resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {

@@ -206,14 +206,6 @@ impl Scene {
     pub fn material_of_triangle(&self, i: usize) -> &Material {
         &self.materials[self.triangles[i].material as usize]
     }
-    /// Whether any surface is a mirror or glass (then a caustic map is worth building).
-    pub fn has_specular(&self) -> bool {
-        self.triangles
-            .iter()
-            .map(|t| t.material)
-            .chain(self.spheres.iter().map(|s| s.material))
-            .any(|m| self.materials[m as usize].is_specular())
-    }
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
     }
