@@ -26,7 +26,7 @@ pub fn radius_for(k: u32, photons: f64, area: f64) -> f64 {
 /// that would hold K photons if a pass's photons covered the storing surfaces uniformly
 /// (global) or 5% of them (caustic), capped by the configured maximum radii.
 pub fn initial_radii(scene: &Scene, s: &RenderSettings) -> (f32, f32) {
-    let area = crate::gpu::render::storing_area(scene).max(1e-12) as f64;
+    let area = scene.storing_area().max(1e-12) as f64;
     // A global path stores about 1.8 photons in closed scenes of albedo ~0.5.
     let global = s.initial_radius.unwrap_or_else(|| {
         radius_for(s.k, s.photons as f64 * 1.8, area).min(s.radius as f64) as f32

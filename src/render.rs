@@ -107,6 +107,7 @@ impl MapPlan {
         .then(|| {
             let powers: Vec<f64> = scene.lights.iter().map(|l| scalar_power(l.power)).collect();
             let wanted = split_budget(&powers, s.caustic_photons);
+            let table = crate::light::LightTable::new(scene);
             let attempts = wanted
                 .iter()
                 .enumerate()
@@ -114,7 +115,8 @@ impl MapPlan {
                     if n == 0 {
                         return 0;
                     }
-                    let frac = aim_fraction(scene, l, &bounds, s.seed).max(1.0 / MAX_AIM_FACTOR);
+                    let frac =
+                        aim_fraction(scene, &table, l, &bounds, s.seed).max(1.0 / MAX_AIM_FACTOR);
                     ((n as f64 / frac).ceil()).min(u32::MAX as f64 / 4.0) as u32
                 })
                 .collect();
@@ -142,9 +144,14 @@ impl MapPlan {
 
 /// Fraction of light `l`'s emissions that enter `bounds`, from pilot photons (a
 /// deterministic function of the scene and seed).
-fn aim_fraction(scene: &Scene, l: usize, bounds: &[Aabb], seed: u32) -> f64 {
+fn aim_fraction(
+    scene: &Scene,
+    table: &crate::light::LightTable,
+    l: usize,
+    bounds: &[Aabb],
+    seed: u32,
+) -> f64 {
     use crate::rng::{Rng, Stream};
-    let table = crate::light::LightTable::new(scene);
     let hits = (0..PILOT_PHOTONS)
         .filter(|&i| {
             let mut rng = Rng::new(seed, Stream::Pilot, l as u32, i);

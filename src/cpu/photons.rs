@@ -24,16 +24,7 @@ pub struct TraceContext<'a> {
 /// Traces the global photon paths `0..budget.total()`; stores a photon at every diffuse or
 /// glossy hit, in path-index order.
 pub fn trace_photons(ctx: &TraceContext, budget: &Budget) -> Vec<Photon> {
-    (0..budget.total())
-        .into_par_iter()
-        .fold(Vec::new, |mut out, i| {
-            trace_path(ctx, budget, Stream::Photon, i, None, &mut out);
-            out
-        })
-        .reduce(Vec::new, |mut a, mut b| {
-            a.append(&mut b);
-            a
-        })
+    trace_paths(ctx, budget, Stream::Photon, None)
 }
 
 /// Traces caustic paths `0..budget.total()` aimed at `bounds`: emissions that miss the
@@ -45,10 +36,21 @@ pub fn trace_caustic_photons(
     budget: &Budget,
     bounds: &[crate::geometry::Aabb],
 ) -> Vec<Photon> {
+    trace_paths(ctx, budget, Stream::Caustic, Some(bounds))
+}
+
+/// Every path of `budget` in parallel; the photons in path-index order (rayon's fold and
+/// reduce keep the order of an indexed range).
+fn trace_paths(
+    ctx: &TraceContext,
+    budget: &Budget,
+    stream: Stream,
+    aim: Option<&[crate::geometry::Aabb]>,
+) -> Vec<Photon> {
     (0..budget.total())
         .into_par_iter()
         .fold(Vec::new, |mut out, i| {
-            trace_path(ctx, budget, Stream::Caustic, i, Some(bounds), &mut out);
+            trace_path(ctx, budget, stream, i, aim, &mut out);
             out
         })
         .reduce(Vec::new, |mut a, mut b| {

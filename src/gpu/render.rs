@@ -460,6 +460,18 @@ pub fn grid_2d(groups: u32) -> (u32, u32) {
     (x, groups.div_ceil(x))
 }
 
+/// The lights with the plan's global and caustic photon budgets filled in.
+fn budgeted_lights(scene: &Scene, table: &LightTable, plan: &MapPlan) -> Vec<GpuLight> {
+    let mut lights = lights(scene, table);
+    if let Some(b) = &plan.global {
+        fill_budget(&mut lights, b, false);
+    }
+    if let Some((b, _)) = &plan.caustic {
+        fill_budget(&mut lights, b, true);
+    }
+    lights
+}
+
 fn fill_budget(lights: &mut [GpuLight], b: &Budget, caustic: bool) {
     for (l, g) in lights.iter_mut().enumerate() {
         if caustic {
@@ -554,13 +566,7 @@ impl<'a> GpuRun<'a> {
     pub fn configure_pass(&mut self, scene: &Scene, s: &RenderSettings, pass: u32) {
         let table = LightTable::new(scene);
         let plan = MapPlan::new(scene, s);
-        let mut lights = lights(scene, &table);
-        if let Some(b) = &plan.global {
-            fill_budget(&mut lights, b, false);
-        }
-        if let Some((b, _)) = &plan.caustic {
-            fill_budget(&mut lights, b, true);
-        }
+        let lights = budgeted_lights(scene, &table, &plan);
         self.params = gpu_params(scene, s, pass, self.params.n_bounds);
         if !lights.is_empty() {
             self.ctx.queue.write_buffer(
@@ -582,7 +588,7 @@ impl<'a> GpuRun<'a> {
         let bvh = Bvh::build(scene);
         let table = LightTable::new(scene);
         let plan = MapPlan::new(scene, s);
-        let mut lights = lights(scene, &table);
+        let lights = budgeted_lights(scene, &table, &plan);
         let bounds: Vec<GpuAabb> = plan
             .caustic
             .as_ref()
@@ -596,12 +602,6 @@ impl<'a> GpuRun<'a> {
                     .collect()
             })
             .unwrap_or_default();
-        if let Some(b) = &plan.global {
-            fill_budget(&mut lights, b, false);
-        }
-        if let Some((b, _)) = &plan.caustic {
-            fill_budget(&mut lights, b, true);
-        }
         let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let layouts = Layouts::new(&ctx.device);
         let scene_buffers = SceneBuffers::new(
@@ -981,7 +981,7 @@ impl GpuRun<'_> {
         let plan = self.plan.clone();
         let photon_size = std::mem::size_of::<Photon>() as u64;
         let max_photons = (ctx.max_binding / photon_size) as u32;
-        let area = storing_area(scene);
+        let area = scene.storing_area();
         // A map's grid parameters; fixed-radius passes (k = 0) use cells of the radius.
         let params = |caustic: bool,
                       paths: u32,
@@ -1108,21 +1108,4 @@ impl GpuRun<'_> {
         }
         Ok((global, caustic))
     }
-}
-
-/// Total area of the surfaces that store photons.
-pub fn storing_area(scene: &Scene) -> f32 {
-    let tris: f32 = scene
-        .triangles
-        .iter()
-        .filter(|t| scene.materials[t.material as usize].stores_photons())
-        .map(|t| t.area())
-        .sum();
-    let spheres: f32 = scene
-        .spheres
-        .iter()
-        .filter(|s| scene.materials[s.material as usize].stores_photons())
-        .map(|s| 4.0 * std::f32::consts::PI * s.radius * s.radius)
-        .sum();
-    tris + spheres
 }

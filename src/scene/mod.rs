@@ -206,6 +206,24 @@ impl Scene {
     pub fn material_of_triangle(&self, i: usize) -> &Material {
         &self.materials[self.triangles[i].material as usize]
     }
+    /// Total area of the surfaces that store photons (diffuse and glossy).
+    pub fn storing_area(&self) -> f32 {
+        let stores = |m: u32| self.materials[m as usize].stores_photons();
+        let tris: f32 = self
+            .triangles
+            .iter()
+            .filter(|t| stores(t.material))
+            .map(|t| t.area())
+            .sum();
+        let spheres: f32 = self
+            .spheres
+            .iter()
+            .filter(|s| stores(s.material))
+            .map(|s| 4.0 * std::f32::consts::PI * s.radius * s.radius)
+            .sum();
+        tris + spheres
+    }
+
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
     }
