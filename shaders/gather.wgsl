@@ -149,7 +149,7 @@ fn sum_within(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f3
                     }
                     let dv = p.position - x;
                     let d2 = dot(dv, dv);
-                    if d2 > mp.radius2 || dot(p.dir, ns) >= 0.0 {
+                    if d2 > mp.radius2 || !photon_faces(p, x, ns) {
                         continue;
                     }
                     sum += f * p.power * kernel_weight(d2, mp.radius2);
@@ -275,7 +275,7 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < count && spend(); i += 1u) {
         let p = map_photon(which, heap[i].y);
-        if dot(p.dir, ns) >= 0.0 {
+        if !photon_faces(p, x, ns) {
             continue;
         }
         sum += f * p.power * kernel_weight(heap_d2(i), r2);
@@ -324,8 +324,11 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
             let o = offset_origin(x, n, wi);
             // Area lights: stop short of the light's surface; a point light is no surface.
             let end_eps = select(OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0, 0.0, is_point);
-            let t_max = length(ls.point - o) - end_eps;
-            if t_max > 0.0 && trace_ray(o, wi, t_max, true).found {
+            // Aim from the moved origin (wi from x would pass the light by up to the offset).
+            let to = ls.point - o;
+            let len = length(to);
+            let t_max = len - end_eps;
+            if t_max > 0.0 && trace_ray(o, to / len, t_max, true).found {
                 continue;
             }
             acc += f * ls.weight * c;

@@ -6,7 +6,7 @@
 //! below [`SPHERE_BIT`] is a triangle index; with the bit set, the rest is a sphere index.
 //! Twin: `BvhNode` in `shaders/common/types.wgsl`, traversal in `shaders/common/intersect.wgsl`.
 
-use crate::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray};
+use crate::geometry::{inset, intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -133,12 +133,13 @@ impl Bvh {
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best_t = t_max;
         let mut best: Option<(u32, f32, f32)> = None; // (prim id, u, v)
+        let shear = Shear::new(ray.dir);
         self.walk(
             ray,
             |id, t_limit| {
                 if id & SPHERE_BIT == 0 {
                     if let Some((t, u, v)) =
-                        intersect_triangle(&scene.triangles[id as usize], ray, t_limit)
+                        intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
                     {
                         best_t = t;
                         best = Some((id, u, v));
@@ -160,8 +161,9 @@ impl Bvh {
             let tri = &scene.triangles[id as usize];
             Hit {
                 t: best_t,
-                // Barycentric position: closer to the plane than origin + t dir.
-                position: tri.v0 + u * tri.e1 + v * tri.e2,
+                // Barycentric position (closer to the plane than origin + t dir), inset
+                // from the edges.
+                position: inset(tri, tri.point(u, v)),
                 normal: tri.normal(),
                 material: tri.material,
                 light: tri.light,
@@ -183,11 +185,13 @@ impl Bvh {
     /// Whether anything blocks `ray` before `t_max`.
     pub fn occluded(&self, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
         let mut hit = false;
+        let shear = Shear::new(ray.dir);
         self.walk(
             ray,
             |id, t_limit| {
                 let h = if id & SPHERE_BIT == 0 {
-                    intersect_triangle(&scene.triangles[id as usize], ray, t_limit).is_some()
+                    intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
+                        .is_some()
                 } else {
                     intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
                         .is_some()

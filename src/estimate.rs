@@ -6,6 +6,35 @@ use crate::settings::Filter;
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// Photons on a surface whose normal is within 60 degrees of the estimate's (cos > 0.5) are
+/// on the same surface; beyond 120 degrees (cos < -0.5) they are on its other side.
+pub const FACING_COS: f32 = 0.5;
+
+/// Whether photon `p` lends light to an estimate at `x` on a surface with unit normal `ns`
+/// facing the viewer. It must have arrived from the front. A photon of the same surface
+/// counts; one of the other side (a wall's back, a closed sphere's inside) does not. A
+/// photon of a surface meeting this one at an edge stands in for the part of the disc the
+/// edge cuts off when the two surfaces face each other (a concave corner: each lies in front
+/// of the other) or both face outwards (a convex edge: each lies behind the other); never
+/// across the solid, when one lies in front of the other and not the other way round (the
+/// inside of a closed box's wall next to a point on its outer top face).
+#[inline]
+pub fn photon_faces(p: &Photon, x: Vec3, ns: Vec3) -> bool {
+    if Vec3::from(p.dir).dot(ns) >= 0.0 {
+        return false;
+    }
+    let np = p.normal();
+    let c = np.dot(ns);
+    if c > FACING_COS {
+        return true;
+    }
+    if c < -FACING_COS {
+        return false;
+    }
+    let pos = p.pos();
+    ((pos - x).dot(ns) > 0.0) == ((x - pos).dot(np) > 0.0)
+}
+
 /// Jensen's cone-filter constant k (weights fall to 0 at distance k r).
 pub const CONE_K: f32 = 1.0;
 
@@ -42,7 +71,7 @@ pub fn estimate_r2(found: usize, k: usize, farthest_d2: f32, max_r2: f32) -> f32
 
 /// Reflected radiance towards the viewer from photons `(d2, photon)` around a point with unit
 /// normal `ns` (facing the viewer), for a BRDF `f` evaluated per incident direction.
-/// Photons that arrived from behind the surface are ignored.
+/// Only photons that [`photon_faces`] the surface at `x` count.
 ///
 /// When K photons were found, the K-th lies on the boundary of the disc it defines and is
 /// left out: the K-nearest density estimate `K / (pi r_K^2)` is biased high by K / (K - 1)
@@ -54,6 +83,7 @@ pub fn radiance(
     k: usize,
     max_r2: f32,
     filter: Filter,
+    x: Vec3,
     ns: Vec3,
     f: impl Fn(Vec3) -> Vec3,
 ) -> Vec3 {
@@ -69,14 +99,10 @@ pub fn radiance(
     };
     let mut sum = Vec3::ZERO;
     for (i, &(d2, p)) in neighbours.iter().enumerate() {
-        let dir = Vec3::from(p.dir);
-        if Some(i) == skip {
+        if Some(i) == skip || !photon_faces(p, x, ns) {
             continue;
         }
-        if dir.dot(ns) >= 0.0 {
-            continue;
-        }
-        sum += f(-dir) * Vec3::from(p.power) * kernel_weight(filter, d2, r2);
+        sum += f(-Vec3::from(p.dir)) * Vec3::from(p.power) * kernel_weight(filter, d2, r2);
     }
     sum * kernel_norm(filter, r2)
 }
@@ -84,6 +110,78 @@ pub fn radiance(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The side test on the cases it separates, around the edge x = 0.5, y = 1 of a box
+    /// (query on the top face, y = 1, or on the floor of a room, y = 0).
+    #[test]
+    fn photons_count_on_their_own_side_of_edges_and_walls() {
+        let photon = |pos: [f32; 3], dir: Vec3, n: Vec3| {
+            Photon::new(Vec3::from(pos), Vec3::ONE, dir.normalize(), n, 0, 0, false)
+        };
+        let down = Vec3::new(0.1, -1.0, 0.2);
+        let x = Vec3::new(0.49, 1.0, 0.0);
+        let cases = [
+            // Same surface, lit from above.
+            (
+                "same surface",
+                photon([0.45, 1.0, 0.01], down, Vec3::Y),
+                x,
+                Vec3::Y,
+                true,
+            ),
+            // Arrived from behind the surface.
+            (
+                "from behind",
+                photon([0.45, 1.0, 0.01], -down, Vec3::Y),
+                x,
+                Vec3::Y,
+                false,
+            ),
+            // The underside of the top (closed box lit from inside).
+            (
+                "other side",
+                photon([0.45, 1.0, 0.01], Vec3::new(0.1, 1.0, 0.0), Vec3::Y),
+                x,
+                Vec3::Y,
+                false,
+            ),
+            // Inside of the +x wall, seen from the outer top face: across the solid.
+            (
+                "across the edge",
+                photon([0.5, 0.99, 0.0], Vec3::new(1.0, -0.3, 0.0), Vec3::X),
+                x,
+                Vec3::Y,
+                false,
+            ),
+            // Outer side of the +x wall, seen from the outer top face: a convex edge.
+            (
+                "convex edge",
+                photon([0.5, 0.99, 0.0], Vec3::new(-1.0, -0.3, 0.0), Vec3::X),
+                x,
+                Vec3::Y,
+                true,
+            ),
+            // A room's +x wall seen from its floor: a concave corner.
+            (
+                "concave corner",
+                photon([0.5, 0.01, 0.0], Vec3::new(1.0, -0.3, 0.0), Vec3::X),
+                Vec3::new(0.49, 0.0, 0.0),
+                Vec3::Y,
+                true,
+            ),
+            // The floor seen from the outer side of the wall: across the solid again.
+            (
+                "across, reversed",
+                photon([0.49, 0.0, 0.0], Vec3::new(-0.1, -1.0, 0.2), Vec3::Y),
+                Vec3::new(0.5, 0.01, 0.0),
+                Vec3::X,
+                false,
+            ),
+        ];
+        for (name, p, x, ns, want) in cases {
+            assert_eq!(photon_faces(&p, x, ns), want, "{name}");
+        }
+    }
 
     /// Each kernel integrates to 1 over its disc (midpoint rule in the radius).
     #[test]

@@ -3,7 +3,12 @@
 //! Twin: `shaders/common/intersect.wgsl`.
 
 use crate::scene::{Sphere, Triangle};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+
+/// 1 + 2 gamma(3), gamma(n) = n u / (1 - n u) with u = 2^-24: the relative error bound of
+/// the slab test's exit distance.
+pub const BOX_SLACK: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON / 2.0) / (1.0 - 3.0 * f32::EPSILON / 2.0);
 
 /// A ray `origin + t * dir` with `dir` of unit length.
 #[derive(Clone, Copy, Debug)]
@@ -29,27 +34,102 @@ pub fn offset_origin(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     }
 }
 
-/// Möller-Trumbore: `(t, u, v)` of the hit with `t` in (0, t_max), or `None`.
+/// Moves a point of triangle `tri` towards the triangle's centroid by the ray-offset distance
+/// (at most half way). A hit on an edge or vertex (or rounded just past it) would otherwise
+/// start its next ray on the plane of the face that meets it there, which then cannot stop
+/// it (a hit needs t > 0): light would leak out of closed corners.
 #[inline]
-pub fn intersect_triangle(tri: &Triangle, ray: &Ray, t_max: f32) -> Option<(f32, f32, f32)> {
-    let p = ray.dir.cross(tri.e2);
-    let det = tri.e1.dot(p);
-    if det.abs() < 1e-30 {
+pub fn inset(tri: &Triangle, p: Vec3) -> Vec3 {
+    let to_c = (tri.v0 + tri.v1 + tri.v2) / 3.0 - p;
+    let len = to_c.length();
+    if len == 0.0 {
+        return p;
+    }
+    let eps = OFFSET_SCALE * (p.abs().max_element() + OFFSET_FLOOR);
+    p + to_c * (eps / len).min(0.5)
+}
+
+/// Per-ray constants of the watertight ray-triangle test (Woop, Benthin and Wald, "Watertight
+/// Ray/Triangle Intersection", JCGT 2013): the axis `kz` where the direction is largest, and
+/// the shear that maps the ray onto the z axis (only its x and y parts are needed here).
+#[derive(Clone, Copy, Debug)]
+pub struct Shear {
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    s: Vec2,
+}
+
+impl Shear {
+    pub fn new(dir: Vec3) -> Self {
+        let a = dir.abs();
+        let kz = if a.x > a.y && a.x > a.z {
+            0
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        Shear {
+            kx,
+            ky,
+            kz,
+            s: Vec2::new(dir[kx] / dir[kz], dir[ky] / dir[kz]),
+        }
+    }
+
+    /// A vertex relative to the ray's origin, projected along the ray (sheared x and y).
+    #[inline]
+    fn project(&self, v: Vec3, origin: Vec3) -> Vec2 {
+        let p = v - origin;
+        Vec2::new(
+            p[self.kx] - self.s.x * p[self.kz],
+            p[self.ky] - self.s.y * p[self.kz],
+        )
+    }
+}
+
+/// `p.x q.y - p.y q.x`, always evaluated with the two end points in one canonical order, so
+/// that the two triangles sharing an edge get exactly opposite values (one of them sees a
+/// point on the edge as inside, whatever the rounding and even if the arithmetic is fused).
+#[inline]
+pub fn edge_function(p: Vec2, q: Vec2) -> f32 {
+    if p.x < q.x || (p.x == q.x && p.y < q.y) {
+        p.x * q.y - p.y * q.x
+    } else {
+        -(q.x * p.y - q.y * p.x)
+    }
+}
+
+/// Watertight ray-triangle test: `(t, u, v)` of the hit with `t` in (0, t_max), where `u` and
+/// `v` weight `v1` and `v2`, or `None`. A ray through a shared edge or vertex hits at least
+/// one of the triangles that share it; a degenerate triangle is never hit.
+#[inline]
+pub fn intersect_triangle(
+    tri: &Triangle,
+    ray: &Ray,
+    shear: &Shear,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
+    let a = shear.project(tri.v0, ray.origin);
+    let b = shear.project(tri.v1, ray.origin);
+    let c = shear.project(tri.v2, ray.origin);
+    let e0 = edge_function(c, b);
+    let e1 = edge_function(a, c);
+    let e2 = edge_function(b, a);
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
-    let inv = 1.0 / det;
-    let s = ray.origin - tri.v0;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
         return None;
     }
-    let q = s.cross(tri.e1);
-    let v = ray.dir.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = tri.e2.dot(q) * inv;
-    (t > 0.0 && t < t_max).then_some((t, u, v))
+    // The distance from the plane equation in world space, not from the sheared frame: a ray
+    // starting on the plane gets t = 0 exactly wherever the plane is axis-aligned.
+    let n = tri.e1().cross(tri.e2());
+    let t = (tri.v0 - ray.origin).dot(n) / ray.dir.dot(n);
+    (t > 0.0 && t < t_max).then(|| (t, e1 / det, e2 / det))
 }
 
 /// Nearest `t` in (0, t_max) where the ray meets the sphere, or `None`. Uses the
@@ -97,7 +177,7 @@ impl Aabb {
         max: Vec3::splat(f32::NEG_INFINITY),
     };
     pub fn of_triangle(t: &Triangle) -> Self {
-        let (a, b, c) = (t.v0, t.v0 + t.e1, t.v0 + t.e2);
+        let (a, b, c) = (t.v0, t.v1, t.v2);
         Aabb {
             min: a.min(b).min(c),
             max: a.max(b).max(c),
@@ -135,13 +215,15 @@ impl Aabb {
         let d = self.max - self.min;
         d.x * d.y + d.y * d.z + d.z * d.x
     }
-    /// Slab test: whether the ray enters the box before `t_max`.
+    /// Slab test: whether the ray enters the box before `t_max`. The exit distance is
+    /// widened by [`BOX_SLACK`] so that rounding never rejects a ray that grazes the box
+    /// (pbrt-v4's robust bounds test), e.g. along an edge of a flat box.
     #[inline]
     pub fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
         let t0 = (self.min - origin) * inv_dir;
         let t1 = (self.max - origin) * inv_dir;
         let tmin = t0.min(t1).max_element().max(0.0);
-        let tmax = t0.max(t1).min_element().min(t_max);
+        let tmax = (t0.max(t1).min_element() * BOX_SLACK).min(t_max);
         tmin <= tmax
     }
 }

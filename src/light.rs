@@ -125,7 +125,7 @@ impl LightTable {
             LightShape::Triangles { .. } => {
                 let tri = &scene.triangles[self.pick_triangle(scene, l, u[0])];
                 let (b1, b2) = uniform_triangle(u[1], u[2]);
-                (tri.v0 + b1 * tri.e1 + b2 * tri.e2, tri.normal())
+                (tri.point(b1, b2), tri.normal())
             }
         }
     }

@@ -24,18 +24,61 @@ pub struct Photon {
     pub id: u32,
     /// Unit direction of travel when it arrived.
     pub dir: [f32; 3],
-    pub _pad1: u32,
+    /// The surface's geometric normal on the side the photon arrived from ([`pack_normal`]):
+    /// an estimate takes only photons of a surface facing the same way as its own, so the
+    /// other side of a wall, or a face meeting it at an edge, lends it no light.
+    pub normal: u32,
+}
+
+/// Octahedral encoding of a unit vector into two 16-bit snorm values, x in the low half
+/// (WGSL `pack2x16snorm`'s layout and rounding); about 1e-4 rad of error.
+pub fn pack_normal(n: Vec3) -> u32 {
+    let sign = |v: f32| if v >= 0.0 { 1.0 } else { -1.0 };
+    let l1 = n.x.abs() + n.y.abs() + n.z.abs();
+    if l1 == 0.0 {
+        return 0;
+    }
+    let (mut x, mut y) = (n.x / l1, n.y / l1);
+    if n.z < 0.0 {
+        (x, y) = ((1.0 - y.abs()) * sign(x), (1.0 - x.abs()) * sign(y));
+    }
+    let snorm = |v: f32| ((0.5 + 32767.0 * v.clamp(-1.0, 1.0)).floor() as i16 as u16) as u32;
+    snorm(x) | snorm(y) << 16
+}
+
+/// Inverse of [`pack_normal`] (WGSL `unpack2x16snorm`, then the octahedral unfolding).
+pub fn unpack_normal(bits: u32) -> Vec3 {
+    let sign = |v: f32| if v >= 0.0 { 1.0 } else { -1.0 };
+    let snorm = |h: u32| (h as u16 as i16 as f32 / 32767.0).max(-1.0);
+    let (x, y) = (snorm(bits & 0xffff), snorm(bits >> 16));
+    let z = 1.0 - x.abs() - y.abs();
+    let (x, y) = if z < 0.0 {
+        ((1.0 - y.abs()) * sign(x), (1.0 - x.abs()) * sign(y))
+    } else {
+        (x, y)
+    };
+    Vec3::new(x, y, z).normalize_or_zero()
 }
 
 impl Photon {
-    pub fn new(position: Vec3, power: Vec3, dir: Vec3, id: u32, depth: u32, caustic: bool) -> Self {
+    /// A photon travelling along `dir` that hit a surface with geometric normal `n` (either
+    /// orientation: the stored normal faces where the photon came from).
+    pub fn new(
+        position: Vec3,
+        power: Vec3,
+        dir: Vec3,
+        n: Vec3,
+        id: u32,
+        depth: u32,
+        caustic: bool,
+    ) -> Self {
         Photon {
             position: position.to_array(),
             flags: depth.min(DEPTH_MASK) | if caustic { FLAG_CAUSTIC } else { 0 },
             power: power.to_array(),
             id,
             dir: dir.to_array(),
-            _pad1: 0,
+            normal: pack_normal(if dir.dot(n) < 0.0 { n } else { -n }),
         }
     }
     pub fn depth(&self) -> u32 {
@@ -46,6 +89,10 @@ impl Photon {
     }
     pub fn pos(&self) -> Vec3 {
         Vec3::from(self.position)
+    }
+    /// The unit normal of the side of the surface the photon arrived on.
+    pub fn normal(&self) -> Vec3 {
+        unpack_normal(self.normal)
     }
 }
 
@@ -103,5 +150,48 @@ impl Budget {
             .partition_point(|&o| o <= index)
             .saturating_sub(1)
             .min(self.counts.len().saturating_sub(1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The packed normal comes back within 1e-4 rad (as the sine of the angle), over the whole sphere (both halves of
+    /// the octahedron, the axes and the fold at z = 0).
+    #[test]
+    fn packed_normals_round_trip() {
+        let mut worst = 0.0f32;
+        let mut dirs: Vec<Vec3> = vec![
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+            Vec3::new(1.0, 1.0, 0.0).normalize(),
+            Vec3::new(-1.0, 1.0, -1e-7).normalize(),
+        ];
+        for i in 0..2000 {
+            let z = 1.0 - 2.0 * (i as f32 + 0.5) / 2000.0;
+            let phi = i as f32 * 2.399_963;
+            let r = (1.0 - z * z).sqrt();
+            dirs.push(Vec3::new(r * phi.cos(), r * phi.sin(), z));
+        }
+        for n in dirs {
+            let back = unpack_normal(pack_normal(n));
+            worst = worst.max(back.cross(n).length()); // sin of the angle
+        }
+        assert!(worst < 1e-4, "worst angle {worst}");
+    }
+
+    /// The stored normal faces the side the photon came from, whichever way the surface's
+    /// normal points.
+    #[test]
+    fn stored_normal_faces_the_incoming_photon() {
+        for n in [Vec3::Y, Vec3::NEG_Y] {
+            let p = Photon::new(Vec3::ZERO, Vec3::ONE, Vec3::NEG_Y, n, 0, 0, false);
+            assert!(p.normal().dot(Vec3::Y) > 0.9999, "{n}: {}", p.normal());
+        }
     }
 }

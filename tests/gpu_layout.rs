@@ -143,7 +143,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
     vec![
         (
             "Triangle",
-            fields!(GpuTriangle: v0, material, e1, light, e2, _pad),
+            fields!(GpuTriangle: v0, material, v1, light, v2, _pad),
         ),
         (
             "Sphere",
@@ -162,7 +162,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ("Aabb", fields!(GpuAabb: bmin, _pad0, bmax, _pad1)),
         (
             "Photon",
-            fields!(Photon: position, flags, power, id, dir, _pad1),
+            fields!(Photon: position, flags, power, id, dir, normal),
         ),
         (
             "Params",
@@ -522,6 +522,8 @@ fn shared_constants_agree() {
         ("DEPTH_MASK", Literal::U32(photon::DEPTH_MASK)),
         ("NO_LIGHT", Literal::U32(NO_LIGHT)),
         ("OFFSET_SCALE", Literal::F32(geometry::OFFSET_SCALE)),
+        ("BOX_SLACK", Literal::F32(geometry::BOX_SLACK)),
+        ("FACING_COS", Literal::F32(gpu_photon::estimate::FACING_COS)),
         ("OFFSET_FLOOR", Literal::F32(geometry::OFFSET_FLOOR)),
         (
             "STAT_PHOTON_OVERFLOW",

@@ -40,14 +40,23 @@ fn test_photons(n: usize, seed: u64, cluster: f32) -> Vec<Photon> {
     let mut r = TestRng(seed);
     (0..n)
         .map(|i| {
-            let p = match i % 3 {
-                0 => Vec3::new(r.f32() * 2.0 - 1.0, 0.0, r.f32() * 2.0 - 1.0),
-                1 => Vec3::new(r.f32() * 2.0 - 1.0, r.f32() * 2.0 - 1.0, -1.0),
-                _ => Vec3::new(0.3 + cluster * r.f32(), 0.0, -0.2 + cluster * r.f32()),
+            let (p, n) = match i % 3 {
+                0 => (
+                    Vec3::new(r.f32() * 2.0 - 1.0, 0.0, r.f32() * 2.0 - 1.0),
+                    Vec3::Y,
+                ),
+                1 => (
+                    Vec3::new(r.f32() * 2.0 - 1.0, r.f32() * 2.0 - 1.0, -1.0),
+                    Vec3::Z,
+                ),
+                _ => (
+                    Vec3::new(0.3 + cluster * r.f32(), 0.0, -0.2 + cluster * r.f32()),
+                    Vec3::Y,
+                ),
             };
             let dir = Vec3::new(r.f32() - 0.5, -1.0, r.f32() - 0.5).normalize();
             let power = Vec3::new(1.0 + i as f32 * 1e-3, 2.0 + r.f32(), 0.5 + r.f32());
-            Photon::new(p, power * 1e-3, dir, i as u32, (i % 4) as u32, false)
+            Photon::new(p, power * 1e-3, dir, n, i as u32, (i % 4) as u32, false)
         })
         .collect()
 }
@@ -128,6 +137,7 @@ fn device_knn_estimate_equals_kd_tree() {
                 k as usize,
                 radius * radius,
                 Filter::Disc,
+                Vec3::from(*p),
                 Vec3::from(*n),
                 |_| Vec3::ONE,
             );

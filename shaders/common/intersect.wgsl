@@ -3,6 +3,8 @@
 const OFFSET_SCALE: f32 = 3.0e-5;
 const OFFSET_FLOOR: f32 = 1.0e-5;
 const BVH_STACK: u32 = 66u;
+// 1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound.
+const BOX_SLACK: f32 = 1.0000003576;
 
 struct Hit {
     t: f32,
@@ -23,28 +25,76 @@ fn offset_origin(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     return select(p - n * eps, p + n * eps, dot(dir, n) >= 0.0);
 }
 
-// (t, u, v) with t < 0 for a miss.
-fn intersect_triangle(tri: Triangle, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> vec3<f32> {
+// Moves a point of `tri` towards its centroid by the ray-offset distance (at most half way),
+// so that a hit on an edge does not start its next ray on the plane of the face meeting it
+// there (twin of inset in src/geometry.rs).
+fn inset(tri: Triangle, p: vec3<f32>) -> vec3<f32> {
+    let to_c = (tri.v0 + tri.v1 + tri.v2) / 3.0 - p;
+    let len = length(to_c);
+    if len == 0.0 {
+        return p;
+    }
+    let eps = OFFSET_SCALE * (max_abs(p) + OFFSET_FLOOR);
+    return p + to_c * min(eps / len, 0.5);
+}
+
+// Per-ray constants of the watertight test (twin of Shear in src/geometry.rs): the axes
+// (kx, ky, kz) and the shear (sx, sy).
+struct Shear {
+    k: vec3<u32>,
+    s: vec2<f32>,
+}
+
+fn make_shear(d: vec3<f32>) -> Shear {
+    let a = abs(d);
+    var kz = 2u;
+    if a.x > a.y && a.x > a.z {
+        kz = 0u;
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    let kx = (kz + 1u) % 3u;
+    let ky = (kz + 2u) % 3u;
+    return Shear(vec3<u32>(kx, ky, kz), vec2<f32>(d[kx] / d[kz], d[ky] / d[kz]));
+}
+
+fn shear_project(sh: Shear, v: vec3<f32>, o: vec3<f32>) -> vec2<f32> {
+    let p = v - o;
+    return vec2<f32>(p[sh.k.x] - sh.s.x * p[sh.k.z], p[sh.k.y] - sh.s.y * p[sh.k.z]);
+}
+
+// p.x q.y - p.y q.x in one canonical order of the end points: the two triangles sharing an
+// edge get exactly opposite values, even where the compiler fuses the multiply-adds.
+fn edge_function(p: vec2<f32>, q: vec2<f32>) -> f32 {
+    if p.x < q.x || (p.x == q.x && p.y < q.y) {
+        return p.x * q.y - p.y * q.x;
+    }
+    return -(q.x * p.y - q.y * p.x);
+}
+
+// Watertight ray-triangle test (Woop, Benthin and Wald 2013): (t, u, v) with u, v the
+// weights of v1, v2, and t < 0 for a miss.
+fn intersect_triangle(tri: Triangle, o: vec3<f32>, d: vec3<f32>, sh: Shear, t_max: f32) -> vec3<f32> {
     let miss = vec3<f32>(-1.0, 0.0, 0.0);
-    let p = cross(d, tri.e2);
-    let det = dot(tri.e1, p);
-    if abs(det) < 1e-30 {
+    let a = shear_project(sh, tri.v0, o);
+    let b = shear_project(sh, tri.v1, o);
+    let c = shear_project(sh, tri.v2, o);
+    let e0 = edge_function(c, b);
+    let e1 = edge_function(a, c);
+    let e2 = edge_function(b, a);
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return miss;
     }
-    let inv = 1.0 / det;
-    let s = o - tri.v0;
-    let u = dot(s, p) * inv;
-    if u < 0.0 || u > 1.0 {
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
         return miss;
     }
-    let q = cross(s, tri.e1);
-    let v = dot(d, q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return miss;
-    }
-    let t = dot(tri.e2, q) * inv;
+    // t from the world-space plane equation: exactly 0 for a ray starting on an axis-aligned
+    // plane.
+    let n = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let t = dot(tri.v0 - o, n) / dot(d, n);
     if t > 0.0 && t < t_max {
-        return vec3<f32>(t, u, v);
+        return vec3<f32>(t, e1 / det, e2 / det);
     }
     return miss;
 }
@@ -84,7 +134,7 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
     let lo = min(t0, t1);
     let hi = max(t0, t1);
     let tmin = max(max(lo.x, max(lo.y, lo.z)), 0.0);
-    let tmax = min(min(hi.x, min(hi.y, hi.z)), t_max);
+    let tmax = min(min(hi.x, min(hi.y, hi.z)) * BOX_SLACK, t_max);
     return tmin <= tmax;
 }
 
@@ -94,6 +144,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best_id = 0u;
     var best_uv = vec2<f32>(0.0);
     let inv = 1.0 / d;
+    let sh = make_shear(d);
     var stack: array<u32, BVH_STACK>;
     var sp = 1u;
     stack[0] = 0u;
@@ -119,7 +170,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             for (var i = 0u; i < node.count && spend(); i += 1u) {
                 let id = prim_ids[node.left_first + i];
                 if (id & SPHERE_BIT) == 0u {
-                    let h = intersect_triangle(triangles[id], o, d, best.t);
+                    let h = intersect_triangle(triangles[id], o, d, sh, best.t);
                     if h.x > 0.0 {
                         best.t = h.x;
                         best.found = true;
@@ -149,8 +200,10 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     if best.found {
         if (best_id & SPHERE_BIT) == 0u {
             let tri = triangles[best_id];
-            best.position = tri.v0 + best_uv.x * tri.e1 + best_uv.y * tri.e2;
-            best.normal = normalize(cross(tri.e1, tri.e2));
+            let e1 = tri.v1 - tri.v0;
+            let e2 = tri.v2 - tri.v0;
+            best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
+            best.normal = normalize(cross(e1, e2));
             best.material = tri.material;
             best.light = tri.light;
         } else {

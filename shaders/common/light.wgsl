@@ -38,8 +38,10 @@ fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
         let s = sqrt(u.y);
         let b1 = 1.0 - s;
         let b2 = u.z * s;
-        sp.p = tri.v0 + b1 * tri.e1 + b2 * tri.e2;
-        sp.n = normalize(cross(tri.e1, tri.e2));
+        let e1 = tri.v1 - tri.v0;
+        let e2 = tri.v2 - tri.v0;
+        sp.p = tri.v0 + b1 * e1 + b2 * e2;
+        sp.n = normalize(cross(e1, e2));
         sp.material = tri.material;
     }
     return sp;

@@ -5,9 +5,9 @@
 struct Triangle {
     v0: vec3<f32>,
     material: u32,
-    e1: vec3<f32>,
+    v1: vec3<f32>,
     light: u32,
-    e2: vec3<f32>,
+    v2: vec3<f32>,
     _pad: u32,
 }
 
@@ -72,7 +72,7 @@ struct Photon {
     power: vec3<f32>,
     id: u32,
     dir: vec3<f32>,
-    _pad1: u32,
+    normal: u32,
 }
 
 // Per-render parameters (one uniform buffer; `sample` changes per gather dispatch).

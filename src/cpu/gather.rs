@@ -267,11 +267,20 @@ impl Gatherer<'_> {
                 } else {
                     OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0
                 };
-                let t_max = (ls.point - origin).length() - end_eps;
+                // Aim from the moved origin: `wi` (from the surface point) would pass the
+                // light by up to the offset, e.g. outside a corner that hides it.
+                let to = ls.point - origin;
+                let len = to.length();
+                let t_max = len - end_eps;
                 if t_max > 0.0
-                    && self
-                        .bvh
-                        .occluded(self.scene, &Ray { origin, dir: wi }, t_max)
+                    && self.bvh.occluded(
+                        self.scene,
+                        &Ray {
+                            origin,
+                            dir: to / len,
+                        },
+                        t_max,
+                    )
                 {
                     continue;
                 }
@@ -297,8 +306,8 @@ pub fn estimate_at(
     let mut found = Vec::with_capacity(k.max(16));
     if k == 0 {
         map.within(x.to_array(), max_r2, &mut found);
-        return estimate::radiance(&found, usize::MAX, max_r2, filter, ns, |_| f);
+        return estimate::radiance(&found, usize::MAX, max_r2, filter, x, ns, |_| f);
     }
     map.nearest(x.to_array(), k, max_r2, &mut found);
-    estimate::radiance(&found, k, max_r2, filter, ns, |_| f)
+    estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)
 }

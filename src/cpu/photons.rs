@@ -100,11 +100,27 @@ fn trace_path(
             let caustic = depth > 0 && all_specular;
             if aim.is_some() {
                 if caustic {
-                    out.push(Photon::new(hit.position, power, ray.dir, i, depth, true));
+                    out.push(Photon::new(
+                        hit.position,
+                        power,
+                        ray.dir,
+                        hit.normal,
+                        i,
+                        depth,
+                        true,
+                    ));
                 }
                 return;
             }
-            out.push(Photon::new(hit.position, power, ray.dir, i, depth, caustic));
+            out.push(Photon::new(
+                hit.position,
+                power,
+                ray.dir,
+                hit.normal,
+                i,
+                depth,
+                caustic,
+            ));
         } else if aim.is_some() && !m.is_specular() {
             return;
         }

@@ -11,6 +11,7 @@ pub enum Kernel {
 }
 
 const TYPES: &str = include_str!("../../shaders/common/types.wgsl");
+const PHOTON: &str = include_str!("../../shaders/common/photon.wgsl");
 const RNG: &str = include_str!("../../shaders/common/rng.wgsl");
 const SAMPLING: &str = include_str!("../../shaders/common/sampling.wgsl");
 const SCENE: &str = include_str!("../../shaders/common/scene.wgsl");
@@ -37,7 +38,7 @@ impl Kernel {
     /// The composed WGSL source of this kernel's module.
     pub fn source(self) -> String {
         let libs: &[&str] = &[
-            TYPES, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
+            TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
         ];
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],

@@ -10,9 +10,9 @@ use bytemuck::{Pod, Zeroable};
 pub struct GpuTriangle {
     pub v0: [f32; 3],
     pub material: u32,
-    pub e1: [f32; 3],
+    pub v1: [f32; 3],
     pub light: u32,
-    pub e2: [f32; 3],
+    pub v2: [f32; 3],
     pub _pad: u32,
 }
 
@@ -130,9 +130,9 @@ impl From<&Triangle> for GpuTriangle {
         GpuTriangle {
             v0: t.v0.to_array(),
             material: t.material,
-            e1: t.e1.to_array(),
+            v1: t.v1.to_array(),
             light: t.light,
-            e2: t.e2.to_array(),
+            v2: t.v2.to_array(),
             _pad: 0,
         }
     }

@@ -110,12 +110,15 @@ impl Material {
     }
 }
 
-/// A world-space triangle `v0, v0 + e1, v0 + e2`; front normal = normalize(cross(e1, e2)).
+/// A world-space triangle `v0, v1, v2`; front normal = normalize(cross(e1, e2)) with
+/// `e1 = v1 - v0`, `e2 = v2 - v0`. The vertices are kept as given (not as edges) so that two
+/// triangles sharing an edge share its end points bit for bit: the watertight intersection
+/// test (src/geometry.rs) relies on that.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     pub v0: Vec3,
-    pub e1: Vec3,
-    pub e2: Vec3,
+    pub v1: Vec3,
+    pub v2: Vec3,
     pub material: u32,
     /// Index into [`Scene::lights`] when the triangle is emissive, else [`NO_LIGHT`].
     pub light: u32,
@@ -125,18 +128,28 @@ impl Triangle {
     pub fn new(a: Vec3, b: Vec3, c: Vec3, material: u32) -> Self {
         Self {
             v0: a,
-            e1: b - a,
-            e2: c - a,
+            v1: b,
+            v2: c,
             material,
             light: NO_LIGHT,
         }
     }
+    pub fn e1(&self) -> Vec3 {
+        self.v1 - self.v0
+    }
+    pub fn e2(&self) -> Vec3 {
+        self.v2 - self.v0
+    }
     pub fn area(&self) -> f32 {
-        0.5 * self.e1.cross(self.e2).length()
+        0.5 * self.e1().cross(self.e2()).length()
     }
     /// Unit front normal (zero for a degenerate triangle).
     pub fn normal(&self) -> Vec3 {
-        self.e1.cross(self.e2).normalize_or_zero()
+        self.e1().cross(self.e2()).normalize_or_zero()
+    }
+    /// The point with barycentric coordinates `(1 - u - v, u, v)`.
+    pub fn point(&self, u: f32, v: f32) -> Vec3 {
+        self.v0 + u * self.e1() + v * self.e2()
     }
 }
 

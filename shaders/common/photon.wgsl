@@ -1,0 +1,55 @@
+// The stored photon's packed normal and the side test of the radiance estimate; twin of
+// src/photon.rs (pack_normal, unpack_normal) and src/estimate.rs (FACING_COS, photon_faces).
+
+// Normals within 60 degrees: the same surface; beyond 120: its other side.
+const FACING_COS: f32 = 0.5;
+
+fn sign_not_zero(v: vec2<f32>) -> vec2<f32> {
+    return select(vec2<f32>(-1.0), vec2<f32>(1.0), v >= vec2<f32>(0.0));
+}
+
+// Octahedral encoding into two 16-bit snorms.
+fn pack_normal(n: vec3<f32>) -> u32 {
+    let l1 = abs(n.x) + abs(n.y) + abs(n.z);
+    if l1 == 0.0 {
+        return 0u;
+    }
+    var p = n.xy / l1;
+    if n.z < 0.0 {
+        p = (vec2<f32>(1.0) - abs(p.yx)) * sign_not_zero(p);
+    }
+    return pack2x16snorm(p);
+}
+
+fn unpack_normal(bits: u32) -> vec3<f32> {
+    var p = unpack2x16snorm(bits);
+    let z = 1.0 - abs(p.x) - abs(p.y);
+    if z < 0.0 {
+        p = (vec2<f32>(1.0) - abs(p.yx)) * sign_not_zero(p);
+    }
+    let n = vec3<f32>(p, z);
+    let len2 = dot(n, n);
+    if len2 == 0.0 {
+        return n;
+    }
+    return n * inverseSqrt(len2);
+}
+
+// Whether photon p lends light to an estimate at x on a surface with normal ns facing the
+// viewer: from the front; the same surface yes, its other side no, and a surface meeting it
+// at an edge only where each lies in front of the other (concave corner) or each behind the
+// other (convex edge), never across the solid (see src/estimate.rs).
+fn photon_faces(p: Photon, x: vec3<f32>, ns: vec3<f32>) -> bool {
+    if dot(p.dir, ns) >= 0.0 {
+        return false;
+    }
+    let np = unpack_normal(p.normal);
+    let c = dot(np, ns);
+    if c > FACING_COS {
+        return true;
+    }
+    if c < -FACING_COS {
+        return false;
+    }
+    return (dot(p.position - x, ns) > 0.0) == (dot(x - p.position, np) > 0.0);
+}
