@@ -7,10 +7,10 @@
 
 @group(1) @binding(0) var<storage, read> g_photons: array<Photon>;
 @group(1) @binding(1) var<storage, read> g_cells: array<u32>;
-@group(1) @binding(2) var<uniform> g_map: MapParams;
+@group(1) @binding(2) var<storage, read> g_map: MapParams;
 @group(1) @binding(3) var<storage, read> c_photons: array<Photon>;
 @group(1) @binding(4) var<storage, read> c_cells: array<u32>;
-@group(1) @binding(5) var<uniform> c_map: MapParams;
+@group(1) @binding(5) var<storage, read> c_map: MapParams;
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
 // Largest K the GPU heap holds (src/gpu/mod.rs rejects a larger --k).

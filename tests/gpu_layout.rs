@@ -309,7 +309,7 @@ const SCENE: [Kind; 10] = [
     Kind::Ro,
     Kind::Ro,
     Kind::Ro,
-    Kind::Uniform,
+    Kind::Ro,
     Kind::Rw,
 ];
 const MAP: [Kind; 7] = [
@@ -319,15 +319,15 @@ const MAP: [Kind; 7] = [
     Kind::Rw,
     Kind::Rw,
     Kind::Rw,
-    Kind::Uniform,
+    Kind::Ro,
 ];
 const GATHER: [Kind; 7] = [
     Kind::Ro,
     Kind::Ro,
-    Kind::Uniform,
     Kind::Ro,
     Kind::Ro,
-    Kind::Uniform,
+    Kind::Ro,
+    Kind::Ro,
     Kind::Rw,
 ];
 

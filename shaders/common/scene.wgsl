@@ -9,7 +9,7 @@
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
 @group(0) @binding(6) var<storage, read> light_cdf: array<f32>;
 @group(0) @binding(7) var<storage, read> spec_bounds: array<Aabb>;
-@group(0) @binding(8) var<uniform> params: Params;
+@group(0) @binding(8) var<storage, read> params: Params;
 @group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene

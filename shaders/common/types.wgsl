@@ -75,7 +75,7 @@ struct Photon {
     normal: u32,
 }
 
-// Per-render parameters (one uniform buffer; `sample` changes per gather dispatch).
+// Per-render parameters (a read-only storage buffer, one slot per gather sample).
 struct Params {
     eye: vec3<f32>,
     width: u32,

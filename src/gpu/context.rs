@@ -77,8 +77,9 @@ pub fn hardware_adapter() -> std::result::Result<AdapterSummary, String> {
     }
 }
 
-/// Storage buffers the kernels bind in one stage (scene group + map group).
-pub const STORAGE_BUFFERS_NEEDED: u32 = 15;
+/// Storage buffers the kernels bind in one stage (scene group + map or gather group; every
+/// binding is a storage buffer, see `Layouts`).
+pub const STORAGE_BUFFERS_NEEDED: u32 = 17;
 
 impl GpuContext {
     /// Opens the default adapter (high performance preferred).

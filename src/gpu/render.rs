@@ -70,7 +70,7 @@ fn layout_entry(
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
             ty,
-            has_dynamic_offset: dynamic && ty == UNIFORM,
+            has_dynamic_offset: dynamic,
             min_binding_size: None,
         },
         count: None,
@@ -79,10 +79,18 @@ fn layout_entry(
 
 const RO: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
 const RW: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
-const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+
+/// The scene group's binding of the per-sample parameters (`params` in
+/// shaders/common/scene.wgsl), bound with a dynamic offset PARAMS_STRIDE apart.
+pub const PARAMS_BINDING: u32 = 8;
 
 /// The bind-group layouts, declared once: group 0 (scene) for every kernel, group 1 for the
 /// map-building kernels or for the gather.
+///
+/// No binding is a uniform buffer, on purpose: lavapipe (Mesa 22.3) inlines uniform values
+/// into the shader and compiles a new copy of the pipeline, never freed, each time a bind
+/// group holding a uniform buffer is bound: about 2.3 MB and 23 ms per gather dispatch.
+/// Read-only storage buffers carry the parameters instead.
 pub struct Layouts {
     pub scene: wgpu::BindGroupLayout,
     pub map: wgpu::BindGroupLayout,
@@ -91,13 +99,12 @@ pub struct Layouts {
 
 impl Layouts {
     pub fn new(dev: &wgpu::Device) -> Self {
-        // `dynamic`: the layout's uniform takes a dynamic offset (the scene's per-sample
-        // parameters, PARAMS_STRIDE apart).
-        let mk = |label: &str, tys: &[wgpu::BufferBindingType], dynamic: bool| {
+        // `dynamic`: the binding that takes a dynamic offset, if any.
+        let mk = |label: &str, tys: &[wgpu::BufferBindingType], dynamic: Option<u32>| {
             let entries: Vec<_> = tys
                 .iter()
                 .enumerate()
-                .map(|(i, &t)| layout_entry(i as u32, t, dynamic))
+                .map(|(i, &t)| layout_entry(i as u32, t, dynamic == Some(i as u32)))
                 .collect();
             dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
@@ -107,19 +114,11 @@ impl Layouts {
         Layouts {
             scene: mk(
                 "scene layout",
-                &[RO, RO, RO, RO, RO, RO, RO, RO, UNIFORM, RW],
-                true,
+                &[RO, RO, RO, RO, RO, RO, RO, RO, RO, RW],
+                Some(PARAMS_BINDING),
             ),
-            map: mk(
-                "photon map layout",
-                &[RW, RW, RW, RW, RW, RW, UNIFORM],
-                false,
-            ),
-            gather: mk(
-                "gather layout",
-                &[RO, RO, UNIFORM, RO, RO, UNIFORM, RW],
-                false,
-            ),
+            map: mk("photon map layout", &[RW, RW, RW, RW, RW, RW, RO], None),
+            gather: mk("gather layout", &[RO, RO, RO, RO, RO, RO, RW], None),
         }
     }
 }
@@ -277,7 +276,7 @@ impl SceneBuffers {
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: PARAMS_STRIDE * samples.max(1) as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         ctx.queue
@@ -344,7 +343,7 @@ impl MapBuffers {
         let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(&format!("{label} map params")),
             contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
         let bind_group = bind_group(
             dev,
@@ -426,8 +425,8 @@ pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
     radius2: 0.0,
 };
 
-/// Distance between the per-sample parameter slots (the uniform dynamic-offset alignment
-/// every adapter supports).
+/// Distance between the per-sample parameter slots (the largest storage-buffer offset
+/// alignment an adapter may require; checked against the adapter's limit).
 pub const PARAMS_STRIDE: u64 = 256;
 
 /// Most batches one pass is split into (and the stride of batch indices in the RNG's pass).
