@@ -247,6 +247,15 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         },
     };
     image.write(&args.output, settings.exposure)?;
+    if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
+        // Shown even with --quiet: the image is not what the settings ask for.
+        if overflow + budget + truncated > 0 {
+            eprintln!(
+                "warning: {}: the GPU image is incomplete ({overflow} photons dropped, {budget} invocations out of loop budget, {truncated} searches truncated); lower --k or --radius, or use --backend cpu",
+                args.output.display()
+            );
+        }
+    }
     if !args.quiet {
         eprintln!(
             "{}: {}x{}, {} spp, mode {}, backend {}",
