@@ -114,12 +114,15 @@ impl Image {
                     (p[0], p[1], p[2])
                 });
                 let mut image = exr::image::Image::from_channels((w, h), channels);
-                for (k, v) in tags {
-                    image
-                        .layer_data
-                        .attributes
-                        .other
-                        .insert(Text::from(*k), AttributeValue::Text(Text::from(v.as_str())));
+                if !tags.is_empty() {
+                    // One attribute holding every tag as `key=value` lines: the exr crate
+                    // keeps attributes in a HashMap, whose order (and so the file's bytes)
+                    // would differ from run to run with several.
+                    let text: Vec<String> = tags.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                    image.layer_data.attributes.other.insert(
+                        Text::from(TAGS_ATTRIBUTE),
+                        AttributeValue::Text(Text::from(text.join("\n").as_str())),
+                    );
                 }
                 image.write().to_file(&tmp).map_err(|e| err(e.to_string()))
             }
@@ -168,7 +171,11 @@ pub fn check_output_path(path: &Path) -> Result<()> {
     }
 }
 
-/// The text attributes of an EXR file's header (as written by [`Image::write_tagged`]).
+/// The EXR header attribute that holds [`Image::write_tagged`]'s tags.
+pub const TAGS_ATTRIBUTE: &str = "gpu_photon";
+
+/// The text attributes of an EXR file's header, with the tags of [`Image::write_tagged`]
+/// unpacked, sorted by key.
 pub fn read_tags(path: &Path) -> Result<Vec<(String, String)>> {
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| Error::Image {
         path: path.to_path_buf(),
@@ -183,7 +190,15 @@ pub fn read_tags(path: &Path) -> Result<Vec<(String, String)>> {
             .chain(&h.shared_attributes.other)
         {
             if let exr::meta::attribute::AttributeValue::Text(t) = v {
-                tags.push((k.to_string(), t.to_string()));
+                if k.to_string() == TAGS_ATTRIBUTE {
+                    for line in t.to_string().lines() {
+                        if let Some((key, value)) = line.split_once('=') {
+                            tags.push((key.to_string(), value.to_string()));
+                        }
+                    }
+                } else {
+                    tags.push((k.to_string(), t.to_string()));
+                }
             }
         }
     }

@@ -382,5 +382,21 @@ fn same_seed_gives_byte_identical_exr_and_another_seed_does_not() {
     let bytes = paths.map(|p| std::fs::read(p).unwrap());
     assert!(bytes[0] == bytes[1], "same seed, different EXR bytes");
     assert!(bytes[0] != bytes[2], "different seeds, same EXR bytes");
+    // A progressive slice's header carries tags (pass range, passes, signature): they too
+    // must come out in the same order every run (they once followed a HashMap's order).
+    let slices: Vec<Vec<u8>> = (0..4)
+        .map(|i| {
+            let p = dir.path(&format!("slice{i}.exr"));
+            assert_ok(
+                &tiny_render(&p, &["-q", "--seed", "5", "--pass-range", "0..2"]),
+                "slice",
+            );
+            std::fs::read(p).unwrap()
+        })
+        .collect();
+    assert!(
+        slices.iter().all(|b| *b == slices[0]),
+        "same seed and pass range, different EXR bytes"
+    );
     dir.assert_no_temp_files();
 }
