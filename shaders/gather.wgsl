@@ -120,17 +120,27 @@ fn kernel_norm(r2: f32) -> f32 {
     return 1.0 / (PI * r2);
 }
 
-// The heap's K: params.k, or the whole heap for fixed-radius (progressive) estimates.
+// The heap's K (K-nearest estimates only; params.k = 0 means a fixed radius).
 fn heap_k() -> u32 {
-    return select(min(params.k, MAX_HEAP), MAX_HEAP, params.k == 0u);
+    return min(params.k, MAX_HEAP);
 }
 
-// Sum over every photon of map `which` within its radius of x (any number of them), in
-// cell order: the fixed-radius estimate's fallback when the heap overflows.
-fn sum_within(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> {
+// One scan over every photon of map `which` within its radius of x that faces the surface,
+// in cell order. With scale = 0: `m` is the largest term f * power * w over photons and
+// channels (a maximum: the same in any order). With scale = 2^24 / m: each term, rounded to
+// an integer multiple of m / 2^24, is added into a 64-bit (hi, lo) sum per channel. Integer
+// sums do not depend on the order (which the atomics of tracing and sorting leave free), so
+// the fixed-radius estimate is the same on every run.
+struct RadiusScan {
+    m: f32,
+    hi: vec3<u32>,
+    lo: vec3<u32>,
+}
+
+fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>, scale: f32) -> RadiusScan {
+    var out = RadiusScan(0.0, vec3<u32>(0u), vec3<u32>(0u));
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
-    var sum = vec3<f32>(0.0);
     var visits = 0u;
     for (var dz = -rings; dz <= rings && spend(); dz += 1) {
         for (var dy = -rings; dy <= rings && spend(); dy += 1) {
@@ -141,7 +151,7 @@ fn sum_within(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f3
                     visits += 1u;
                     if visits > MAX_VISITS || !spend() {
                         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
-                        return sum;
+                        return out;
                     }
                     let p = map_photon(which, j);
                     if any(cell_of(p.position, mp.cell_size) != c) {
@@ -152,12 +162,34 @@ fn sum_within(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f3
                     if d2 > mp.radius2 || !photon_faces(p, x, ns) {
                         continue;
                     }
-                    sum += f * p.power * kernel_weight(d2, mp.radius2);
+                    let t = f * p.power * kernel_weight(d2, mp.radius2);
+                    if scale == 0.0 {
+                        out.m = max(out.m, max(t.x, max(t.y, t.z)));
+                    } else {
+                        let q = vec3<u32>(t * scale + 0.5);
+                        let lo = out.lo + q;
+                        out.hi += select(vec3<u32>(0u), vec3<u32>(1u), lo < q);
+                        out.lo = lo;
+                    }
                 }
             }
         }
     }
-    return sum;
+    return out;
+}
+
+// The fixed-radius (progressive) estimate: every facing photon within the radius, summed
+// exactly in fixed point (two scans; see radius_scan). Each term's rounding is at most
+// 2^-25 of the largest term.
+fn fixed_radius_estimate(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> {
+    let first = radius_scan(which, mp, x, ns, f, 0.0);
+    // (Below 1e-30 the scale 2^24 / m would overflow; such light is nothing.)
+    if !(first.m > 1e-30) {
+        return vec3<f32>(0.0);
+    }
+    let s = radius_scan(which, mp, x, ns, f, 16777216.0 / first.m);
+    let sum = vec3<f32>(s.hi) * 4294967296.0 + vec3<f32>(s.lo);
+    return sum * (first.m / 16777216.0) * kernel_norm(mp.radius2);
 }
 
 // Finds the K nearest photons of map `which` within its radius around x; returns how many
@@ -257,6 +289,9 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     if mp.paths == 0u {
         return vec3<f32>(0.0);
     }
+    if params.k == 0u {
+        return fixed_radius_estimate(which, mp, x, ns, f);
+    }
     let n = knn(which, x);
     if n == 0u {
         return vec3<f32>(0.0);
@@ -264,11 +299,7 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     let k = heap_k();
     var r2 = mp.radius2;
     var count = n;
-    if params.k == 0u && n >= k {
-        // More photons inside the fixed radius than the heap holds.
-        return sum_within(which, mp, x, ns, f) * kernel_norm(r2);
-    }
-    if params.k != 0u && n >= k {
+    if n >= k {
         r2 = max(heap_d2(n - 1u), 1e-30);
         count = n - 1u;
     }

@@ -247,15 +247,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         },
     };
     image.write(&args.output, settings.exposure)?;
-    if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
-        // Shown even with --quiet: the image is not what the settings ask for.
-        if overflow + budget + truncated > 0 {
-            eprintln!(
-                "warning: {}: the GPU image is incomplete ({overflow} photons dropped, {budget} invocations out of loop budget, {truncated} searches truncated); lower --k or --radius, or use --backend cpu",
-                args.output.display()
-            );
-        }
-    }
+    warn_if_incomplete(&args.output, &report);
     if !args.quiet {
         eprintln!(
             "{}: {}x{}, {} spp, mode {}, backend {}",
@@ -363,6 +355,7 @@ fn run_progressive(
         return Err(e);
     }
     write(&acc)?;
+    warn_if_incomplete(&args.output, &report);
     if !args.quiet {
         let why = if interrupted.load(Ordering::SeqCst) {
             " (interrupted)"
@@ -386,6 +379,19 @@ fn run_progressive(
         eprintln!("  {:<18} {:>9.3} s", "wall", start.elapsed().as_secs_f64());
     }
     Ok(())
+}
+
+/// Warns (even with --quiet) when a GPU render hit one of its bounds: its image is not what
+/// the settings ask for.
+fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::render::RenderReport) {
+    if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
+        if overflow + budget + truncated > 0 {
+            eprintln!(
+                "warning: {}: the GPU image is incomplete ({overflow} photons dropped, {budget} invocations out of loop budget, {truncated} searches truncated); lower --k, --radius or --initial-radius, or use --backend cpu",
+                output.display()
+            );
+        }
+    }
 }
 
 fn run_merge(inputs: &[PathBuf], output: &PathBuf) -> Result<()> {
