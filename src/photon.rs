@@ -57,7 +57,8 @@ pub fn unpack_normal(bits: u32) -> Vec3 {
     } else {
         (x, y)
     };
-    Vec3::new(x, y, z).normalize_or_zero()
+    // Never zero: |x| + |y| + |z| = 1 before the fold and after it.
+    Vec3::new(x, y, z).normalize()
 }
 
 impl Photon {

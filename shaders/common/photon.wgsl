@@ -27,12 +27,8 @@ fn unpack_normal(bits: u32) -> vec3<f32> {
     if z < 0.0 {
         p = (vec2<f32>(1.0) - abs(p.yx)) * sign_not_zero(p);
     }
-    let n = vec3<f32>(p, z);
-    let len2 = dot(n, n);
-    if len2 == 0.0 {
-        return n;
-    }
-    return n * inverseSqrt(len2);
+    // Never zero: |x| + |y| + |z| = 1 before the fold and after it.
+    return normalize(vec3<f32>(p, z));
 }
 
 // Whether photon p lends light to an estimate at x on a surface with normal ns facing the

@@ -98,29 +98,22 @@ fn trace_path(
         let m = &ctx.scene.materials[hit.material as usize];
         if m.stores_photons() {
             let caustic = depth > 0 && all_specular;
+            // The caustic map keeps only L S+ D photons, and its paths end at the first
+            // diffuse hit.
+            if aim.is_none() || caustic {
+                out.push(Photon::new(
+                    hit.position,
+                    power,
+                    ray.dir,
+                    hit.normal,
+                    i,
+                    depth,
+                    caustic,
+                ));
+            }
             if aim.is_some() {
-                if caustic {
-                    out.push(Photon::new(
-                        hit.position,
-                        power,
-                        ray.dir,
-                        hit.normal,
-                        i,
-                        depth,
-                        true,
-                    ));
-                }
                 return;
             }
-            out.push(Photon::new(
-                hit.position,
-                power,
-                ray.dir,
-                hit.normal,
-                i,
-                depth,
-                caustic,
-            ));
         } else if aim.is_some() && !m.is_specular() {
             return;
         }
