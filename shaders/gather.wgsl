@@ -23,7 +23,7 @@ override MAX_VISITS: u32 = LOOP_BUDGET / 2u;
 
 // The heap: (squared distance bits, photon index) pairs; a max-heap during the search.
 var<private> heap: array<vec2<u32>, MAX_HEAP>;
-// Neighbours found by the last knn() (read by probe_knn).
+// Neighbours found by the last estimate (read by probe_knn).
 var<private> last_found: u32 = 0u;
 
 fn map_photon(which: u32, i: u32) -> Photon {
@@ -135,10 +135,12 @@ struct RadiusScan {
     m: f32,
     hi: vec3<u32>,
     lo: vec3<u32>,
+    // Photons within the radius, facing or not (read by probe_knn).
+    n: u32,
 }
 
 fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>, scale: f32) -> RadiusScan {
-    var out = RadiusScan(0.0, vec3<u32>(0u), vec3<u32>(0u));
+    var out = RadiusScan(0.0, vec3<u32>(0u), vec3<u32>(0u), 0u);
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
     var visits = 0u;
@@ -159,7 +161,11 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                     }
                     let dv = p.position - x;
                     let d2 = dot(dv, dv);
-                    if d2 > mp.radius2 || !photon_faces(p, x, ns) {
+                    if d2 > mp.radius2 {
+                        continue;
+                    }
+                    out.n += 1u;
+                    if !photon_faces(p, x, ns) {
                         continue;
                     }
                     let t = f * p.power * kernel_weight(d2, mp.radius2);
@@ -183,6 +189,7 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
 // 2^-25 of the largest term.
 fn fixed_radius_estimate(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> {
     let first = radius_scan(which, mp, x, ns, f, 0.0);
+    last_found = first.n;
     // (Below 1e-30 the scale 2^24 / m would overflow; such light is nothing.)
     if !(first.m > 1e-30) {
         return vec3<f32>(0.0);

@@ -168,3 +168,63 @@ fn truncated_searches_are_counted() {
         "expected truncated searches to be counted: {stats:?}"
     );
 }
+
+/// The device's fixed-radius estimate (K = 0, the progressive passes' estimate, summed in
+/// fixed point) equals the kd-tree's sum over every photon within the radius: the same count
+/// and radiance within 1e-4 relative (the fixed point rounds each term to 2^-25 of the
+/// largest, far below that).
+#[test]
+fn device_fixed_radius_estimate_equals_kd_tree() {
+    let Some(ctx) = gpu() else { return };
+    let photons = test_photons(30_000, 4, 0.8);
+    let map = PhotonMap::build(photons.clone());
+    let mut r = TestRng(5);
+    let queries: Vec<([f32; 3], [f32; 3])> = (0..384)
+        .map(|i| match i % 3 {
+            0 => (
+                [r.f32() * 2.0 - 1.0, 0.0, r.f32() * 2.0 - 1.0],
+                [0.0, 1.0, 0.0],
+            ),
+            1 => (
+                [r.f32() * 2.0 - 1.0, r.f32() * 2.0 - 1.0, -1.0],
+                [0.0, 0.0, 1.0],
+            ),
+            _ => (
+                [0.3 + 0.8 * r.f32(), 0.0, -0.2 + 0.8 * r.f32()],
+                [0.0, 1.0, 0.0],
+            ),
+        })
+        .collect();
+    let mut found = Vec::new();
+    let mut dense = 0;
+    for (radius, cell) in [(0.05f32, 0.05f32), (0.1, 0.1), (0.15, 0.05)] {
+        let (got, stats) = probe::estimate(&ctx, &photons, &queries, 0, radius, cell).unwrap();
+        assert_eq!(stats[..3], [0, 0, 0], "r={radius}: a bound was hit");
+        for (qi, ((p, n), (l, count))) in queries.iter().zip(&got).enumerate() {
+            map.within(*p, radius * radius, &mut found);
+            assert_eq!(*count as usize, found.len(), "r={radius} query {qi}: count");
+            dense += usize::from(found.len() > 256);
+            let want = estimate::radiance(
+                &found,
+                usize::MAX,
+                radius * radius,
+                Filter::Disc,
+                Vec3::from(*p),
+                Vec3::from(*n),
+                |_| Vec3::ONE,
+            );
+            for c in 0..3 {
+                let tol = 1e-4 * want[c].abs().max(1e-6);
+                assert!(
+                    (l[c] - want[c]).abs() <= tol,
+                    "r={radius} query {qi} channel {c}: gpu {} cpu {}",
+                    l[c],
+                    want[c]
+                );
+            }
+        }
+    }
+    // Some queries must hold more photons than the K-nearest heap (256), the case the fixed
+    // point was written for.
+    assert!(dense > 0, "no query held more than 256 photons");
+}
