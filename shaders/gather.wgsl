@@ -33,6 +33,14 @@ fn map_photon(which: u32, i: u32) -> Photon {
     return c_photons[i];
 }
 
+// Only the position: the searches read nothing else of most photons they visit.
+fn map_position(which: u32, i: u32) -> vec3<f32> {
+    if which == 0u {
+        return g_photons[i].position;
+    }
+    return c_photons[i].position;
+}
+
 fn map_cell(which: u32, h: u32) -> vec2<u32> {
     if which == 0u {
         return vec2<u32>(g_cells[h], g_cells[h + 1u]);
@@ -155,16 +163,17 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
                         return out;
                     }
-                    let p = map_photon(which, j);
-                    if any(cell_of(p.position, mp.cell_size) != c) {
+                    let pos = map_position(which, j);
+                    if any(cell_of(pos, mp.cell_size) != c) {
                         continue;
                     }
-                    let dv = p.position - x;
+                    let dv = pos - x;
                     let d2 = dot(dv, dv);
                     if d2 > mp.radius2 {
                         continue;
                     }
                     out.n += 1u;
+                    let p = map_photon(which, j);
                     if !photon_faces(p, x, ns) {
                         continue;
                     }
@@ -248,13 +257,13 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
                             truncated = true;
                             break;
                         }
-                        let p = map_photon(which, j);
+                        let pos = map_position(which, j);
                         // Hash collisions put other cells' photons here: take a photon only
                         // in its own cell, so none is seen twice.
-                        if any(cell_of(p.position, mp.cell_size) != c) {
+                        if any(cell_of(pos, mp.cell_size) != c) {
                             continue;
                         }
-                        let dv = p.position - x;
+                        let dv = pos - x;
                         let d2 = dot(dv, dv);
                         if d2 > r2_max {
                             continue;
