@@ -570,7 +570,7 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
                 path
             }
         };
-        ladder_bench(&scene, &s, &avail, &reference, dir)?;
+        ladder_bench(&scene, &args.scene, &s, &avail, &reference, dir)?;
     }
     if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
         progressive_curve(
@@ -599,6 +599,7 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
 /// log-log plot DIR/bench.png.
 fn ladder_bench(
     scene: &gpu_photon::Scene,
+    scene_path: &std::path::Path,
     s: &RenderSettings,
     backends: &[Backend],
     reference: &std::path::Path,
@@ -627,7 +628,17 @@ fn ladder_bench(
         .with_context(|| format!("writing {}", csv.display()))?;
     println!("wrote {}", csv.display());
     let png = dir.join("bench.png");
-    match plot(&rows, &png, "speed against error") {
+    let name = scene_path.file_name().map_or_else(
+        || scene_path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let title = format!(
+        "speed against error: {name}, {}x{}, {} mode",
+        reference.width,
+        reference.height,
+        s.mode.name()
+    );
+    match plot(&rows, &png, &title) {
         Ok(()) => println!("wrote {}", png.display()),
         Err(e) => eprintln!("warning: no plot: {e}"),
     }
