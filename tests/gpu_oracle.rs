@@ -132,25 +132,40 @@ fn device_knn_estimate_equals_kd_tree() {
                 found.len(),
                 "k={k} r={radius} query {qi}: neighbour count"
             );
-            let want = estimate::radiance(
-                &found,
-                k as usize,
-                radius * radius,
-                Filter::Disc,
-                Vec3::from(*p),
-                Vec3::from(*n),
-                |_| Vec3::ONE,
-            );
-            for c in 0..3 {
-                let tol = 1e-4 * want[c].abs().max(1e-6);
-                assert!(
-                    (l[c] - want[c]).abs() <= tol,
-                    "k={k} r={radius} query {qi} channel {c}: gpu {} cpu {}",
-                    l[c],
-                    want[c]
-                );
-            }
+            let what = format!("k={k} r={radius} query {qi}");
+            assert_estimate_equals_cpu(*l, &found, k as usize, radius, *p, *n, &what);
         }
+    }
+}
+
+/// The device's estimate `got` (f = 1, disc filter) equals the library's estimate from the
+/// kd-tree's neighbours `found` of query `(p, n)`, within 1e-4 relative per channel.
+fn assert_estimate_equals_cpu(
+    got: [f32; 3],
+    found: &[(f32, &Photon)],
+    k: usize,
+    radius: f32,
+    p: [f32; 3],
+    n: [f32; 3],
+    what: &str,
+) {
+    let want = estimate::radiance(
+        found,
+        k,
+        radius * radius,
+        Filter::Disc,
+        Vec3::from(p),
+        Vec3::from(n),
+        |_| Vec3::ONE,
+    );
+    for c in 0..3 {
+        let tol = 1e-4 * want[c].abs().max(1e-6);
+        assert!(
+            (got[c] - want[c]).abs() <= tol,
+            "{what} channel {c}: gpu {} cpu {}",
+            got[c],
+            want[c]
+        );
     }
 }
 
@@ -204,24 +219,8 @@ fn device_fixed_radius_estimate_equals_kd_tree() {
             map.within(*p, radius * radius, &mut found);
             assert_eq!(*count as usize, found.len(), "r={radius} query {qi}: count");
             dense += usize::from(found.len() > 256);
-            let want = estimate::radiance(
-                &found,
-                usize::MAX,
-                radius * radius,
-                Filter::Disc,
-                Vec3::from(*p),
-                Vec3::from(*n),
-                |_| Vec3::ONE,
-            );
-            for c in 0..3 {
-                let tol = 1e-4 * want[c].abs().max(1e-6);
-                assert!(
-                    (l[c] - want[c]).abs() <= tol,
-                    "r={radius} query {qi} channel {c}: gpu {} cpu {}",
-                    l[c],
-                    want[c]
-                );
-            }
+            let what = format!("r={radius} query {qi}");
+            assert_estimate_equals_cpu(*l, &found, usize::MAX, radius, *p, *n, &what);
         }
     }
     // Some queries must hold more photons than the K-nearest heap (256), the case the fixed
