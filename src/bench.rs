@@ -2,8 +2,9 @@
 //! phase, medians over several runs (`gpu-photon bench`).
 
 use crate::error::Result;
-use crate::render::{render, Backend, Progress, RenderReport};
+use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
+use crate::session::{render, Backend};
 use crate::settings::RenderSettings;
 
 /// Median throughput of one backend.
@@ -40,7 +41,7 @@ pub fn throughput(
     backend: Backend,
     runs: usize,
 ) -> Result<Throughput> {
-    let plan = crate::render::MapPlan::new(scene, s);
+    let plan = crate::plan::MapPlan::new(scene, s);
     let paths = plan.global.as_ref().map_or(0, |b| b.total()) as f64
         + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64;
     let msamples = s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;

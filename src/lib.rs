@@ -18,12 +18,16 @@ pub mod film;
 pub mod geometry;
 pub mod light;
 pub mod material;
+pub mod merge;
 pub mod photon;
+pub mod plan;
 pub mod progressive;
-pub mod render;
+pub mod report;
 pub mod rng;
 pub mod sampling;
+pub mod session;
 
 pub use film::Image;
-pub use render::{render, Backend, Progress, RenderReport};
+pub use report::{Progress, RenderReport};
+pub use session::{render, Backend};
 pub mod gpu;

@@ -3,7 +3,8 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::film::{diff, Image};
-use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::report::Progress;
+use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -140,7 +141,7 @@ struct RenderArgs {
     #[arg(long)]
     passes: Option<u32>,
     /// Progressive passes A..B only (a slice of a longer render, for `gpu-photon merge`).
-    #[arg(long, value_parser = parse_range)]
+    #[arg(long, value_parser = gpu_photon::merge::parse_range)]
     pass_range: Option<(u32, u32)>,
     /// Stop progressive passes after this many seconds (without --passes: pass until then).
     #[arg(long)]
@@ -157,18 +158,6 @@ struct RenderArgs {
     /// No progress bars or timings.
     #[arg(short, long)]
     quiet: bool,
-}
-
-fn parse_range(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (a, b) = s
-        .split_once("..")
-        .ok_or_else(|| format!("'{s}' is not a range A..B"))?;
-    let a: u32 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
-    let b: u32 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
-    if b <= a {
-        return Err(format!("{a}..{b} holds no pass"));
-    }
-    Ok((a, b))
 }
 
 impl RenderArgs {
@@ -279,22 +268,6 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// A fingerprint of the scene file and every setting but the pass range: slices to merge
-/// must share it.
-fn signature(scene_path: &std::path::Path, s: &RenderSettings) -> Result<String> {
-    let text =
-        std::fs::read(scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325; // FNV-1a
-    for b in text {
-        h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-    }
-    let s = RenderSettings {
-        pass_range: None,
-        ..s.clone()
-    };
-    Ok(format!("scene-fnv1a {h:016x}; {s:?}"))
-}
-
 fn run_progressive(
     args: &RenderArgs,
     scene: &gpu_photon::Scene,
@@ -316,24 +289,17 @@ fn run_progressive(
     // A second Ctrl-C while finishing the pass is left to the default handler's absence:
     // the flag is simply set again.
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
-    let sig = signature(&args.scene, settings)?;
+    let sig = gpu_photon::merge::signature(&args.scene, settings)?;
     let start = std::time::Instant::now();
     let write = |acc: &gpu_photon::progressive::Accumulator| -> Result<()> {
-        let tags = [
-            (
-                "gpu_photon.pass_range",
-                format!("{}..{}", acc.first, acc.first + acc.count),
-            ),
-            ("gpu_photon.passes", acc.count.to_string()),
-            ("gpu_photon.signature", sig.clone()),
-        ];
+        let tags = gpu_photon::merge::slice_tags(acc, &sig);
         acc.mean()
             .write_tagged(&args.output, settings.exposure, &tags)?;
         Ok(())
     };
     let mut write_error = None;
     let (acc, report) =
-        gpu_photon::render::render_progressive(scene, settings, backend, progress, a..b, |acc| {
+        gpu_photon::session::render_progressive(scene, settings, backend, progress, a..b, |acc| {
             if let Some(n) = args.write_every {
                 if n > 0 && acc.count % n == 0 {
                     if let Err(e) = write(acc) {
@@ -383,7 +349,7 @@ fn run_progressive(
 
 /// Warns (even with --quiet) when a GPU render hit one of its bounds: its image is not what
 /// the settings ask for.
-fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::render::RenderReport) {
+fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::report::RenderReport) {
     if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
         if overflow + budget + truncated > 0 {
             eprintln!(
@@ -395,98 +361,13 @@ fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::render::Ren
 }
 
 fn run_merge(inputs: &[PathBuf], output: &PathBuf) -> Result<()> {
-    gpu_photon::film::check_output_path(output)?;
-    if inputs.is_empty() {
-        bail!("merge needs at least one slice");
-    }
-    let mut slices = Vec::new();
-    for path in inputs {
-        let tags = gpu_photon::film::read_tags(path)?;
-        let get = |k: &str| tags.iter().find(|t| t.0 == k).map(|t| t.1.clone());
-        let range = get("gpu_photon.pass_range").with_context(|| {
-            format!(
-                "{}: no gpu_photon.pass_range in its header (not a progressive slice)",
-                path.display()
-            )
-        })?;
-        let (a, b) = parse_range(&range)
-            .map_err(|e| anyhow::anyhow!("{}: pass range {e}", path.display()))?;
-        let sig = get("gpu_photon.signature").unwrap_or_default();
-        slices.push((path.clone(), a, b, sig, Image::read(path)?));
-    }
-    slices.sort_by_key(|s| s.1);
-    for w in slices.windows(2) {
-        if w[1].1 < w[0].2 {
-            bail!(
-                "{} (passes {}..{}) overlaps {} (passes {}..{})",
-                w[1].0.display(),
-                w[1].1,
-                w[1].2,
-                w[0].0.display(),
-                w[0].1,
-                w[0].2
-            );
-        }
-    }
-    let first = &slices[0];
-    for s in &slices[1..] {
-        if s.3 != first.3 {
-            bail!(
-                "{} was rendered with another scene or other settings than {}",
-                s.0.display(),
-                first.0.display()
-            );
-        }
-        if (s.4.width, s.4.height) != (first.4.width, first.4.height) {
-            bail!(
-                "{} is {}x{}, {} is {}x{}",
-                s.0.display(),
-                s.4.width,
-                s.4.height,
-                first.0.display(),
-                first.4.width,
-                first.4.height
-            );
-        }
-    }
-    let total: u32 = slices.iter().map(|s| s.2 - s.1).sum();
-    let mut sum = vec![[0.0f64; 3]; first.4.pixels.len()];
-    for s in &slices {
-        let w = (s.2 - s.1) as f64;
-        for (acc, p) in sum.iter_mut().zip(&s.4.pixels) {
-            for c in 0..3 {
-                acc[c] += w * p[c] as f64;
-            }
-        }
-    }
-    let image = Image {
-        width: first.4.width,
-        height: first.4.height,
-        pixels: sum
-            .iter()
-            .map(|v| v.map(|x| (x / total as f64) as f32))
-            .collect(),
-    };
-    let contiguous = slices.windows(2).all(|w| w[1].1 == w[0].2);
-    let range = if contiguous {
-        format!("{}..{}", first.1, slices.last().map_or(first.2, |s| s.2))
-    } else {
-        slices
-            .iter()
-            .map(|s| format!("{}..{}", s.1, s.2))
-            .collect::<Vec<_>>()
-            .join(",")
-    };
-    let tags = [
-        ("gpu_photon.pass_range", range.clone()),
-        ("gpu_photon.passes", total.to_string()),
-        ("gpu_photon.signature", first.3.clone()),
-    ];
-    image.write_tagged(output, 0.0, &tags)?;
+    let s = gpu_photon::merge::merge(inputs, output)?;
     eprintln!(
-        "{}: {} slices, passes {range} ({total} passes)",
+        "{}: {} slices, passes {} ({} passes)",
         output.display(),
-        slices.len()
+        s.slices,
+        s.range,
+        s.passes
     );
     Ok(())
 }
@@ -675,7 +556,7 @@ fn progressive_curve(
         let name = if b == Backend::Cpu { "cpu" } else { "gpu" };
         let start = std::time::Instant::now();
         let mut failure = None;
-        let result = gpu_photon::render::render_progressive(
+        let result = gpu_photon::session::render_progressive(
             scene,
             s,
             b,

@@ -1,6 +1,8 @@
 //! Render settings: defaults, the scene file's `[render]` table and the command line all
 //! produce one [`RenderSettings`].
 
+use crate::error::{Error, Result};
+
 /// How radiance is computed at the first diffuse or glossy hit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
@@ -153,3 +155,45 @@ impl Default for RenderSettings {
 pub const MAX_RESOLUTION: u32 = 16384;
 /// Largest accepted K.
 pub const MAX_K: u32 = 1024;
+
+/// Checks settings that the command line or API may have set out of range.
+pub fn validate(s: &RenderSettings) -> Result<()> {
+    let bad = |field: &'static str, message: String| Err(Error::Setting { field, message });
+    if s.width == 0 || s.height == 0 || s.width > MAX_RESOLUTION || s.height > MAX_RESOLUTION {
+        return bad(
+            "width/height",
+            format!("{}x{} is outside 1..={MAX_RESOLUTION}", s.width, s.height),
+        );
+    }
+    if s.k == 0 || s.k > MAX_K {
+        return bad("k", format!("{} is outside 1..={MAX_K}", s.k));
+    }
+    if !(s.radius.is_finite() && s.radius > 0.0) {
+        return bad(
+            "radius",
+            format!("{} must be positive and finite", s.radius),
+        );
+    }
+    if !(s.caustic_radius.is_finite() && s.caustic_radius > 0.0) {
+        return bad(
+            "caustic-radius",
+            format!("{} must be positive and finite", s.caustic_radius),
+        );
+    }
+    if s.spp == 0 || s.spp > 65_536 {
+        return bad("spp", format!("{} is outside 1..=65536", s.spp));
+    }
+    if s.shadow_samples == 0 || s.shadow_samples > 1024 {
+        return bad(
+            "shadow-samples",
+            format!("{} is outside 1..=1024", s.shadow_samples),
+        );
+    }
+    if s.photons == 0 {
+        return bad("photons", "must be at least 1".into());
+    }
+    if !s.exposure.is_finite() {
+        return bad("exposure", "must be finite".into());
+    }
+    Ok(())
+}

@@ -19,8 +19,9 @@ use gpu_photon::material::{
     dielectric, fresnel, fresnel_exact, fresnel_schlick, photon_bounce, reflect, refract, Bounce,
 };
 use gpu_photon::photon::{Budget, Photon};
-use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::report::Progress;
 use gpu_photon::scene::{Light, LightShape, Material, MaterialKind, Scene, Triangle, NO_LIGHT};
+use gpu_photon::session::{render, Backend};
 
 use gpu_photon::settings::{FresnelMode, Mode, RenderSettings};
 use std::f64::consts::PI;

@@ -13,7 +13,8 @@ mod common;
 
 use common::gpu;
 use gpu_photon::film::diff;
-use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::report::Progress;
+use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 
 fn settings(scene: &gpu_photon::Scene, seed: u32) -> RenderSettings {

@@ -17,8 +17,9 @@
 mod common;
 
 use gpu_photon::film::{diff, Image};
-use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::report::Progress;
 use gpu_photon::scene::{load, load_str, LightShape, Scene};
+use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::path::Path;

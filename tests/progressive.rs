@@ -5,7 +5,8 @@ mod common;
 
 use gpu_photon::film::{diff, Image};
 use gpu_photon::progressive::{radius2_factor, Flow};
-use gpu_photon::render::{render_progressive, Backend, Progress};
+use gpu_photon::report::Progress;
+use gpu_photon::session::{render_progressive, Backend};
 use gpu_photon::settings::RenderSettings;
 use gpu_photon::Scene;
 

@@ -7,8 +7,9 @@
 
 use glam::DVec3;
 use gpu_photon::film::{diff, DiffStats, Image};
-use gpu_photon::render::{render, Backend, Progress};
+use gpu_photon::report::Progress;
 use gpu_photon::scene::{load, LightShape, Scene};
+use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 

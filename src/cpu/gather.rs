@@ -8,53 +8,16 @@ use crate::estimate;
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
 use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
+use crate::plan::Terms;
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
 use crate::scene::{LightShape, Material, MaterialKind, Scene};
-use crate::settings::{Mode, RenderSettings};
+use crate::settings::RenderSettings;
 use glam::Vec3;
 
 /// Below this depth a glass hit traces both the reflected and the refracted ray; deeper,
 /// one of them is chosen with the Fresnel probability (unbiased, bounded work).
 pub const GLASS_SPLIT_DEPTH: u32 = 3;
-
-/// Which terms a mode adds at a diffuse or glossy hit.
-#[derive(Clone, Copy, Debug)]
-pub struct Terms {
-    /// Shadow rays: the kd part of area lights and the whole BRDF for point lights.
-    pub direct: bool,
-    /// The glossy lobe for point lights by shadow rays (always wanted unless a debug view).
-    pub point_lobe: bool,
-    /// A ray sampled from the glossy lobe (it sees area lights and everything else).
-    pub lobe_ray: bool,
-}
-
-impl Terms {
-    pub fn of(mode: Mode) -> Self {
-        match mode {
-            Mode::Photon => Terms {
-                direct: false,
-                point_lobe: true,
-                lobe_ray: true,
-            },
-            Mode::Direct => Terms {
-                direct: true,
-                point_lobe: true,
-                lobe_ray: true,
-            },
-            Mode::DirectOnly => Terms {
-                direct: true,
-                point_lobe: true,
-                lobe_ray: false,
-            },
-            Mode::GlobalOnly | Mode::CausticOnly => Terms {
-                direct: false,
-                point_lobe: false,
-                lobe_ray: false,
-            },
-        }
-    }
-}
 
 /// Everything the camera pass reads.
 pub struct Gatherer<'a> {

@@ -10,7 +10,8 @@ use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::light::LightTable;
 use crate::photon::{Budget, Photon};
-use crate::render::{MapPlan, Progress, RenderReport};
+use crate::plan::MapPlan;
+use crate::report::{Progress, RenderReport};
 use crate::rng::Stream;
 use crate::scene::Scene;
 use crate::settings::{FresnelMode, Mode, RenderSettings};
@@ -485,7 +486,7 @@ fn fill_budget(lights: &mut [GpuLight], b: &Budget, caustic: bool) {
 
 /// `Params` of a render (`sample` set per gather dispatch).
 pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -> GpuParams {
-    let terms = crate::cpu::gather::Terms::of(s.mode);
+    let terms = crate::plan::Terms::of(s.mode);
     let c = &scene.camera;
     GpuParams {
         eye: c.eye.to_array(),

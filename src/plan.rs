@@ -1,0 +1,136 @@
+//! What a render needs, computed once from the scene and the settings before either backend
+//! runs: which photon maps (and their budgets per light), and which terms a mode adds at a
+//! diffuse or glossy hit. Both backends read this plan; neither re-derives it.
+
+use crate::geometry::Aabb;
+use crate::light::{scalar_power, specular_bounds, split_budget};
+use crate::photon::{Budget, Photon};
+use crate::scene::Scene;
+use crate::settings::{Mode, RenderSettings};
+
+/// Pilot photons per light that estimate how often caustic emission hits the specular bounds.
+pub const PILOT_PHOTONS: u32 = 4096;
+/// Caustic attempts per light are capped at this multiple of its caustic photon count.
+pub const MAX_AIM_FACTOR: f64 = 256.0;
+
+/// The photon maps a render needs: only what the scene and mode use.
+#[derive(Clone, Debug)]
+pub struct MapPlan {
+    pub mode: Mode,
+    /// Global paths per light (`None`: no global map in this mode).
+    pub global: Option<Budget>,
+    /// Caustic attempts per light and the bounds they aim at (`None`: no specular surface,
+    /// no caustic photons asked for, or a mode that does not use them).
+    pub caustic: Option<(Budget, Vec<Aabb>)>,
+}
+
+impl MapPlan {
+    pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
+        let uses_global = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::GlobalOnly);
+        let uses_caustic = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::CausticOnly);
+        let global =
+            (uses_global && !scene.lights.is_empty()).then(|| Budget::split(scene, s.photons));
+        let bounds = specular_bounds(scene);
+        let caustic = (uses_caustic
+            && s.caustic_photons > 0
+            && !bounds.is_empty()
+            && !scene.lights.is_empty())
+        .then(|| {
+            let powers: Vec<f64> = scene.lights.iter().map(|l| scalar_power(l.power)).collect();
+            let wanted = split_budget(&powers, s.caustic_photons);
+            let table = crate::light::LightTable::new(scene);
+            let attempts = wanted
+                .iter()
+                .enumerate()
+                .map(|(l, &n)| {
+                    if n == 0 {
+                        return 0;
+                    }
+                    let frac =
+                        aim_fraction(scene, &table, l, &bounds, s.seed).max(1.0 / MAX_AIM_FACTOR);
+                    ((n as f64 / frac).ceil()).min(u32::MAX as f64 / 4.0) as u32
+                })
+                .collect();
+            (Budget::from_counts(scene, attempts), bounds)
+        });
+        MapPlan {
+            mode: s.mode,
+            global,
+            caustic,
+        }
+    }
+
+    /// Whether a photon of the global paths belongs in the global map of this mode: `direct`
+    /// drops direct photons (shadow rays do that light); both main modes drop L S+ D photons
+    /// when the caustic map carries them.
+    pub fn keep_in_global(&self, p: &Photon) -> bool {
+        let caustic_elsewhere = self.caustic.is_some() && p.is_caustic();
+        match self.mode {
+            Mode::Photon => !caustic_elsewhere,
+            Mode::Direct => p.depth() > 0 && !caustic_elsewhere,
+            _ => true,
+        }
+    }
+}
+
+/// Fraction of light `l`'s emissions that enter `bounds`, from pilot photons (a
+/// deterministic function of the scene and seed).
+fn aim_fraction(
+    scene: &Scene,
+    table: &crate::light::LightTable,
+    l: usize,
+    bounds: &[Aabb],
+    seed: u32,
+) -> f64 {
+    use crate::rng::{Rng, Stream};
+    let hits = (0..PILOT_PHOTONS)
+        .filter(|&i| {
+            let mut rng = Rng::new(seed, Stream::Pilot, l as u32, i);
+            let e = table.emit(
+                scene,
+                l,
+                [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()],
+            );
+            crate::light::aims_at(bounds, e.origin, e.dir)
+        })
+        .count();
+    hits as f64 / PILOT_PHOTONS as f64
+}
+
+/// Which terms a mode adds at a diffuse or glossy hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Terms {
+    /// Shadow rays: the kd part of area lights and the whole BRDF for point lights.
+    pub direct: bool,
+    /// The glossy lobe for point lights by shadow rays (always wanted unless a debug view).
+    pub point_lobe: bool,
+    /// A ray sampled from the glossy lobe (it sees area lights and everything else).
+    pub lobe_ray: bool,
+}
+
+impl Terms {
+    pub fn of(mode: Mode) -> Self {
+        match mode {
+            Mode::Photon => Terms {
+                direct: false,
+                point_lobe: true,
+                lobe_ray: true,
+            },
+            Mode::Direct => Terms {
+                direct: true,
+                point_lobe: true,
+                lobe_ray: true,
+            },
+            Mode::DirectOnly => Terms {
+                direct: true,
+                point_lobe: true,
+                lobe_ray: false,
+            },
+            Mode::GlobalOnly | Mode::CausticOnly => Terms {
+                direct: false,
+                point_lobe: false,
+                lobe_ray: false,
+            },
+        }
+    }
+}
