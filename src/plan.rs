@@ -60,16 +60,43 @@ impl MapPlan {
         }
     }
 
-    /// Whether a photon of the global paths belongs in the global map of this mode: `direct`
-    /// drops direct photons (shadow rays do that light); both main modes drop L S+ D photons
-    /// when the caustic map carries them.
-    pub fn keep_in_global(&self, p: &Photon) -> bool {
-        let caustic_elsewhere = self.caustic.is_some() && p.is_caustic();
+    /// Which photons of the global paths the global map drops in this mode: `direct` drops
+    /// direct photons (shadow rays do that light); both main modes drop L S+ D photons when
+    /// the caustic map carries them. Both backends read this rule (the GPU as drop flags).
+    pub fn global_filter(&self) -> GlobalFilter {
+        let caustic_elsewhere = self.caustic.is_some();
         match self.mode {
-            Mode::Photon => !caustic_elsewhere,
-            Mode::Direct => p.depth() > 0 && !caustic_elsewhere,
-            _ => true,
+            Mode::Photon => GlobalFilter {
+                drop_direct: false,
+                drop_caustic: caustic_elsewhere,
+            },
+            Mode::Direct => GlobalFilter {
+                drop_direct: true,
+                drop_caustic: caustic_elsewhere,
+            },
+            _ => GlobalFilter::default(),
         }
+    }
+
+    /// Whether a photon of the global paths belongs in the global map of this mode.
+    pub fn keep_in_global(&self, p: &Photon) -> bool {
+        self.global_filter().keeps(p)
+    }
+}
+
+/// Which photons of the global paths the global map leaves out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GlobalFilter {
+    /// Drop photons stored at the first diffuse hit (depth 0).
+    pub drop_direct: bool,
+    /// Drop photons whose path was L S+ D (the caustic map carries those).
+    pub drop_caustic: bool,
+}
+
+impl GlobalFilter {
+    /// Whether photon `p` stays in the map.
+    pub fn keeps(self, p: &Photon) -> bool {
+        !(self.drop_direct && p.depth() == 0) && !(self.drop_caustic && p.is_caustic())
     }
 }
 

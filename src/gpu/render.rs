@@ -1008,16 +1008,9 @@ impl GpuRun<'_> {
                 let paths = b.total();
                 let capacity =
                     (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
-                let caustic_elsewhere = if plan.caustic.is_some() {
-                    DROP_CAUSTIC
-                } else {
-                    0
-                };
-                let drop = match s.mode {
-                    Mode::Direct => DROP_DIRECT | caustic_elsewhere,
-                    Mode::Photon => caustic_elsewhere,
-                    _ => 0,
-                };
+                let filter = plan.global_filter();
+                let drop = if filter.drop_direct { DROP_DIRECT } else { 0 }
+                    | if filter.drop_caustic { DROP_CAUSTIC } else { 0 };
                 let p = params(
                     false,
                     paths,
