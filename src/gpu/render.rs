@@ -14,7 +14,7 @@ use crate::plan::MapPlan;
 use crate::report::{Progress, RenderReport};
 use crate::rng::Stream;
 use crate::scene::Scene;
-use crate::settings::{FresnelMode, Mode, RenderSettings};
+use crate::settings::{FresnelMode, RenderSettings};
 use bytemuck::Pod;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
