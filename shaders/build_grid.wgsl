@@ -21,7 +21,7 @@ fn photon_slot(i: u32) -> u32 {
     return cell_hash(cell_of(photons[i].position, map_params.cell_size), map_params.table_size);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG_SIZE)
 fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let h = photon_slot(flat_index(gid, nwg));
     if h != 0xffffffffu {
@@ -29,11 +29,11 @@ fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
 }
 
-var<workgroup> scan_tmp: array<u32, 256>;
+var<workgroup> scan_tmp: array<u32, SCAN_BLOCK>;
 
 // Inclusive Hillis-Steele scan of scan_tmp (8 steps of 256 lanes).
 fn workgroup_scan(tid: u32) {
-    for (var off = 1u; off < 256u; off = off * 2u) {
+    for (var off = 1u; off < SCAN_BLOCK; off = off * 2u) {
         workgroupBarrier();
         var v = scan_tmp[tid];
         if tid >= off {
@@ -45,10 +45,10 @@ fn workgroup_scan(tid: u32) {
     workgroupBarrier();
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(SCAN_BLOCK)
 fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let block = wid.x + wid.y * nwg.x;
-    let idx = block * 256u + lid.x;
+    let idx = block * SCAN_BLOCK + lid.x;
     var v = 0u;
     if idx < map_params.table_size {
         v = atomicLoad(&cell_count[idx]);
@@ -58,15 +58,15 @@ fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_
     if idx < map_params.table_size {
         cell_start[idx] = scan_tmp[lid.x] - v;
     }
-    if lid.x == 255u {
-        block_sums[block] = scan_tmp[255];
+    if lid.x == SCAN_BLOCK - 1u {
+        block_sums[block] = scan_tmp[SCAN_BLOCK - 1u];
     }
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(SCAN_BLOCK)
 fn scan_sums(@builtin(local_invocation_id) lid: vec3<u32>) {
-    let blocks = (map_params.table_size + 255u) / 256u;
-    let chunk = (blocks + 255u) / 256u;
+    let blocks = (map_params.table_size + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let chunk = (blocks + SCAN_BLOCK - 1u) / SCAN_BLOCK;
     let start = lid.x * chunk;
     let end = min(start + chunk, blocks);
     var total = 0u;
@@ -81,22 +81,22 @@ fn scan_sums(@builtin(local_invocation_id) lid: vec3<u32>) {
         block_sums[b] = running;
         running += s;
     }
-    if lid.x == 255u {
-        cell_start[map_params.table_size] = scan_tmp[255];
+    if lid.x == SCAN_BLOCK - 1u {
+        cell_start[map_params.table_size] = scan_tmp[SCAN_BLOCK - 1u];
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG_SIZE)
 fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if i >= map_params.table_size {
         return;
     }
-    cell_start[i] += block_sums[i / 256u];
+    cell_start[i] += block_sums[i / SCAN_BLOCK];
     atomicStore(&cell_count[i], 0u);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG_SIZE)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     let h = photon_slot(i);

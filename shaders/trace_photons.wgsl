@@ -1,5 +1,5 @@
 // trace_photons: one invocation per photon path (global or caustic map, per map_params),
-// the twin of src/cpu/photons.rs. Dispatch: ceil(paths / 64) workgroups of 64 (2D when
+// the twin of src/cpu/photons.rs. Dispatch: ceil(paths / WG_SIZE) workgroups of WG_SIZE (2D when
 // large). Writes: photons[] appended through counters[0]; overflow past map_params.capacity
 // is dropped and counted in stats[STAT_PHOTON_OVERFLOW].
 
@@ -12,7 +12,7 @@ fn store_photon(p: Photon) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG_SIZE)
 fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
     if i >= map_params.paths {

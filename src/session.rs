@@ -47,7 +47,11 @@ pub fn render(
             report.backend = format!("cpu ({} threads)", rayon::current_num_threads());
             Ok((img, report))
         }
-        Backend::Gpu => crate::gpu::render(scene, settings, 0, &progress),
+        Backend::Gpu => {
+            let mut r = crate::gpu::GpuRenderer::new(scene, settings)?;
+            let image = r.pass(0, settings, &progress)?;
+            Ok((image, r.report()?))
+        }
     }
 }
 
@@ -97,14 +101,16 @@ pub fn render_progressive(
             report
         }
         Backend::Gpu => {
-            let list: Vec<(u32, RenderSettings)> = passes
-                .map(|p| (p, pass_settings(scene, settings, p)))
-                .collect();
-            crate::gpu::render::render_passes(scene, &list, &quiet, |img| {
-                acc.add(img);
+            let mut r = crate::gpu::GpuRenderer::new(scene, settings)?;
+            for p in passes {
+                let img = r.pass(p, &pass_settings(scene, settings, p), &quiet)?;
+                acc.add(&img);
                 bar.inc(1);
-                on_pass(&acc)
-            })?
+                if on_pass(&acc) == Flow::Stop {
+                    break;
+                }
+            }
+            r.report()?
         }
     };
     bar.finish_and_clear();

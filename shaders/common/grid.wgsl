@@ -1,7 +1,5 @@
-// Hash-grid cells; twin of src/gpu/grid.rs.
-
-const DROP_DIRECT: u32 = 1u;
-const DROP_CAUSTIC: u32 = 2u;
+// Hash-grid cells; twin of src/gpu/grid.rs. DROP_* (the drop flags of a map) come from the
+// generated prelude (src/gpu/codes.rs).
 
 fn cell_of(p: vec3<f32>, cell_size: f32) -> vec3<i32> {
     return vec3<i32>(floor(p / cell_size));

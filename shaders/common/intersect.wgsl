@@ -1,10 +1,6 @@
 // Ray-primitive intersection and BVH traversal; twin of src/geometry.rs and src/bvh.rs.
-
-const OFFSET_SCALE: f32 = 3.0e-5;
-const OFFSET_FLOOR: f32 = 1.0e-5;
-const BVH_STACK: u32 = 66u;
-// 1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound.
-const BOX_SLACK: f32 = 1.0000003576;
+// OFFSET_SCALE, OFFSET_FLOOR, BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is
+// widened by its rounding bound) and BVH_STACK come from the generated prelude.
 
 struct Hit {
     t: f32,

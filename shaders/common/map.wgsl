@@ -9,7 +9,7 @@
 @group(1) @binding(5) var<storage, read_write> block_sums: array<u32>;
 @group(1) @binding(6) var<storage, read> map_params: MapParams;
 
-// Flat invocation index of a 2D dispatch of 64-wide workgroups.
+// Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
-    return gid.x + gid.y * nwg.x * 64u;
+    return gid.x + gid.y * nwg.x * WG_SIZE;
 }

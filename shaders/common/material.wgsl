@@ -57,7 +57,7 @@ fn dielectric(d: vec3<f32>, n: vec3<f32>, ior: f32) -> Dielectric {
     }
     let cos_t = sqrt(1.0 - sin2_t);
     out.refracted = normalize(eta * d + (eta * cos_i - cos_t) * nn);
-    if params.fresnel == 1u {
+    if params.fresnel == FRESNEL_SCHLICK {
         out.reflectance = fresnel_schlick(cos_i, n_i, n_t);
     } else {
         out.reflectance = fresnel_exact(cos_i, n_i, n_t);
@@ -88,11 +88,7 @@ struct Bounce {
     weight: vec3<f32>,
 }
 
-const BOUNCE_ABSORB: u32 = 0u;
-const BOUNCE_DIFFUSE: u32 = 1u;
-const BOUNCE_LOBE: u32 = 2u;
-const BOUNCE_DELTA: u32 = 3u;
-
+// Bounce.kind is one of BOUNCE_* (generated prelude, src/gpu/codes.rs).
 fn photon_bounce(m: Material, d: vec3<f32>, n: vec3<f32>, u: vec3<f32>) -> Bounce {
     let ns = select(-n, n, dot(d, n) < 0.0);
     var b = Bounce(vec3<f32>(0.0), BOUNCE_ABSORB, vec3<f32>(0.0));

@@ -1,8 +1,8 @@
 // The stored photon's packed normal and the side test of the radiance estimate; twin of
 // src/photon.rs (pack_normal, unpack_normal) and src/estimate.rs (FACING_COS, photon_faces).
 
-// Normals within 60 degrees: the same surface; beyond 120: its other side.
-const FACING_COS: f32 = 0.5;
+// FACING_COS (prelude): normals within 60 degrees are the same surface; beyond 120 its
+// other side.
 
 fn sign_not_zero(v: vec2<f32>) -> vec2<f32> {
     return select(vec2<f32>(-1.0), vec2<f32>(1.0), v >= vec2<f32>(0.0));

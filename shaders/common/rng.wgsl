@@ -1,8 +1,5 @@
 // Counter-based RNG, the twin of src/rng.rs (tests/gpu_oracle.rs checks bit equality).
-
-const STREAM_PHOTON: u32 = 1u;
-const STREAM_CAUSTIC: u32 = 2u;
-const STREAM_CAMERA: u32 = 3u;
+// The STREAM_* ids come from the generated prelude (src/rng.rs Stream).
 
 fn pcg_hash(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;

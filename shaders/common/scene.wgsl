@@ -1,5 +1,5 @@
 // Group 0: the scene, bound read-only by every kernel, and the loop budget that keeps every
-// invocation well below lavapipe's 65,535 loop iterations (see DEVELOPERS.md).
+// invocation well below lavapipe's 65,535 loop iterations (see LOOP_BUDGET below).
 
 @group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(1) var<storage, read> spheres: array<Sphere>;

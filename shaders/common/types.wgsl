@@ -115,29 +115,5 @@ struct MapParams {
     radius2: f32,
 }
 
-const MAT_DIFFUSE: u32 = 0u;
-const MAT_GLOSSY: u32 = 1u;
-const MAT_MIRROR: u32 = 2u;
-const MAT_GLASS: u32 = 3u;
-const MAT_BLACK: u32 = 4u;
-
-const LIGHT_POINT: u32 = 0u;
-const LIGHT_TRIANGLES: u32 = 1u;
-const LIGHT_SPHERE: u32 = 2u;
-
-const NO_LIGHT: u32 = 0xffffffffu;
-const SPHERE_BIT: u32 = 0x80000000u;
-const FLAG_CAUSTIC: u32 = 256u;
-const DEPTH_MASK: u32 = 255u;
-
-// Params.terms bits: which terms a mode adds at a diffuse or glossy hit (src/cpu/gather.rs).
-const TERM_DIRECT: u32 = 1u;
-const TERM_POINT_LOBE: u32 = 2u;
-const TERM_LOBE_RAY: u32 = 4u;
-
-const PI: f32 = 3.14159265358979;
-
-// Indices into the stats buffer (counted when a bound is hit).
-const STAT_PHOTON_OVERFLOW: u32 = 0u;
-const STAT_LOOP_BUDGET: u32 = 1u;
-const STAT_GATHER_TRUNCATED: u32 = 2u;
+// The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)
+// are generated from src/gpu/codes.rs into the prelude every kernel starts with.

@@ -7,7 +7,8 @@ use std::sync::{Arc, Mutex};
 /// says so.
 pub const MAX_BINDING: u64 = 128 << 20;
 
-/// A device ready for compute work.
+/// A device ready for compute work (a handle: clones share the device).
+#[derive(Clone)]
 pub struct GpuContext {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,

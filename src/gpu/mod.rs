@@ -1,13 +1,30 @@
 //! The GPU backend: WGSL compute kernels through wgpu (Vulkan), from an H100 down to Mesa
 //! lavapipe. Photon tracing, the hash-grid build and the gather all run on the device; the
-//! image is read back once at the end.
+//! image is read back once per pass. `GpuRenderer` is the backend's `session::PassRenderer`.
+//!
+//! Layers, each module importing only those above it in this list:
+//! `codes` (shared constants, the WGSL prelude), `types` (Gpu* twins of WGSL structs),
+//! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
+//! `buffers`, `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
+//! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`, `pass`,
+//! then `renderer` and `probe` (tests' oracle probes).
 
+pub mod bindings;
+pub mod buffers;
+pub mod codes;
 pub mod context;
 pub mod grid;
+pub mod host;
+pub mod maps;
+pub mod pass;
+pub mod photon_maps;
+pub mod pipelines;
 pub mod probe;
-pub mod render;
+pub mod renderer;
+pub mod run;
+pub mod scene_buffers;
 pub mod shaders;
 pub mod types;
 
 pub use context::{hardware_adapter, list_adapters, GpuContext};
-pub use render::render;
+pub use renderer::GpuRenderer;

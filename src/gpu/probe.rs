@@ -1,10 +1,15 @@
 //! Oracle probes: run single kernels on chosen inputs so tests can compare them with the
-//! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate).
+//! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate). The probe
+//! entry points live in shaders/probes.wgsl; the set-up is the render's own (`GpuRun`).
 
+use super::bindings::GATHER_GROUP;
+use super::buffers::{grid_2d, read_back};
+use super::codes::{STATS_LEN, WG_SIZE};
 use super::context::GpuContext;
-use super::render::{bind_group_for_gather, read_back, GpuRun};
-use super::types::GpuMapParams;
-use crate::error::Result;
+use super::pipelines::{pipeline_layout, shader_module};
+use super::run::GpuRun;
+use super::shaders::Kernel;
+use crate::error::{Error, Result};
 use crate::photon::Photon;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -12,16 +17,16 @@ use crate::settings::RenderSettings;
 /// `(path_key, draw_u32, to_unit bits, pcg_hash(i))` for i < n, from WGSL, with the key's
 /// stream `1 + i % 4` and dimension `i % 9`.
 pub fn rng_values(ctx: &GpuContext, seed: u32, pass: u32, n: u32) -> Result<Vec<[u32; 4]>> {
-    let scene = crate::scene::Scene::empty();
+    let scene = Scene::empty();
     let settings = RenderSettings {
         width: n,
         height: 1,
         seed,
         ..Default::default()
     };
-    let run = GpuRun::new(ctx, &scene, &settings, pass)?;
+    let run = GpuRun::new(ctx.clone(), &scene, &settings, pass)?;
     let accum = run.accum_buffer(n as u64 * 16);
-    let out = run.dispatch_probe("probe_rng", &accum, n, None)?;
+    let out = dispatch_probe(&run, "probe_rng", &accum, n, None)?;
     Ok(bytemuck::cast_slice::<[f32; 4], [u32; 4]>(&out).to_vec())
 }
 
@@ -32,8 +37,8 @@ pub fn build_grid(
     cell_size: f32,
     table_size: u32,
 ) -> Result<(Vec<u32>, Vec<Photon>)> {
-    let scene = crate::scene::Scene::empty();
-    let run = GpuRun::new(ctx, &scene, &RenderSettings::default(), 0)?;
+    let scene = Scene::empty();
+    let run = GpuRun::new(ctx.clone(), &scene, &RenderSettings::default(), 0)?;
     let map = run.upload_map(photons, cell_size, table_size, 1.0)?;
     let starts: Vec<u32> = read_back(ctx, &map.cell_start, 4 * (table_size as u64 + 1))?;
     let sorted: Vec<Photon> = read_back(
@@ -63,13 +68,9 @@ pub fn estimate(
         radius,
         ..Default::default()
     };
-    let run = GpuRun::new(ctx, &scene, &settings, 0)?;
-    let map = run.upload_map(
-        photons,
-        cell_size,
-        super::grid::table_size_for(photons.len() as u32, ctx.max_binding),
-        radius * radius,
-    )?;
+    let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
+    let table = super::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * queries.len()];
     for (i, (p, nrm)) in queries.iter().enumerate() {
         init[i] = [p[0], p[1], p[2], 0.0];
@@ -79,9 +80,9 @@ pub fn estimate(
     ctx.queue
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
-    let bg = bind_group_for_gather(ctx, &run.layouts, &map, &empty, &accum);
-    let out = run.dispatch_probe("probe_knn", &accum, n, Some(&bg))?;
-    let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, 16)?;
+    let bg = run.gather_bind_group(&map, &empty, &accum);
+    let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg))?;
+    let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     Ok((
         out[2 * queries.len()..]
             .iter()
@@ -91,16 +92,60 @@ pub fn estimate(
     ))
 }
 
-/// Map parameters of a probe map.
-pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -> GpuMapParams {
-    GpuMapParams {
-        stream: 0,
-        paths: n.max(1),
-        capacity: n.max(1),
-        table_size,
-        cell_size,
-        is_caustic: 0,
-        drop_flags: 0,
-        radius2,
+/// Runs the probe entry point `entry` over `n` invocations (WG_SIZE-wide) with group 1 `bg`
+/// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline keeps the
+/// WGSL defaults of the override constants.
+fn dispatch_probe(
+    run: &GpuRun,
+    entry: &str,
+    accum: &wgpu::Buffer,
+    n: u32,
+    bg: Option<&wgpu::BindGroup>,
+) -> Result<Vec<[f32; 4]>> {
+    debug_assert_eq!(GATHER_GROUP.group, 1);
+    let dev = &run.ctx.device;
+    let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = shader_module(dev, Kernel::Probes);
+    let layout = pipeline_layout(
+        dev,
+        "probe pipeline layout",
+        &run.layouts,
+        &run.layouts.gather,
+    );
+    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(&layout),
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(Error::Gpu(format!("probe pipeline: {e}")));
     }
+    let owned;
+    let bg = match bg {
+        Some(b) => b,
+        None => {
+            let (g, c) = (run.empty_map(false), run.empty_map(true));
+            owned = run.gather_bind_group(&g, &c, accum);
+            &owned
+        }
+    };
+    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("probe"),
+    });
+    {
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("probe"),
+            timestamp_writes: None,
+        });
+        cp.set_pipeline(&pipeline);
+        cp.set_bind_group(0, &run.scene_buffers.bind_group, &[0]);
+        cp.set_bind_group(1, bg, &[]);
+        let (x, y) = grid_2d(n.div_ceil(WG_SIZE));
+        cp.dispatch_workgroups(x, y, 1);
+    }
+    run.ctx.queue.submit([enc.finish()]);
+    read_back(&run.ctx, accum, accum.size())
 }

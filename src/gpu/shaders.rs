@@ -1,13 +1,21 @@
-//! Shader composition: each kernel is its own file in `shaders/`, prefixed by the shared
-//! libraries of `shaders/common/` in a fixed order (no text substitution inside a kernel;
-//! scene features reach WGSL as pipeline-overridable constants).
+//! Shader composition: each kernel family is its own file in `shaders/`, preceded by the
+//! prelude of shared constants generated from Rust (`codes::wgsl_prelude`) and the libraries
+//! of `shaders/common/` in a fixed order. No text substitution inside a kernel; scene features
+//! reach WGSL as pipeline-overridable constants.
 
-/// The compute kernels of the GPU backend.
+use super::codes::wgsl_prelude;
+
+/// The compute kernel families (WGSL modules) of the GPU backend.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kernel {
+    /// `shaders/trace_photons.wgsl`: photon paths into a map's photon buffer.
     TracePhotons,
+    /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid.
     BuildGrid,
+    /// `shaders/gather.wgsl`: the camera pass and the radiance estimate.
     Gather,
+    /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
+    Probes,
 }
 
 const TYPES: &str = include_str!("../../shaders/common/types.wgsl");
@@ -20,30 +28,77 @@ const MATERIAL: &str = include_str!("../../shaders/common/material.wgsl");
 const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
+const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
+const PROBES: &str = include_str!("../../shaders/probes.wgsl");
+
+/// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
+pub const WGSL_FILES: [(&str, &str); 15] = [
+    ("common/types.wgsl", TYPES),
+    ("common/photon.wgsl", PHOTON),
+    ("common/rng.wgsl", RNG),
+    ("common/sampling.wgsl", SAMPLING),
+    ("common/scene.wgsl", SCENE),
+    ("common/intersect.wgsl", INTERSECT),
+    ("common/material.wgsl", MATERIAL),
+    ("common/light.wgsl", LIGHT),
+    ("common/grid.wgsl", GRID),
+    ("common/map.wgsl", MAP),
+    ("common/estimate.wgsl", ESTIMATE),
+    ("trace_photons.wgsl", TRACE_PHOTONS),
+    ("build_grid.wgsl", BUILD_GRID),
+    ("gather.wgsl", GATHER),
+    ("probes.wgsl", PROBES),
+];
 
 impl Kernel {
-    pub const ALL: [Kernel; 3] = [Kernel::TracePhotons, Kernel::BuildGrid, Kernel::Gather];
+    /// Every kernel family.
+    pub const ALL: [Kernel; 4] = [
+        Kernel::TracePhotons,
+        Kernel::BuildGrid,
+        Kernel::Gather,
+        Kernel::Probes,
+    ];
 
+    /// The module's name (its WGSL file's stem; the shader module's label).
     pub fn name(self) -> &'static str {
         match self {
             Kernel::TracePhotons => "trace_photons",
             Kernel::BuildGrid => "build_grid",
             Kernel::Gather => "gather",
+            Kernel::Probes => "probes",
         }
     }
 
-    /// The composed WGSL source of this kernel's module.
+    /// The entry points the host creates pipelines for.
+    pub fn entry_points(self) -> &'static [&'static str] {
+        match self {
+            Kernel::TracePhotons => &["trace_photons"],
+            Kernel::BuildGrid => &[
+                "count_cells",
+                "scan_blocks",
+                "scan_sums",
+                "add_offsets",
+                "scatter",
+            ],
+            Kernel::Gather => &["gather"],
+            Kernel::Probes => &["probe_rng", "probe_knn"],
+        }
+    }
+
+    /// The composed WGSL source of this kernel's module: prelude, libraries, own files.
     pub fn source(self) -> String {
+        let prelude = wgsl_prelude();
         let libs: &[&str] = &[
-            TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
+            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
         ];
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
-            Kernel::Gather => &[GATHER],
+            Kernel::Gather => &[ESTIMATE, GATHER],
+            Kernel::Probes => &[ESTIMATE, PROBES],
         };
         libs.iter()
             .chain(own)

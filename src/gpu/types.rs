@@ -2,9 +2,11 @@
 //! field for field (`BvhNode` and `Photon` live in src/bvh.rs and src/photon.rs).
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
-use crate::scene::{LightShape, Material, MaterialKind, Scene, Sphere, Triangle};
+use super::codes::{material_code, LIGHT_POINT, LIGHT_SPHERE, LIGHT_TRIANGLES};
+use crate::scene::{LightShape, Material, Scene, Sphere, Triangle};
 use bytemuck::{Pod, Zeroable};
 
+/// Twin of WGSL `Triangle`: a triangle's vertices, material and light (NO_LIGHT if none).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuTriangle {
@@ -16,6 +18,7 @@ pub struct GpuTriangle {
     pub _pad: u32,
 }
 
+/// Twin of WGSL `Sphere`: an analytic sphere with its material and light.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuSphere {
@@ -27,6 +30,7 @@ pub struct GpuSphere {
     pub _pad1: u32,
 }
 
+/// Twin of WGSL `Material`: the BSDF parameters; `kind` is a MAT_* code.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -42,6 +46,7 @@ pub struct GpuMaterial {
     pub _pad2: u32,
 }
 
+/// Twin of WGSL `Light`: a light's sampling data (`kind` a LIGHT_* code) and its photon budgets.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
@@ -63,6 +68,7 @@ pub struct GpuLight {
     pub _pad2: u32,
 }
 
+/// Twin of WGSL `Aabb`: a specular surface's bounds that caustic photons aim at.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuAabb {
@@ -72,6 +78,7 @@ pub struct GpuAabb {
     pub _pad1: u32,
 }
 
+/// Twin of WGSL `Params`: the per-sample parameters of a pass (read-only storage, one slot per sample).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuParams {
@@ -101,6 +108,7 @@ pub struct GpuParams {
     pub _pad2: u32,
 }
 
+/// Twin of WGSL `MapParams`: what one photon map traces and how its hash grid is laid out.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMapParams {
@@ -112,17 +120,6 @@ pub struct GpuMapParams {
     pub is_caustic: u32,
     pub drop_flags: u32,
     pub radius2: f32,
-}
-
-/// WGSL `MAT_*` codes.
-pub fn material_code(kind: MaterialKind) -> u32 {
-    match kind {
-        MaterialKind::Diffuse => 0,
-        MaterialKind::Glossy => 1,
-        MaterialKind::Mirror => 2,
-        MaterialKind::Glass => 3,
-        MaterialKind::Black => 4,
-    }
 }
 
 impl From<&Triangle> for GpuTriangle {
@@ -183,17 +180,17 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
                     position,
                     intensity,
                 } => {
-                    g.kind = 0;
+                    g.kind = LIGHT_POINT;
                     g.position = position.to_array();
                     g.intensity = intensity.to_array();
                 }
                 LightShape::Triangles { first, count } => {
-                    g.kind = 1;
+                    g.kind = LIGHT_TRIANGLES;
                     g.first = first;
                     g.count = count;
                 }
                 LightShape::Sphere { index } => {
-                    g.kind = 2;
+                    g.kind = LIGHT_SPHERE;
                     g.first = index;
                 }
             }

@@ -1,0 +1,33 @@
+// Oracle probes for tests/gpu_oracle.rs, never used by a render: single library functions
+// (the RNG, the K-nearest estimate) run on chosen inputs so a test can compare them with their
+// Rust twins. Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per value.
+// Writes: accum[] as each entry point says. Composed after common/estimate.wgsl.
+
+@group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
+
+// probe_rng: accum[i] = (path_key(seed, 1 + i % 4, pass, i), draw_u32(key, i % 9),
+// bits of to_unit(draw), pcg_hash(i)) as raw bits, for i < width.
+@compute @workgroup_size(WG_SIZE)
+fn probe_rng(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let key = path_key(params.seed, 1u + i % 4u, params.pass_index, i);
+    let bits = draw_u32(key, i % 9u);
+    accum[i] = bitcast<vec4<f32>>(vec4<u32>(key, bits, bitcast<u32>(to_unit(bits)), pcg_hash(i)));
+}
+
+// probe_knn: for query i < width, position accum[i].xyz and normal accum[width + i].xyz,
+// writes the global map's estimate with f = 1 and the neighbour count to accum[2 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_knn(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let x = accum[i].xyz;
+    let ns = accum[params.width + i].xyz;
+    let l = estimate(0u, x, ns, vec3<f32>(1.0));
+    accum[2u * params.width + i] = vec4<f32>(l, f32(last_found));
+}

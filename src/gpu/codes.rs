@@ -1,0 +1,193 @@
+//! The numbers Rust and WGSL share: material, light, filter, Fresnel and bounce codes, the
+//! bits of `Params.terms` and `MapParams.drop_flags`, stats indices, workgroup sizes and the
+//! gather's bounds. Each is declared here once; [`wgsl_prelude`] writes them as WGSL `const`
+//! declarations that `shaders.rs` puts before every kernel, so no WGSL file types one by hand
+//! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
+
+use crate::scene::MaterialKind;
+use crate::settings::{Filter, FresnelMode};
+
+/// `Material.kind` of a diffuse surface.
+pub const MAT_DIFFUSE: u32 = 0;
+/// `Material.kind` of a glossy (Phong lobe) surface.
+pub const MAT_GLOSSY: u32 = 1;
+/// `Material.kind` of a perfect mirror.
+pub const MAT_MIRROR: u32 = 2;
+/// `Material.kind` of a dielectric.
+pub const MAT_GLASS: u32 = 3;
+/// `Material.kind` of an absorber.
+pub const MAT_BLACK: u32 = 4;
+
+/// `Light.kind` of a point light.
+pub const LIGHT_POINT: u32 = 0;
+/// `Light.kind` of an emitting triangle group.
+pub const LIGHT_TRIANGLES: u32 = 1;
+/// `Light.kind` of an emitting sphere.
+pub const LIGHT_SPHERE: u32 = 2;
+
+/// `Params.filter_kind` of the disc (constant) kernel.
+pub const FILTER_DISC: u32 = 0;
+/// `Params.filter_kind` of the cone kernel.
+pub const FILTER_CONE: u32 = 1;
+/// `Params.filter_kind` of the Epanechnikov kernel.
+pub const FILTER_EPANECHNIKOV: u32 = 2;
+
+/// `Params.fresnel` for the exact Fresnel equations.
+pub const FRESNEL_EXACT: u32 = 0;
+/// `Params.fresnel` for Schlick's approximation.
+pub const FRESNEL_SCHLICK: u32 = 1;
+
+/// `Bounce.kind` (shaders/common/material.wgsl): the photon is absorbed.
+pub const BOUNCE_ABSORB: u32 = 0;
+/// `Bounce.kind`: diffuse reflection.
+pub const BOUNCE_DIFFUSE: u32 = 1;
+/// `Bounce.kind`: a direction from the glossy lobe.
+pub const BOUNCE_LOBE: u32 = 2;
+/// `Bounce.kind`: a delta (mirror or glass) bounce; the path stays specular.
+pub const BOUNCE_DELTA: u32 = 3;
+
+/// `Params.terms` bit: shadow rays (`plan::Terms::direct`).
+pub const TERM_DIRECT: u32 = 1;
+/// `Params.terms` bit: the glossy lobe for point lights (`plan::Terms::point_lobe`).
+pub const TERM_POINT_LOBE: u32 = 2;
+/// `Params.terms` bit: a ray sampled from the glossy lobe (`plan::Terms::lobe_ray`).
+pub const TERM_LOBE_RAY: u32 = 4;
+
+/// `MapParams.drop_flags` bit: drop direct photons (`plan::GlobalFilter::drop_direct`).
+pub const DROP_DIRECT: u32 = 1;
+/// `MapParams.drop_flags` bit: drop L S+ D photons (`plan::GlobalFilter::drop_caustic`).
+pub const DROP_CAUSTIC: u32 = 2;
+
+/// Index of the stats buffer: photons dropped because a map was full.
+pub const STAT_PHOTON_OVERFLOW: u32 = 0;
+/// Index of the stats buffer: invocations that exhausted their loop budget.
+pub const STAT_LOOP_BUDGET: u32 = 1;
+/// Index of the stats buffer: estimates cut at their cell or visit bound.
+pub const STAT_GATHER_TRUNCATED: u32 = 2;
+/// Length of the stats buffer in u32 counters.
+pub const STATS_LEN: usize = 4;
+
+/// Workgroup width of the one-dimensional kernels (tracing, grid build, probes).
+pub const WG_SIZE: u32 = 64;
+/// Workgroup width of the grid's scan kernels: cells per scan block.
+pub const SCAN_BLOCK: u32 = 256;
+/// The gather's workgroups are GATHER_TILE x GATHER_TILE pixels.
+pub const GATHER_TILE: u32 = 8;
+
+/// Largest K the gather kernel's heap holds.
+pub const MAX_HEAP: u32 = 256;
+/// Grid cells one K-nearest search may visit: 11^3, rings 0..=5 (`grid::cell_size_for`
+/// keeps cells at least radius / 5 wide so the radius fits in them).
+pub const MAX_CELLS: u32 = 1331;
+/// Entries of the WGSL BVH traversal stack: as many as the CPU traversal's.
+pub const BVH_STACK: u32 = crate::bvh::MAX_DEPTH as u32 + 2;
+
+/// The WGSL code of a material kind.
+pub fn material_code(kind: MaterialKind) -> u32 {
+    match kind {
+        MaterialKind::Diffuse => MAT_DIFFUSE,
+        MaterialKind::Glossy => MAT_GLOSSY,
+        MaterialKind::Mirror => MAT_MIRROR,
+        MaterialKind::Glass => MAT_GLASS,
+        MaterialKind::Black => MAT_BLACK,
+    }
+}
+
+/// The WGSL code of a density-estimation filter.
+pub fn filter_code(filter: Filter) -> u32 {
+    match filter {
+        Filter::Disc => FILTER_DISC,
+        Filter::Cone => FILTER_CONE,
+        Filter::Epanechnikov => FILTER_EPANECHNIKOV,
+    }
+}
+
+/// The WGSL code of a Fresnel mode.
+pub fn fresnel_code(mode: FresnelMode) -> u32 {
+    match mode {
+        FresnelMode::Exact => FRESNEL_EXACT,
+        FresnelMode::Schlick => FRESNEL_SCHLICK,
+    }
+}
+
+/// The value of a shared constant, typed as WGSL declares it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WgslValue {
+    /// A `u32`.
+    U32(u32),
+    /// An `f32`.
+    F32(f32),
+}
+
+impl WgslValue {
+    /// The WGSL type and literal: `u32 = 5u`, `f32 = 0.5f` (the shortest decimal that reads
+    /// back as the same f32).
+    fn declaration(self) -> String {
+        match self {
+            WgslValue::U32(v) => format!("u32 = {v}u"),
+            WgslValue::F32(v) => format!("f32 = {v:?}f"),
+        }
+    }
+}
+
+/// Every constant of the WGSL prelude: (WGSL name, value).
+pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
+    use crate::rng::Stream;
+    use WgslValue::{F32, U32};
+    vec![
+        ("MAT_DIFFUSE", U32(MAT_DIFFUSE)),
+        ("MAT_GLOSSY", U32(MAT_GLOSSY)),
+        ("MAT_MIRROR", U32(MAT_MIRROR)),
+        ("MAT_GLASS", U32(MAT_GLASS)),
+        ("MAT_BLACK", U32(MAT_BLACK)),
+        ("LIGHT_POINT", U32(LIGHT_POINT)),
+        ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
+        ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
+        ("FILTER_DISC", U32(FILTER_DISC)),
+        ("FILTER_CONE", U32(FILTER_CONE)),
+        ("FILTER_EPANECHNIKOV", U32(FILTER_EPANECHNIKOV)),
+        ("FRESNEL_EXACT", U32(FRESNEL_EXACT)),
+        ("FRESNEL_SCHLICK", U32(FRESNEL_SCHLICK)),
+        ("BOUNCE_ABSORB", U32(BOUNCE_ABSORB)),
+        ("BOUNCE_DIFFUSE", U32(BOUNCE_DIFFUSE)),
+        ("BOUNCE_LOBE", U32(BOUNCE_LOBE)),
+        ("BOUNCE_DELTA", U32(BOUNCE_DELTA)),
+        ("TERM_DIRECT", U32(TERM_DIRECT)),
+        ("TERM_POINT_LOBE", U32(TERM_POINT_LOBE)),
+        ("TERM_LOBE_RAY", U32(TERM_LOBE_RAY)),
+        ("DROP_DIRECT", U32(DROP_DIRECT)),
+        ("DROP_CAUSTIC", U32(DROP_CAUSTIC)),
+        ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
+        ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
+        ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
+        ("WG_SIZE", U32(WG_SIZE)),
+        ("SCAN_BLOCK", U32(SCAN_BLOCK)),
+        ("GATHER_TILE", U32(GATHER_TILE)),
+        ("MAX_HEAP", U32(MAX_HEAP)),
+        ("MAX_CELLS", U32(MAX_CELLS)),
+        ("BVH_STACK", U32(BVH_STACK)),
+        ("STREAM_PHOTON", U32(Stream::Photon as u32)),
+        ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
+        ("STREAM_CAMERA", U32(Stream::Camera as u32)),
+        ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
+        ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
+        ("FLAG_CAUSTIC", U32(crate::photon::FLAG_CAUSTIC)),
+        ("DEPTH_MASK", U32(crate::photon::DEPTH_MASK)),
+        ("OFFSET_SCALE", F32(crate::geometry::OFFSET_SCALE)),
+        ("OFFSET_FLOOR", F32(crate::geometry::OFFSET_FLOOR)),
+        ("BOX_SLACK", F32(crate::geometry::BOX_SLACK)),
+        ("FACING_COS", F32(crate::estimate::FACING_COS)),
+        ("PI", F32(std::f32::consts::PI)),
+    ]
+}
+
+/// The WGSL prelude: one `const` declaration per shared constant.
+pub fn wgsl_prelude() -> String {
+    let mut out = String::from(
+        "// Generated from src/gpu/codes.rs (shared_constants): do not declare these in WGSL.\n",
+    );
+    for (name, value) in shared_constants() {
+        out.push_str(&format!("const {name}: {};\n", value.declaration()));
+    }
+    out
+}

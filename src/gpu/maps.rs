@@ -1,0 +1,158 @@
+//! One photon map on the device: its buffers, its group-1 bind group, and the recording of
+//! its tracing and hash-grid build (count, scan, offsets, scatter) into the caller's encoder.
+
+use super::bindings::{bind_group, Layouts, MAP_GROUP};
+use super::buffers::{empty_buffer, grid_2d};
+use super::codes::{SCAN_BLOCK, WG_SIZE};
+use super::context::GpuContext;
+use super::pipelines::Pipelines;
+use super::types::GpuMapParams;
+use crate::photon::Photon;
+use wgpu::util::DeviceExt;
+
+/// Parameters of an absent map (`paths == 0`: the gather skips it).
+pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
+    stream: 0,
+    paths: 0,
+    capacity: 1,
+    table_size: SCAN_BLOCK,
+    cell_size: 1.0,
+    is_caustic: 0,
+    drop_flags: 0,
+    radius2: 0.0,
+};
+
+/// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped).
+pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -> GpuMapParams {
+    GpuMapParams {
+        stream: 0,
+        paths: n.max(1),
+        capacity: n.max(1),
+        table_size,
+        cell_size,
+        is_caustic: 0,
+        drop_flags: 0,
+        radius2,
+    }
+}
+
+/// One photon map on the device: the traced photons, the hash grid and its parameters.
+pub struct MapBuffers {
+    /// The parameters last written to `params_buf`.
+    pub params: GpuMapParams,
+    /// Photons in the order tracing stored them (`photons`).
+    pub photons: wgpu::Buffer,
+    /// `counters[0]`: photons stored (may pass the capacity; the excess is dropped).
+    pub counters: wgpu::Buffer,
+    /// Photons per grid cell (`cell_count`).
+    pub cell_count: wgpu::Buffer,
+    /// First sorted photon of each cell, and the total at `table_size` (`cell_start`).
+    pub cell_start: wgpu::Buffer,
+    /// Photons sorted by cell (`sorted`).
+    pub sorted: wgpu::Buffer,
+    /// The scan's per-block sums (`block_sums`).
+    pub block_sums: wgpu::Buffer,
+    /// `params` on the device (`map_params`).
+    pub params_buf: wgpu::Buffer,
+    /// The map-building kernels' group 1 over these buffers.
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl MapBuffers {
+    /// Allocates a map of `params.capacity` photons and `params.table_size` cells.
+    pub fn new(ctx: &GpuContext, layouts: &Layouts, label: &str, params: GpuMapParams) -> Self {
+        let dev = &ctx.device;
+        let rw = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC;
+        let photon_bytes = params.capacity as u64 * std::mem::size_of::<Photon>() as u64;
+        let t = params.table_size as u64;
+        let photons = empty_buffer(dev, &format!("{label} photons"), photon_bytes, rw);
+        let counters = empty_buffer(dev, &format!("{label} counters"), 16, rw);
+        let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);
+        let cell_start = empty_buffer(dev, &format!("{label} cell starts"), 4 * (t + 1), rw);
+        let sorted = empty_buffer(dev, &format!("{label} sorted photons"), photon_bytes, rw);
+        let blocks = t.div_ceil(SCAN_BLOCK as u64);
+        let block_sums = empty_buffer(dev, &format!("{label} block sums"), 4 * blocks, rw);
+        let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(&format!("{label} map params")),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = bind_group(
+            dev,
+            &format!("{label} map bind group"),
+            &layouts.map,
+            &MAP_GROUP,
+            vec![
+                ("photons", photons.as_entire_binding()),
+                ("counters", counters.as_entire_binding()),
+                ("cell_count", cell_count.as_entire_binding()),
+                ("cell_start", cell_start.as_entire_binding()),
+                ("sorted", sorted.as_entire_binding()),
+                ("block_sums", block_sums.as_entire_binding()),
+                ("map_params", params_buf.as_entire_binding()),
+            ],
+        );
+        MapBuffers {
+            params,
+            photons,
+            counters,
+            cell_count,
+            cell_start,
+            sorted,
+            block_sums,
+            params_buf,
+            bind_group,
+        }
+    }
+
+    /// Rewrites the map's parameters on the device.
+    pub fn set_params(&mut self, ctx: &GpuContext, p: GpuMapParams) {
+        ctx.queue
+            .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&p));
+        self.params = p;
+    }
+
+    /// Records tracing this map's photons (when `trace`) and building its grid (when
+    /// `grid`) into `enc`.
+    pub fn record_build(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        p: &Pipelines,
+        scene_bg: &wgpu::BindGroup,
+        trace: bool,
+        grid: bool,
+    ) {
+        if trace {
+            enc.clear_buffer(&self.counters, 0, None);
+        }
+        if grid {
+            enc.clear_buffer(&self.cell_count, 0, None);
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("build photon map"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, scene_bg, &[0]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        let cap = self.params.capacity;
+        let t = self.params.table_size;
+        // (pipeline, invocations, workgroup width)
+        let trace_stage = [(&p.trace_photons, self.params.paths, WG_SIZE)];
+        let grid_stages = [
+            (&p.count_cells, cap, WG_SIZE),
+            (&p.scan_blocks, t, SCAN_BLOCK),
+            (&p.scan_sums, SCAN_BLOCK, SCAN_BLOCK),
+            (&p.add_offsets, t, WG_SIZE),
+            (&p.scatter, cap, WG_SIZE),
+        ];
+        let stages = if trace { &trace_stage[..] } else { &[] };
+        let grid_stages = if grid { &grid_stages[..] } else { &[] };
+        for &(pipeline, n, wg) in stages.iter().chain(grid_stages) {
+            pass.set_pipeline(pipeline);
+            let (x, y) = grid_2d(n.div_ceil(wg));
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+}

@@ -1,0 +1,111 @@
+//! The compute pipelines of a render, each created once, specialised to the scene's features
+//! and the device's loop budget through WGSL override constants.
+
+use super::bindings::Layouts;
+use super::context::GpuContext;
+use super::shaders::Kernel;
+use crate::error::{Error, Result};
+use crate::scene::Scene;
+
+/// Per-lane loop budget on a CPU device (lavapipe): 65,535 iterations per 8-lane SIMD group
+/// (`LOOP_BUDGET` in shaders/common/scene.wgsl explains the bound; it is also the WGSL
+/// default, which the probes use).
+pub const CPU_DEVICE_LOOP_BUDGET: u32 = 8000;
+/// Loop budget on devices without lavapipe's cut: a guard against runaway loops only.
+pub const GPU_DEVICE_LOOP_BUDGET: u32 = 1_000_000;
+
+/// Scene features and the device's loop budget as pipeline-overridable constants.
+pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&'static str, f64)> {
+    let budget = if device_type == wgpu::DeviceType::Cpu {
+        CPU_DEVICE_LOOP_BUDGET
+    } else {
+        GPU_DEVICE_LOOP_BUDGET
+    };
+    vec![
+        ("LOOP_BUDGET", budget as f64),
+        ("HAS_GLASS", scene.has_glass() as u32 as f64),
+        ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
+        ("HAS_POINT_LIGHTS", scene.has_point_lights() as u32 as f64),
+    ]
+}
+
+/// The compute pipelines of a render, each created once.
+pub struct Pipelines {
+    /// `trace_photons` (shaders/trace_photons.wgsl).
+    pub trace_photons: wgpu::ComputePipeline,
+    /// `count_cells` (shaders/build_grid.wgsl).
+    pub count_cells: wgpu::ComputePipeline,
+    /// `scan_blocks` (shaders/build_grid.wgsl).
+    pub scan_blocks: wgpu::ComputePipeline,
+    /// `scan_sums` (shaders/build_grid.wgsl).
+    pub scan_sums: wgpu::ComputePipeline,
+    /// `add_offsets` (shaders/build_grid.wgsl).
+    pub add_offsets: wgpu::ComputePipeline,
+    /// `scatter` (shaders/build_grid.wgsl).
+    pub scatter: wgpu::ComputePipeline,
+    /// `gather` (shaders/gather.wgsl).
+    pub gather: wgpu::ComputePipeline,
+}
+
+/// The shader module of `kernel`, labelled with its name.
+pub fn shader_module(dev: &wgpu::Device, kernel: Kernel) -> wgpu::ShaderModule {
+    dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(kernel.name()),
+        source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
+    })
+}
+
+/// The pipeline layout of groups 0 (scene) and 1 (`group1`).
+pub fn pipeline_layout(
+    dev: &wgpu::Device,
+    label: &str,
+    layouts: &Layouts,
+    group1: &wgpu::BindGroupLayout,
+) -> wgpu::PipelineLayout {
+    dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(&layouts.scene), Some(group1)],
+        immediate_size: 0,
+    })
+}
+
+impl Pipelines {
+    /// Compiles every kernel's pipelines with the override constants `constants`; a shader
+    /// or layout error is returned, not raised.
+    pub fn new(ctx: &GpuContext, layouts: &Layouts, constants: &[(&str, f64)]) -> Result<Self> {
+        let dev = &ctx.device;
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let map_layout = pipeline_layout(dev, "photon map pipeline layout", layouts, &layouts.map);
+        let gather_layout =
+            pipeline_layout(dev, "gather pipeline layout", layouts, &layouts.gather);
+        let pipeline = |m: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, entry: &str| {
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(layout),
+                module: m,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    zero_initialize_workgroup_memory: true,
+                },
+                cache: None,
+            })
+        };
+        let trace = shader_module(dev, Kernel::TracePhotons);
+        let grid = shader_module(dev, Kernel::BuildGrid);
+        let gather = shader_module(dev, Kernel::Gather);
+        let p = Pipelines {
+            trace_photons: pipeline(&trace, &map_layout, "trace_photons"),
+            count_cells: pipeline(&grid, &map_layout, "count_cells"),
+            scan_blocks: pipeline(&grid, &map_layout, "scan_blocks"),
+            scan_sums: pipeline(&grid, &map_layout, "scan_sums"),
+            add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
+            scatter: pipeline(&grid, &map_layout, "scatter"),
+            gather: pipeline(&gather, &gather_layout, "gather"),
+        };
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!("pipeline creation failed: {e}")));
+        }
+        Ok(p)
+    }
+}

@@ -1,0 +1,93 @@
+//! The GPU backend's renderer: opens the device, checks its limits, uploads the scene and
+//! creates the pipelines once per render, then renders pass after pass
+//! (`session::PassRenderer`).
+
+use super::buffers::read_back;
+use super::codes::{MAX_HEAP, STATS_LEN};
+use super::context::GpuContext;
+use super::run::GpuRun;
+use crate::error::{Error, Result};
+use crate::film::Image;
+use crate::report::{Progress, RenderReport};
+use crate::scene::Scene;
+use crate::session::PassRenderer;
+use crate::settings::RenderSettings;
+use std::time::Instant;
+
+/// A render on the GPU: the device, the scene's buffers, the pipelines and the image
+/// accumulator, built once; then one `pass` per photon pass.
+pub struct GpuRenderer<'s> {
+    scene: &'s Scene,
+    run: GpuRun,
+    accum: wgpu::Buffer,
+    /// Phases and counts of the passes so far, as recorded.
+    report: RenderReport,
+}
+
+/// Fails when `k` exceeds the gather heap.
+fn check_k(s: &RenderSettings) -> Result<()> {
+    if s.k > MAX_HEAP {
+        return Err(Error::Setting {
+            field: "k",
+            message: format!("{} exceeds the GPU backend's limit of {MAX_HEAP}", s.k),
+        });
+    }
+    Ok(())
+}
+
+impl<'s> GpuRenderer<'s> {
+    /// Opens the device, checks that the image fits one storage binding, uploads `scene` and
+    /// creates every pipeline, for a render with `settings`.
+    pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
+        let s = settings;
+        let mut report = RenderReport::default();
+        let t = Instant::now();
+        let ctx = GpuContext::new()?;
+        let accum_bytes = s.width as u64 * s.height as u64 * 16;
+        if accum_bytes > ctx.max_binding {
+            return Err(Error::Gpu(format!(
+                "a {}x{} image needs {accum_bytes} bytes in one binding; the limit is {} (use --backend cpu)",
+                s.width, s.height, ctx.max_binding
+            )));
+        }
+        report.backend = ctx.describe();
+        report.phase("open device", t);
+        let t = Instant::now();
+        let run = GpuRun::new(ctx, scene, s, 0)?;
+        report.phase("upload + pipelines", t);
+        let accum = run.accum_buffer(accum_bytes);
+        Ok(GpuRenderer {
+            scene,
+            run,
+            accum,
+            report,
+        })
+    }
+}
+
+impl PassRenderer for GpuRenderer<'_> {
+    /// Renders pass `pass` with `settings` (k at most MAX_HEAP, the image size of `new`).
+    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
+        check_k(settings)?;
+        self.run.render_pass(
+            self.scene,
+            settings,
+            pass,
+            &self.accum,
+            progress,
+            &mut self.report,
+        )
+    }
+
+    /// The passes' phases (same names summed), counts and the bound counters read back.
+    fn report(&mut self) -> Result<RenderReport> {
+        let mut out = RenderReport {
+            backend: self.report.backend.clone(),
+            ..Default::default()
+        };
+        out.absorb(&self.report);
+        let stats = &self.run.scene_buffers.stats;
+        out.gpu_stats = read_back(&self.run.ctx, stats, (STATS_LEN * 4) as u64)?;
+        Ok(out)
+    }
+}

@@ -1,0 +1,184 @@
+//! What one render (or one probe) sets up on the device once: layouts, the scene's buffers,
+//! the pipelines, and the current pass's parameters and plan; plus the buffers a pass binds
+//! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
+
+use super::bindings::{bind_group, Layouts, GATHER_GROUP};
+use super::buffers::empty_buffer;
+use super::codes::SCAN_BLOCK;
+use super::context::GpuContext;
+use super::host::{budgeted_lights, gpu_params};
+use super::maps::{probe_map_params, MapBuffers};
+use super::pipelines::{feature_constants, Pipelines};
+use super::scene_buffers::SceneBuffers;
+use super::types::{GpuAabb, GpuMapParams, GpuParams};
+use crate::bvh::Bvh;
+use crate::error::Result;
+use crate::light::LightTable;
+use crate::photon::Photon;
+use crate::plan::MapPlan;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+
+/// Everything one render (or one probe) sets up on the device, once.
+pub struct GpuRun {
+    /// The device (a handle: clones share it).
+    pub ctx: GpuContext,
+    /// The bind-group layouts.
+    pub layouts: Layouts,
+    /// The scene's buffers and group 0.
+    pub scene_buffers: SceneBuffers,
+    /// Every render pipeline, created once.
+    pub pipelines: Pipelines,
+    /// The current pass's parameters (slot 0; the gather writes one slot per sample).
+    pub params: GpuParams,
+    /// The current pass's plan.
+    pub plan: MapPlan,
+    /// Maps of earlier passes, reused when a pass needs buffers of the same sizes (so
+    /// memory stays flat over passes).
+    pub map_cache: Vec<MapBuffers>,
+}
+
+impl GpuRun {
+    /// Uploads the scene and creates the pipelines, specialised to the scene's features;
+    /// `s` and `pass` give the first parameters and plan (each pass re-plans).
+    pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
+        let bvh = Bvh::build(scene);
+        let table = LightTable::new(scene);
+        let plan = MapPlan::new(scene, s);
+        let lights = budgeted_lights(scene, &table, &plan);
+        let bounds: Vec<GpuAabb> = plan
+            .caustic
+            .as_ref()
+            .map(|(_, b)| {
+                b.iter()
+                    .map(|a| GpuAabb {
+                        bmin: a.min.to_array(),
+                        bmax: a.max.to_array(),
+                        ..Default::default()
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let params = gpu_params(scene, s, pass, bounds.len() as u32);
+        let layouts = Layouts::new(&ctx.device);
+        let scene_buffers = SceneBuffers::new(
+            &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
+        );
+        let constants = feature_constants(scene, ctx.adapter.get_info().device_type);
+        let pipelines = Pipelines::new(&ctx, &layouts, &constants)?;
+        Ok(GpuRun {
+            ctx,
+            layouts,
+            scene_buffers,
+            pipelines,
+            params,
+            plan,
+            map_cache: Vec::new(),
+        })
+    }
+
+    /// Re-plans the photon budgets for settings `s` and pass index `pass` (the RNG's pass),
+    /// rewriting the lights and parameters on the device; pipelines and geometry stay.
+    pub fn configure_pass(&mut self, scene: &Scene, s: &RenderSettings, pass: u32) {
+        let table = LightTable::new(scene);
+        let plan = MapPlan::new(scene, s);
+        let lights = budgeted_lights(scene, &table, &plan);
+        self.params = gpu_params(scene, s, pass, self.params.n_bounds);
+        if !lights.is_empty() {
+            self.ctx.queue.write_buffer(
+                &self.scene_buffers.lights,
+                0,
+                bytemuck::cast_slice(&lights),
+            );
+        }
+        self.ctx.queue.write_buffer(
+            &self.scene_buffers.params,
+            0,
+            bytemuck::bytes_of(&self.params),
+        );
+        self.plan = plan;
+    }
+
+    /// A read-write buffer for the image (or probe results).
+    pub fn accum_buffer(&self, bytes: u64) -> wgpu::Buffer {
+        empty_buffer(
+            &self.ctx.device,
+            "image accumulator",
+            bytes,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+        )
+    }
+
+    /// An absent map (`paths == 0`), bound where a mode or scene has none.
+    pub fn empty_map(&self, caustic: bool) -> MapBuffers {
+        let p = GpuMapParams {
+            table_size: SCAN_BLOCK,
+            cell_size: 1.0,
+            capacity: 1,
+            is_caustic: caustic as u32,
+            ..Default::default()
+        };
+        let label = if caustic {
+            "caustic (absent)"
+        } else {
+            "global (absent)"
+        };
+        MapBuffers::new(&self.ctx, &self.layouts, label, p)
+    }
+
+    /// Uploads `photons` as a map and builds its grid (no tracing).
+    pub fn upload_map(
+        &self,
+        photons: &[Photon],
+        cell_size: f32,
+        table_size: u32,
+        radius2: f32,
+    ) -> Result<MapBuffers> {
+        let ctx = &self.ctx;
+        let n = photons.len() as u32;
+        let params = probe_map_params(n, cell_size, table_size, radius2);
+        let map = MapBuffers::new(ctx, &self.layouts, "uploaded", params);
+        if n > 0 {
+            ctx.queue
+                .write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
+        }
+        ctx.queue
+            .write_buffer(&map.counters, 0, bytemuck::bytes_of(&[n, 0, 0, 0]));
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("grid build"),
+            });
+        let scene_bg = &self.scene_buffers.bind_group;
+        map.record_build(&mut enc, &self.pipelines, scene_bg, false, true);
+        ctx.queue.submit([enc.finish()]);
+        ctx.check()?;
+        Ok(map)
+    }
+
+    /// The gather kernel's group 1 over two maps and the accumulator.
+    pub fn gather_bind_group(
+        &self,
+        global: &MapBuffers,
+        caustic: &MapBuffers,
+        accum: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            &self.ctx.device,
+            "gather bind group",
+            &self.layouts.gather,
+            &GATHER_GROUP,
+            vec![
+                ("g_photons", global.sorted.as_entire_binding()),
+                ("g_cells", global.cell_start.as_entire_binding()),
+                ("g_map", global.params_buf.as_entire_binding()),
+                ("c_photons", caustic.sorted.as_entire_binding()),
+                ("c_cells", caustic.cell_start.as_entire_binding()),
+                ("c_map", caustic.params_buf.as_entire_binding()),
+                ("accum", accum.as_entire_binding()),
+            ],
+        )
+    }
+}
