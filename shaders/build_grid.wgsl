@@ -1,11 +1,14 @@
 // build_grid: the photon map's spatial hash grid, built on the device by a counting sort.
-// Entry points, dispatched in order over one map's group-1 buffers:
+// Dispatch, in order over one map's group-1 buffers: count_cells, scan_blocks, scan_sums,
+// add_offsets, scatter (shapes below). Writes: cell_start (first sorted photon per cell;
+// cell_start[table_size] = photons in the grid), sorted (photons by cell), block_sums.
+
+// Entry points:
 //   count_cells   (one invocation per photon slot)  cell_count[h] += 1
-//   scan_blocks   (256-wide, one per 256 cells)     cell_start = exclusive scan within blocks
-//   scan_sums     (one workgroup of 256)            block_sums = exclusive scan of block totals
+//   scan_blocks   (SCAN_BLOCK-wide, one per block)  cell_start = exclusive scan within blocks
+//   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
 //   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = photon
-// cell_start[table_size] ends up holding the number of photons in the grid.
 // Loops: the scan's 8 steps and scan_sums' chunks of at most 256 (table_size <= 2^24) per
 // invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
 

@@ -1,9 +1,8 @@
-// gather: one invocation per pixel for camera sample `params.sample` (the host dispatches
-// one sample layer at a time). Twin of src/cpu/gather.rs: camera ray, the mirror/glass
-// chain (a stochastic Fresnel choice instead of recursion), then at diffuse and glossy hits
-// the K-nearest estimate over each photon map's hash grid, shadow rays in `direct` mode,
-// and the glossy lobe continued as the same path. Dispatch: ceil(width / GATHER_TILE) x
-// ceil(height / GATHER_TILE) workgroups of GATHER_TILE^2. The estimate: common/estimate.wgsl. Writes: accum[pixel] += radiance / spp.
+// gather: the camera pass, twin of src/cpu/gather.rs: camera ray, the mirror/glass chain (a
+// stochastic Fresnel choice), then at diffuse and glossy hits the photon maps' estimate
+// (common/estimate.wgsl), shadow rays in `direct` mode and the glossy lobe as the same path.
+// Dispatch: one invocation per pixel of sample `params.sample`, GATHER_TILE^2 workgroups.
+// Writes: accum[pixel] += radiance / spp.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 

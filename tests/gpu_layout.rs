@@ -2,19 +2,27 @@
 //!
 //! 1. every WGSL struct of `shaders/common/types.wgsl` has the size, alignment-compatible size,
 //!    member names, member offsets and member sizes of its Rust twin;
-//! 2. every `(group, binding)` the kernels declare has the buffer kind the host's bind-group
-//!    layouts (`Layouts::new` in src/gpu/render.rs) give it, and every layout entry is declared;
+//! 2. every WGSL global bound by a kernel is the entry of the same name in the host's binding
+//!    tables (src/gpu/bindings.rs, which build the layouts and fill the bind groups), at the
+//!    same (group, binding) with the same access, and every entry is declared (a swap of two
+//!    buffers, in the table or in WGSL, is caught);
 //! 3. every kernel parses and validates and has the entry points the host creates pipelines for;
-//! 4. the constants WGSL repeats from Rust have the same values.
+//! 4. every constant of the generated prelude (src/gpu/codes.rs) has its Rust value in every
+//!    composed module, no WGSL file declares one by hand, and every WGSL file is short with a
+//!    header.
 //!
 //! Each test gathers every mismatch it finds and fails once with the whole list.
 
 use gpu_photon::bvh::{self, BvhNode};
 use gpu_photon::geometry;
-use gpu_photon::gpu::render as host;
-use gpu_photon::gpu::shaders::{validate, Kernel};
+use gpu_photon::gpu::bindings::{
+    groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
+};
+use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
+use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
+use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
 use gpu_photon::gpu::types::{
-    material_code, GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuParams, GpuSphere, GpuTriangle,
+    GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuParams, GpuSphere, GpuTriangle,
 };
 use gpu_photon::photon::{self, Photon};
 use gpu_photon::rng::Stream;
@@ -290,162 +298,174 @@ fn struct_layouts_match_rust_twins() {
 // 2. Bindings
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    /// Read-only storage (`wgpu::BufferBindingType::Storage { read_only: true }`, WGSL `read`).
-    Ro,
-    /// Read-write storage (`read_only: false`, WGSL `read_write`).
-    Rw,
-    Uniform,
-}
-
-/// The host's bind-group layouts, as this test expects them.
-const SCENE: [Kind; 10] = [
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Rw,
-];
-const MAP: [Kind; 7] = [
-    Kind::Rw,
-    Kind::Rw,
-    Kind::Rw,
-    Kind::Rw,
-    Kind::Rw,
-    Kind::Rw,
-    Kind::Ro,
-];
-const GATHER: [Kind; 7] = [
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Ro,
-    Kind::Rw,
-];
-
-/// (group, binding) -> kind for the pipelines built from `kernel` (render.rs `Pipelines::new`:
-/// trace and grid kernels use [scene, map], the gather uses [scene, gather]).
-fn expected_bindings(kernel: Kernel) -> BTreeMap<(u32, u32), Kind> {
-    let group1: &[Kind] = match kernel {
-        Kernel::TracePhotons | Kernel::BuildGrid => &MAP,
-        Kernel::Gather => &GATHER,
-    };
-    let mut table = BTreeMap::new();
-    for (g, kinds) in [(0u32, &SCENE[..]), (1, group1)] {
-        for (b, &k) in kinds.iter().enumerate() {
-            table.insert((g, b as u32), k);
-        }
-    }
-    table
-}
-
-/// The kinds listed in `Layouts::new` of src/gpu/render.rs for `field` (`scene`, `map`,
-/// `gather`), read from the source text: the layouts need a device to build, so this is how a
-/// test without one sees the host's table.
-fn host_layout(field: &str) -> Vec<Kind> {
-    let src = include_str!("../src/gpu/render.rs");
-    let body = src
-        .split("impl Layouts")
-        .nth(1)
-        .expect("`impl Layouts` in src/gpu/render.rs");
-    let key = format!("{field}: mk(");
-    let rest = &body[body
-        .find(&key)
-        .unwrap_or_else(|| panic!("`{key}` in Layouts::new"))..];
-    let list = &rest[rest.find("&[").expect("`&[` after the layout label") + 2..];
-    let list = &list[..list.find(']').expect("closing `]`")];
-    list.split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(|s| match s {
-            "RO" => Kind::Ro,
-            "RW" => Kind::Rw,
-            "UNIFORM" => Kind::Uniform,
-            other => panic!("unknown binding type `{other}` in Layouts::new `{field}`"),
-        })
-        .collect()
-}
-
-#[test]
-fn host_layouts_are_the_expected_table() {
+/// Every mismatch between the bindings `module` declares and the host's tables `tables` (one
+/// per bind group the kernel's pipelines use): each WGSL global with a binding must be the
+/// table entry of the same name, at the same (group, binding), with the same access; every
+/// table entry must be declared; no two entries of a table share a binding number.
+fn check_bindings(kernel: &str, module: &Module, tables: &[&GroupTable]) -> Vec<String> {
     let mut errors = Vec::new();
-    for (field, expected) in [
-        ("scene", &SCENE[..]),
-        ("map", &MAP[..]),
-        ("gather", &GATHER[..]),
-    ] {
-        let host = host_layout(field);
-        if host != expected {
-            errors.push(format!(
-                "Layouts::new `{field}`: host {host:?} != expected {expected:?}"
-            ));
-        }
-    }
-    fail_if_any("host bind-group layouts (src/gpu/render.rs)", &errors);
-}
-
-#[test]
-fn kernel_bindings_match_host_layouts() {
-    let mut errors = Vec::new();
-    for (kernel, module) in modules() {
-        let expected = expected_bindings(*kernel);
-        let mut declared = BTreeMap::new();
-        for (_, var) in module.global_variables.iter() {
-            let name = var.name.as_deref().unwrap_or("?");
-            let Some(rb) = &var.binding else {
-                continue;
-            };
-            let kind = match var.space {
-                AddressSpace::Uniform => Some(Kind::Uniform),
-                AddressSpace::Storage { access } if access == StorageAccess::LOAD => Some(Kind::Ro),
-                AddressSpace::Storage { access }
-                    if access.contains(StorageAccess::LOAD | StorageAccess::STORE) =>
-                {
-                    Some(Kind::Rw)
-                }
-                _ => None,
-            };
-            let at = format!(
-                "[{}] @group({}) @binding({}) `{name}`",
-                kernel.name(),
-                rb.group,
-                rb.binding
-            );
-            let Some(kind) = kind else {
+    for t in tables {
+        let mut seen = BTreeMap::new();
+        for b in t.entries {
+            if let Some(prev) = seen.insert(b.binding, b.name) {
                 errors.push(format!(
-                    "{at}: address space {:?} is none of read / read_write storage / uniform",
-                    var.space
+                    "table {} (group {}): binding {} given to both `{prev}` and `{}`",
+                    t.label, t.group, b.binding, b.name
+                ));
+            }
+        }
+    }
+    let mut declared = Vec::new();
+    for (_, var) in module.global_variables.iter() {
+        let Some(rb) = &var.binding else {
+            continue;
+        };
+        let name = var.name.as_deref().unwrap_or("?");
+        let at = format!(
+            "[{kernel}] @group({}) @binding({}) `{name}`",
+            rb.group, rb.binding
+        );
+        let access = match var.space {
+            AddressSpace::Storage { access } if access == StorageAccess::LOAD => Access::Read,
+            AddressSpace::Storage { access }
+                if access.contains(StorageAccess::LOAD | StorageAccess::STORE) =>
+            {
+                Access::ReadWrite
+            }
+            other => {
+                errors.push(format!(
+                    "{at}: address space {other:?} is neither read nor read_write storage"
                 ));
                 continue;
-            };
-            if let Some(prev) = declared.insert((rb.group, rb.binding), (kind, name)) {
-                errors.push(format!("{at}: binding also declared by `{}`", prev.1));
             }
-            match expected.get(&(rb.group, rb.binding)) {
-                None => errors.push(format!(
-                    "{at}: not in the host's layouts (pipeline creation would fail)"
-                )),
-                Some(&e) if e != kind => {
-                    errors.push(format!("{at}: declared {kind:?}, host layout has {e:?}"))
+        };
+        let Some(table) = tables.iter().find(|t| t.group == rb.group) else {
+            errors.push(format!("{at}: no host table for group {}", rb.group));
+            continue;
+        };
+        declared.push((rb.group, name.to_string()));
+        match table.entry(name) {
+            None => errors.push(format!(
+                "{at}: no entry `{name}` in the host table {}",
+                table.label
+            )),
+            Some(e) => {
+                if e.binding != rb.binding {
+                    errors.push(format!(
+                        "{at}: the host table {} binds `{name}` at binding {}",
+                        table.label, e.binding
+                    ));
                 }
-                Some(_) => {}
-            }
-        }
-        for (&(g, b), &kind) in &expected {
-            if !declared.contains_key(&(g, b)) {
-                errors.push(format!("[{}] host layout entry @group({g}) @binding({b}) {kind:?} is not declared by the kernel", kernel.name()));
+                if e.access != access {
+                    errors.push(format!(
+                        "{at}: declared {access:?}, the host table {} has {:?}",
+                        table.label, e.access
+                    ));
+                }
             }
         }
     }
+    for t in tables {
+        for b in t.entries {
+            if !declared.iter().any(|(g, n)| *g == t.group && n == b.name) {
+                errors.push(format!(
+                    "[{kernel}] host table {} entry `{}` (binding {}) is not declared by the kernel",
+                    t.label, b.name, b.binding
+                ));
+            }
+        }
+    }
+    errors
+}
+
+#[test]
+fn kernel_bindings_match_host_tables() {
+    let mut errors = Vec::new();
+    for (kernel, module) in modules() {
+        errors.extend(check_bindings(kernel.name(), module, &groups_of(*kernel)));
+    }
     fail_if_any("kernel bindings", &errors);
+}
+
+#[test]
+fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
+    // Every binding is storage by construction (`bindings::layout`); the one dynamic offset
+    // is the per-sample parameters, the binding the gather steps through.
+    let dynamic: Vec<(u32, &str)> = [&SCENE_GROUP, &MAP_GROUP, &GATHER_GROUP]
+        .iter()
+        .flat_map(|t| {
+            t.entries
+                .iter()
+                .filter(|b| b.dynamic)
+                .map(|b| (t.group, b.name))
+        })
+        .collect();
+    assert_eq!(dynamic, vec![(0, PARAMS)]);
+}
+
+/// `table` with the binding numbers of entries `a` and `b` exchanged.
+fn swapped(table: &GroupTable, a: &str, b: &str) -> GroupTable {
+    let entries: Vec<Binding> = table
+        .entries
+        .iter()
+        .map(|e| {
+            let mut e = *e;
+            let other = if e.name == a {
+                b
+            } else if e.name == b {
+                a
+            } else {
+                return e;
+            };
+            e.binding = table.entry(other).expect("entry in table").binding;
+            e
+        })
+        .collect();
+    GroupTable {
+        entries: Box::leak(entries.into_boxed_slice()),
+        ..*table
+    }
+}
+
+#[test]
+fn a_swap_of_two_read_only_buffers_is_caught() {
+    // In the host table: two read-only scene buffers exchanged.
+    let scene = swapped(&SCENE_GROUP, "triangles", "spheres");
+    for (kernel, module) in modules() {
+        let [_, group1] = groups_of(*kernel);
+        let errors = check_bindings(kernel.name(), module, &[&scene, group1]);
+        assert!(
+            errors.iter().any(|e| e.contains("`triangles`"))
+                && errors.iter().any(|e| e.contains("`spheres`")),
+            "[{}] swapped scene table not rejected: {errors:?}",
+            kernel.name()
+        );
+    }
+    // The two read-only maps of the gather group.
+    let gather = swapped(&GATHER_GROUP, "g_cells", "c_cells");
+    let errors = check_bindings("gather", module(Kernel::Gather), &[&SCENE_GROUP, &gather]);
+    assert_eq!(errors.len(), 2, "swapped gather table: {errors:?}");
+
+    // In the WGSL: the same two declarations exchanged in the composed source.
+    let src = Kernel::Gather.source();
+    let (t, s) = (
+        "@group(0) @binding(0) var<storage, read> triangles",
+        "@group(0) @binding(1) var<storage, read> spheres",
+    );
+    assert!(
+        src.contains(t) && src.contains(s),
+        "scene declarations moved"
+    );
+    let src = src
+        .replace(t, "TRIANGLES_DECL")
+        .replace(s, "@group(0) @binding(0) var<storage, read> spheres")
+        .replace(
+            "TRIANGLES_DECL",
+            "@group(0) @binding(1) var<storage, read> triangles",
+        );
+    let m = validate(&src).expect("the swapped module still validates");
+    let errors = check_bindings("gather (swapped WGSL)", &m, &groups_of(Kernel::Gather));
+    assert_eq!(errors.len(), 2, "swapped WGSL: {errors:?}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -464,17 +484,7 @@ fn every_kernel_validates_with_its_entry_points() {
                 continue;
             }
         };
-        let expected: &[&str] = match kernel {
-            Kernel::TracePhotons => &["trace_photons"],
-            Kernel::BuildGrid => &[
-                "count_cells",
-                "scan_blocks",
-                "scan_sums",
-                "add_offsets",
-                "scatter",
-            ],
-            Kernel::Gather => &["gather"],
-        };
+        let expected = kernel.entry_points();
         let names: Vec<&str> = module
             .entry_points
             .iter()
@@ -516,7 +526,53 @@ fn constant(module: &Module, name: &str) -> Option<Literal> {
 
 #[test]
 fn shared_constants_agree() {
-    let common = [
+    let shared = shared_constants();
+    let mut errors = Vec::new();
+    // The constants the kernels used to repeat from Rust are all in the generated prelude.
+    for name in [
+        "SPHERE_BIT",
+        "FLAG_CAUSTIC",
+        "DEPTH_MASK",
+        "NO_LIGHT",
+        "OFFSET_SCALE",
+        "BOX_SLACK",
+        "FACING_COS",
+        "OFFSET_FLOOR",
+        "STAT_PHOTON_OVERFLOW",
+        "STAT_LOOP_BUDGET",
+        "STAT_GATHER_TRUNCATED",
+        "MAT_DIFFUSE",
+        "MAT_GLOSSY",
+        "MAT_MIRROR",
+        "MAT_GLASS",
+        "MAT_BLACK",
+        "STREAM_PHOTON",
+        "STREAM_CAUSTIC",
+        "STREAM_CAMERA",
+        "MAX_HEAP",
+        "BVH_STACK",
+        "DROP_DIRECT",
+        "DROP_CAUSTIC",
+        "TERM_DIRECT",
+        "TERM_POINT_LOBE",
+        "TERM_LOBE_RAY",
+        "LIGHT_POINT",
+        "LIGHT_TRIANGLES",
+        "LIGHT_SPHERE",
+        "BOUNCE_ABSORB",
+        "BOUNCE_DELTA",
+        "FILTER_CONE",
+        "FRESNEL_SCHLICK",
+        "WG_SIZE",
+        "SCAN_BLOCK",
+        "GATHER_TILE",
+    ] {
+        if !shared.iter().any(|(n, _)| *n == name) {
+            errors.push(format!("{name} is not in codes::shared_constants()"));
+        }
+    }
+    // Every shared constant, in every composed module, has the Rust value (bit for bit).
+    let expected = [
         ("SPHERE_BIT", Literal::U32(bvh::SPHERE_BIT)),
         ("FLAG_CAUSTIC", Literal::U32(photon::FLAG_CAUSTIC)),
         ("DEPTH_MASK", Literal::U32(photon::DEPTH_MASK)),
@@ -525,18 +581,9 @@ fn shared_constants_agree() {
         ("BOX_SLACK", Literal::F32(geometry::BOX_SLACK)),
         ("FACING_COS", Literal::F32(gpu_photon::estimate::FACING_COS)),
         ("OFFSET_FLOOR", Literal::F32(geometry::OFFSET_FLOOR)),
-        (
-            "STAT_PHOTON_OVERFLOW",
-            Literal::U32(host::STAT_PHOTON_OVERFLOW as u32),
-        ),
-        (
-            "STAT_LOOP_BUDGET",
-            Literal::U32(host::STAT_LOOP_BUDGET as u32),
-        ),
-        (
-            "STAT_GATHER_TRUNCATED",
-            Literal::U32(host::STAT_GATHER_TRUNCATED as u32),
-        ),
+        ("STREAM_PHOTON", Literal::U32(Stream::Photon as u32)),
+        ("STREAM_CAUSTIC", Literal::U32(Stream::Caustic as u32)),
+        ("STREAM_CAMERA", Literal::U32(Stream::Camera as u32)),
         (
             "MAT_DIFFUSE",
             Literal::U32(material_code(MaterialKind::Diffuse)),
@@ -557,11 +604,8 @@ fn shared_constants_agree() {
             "MAT_BLACK",
             Literal::U32(material_code(MaterialKind::Black)),
         ),
-        ("STREAM_PHOTON", Literal::U32(Stream::Photon as u32)),
-        ("STREAM_CAUSTIC", Literal::U32(Stream::Caustic as u32)),
-        ("STREAM_CAMERA", Literal::U32(Stream::Camera as u32)),
+        ("MAX_HEAP", Literal::U32(codes::MAX_HEAP)),
     ];
-    let mut errors = Vec::new();
     let mut check = |kernel: Kernel, name: &str, rust: Literal| match constant(module(kernel), name)
     {
         None => errors.push(format!("[{}] WGSL const {name} not found", kernel.name())),
@@ -572,11 +616,17 @@ fn shared_constants_agree() {
         Some(_) => {}
     };
     for &kernel in &Kernel::ALL {
-        for &(name, rust) in &common {
+        for &(name, value) in &shared {
+            let rust = match value {
+                WgslValue::U32(v) => Literal::U32(v),
+                WgslValue::F32(v) => Literal::F32(v),
+            };
+            check(kernel, name, rust);
+        }
+        for &(name, rust) in &expected {
             check(kernel, name, rust);
         }
     }
-    check(Kernel::Gather, "MAX_HEAP", Literal::U32(host::MAX_HEAP));
 
     // The CPU traversal (Bvh::intersect) uses a stack of MAX_DEPTH + 2 entries; the WGSL one
     // (intersect.wgsl) must hold at least as many, or deep trees traverse differently.
@@ -589,6 +639,97 @@ fn shared_constants_agree() {
                 bvh::MAX_DEPTH + 2
             )),
         }
+        // The WGSL default of the loop budget (which the probes run with) is lavapipe's.
+        let budget = module(kernel)
+            .overrides
+            .iter()
+            .find(|(_, o)| o.name.as_deref() == Some("LOOP_BUDGET"))
+            .and_then(|(_, o)| o.init)
+            .map(|e| &module(kernel).global_expressions[e]);
+        match budget {
+            Some(Expression::Literal(Literal::U32(b))) if *b == CPU_DEVICE_LOOP_BUDGET => {}
+            other => errors.push(format!(
+                "[{}] override LOOP_BUDGET defaults to {other:?}, not {CPU_DEVICE_LOOP_BUDGET}",
+                kernel.name()
+            )),
+        }
     }
     fail_if_any("shared constants", &errors);
+}
+
+/// Every WGSL file under shaders/, read from disk (so a new file is checked too).
+fn wgsl_files() -> Vec<(String, String)> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut out = Vec::new();
+    let mut dirs = vec![root.clone()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).expect("shaders/ is readable") {
+            let p = e.expect("directory entry").path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|x| x == "wgsl") {
+                let text = std::fs::read_to_string(&p).expect("WGSL file is readable");
+                let rel = p.strip_prefix(&root).unwrap_or(&p).display().to_string();
+                out.push((rel, text));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn no_wgsl_file_declares_a_prelude_constant() {
+    let shared = shared_constants();
+    let files = wgsl_files();
+    assert!(
+        files.len() >= WGSL_FILES.len(),
+        "WGSL files not found: {files:?}"
+    );
+    let mut errors = Vec::new();
+    for (path, text) in &files {
+        if !WGSL_FILES.iter().any(|(p, _)| p == path) {
+            errors.push(format!(
+                "shaders/{path} is not composed (shaders::WGSL_FILES)"
+            ));
+        }
+        for (n, line) in text.lines().enumerate() {
+            let decl = line.trim_start();
+            let Some(rest) = decl
+                .strip_prefix("const ")
+                .or_else(|| decl.strip_prefix("override "))
+            else {
+                continue;
+            };
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if shared.iter().any(|(s, _)| *s == name) {
+                errors.push(format!(
+                    "shaders/{path}:{}: declares {name}, which the generated prelude holds",
+                    n + 1
+                ));
+            }
+        }
+    }
+    fail_if_any("prelude constants declared by hand", &errors);
+}
+
+#[test]
+fn wgsl_files_are_short_and_have_a_header() {
+    let mut errors = Vec::new();
+    for (path, text) in wgsl_files() {
+        let lines = text.lines().count();
+        if lines >= 500 {
+            errors.push(format!("shaders/{path}: {lines} lines (limit 500)"));
+        }
+        let header = text.lines().take_while(|l| l.starts_with("//")).count();
+        if !(3..=5).contains(&header) {
+            errors.push(format!(
+                "shaders/{path}: a header of {header} comment line(s), 3 to 5 wanted"
+            ));
+        }
+    }
+    fail_if_any("WGSL files", &errors);
 }

@@ -1,5 +1,6 @@
-// Hash-grid cells; twin of src/gpu/grid.rs. DROP_* (the drop flags of a map) come from the
-// generated prelude (src/gpu/codes.rs).
+// Hash-grid cells (twin: src/gpu/grid.rs): a point's cell, a cell's table slot, and whether
+// a map keeps a photon (DROP_* flags from the generated prelude, src/gpu/codes.rs).
+// Library, no entry point; writes nothing.
 
 fn cell_of(p: vec3<f32>, cell_size: f32) -> vec3<i32> {
     return vec3<i32>(floor(p / cell_size));

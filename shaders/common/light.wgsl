@@ -1,4 +1,6 @@
-// Light emission and shadow-ray targets; twin of src/light.rs.
+// Light emission (photon origins and directions) and shadow-ray targets on point, triangle
+// and sphere lights; twin of src/light.rs. LIGHT_* kinds come from the generated prelude.
+// Library, no entry point; writes nothing.
 
 struct SurfacePoint {
     p: vec3<f32>,

@@ -1,5 +1,6 @@
 // Group 1 of the map-building kernels (trace_photons.wgsl, build_grid.wgsl): one photon
-// map's buffers and parameters, and the hash-grid cell functions (twin: src/gpu/grid.rs).
+// map's buffers and parameters (table: MAP_GROUP in src/gpu/bindings.rs), and the flat
+// index of their WG_SIZE-wide 2D dispatches. Library, no entry point.
 
 @group(1) @binding(0) var<storage, read_write> photons: array<Photon>;
 @group(1) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;

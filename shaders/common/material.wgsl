@@ -1,4 +1,6 @@
-// Fresnel, Snell and photon Russian roulette; twin of src/material.rs.
+// Fresnel (exact or Schlick, FRESNEL_* codes), Snell, the glossy lobe and the photon's
+// Russian-roulette bounce (BOUNCE_* kinds); twin of src/material.rs.
+// Library, no entry point; writes nothing.
 
 fn reflect_dir(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return d - 2.0 * dot(d, n) * n;

@@ -1,5 +1,6 @@
 // The stored photon's packed normal and the side test of the radiance estimate; twin of
 // src/photon.rs (pack_normal, unpack_normal) and src/estimate.rs (FACING_COS, photon_faces).
+// Library, no entry point; writes nothing.
 
 // FACING_COS (prelude): normals within 60 degrees are the same surface; beyond 120 its
 // other side.

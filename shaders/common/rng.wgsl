@@ -1,5 +1,6 @@
 // Counter-based RNG, the twin of src/rng.rs (tests/gpu_oracle.rs checks bit equality).
 // The STREAM_* ids come from the generated prelude (src/rng.rs Stream).
+// Library, no entry point; writes nothing.
 
 fn pcg_hash(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;

@@ -1,4 +1,6 @@
-// Warping uniform numbers to directions; twin of src/sampling.rs.
+// Warping uniform numbers to directions (orthonormal bases, cosine hemisphere, uniform sphere,
+// Phong lobe); twin of src/sampling.rs.
+// Library, no entry point; writes nothing.
 
 fn basis_t(n: vec3<f32>) -> vec3<f32> {
     let s = select(-1.0, 1.0, n.z >= 0.0);

@@ -1,5 +1,7 @@
-// Group 0: the scene, bound read-only by every kernel, and the loop budget that keeps every
-// invocation well below lavapipe's 65,535 loop iterations (see LOOP_BUDGET below).
+// Group 0: the scene, bound read-only by every kernel (table: SCENE_GROUP in
+// src/gpu/bindings.rs), the scene features as override constants, and the loop budget that
+// keeps every invocation well below lavapipe's 65,535 loop iterations (see LOOP_BUDGET).
+// Library, no entry point; writes stats[STAT_LOOP_BUDGET] when a budget runs out.
 
 @group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(1) var<storage, read> spheres: array<Sphere>;

@@ -1,6 +1,7 @@
 // Types shared by every kernel. Each struct has a Rust twin with the same name prefixed by
 // `Gpu` (or the same name: BvhNode, Photon) in src/gpu/types.rs, src/bvh.rs, src/photon.rs;
 // tests/gpu_layout.rs checks sizes and offsets against naga's reflection of this file.
+// Library of types only; no entry point.
 
 struct Triangle {
     v0: vec3<f32>,
