@@ -161,3 +161,7 @@ impl Terms {
         }
     }
 }
+
+/// Fraction of the storing area the caustic photons are expected to cover: it sizes the
+/// caustic map's searches (the progressive first radius, the GPU grid's cells).
+pub const CAUSTIC_AREA_FRACTION: f64 = 0.05;

@@ -10,8 +10,11 @@ pub const MAX_BINDING: u64 = 128 << 20;
 /// A device ready for compute work (a handle: clones share the device).
 #[derive(Clone)]
 pub struct GpuContext {
+    /// The adapter the device was opened on.
     pub adapter: wgpu::Adapter,
+    /// The logical device.
     pub device: wgpu::Device,
+    /// Its queue.
     pub queue: wgpu::Queue,
     /// Storage binding size in bytes that every buffer stays within.
     pub max_binding: u64,
@@ -22,14 +25,23 @@ pub struct GpuContext {
 /// One adapter, described for `gpu-photon adapters`.
 #[derive(Clone, Debug)]
 pub struct AdapterSummary {
+    /// Adapter name.
     pub name: String,
+    /// Graphics API (Vulkan).
     pub backend: String,
+    /// Discrete, integrated, CPU (software), ...
     pub device_type: String,
+    /// Driver name and version.
     pub driver: String,
+    /// Largest storage binding, in bytes.
     pub max_storage_buffer_binding_size: u64,
+    /// Largest buffer, in bytes.
     pub max_buffer_size: u64,
+    /// Most workgroups per dispatch dimension.
     pub max_compute_workgroups_per_dimension: u32,
+    /// Most invocations per workgroup.
     pub max_compute_invocations_per_workgroup: u32,
+    /// Most storage buffers one stage may bind.
     pub max_storage_buffers_per_shader_stage: u32,
 }
 
@@ -78,9 +90,13 @@ pub fn hardware_adapter() -> std::result::Result<AdapterSummary, String> {
     }
 }
 
-/// Storage buffers the kernels bind in one stage (scene group + map or gather group; every
-/// binding is a storage buffer, see `Layouts`).
-pub const STORAGE_BUFFERS_NEEDED: u32 = 17;
+/// Storage buffers the kernels bind in one stage: the scene group and the larger of the map
+/// and gather groups (every binding is a storage buffer, see `bindings`).
+pub const STORAGE_BUFFERS_NEEDED: u32 = {
+    use super::bindings::{GATHER_GROUP, MAP_GROUP, SCENE_GROUP};
+    let (map, gather) = (MAP_GROUP.entries.len(), GATHER_GROUP.entries.len());
+    (SCENE_GROUP.entries.len() + if map > gather { map } else { gather }) as u32
+};
 
 impl GpuContext {
     /// Opens the default adapter (high performance preferred).

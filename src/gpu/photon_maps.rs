@@ -18,7 +18,7 @@ use std::time::Instant;
 
 /// The caustic map's photons are expected on this fraction of the storing area (its grid's
 /// cells are sized for that concentration).
-const CAUSTIC_CONCENTRATION: f32 = 0.05;
+const CAUSTIC_CONCENTRATION: f32 = crate::plan::CAUSTIC_AREA_FRACTION as f32;
 /// Photons a global path is expected to store, for the first sizing of the grid.
 const GLOBAL_STORES_PER_PATH: u32 = 3;
 
@@ -161,5 +161,13 @@ impl GpuRun {
             }
         }
         Ok((global, caustic))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn caustic_concentration_is_the_plans_fraction() {
+        assert_eq!(super::CAUSTIC_CONCENTRATION.to_bits(), 0.05f32.to_bits());
     }
 }

@@ -10,11 +10,17 @@ use bytemuck::{Pod, Zeroable};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuTriangle {
+    /// First vertex.
     pub v0: [f32; 3],
+    /// Index into the materials.
     pub material: u32,
+    /// Second vertex.
     pub v1: [f32; 3],
+    /// Index of its light, or NO_LIGHT.
     pub light: u32,
+    /// Third vertex.
     pub v2: [f32; 3],
+    /// Padding.
     pub _pad: u32,
 }
 
@@ -22,11 +28,17 @@ pub struct GpuTriangle {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuSphere {
+    /// Centre.
     pub center: [f32; 3],
+    /// Radius.
     pub radius: f32,
+    /// Index into the materials.
     pub material: u32,
+    /// Index of its light, or NO_LIGHT.
     pub light: u32,
+    /// Padding.
     pub _pad0: u32,
+    /// Padding.
     pub _pad1: u32,
 }
 
@@ -34,15 +46,25 @@ pub struct GpuSphere {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
+    /// Diffuse reflectance.
     pub kd: [f32; 3],
+    /// A MAT_* code.
     pub kind: u32,
+    /// Specular (glossy, mirror) reflectance.
     pub ks: [f32; 3],
+    /// Phong exponent of the glossy lobe.
     pub exponent: f32,
+    /// Emitted radiance.
     pub emission: [f32; 3],
+    /// Index of refraction (glass).
     pub ior: f32,
+    /// 1 when both sides emit.
     pub two_sided: u32,
+    /// Padding.
     pub _pad0: u32,
+    /// Padding.
     pub _pad1: u32,
+    /// Padding.
     pub _pad2: u32,
 }
 
@@ -50,21 +72,37 @@ pub struct GpuMaterial {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
+    /// Point light: position.
     pub position: [f32; 3],
+    /// A LIGHT_* code.
     pub kind: u32,
+    /// Point light: radiant intensity.
     pub intensity: [f32; 3],
+    /// Triangle light: first triangle; sphere light: sphere index.
     pub first: u32,
+    /// Power each global path carries.
     pub global_power: [f32; 3],
+    /// Triangle light: number of triangles.
     pub count: u32,
+    /// Power each caustic path carries.
     pub caustic_power: [f32; 3],
+    /// Triangle light: start of its area CDF in the light CDF.
     pub cdf_start: u32,
+    /// Emitting area.
     pub area: f32,
+    /// First global path index of this light.
     pub global_offset: u32,
+    /// Global paths of this light.
     pub global_count: u32,
+    /// First caustic path index of this light.
     pub caustic_offset: u32,
+    /// Caustic paths (attempts) of this light.
     pub caustic_count: u32,
+    /// Padding.
     pub _pad0: u32,
+    /// Padding.
     pub _pad1: u32,
+    /// Padding.
     pub _pad2: u32,
 }
 
@@ -72,9 +110,13 @@ pub struct GpuLight {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuAabb {
+    /// Lower corner.
     pub bmin: [f32; 3],
+    /// Padding.
     pub _pad0: u32,
+    /// Upper corner.
     pub bmax: [f32; 3],
+    /// Padding.
     pub _pad1: u32,
 }
 
@@ -82,29 +124,53 @@ pub struct GpuAabb {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuParams {
+    /// Camera position.
     pub eye: [f32; 3],
+    /// Image width in pixels.
     pub width: u32,
+    /// Camera forward axis.
     pub forward: [f32; 3],
+    /// Image height in pixels.
     pub height: u32,
+    /// Camera right axis (scaled by the field of view).
     pub right: [f32; 3],
+    /// Camera samples per pixel.
     pub spp: u32,
+    /// Camera up axis (scaled by the field of view).
     pub up: [f32; 3],
+    /// The camera sample this slot's dispatch gathers.
     pub sample: u32,
+    /// RNG seed.
     pub seed: u32,
+    /// RNG pass index (with the batch in its high bits).
     pub pass_index: u32,
+    /// Photons per K-nearest estimate (0: fixed radius).
     pub k: u32,
+    /// A FILTER_* code.
     pub filter_kind: u32,
+    /// The render mode (`settings::Mode as u32`).
     pub mode: u32,
+    /// Camera path depth.
     pub max_depth: u32,
+    /// Photon path bounces.
     pub max_photon_bounces: u32,
+    /// Shadow rays per area light.
     pub shadow_samples: u32,
+    /// A FRESNEL_* code.
     pub fresnel: u32,
+    /// Number of lights.
     pub n_lights: u32,
+    /// Number of specular bounds caustic photons aim at.
     pub n_bounds: u32,
+    /// Number of triangles.
     pub n_triangles: u32,
+    /// TERM_* bits of the mode.
     pub terms: u32,
+    /// Padding.
     pub _pad0: u32,
+    /// Padding.
     pub _pad1: u32,
+    /// Padding.
     pub _pad2: u32,
 }
 
@@ -112,13 +178,21 @@ pub struct GpuParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMapParams {
+    /// RNG stream of the map's paths (`rng::Stream`).
     pub stream: u32,
+    /// Photon paths to trace (0: absent map).
     pub paths: u32,
+    /// Photons the map's buffer holds.
     pub capacity: u32,
+    /// Hash-table slots (a power of two).
     pub table_size: u32,
+    /// Grid cell edge.
     pub cell_size: f32,
+    /// 1 for the caustic map.
     pub is_caustic: u32,
+    /// DROP_* bits: photons the grid leaves out.
     pub drop_flags: u32,
+    /// Squared search radius.
     pub radius2: f32,
 }
 
