@@ -116,3 +116,50 @@ fn gpu_renders_are_deterministic() {
         "two GPU renders with the same seed differ"
     );
 }
+
+/// One renderer, several passes: a pass rendered again after others is the same image bit
+/// for bit (the map cache, the parameter slots and the accumulator carry nothing over), and
+/// the report sums the passes' phases under one name each, with the bound counters read back.
+#[test]
+fn one_gpu_renderer_renders_pass_after_pass() {
+    use gpu_photon::gpu::GpuRenderer;
+    use gpu_photon::session::PassRenderer;
+    let Some(_ctx) = gpu() else { return };
+    let scene =
+        gpu_photon::scene::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
+    let mut s = settings(&scene, 3);
+    s.width = 24;
+    s.height = 24;
+    let quiet = Progress::default();
+    let mut r = GpuRenderer::new(&scene, &s).unwrap();
+    let first = r.pass(0, &s, &quiet).unwrap();
+    let other = r.pass(1, &s, &quiet).unwrap();
+    let again = r.pass(0, &s, &quiet).unwrap();
+    assert!(first.pixels == again.pixels, "pass 0 differs after pass 1");
+    assert!(
+        first.pixels != other.pixels,
+        "passes 0 and 1 drew the same photons"
+    );
+    let report = r.report().unwrap();
+    assert_eq!(report.gpu_stats.len(), 4);
+    let mut names: Vec<&str> = report.phases.iter().map(|p| p.0).collect();
+    names.sort();
+    let n = names.len();
+    names.dedup();
+    assert_eq!(
+        names.len(),
+        n,
+        "a phase is listed twice: {:?}",
+        report.phases
+    );
+
+    // A K the gather's heap cannot hold is an error naming the setting, not a bad image.
+    let big = RenderSettings {
+        k: gpu_photon::gpu::codes::MAX_HEAP + 1,
+        ..s.clone()
+    };
+    match r.pass(0, &big, &quiet) {
+        Err(gpu_photon::Error::Setting { field: "k", .. }) => {}
+        other => panic!("k = {} accepted: {:?}", big.k, other.map(|_| ())),
+    }
+}

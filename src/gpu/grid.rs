@@ -28,7 +28,8 @@ pub fn table_size_for(expected: u32, max_binding: u64) -> u32 {
 /// Cell size: twice the expected distance to the K-th photon if `expected` photons covered
 /// `area * concentration` uniformly (so the first ring of 27 cells usually holds the K
 /// nearest), kept within [radius / 5, radius] so a search visits at most 11^3 cells
-/// (`codes::MAX_CELLS`, the bound of the WGSL search). Fixed-radius estimates (`k == 0`) use cells of the radius.
+/// (`codes::MAX_CELLS`, the bound of the WGSL search). Fixed-radius estimates (`k == 0`)
+/// use cells of the radius.
 pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentration: f32) -> f32 {
     if k == 0 {
         return radius;

@@ -120,7 +120,8 @@ pub struct GpuAabb {
     pub _pad1: u32,
 }
 
-/// Twin of WGSL `Params`: the per-sample parameters of a pass (read-only storage, one slot per sample).
+/// Twin of WGSL `Params`: the per-sample parameters of a pass (read-only storage, one slot
+/// per sample).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuParams {
