@@ -403,6 +403,33 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
     assert_eq!(dynamic, vec![(0, PARAMS)]);
 }
 
+#[test]
+fn host_tables_are_the_expected_layouts() {
+    // (table, its bindings 0.. in order with their access): the scene is read-only but for
+    // the stats counters, a map's buffers are written by its kernels but for its parameters,
+    // and the gather reads both maps and writes only the accumulator.
+    use Access::{Read as R, ReadWrite as W};
+    let expected: [(&GroupTable, &[Access]); 3] = [
+        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W]),
+        (&MAP_GROUP, &[W, W, W, W, W, W, R]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W]),
+    ];
+    let mut errors = Vec::new();
+    for (table, kinds) in expected {
+        let mut host: Vec<&Binding> = table.entries.iter().collect();
+        host.sort_by_key(|b| b.binding);
+        let numbers: Vec<u32> = host.iter().map(|b| b.binding).collect();
+        let access: Vec<Access> = host.iter().map(|b| b.access).collect();
+        if numbers != (0..kinds.len() as u32).collect::<Vec<_>>() || access != kinds {
+            errors.push(format!(
+                "table {}: bindings {numbers:?} with {access:?}, expected 0.. with {kinds:?}",
+                table.label
+            ));
+        }
+    }
+    fail_if_any("host binding tables", &errors);
+}
+
 /// `table` with the binding numbers of entries `a` and `b` exchanged.
 fn swapped(table: &GroupTable, a: &str, b: &str) -> GroupTable {
     let entries: Vec<Binding> = table
