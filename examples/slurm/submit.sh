@@ -10,9 +10,10 @@
 # (N = PASSES), and equal to it up to float rounding otherwise. Logs go to OUTDIR/logs.
 #
 # TASKS=2,5 resubmits only those tasks (after they failed or were cancelled), with a new
-# merge job depending on them. SBATCH_ARGS adds sbatch options to both jobs (e.g.
-# "--partition=gpu --gres=gpu:1" for the array: put those in SLICE_ARGS instead). The
-# scripts are taken from beside this one; GPU_PHOTON names the binary, as in the scripts.
+# merge job depending on them; give the same other arguments. SBATCH_ARGS adds sbatch
+# options to both jobs (e.g. "--account=art --partition=render"), SLICE_ARGS to the array
+# only (e.g. "--gres=gpu:1 --time=2:00:00"). The job scripts are taken from beside this
+# one; GPU_PHOTON names the binary (default: gpu-photon on the PATH of the jobs).
 set -euo pipefail
 if [ $# -lt 4 ]; then
     echo "usage: $0 SCENE PASSES N OUTDIR [render options...]" >&2
