@@ -124,7 +124,14 @@ impl Image {
                         AttributeValue::Text(Text::from(text.join("\n").as_str())),
                     );
                 }
-                image.write().to_file(&tmp).map_err(|e| err(e.to_string()))
+                // Sequential compression: the tiles are written in order (in parallel they
+                // are written as threads finish them, so an image larger than one 64x64
+                // tile would be other bytes from run to run).
+                image
+                    .write()
+                    .non_parallel()
+                    .to_file(&tmp)
+                    .map_err(|e| err(e.to_string()))
             }
             _ => {
                 let scale = 2f32.powf(exposure);
