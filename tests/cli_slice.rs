@@ -22,21 +22,19 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn render(out: &Path, extra: &[&str], env: &[(&str, &str)]) -> Output {
+    render_sized(out, (20, 16), extra, env)
+}
+
+fn render_sized(out: &Path, size: (u32, u32), extra: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = bin();
     c.args(["render", "scenes/cornell-box.toml", "-o"]).arg(out);
     c.args([
-        "--backend",
-        "cpu",
         "--width",
-        "20",
+        &size.0.to_string(),
         "--height",
-        "16",
-        "--spp",
-        "1",
-        "--photons",
-        "3000",
-        "-q",
+        &size.1.to_string(),
     ]);
+    c.args(["--backend", "cpu", "--spp", "1", "--photons", "3000", "-q"]);
     c.envs(env.iter().copied());
     c.args(extra).output().unwrap()
 }
@@ -83,20 +81,29 @@ fn bytes(p: &Path) -> Vec<u8> {
 #[test]
 fn slices_from_the_command_line_or_the_scheduler_merge_to_the_single_run() {
     let d = tmp("slice");
+    // Several 64x64 tiles in the EXR, so their order in the file counts too.
+    let big = (200, 150);
     let whole = d.join("whole.exr");
-    ok(&render(&whole, &["--passes", "3"], &[]));
+    ok(&render_sized(&whole, big, &["--passes", "3"], &[]));
     assert_eq!(tag(&whole, "gpu_photon.total_passes"), None);
     // One pass per slice: the merge adds the same numbers in the same order as the single
     // run, so the files are the same bytes. Each slice's index comes another way.
     let s: Vec<PathBuf> = (0..3).map(|i| d.join(format!("s{i}.exr"))).collect();
-    ok(&render(&s[0], &["--passes", "3", "--slice", "0/3"], &[]));
-    ok(&render(
+    ok(&render_sized(
+        &s[0],
+        big,
+        &["--passes", "3", "--slice", "0/3"],
+        &[],
+    ));
+    ok(&render_sized(
         &s[1],
+        big,
         &["--passes", "3", "--slice", "/3"],
         &[("SLURM_ARRAY_TASK_ID", "1")],
     ));
-    ok(&render(
+    ok(&render_sized(
         &s[2],
+        big,
         &["--passes", "3", "--slice", "/3"],
         &[("JOB_COMPLETION_INDEX", "2")],
     ));
@@ -115,7 +122,12 @@ fn slices_from_the_command_line_or_the_scheduler_merge_to_the_single_run() {
     );
     // A slice of all the passes is the whole render, the same bytes.
     let all = d.join("all.exr");
-    ok(&render(&all, &["--passes", "3", "--slice", "0/1"], &[]));
+    ok(&render_sized(
+        &all,
+        big,
+        &["--passes", "3", "--slice", "0/1"],
+        &[],
+    ));
     assert!(bytes(&all) == bytes(&whole));
     // Uneven slices: 5 passes in 2 slices are 0..3 and 3..5, and merge to the single run
     // up to the f32 rounding of each slice's mean.
