@@ -124,7 +124,14 @@ impl Image {
                         AttributeValue::Text(Text::from(text.join("\n").as_str())),
                     );
                 }
-                image.write().to_file(&tmp).map_err(|e| err(e.to_string()))
+                // Sequential compression: the tiles are written in order (in parallel they
+                // are written as threads finish them, so an image larger than one 64x64
+                // tile would be other bytes from run to run).
+                image
+                    .write()
+                    .non_parallel()
+                    .to_file(&tmp)
+                    .map_err(|e| err(e.to_string()))
             }
             _ => {
                 let scale = 2f32.powf(exposure);
@@ -177,12 +184,31 @@ pub const TAGS_ATTRIBUTE: &str = "gpu_photon";
 /// The text attributes of an EXR file's header, with the tags of [`Image::write_tagged`]
 /// unpacked, sorted by key.
 pub fn read_tags(path: &Path) -> Result<Vec<(String, String)>> {
+    Ok(read_header(path)?.tags)
+}
+
+/// What an EXR file's header says about its image, read without its pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExrHeader {
+    /// Width of the first layer, in pixels.
+    pub width: u32,
+    /// Height of the first layer, in pixels.
+    pub height: u32,
+    /// The text attributes, as [`read_tags`] returns them.
+    pub tags: Vec<(String, String)>,
+}
+
+/// Reads the header of an EXR file (its first layer's size and text attributes), not its
+/// pixels: cheap enough to validate many files before reading any image.
+pub fn read_header(path: &Path) -> Result<ExrHeader> {
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| Error::Image {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
     let mut tags = Vec::new();
+    let (mut width, mut height) = (0, 0);
     if let Some(h) = meta.headers.first() {
+        (width, height) = (h.layer_size.width() as u32, h.layer_size.height() as u32);
         for (k, v) in h
             .own_attributes
             .other
@@ -203,7 +229,11 @@ pub fn read_tags(path: &Path) -> Result<Vec<(String, String)>> {
         }
     }
     tags.sort();
-    Ok(tags)
+    Ok(ExrHeader {
+        width,
+        height,
+        tags,
+    })
 }
 
 fn extension(path: &Path) -> String {

@@ -33,6 +33,9 @@ enum Command {
         inputs: Vec<PathBuf>,
         #[arg(short, long)]
         output: PathBuf,
+        /// Write the mean of the passes there even when some of the render's are missing.
+        #[arg(long)]
+        partial: bool,
     },
     /// Throughput of each available backend on one scene: photon paths traced per second,
     /// map build time, gather time per megapixel-sample (medians of --runs).
@@ -143,6 +146,10 @@ struct RenderArgs {
     /// Progressive passes A..B only (a slice of a longer render, for `gpu-photon merge`).
     #[arg(long, value_parser = gpu_photon::merge::parse_range)]
     pass_range: Option<(u32, u32)>,
+    /// With --passes P: only slice I (0-based) of N of the passes (balanced); `/N` takes I
+    /// from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX.
+    #[arg(long, value_name = "I/N", value_parser = gpu_photon::slice::parse_spec)]
+    slice: Option<gpu_photon::slice::SliceSpec>,
     /// Stop progressive passes after this many seconds (without --passes: pass until then).
     #[arg(long)]
     time: Option<f64>,
@@ -185,7 +192,8 @@ impl RenderArgs {
         s.pass_range = match (self.passes, self.pass_range, self.time) {
             (Some(_), Some(_), _) => bail!("--passes and --pass-range exclude each other"),
             (Some(0), _, _) => bail!("--passes must be at least 1"),
-            (Some(n), None, _) => Some((0, n)),
+            (None, _, _) if self.slice.is_some() => bail!("--slice needs --passes"),
+            (Some(n), None, _) => Some(gpu_photon::slice::pass_range(n, self.slice)?),
             (None, Some(r), _) => Some(r),
             (None, None, Some(_)) => Some((0, u32::MAX >> 8)),
             (None, None, None) => None,
@@ -292,7 +300,7 @@ fn run_progressive(
     let sig = gpu_photon::merge::signature(&args.scene, settings)?;
     let start = std::time::Instant::now();
     let write = |acc: &gpu_photon::progressive::Accumulator| -> Result<()> {
-        let tags = gpu_photon::merge::slice_tags(acc, &sig);
+        let tags = gpu_photon::merge::slice_tags(acc, &sig, args.passes);
         acc.mean()
             .write_tagged(&args.output, settings.exposure, &tags)?;
         Ok(())
@@ -360,15 +368,9 @@ fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::report::Ren
     }
 }
 
-fn run_merge(inputs: &[PathBuf], output: &PathBuf) -> Result<()> {
-    let s = gpu_photon::merge::merge(inputs, output)?;
-    eprintln!(
-        "{}: {} slices, passes {} ({} passes)",
-        output.display(),
-        s.slices,
-        s.range,
-        s.passes
-    );
+fn run_merge(inputs: &[PathBuf], output: &PathBuf, partial: bool) -> Result<()> {
+    let s = gpu_photon::merge::merge(inputs, output, partial)?;
+    eprintln!("{}: {s}", output.display());
     Ok(())
 }
 
@@ -675,7 +677,11 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
         Command::Adapters => run_adapters(),
-        Command::Merge { inputs, output } => run_merge(inputs, output),
+        Command::Merge {
+            inputs,
+            output,
+            partial,
+        } => run_merge(inputs, output, *partial),
         Command::Bench(args) => run_bench(args),
         Command::Diff {
             a,
