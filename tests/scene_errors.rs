@@ -5,7 +5,7 @@ use glam::Vec3;
 use gpu_photon::camera::Camera;
 use gpu_photon::scene::NO_LIGHT;
 use gpu_photon::scene::{load, load_str, LightShape, Material, MaterialKind, Scene, Triangle};
-use gpu_photon::settings::{FresnelMode, Mode, RenderSettings};
+use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
 use gpu_photon::Error;
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -222,7 +222,13 @@ k = 5000  #! render.k | 1..=1024
 photons = 0  #! render.photons | 1..=4294967295
 ---
 [render]
-spp = 5000000000  #! render.spp | 1..=4294967295
+spp = 5000000000  #! render.spp | must be an integer in 1..=65536
+---
+[render]
+shadow_samples = 1025  #! render.shadow_samples | must be an integer in 1..=1024
+---
+[render]
+radius = 0  #! render.radius | must be positive and finite
 ---
 [render]
 max_depth = 65  #! render.max_depth | 1..=64
@@ -810,4 +816,93 @@ fn readme_example_loads() {
     );
     let sides: Vec<bool> = s.materials.iter().map(|m| m.two_sided_emission).collect();
     assert_eq!(sides, [false, false, false, false, false, true]);
+}
+
+/// The refusal of `value` for setting `name`, through a scene file (line, field, message) and
+/// through `validate` (field, message).
+fn refusals(name: &str, value: &str) -> ((usize, String, String), (String, String)) {
+    let row = SETTINGS.iter().find(|r| r.name == name).unwrap();
+    let table = row.table.expect("a scene-file setting");
+    // `[camera]` settings go on line 5, inside CAMERA's table; `[render]` ones on line 6.
+    let body = if table == "camera" {
+        format!("{name} = {value}\n")
+    } else {
+        format!("[{table}]\n{name} = {value}\n")
+    };
+    let scene = scene_error(parse(&body)).unwrap_or_else(|e| panic!("{name} = {value}: {e}"));
+    let mut s = RenderSettings::default();
+    match row.slot {
+        Slot::U32 { set, .. } => set(&mut s, value.parse().unwrap()),
+        Slot::F32 { set, .. } => set(&mut s, value.parse().unwrap()),
+    }
+    match validate(&s) {
+        Err(Error::Setting { field, message }) => (scene, (field.to_string(), message)),
+        other => panic!("validate accepted {name} = {value}: {other:?}"),
+    }
+}
+
+#[test]
+fn scene_file_and_validate_refuse_spp_70000_with_one_range() {
+    let ((line, field, message), (flag, refusal)) = refusals("spp", "70000");
+    assert_eq!((line, field.as_str()), (6, "render.spp"));
+    assert_eq!(message, "must be an integer in 1..=65536");
+    assert_eq!(
+        (flag.as_str(), refusal.as_str()),
+        ("spp", "70000 is outside 1..=65536")
+    );
+    // 65,536 itself is accepted by both.
+    let s = parse("[render]\nspp = 65536\n").unwrap();
+    assert_eq!(s.settings.spp, 65536);
+    assert!(validate(&s.settings).is_ok());
+}
+
+#[test]
+fn every_scene_file_setting_has_the_range_of_validate() {
+    // Just past each bound of every setting a scene file may set: both refuse it, naming the
+    // same range; at the bound both accept it.
+    let mut checked = 0;
+    for row in SETTINGS.iter().filter(|r| r.table.is_some()) {
+        let (bad, good): (Vec<String>, Vec<String>) = match row.range {
+            Range::Int { lo, hi } => {
+                let bad = [lo.checked_sub(1), hi.checked_add(1)].into_iter().flatten();
+                (
+                    bad.map(|v| v.to_string()).collect(),
+                    vec![lo.to_string(), hi.to_string()],
+                )
+            }
+            Range::Positive => (vec!["0.0".into(), "-1.5".into()], vec!["1e-6".into()]),
+            Range::Finite => (vec![], vec!["-3.5".into()]),
+            Range::Open { .. } => unreachable!("{}: no scene-file setting is open", row.name),
+        };
+        let range = row.range.to_string();
+        for value in &bad {
+            let ((_, field, message), (flag, refusal)) = refusals(row.name, value);
+            let table = row.table.unwrap();
+            assert_eq!(field, format!("{table}.{}", row.name));
+            assert_eq!(flag, row.flag);
+            assert!(
+                message.contains(&range),
+                "{}: {message} lacks {range}",
+                row.name
+            );
+            assert!(
+                refusal.contains(&range),
+                "{}: {refusal} lacks {range}",
+                row.name
+            );
+            assert!(refusal.contains(value.trim_end_matches(".0")), "{refusal}");
+            checked += 1;
+        }
+        for value in &good {
+            let body = match row.table {
+                Some("camera") => format!("{} = {value}\n", row.name),
+                _ => format!("[render]\n{} = {value}\n", row.name),
+            };
+            let s = parse(&body).unwrap_or_else(|e| panic!("{} = {value}: {e}", row.name));
+            assert!(validate(&s.settings).is_ok(), "{} = {value}", row.name);
+        }
+    }
+    // Two bad values for every setting but photons (one: its top is u32::MAX) and
+    // caustic_photons, seed, exposure (none: every u32, every finite number).
+    assert_eq!(checked, 19);
 }

@@ -6,10 +6,13 @@
 //! the primitive's material, and every emissive primitive belongs to exactly one area
 //! [`Light`].
 
-mod load;
+mod builder;
 mod obj;
+mod toml;
+mod toml_table;
 
-pub use load::{load, load_str};
+pub use builder::{Locate, MaterialId, Origin, Part, SceneBuilder, Surface};
+pub use toml::{load, load_str};
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;

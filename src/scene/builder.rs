@@ -1,0 +1,419 @@
+//! The rules of building a [`Scene`], shared by every importer: the TOML scene files
+//! (`toml.rs`), OBJ meshes (`obj.rs`) and the importers to come (glTF, Mitsuba XML, PLY).
+//!
+//! An importer reads its format and calls a [`SceneBuilder`]: materials (named or not),
+//! shapes with a [`Surface`] (a material and optionally the shape's own emission), point
+//! lights, the camera and the settings; [`SceneBuilder::finish`] returns the scene. The
+//! builder owns the rules:
+//! - a shape whose emission (or two-sidedness) differs from its material's gets its own copy
+//!   of the material, appended to the materials;
+//! - every emissive shape becomes **one** area light, in the order shapes are added: a
+//!   sphere's light is the sphere, any other shape's is its triangles, stored contiguously;
+//!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
+//!   `4 pi * intensity`;
+//! - an emissive shape must have a positive area and finite power; vertices must be finite;
+//!   `two_sided` only applies to emissive surfaces.
+//!
+//! The builder never knows the file format. Every call that can fail takes a [`Locate`],
+//! which turns a message about one [`Part`] of what is added into an [`Error::Scene`] naming
+//! the file, line and field (a TOML table maps each part to its key; [`Origin`] names one
+//! fixed place).
+
+use super::{Light, LightShape, Material, Scene, Sphere, Triangle, NO_LIGHT};
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::settings::RenderSettings;
+use glam::{Mat3, Vec3};
+use std::collections::HashMap;
+use std::f32::consts::PI;
+
+/// Which part of an added item an error is about; the importer's [`Locate`] maps it to the
+/// line and field of its own format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The shape's material (a reference by name, or a missing one).
+    Material,
+    /// The shape's own emission, or a point light's intensity.
+    Emission,
+    /// The shape's two-sided emission flag.
+    TwoSided,
+    /// The shape's geometry (radius, corners, vertices, box bounds, mesh file), or a point
+    /// light's position.
+    Geometry,
+    /// The camera's position.
+    Eye,
+    /// The camera's up direction.
+    Up,
+    /// The camera's field of view.
+    Fov,
+    /// The camera as a whole (a scene without one).
+    Camera,
+}
+
+/// Turns a message about a [`Part`] of an added item into an [`Error::Scene`] naming the
+/// file, line and field it is about. Closures `Fn(Part, String) -> Error` are locators.
+pub trait Locate {
+    /// The error `message` about `part`.
+    fn error(&self, part: Part, message: String) -> Error;
+}
+
+impl<F: Fn(Part, String) -> Error> Locate for F {
+    fn error(&self, part: Part, message: String) -> Error {
+        self(part, message)
+    }
+}
+
+/// A fixed place in a file: every part of the item is reported there (for formats whose
+/// items have one line, or none: `line` 0 then).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Origin {
+    /// The file, as errors show it.
+    pub file: String,
+    /// 1-based line of the item.
+    pub line: usize,
+    /// The item's field path in the format's own terms (`shapes[3]`, `meshes[0].primitives[1]`).
+    pub field: String,
+}
+
+impl Locate for Origin {
+    fn error(&self, _part: Part, message: String) -> Error {
+        Error::Scene {
+            file: self.file.clone(),
+            line: self.line,
+            field: self.field.clone(),
+            message,
+        }
+    }
+}
+
+/// A material of the scene being built, as [`SceneBuilder::add_material`] returns it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaterialId(u32);
+
+impl MaterialId {
+    /// Index into [`Scene::materials`].
+    pub fn index(self) -> u32 {
+        self.0
+    }
+}
+
+/// What a shape is made of: a material and, optionally, its own emission.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Surface {
+    /// The material; `None` is a black surface that reflects nothing.
+    pub material: Option<MaterialId>,
+    /// Radiance emitted from the front face, replacing the material's (components >= 0).
+    pub emission: Option<Vec3>,
+    /// Emission from both faces, replacing the material's setting; only for emissive surfaces.
+    pub two_sided: Option<bool>,
+}
+
+impl Surface {
+    /// A surface of `material`, emitting what the material emits.
+    pub fn of(material: MaterialId) -> Self {
+        Surface {
+            material: Some(material),
+            ..Self::default()
+        }
+    }
+    /// A black surface emitting `radiance` from its front face.
+    pub fn emitting(radiance: Vec3) -> Self {
+        Surface {
+            emission: Some(radiance),
+            ..Self::default()
+        }
+    }
+}
+
+/// Builds a [`Scene`] by the rules in the module documentation.
+#[derive(Debug, Default)]
+pub struct SceneBuilder {
+    camera: Option<Camera>,
+    materials: Vec<Material>,
+    names: HashMap<String, MaterialId>,
+    triangles: Vec<Triangle>,
+    spheres: Vec<Sphere>,
+    lights: Vec<Light>,
+    settings: RenderSettings,
+}
+
+impl SceneBuilder {
+    /// An empty scene: no camera yet, default settings.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The render settings the scene will carry (defaults until changed).
+    pub fn settings(&mut self) -> &mut RenderSettings {
+        &mut self.settings
+    }
+
+    /// Sets the camera: at `eye`, looking at `target`, `fov` degrees of vertical field of view
+    /// in (0, 180). A degenerate frame (eye at the target, up along the view) is an error.
+    pub fn camera(
+        &mut self,
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        fov: f32,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(at.error(Part::Fov, "must be in (0, 180) degrees".into()));
+        }
+        let camera = Camera::look_at(eye, target, up, fov).ok_or_else(|| {
+            if target == eye {
+                let message = "degenerate camera frame (eye equals target)";
+                at.error(Part::Eye, message.into())
+            } else {
+                let message = "degenerate camera frame (up is parallel to the view)";
+                at.error(Part::Up, message.into())
+            }
+        })?;
+        self.camera = Some(camera);
+        Ok(())
+    }
+
+    /// Adds `material` (materials get indices in the order they are added); with a `name`,
+    /// shapes may find it by [`SceneBuilder::material_named`] (a later one of the same name
+    /// replaces it there).
+    pub fn add_material(&mut self, name: Option<&str>, material: Material) -> MaterialId {
+        let id = MaterialId(self.materials.len() as u32);
+        self.materials.push(material);
+        if let Some(name) = name {
+            self.names.insert(name.to_string(), id);
+        }
+        id
+    }
+
+    /// The material called `name`; an unknown name is an error on [`Part::Material`] that
+    /// lists the names defined.
+    pub fn material_named(&self, name: &str, at: &dyn Locate) -> Result<MaterialId> {
+        if let Some(&id) = self.names.get(name) {
+            return Ok(id);
+        }
+        let mut known: Vec<String> = self.names.keys().map(|k| format!("`{k}`")).collect();
+        known.sort();
+        let known = Some(known.join(", ")).filter(|k| !k.is_empty());
+        let known = known.unwrap_or_else(|| "none".into());
+        let message = format!("unknown material `{name}` (defined: {known})");
+        Err(at.error(Part::Material, message))
+    }
+
+    /// Adds an analytic sphere (outward normal); an emissive one is one light.
+    pub fn add_sphere(
+        &mut self,
+        center: Vec3,
+        radius: f32,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let (material, radiance) = self.surface(surface, at)?;
+        if !center.is_finite() {
+            return Err(at.error(Part::Geometry, "the centre must be finite".into()));
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            let message = "the radius must be positive and finite";
+            return Err(at.error(Part::Geometry, message.into()));
+        }
+        let mut light = NO_LIGHT;
+        if let Some(radiance) = radiance {
+            let area = 4.0 * PI * radius * radius;
+            let power = PI * area * radiance;
+            check_light(area, power, at)?;
+            light = self.lights.len() as u32;
+            let index = self.spheres.len() as u32;
+            let shape = LightShape::Sphere { index };
+            self.lights.push(Light { shape, power });
+        }
+        self.spheres.push(Sphere {
+            center,
+            radius,
+            material,
+            light,
+        });
+        Ok(())
+    }
+
+    /// Adds the triangle `v` (front normal `cross(v1 - v0, v2 - v0)`).
+    pub fn add_triangle(&mut self, v: [Vec3; 3], surface: Surface, at: &dyn Locate) -> Result<()> {
+        self.add_mesh(vec![v], surface, at)
+    }
+
+    /// Adds the quad `c` (corners in order around the edge) as triangles `(c0, c1, c2)`,
+    /// `(c0, c2, c3)`.
+    pub fn add_quad(&mut self, c: [Vec3; 4], surface: Surface, at: &dyn Locate) -> Result<()> {
+        self.add_mesh(vec![[c[0], c[1], c[2]], [c[0], c[2], c[3]]], surface, at)
+    }
+
+    /// Adds the box `min..max` (min < max on every axis), turned `rotate_y` degrees about the
+    /// vertical axis through its centre: 6 outward-facing quads, 12 triangles.
+    pub fn add_box(
+        &mut self,
+        min: Vec3,
+        max: Vec3,
+        rotate_y: f32,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !min.cmplt(max).all() {
+            let message = "must be greater than `min` on every axis";
+            return Err(at.error(Part::Geometry, message.into()));
+        }
+        self.add_mesh(box_triangles(min, max, rotate_y), surface, at)
+    }
+
+    /// Adds one shape made of world-space triangles (a mesh, already transformed); an
+    /// emissive one is one light. Every vertex must be finite.
+    pub fn add_mesh(
+        &mut self,
+        tris: Vec<[Vec3; 3]>,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let (material, radiance) = self.surface(surface, at)?;
+        if tris.iter().flatten().any(|p| !p.is_finite()) {
+            return Err(at.error(Part::Geometry, "vertices must be finite".into()));
+        }
+        let light = match radiance {
+            Some(_) => self.lights.len() as u32,
+            None => NO_LIGHT,
+        };
+        let first = self.triangles.len() as u32;
+        let mut area = 0.0;
+        for [a, b, c] in tris.iter().copied() {
+            let mut triangle = Triangle::new(a, b, c, material);
+            triangle.light = light;
+            area += triangle.area();
+            self.triangles.push(triangle);
+        }
+        if let Some(radiance) = radiance {
+            let power = PI * area * radiance;
+            check_light(area, power, at)?;
+            let count = tris.len() as u32;
+            let shape = LightShape::Triangles { first, count };
+            self.lights.push(Light { shape, power });
+        }
+        Ok(())
+    }
+
+    /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
+    pub fn add_point_light(
+        &mut self,
+        position: Vec3,
+        intensity: Vec3,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !position.is_finite() {
+            return Err(at.error(Part::Geometry, "must be finite".into()));
+        }
+        check_emission(intensity, at)?;
+        let power = 4.0 * PI * intensity;
+        if !power.is_finite() {
+            return Err(at.error(Part::Emission, "light power is not finite".into()));
+        }
+        let shape = LightShape::Point {
+            position,
+            intensity,
+        };
+        self.lights.push(Light { shape, power });
+        Ok(())
+    }
+
+    /// The scene; without a camera, an error on [`Part::Camera`].
+    pub fn finish(self, at: &dyn Locate) -> Result<Scene> {
+        let Some(camera) = self.camera else {
+            return Err(at.error(Part::Camera, "the scene has no camera".into()));
+        };
+        Ok(Scene {
+            camera,
+            materials: self.materials,
+            triangles: self.triangles,
+            spheres: self.spheres,
+            lights: self.lights,
+            settings: self.settings,
+        })
+    }
+
+    /// The material index of a shape of `surface` (a copy when its emission differs from its
+    /// material's) and, when it emits, its radiance (doubled when two-sided).
+    fn surface(&mut self, surface: Surface, at: &dyn Locate) -> Result<(u32, Option<Vec3>)> {
+        if let Some(emission) = surface.emission {
+            check_emission(emission, at)?;
+        }
+        let black = Material::black();
+        let index = surface.material.map(MaterialId::index);
+        let base = match index {
+            Some(i) => *self.materials.get(i as usize).unwrap_or(&black),
+            None => black,
+        };
+        let mut material = base;
+        material.emission = surface.emission.unwrap_or(base.emission);
+        if let Some(two_sided) = surface.two_sided {
+            if !material.is_emissive() {
+                let message = "only applies to emissive shapes";
+                return Err(at.error(Part::TwoSided, message.into()));
+            }
+            material.two_sided_emission = two_sided;
+        }
+        let index = match index {
+            Some(i) if material == base && (i as usize) < self.materials.len() => i,
+            _ => self.add_material(None, material).index(),
+        };
+        let two = if material.two_sided_emission {
+            2.0
+        } else {
+            1.0
+        };
+        let radiance = material.is_emissive().then(|| material.emission * two);
+        Ok((index, radiance))
+    }
+}
+
+/// Emitted radiance or intensity: finite and >= 0 in every channel.
+fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
+    if !c.is_finite() {
+        return Err(at.error(Part::Emission, "must be finite".into()));
+    }
+    if c.min_element() < 0.0 {
+        return Err(at.error(Part::Emission, "components must be >= 0".into()));
+    }
+    Ok(())
+}
+
+/// An area light must have a positive area and finite power.
+fn check_light(area: f32, power: Vec3, at: &dyn Locate) -> Result<()> {
+    if area.is_nan() || area <= 0.0 {
+        return Err(at.error(Part::Geometry, "zero-area light".into()));
+    }
+    if !power.is_finite() {
+        return Err(at.error(Part::Geometry, "light power is not finite".into()));
+    }
+    Ok(())
+}
+
+/// The 12 outward-facing triangles of the box `min..max` turned `degrees` about +y around its
+/// centre: per face, a corner (in units of the size) and two edges whose cross product is the
+/// outward normal.
+fn box_triangles(min: Vec3, max: Vec3, degrees: f32) -> Vec<[Vec3; 3]> {
+    const X: [f32; 3] = [1.0, 0.0, 0.0];
+    const Y: [f32; 3] = [0.0, 1.0, 0.0];
+    const Z: [f32; 3] = [0.0, 0.0, 1.0];
+    const O: [f32; 3] = [0.0; 3];
+    const FACES: [[[f32; 3]; 3]; 6] = [
+        [X, Y, Z],
+        [O, Z, Y],
+        [Y, Z, X],
+        [O, X, Z],
+        [Z, X, Y],
+        [O, Y, X],
+    ];
+    let (size, centre) = (max - min, 0.5 * (min + max));
+    let rotation = Mat3::from_rotation_y(degrees.to_radians());
+    let mut tris = Vec::with_capacity(12);
+    for [o, u, v] in FACES.map(|f| f.map(|a| Vec3::from(a) * size)) {
+        let q = [o, o + u, o + u + v, o + v].map(|p| centre + rotation * (min + p - centre));
+        tris.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+    }
+    tris
+}
