@@ -6,7 +6,9 @@ use glam::Vec3;
 /// A pinhole camera, stored in the form the ray generator needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The pinhole's position.
     pub eye: Vec3,
+    /// Unit view direction.
     pub forward: Vec3,
     /// `right * tan(fov/2)` (the aspect ratio is applied per image size).
     pub right: Vec3,

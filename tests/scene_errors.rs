@@ -5,6 +5,7 @@ use glam::Vec3;
 use gpu_photon::camera::Camera;
 use gpu_photon::scene::NO_LIGHT;
 use gpu_photon::scene::{load, load_str, LightShape, Material, MaterialKind, Scene, Triangle};
+use gpu_photon::scene::{Origin, Part, SceneBuilder, Surface};
 use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
 use gpu_photon::Error;
 use std::f32::consts::PI;
@@ -905,4 +906,93 @@ fn every_scene_file_setting_has_the_range_of_validate() {
     // Two bad values for every setting but photons (one: its top is u32::MAX) and
     // caustic_photons, seed, exposure (none: every u32, every finite number).
     assert_eq!(checked, 19);
+}
+
+#[test]
+fn readme_tables_show_the_ranges_of_the_settings_table() {
+    let readme = std::fs::read_to_string(scenes_dir().join("README.md")).unwrap();
+    for row in SETTINGS.iter().filter(|r| r.table.is_some()) {
+        let key = format!("| `{}` |", row.name);
+        let line = readme.lines().find(|l| l.starts_with(&key));
+        let line = line.unwrap_or_else(|| panic!("README has no row for `{}`", row.name));
+        let range = row.range.to_string().replace("4294967295", "2^32-1");
+        assert!(
+            line.contains(&range),
+            "README's `{}` row lacks {range}",
+            row.name
+        );
+    }
+}
+
+#[test]
+fn the_builder_without_a_file_format() {
+    // What an importer of another format does: its own locations, the same rules.
+    let at = |line: usize| Origin {
+        file: "model.gltf".into(),
+        line,
+        field: format!("meshes[{line}]"),
+    };
+    let mut b = SceneBuilder::new();
+    let white = b.add_material(Some("white"), Material::diffuse(Vec3::splat(0.5)));
+    let quad = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), -Vec3::Z];
+    b.add_quad(quad, Surface::of(white), &at(1)).unwrap();
+    let lamp = Surface {
+        two_sided: Some(true),
+        ..Surface::emitting(Vec3::splat(2.0))
+    };
+    b.add_sphere(Vec3::Y, 0.5, lamp, &at(2)).unwrap();
+    b.add_point_light(Vec3::Y, Vec3::ONE, &at(3)).unwrap();
+    let degenerate = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+    let e = b.add_triangle(degenerate, Surface::emitting(Vec3::ONE), &at(4));
+    assert_eq!(
+        e.unwrap_err().to_string(),
+        "model.gltf:4: meshes[4]: zero-area light"
+    );
+    let e = b.material_named("grey", &at(5)).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown material `grey` (defined: `white`)"),
+        "{e}"
+    );
+    let e = b.add_triangle(
+        degenerate,
+        Surface {
+            two_sided: Some(true),
+            ..Surface::of(white)
+        },
+        &at(6),
+    );
+    assert!(e
+        .unwrap_err()
+        .to_string()
+        .contains("only applies to emissive"));
+    // A camera is required; the locator says where (here a closure).
+    let no_camera = |part: Part, message: String| Error::Scene {
+        file: "model.gltf".into(),
+        line: 0,
+        field: format!("{part:?}"),
+        message,
+    };
+    let up_along_view = b.camera(Vec3::Z, Vec3::ZERO, Vec3::Z, 40.0, &no_camera);
+    assert!(up_along_view
+        .unwrap_err()
+        .to_string()
+        .contains(": Up: degenerate camera frame"));
+    b.camera(3.0 * Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0, &no_camera)
+        .unwrap();
+    let s = b.finish(&no_camera).unwrap();
+    // The sphere got its own two-sided emitting copy of black; the quad kept `white`. The
+    // calls that failed left no trace (no triangle, no light, no material copy).
+    assert_eq!((s.triangles.len(), s.materials.len()), (2, 2));
+    assert_eq!(s.triangles[0].material, white.index());
+    let lamp = s.materials[s.spheres[0].material as usize];
+    assert_eq!(
+        (lamp.emission, lamp.two_sided_emission),
+        (Vec3::splat(2.0), true)
+    );
+    assert_eq!(s.lights.len(), 2);
+    assert_eq!(s.lights[0].shape, LightShape::Sphere { index: 0 });
+    let sphere_power = PI * 4.0 * PI * 0.25 * 2.0 * 2.0;
+    assert!(close(s.lights[0].power, Vec3::splat(sphere_power), 1e-6));
+    assert!(close(s.lights[1].power, Vec3::splat(4.0 * PI), 1e-6));
+    assert!(SceneBuilder::new().finish(&no_camera).is_err());
 }

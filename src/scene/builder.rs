@@ -12,7 +12,8 @@
 //!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
 //!   `4 pi * intensity`;
 //! - an emissive shape must have a positive area and finite power; vertices must be finite;
-//!   `two_sided` only applies to emissive surfaces.
+//!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
+//!   importer may skip what it cannot use and go on.
 //!
 //! The builder never knows the file format. Every call that can fail takes a [`Locate`],
 //! which turns a message about one [`Part`] of what is added into an [`Error::Scene`] naming
@@ -208,7 +209,7 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
-        let (material, radiance) = self.surface(surface, at)?;
+        let surface = self.resolve(surface, at)?;
         if !center.is_finite() {
             return Err(at.error(Part::Geometry, "the centre must be finite".into()));
         }
@@ -216,16 +217,17 @@ impl SceneBuilder {
             let message = "the radius must be positive and finite";
             return Err(at.error(Part::Geometry, message.into()));
         }
-        let mut light = NO_LIGHT;
-        if let Some(radiance) = radiance {
+        let mut light = None;
+        if let Some(radiance) = surface.radiance {
             let area = 4.0 * PI * radius * radius;
             let power = PI * area * radiance;
             check_light(area, power, at)?;
-            light = self.lights.len() as u32;
             let index = self.spheres.len() as u32;
             let shape = LightShape::Sphere { index };
-            self.lights.push(Light { shape, power });
+            light = Some(Light { shape, power });
         }
+        let material = self.commit(&surface);
+        let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
         self.spheres.push(Sphere {
             center,
             radius,
@@ -271,28 +273,32 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
-        let (material, radiance) = self.surface(surface, at)?;
+        let surface = self.resolve(surface, at)?;
         if tris.iter().flatten().any(|p| !p.is_finite()) {
             return Err(at.error(Part::Geometry, "vertices must be finite".into()));
         }
-        let light = match radiance {
-            Some(_) => self.lights.len() as u32,
-            None => NO_LIGHT,
-        };
-        let first = self.triangles.len() as u32;
-        let mut area = 0.0;
-        for [a, b, c] in tris.iter().copied() {
-            let mut triangle = Triangle::new(a, b, c, material);
-            triangle.light = light;
-            area += triangle.area();
-            self.triangles.push(triangle);
-        }
-        if let Some(radiance) = radiance {
+        let triangles = tris.iter().map(|&[a, b, c]| Triangle::new(a, b, c, 0));
+        let mut light = None;
+        if let Some(radiance) = surface.radiance {
+            let mut area = 0.0;
+            for triangle in triangles.clone() {
+                area += triangle.area();
+            }
             let power = PI * area * radiance;
             check_light(area, power, at)?;
+            let first = self.triangles.len() as u32;
             let count = tris.len() as u32;
             let shape = LightShape::Triangles { first, count };
-            self.lights.push(Light { shape, power });
+            light = Some(Light { shape, power });
+        }
+        let material = self.commit(&surface);
+        let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
+        for triangle in triangles {
+            self.triangles.push(Triangle {
+                material,
+                light,
+                ..triangle
+            });
         }
         Ok(())
     }
@@ -335,9 +341,9 @@ impl SceneBuilder {
         })
     }
 
-    /// The material index of a shape of `surface` (a copy when its emission differs from its
-    /// material's) and, when it emits, its radiance (doubled when two-sided).
-    fn surface(&mut self, surface: Surface, at: &dyn Locate) -> Result<(u32, Option<Vec3>)> {
+    /// The material a shape of `surface` gets, and its radiance; changes nothing yet (a
+    /// shape that fails its checks leaves no trace).
+    fn resolve(&self, surface: Surface, at: &dyn Locate) -> Result<Resolved> {
         if let Some(emission) = surface.emission {
             check_emission(emission, at)?;
         }
@@ -356,18 +362,39 @@ impl SceneBuilder {
             }
             material.two_sided_emission = two_sided;
         }
-        let index = match index {
-            Some(i) if material == base && (i as usize) < self.materials.len() => i,
-            _ => self.add_material(None, material).index(),
-        };
+        let valid = |i: u32| (i as usize) < self.materials.len();
         let two = if material.two_sided_emission {
             2.0
         } else {
             1.0
         };
-        let radiance = material.is_emissive().then(|| material.emission * two);
-        Ok((index, radiance))
+        Ok(Resolved {
+            existing: index.filter(|&i| material == base && valid(i)),
+            material,
+            radiance: material.is_emissive().then(|| material.emission * two),
+        })
     }
+
+    /// The index of `surface`'s material, adding its copy when it has one.
+    fn commit(&mut self, surface: &Resolved) -> u32 {
+        match surface.existing {
+            Some(index) => index,
+            None => self.add_material(None, surface.material).index(),
+        }
+    }
+
+    fn add_light(&mut self, light: Light) -> u32 {
+        self.lights.push(light);
+        self.lights.len() as u32 - 1
+    }
+}
+
+/// A shape's surface, resolved: its material (an existing one, or a copy still to add) and,
+/// when it emits, its radiance (doubled when two-sided).
+struct Resolved {
+    existing: Option<u32>,
+    material: Material,
+    radiance: Option<Vec3>,
 }
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
