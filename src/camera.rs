@@ -1,4 +1,4 @@
-//! Pinhole camera with the reference conventions: raster (px, py) in [0,W]x[0,H], row 0 at
+//! Pinhole camera with the reference conventions: raster (px, py) in `[0,W]x[0,H]`, row 0 at
 //! the top, maps to `forward + (2px/W - 1) tan(fov/2) (W/H) right + (1 - 2py/H) tan(fov/2) up`.
 
 use glam::Vec3;
