@@ -159,6 +159,10 @@ impl SceneBuilder {
         fov: f32,
         at: &dyn Locate,
     ) -> Result<()> {
+        if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
+            let message = "the camera's eye, target and up must be finite";
+            return Err(at.error(Part::Eye, message.into()));
+        }
         if !(fov > 0.0 && fov < 180.0) {
             return Err(at.error(Part::Fov, "must be in (0, 180) degrees".into()));
         }
