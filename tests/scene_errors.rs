@@ -933,7 +933,14 @@ fn the_builder_without_a_file_format() {
         field: format!("meshes[{line}]"),
     };
     let mut b = SceneBuilder::new();
-    let white = b.add_material(Some("white"), Material::diffuse(Vec3::splat(0.5)));
+    let white = Material::diffuse(Vec3::splat(0.5));
+    let white = b.add_material(Some("white"), white, &at(0)).unwrap();
+    let bright = Material::glossy(Vec3::splat(0.5), Vec3::splat(0.6), 10.0);
+    let e = b
+        .add_material(Some("bright"), bright, &at(0))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("kd + ks must be at most 1"), "{e}");
     let quad = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), -Vec3::Z];
     b.add_quad(quad, Surface::of(white), &at(1)).unwrap();
     let lamp = Surface {

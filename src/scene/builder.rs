@@ -16,76 +16,18 @@
 //!   importer may skip what it cannot use and go on.
 //!
 //! The builder never knows the file format. Every call that can fail takes a [`Locate`],
-//! which turns a message about one [`Part`] of what is added into an [`Error::Scene`] naming
-//! the file, line and field (a TOML table maps each part to its key; [`Origin`] names one
+//! which turns a message about one [`Part`] of what is added into an [`Error::Scene`](crate::Error::Scene) naming
+//! the file, line and field (a TOML table maps each part to its key; [`Origin`](super::Origin) names one
 //! fixed place).
 
-use super::{Light, LightShape, Material, Scene, Sphere, Triangle, NO_LIGHT};
+use super::locate::{Locate, Part};
+use super::{Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, NO_LIGHT};
 use crate::camera::Camera;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::settings::RenderSettings;
 use glam::{Mat3, Vec3};
 use std::collections::HashMap;
 use std::f32::consts::PI;
-
-/// Which part of an added item an error is about; the importer's [`Locate`] maps it to the
-/// line and field of its own format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Part {
-    /// The shape's material (a reference by name, or a missing one).
-    Material,
-    /// The shape's own emission, or a point light's intensity.
-    Emission,
-    /// The shape's two-sided emission flag.
-    TwoSided,
-    /// The shape's geometry (radius, corners, vertices, box bounds, mesh file), or a point
-    /// light's position.
-    Geometry,
-    /// The camera's position.
-    Eye,
-    /// The camera's up direction.
-    Up,
-    /// The camera's field of view.
-    Fov,
-    /// The camera as a whole (a scene without one).
-    Camera,
-}
-
-/// Turns a message about a [`Part`] of an added item into an [`Error::Scene`] naming the
-/// file, line and field it is about. Closures `Fn(Part, String) -> Error` are locators.
-pub trait Locate {
-    /// The error `message` about `part`.
-    fn error(&self, part: Part, message: String) -> Error;
-}
-
-impl<F: Fn(Part, String) -> Error> Locate for F {
-    fn error(&self, part: Part, message: String) -> Error {
-        self(part, message)
-    }
-}
-
-/// A fixed place in a file: every part of the item is reported there (for formats whose
-/// items have one line, or none: `line` 0 then).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Origin {
-    /// The file, as errors show it.
-    pub file: String,
-    /// 1-based line of the item.
-    pub line: usize,
-    /// The item's field path in the format's own terms (`shapes[3]`, `meshes[0].primitives[1]`).
-    pub field: String,
-}
-
-impl Locate for Origin {
-    fn error(&self, _part: Part, message: String) -> Error {
-        Error::Scene {
-            file: self.file.clone(),
-            line: self.line,
-            field: self.field.clone(),
-            message,
-        }
-    }
-}
 
 /// A material of the scene being built, as [`SceneBuilder::add_material`] returns it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -181,14 +123,26 @@ impl SceneBuilder {
 
     /// Adds `material` (materials get indices in the order they are added); with a `name`,
     /// shapes may find it by [`SceneBuilder::material_named`] (a later one of the same name
-    /// replaces it there).
-    pub fn add_material(&mut self, name: Option<&str>, material: Material) -> MaterialId {
-        let id = MaterialId(self.materials.len() as u32);
-        self.materials.push(material);
+    /// replaces it there). Reflectances must be in [0, 1] with kd + ks <= 1 (energy
+    /// conservation), the Phong exponent >= 0, the index of refraction positive, emission
+    /// >= 0; all finite. Errors are on [`Part::Parameter`].
+    pub fn add_material(
+        &mut self,
+        name: Option<&str>,
+        material: Material,
+        at: &dyn Locate,
+    ) -> Result<MaterialId> {
+        check_material(&material, at)?;
+        let id = self.push_material(material);
         if let Some(name) = name {
             self.names.insert(name.to_string(), id);
         }
-        id
+        Ok(id)
+    }
+
+    fn push_material(&mut self, material: Material) -> MaterialId {
+        self.materials.push(material);
+        MaterialId(self.materials.len() as u32 - 1)
     }
 
     /// The material called `name`; an unknown name is an error on [`Part::Material`] that
@@ -383,7 +337,7 @@ impl SceneBuilder {
     fn commit(&mut self, surface: &Resolved) -> u32 {
         match surface.existing {
             Some(index) => index,
-            None => self.add_material(None, surface.material).index(),
+            None => self.push_material(surface.material).index(),
         }
     }
 
@@ -403,13 +357,51 @@ struct Resolved {
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
 fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
+    check_color(c, None, Part::Emission, at)
+}
+
+/// A colour: finite, >= 0 and, when given, <= `max` in every channel.
+fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
     if !c.is_finite() {
-        return Err(at.error(Part::Emission, "must be finite".into()));
+        return Err(at.error(part, "must be finite".into()));
     }
     if c.min_element() < 0.0 {
-        return Err(at.error(Part::Emission, "components must be >= 0".into()));
+        return Err(at.error(part, "components must be >= 0".into()));
     }
-    Ok(())
+    match max {
+        Some(m) if c.max_element() > m => {
+            Err(at.error(part, format!("components must be in [0, {m}]")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The rules of [`SceneBuilder::add_material`].
+fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
+    let param = Part::Parameter;
+    check_color(m.emission, None, param("radiance"), at)?;
+    let unit = Some(1.0);
+    match m.kind {
+        MaterialKind::Diffuse => check_color(m.kd, unit, param("albedo"), at),
+        MaterialKind::Mirror => check_color(m.ks, unit, param("reflectance"), at),
+        MaterialKind::Glossy => {
+            check_color(m.kd, unit, param("kd"), at)?;
+            check_color(m.ks, unit, param("ks"), at)?;
+            if (m.kd + m.ks).max_element() > 1.0 {
+                let message = "kd + ks must be at most 1 in every channel (energy conservation)";
+                return Err(at.error(param("ks"), message.into()));
+            }
+            match m.exponent {
+                e if e.is_finite() && e >= 0.0 => Ok(()),
+                _ => Err(at.error(param("exponent"), "must be >= 0 and finite".into())),
+            }
+        }
+        MaterialKind::Glass => match m.ior {
+            ior if ior.is_finite() && ior > 0.0 => Ok(()),
+            _ => Err(at.error(param("ior"), "must be positive and finite".into())),
+        },
+        MaterialKind::Black => Ok(()),
+    }
 }
 
 /// An area light must have a positive area and finite power.

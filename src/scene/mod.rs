@@ -8,11 +8,13 @@
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
 mod builder;
+mod locate;
 mod obj;
 mod toml;
 mod toml_table;
 
-pub use builder::{Locate, MaterialId, Origin, Part, SceneBuilder, Surface};
+pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use locate::{Locate, Origin, Part};
 pub use toml::{load, load_str};
 
 use crate::camera::Camera;

@@ -5,7 +5,8 @@
 //! `(v0, v1, v2), (v0, v2, v3), ...`, keeping the file's winding, so a face's front normal is
 //! `cross(v1 - v0, v2 - v0)`.
 
-use super::builder::{Locate, Part, SceneBuilder, Surface};
+use super::builder::{SceneBuilder, Surface};
+use super::locate::{Locate, Part};
 use crate::error::Result;
 use glam::Vec3;
 use std::io::BufReader;

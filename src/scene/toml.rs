@@ -7,7 +7,8 @@
 //! numeric settings of `[camera]` and `[render]` and their ranges come from
 //! [`crate::settings::SETTINGS`].
 
-use super::builder::{Part, SceneBuilder, Surface};
+use super::builder::{SceneBuilder, Surface};
+use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
 use super::{obj, Material, Scene};
 use crate::error::{Error, Result};
@@ -95,8 +96,13 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     let mut named: Vec<_> = raw.materials.iter().collect();
     named.sort_by_key(|(_, m)| m.span().start);
     for (name, m) in named {
-        let material = material(&Tab::new(&cx, format!("materials.{name}"), m))?;
-        b.add_material(Some(name), material);
+        let t = Tab::new(&cx, format!("materials.{name}"), m);
+        let at = At {
+            tab: &t,
+            geometry: "type",
+            emission: "radiance",
+        };
+        b.add_material(Some(name), material(&t)?, &at)?;
     }
     for (i, s) in raw.shapes.iter().enumerate() {
         shape(&Tab::new(&cx, format!("shapes[{i}]"), s), base_dir, &mut b)?;

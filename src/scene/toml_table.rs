@@ -2,7 +2,7 @@
 //! [`Tab`] turns each key into a typed value or an [`Error::Scene`] naming `file:line` and
 //! the field (`shapes[3].radius`); [`At`] is a table as the builder's [`Locate`].
 
-use super::builder::{Locate, Part};
+use super::locate::{Locate, Part};
 use crate::error::{Error, Result};
 use crate::settings::{RenderSettings, Setting, Slot};
 use glam::Vec3;
@@ -235,6 +235,7 @@ impl Locate for At<'_, '_> {
             Part::Eye => "eye",
             Part::Up => "up",
             Part::Fov => "fov",
+            Part::Parameter(name) => name,
             Part::Camera => {
                 let (span, path) = (self.tab.span.clone(), self.tab.path.clone());
                 return self.tab.cx.err(span, path, message);
