@@ -1,4 +1,4 @@
-//! Pinhole camera with the reference conventions: raster (px, py) in [0,W]x[0,H], row 0 at
+//! Pinhole camera with the reference conventions: raster (px, py) in `[0,W]x[0,H]`, row 0 at
 //! the top, maps to `forward + (2px/W - 1) tan(fov/2) (W/H) right + (1 - 2py/H) tan(fov/2) up`.
 
 use glam::Vec3;
@@ -6,7 +6,9 @@ use glam::Vec3;
 /// A pinhole camera, stored in the form the ray generator needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The pinhole's position.
     pub eye: Vec3,
+    /// Unit view direction.
     pub forward: Vec3,
     /// `right * tan(fov/2)` (the aspect ratio is applied per image size).
     pub right: Vec3,

@@ -8,24 +8,37 @@ pub enum Error {
     /// A scene file is malformed or describes something impossible.
     #[error("{file}:{line}: {field}: {message}")]
     Scene {
+        /// The file, as given to the loader.
         file: String,
+        /// 1-based line of the offending value (of its table for a missing key).
         line: usize,
+        /// Field path, e.g. `shapes[3].radius`.
         field: String,
+        /// What is wrong.
         message: String,
     },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating system's error.
         source: std::io::Error,
     },
     /// An image could not be decoded or encoded.
     #[error("{}: {message}", path.display())]
-    Image { path: PathBuf, message: String },
+    Image {
+        /// The image file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
     /// A render setting is out of range (from the command line or the API).
     #[error("invalid setting {field}: {message}")]
     Setting {
+        /// The setting, by its command-line flag (`spp`, `shadow-samples`).
         field: &'static str,
+        /// What is wrong (for a value out of range, the range of `settings::SETTINGS`).
         message: String,
     },
     /// The GPU backend could not run.

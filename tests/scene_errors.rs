@@ -5,7 +5,8 @@ use glam::Vec3;
 use gpu_photon::camera::Camera;
 use gpu_photon::scene::NO_LIGHT;
 use gpu_photon::scene::{load, load_str, LightShape, Material, MaterialKind, Scene, Triangle};
-use gpu_photon::settings::{FresnelMode, Mode, RenderSettings};
+use gpu_photon::scene::{Origin, Part, SceneBuilder, Surface};
+use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
 use gpu_photon::Error;
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -222,7 +223,13 @@ k = 5000  #! render.k | 1..=1024
 photons = 0  #! render.photons | 1..=4294967295
 ---
 [render]
-spp = 5000000000  #! render.spp | 1..=4294967295
+spp = 5000000000  #! render.spp | must be an integer in 1..=65536
+---
+[render]
+shadow_samples = 1025  #! render.shadow_samples | must be an integer in 1..=1024
+---
+[render]
+radius = 0  #! render.radius | must be positive and finite
 ---
 [render]
 max_depth = 65  #! render.max_depth | 1..=64
@@ -810,4 +817,189 @@ fn readme_example_loads() {
     );
     let sides: Vec<bool> = s.materials.iter().map(|m| m.two_sided_emission).collect();
     assert_eq!(sides, [false, false, false, false, false, true]);
+}
+
+/// The refusal of `value` for setting `name`, through a scene file (line, field, message) and
+/// through `validate` (field, message).
+fn refusals(name: &str, value: &str) -> ((usize, String, String), (String, String)) {
+    let row = SETTINGS.iter().find(|r| r.name == name).unwrap();
+    let table = row.table.expect("a scene-file setting");
+    // `[camera]` settings go on line 5, inside CAMERA's table; `[render]` ones on line 6.
+    let body = if table == "camera" {
+        format!("{name} = {value}\n")
+    } else {
+        format!("[{table}]\n{name} = {value}\n")
+    };
+    let scene = scene_error(parse(&body)).unwrap_or_else(|e| panic!("{name} = {value}: {e}"));
+    let mut s = RenderSettings::default();
+    match row.slot {
+        Slot::U32 { set, .. } => set(&mut s, value.parse().unwrap()),
+        Slot::F32 { set, .. } => set(&mut s, value.parse().unwrap()),
+    }
+    match validate(&s) {
+        Err(Error::Setting { field, message }) => (scene, (field.to_string(), message)),
+        other => panic!("validate accepted {name} = {value}: {other:?}"),
+    }
+}
+
+#[test]
+fn scene_file_and_validate_refuse_spp_70000_with_one_range() {
+    let ((line, field, message), (flag, refusal)) = refusals("spp", "70000");
+    assert_eq!((line, field.as_str()), (6, "render.spp"));
+    assert_eq!(message, "must be an integer in 1..=65536");
+    assert_eq!(
+        (flag.as_str(), refusal.as_str()),
+        ("spp", "70000 is outside 1..=65536")
+    );
+    // 65,536 itself is accepted by both.
+    let s = parse("[render]\nspp = 65536\n").unwrap();
+    assert_eq!(s.settings.spp, 65536);
+    assert!(validate(&s.settings).is_ok());
+}
+
+#[test]
+fn every_scene_file_setting_has_the_range_of_validate() {
+    // Just past each bound of every setting a scene file may set: both refuse it, naming the
+    // same range; at the bound both accept it.
+    let mut checked = 0;
+    for row in SETTINGS.iter().filter(|r| r.table.is_some()) {
+        let (bad, good): (Vec<String>, Vec<String>) = match row.range {
+            Range::Int { lo, hi } => {
+                let bad = [lo.checked_sub(1), hi.checked_add(1)].into_iter().flatten();
+                (
+                    bad.map(|v| v.to_string()).collect(),
+                    vec![lo.to_string(), hi.to_string()],
+                )
+            }
+            Range::Positive => (vec!["0.0".into(), "-1.5".into()], vec!["1e-6".into()]),
+            Range::Finite => (vec![], vec!["-3.5".into()]),
+            Range::Open { .. } => unreachable!("{}: no scene-file setting is open", row.name),
+        };
+        let range = row.range.to_string();
+        for value in &bad {
+            let ((_, field, message), (flag, refusal)) = refusals(row.name, value);
+            let table = row.table.unwrap();
+            assert_eq!(field, format!("{table}.{}", row.name));
+            assert_eq!(flag, row.flag);
+            assert!(
+                message.contains(&range),
+                "{}: {message} lacks {range}",
+                row.name
+            );
+            assert!(
+                refusal.contains(&range),
+                "{}: {refusal} lacks {range}",
+                row.name
+            );
+            assert!(refusal.contains(value.trim_end_matches(".0")), "{refusal}");
+            checked += 1;
+        }
+        for value in &good {
+            let body = match row.table {
+                Some("camera") => format!("{} = {value}\n", row.name),
+                _ => format!("[render]\n{} = {value}\n", row.name),
+            };
+            let s = parse(&body).unwrap_or_else(|e| panic!("{} = {value}: {e}", row.name));
+            assert!(validate(&s.settings).is_ok(), "{} = {value}", row.name);
+        }
+    }
+    // Two bad values for every setting but photons (one: its top is u32::MAX) and
+    // caustic_photons, seed, exposure (none: every u32, every finite number).
+    assert_eq!(checked, 19);
+}
+
+#[test]
+fn readme_tables_show_the_ranges_of_the_settings_table() {
+    let readme = std::fs::read_to_string(scenes_dir().join("README.md")).unwrap();
+    for row in SETTINGS.iter().filter(|r| r.table.is_some()) {
+        let key = format!("| `{}` |", row.name);
+        let line = readme.lines().find(|l| l.starts_with(&key));
+        let line = line.unwrap_or_else(|| panic!("README has no row for `{}`", row.name));
+        let range = row.range.to_string().replace("4294967295", "2^32-1");
+        assert!(
+            line.contains(&range),
+            "README's `{}` row lacks {range}",
+            row.name
+        );
+    }
+}
+
+#[test]
+fn the_builder_without_a_file_format() {
+    // What an importer of another format does: its own locations, the same rules.
+    let at = |line: usize| Origin {
+        file: "model.gltf".into(),
+        line,
+        field: format!("meshes[{line}]"),
+    };
+    let mut b = SceneBuilder::new();
+    let white = Material::diffuse(Vec3::splat(0.5));
+    let white = b.add_material(Some("white"), white, &at(0)).unwrap();
+    let bright = Material::glossy(Vec3::splat(0.5), Vec3::splat(0.6), 10.0);
+    let e = b
+        .add_material(Some("bright"), bright, &at(0))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("kd + ks must be at most 1"), "{e}");
+    let quad = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), -Vec3::Z];
+    b.add_quad(quad, Surface::of(white), &at(1)).unwrap();
+    let lamp = Surface {
+        two_sided: Some(true),
+        ..Surface::emitting(Vec3::splat(2.0))
+    };
+    b.add_sphere(Vec3::Y, 0.5, lamp, &at(2)).unwrap();
+    b.add_point_light(Vec3::Y, Vec3::ONE, &at(3)).unwrap();
+    let degenerate = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+    let e = b.add_triangle(degenerate, Surface::emitting(Vec3::ONE), &at(4));
+    assert_eq!(
+        e.unwrap_err().to_string(),
+        "model.gltf:4: meshes[4]: zero-area light"
+    );
+    let e = b.material_named("grey", &at(5)).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown material `grey` (defined: `white`)"),
+        "{e}"
+    );
+    let e = b.add_triangle(
+        degenerate,
+        Surface {
+            two_sided: Some(true),
+            ..Surface::of(white)
+        },
+        &at(6),
+    );
+    assert!(e
+        .unwrap_err()
+        .to_string()
+        .contains("only applies to emissive"));
+    // A camera is required; the locator says where (here a closure).
+    let no_camera = |part: Part, message: String| Error::Scene {
+        file: "model.gltf".into(),
+        line: 0,
+        field: format!("{part:?}"),
+        message,
+    };
+    let up_along_view = b.camera(Vec3::Z, Vec3::ZERO, Vec3::Z, 40.0, &no_camera);
+    assert!(up_along_view
+        .unwrap_err()
+        .to_string()
+        .contains(": Up: degenerate camera frame"));
+    b.camera(3.0 * Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0, &no_camera)
+        .unwrap();
+    let s = b.finish(&no_camera).unwrap();
+    // The sphere got its own two-sided emitting copy of black; the quad kept `white`. The
+    // calls that failed left no trace (no triangle, no light, no material copy).
+    assert_eq!((s.triangles.len(), s.materials.len()), (2, 2));
+    assert_eq!(s.triangles[0].material, white.index());
+    let lamp = s.materials[s.spheres[0].material as usize];
+    assert_eq!(
+        (lamp.emission, lamp.two_sided_emission),
+        (Vec3::splat(2.0), true)
+    );
+    assert_eq!(s.lights.len(), 2);
+    assert_eq!(s.lights[0].shape, LightShape::Sphere { index: 0 });
+    let sphere_power = PI * 4.0 * PI * 0.25 * 2.0 * 2.0;
+    assert!(close(s.lights[0].power, Vec3::splat(sphere_power), 1e-6));
+    assert!(close(s.lights[1].power, Vec3::splat(4.0 * PI), 1e-6));
+    assert!(SceneBuilder::new().finish(&no_camera).is_err());
 }

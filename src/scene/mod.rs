@@ -1,15 +1,21 @@
 //! The backend-neutral scene: camera, materials, world-space primitives and lights.
 //!
-//! A [`Scene`] is what both backends render. It is built from a TOML description by
-//! [`load()`] (see `scenes/README.md` for the format) or directly in code by tests. All
-//! geometry is flattened into world-space triangles and analytic spheres; emission lives on
-//! the primitive's material, and every emissive primitive belongs to exactly one area
-//! [`Light`].
+//! A [`Scene`] is what both backends render. Every importer builds one through a
+//! [`SceneBuilder`], which holds the rules (emission copies, lights and their power, the
+//! checks): [`load()`] reads a TOML description (see `scenes/README.md` for the format) and
+//! its OBJ meshes; tests may also fill a `Scene` directly. All geometry is flattened into
+//! world-space triangles and analytic spheres; emission lives on the primitive's material,
+//! and every emissive primitive belongs to exactly one area [`Light`].
 
-mod load;
+mod builder;
+mod locate;
 mod obj;
+mod toml;
+mod toml_table;
 
-pub use load::{load, load_str};
+pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use locate::{Locate, Origin, Part};
+pub use toml::{load, load_str};
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;
@@ -33,6 +39,7 @@ pub enum MaterialKind {
 /// A material. Unused coefficients are zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
+    /// How the surface scatters light.
     pub kind: MaterialKind,
     /// Diffuse albedo (`diffuse`) or `kd` (`glossy`).
     pub kd: Vec3,
@@ -49,6 +56,7 @@ pub struct Material {
 }
 
 impl Material {
+    /// A Lambertian surface of `albedo`.
     pub fn diffuse(albedo: Vec3) -> Self {
         Self {
             kind: MaterialKind::Diffuse,
@@ -56,6 +64,7 @@ impl Material {
             ..Self::black()
         }
     }
+    /// Lambertian `kd` plus a normalised Phong lobe `ks` of exponent `exponent`.
     pub fn glossy(kd: Vec3, ks: Vec3, exponent: f32) -> Self {
         Self {
             kind: MaterialKind::Glossy,
@@ -65,6 +74,7 @@ impl Material {
             ..Self::black()
         }
     }
+    /// A perfect mirror of `reflectance`.
     pub fn mirror(reflectance: Vec3) -> Self {
         Self {
             kind: MaterialKind::Mirror,
@@ -72,6 +82,7 @@ impl Material {
             ..Self::black()
         }
     }
+    /// A smooth dielectric of index `ior` inside.
     pub fn glass(ior: f32) -> Self {
         Self {
             kind: MaterialKind::Glass,
@@ -79,6 +90,7 @@ impl Material {
             ..Self::black()
         }
     }
+    /// A surface that reflects and emits nothing; the base of the other constructors.
     pub fn black() -> Self {
         Self {
             kind: MaterialKind::Black,
@@ -105,6 +117,7 @@ impl Material {
     pub fn stores_photons(&self) -> bool {
         matches!(self.kind, MaterialKind::Diffuse | MaterialKind::Glossy)
     }
+    /// Whether it emits in some channel.
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }
@@ -116,15 +129,20 @@ impl Material {
 /// test (src/geometry.rs) relies on that.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
+    /// First vertex.
     pub v0: Vec3,
+    /// Second vertex.
     pub v1: Vec3,
+    /// Third vertex.
     pub v2: Vec3,
+    /// Index into [`Scene::materials`].
     pub material: u32,
     /// Index into [`Scene::lights`] when the triangle is emissive, else [`NO_LIGHT`].
     pub light: u32,
 }
 
 impl Triangle {
+    /// The triangle `a, b, c` of `material`, not a light.
     pub fn new(a: Vec3, b: Vec3, c: Vec3, material: u32) -> Self {
         Self {
             v0: a,
@@ -134,12 +152,15 @@ impl Triangle {
             light: NO_LIGHT,
         }
     }
+    /// The edge `v1 - v0`.
     pub fn e1(&self) -> Vec3 {
         self.v1 - self.v0
     }
+    /// The edge `v2 - v0`.
     pub fn e2(&self) -> Vec3 {
         self.v2 - self.v0
     }
+    /// Its area.
     pub fn area(&self) -> f32 {
         0.5 * self.e1().cross(self.e2()).length()
     }
@@ -156,8 +177,11 @@ impl Triangle {
 /// An analytic sphere with outward normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    /// Centre.
     pub center: Vec3,
+    /// Radius (> 0).
     pub radius: f32,
+    /// Index into [`Scene::materials`].
     pub material: u32,
     /// Index into [`Scene::lights`] when the sphere is emissive, else [`NO_LIGHT`].
     pub light: u32,
@@ -170,17 +194,31 @@ pub const NO_LIGHT: u32 = u32::MAX;
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightShape {
     /// Isotropic point source, `intensity` in W/sr per channel; invisible to the camera.
-    Point { position: Vec3, intensity: Vec3 },
+    Point {
+        /// Where it is.
+        position: Vec3,
+        /// Radiant intensity, W/sr per channel.
+        intensity: Vec3,
+    },
     /// Emissive triangles `first..first + count` of [`Scene::triangles`] (one emissive shape),
     /// with the radiance of their material.
-    Triangles { first: u32, count: u32 },
+    Triangles {
+        /// Index of the first triangle.
+        first: u32,
+        /// Number of triangles.
+        count: u32,
+    },
     /// Emissive sphere `index` of [`Scene::spheres`].
-    Sphere { index: u32 },
+    Sphere {
+        /// Index into [`Scene::spheres`].
+        index: u32,
+    },
 }
 
 /// A light source: a point light or an emissive shape.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
+    /// What it is made of.
     pub shape: LightShape,
     /// Emitted power per channel (W): 4 pi I for a point light, pi A L for a one-sided emitter.
     pub power: Vec3,
@@ -189,12 +227,18 @@ pub struct Light {
 /// A loaded scene, ready for either backend.
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// The camera.
     pub camera: Camera,
+    /// Materials, indexed by the primitives' `material`.
     pub materials: Vec<Material>,
+    /// World-space triangles; an emissive shape's triangles are contiguous.
     pub triangles: Vec<Triangle>,
+    /// Analytic spheres.
     pub spheres: Vec<Sphere>,
+    /// Lights, in the order their shapes (then point lights) were added.
     pub lights: Vec<Light>,
-    /// Render settings from the file's `[render]` table (defaults where absent).
+    /// Render settings from the file's `[camera]` and `[render]` tables (defaults where
+    /// absent).
     pub settings: RenderSettings,
 }
 
@@ -216,6 +260,7 @@ impl Scene {
         }
     }
 
+    /// The material of triangle `i`.
     pub fn material_of_triangle(&self, i: usize) -> &Material {
         &self.materials[self.triangles[i].material as usize]
     }
@@ -237,9 +282,11 @@ impl Scene {
         tris + spheres
     }
 
+    /// Whether some material is glass.
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
     }
+    /// Whether some light is a point light.
     pub fn has_point_lights(&self) -> bool {
         self.lights
             .iter()

@@ -1,14 +1,31 @@
-//! Triangle meshes for shapes: Wavefront OBJ files (`type = "mesh"`), read with tobj, and
-//! generated boxes (`type = "box"`).
+//! Wavefront OBJ meshes (`type = "mesh"`), read with tobj and fed to the [`SceneBuilder`].
 //!
 //! Shading is flat, so only vertex positions and faces are used: texture coordinates,
 //! normals, materials, points and lines are ignored. Polygons are triangulated as fans
 //! `(v0, v1, v2), (v0, v2, v3), ...`, keeping the file's winding, so a face's front normal is
 //! `cross(v1 - v0, v2 - v0)`.
 
-use glam::{Mat3, Vec3};
+use super::builder::{SceneBuilder, Surface};
+use super::locate::{Locate, Part};
+use crate::error::Result;
+use glam::Vec3;
 use std::io::BufReader;
 use std::path::Path;
+
+/// Adds the OBJ file at `path`, scaled then translated, to `builder` as one shape of
+/// `surface`. A file that cannot be read or used is an error on [`Part::Geometry`] whose
+/// message names the resolved path.
+pub(crate) fn add_obj(
+    builder: &mut SceneBuilder,
+    path: &Path,
+    scale: Vec3,
+    translate: Vec3,
+    surface: Surface,
+    at: &dyn Locate,
+) -> Result<()> {
+    let tris = load_triangles(path).map_err(|m| at.error(Part::Geometry, m))?;
+    builder.add_mesh(transform(tris, scale, translate), surface, at)
+}
 
 /// Loads the triangles of the OBJ file at `path` (in the file's coordinates).
 ///
@@ -33,32 +50,6 @@ pub(crate) fn transform(mut tris: Vec<[Vec3; 3]>, scale: Vec3, translate: Vec3) 
         if scale.x * scale.y * scale.z < 0.0 {
             tri.swap(1, 2);
         }
-    }
-    tris
-}
-
-/// The 12 outward-facing triangles of the box `min..max` turned `degrees` about +y around its
-/// centre: per face, a corner (in units of the size) and two edges whose cross product is the
-/// outward normal.
-pub(crate) fn box_triangles(min: Vec3, max: Vec3, degrees: f32) -> Vec<[Vec3; 3]> {
-    const X: [f32; 3] = [1.0, 0.0, 0.0];
-    const Y: [f32; 3] = [0.0, 1.0, 0.0];
-    const Z: [f32; 3] = [0.0, 0.0, 1.0];
-    const O: [f32; 3] = [0.0; 3];
-    const FACES: [[[f32; 3]; 3]; 6] = [
-        [X, Y, Z],
-        [O, Z, Y],
-        [Y, Z, X],
-        [O, X, Z],
-        [Z, X, Y],
-        [O, Y, X],
-    ];
-    let (size, centre) = (max - min, 0.5 * (min + max));
-    let rotation = Mat3::from_rotation_y(degrees.to_radians());
-    let mut tris = Vec::with_capacity(12);
-    for [o, u, v] in FACES.map(|f| f.map(|a| Vec3::from(a) * size)) {
-        let q = [o, o + u, o + u + v, o + v].map(|p| centre + rotation * (min + p - centre));
-        tris.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
     }
     tris
 }

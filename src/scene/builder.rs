@@ -1,0 +1,442 @@
+//! The rules of building a [`Scene`], shared by every importer: the TOML scene files
+//! (`toml.rs`), OBJ meshes (`obj.rs`) and the importers to come (glTF, Mitsuba XML, PLY).
+//!
+//! An importer reads its format and calls a [`SceneBuilder`]: materials (named or not),
+//! shapes with a [`Surface`] (a material and optionally the shape's own emission), point
+//! lights, the camera and the settings; [`SceneBuilder::finish`] returns the scene. The
+//! builder owns the rules:
+//! - a shape whose emission (or two-sidedness) differs from its material's gets its own copy
+//!   of the material, appended to the materials;
+//! - every emissive shape becomes **one** area light, in the order shapes are added: a
+//!   sphere's light is the sphere, any other shape's is its triangles, stored contiguously;
+//!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
+//!   `4 pi * intensity`;
+//! - an emissive shape must have a positive area and finite power; vertices must be finite;
+//!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
+//!   importer may skip what it cannot use and go on.
+//!
+//! The builder never knows the file format. Every call that can fail takes a [`Locate`],
+//! which turns a message about one [`Part`] of what is added into an [`Error::Scene`](crate::Error::Scene) naming
+//! the file, line and field (a TOML table maps each part to its key; [`Origin`](super::Origin) names one
+//! fixed place).
+
+use super::locate::{Locate, Part};
+use super::{Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, NO_LIGHT};
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::settings::RenderSettings;
+use glam::{Mat3, Vec3};
+use std::collections::HashMap;
+use std::f32::consts::PI;
+
+/// A material of the scene being built, as [`SceneBuilder::add_material`] returns it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaterialId(u32);
+
+impl MaterialId {
+    /// Index into [`Scene::materials`].
+    pub fn index(self) -> u32 {
+        self.0
+    }
+}
+
+/// What a shape is made of: a material and, optionally, its own emission.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Surface {
+    /// The material; `None` is a black surface that reflects nothing.
+    pub material: Option<MaterialId>,
+    /// Radiance emitted from the front face, replacing the material's (components >= 0).
+    pub emission: Option<Vec3>,
+    /// Emission from both faces, replacing the material's setting; only for emissive surfaces.
+    pub two_sided: Option<bool>,
+}
+
+impl Surface {
+    /// A surface of `material`, emitting what the material emits.
+    pub fn of(material: MaterialId) -> Self {
+        Surface {
+            material: Some(material),
+            ..Self::default()
+        }
+    }
+    /// A black surface emitting `radiance` from its front face.
+    pub fn emitting(radiance: Vec3) -> Self {
+        Surface {
+            emission: Some(radiance),
+            ..Self::default()
+        }
+    }
+}
+
+/// Builds a [`Scene`] by the rules in the module documentation.
+#[derive(Debug, Default)]
+pub struct SceneBuilder {
+    camera: Option<Camera>,
+    materials: Vec<Material>,
+    names: HashMap<String, MaterialId>,
+    triangles: Vec<Triangle>,
+    spheres: Vec<Sphere>,
+    lights: Vec<Light>,
+    settings: RenderSettings,
+}
+
+impl SceneBuilder {
+    /// An empty scene: no camera yet, default settings.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The render settings the scene will carry (defaults until changed).
+    pub fn settings(&mut self) -> &mut RenderSettings {
+        &mut self.settings
+    }
+
+    /// Sets the camera: at `eye`, looking at `target`, `fov` degrees of vertical field of view
+    /// in (0, 180). A degenerate frame (eye at the target, up along the view) is an error.
+    pub fn camera(
+        &mut self,
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        fov: f32,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
+            let message = "the camera's eye, target and up must be finite";
+            return Err(at.error(Part::Eye, message.into()));
+        }
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(at.error(Part::Fov, "must be in (0, 180) degrees".into()));
+        }
+        let camera = Camera::look_at(eye, target, up, fov).ok_or_else(|| {
+            if target == eye {
+                let message = "degenerate camera frame (eye equals target)";
+                at.error(Part::Eye, message.into())
+            } else {
+                let message = "degenerate camera frame (up is parallel to the view)";
+                at.error(Part::Up, message.into())
+            }
+        })?;
+        self.camera = Some(camera);
+        Ok(())
+    }
+
+    /// Adds `material` (materials get indices in the order they are added); with a `name`,
+    /// shapes may find it by [`SceneBuilder::material_named`] (a later one of the same name
+    /// replaces it there). Reflectances must be in [0, 1] with kd + ks <= 1 (energy
+    /// conservation), the Phong exponent >= 0, the index of refraction positive, emission
+    /// >= 0; all finite. Errors are on [`Part::Parameter`].
+    pub fn add_material(
+        &mut self,
+        name: Option<&str>,
+        material: Material,
+        at: &dyn Locate,
+    ) -> Result<MaterialId> {
+        check_material(&material, at)?;
+        let id = self.push_material(material);
+        if let Some(name) = name {
+            self.names.insert(name.to_string(), id);
+        }
+        Ok(id)
+    }
+
+    fn push_material(&mut self, material: Material) -> MaterialId {
+        self.materials.push(material);
+        MaterialId(self.materials.len() as u32 - 1)
+    }
+
+    /// The material called `name`; an unknown name is an error on [`Part::Material`] that
+    /// lists the names defined.
+    pub fn material_named(&self, name: &str, at: &dyn Locate) -> Result<MaterialId> {
+        if let Some(&id) = self.names.get(name) {
+            return Ok(id);
+        }
+        let mut known: Vec<String> = self.names.keys().map(|k| format!("`{k}`")).collect();
+        known.sort();
+        let known = Some(known.join(", ")).filter(|k| !k.is_empty());
+        let known = known.unwrap_or_else(|| "none".into());
+        let message = format!("unknown material `{name}` (defined: {known})");
+        Err(at.error(Part::Material, message))
+    }
+
+    /// Adds an analytic sphere (outward normal); an emissive one is one light.
+    pub fn add_sphere(
+        &mut self,
+        center: Vec3,
+        radius: f32,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let surface = self.resolve(surface, at)?;
+        if !center.is_finite() {
+            return Err(at.error(Part::Geometry, "the centre must be finite".into()));
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            let message = "the radius must be positive and finite";
+            return Err(at.error(Part::Geometry, message.into()));
+        }
+        let mut light = None;
+        if let Some(radiance) = surface.radiance {
+            let area = 4.0 * PI * radius * radius;
+            let power = PI * area * radiance;
+            check_light(area, power, at)?;
+            let index = self.spheres.len() as u32;
+            let shape = LightShape::Sphere { index };
+            light = Some(Light { shape, power });
+        }
+        let material = self.commit(&surface);
+        let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
+        self.spheres.push(Sphere {
+            center,
+            radius,
+            material,
+            light,
+        });
+        Ok(())
+    }
+
+    /// Adds the triangle `v` (front normal `cross(v1 - v0, v2 - v0)`).
+    pub fn add_triangle(&mut self, v: [Vec3; 3], surface: Surface, at: &dyn Locate) -> Result<()> {
+        self.add_mesh(vec![v], surface, at)
+    }
+
+    /// Adds the quad `c` (corners in order around the edge) as triangles `(c0, c1, c2)`,
+    /// `(c0, c2, c3)`.
+    pub fn add_quad(&mut self, c: [Vec3; 4], surface: Surface, at: &dyn Locate) -> Result<()> {
+        self.add_mesh(vec![[c[0], c[1], c[2]], [c[0], c[2], c[3]]], surface, at)
+    }
+
+    /// Adds the box `min..max` (min < max on every axis), turned `rotate_y` degrees about the
+    /// vertical axis through its centre: 6 outward-facing quads, 12 triangles.
+    pub fn add_box(
+        &mut self,
+        min: Vec3,
+        max: Vec3,
+        rotate_y: f32,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !min.cmplt(max).all() {
+            let message = "must be greater than `min` on every axis";
+            return Err(at.error(Part::Geometry, message.into()));
+        }
+        self.add_mesh(box_triangles(min, max, rotate_y), surface, at)
+    }
+
+    /// Adds one shape made of world-space triangles (a mesh, already transformed); an
+    /// emissive one is one light. Every vertex must be finite.
+    pub fn add_mesh(
+        &mut self,
+        tris: Vec<[Vec3; 3]>,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let surface = self.resolve(surface, at)?;
+        if tris.iter().flatten().any(|p| !p.is_finite()) {
+            return Err(at.error(Part::Geometry, "vertices must be finite".into()));
+        }
+        let triangles = tris.iter().map(|&[a, b, c]| Triangle::new(a, b, c, 0));
+        let mut light = None;
+        if let Some(radiance) = surface.radiance {
+            let mut area = 0.0;
+            for triangle in triangles.clone() {
+                area += triangle.area();
+            }
+            let power = PI * area * radiance;
+            check_light(area, power, at)?;
+            let first = self.triangles.len() as u32;
+            let count = tris.len() as u32;
+            let shape = LightShape::Triangles { first, count };
+            light = Some(Light { shape, power });
+        }
+        let material = self.commit(&surface);
+        let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
+        for triangle in triangles {
+            self.triangles.push(Triangle {
+                material,
+                light,
+                ..triangle
+            });
+        }
+        Ok(())
+    }
+
+    /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
+    pub fn add_point_light(
+        &mut self,
+        position: Vec3,
+        intensity: Vec3,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !position.is_finite() {
+            return Err(at.error(Part::Geometry, "must be finite".into()));
+        }
+        check_emission(intensity, at)?;
+        let power = 4.0 * PI * intensity;
+        if !power.is_finite() {
+            return Err(at.error(Part::Emission, "light power is not finite".into()));
+        }
+        let shape = LightShape::Point {
+            position,
+            intensity,
+        };
+        self.lights.push(Light { shape, power });
+        Ok(())
+    }
+
+    /// The scene; without a camera, an error on [`Part::Camera`].
+    pub fn finish(self, at: &dyn Locate) -> Result<Scene> {
+        let Some(camera) = self.camera else {
+            return Err(at.error(Part::Camera, "the scene has no camera".into()));
+        };
+        Ok(Scene {
+            camera,
+            materials: self.materials,
+            triangles: self.triangles,
+            spheres: self.spheres,
+            lights: self.lights,
+            settings: self.settings,
+        })
+    }
+
+    /// The material a shape of `surface` gets, and its radiance; changes nothing yet (a
+    /// shape that fails its checks leaves no trace).
+    fn resolve(&self, surface: Surface, at: &dyn Locate) -> Result<Resolved> {
+        if let Some(emission) = surface.emission {
+            check_emission(emission, at)?;
+        }
+        let black = Material::black();
+        let index = surface.material.map(MaterialId::index);
+        let base = match index {
+            Some(i) => *self.materials.get(i as usize).unwrap_or(&black),
+            None => black,
+        };
+        let mut material = base;
+        material.emission = surface.emission.unwrap_or(base.emission);
+        if let Some(two_sided) = surface.two_sided {
+            if !material.is_emissive() {
+                let message = "only applies to emissive shapes";
+                return Err(at.error(Part::TwoSided, message.into()));
+            }
+            material.two_sided_emission = two_sided;
+        }
+        let valid = |i: u32| (i as usize) < self.materials.len();
+        let two = if material.two_sided_emission {
+            2.0
+        } else {
+            1.0
+        };
+        Ok(Resolved {
+            existing: index.filter(|&i| material == base && valid(i)),
+            material,
+            radiance: material.is_emissive().then(|| material.emission * two),
+        })
+    }
+
+    /// The index of `surface`'s material, adding its copy when it has one.
+    fn commit(&mut self, surface: &Resolved) -> u32 {
+        match surface.existing {
+            Some(index) => index,
+            None => self.push_material(surface.material).index(),
+        }
+    }
+
+    fn add_light(&mut self, light: Light) -> u32 {
+        self.lights.push(light);
+        self.lights.len() as u32 - 1
+    }
+}
+
+/// A shape's surface, resolved: its material (an existing one, or a copy still to add) and,
+/// when it emits, its radiance (doubled when two-sided).
+struct Resolved {
+    existing: Option<u32>,
+    material: Material,
+    radiance: Option<Vec3>,
+}
+
+/// Emitted radiance or intensity: finite and >= 0 in every channel.
+fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
+    check_color(c, None, Part::Emission, at)
+}
+
+/// A colour: finite, >= 0 and, when given, <= `max` in every channel.
+fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
+    if !c.is_finite() {
+        return Err(at.error(part, "must be finite".into()));
+    }
+    if c.min_element() < 0.0 {
+        return Err(at.error(part, "components must be >= 0".into()));
+    }
+    match max {
+        Some(m) if c.max_element() > m => {
+            Err(at.error(part, format!("components must be in [0, {m}]")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The rules of [`SceneBuilder::add_material`].
+fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
+    let param = Part::Parameter;
+    check_color(m.emission, None, param("radiance"), at)?;
+    let unit = Some(1.0);
+    match m.kind {
+        MaterialKind::Diffuse => check_color(m.kd, unit, param("albedo"), at),
+        MaterialKind::Mirror => check_color(m.ks, unit, param("reflectance"), at),
+        MaterialKind::Glossy => {
+            check_color(m.kd, unit, param("kd"), at)?;
+            check_color(m.ks, unit, param("ks"), at)?;
+            if (m.kd + m.ks).max_element() > 1.0 {
+                let message = "kd + ks must be at most 1 in every channel (energy conservation)";
+                return Err(at.error(param("ks"), message.into()));
+            }
+            match m.exponent {
+                e if e.is_finite() && e >= 0.0 => Ok(()),
+                _ => Err(at.error(param("exponent"), "must be >= 0 and finite".into())),
+            }
+        }
+        MaterialKind::Glass => match m.ior {
+            ior if ior.is_finite() && ior > 0.0 => Ok(()),
+            _ => Err(at.error(param("ior"), "must be positive and finite".into())),
+        },
+        MaterialKind::Black => Ok(()),
+    }
+}
+
+/// An area light must have a positive area and finite power.
+fn check_light(area: f32, power: Vec3, at: &dyn Locate) -> Result<()> {
+    if area.is_nan() || area <= 0.0 {
+        return Err(at.error(Part::Geometry, "zero-area light".into()));
+    }
+    if !power.is_finite() {
+        return Err(at.error(Part::Geometry, "light power is not finite".into()));
+    }
+    Ok(())
+}
+
+/// The 12 outward-facing triangles of the box `min..max` turned `degrees` about +y around its
+/// centre: per face, a corner (in units of the size) and two edges whose cross product is the
+/// outward normal.
+fn box_triangles(min: Vec3, max: Vec3, degrees: f32) -> Vec<[Vec3; 3]> {
+    const X: [f32; 3] = [1.0, 0.0, 0.0];
+    const Y: [f32; 3] = [0.0, 1.0, 0.0];
+    const Z: [f32; 3] = [0.0, 0.0, 1.0];
+    const O: [f32; 3] = [0.0; 3];
+    const FACES: [[[f32; 3]; 3]; 6] = [
+        [X, Y, Z],
+        [O, Z, Y],
+        [Y, Z, X],
+        [O, X, Z],
+        [Z, X, Y],
+        [O, Y, X],
+    ];
+    let (size, centre) = (max - min, 0.5 * (min + max));
+    let rotation = Mat3::from_rotation_y(degrees.to_radians());
+    let mut tris = Vec::with_capacity(12);
+    for [o, u, v] in FACES.map(|f| f.map(|a| Vec3::from(a) * size)) {
+        let q = [o, o + u, o + u + v, o + v].map(|p| centre + rotation * (min + p - centre));
+        tris.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+    }
+    tris
+}

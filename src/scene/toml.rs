@@ -1,0 +1,256 @@
+//! Scene files: a TOML description (format in `scenes/README.md`) read into a
+//! [`SceneBuilder`], which applies the rules of building a [`Scene`].
+//!
+//! Every table is read as a map from key to spanned value (`toml_table.rs`), so that each
+//! error names the line and the field path (`shapes[3].radius`, `materials.white.albedo`, ...)
+//! it is about. Unknown keys, and keys that do not apply to a table's `type`, are errors. The
+//! numeric settings of `[camera]` and `[render]` and their ranges come from
+//! [`crate::settings::SETTINGS`].
+
+use super::builder::{SceneBuilder, Surface};
+use super::locate::Part;
+use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
+use super::{obj, Material, Scene};
+use crate::error::{Error, Result};
+use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, SETTINGS};
+use glam::Vec3;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    camera: Option<Spanned<RawTable>>,
+    render: Option<Spanned<RawTable>>,
+    #[serde(default)]
+    materials: BTreeMap<String, Spanned<RawTable>>,
+    #[serde(default)]
+    shapes: Vec<Spanned<RawTable>>,
+    #[serde(default)]
+    lights: Vec<Spanned<RawTable>>,
+}
+
+/// `[camera]` keys besides the settings whose table is `camera` (width, height).
+const CAMERA_KEYS: &[&str] = &["eye", "target", "up", "fov"];
+/// `[render]` keys besides the settings whose table is `render`.
+const RENDER_NAMES: &[&str] = &["mode", "filter", "fresnel"];
+const MATERIAL_TYPES: &Types = &[
+    ("diffuse", &["albedo"]),
+    ("glossy", &["kd", "ks", "exponent"]),
+    ("mirror", &["reflectance"]),
+    ("glass", &["ior"]),
+    ("emissive", &["radiance", "two_sided"]),
+];
+const SHAPE_TYPES: &Types = &[
+    ("quad", &["corners"]),
+    ("triangle", &["vertices"]),
+    ("sphere", &["center", "radius"]),
+    ("box", &["min", "max", "rotate_y"]),
+    ("mesh", &["file", "scale", "translate"]),
+];
+const SHAPE_KEYS: &[&str] = &["material", "emission", "two_sided"];
+const LIGHT_TYPES: &Types = &[("point", &["position", "intensity"])];
+
+/// Reads and loads the scene file at `path`; meshes are resolved relative to its directory.
+///
+/// An unreadable file is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
+pub fn load(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path);
+    let text = text.map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let base_dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    load_str(&text, &path.display().to_string(), base_dir)
+}
+
+/// Loads a scene from TOML `text`. `file` names it in errors; mesh paths are relative to
+/// `base_dir`. Every problem is an [`Error::Scene`] naming the line and field it is about.
+pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
+    let cx = Ctx { text, file };
+    let raw: RawScene = toml::from_str(text).map_err(|e| {
+        let span = e.span().unwrap_or(0..0);
+        // A syntax error is about the file; a wrong top-level key is about that key.
+        let field = match toml::from_str::<toml::Table>(text) {
+            Err(e) if !e.message().contains("duplicate") => "toml".into(),
+            _ => super::toml_table::path_at(text, span.start),
+        };
+        cx.err(span, field, e.message().trim())
+    })?;
+
+    let mut b = SceneBuilder::new();
+    let no_camera = |_: Part, _: String| cx.err(0..0, "camera", "missing table [camera]");
+    let Some(camera_table) = &raw.camera else {
+        return Err(no_camera(Part::Camera, String::new()));
+    };
+    camera(&Tab::new(&cx, "camera".into(), camera_table), &mut b)?;
+    if let Some(r) = &raw.render {
+        render(&Tab::new(&cx, "render".into(), r), b.settings())?;
+    }
+    // Materials, in file order.
+    let mut named: Vec<_> = raw.materials.iter().collect();
+    named.sort_by_key(|(_, m)| m.span().start);
+    for (name, m) in named {
+        let t = Tab::new(&cx, format!("materials.{name}"), m);
+        let at = At {
+            tab: &t,
+            geometry: "type",
+            emission: "radiance",
+        };
+        b.add_material(Some(name), material(&t)?, &at)?;
+    }
+    for (i, s) in raw.shapes.iter().enumerate() {
+        shape(&Tab::new(&cx, format!("shapes[{i}]"), s), base_dir, &mut b)?;
+    }
+    for (i, l) in raw.lights.iter().enumerate() {
+        let t = Tab::new(&cx, format!("lights[{i}]"), l);
+        t.typed(LIGHT_TYPES, &[])?;
+        let position = t.need("position", t.vec3("position")?)?;
+        let intensity = t.need("intensity", t.color("intensity", None)?)?;
+        let at = At {
+            tab: &t,
+            geometry: "position",
+            emission: "intensity",
+        };
+        b.add_point_light(position, intensity, &at)?;
+    }
+    b.finish(&no_camera)
+}
+
+/// The settings of [`SETTINGS`] that table `table` may set.
+fn settings_of(table: &'static str) -> impl Iterator<Item = &'static crate::settings::Setting> {
+    SETTINGS.iter().filter(move |row| row.table == Some(table))
+}
+
+fn camera(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
+    let keys = CAMERA_KEYS.iter().copied();
+    let keys: Vec<&str> = keys.chain(settings_of("camera").map(|r| r.name)).collect();
+    t.only(&keys, |_| false, "")?;
+    let eye = t.need("eye", t.vec3("eye")?)?;
+    let target = t.need("target", t.vec3("target")?)?;
+    let up = t.vec3("up")?.unwrap_or(Vec3::Y);
+    let fov = t.need("fov", t.num("fov")?)?;
+    for row in settings_of("camera") {
+        t.setting(row, b.settings())?;
+    }
+    let at = At {
+        tab: t,
+        geometry: "eye",
+        emission: "eye",
+    };
+    b.camera(eye, target, up, fov, &at)
+}
+
+fn render(t: &Tab, s: &mut RenderSettings) -> Result<()> {
+    let keys = settings_of("render").map(|r| r.name);
+    let keys: Vec<&str> = keys.chain(RENDER_NAMES.iter().copied()).collect();
+    t.only(&keys, |_| false, "")?;
+    for row in settings_of("render") {
+        t.setting(row, s)?;
+    }
+    let fresnel = |f: &str| match f {
+        "exact" => Some(FresnelMode::Exact),
+        "schlick" => Some(FresnelMode::Schlick),
+        _ => None,
+    };
+    if let Some(mode) = t.parse("mode", &Mode::NAMES, Mode::parse)? {
+        s.mode = mode;
+    }
+    if let Some(filter) = t.parse("filter", &Filter::NAMES, Filter::parse)? {
+        s.filter = filter;
+    }
+    if let Some(f) = t.parse("fresnel", &["exact", "schlick"], fresnel)? {
+        s.fresnel = f;
+    }
+    Ok(())
+}
+
+fn material(t: &Tab) -> Result<Material> {
+    let unit = Some(1.0);
+    Ok(match t.typed(MATERIAL_TYPES, &[])? {
+        "diffuse" => Material::diffuse(t.need("albedo", t.color("albedo", unit)?)?),
+        "glossy" => {
+            let kd = t.need("kd", t.color("kd", unit)?)?;
+            let ks = t.need("ks", t.color("ks", unit)?)?;
+            if (kd + ks).max_element() > 1.0 {
+                let message = "kd + ks must be at most 1 in every channel (energy conservation)";
+                return Err(t.fail("ks", message));
+            }
+            let exponent = t.need("exponent", t.num("exponent")?)?;
+            if exponent < 0.0 {
+                return Err(t.fail("exponent", "must be >= 0"));
+            }
+            Material::glossy(kd, ks, exponent)
+        }
+        "mirror" => Material::mirror(t.need("reflectance", t.color("reflectance", unit)?)?),
+        "glass" => Material::glass(t.need("ior", t.positive("ior")?)?),
+        _ => Material {
+            two_sided_emission: t.boolean("two_sided")?.unwrap_or(false),
+            ..Material::emitter(t.need("radiance", t.color("radiance", None)?)?)
+        },
+    })
+}
+
+fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
+    let kind = t.typed(SHAPE_TYPES, SHAPE_KEYS)?;
+    let at = |geometry| At {
+        tab: t,
+        geometry,
+        emission: "emission",
+    };
+    // The material, with the shape's own emission if it has one.
+    let emission = t.color("emission", None)?;
+    let material = match t.string("material")? {
+        Some(name) => Some(b.material_named(name, &at("material"))?),
+        None if emission.is_some() => None,
+        None => return Err(t.missing("material")),
+    };
+    let two_sided = t.boolean("two_sided")?;
+    let surface = Surface {
+        material,
+        emission,
+        two_sided,
+    };
+    match kind {
+        "sphere" => {
+            let center = t.need("center", t.vec3("center")?)?;
+            let radius = t.need("radius", t.positive("radius")?)?;
+            b.add_sphere(center, radius, surface, &at("radius"))
+        }
+        "quad" => {
+            let c = t.points("corners", 4)?;
+            b.add_quad([c[0], c[1], c[2], c[3]], surface, &at("corners"))
+        }
+        "triangle" => {
+            let v = t.points("vertices", 3)?;
+            b.add_triangle([v[0], v[1], v[2]], surface, &at("vertices"))
+        }
+        "box" => {
+            let min = t.need("min", t.vec3("min")?)?;
+            let max = t.need("max", t.vec3("max")?)?;
+            let angle = t.num("rotate_y")?.unwrap_or(0.0);
+            b.add_box(min, max, angle, surface, &at("max"))
+        }
+        _ => {
+            let file = t.need("file", t.string("file")?)?;
+            let scale = match t.get("scale").map(|v| v.get_ref()) {
+                None => Ok(Vec3::ONE),
+                Some(v) => match number(v) {
+                    Some(s) if (s as f32).is_finite() => Ok(Vec3::splat(s as f32)),
+                    Some(_) => Err("must be finite"),
+                    None if v.is_array() => vec3_of(v),
+                    None => Err("must be a number or [x, y, z]"),
+                },
+            };
+            let scale = scale.map_err(|m| t.fail("scale", m))?;
+            let translate = t.vec3("translate")?.unwrap_or(Vec3::ZERO);
+            let path = base_dir.join(file);
+            obj::add_obj(b, &path, scale, translate, surface, &at("file"))
+        }
+    }
+}
