@@ -26,6 +26,7 @@ pub mod report;
 pub mod rng;
 pub mod sampling;
 pub mod session;
+pub mod sobol;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};

@@ -1,0 +1,83 @@
+// Owen-scrambled Sobol points (Burley 2020), the twin of src/sobol.rs and the `sobol_burley`
+// crate it calls (tests/sobol.rs checks bit equality). A library, no entry points: prefix it
+// with rng.wgsl (pcg_hash) and src/sobol.rs wgsl_library()'s generated constants, and declare
+// `sobol_directions: array<u32>`, a read-only storage binding holding direction_table().
+// Loops are bounded by SOBOL_INDEX_BITS.
+
+// The crate's `parts::hash` (from hash-prospector).
+fn sobol_hash(v: u32) -> u32 {
+    var n = v ^ 0xe6fe3bebu;
+    n ^= n >> 16u;
+    n *= 0x7feb352du;
+    n ^= n >> 15u;
+    n *= 0x846ca68bu;
+    n ^= n >> 16u;
+    return n;
+}
+
+// The crate's `parts::owen_scramble_rev`: a hash that approximates an Owen scramble of a
+// bit-reversed integer.
+fn sobol_owen_rev(v: u32, scramble: u32) -> u32 {
+    var n = v;
+    n ^= n * 0x3d20adeau;
+    n += scramble;
+    n *= (scramble >> 16u) | 1u;
+    n ^= n * 0x05526c56u;
+    n ^= n * 0x53a22864u;
+    return n;
+}
+
+// The crate's `sample(index, dim, seed)` for index < 2^SOBOL_INDEX_BITS, dim < SOBOL_DIMENSIONS.
+fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
+    // Shuffle the index (nested uniform scramble), then the unscrambled Sobol integer.
+    let shuffled = reverseBits(sobol_owen_rev(reverseBits(index), sobol_hash(seed ^ 0x79c68e4au)));
+    var sobol_rev = 0u;
+    let base = dim * SOBOL_INDEX_BITS;
+    for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
+        if ((shuffled >> k) & 1u) != 0u {
+            sobol_rev ^= sobol_directions[base + k];
+        }
+    }
+    // Owen-scramble it with a per-dimension, per-seed hash.
+    var lanes = array<u32, 4>(0x912f69bau, 0x174f18abu, 0x691e72cau, 0xb40cc1b8u);
+    let scramble = (dim >> 2u) ^ (seed * 0x9c8f2d3bu) ^ lanes[dim & 3u];
+    let bits = reverseBits(sobol_owen_rev(sobol_rev, sobol_hash(scramble)));
+    return bitcast<f32>((bits >> 9u) | 0x3f800000u) - 1.0;
+}
+
+// sobol::pixel_key: the key of one pixel's sequence.
+fn sobol_pixel_key(seed: u32, pixel: u32) -> u32 {
+    return pcg_hash(pcg_hash(seed) ^ pixel);
+}
+
+// sobol::crate_seed: the crate's seed for a block of 2^SOBOL_INDEX_BITS indices and a copy of
+// SOBOL_DIMENSIONS dimensions.
+fn sobol_crate_seed(key: u32, block: u32, copy: u32) -> u32 {
+    return pcg_hash(pcg_hash(key ^ block) ^ copy);
+}
+
+// sobol::sample: dimension `dim` of point `index` of the sequence keyed `key`, in [0, 1).
+fn sobol_sample(key: u32, index: u32, dim: u32) -> f32 {
+    let seed = sobol_crate_seed(key, index >> SOBOL_INDEX_BITS, dim / SOBOL_DIMENSIONS);
+    let mask = (1u << SOBOL_INDEX_BITS) - 1u;
+    return sobol_burley_sample(index & mask, dim % SOBOL_DIMENSIONS, seed);
+}
+
+// sobol::SobolStream: the dimensions of one sample in order.
+struct SobolStream {
+    key: u32,
+    index: u32,
+    dim: u32,
+}
+
+// SobolSampler::new(seed, pass_index, pixel, spp).stream(sample).
+fn sobol_stream(seed: u32, pass_index: u32, pixel: u32, spp: u32, sample: u32) -> SobolStream {
+    return SobolStream(sobol_pixel_key(seed, pixel), pass_index * spp + sample, 0u);
+}
+
+// SobolStream::next: the next dimension, in [0, 1).
+fn sobol_next(s: ptr<function, SobolStream>) -> f32 {
+    let v = sobol_sample((*s).key, (*s).index, (*s).dim);
+    (*s).dim += 1u;
+    return v;
+}
