@@ -1,0 +1,218 @@
+//! Oracle test of the low-discrepancy sampler: `shaders/common/sobol.wgsl` on the device against
+//! `gpu_photon::sobol` (the `sobol_burley` crate) on the CPU, bit for bit, over many
+//! (seed, pass, pixel, spp, sample, dimension) tuples. Runs on lavapipe in CI (a missing
+//! adapter fails there; elsewhere it skips).
+
+mod common;
+
+use bytemuck::{Pod, Zeroable};
+use common::{gpu, TestRng};
+use gpu_photon::gpu::GpuContext;
+use gpu_photon::sobol::{direction_table, wgsl_library, SobolSampler, DIMENSIONS, INDEX_BITS};
+use wgpu::util::DeviceExt;
+
+/// One probe input; the twin of `Query` in [`PROBE`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Query {
+    seed: u32,
+    pass_index: u32,
+    pixel: u32,
+    spp: u32,
+    sample: u32,
+    dim: u32,
+}
+
+/// The probe kernel: per query, the stream's key and index and the bits of dimensions `dim`
+/// and `dim + 1` (drawn in order through `sobol_next`).
+const PROBE: &str = r#"
+struct Query {
+    seed: u32,
+    pass_index: u32,
+    pixel: u32,
+    spp: u32,
+    sample: u32,
+    dim: u32,
+}
+
+@group(0) @binding(0) var<storage, read> sobol_directions: array<u32>;
+@group(0) @binding(1) var<storage, read> queries: array<Query>;
+@group(0) @binding(2) var<storage, read_write> results: array<vec4<u32>>;
+
+@compute @workgroup_size(64)
+fn probe_sobol(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&queries) {
+        return;
+    }
+    let q = queries[i];
+    var s = sobol_stream(q.seed, q.pass_index, q.pixel, q.spp, q.sample);
+    s.dim = q.dim;
+    let a = sobol_next(&s);
+    let b = sobol_next(&s);
+    results[i] = vec4<u32>(s.key, s.index, bitcast<u32>(a), bitcast<u32>(b));
+}
+"#;
+
+/// What the probe computes, on the CPU.
+fn cpu(q: &Query) -> [u32; 4] {
+    let s = SobolSampler::new(q.seed, q.pass_index, q.pixel, q.spp);
+    let mut st = s.stream(q.sample);
+    st.dim = q.dim;
+    let a = st.next();
+    let b = st.next();
+    [s.key(), s.index(q.sample), a.to_bits(), b.to_bits()]
+}
+
+/// Runs the probe kernel over `queries` on the device.
+fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 4]> {
+    let dev = &ctx.device;
+    let source = [
+        include_str!("../shaders/common/rng.wgsl"),
+        &wgsl_library(),
+        PROBE,
+    ]
+    .join("\n");
+    let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("sobol probe"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("probe_sobol"),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe_sobol"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        panic!("sobol probe pipeline: {e}");
+    }
+    let storage = |label: &str, bytes: &[u8]| {
+        dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let directions = storage("sobol directions", bytemuck::cast_slice(&direction_table()));
+    let inputs = storage("sobol queries", bytemuck::cast_slice(queries));
+    let bytes = (queries.len() * 16) as u64;
+    let results = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sobol results"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sobol readback"),
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sobol probe bind group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: directions.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: inputs.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: results.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("sobol probe"),
+    });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sobol probe"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&results, 0, &staging, 0, bytes);
+    ctx.queue.submit([enc.finish()]);
+    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping the results"));
+    dev.poll(wgpu::PollType::wait_indefinitely())
+        .expect("waiting for the device");
+    ctx.check().expect("device error");
+    let view = staging.get_mapped_range(..).expect("mapped results");
+    bytemuck::cast_slice(&view).to_vec()
+}
+
+/// Edge tuples (block and dimension-copy boundaries, wrapping passes, extreme keys) and random
+/// ones (mostly within the crate's dimensions, some far past them).
+fn queries() -> Vec<Query> {
+    let mut qs = Vec::new();
+    let last = DIMENSIONS - 1;
+    for seed in [0, u32::MAX] {
+        for pixel in [0, 1, u32::MAX] {
+            for pass_index in [0, 1, 1023, 1024, 65535, u32::MAX] {
+                for spp in [1, 64, 1 << INDEX_BITS] {
+                    for sample in [0, spp - 1] {
+                        for dim in [0, 1, last - 1, last, DIMENSIONS, u32::MAX - 1, u32::MAX] {
+                            qs.push(Query {
+                                seed,
+                                pass_index,
+                                pixel,
+                                spp,
+                                sample,
+                                dim,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut r = TestRng(0x50b0);
+    let mut u = |n: u64| (r.next_u64() % n) as u32;
+    for _ in 0..60_000 {
+        let spp = [1, 4, 16, 64, 256, 1 + u(1000)][u(6) as usize];
+        let pass_index = [u(16), u(5000), u(1 << 32)][u(3) as usize];
+        let pixel = [u(1 << 22), u(1 << 32)][u(2) as usize];
+        let dim = [
+            u(DIMENSIONS as u64),
+            u(4 * DIMENSIONS as u64),
+            u(1 << 32),
+            last,
+        ][u(4) as usize];
+        qs.push(Query {
+            seed: u(1 << 32),
+            pass_index,
+            pixel,
+            spp,
+            sample: u(spp as u64),
+            dim,
+        });
+    }
+    qs
+}
+
+#[test]
+fn wgsl_sobol_equals_rust_sobol_bit_for_bit() {
+    let Some(ctx) = gpu() else { return };
+    let qs = queries();
+    let got = gpu_values(&ctx, &qs);
+    assert_eq!(got.len(), qs.len());
+    let mut blocks = std::collections::BTreeSet::new();
+    for (q, g) in qs.iter().zip(&got) {
+        let want = cpu(q);
+        assert_eq!(*g, want, "{q:?}: device {g:08x?}, CPU {want:08x?}");
+        blocks.insert(want[1] >> INDEX_BITS);
+    }
+    // The inputs reach past the first index block and the last dimension.
+    assert!(blocks.len() > 100, "only {} index blocks", blocks.len());
+    assert!(qs.iter().any(|q| q.dim == DIMENSIONS - 1) && qs.iter().any(|q| q.dim == u32::MAX));
+}
