@@ -11,24 +11,31 @@
 //! - Sample `s` of pass `p` at `spp` samples per pass is index `p * spp + s` of the pixel's
 //!   sequence ([`SobolSampler::index`], wrapping at 2^32), so pass `p`'s points continue the
 //!   sequence of passes `0..p`: passes 0 and 1 at `spp` together are pass 0 at `2 * spp`.
-//!   With `spp` a power of two, each pass's points on dimensions 0 and 1 form a (0, m, 2)-net.
-//! - The crate supports indices below 2^[`INDEX_BITS`] and [`DIMENSIONS`] dimensions. Index
-//!   `i` uses block `b = i >> INDEX_BITS` (index `i & (2^INDEX_BITS - 1)` in it) and
-//!   dimension `d` uses copy `w = d / DIMENSIONS` (dimension `d % DIMENSIONS` in it); the
-//!   crate's seed is `pcg_hash(pcg_hash(key ^ b) ^ w)` ([`crate_seed`]). Within one (block,
-//!   copy) the points are one scrambled Sobol sequence, stratified jointly across its
-//!   dimensions; different blocks and copies are independently scrambled ("padding" in
-//!   Burley's paper), so past 2^16 samples the error keeps falling at the Monte Carlo rate
-//!   instead of repeating the same 2^16 points, and dimensions past 255 stay uniform and
-//!   1-D stratified but only randomly associated with dimensions of another copy.
+//! - Dimensions come in pairs ("padding", Burley section 4; pbrt-v4's samplers do the same):
+//!   dimension `d` is the crate's dimension `d % 2` of pair `d / 2`, and each pair is its own
+//!   independently scrambled and shuffled sequence. So every pair `(2j, 2j + 1)` is an
+//!   Owen-scrambled (0, 2)-sequence (with `spp` a power of two, each pass's points form a
+//!   (0, m, 2)-net), whatever `j`; pairs are only randomly associated with each other. Draw
+//!   2-D decisions (camera jitter, a light sample, a gather direction) from one pair.
+//!   Measured (docs/sobol.md): the crate's own dimensions past 1 have poorer 2-D
+//!   projections (dimensions 20 and 21 at 256 samples: 10x the RMSE of a pair on a smooth
+//!   integrand), which is why pairs are used.
+//! - The crate covers indices below 2^[`INDEX_BITS`]: index `i` uses block
+//!   `b = i >> INDEX_BITS`, at index `i & (2^INDEX_BITS - 1)` in it, so past 2^16 samples the
+//!   points are freshly scrambled ones (the error keeps falling at the Monte Carlo rate between
+//!   blocks) instead of the same 2^16 points again.
+//! - The crate's seed for pair `j` and block `b` is `pcg_hash(pcg_hash(key ^ b) ^ j)`
+//!   ([`crate_seed`]). There is no dimension limit: any u32 index and dimension is valid.
 
 use crate::rng::pcg_hash;
 
-/// Dimensions the crate's direction numbers cover (Joe and Kuo's `new-joe-kuo-6`).
-pub const DIMENSIONS: u32 = sobol_burley::NUM_DIMENSIONS;
+/// Dimensions per independently scrambled set: the crate's dimensions 0 and 1.
+pub const SET_DIMENSIONS: u32 = 2;
 
 /// Index bits the crate's direction numbers cover: one block holds 2^16 samples.
 pub const INDEX_BITS: u32 = 16;
+
+const _: () = assert!(SET_DIMENSIONS <= sobol_burley::NUM_DIMENSIONS);
 
 /// The key of one pixel's sequence: a hash of (seed, pixel).
 #[inline]
@@ -36,19 +43,19 @@ pub fn pixel_key(seed: u32, pixel: u32) -> u32 {
     pcg_hash(pcg_hash(seed) ^ pixel)
 }
 
-/// The seed handed to the crate for sample block `block` and dimension copy `copy` of the
+/// The seed handed to the crate for sample block `block` and dimension set `set` of the
 /// sequence keyed `key` (see the module's mapping).
 #[inline]
-pub fn crate_seed(key: u32, block: u32, copy: u32) -> u32 {
-    pcg_hash(pcg_hash(key ^ block) ^ copy)
+pub fn crate_seed(key: u32, block: u32, set: u32) -> u32 {
+    pcg_hash(pcg_hash(key ^ block) ^ set)
 }
 
 /// Dimension `dim` of point `index` of the sequence keyed `key`, in [0, 1) (23 bits of
 /// precision, exact in f32). Any `index` and `dim` are allowed.
 #[inline]
 pub fn sample(key: u32, index: u32, dim: u32) -> f32 {
-    let seed = crate_seed(key, index >> INDEX_BITS, dim / DIMENSIONS);
-    sobol_burley::sample(index & ((1 << INDEX_BITS) - 1), dim % DIMENSIONS, seed)
+    let seed = crate_seed(key, index >> INDEX_BITS, dim / SET_DIMENSIONS);
+    sobol_burley::sample(index & ((1 << INDEX_BITS) - 1), dim % SET_DIMENSIONS, seed)
 }
 
 /// One pixel's samples in one pass: sample `s` is point `pass * spp + s` of the pixel's
@@ -120,27 +127,31 @@ impl SobolStream {
 
 /// The crate's direction numbers for the WGSL twin, bit-reversed as the crate keeps them:
 /// entry `d * INDEX_BITS + k` is the vector XORed in when bit `k` of the (shuffled) index is
-/// set, for dimension `d < DIMENSIONS`. Read from the crate's public `sobol_rev`, so they
-/// are never typed by hand.
+/// set, for the crate's dimension `d < SET_DIMENSIONS`. Read from the crate's public
+/// `sobol_rev`, so they are never typed by hand.
 pub fn direction_table() -> Vec<u32> {
-    let mut table = Vec::with_capacity((DIMENSIONS * INDEX_BITS) as usize);
-    for d in 0..DIMENSIONS {
-        for k in 0..INDEX_BITS {
-            table.push(sobol_burley::parts::sobol_rev(
-                (1u32 << k).reverse_bits(),
-                d,
-            ));
-        }
-    }
-    table
+    (0..SET_DIMENSIONS)
+        .flat_map(|d| {
+            (0..INDEX_BITS)
+                .map(move |k| sobol_burley::parts::sobol_rev((1u32 << k).reverse_bits(), d))
+        })
+        .collect()
 }
 
-/// The WGSL library: generated constants (from this module) followed by
-/// `shaders/common/sobol.wgsl`. The including module must declare
-/// `sobol_directions: array<u32>` as a read-only storage binding holding [`direction_table`].
+/// The WGSL library: constants generated here (`SOBOL_SET_DIMENSIONS`, `SOBOL_INDEX_BITS`
+/// and the [`direction_table`] as `SOBOL_DIRECTIONS`) followed by
+/// `shaders/common/sobol.wgsl`. Needs `pcg_hash` (`shaders/common/rng.wgsl`) before it.
 pub fn wgsl_library() -> String {
+    let table = direction_table();
+    let entries: Vec<String> = table.iter().map(|v| format!("0x{v:08x}u")).collect();
     format!(
-        "const SOBOL_DIMENSIONS: u32 = {DIMENSIONS}u;\nconst SOBOL_INDEX_BITS: u32 = {INDEX_BITS}u;\n{}",
+        "// Generated by src/sobol.rs wgsl_library().\n\
+         const SOBOL_SET_DIMENSIONS: u32 = {SET_DIMENSIONS}u;\n\
+         const SOBOL_INDEX_BITS: u32 = {INDEX_BITS}u;\n\
+         var<private> SOBOL_DIRECTIONS: array<u32, {}> = array<u32, {}>({});\n{}",
+        table.len(),
+        table.len(),
+        entries.join(", "),
         include_str!("../shaders/common/sobol.wgsl")
     )
 }
@@ -153,8 +164,8 @@ mod tests {
     #[test]
     fn direction_table_rebuilds_the_crates_sobol_integers() {
         let table = direction_table();
-        assert_eq!(table.len(), (DIMENSIONS * INDEX_BITS) as usize);
-        for d in [0, 1, 2, 3, 4, 17, 128, DIMENSIONS - 1] {
+        assert_eq!(table.len(), (SET_DIMENSIONS * INDEX_BITS) as usize);
+        for d in 0..SET_DIMENSIONS {
             for i in [0u32, 1, 2, 3, 5, 255, 1000, 0x8001, 0xffff] {
                 let mut want = 0;
                 for k in 0..INDEX_BITS {
@@ -188,15 +199,15 @@ mod tests {
     }
 
     #[test]
-    fn each_pass_of_a_power_of_two_spp_is_a_net_in_dimensions_0_and_1() {
+    fn each_pass_of_a_power_of_two_spp_is_a_net_in_every_dimension_pair() {
         for (seed, pixel) in [(0, 0), (7, 12345), (0xdead_beef, 1 << 20)] {
             for k in 0..=10 {
                 let spp = 1 << k;
                 // Pass 1100 at 64 spp starts past 2^16: the second block.
                 for pass in [0, 1, 5, 63, (1100 * 64) >> k] {
                     let s = SobolSampler::new(seed, pass, pixel, spp);
-                    // Dimension copies past DIMENSIONS are nets too.
-                    for d in [0, DIMENSIONS, 3 * DIMENSIONS] {
+                    // Every pair is a net, however far out.
+                    for d in [0, 2, 10, 510, 1 << 31, u32::MAX - 1] {
                         let pts: Vec<_> =
                             (0..spp).map(|i| (s.get(i, d), s.get(i, d + 1))).collect();
                         assert!(
@@ -217,7 +228,7 @@ mod tests {
     #[test]
     fn every_dimension_is_stratified_in_one_dimension() {
         let s = SobolSampler::new(3, 2, 99, 256);
-        for d in (0..DIMENSIONS + 8).chain([1000, u32::MAX]) {
+        for d in (0..300).chain([1000, u32::MAX]) {
             let mut seen = [false; 256];
             for i in 0..256 {
                 let cell = (s.get(i, d) * 256.0) as usize;
@@ -289,7 +300,7 @@ mod tests {
     }
 
     #[test]
-    fn blocks_and_dimension_copies_are_new_points_not_repeats() {
+    fn blocks_and_dimension_pairs_are_new_points_not_repeats() {
         let key = pixel_key(11, 4);
         let block = |b: u32, d: u32| {
             let mut v: Vec<u32> = (0..1 << INDEX_BITS)
@@ -300,14 +311,13 @@ mod tests {
         };
         // Fed raw to the crate, block 1 would be block 0's point set reshuffled.
         assert_ne!(block(0, 0), block(1, 0));
-        assert_ne!(block(0, 0), block(0, DIMENSIONS));
+        assert_ne!(block(0, 0), block(0, SET_DIMENSIONS));
     }
 
     #[test]
     fn the_library_parses_and_validates() {
         let src = format!(
-            "{}\n@group(0) @binding(0) var<storage, read> sobol_directions: array<u32>;\n\
-             @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n{}\n\
+            "{}\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n{}\n\
              @compute @workgroup_size(1) fn main() {{ out[0] = sobol_sample(1u, 2u, 300u); }}",
             include_str!("../shaders/common/rng.wgsl"),
             wgsl_library()

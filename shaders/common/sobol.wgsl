@@ -1,8 +1,8 @@
-// Owen-scrambled Sobol points (Burley 2020), the twin of src/sobol.rs and the `sobol_burley`
-// crate it calls (tests/sobol.rs checks bit equality). A library, no entry points: prefix it
-// with rng.wgsl (pcg_hash) and src/sobol.rs wgsl_library()'s generated constants, and declare
-// `sobol_directions: array<u32>`, a read-only storage binding holding direction_table().
-// Loops are bounded by SOBOL_INDEX_BITS.
+// Owen-scrambled Sobol points (Burley 2020) in independently scrambled dimension pairs, the
+// twin of src/sobol.rs and the `sobol_burley` crate it calls (tests/sobol.rs checks bit
+// equality). A library, no entry points, no bindings: src/sobol.rs wgsl_library() prefixes it
+// with generated constants (SOBOL_DIRECTIONS from the crate); rng.wgsl (pcg_hash) must come
+// first. Loops are bounded by SOBOL_INDEX_BITS.
 
 // The crate's `parts::hash` (from hash-prospector).
 fn sobol_hash(v: u32) -> u32 {
@@ -27,7 +27,7 @@ fn sobol_owen_rev(v: u32, scramble: u32) -> u32 {
     return n;
 }
 
-// The crate's `sample(index, dim, seed)` for index < 2^SOBOL_INDEX_BITS, dim < SOBOL_DIMENSIONS.
+// The crate's `sample(index, dim, seed)` for index < 2^SOBOL_INDEX_BITS, dim < SOBOL_SET_DIMENSIONS.
 fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
     // Shuffle the index (nested uniform scramble), then the unscrambled Sobol integer.
     let shuffled = reverseBits(sobol_owen_rev(reverseBits(index), sobol_hash(seed ^ 0x79c68e4au)));
@@ -35,7 +35,7 @@ fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
     let base = dim * SOBOL_INDEX_BITS;
     for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
         if ((shuffled >> k) & 1u) != 0u {
-            sobol_rev ^= sobol_directions[base + k];
+            sobol_rev ^= SOBOL_DIRECTIONS[base + k];
         }
     }
     // Owen-scramble it with a per-dimension, per-seed hash.
@@ -50,17 +50,17 @@ fn sobol_pixel_key(seed: u32, pixel: u32) -> u32 {
     return pcg_hash(pcg_hash(seed) ^ pixel);
 }
 
-// sobol::crate_seed: the crate's seed for a block of 2^SOBOL_INDEX_BITS indices and a copy of
-// SOBOL_DIMENSIONS dimensions.
-fn sobol_crate_seed(key: u32, block: u32, copy: u32) -> u32 {
-    return pcg_hash(pcg_hash(key ^ block) ^ copy);
+// sobol::crate_seed: the crate's seed for a block of 2^SOBOL_INDEX_BITS indices and a set of
+// SOBOL_SET_DIMENSIONS dimensions.
+fn sobol_crate_seed(key: u32, block: u32, dim_set: u32) -> u32 {
+    return pcg_hash(pcg_hash(key ^ block) ^ dim_set);
 }
 
 // sobol::sample: dimension `dim` of point `index` of the sequence keyed `key`, in [0, 1).
 fn sobol_sample(key: u32, index: u32, dim: u32) -> f32 {
-    let seed = sobol_crate_seed(key, index >> SOBOL_INDEX_BITS, dim / SOBOL_DIMENSIONS);
+    let seed = sobol_crate_seed(key, index >> SOBOL_INDEX_BITS, dim / SOBOL_SET_DIMENSIONS);
     let mask = (1u << SOBOL_INDEX_BITS) - 1u;
-    return sobol_burley_sample(index & mask, dim % SOBOL_DIMENSIONS, seed);
+    return sobol_burley_sample(index & mask, dim % SOBOL_SET_DIMENSIONS, seed);
 }
 
 // sobol::SobolStream: the dimensions of one sample in order.
