@@ -118,9 +118,11 @@ impl SobolStream {
         self.dim = self.dim.wrapping_add(1);
         v
     }
-    /// The next two dimensions.
+    /// The next pair: skips a dimension first if the stream is mid-pair, so the two values
+    /// are always one stratified pair `(2j, 2j + 1)`.
     #[inline]
     pub fn next2(&mut self) -> (f32, f32) {
+        self.dim = self.dim.wrapping_add(self.dim & 1);
         (self.next(), self.next())
     }
 }
@@ -272,6 +274,15 @@ mod tests {
                 }
             }
         }
+        // next2 starts on a pair: from dimension 3 it returns dimensions 4 and 5.
+        let mut st = whole.stream(5);
+        st.dim = 3;
+        let pair = st.next2();
+        assert_eq!(pair, (whole.get(5, 4), whole.get(5, 5)));
+        assert_eq!(
+            (st.dim, st.next2()),
+            (6, (whole.get(5, 6), whole.get(5, 7)))
+        );
         // Deterministic: built twice, same values.
         assert_eq!(SobolSampler::new(1, 2, 3, 4), SobolSampler::new(1, 2, 3, 4));
         assert_eq!(sample(9, 70_000, 300), sample(9, 70_000, 300));

@@ -23,8 +23,9 @@ struct Query {
     dim: u32,
 }
 
-/// The probe kernel: per query, the stream's key and index and the bits of dimensions `dim`
-/// and `dim + 1` (drawn in order through `sobol_next`).
+/// The probe kernel: per query, the stream's key and index, the bits of dimensions `dim` and
+/// `dim + 1` (drawn in order through `sobol_next`), then of one `sobol_next2` pair and the
+/// dimension it leaves the stream at.
 const PROBE: &str = r#"
 struct Query {
     seed: u32,
@@ -36,7 +37,7 @@ struct Query {
 }
 
 @group(0) @binding(0) var<storage, read> queries: array<Query>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4<u32>>;
+@group(0) @binding(1) var<storage, read_write> results: array<array<u32, 7>>;
 
 @compute @workgroup_size(64)
 fn probe_sobol(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -49,22 +50,33 @@ fn probe_sobol(@builtin(global_invocation_id) id: vec3<u32>) {
     s.dim = q.dim;
     let a = sobol_next(&s);
     let b = sobol_next(&s);
-    results[i] = vec4<u32>(s.key, s.index, bitcast<u32>(a), bitcast<u32>(b));
+    let p = bitcast<vec2<u32>>(sobol_next2(&s));
+    results[i] = array<u32, 7>(s.key, s.index, bitcast<u32>(a), bitcast<u32>(b), p.x, p.y, s.dim);
 }
 "#;
 
 /// What the probe computes, on the CPU.
-fn cpu(q: &Query) -> [u32; 4] {
+fn cpu(q: &Query) -> [u32; 7] {
     let s = SobolSampler::new(q.seed, q.pass_index, q.pixel, q.spp);
     let mut st = s.stream(q.sample);
     st.dim = q.dim;
     let a = st.next();
     let b = st.next();
-    [s.key(), s.index(q.sample), a.to_bits(), b.to_bits()]
+    let (x, y) = st.next2();
+    let (key, index) = (s.key(), s.index(q.sample));
+    [
+        key,
+        index,
+        a.to_bits(),
+        b.to_bits(),
+        x.to_bits(),
+        y.to_bits(),
+        st.dim,
+    ]
 }
 
 /// Runs the probe kernel over `queries` on the device.
-fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 4]> {
+fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 7]> {
     let dev = &ctx.device;
     let source = [
         include_str!("../shaders/common/rng.wgsl"),
@@ -96,7 +108,7 @@ fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 4]> {
         })
     };
     let inputs = storage("sobol queries", bytemuck::cast_slice(queries));
-    let bytes = (queries.len() * 16) as u64;
+    let bytes = (queries.len() * 28) as u64;
     let results = dev.create_buffer(&wgpu::BufferDescriptor {
         label: Some("sobol results"),
         size: bytes,

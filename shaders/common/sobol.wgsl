@@ -81,3 +81,11 @@ fn sobol_next(s: ptr<function, SobolStream>) -> f32 {
     (*s).dim += 1u;
     return v;
 }
+
+// SobolStream::next2: the next pair (2j, 2j + 1), skipping a dimension if mid-pair.
+fn sobol_next2(s: ptr<function, SobolStream>) -> vec2<f32> {
+    (*s).dim += (*s).dim & 1u;
+    let x = sobol_next(s);
+    let y = sobol_next(s);
+    return vec2<f32>(x, y);
+}
