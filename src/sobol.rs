@@ -113,6 +113,7 @@ pub struct SobolStream {
 impl SobolStream {
     /// The next dimension, in [0, 1).
     #[inline]
+    #[allow(clippy::should_implement_trait)] // named like `Rng::next`; never ends, so no Iterator
     pub fn next(&mut self) -> f32 {
         let v = sample(self.key, self.index, self.dim);
         self.dim = self.dim.wrapping_add(1);
