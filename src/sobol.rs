@@ -29,13 +29,14 @@
 
 use crate::rng::pcg_hash;
 
-/// Dimensions per independently scrambled set: the crate's dimensions 0 and 1.
+/// Dimensions per independently scrambled set: the crate's dimensions 0 and 1 (a pair;
+/// [`sample_pair`] relies on it).
 pub const SET_DIMENSIONS: u32 = 2;
 
 /// Index bits the crate's direction numbers cover: one block holds 2^16 samples.
 pub const INDEX_BITS: u32 = 16;
 
-const _: () = assert!(SET_DIMENSIONS <= sobol_burley::NUM_DIMENSIONS);
+const _: () = assert!(SET_DIMENSIONS == 2 && SET_DIMENSIONS <= sobol_burley::NUM_DIMENSIONS);
 
 /// The key of one pixel's sequence: a hash of (seed, pixel).
 #[inline]
@@ -56,6 +57,16 @@ pub fn crate_seed(key: u32, block: u32, set: u32) -> u32 {
 pub fn sample(key: u32, index: u32, dim: u32) -> f32 {
     let seed = crate_seed(key, index >> INDEX_BITS, dim / SET_DIMENSIONS);
     sobol_burley::sample(index & ((1 << INDEX_BITS) - 1), dim % SET_DIMENSIONS, seed)
+}
+
+/// Dimensions `2 * pair` and `2 * pair + 1` of point `index` of the sequence keyed `key`:
+/// `(sample(key, index, 2 * pair), sample(key, index, 2 * pair + 1))` at the cost of about one
+/// (the crate's `sample_4d` shuffles the index once).
+#[inline]
+pub fn sample_pair(key: u32, index: u32, pair: u32) -> (f32, f32) {
+    let seed = crate_seed(key, index >> INDEX_BITS, pair);
+    let [x, y, _, _] = sobol_burley::sample_4d(index & ((1 << INDEX_BITS) - 1), 0, seed);
+    (x, y)
 }
 
 /// One pixel's samples in one pass: sample `s` is point `pass * spp + s` of the pixel's
@@ -124,7 +135,9 @@ impl SobolStream {
     #[inline]
     pub fn next2(&mut self) -> (f32, f32) {
         self.dim = self.dim.wrapping_add(self.dim & 1);
-        (self.next(), self.next())
+        let v = sample_pair(self.key, self.index, self.dim / SET_DIMENSIONS);
+        self.dim = self.dim.wrapping_add(2);
+        v
     }
 }
 
@@ -284,6 +297,21 @@ mod tests {
             (st.dim, st.next2()),
             (6, (whole.get(5, 6), whole.get(5, 7)))
         );
+        // A pair costs one shuffle and equals its two dimensions.
+        for (i, d) in [
+            (0, 0),
+            (70_000, 2),
+            (u32::MAX, u32::MAX - 1),
+            (12_345, 1 << 30),
+        ] {
+            let key = whole.key();
+            let (x, y) = sample_pair(key, i, d / 2);
+            assert_eq!(
+                (x, y),
+                (sample(key, i, d), sample(key, i, d + 1)),
+                "{i} {d}"
+            );
+        }
         // Deterministic: built twice, same values.
         assert_eq!(SobolSampler::new(1, 2, 3, 4), SobolSampler::new(1, 2, 3, 4));
         assert_eq!(sample(9, 70_000, 300), sample(9, 70_000, 300));

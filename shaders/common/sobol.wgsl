@@ -27,10 +27,23 @@ fn sobol_owen_rev(v: u32, scramble: u32) -> u32 {
     return n;
 }
 
+// The crate's index shuffle (a nested uniform scramble of `index` by `seed`), un-reversed.
+fn sobol_shuffle(index: u32, seed: u32) -> u32 {
+    return reverseBits(sobol_owen_rev(reverseBits(index), sobol_hash(seed ^ 0x79c68e4au)));
+}
+
+// The crate's Owen scramble of the bit-reversed Sobol integer `sobol_rev` of dimension `dim`,
+// as a float in [0, 1).
+fn sobol_finish(sobol_rev: u32, dim: u32, seed: u32) -> f32 {
+    var lanes = array<u32, 4>(0x912f69bau, 0x174f18abu, 0x691e72cau, 0xb40cc1b8u);
+    let scramble = (dim >> 2u) ^ (seed * 0x9c8f2d3bu) ^ lanes[dim & 3u];
+    let bits = reverseBits(sobol_owen_rev(sobol_rev, sobol_hash(scramble)));
+    return bitcast<f32>((bits >> 9u) | 0x3f800000u) - 1.0;
+}
+
 // The crate's `sample(index, dim, seed)` for index < 2^SOBOL_INDEX_BITS, dim < SOBOL_SET_DIMENSIONS.
 fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
-    // Shuffle the index (nested uniform scramble), then the unscrambled Sobol integer.
-    let shuffled = reverseBits(sobol_owen_rev(reverseBits(index), sobol_hash(seed ^ 0x79c68e4au)));
+    let shuffled = sobol_shuffle(index, seed);
     var sobol_rev = 0u;
     let base = dim * SOBOL_INDEX_BITS;
     for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
@@ -38,11 +51,19 @@ fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
             sobol_rev ^= SOBOL_DIRECTIONS[base + k];
         }
     }
-    // Owen-scramble it with a per-dimension, per-seed hash.
-    var lanes = array<u32, 4>(0x912f69bau, 0x174f18abu, 0x691e72cau, 0xb40cc1b8u);
-    let scramble = (dim >> 2u) ^ (seed * 0x9c8f2d3bu) ^ lanes[dim & 3u];
-    let bits = reverseBits(sobol_owen_rev(sobol_rev, sobol_hash(scramble)));
-    return bitcast<f32>((bits >> 9u) | 0x3f800000u) - 1.0;
+    return sobol_finish(sobol_rev, dim, seed);
+}
+
+// The crate's dimensions 0 and 1 together (its `sample_4d(index, 0, seed)`, first two lanes).
+fn sobol_burley_pair(index: u32, seed: u32) -> vec2<f32> {
+    let shuffled = sobol_shuffle(index, seed);
+    var sobol_rev = vec2<u32>(0u);
+    for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
+        if ((shuffled >> k) & 1u) != 0u {
+            sobol_rev ^= vec2<u32>(SOBOL_DIRECTIONS[k], SOBOL_DIRECTIONS[SOBOL_INDEX_BITS + k]);
+        }
+    }
+    return vec2<f32>(sobol_finish(sobol_rev.x, 0u, seed), sobol_finish(sobol_rev.y, 1u, seed));
 }
 
 // sobol::pixel_key: the key of one pixel's sequence.
@@ -61,6 +82,12 @@ fn sobol_sample(key: u32, index: u32, dim: u32) -> f32 {
     let seed = sobol_crate_seed(key, index >> SOBOL_INDEX_BITS, dim / SOBOL_SET_DIMENSIONS);
     let mask = (1u << SOBOL_INDEX_BITS) - 1u;
     return sobol_burley_sample(index & mask, dim % SOBOL_SET_DIMENSIONS, seed);
+}
+
+// sobol::sample_pair: dimensions 2 pair and 2 pair + 1 of point `index`, one shuffle.
+fn sobol_sample_pair(key: u32, index: u32, pair: u32) -> vec2<f32> {
+    let seed = sobol_crate_seed(key, index >> SOBOL_INDEX_BITS, pair);
+    return sobol_burley_pair(index & ((1u << SOBOL_INDEX_BITS) - 1u), seed);
 }
 
 // sobol::SobolStream: the dimensions of one sample in order.
@@ -85,7 +112,7 @@ fn sobol_next(s: ptr<function, SobolStream>) -> f32 {
 // SobolStream::next2: the next pair (2j, 2j + 1), skipping a dimension if mid-pair.
 fn sobol_next2(s: ptr<function, SobolStream>) -> vec2<f32> {
     (*s).dim += (*s).dim & 1u;
-    let x = sobol_next(s);
-    let y = sobol_next(s);
-    return vec2<f32>(x, y);
+    let v = sobol_sample_pair((*s).key, (*s).index, (*s).dim / SOBOL_SET_DIMENSIONS);
+    (*s).dim += 2u;
+    return v;
 }
