@@ -27,6 +27,7 @@ pub mod rng;
 pub mod sampling;
 pub mod session;
 pub mod slice;
+pub mod sobol;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};
