@@ -40,6 +40,16 @@ impl Image {
             .count()
     }
 
+    /// `|self - other|` per pixel and channel, at `self`'s size (pixels past the shorter
+    /// image stay as in `self`).
+    pub fn abs_diff(&self, other: &Image) -> Image {
+        let mut err = self.clone();
+        for (p, q) in err.pixels.iter_mut().zip(&other.pixels) {
+            *p = [0, 1, 2].map(|c| (p[c] - q[c]).abs());
+        }
+        err
+    }
+
     /// Reads an EXR (linear) or PNG (sRGB, decoded to linear) image.
     pub fn read(path: &Path) -> Result<Image> {
         let ext = extension(path);

@@ -29,5 +29,5 @@ pub mod session;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};
-pub use session::{render, Backend};
+pub use session::{render, Backend, BackendChoice};
 pub mod gpu;
