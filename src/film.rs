@@ -7,12 +7,16 @@ use std::path::{Path, PathBuf};
 /// A linear RGB image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Linear RGB, row by row from the top.
     pub pixels: Vec<[f32; 3]>,
 }
 
 impl Image {
+    /// A black image.
     pub fn new(width: u32, height: u32) -> Self {
         Image {
             width,

@@ -1,6 +1,7 @@
 //! gpu-photon: a photon-mapping renderer (Jensen) with a WGSL/wgpu GPU backend and a
 //! rayon CPU backend that is its reference.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod camera;
 pub mod error;

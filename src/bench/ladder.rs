@@ -60,15 +60,23 @@ pub fn render_reference(scene: &Scene, path: &Path) -> Result<()> {
 /// One run of the speed-against-error ladder.
 #[derive(Clone, Debug)]
 pub struct LadderRow {
+    /// "cpu" or "gpu".
     pub backend: &'static str,
+    /// Photon paths of the rung.
     pub photons: u32,
+    /// Samples per pixel of the rung.
     pub spp: u32,
+    /// K of the rung.
     pub k: u32,
     /// Wall seconds per phase.
     pub phases: Vec<(&'static str, f64)>,
+    /// Wall seconds of the whole render.
     pub total_s: f64,
+    /// RMSE against the reference.
     pub rmse: f64,
+    /// Relative MSE against the reference.
     pub rel_mse: f64,
+    /// Per-channel ratio of the image mean to the reference's.
     pub mean_ratio: [f64; 3],
 }
 
