@@ -233,7 +233,7 @@ fn temp_path(path: &Path, ext: &str) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
 }
 
-/// The sRGB transfer function (linear in [0,1] to encoded).
+/// The sRGB transfer function (linear in `[0, 1]` to encoded).
 pub fn linear_to_srgb(c: f32) -> f32 {
     let c = if c.is_finite() {
         c.clamp(0.0, 1.0)
