@@ -81,13 +81,14 @@ pub fn open<'s>(
                     inner: gpu,
                     may_fall_back: true,
                 })),
-                Err(Error::Gpu(why)) => Ok(fall_back(&why, scene, settings)?),
+                Err(Error::Gpu(why)) => fall_back(&why, scene, settings),
                 Err(e) => Err(e),
             },
         },
     }
 }
 
+/// Warns that the GPU failed and opens the CPU renderer instead.
 fn fall_back<'s>(
     why: &str,
     scene: &'s Scene,
