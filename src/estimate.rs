@@ -1,5 +1,6 @@
 //! The radiance estimate from the K nearest photons (Jensen): kernel weights and the
-//! normalisation of each filter. Backend-neutral; twin: `shaders/common/estimate.wgsl`.
+//! normalisation of each filter. Backend-neutral; twin: `kernel_weight`, `kernel_norm` and `estimate` in
+//! `shaders/gather.wgsl`.
 
 use crate::photon::Photon;
 use crate::settings::Filter;

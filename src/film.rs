@@ -7,12 +7,16 @@ use std::path::{Path, PathBuf};
 /// A linear RGB image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Linear RGB, row by row from the top.
     pub pixels: Vec<[f32; 3]>,
 }
 
 impl Image {
+    /// A black image.
     pub fn new(width: u32, height: u32) -> Self {
         Image {
             width,
@@ -38,6 +42,16 @@ impl Image {
             .iter()
             .filter(|p| p.iter().any(|c| !c.is_finite()))
             .count()
+    }
+
+    /// `|self - other|` per pixel and channel, at `self`'s size (pixels past the shorter
+    /// image stay as in `self`).
+    pub fn abs_diff(&self, other: &Image) -> Image {
+        let mut err = self.clone();
+        for (p, q) in err.pixels.iter_mut().zip(&other.pixels) {
+            *p = [0, 1, 2].map(|c| (p[c] - q[c]).abs());
+        }
+        err
     }
 
     /// Reads an EXR (linear) or PNG (sRGB, decoded to linear) image.
@@ -249,7 +263,7 @@ fn temp_path(path: &Path, ext: &str) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
 }
 
-/// The sRGB transfer function (linear in [0,1] to encoded).
+/// The sRGB transfer function (linear in `[0, 1]` to encoded).
 pub fn linear_to_srgb(c: f32) -> f32 {
     let c = if c.is_finite() {
         c.clamp(0.0, 1.0)

@@ -1,6 +1,7 @@
 //! gpu-photon: a photon-mapping renderer (Jensen) with a WGSL/wgpu GPU backend and a
 //! rayon CPU backend that is its reference.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod camera;
 pub mod error;
@@ -31,5 +32,5 @@ pub mod sobol;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};
-pub use session::{render, Backend};
+pub use session::{render, Backend, BackendChoice};
 pub mod gpu;

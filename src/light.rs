@@ -47,7 +47,9 @@ pub struct LightTable {
 /// A photon leaving a light.
 #[derive(Clone, Copy, Debug)]
 pub struct Emission {
+    /// Where it leaves the light.
     pub origin: Vec3,
+    /// Unit direction it leaves in.
     pub dir: Vec3,
     /// Normal of the emitting surface (zero for point lights), for the ray offset.
     pub normal: Vec3,
@@ -66,6 +68,7 @@ pub struct LightSample {
 }
 
 impl LightTable {
+    /// The sampling tables of every light of `scene`.
     pub fn new(scene: &Scene) -> Self {
         let mut t = LightTable {
             cdf_start: vec![],

@@ -4,7 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::session::{render, render_slice, BackendChoice, SliceJob};
 use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -215,6 +215,16 @@ impl RenderArgs {
     }
 }
 
+impl BackendArg {
+    fn choice(self) -> BackendChoice {
+        match self {
+            BackendArg::Auto => BackendChoice::Auto,
+            BackendArg::Cpu => BackendChoice::Cpu,
+            BackendArg::Gpu => BackendChoice::Gpu,
+        }
+    }
+}
+
 fn run_render(args: &RenderArgs) -> Result<()> {
     gpu_photon::film::check_output_path(&args.output)?;
     let scene = gpu_photon::scene::load(&args.scene)?;
@@ -225,53 +235,13 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     if settings.pass_range.is_some() {
         return run_progressive(args, &scene, &settings, progress);
     }
-    let (image, report) = match args.backend {
-        BackendArg::Cpu => render(&scene, &settings, Backend::Cpu, progress)?,
-        BackendArg::Gpu => render(&scene, &settings, Backend::Gpu, progress)?,
-        BackendArg::Auto => match gpu_photon::gpu::hardware_adapter() {
-            Ok(_) => match render(&scene, &settings, Backend::Gpu, progress) {
-                Ok(r) => r,
-                Err(gpu_photon::Error::Gpu(why)) => {
-                    eprintln!("warning: GPU backend failed ({why}); rendering on the CPU");
-                    render(&scene, &settings, Backend::Cpu, progress)?
-                }
-                Err(e) => return Err(e.into()),
-            },
-            Err(why) => {
-                eprintln!("warning: {why}; rendering on the CPU");
-                render(&scene, &settings, Backend::Cpu, progress)?
-            }
-        },
-    };
+    let (image, report) = render(&scene, &settings, args.backend.choice(), progress)?;
     image.write(&args.output, settings.exposure)?;
     warn_if_incomplete(&args.output, &report);
     if !args.quiet {
-        eprintln!(
-            "{}: {}x{}, {} spp, mode {}, backend {}",
-            args.output.display(),
-            settings.width,
-            settings.height,
-            settings.spp,
-            settings.mode.name(),
-            report.backend
-        );
-        eprintln!(
-            "  photons stored: {} global, {} caustic",
-            report.global_stored, report.caustic_stored
-        );
-        if report.batches > 1 {
-            eprintln!(
-                "  photon maps split into {} batches (one storage binding each); counts are the last batch's",
-                report.batches
-            );
+        for line in report.summary(&args.output, &settings) {
+            eprintln!("{line}");
         }
-        if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
-            eprintln!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches");
-        }
-        for (name, d) in &report.phases {
-            eprintln!("  {name:<16} {:>9.3} s", d.as_secs_f64());
-        }
-        eprintln!("  {:<16} {:>9.3} s", "total", report.total().as_secs_f64());
     }
     Ok(())
 }
@@ -282,89 +252,35 @@ fn run_progressive(
     settings: &RenderSettings,
     progress: Progress,
 ) -> Result<()> {
-    use gpu_photon::progressive::Flow;
     use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::Arc;
-    let (a, b) = settings.pass_range.expect("progressive settings");
-    let backend = match args.backend {
-        BackendArg::Gpu => Backend::Gpu,
-        BackendArg::Cpu => Backend::Cpu,
-        BackendArg::Auto if gpu_photon::gpu::hardware_adapter().is_ok() => Backend::Gpu,
-        BackendArg::Auto => Backend::Cpu,
-    };
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
     // A second Ctrl-C while finishing the pass is left to the default handler's absence:
     // the flag is simply set again.
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
-    let sig = gpu_photon::merge::signature(&args.scene, settings)?;
-    let start = std::time::Instant::now();
-    let write = |acc: &gpu_photon::progressive::Accumulator| -> Result<()> {
-        let tags = gpu_photon::merge::slice_tags(acc, &sig, args.passes);
-        acc.mean()
-            .write_tagged(&args.output, settings.exposure, &tags)?;
-        Ok(())
+    let job = SliceJob {
+        scene_path: &args.scene,
+        output: &args.output,
+        time: args.time,
+        write_every: args.write_every,
+        stop: &interrupted,
+        total_passes: args.passes,
     };
-    let mut write_error = None;
-    let (acc, report) =
-        gpu_photon::session::render_progressive(scene, settings, backend, progress, a..b, |acc| {
-            if let Some(n) = args.write_every {
-                if n > 0 && acc.count % n == 0 {
-                    if let Err(e) = write(acc) {
-                        write_error = Some(e);
-                        return Flow::Stop;
-                    }
-                }
-            }
-            let out_of_time = args
-                .time
-                .is_some_and(|t| start.elapsed().as_secs_f64() >= t);
-            if interrupted.load(Ordering::SeqCst) || out_of_time {
-                Flow::Stop
-            } else {
-                Flow::Continue
-            }
-        })?;
-    if let Some(e) = write_error {
-        return Err(e);
-    }
-    write(&acc)?;
-    warn_if_incomplete(&args.output, &report);
+    let done = render_slice(scene, settings, args.backend.choice(), progress, &job)?;
+    warn_if_incomplete(&args.output, &done.report);
     if !args.quiet {
-        let why = if interrupted.load(Ordering::SeqCst) {
-            " (interrupted)"
-        } else {
-            ""
-        };
-        eprintln!(
-            "{}: passes {}..{}{why}, {}x{}, {} spp per pass, mode {}, backend {}",
-            args.output.display(),
-            acc.first,
-            acc.first + acc.count,
-            settings.width,
-            settings.height,
-            settings.spp,
-            settings.mode.name(),
-            report.backend
-        );
-        for (name, d) in &report.phases {
-            eprintln!("  {name:<18} {:>9.3} s", d.as_secs_f64());
+        for line in done.summary(&args.output, settings, interrupted.load(Ordering::SeqCst)) {
+            eprintln!("{line}");
         }
-        eprintln!("  {:<18} {:>9.3} s", "wall", start.elapsed().as_secs_f64());
     }
     Ok(())
 }
 
-/// Warns (even with --quiet) when a GPU render hit one of its bounds: its image is not what
-/// the settings ask for.
+/// Warns (even with --quiet) when a GPU render hit one of its bounds.
 fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::report::RenderReport) {
-    if let [overflow, budget, truncated, ..] = report.gpu_stats[..] {
-        if overflow + budget + truncated > 0 {
-            eprintln!(
-                "warning: {}: the GPU image is incomplete ({overflow} photons dropped, {budget} invocations out of loop budget, {truncated} searches truncated); lower --k, --radius or --initial-radius, or use --backend cpu",
-                output.display()
-            );
-        }
+    if let Some(warning) = report.incomplete_warning(output) {
+        eprintln!("{warning}");
     }
 }
 
@@ -375,60 +291,17 @@ fn run_merge(inputs: &[PathBuf], output: &PathBuf, partial: bool) -> Result<()> 
 }
 
 fn run_bench(args: &BenchArgs) -> Result<()> {
-    use gpu_photon::bench::throughput;
+    use gpu_photon::bench::{self, BenchBackends};
     let scene = gpu_photon::scene::load(&args.scene)?;
-    let s = RenderSettings {
-        photons: args.photons,
-        spp: args.spp,
-        width: args.width,
-        height: args.height,
-        ..scene.settings.clone()
-    };
-    let backends: Vec<Backend> = match args.backend {
-        Some(BackendArg::Cpu) => vec![Backend::Cpu],
-        Some(BackendArg::Gpu) => vec![Backend::Gpu],
-        _ => vec![Backend::Cpu, Backend::Gpu],
-    };
-    println!(
-        "{}: {}x{} at {} spp, {} photon paths, mode {}, medians of {} runs",
-        args.scene.display(),
-        s.width,
-        s.height,
-        s.spp,
-        s.photons,
-        s.mode.name(),
-        args.runs
-    );
-    println!(
-        "{:<44} {:>14} {:>12} {:>18} {:>10}",
-        "backend", "paths/s", "build (s)", "gather (s/Mpix/spp)", "total (s)"
-    );
-    let mut results = Vec::new();
-    for &b in &backends {
-        match throughput(&scene, &s, b, args.runs) {
-            Ok(t) => {
-                println!(
-                    "{:<44} {:>14.0} {:>12.4} {:>18.3} {:>10.3}",
-                    t.backend, t.paths_per_s, t.build_s, t.gather_s_per_mpix_sample, t.total_s
-                );
-                results.push(t);
-            }
-            Err(gpu_photon::Error::Gpu(why)) if args.backend.is_none() => {
-                eprintln!("gpu: skipped ({why})")
-            }
-            Err(e) => return Err(e.into()),
-        }
-    }
-    let avail: Vec<Backend> = results
-        .iter()
-        .map(|t| {
-            if t.backend.starts_with("cpu") {
-                Backend::Cpu
-            } else {
-                Backend::Gpu
-            }
-        })
-        .collect();
+    let s = bench::bench_settings(&scene, args.photons, args.spp, args.width, args.height);
+    let which = BenchBackends::of(args.backend.map(BackendArg::choice));
+    println!("{}", bench::heading(&args.scene, &s, args.runs));
+    println!("{}", bench::Throughput::header());
+    let results = bench::throughputs(&scene, &s, &which, args.runs, |r| match r {
+        Ok(t) => println!("{t}"),
+        Err(why) => eprintln!("gpu: skipped ({why})"),
+    })?;
+    let ran = which.only(results.iter().map(|t| t.kind).collect());
     if let Some(dir) = &args.out {
         let reference = match &args.reference {
             Some(r) => r.clone(),
@@ -437,43 +310,21 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
                     .with_context(|| format!("creating {}", dir.display()))?;
                 let path = dir.join("reference.exr");
                 println!(
-                    "no --reference: rendering one first with the CPU backend (progressive, 16 passes x 200,000 photons x 16 spp at {}x{}) to {}",
-                    scene.settings.width,
-                    scene.settings.height,
+                    "no --reference: rendering one first with the CPU backend ({}) to {}",
+                    bench::ladder::describe_reference(&bench::reference_settings(&scene)),
                     path.display()
                 );
-                let rs = RenderSettings {
-                    photons: 200_000,
-                    spp: 16,
-                    pass_range: Some((1000, 1016)),
-                    ..scene.settings.clone()
-                };
-                let (img, _) = render(&scene, &rs, Backend::Cpu, Progress::default())?;
-                img.write(&path, 0.0)?;
+                bench::ladder::render_reference(&scene, &path)?;
                 path
             }
         };
-        ladder_bench(&scene, &args.scene, &s, &avail, &reference, dir)?;
+        ladder_bench(&scene, &args.scene, &s, &ran, &reference, dir)?;
     }
     if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
-        progressive_curve(
-            &scene,
-            &s,
-            &avail,
-            &args.backend,
-            reference,
-            passes,
-            args.out.as_deref(),
-        )?;
+        curve_bench(&scene, &s, &ran, reference, passes, args.out.as_deref())?;
     }
     if let [cpu, gpu] = &results[..] {
-        println!(
-            "gpu/cpu time ratios: trace {:.2}, build {:.2}, gather {:.2}, total {:.2}",
-            cpu.paths_per_s / gpu.paths_per_s,
-            gpu.build_s / cpu.build_s.max(1e-9),
-            gpu.gather_s_per_mpix_sample / cpu.gather_s_per_mpix_sample,
-            gpu.total_s / cpu.total_s
-        );
+        println!("{}", bench::ratios(cpu, gpu));
     }
     Ok(())
 }
@@ -484,43 +335,27 @@ fn ladder_bench(
     scene: &gpu_photon::Scene,
     scene_path: &std::path::Path,
     s: &RenderSettings,
-    backends: &[Backend],
+    which: &gpu_photon::bench::BenchBackends,
     reference: &std::path::Path,
     dir: &std::path::Path,
 ) -> Result<()> {
-    use gpu_photon::bench::{ladder, ladder_csv, plot, LADDER};
+    use gpu_photon::bench::{ladder, ladder_csv, plot, plot_title, LadderRow, LADDER};
     let reference = Image::read(reference)?;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     println!(
         "speed against error ({}x{}, the reference's size):",
         reference.width, reference.height
     );
-    println!(
-        "{:<8} {:>8} {:>5} {:>5} {:>10} {:>10} {:>10} {:>24}",
-        "backend", "photons", "spp", "k", "seconds", "rmse", "rel_mse", "mean ratio"
-    );
-    let rows = ladder(scene, s, backends, &reference, &LADDER, |r| {
-        let m = r.mean_ratio;
-        println!(
-            "{:<8} {:>8} {:>5} {:>5} {:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}",
-            r.backend, r.photons, r.spp, r.k, r.total_s, r.rmse, r.rel_mse, m[0], m[1], m[2]
-        );
+    println!("{}", LadderRow::header());
+    let rows = ladder(scene, s, &which.backends, &reference, &LADDER, |r| {
+        println!("{r}")
     })?;
     let csv = dir.join("bench.csv");
     std::fs::write(&csv, ladder_csv(&rows))
         .with_context(|| format!("writing {}", csv.display()))?;
     println!("wrote {}", csv.display());
     let png = dir.join("bench.png");
-    let name = scene_path.file_name().map_or_else(
-        || scene_path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    let title = format!(
-        "speed against error: {name}, {}x{}, {} mode",
-        reference.width,
-        reference.height,
-        s.mode.name()
-    );
+    let title = plot_title(scene_path, reference.width, reference.height, s.mode);
     match plot(&rows, &png, &title) {
         Ok(()) => println!("wrote {}", png.display()),
         Err(e) => eprintln!("warning: no plot: {e}"),
@@ -529,75 +364,31 @@ fn ladder_bench(
 }
 
 /// Error against the reference after 1, 2, 4, ... passes, with the wall time, per backend.
-fn progressive_curve(
+fn curve_bench(
     scene: &gpu_photon::Scene,
     s: &RenderSettings,
-    backends: &[Backend],
-    only: &Option<BackendArg>,
+    which: &gpu_photon::bench::BenchBackends,
     reference: &std::path::Path,
     passes: u32,
     out: Option<&std::path::Path>,
 ) -> Result<()> {
-    use gpu_photon::progressive::Flow;
     let reference = Image::read(reference)?;
-    // The curve renders at the reference's size.
-    let s = &RenderSettings {
-        width: reference.width,
-        height: reference.height,
-        ..s.clone()
-    };
-    let mut csv = String::from(
-        "backend,passes,seconds,rmse,rel_mse,mean_ratio_r,mean_ratio_g,mean_ratio_b\n",
-    );
     println!("progressive curve against the reference ({passes} passes):");
-    println!(
-        "{:<8} {:>7} {:>10} {:>10} {:>10} {:>24}",
-        "backend", "passes", "seconds", "rmse", "rel_mse", "mean ratio"
-    );
-    for &b in backends {
-        let name = if b == Backend::Cpu { "cpu" } else { "gpu" };
-        let start = std::time::Instant::now();
-        let mut failure = None;
-        let result = gpu_photon::session::render_progressive(
-            scene,
-            s,
-            b,
-            Progress::default(),
-            0..passes,
-            |acc| {
-                if acc.count.is_power_of_two() || acc.count == passes {
-                    let secs = start.elapsed().as_secs_f64();
-                    match diff(&acc.mean(), &reference, 16) {
-                        Ok(d) => {
-                            let m = d.mean_ratio;
-                            println!("{name:<8} {:>7} {secs:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}", acc.count, d.rmse, d.rel_mse, m[0], m[1], m[2]);
-                            csv.push_str(&format!(
-                                "{name},{},{secs:.4},{:.6},{:.6},{:.5},{:.5},{:.5}\n",
-                                acc.count, d.rmse, d.rel_mse, m[0], m[1], m[2]
-                            ));
-                        }
-                        Err(e) => {
-                            failure = Some(e);
-                            return Flow::Stop;
-                        }
-                    }
-                }
-                Flow::Continue
-            },
-        );
-        if let Some(e) = failure {
-            bail!("{}: {e}", "reference");
-        }
-        match result {
-            Ok(_) => {}
-            Err(gpu_photon::Error::Gpu(why)) if only.is_none() => eprintln!("gpu: skipped ({why})"),
-            Err(e) => return Err(e.into()),
-        }
-    }
+    println!("{}", gpu_photon::bench::CurvePoint::header());
+    let points = gpu_photon::bench::progressive_curve(
+        scene,
+        s,
+        which,
+        &reference,
+        passes,
+        |p| println!("{p}"),
+        |why| eprintln!("gpu: skipped ({why})"),
+    )?;
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let path = dir.join("progressive.csv");
-        std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+        std::fs::write(&path, gpu_photon::bench::curve_csv(&points))
+            .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -640,11 +431,7 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
         Err(e) => bail!("{} vs {}: {e}", a.display(), b.display()),
     };
     if let Some(path) = error_image {
-        let mut err = ia.clone();
-        for (p, q) in err.pixels.iter_mut().zip(&ib.pixels) {
-            *p = [0, 1, 2].map(|c| (p[c] - q[c]).abs());
-        }
-        err.write(path, 0.0)?;
+        ia.abs_diff(&ib).write(path, 0.0)?;
     }
     println!("rmse        {:.6}", d.rmse);
     println!("block_rmse  {:.6} ({block}x{block} blocks)", d.block_rmse);

@@ -15,6 +15,7 @@ pub const DEPTH_MASK: u32 = 0xff;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Photon {
+    /// Where it was stored.
     pub position: [f32; 3],
     /// Path depth (bits 0-7) and [`FLAG_CAUSTIC`].
     pub flags: u32,
@@ -82,12 +83,15 @@ impl Photon {
             normal: pack_normal(if dir.dot(n) < 0.0 { n } else { -n }),
         }
     }
+    /// Surface interactions before this hit (0: direct light).
     pub fn depth(&self) -> u32 {
         self.flags & DEPTH_MASK
     }
+    /// Whether its path was L S+ D (stored after specular bounces only).
     pub fn is_caustic(&self) -> bool {
         self.flags & FLAG_CAUSTIC != 0
     }
+    /// [`Photon::position`] as a vector.
     pub fn pos(&self) -> Vec3 {
         Vec3::from(self.position)
     }
@@ -102,6 +106,7 @@ impl Photon {
 pub struct Budget {
     /// Paths per light; light `l` owns path indices `offsets[l] .. offsets[l] + counts[l]`.
     pub counts: Vec<u32>,
+    /// The first path index of each light (the running sum of `counts`).
     pub offsets: Vec<u32>,
     /// Starting power per path of each light: `power / count` (or `/ attempts`).
     pub path_power: Vec<Vec3>,
@@ -141,6 +146,7 @@ impl Budget {
         }
     }
 
+    /// Paths of all lights together.
     pub fn total(&self) -> u32 {
         self.counts.iter().sum()
     }

@@ -58,22 +58,29 @@ pub fn pass_settings(scene: &Scene, s: &RenderSettings, pass: u32) -> RenderSett
 /// What the caller says after each pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Flow {
+    /// Render the next pass.
     Continue,
+    /// Stop after this pass (its image is in the mean).
     Stop,
 }
 
 /// A running mean of pass images.
 #[derive(Clone, Debug)]
 pub struct Accumulator {
+    /// Per-pixel sum of the pass images (f64, so the order of adding barely matters).
     pub sum: Vec<[f64; 3]>,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Passes `first..first + count` are in the sum.
     pub first: u32,
+    /// Passes in the sum.
     pub count: u32,
 }
 
 impl Accumulator {
+    /// An empty sum of `width` x `height` images whose first pass will be `first`.
     pub fn new(width: u32, height: u32, first: u32) -> Self {
         Accumulator {
             sum: vec![[0.0; 3]; (width * height) as usize],
@@ -83,6 +90,7 @@ impl Accumulator {
             count: 0,
         }
     }
+    /// Adds the next pass's image.
     pub fn add(&mut self, img: &Image) {
         for (s, p) in self.sum.iter_mut().zip(&img.pixels) {
             for c in 0..3 {

@@ -1,11 +1,30 @@
-//! What a render reports back (per-phase timings, photon counts, GPU bound counters) and
-//! the progress bars it shows while it runs.
+//! The contract between a render session and a backend ([`PassRenderer`]), what a render
+//! reports back (per-phase timings, photon counts, GPU bound counters) and the progress bars
+//! it shows while it runs. It sits below both backends and the session, so each of them
+//! imports it and none imports the other.
 
+use crate::error::Result;
+use crate::film::Image;
+use crate::settings::RenderSettings;
+use std::path::Path;
 use std::time::{Duration, Instant};
+
+/// The one contract between the session and a backend: built once per render from the scene
+/// and the render's settings, then asked for passes. `pass` is the RNG's pass index and
+/// `settings` that pass's settings (the render's own for a classic render; for a progressive
+/// pass, `progressive::pass_settings`, which only shrinks the radii and sets `k = 0`).
+/// `crate::session` re-exports it.
+pub trait PassRenderer {
+    /// Renders pass `pass` and returns its image.
+    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image>;
+    /// Timings and counts of every pass so far (phases of the same name summed).
+    fn report(&mut self) -> Result<RenderReport>;
+}
 
 /// Timings and counts of one render.
 #[derive(Clone, Debug, Default)]
 pub struct RenderReport {
+    /// Wall time per phase, in the order the phases first ran.
     pub phases: Vec<(&'static str, Duration)>,
     /// Photons stored by the global paths (before filtering by mode).
     pub global_stored: usize,
@@ -24,10 +43,15 @@ impl RenderReport {
     pub fn phase(&mut self, name: &'static str, since: Instant) {
         self.phases.push((name, since.elapsed()));
     }
+
+    /// The sum of all phases.
     pub fn total(&self) -> Duration {
         self.phases.iter().map(|p| p.1).sum()
     }
-    /// Adds another report's phases (summing phases of the same name) and counts.
+
+    /// Adds a later pass's report: phases of the same name summed, bound counters summed,
+    /// the photon counts of the later pass, the most batches, and its backend if this report
+    /// names none yet.
     pub fn absorb(&mut self, other: &RenderReport) {
         for &(name, d) in &other.phases {
             match self.phases.iter_mut().find(|p| p.0 == name) {
@@ -38,16 +62,86 @@ impl RenderReport {
         self.global_stored = other.global_stored;
         self.caustic_stored = other.caustic_stored;
         self.batches = self.batches.max(other.batches);
+        if self.backend.is_empty() {
+            self.backend = other.backend.clone();
+        }
+        if self.gpu_stats.len() < other.gpu_stats.len() {
+            self.gpu_stats.resize(other.gpu_stats.len(), 0);
+        }
+        for (s, o) in self.gpu_stats.iter_mut().zip(&other.gpu_stats) {
+            *s += o;
+        }
+    }
+}
+
+impl RenderReport {
+    /// The warning (shown even with `--quiet`) when a GPU render hit one of its bounds: its
+    /// image is not what the settings ask for.
+    pub fn incomplete_warning(&self, output: &Path) -> Option<String> {
+        let [overflow, budget, truncated, ..] = self.gpu_stats[..] else {
+            return None;
+        };
+        (overflow + budget + truncated > 0).then(|| format!(
+            "warning: {}: the GPU image is incomplete ({overflow} photons dropped, {budget} invocations out of loop budget, {truncated} searches truncated); lower --k, --radius or --initial-radius, or use --backend cpu",
+            output.display()
+        ))
+    }
+
+    /// What `render` prints after a classic render to `output` with `s`: size, samples,
+    /// mode and backend, photon counts, batches and GPU bounds when they matter, and the
+    /// phases with their total.
+    pub fn summary(&self, output: &Path, s: &RenderSettings) -> Vec<String> {
+        let mut lines = vec![
+            format!(
+                "{}: {}x{}, {} spp, mode {}, backend {}",
+                output.display(),
+                s.width,
+                s.height,
+                s.spp,
+                s.mode.name(),
+                self.backend
+            ),
+            format!(
+                "  photons stored: {} global, {} caustic",
+                self.global_stored, self.caustic_stored
+            ),
+        ];
+        if self.batches > 1 {
+            lines.push(format!(
+                "  photon maps split into {} batches (one storage binding each); counts are the last batch's",
+                self.batches
+            ));
+        }
+        if let [overflow, budget, truncated, ..] = self.gpu_stats[..] {
+            lines.push(format!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches"));
+        }
+        lines.extend(self.phase_lines(16));
+        lines.push(format!(
+            "  {:<16} {:>9.3} s",
+            "total",
+            self.total().as_secs_f64()
+        ));
+        lines
+    }
+
+    /// One line per phase, its name padded to `width`.
+    pub fn phase_lines(&self, width: usize) -> Vec<String> {
+        self.phases
+            .iter()
+            .map(|(name, d)| format!("  {name:<width$} {:>9.3} s", d.as_secs_f64()))
+            .collect()
     }
 }
 
 /// Shows progress bars on stderr when enabled.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Progress {
+    /// Whether bars are drawn (off for `--quiet` and when stderr is not a terminal).
     pub enabled: bool,
 }
 
 impl Progress {
+    /// A bar of `len` steps labelled `what` (hidden when disabled).
     pub fn bar(&self, len: u64, what: &str) -> indicatif::ProgressBar {
         if !self.enabled {
             return indicatif::ProgressBar::hidden();

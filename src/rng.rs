@@ -55,6 +55,7 @@ pub struct Rng {
 }
 
 impl Rng {
+    /// The stream of path `index` of `stream` in pass `pass` of a render with `seed`.
     pub fn new(seed: u32, stream: Stream, pass: u32, index: u32) -> Self {
         Self {
             key: path_key(seed, stream, pass, index),

@@ -1,58 +1,150 @@
 //! The render session: a backend renderer built once per render (BVH, lights, photon plan,
 //! pipelines), then asked for pass after pass. Single, progressive and sliced renders are
-//! written once over that contract.
+//! written once over that contract ([`PassRenderer`]), and `--backend auto` is decided in one
+//! place ([`open`]).
 
 use crate::error::{Error, Result};
 use crate::film::Image;
+use crate::progressive::{pass_settings, Accumulator, Flow};
 use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
 use crate::settings::{validate, RenderSettings};
+use std::ops::Range;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+pub use crate::report::PassRenderer;
 
 /// Which backend renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
+    /// Rayon and kd-trees (`crate::cpu`): the reference.
     Cpu,
+    /// WGSL compute kernels through wgpu (`crate::gpu`).
     Gpu,
 }
 
-/// The one contract between the session and a backend: built once per render from the scene
-/// and the render's settings, then asked for passes. `pass` is the RNG's pass index and
-/// `settings` that pass's settings (the render's own for a classic render; for a progressive
-/// pass, `progressive::pass_settings`, which only shrinks the radii and sets `k = 0`).
-pub trait PassRenderer {
-    /// Renders pass `pass` and returns its image.
-    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image>;
-    /// Timings and counts of every pass so far (phases of the same name summed).
-    fn report(&mut self) -> Result<RenderReport>;
+/// Which backend the caller asks for: one of them, or `Auto` (see [`open`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackendChoice {
+    /// The GPU on a hardware adapter, else the CPU with a one-line warning.
+    Auto,
+    /// The CPU backend.
+    Cpu,
+    /// The GPU backend; its failures are errors.
+    Gpu,
 }
+
+impl From<Backend> for BackendChoice {
+    fn from(b: Backend) -> Self {
+        match b {
+            Backend::Cpu => BackendChoice::Cpu,
+            Backend::Gpu => BackendChoice::Gpu,
+        }
+    }
+}
+
+/// The renderer of `backend` for a render of `scene` with `settings`, built once.
+fn open_backend<'s>(
+    backend: Backend,
+    scene: &'s Scene,
+    settings: &RenderSettings,
+) -> Result<Box<dyn PassRenderer + 's>> {
+    Ok(match backend {
+        Backend::Cpu => Box::new(crate::cpu::CpuRenderer::new(scene, settings)?),
+        Backend::Gpu => Box::new(crate::gpu::GpuRenderer::new(scene, settings)?),
+    })
+}
+
+/// The renderer the caller's choice gives, built once for a render of `scene` with
+/// `settings`. The one rule for `Auto`: the GPU when a hardware adapter is there, else the CPU
+/// with a one-line warning on stderr; a GPU that fails to open or fails its first pass
+/// (`Error::Gpu`) also gives way to the CPU with a warning.
+pub fn open<'s>(
+    choice: BackendChoice,
+    scene: &'s Scene,
+    settings: &RenderSettings,
+) -> Result<Box<dyn PassRenderer + 's>> {
+    match choice {
+        BackendChoice::Cpu => open_backend(Backend::Cpu, scene, settings),
+        BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),
+        BackendChoice::Auto => match crate::gpu::hardware_adapter() {
+            Err(why) => {
+                eprintln!("warning: {why}; rendering on the CPU");
+                open_backend(Backend::Cpu, scene, settings)
+            }
+            Ok(_) => match open_backend(Backend::Gpu, scene, settings) {
+                Ok(gpu) => Ok(Box::new(Fallback {
+                    scene,
+                    settings: settings.clone(),
+                    inner: gpu,
+                    may_fall_back: true,
+                })),
+                Err(Error::Gpu(why)) => fall_back(&why, scene, settings),
+                Err(e) => Err(e),
+            },
+        },
+    }
+}
+
+/// Warns that the GPU failed and opens the CPU renderer instead.
+fn fall_back<'s>(
+    why: &str,
+    scene: &'s Scene,
+    settings: &RenderSettings,
+) -> Result<Box<dyn PassRenderer + 's>> {
+    eprintln!("warning: GPU backend failed ({why}); rendering on the CPU");
+    open_backend(Backend::Cpu, scene, settings)
+}
+
+/// `Auto` on a GPU: until a pass has succeeded there, a GPU failure hands the render to the
+/// CPU (never later, so an image is never a mixture of backends).
+struct Fallback<'s> {
+    scene: &'s Scene,
+    settings: RenderSettings,
+    inner: Box<dyn PassRenderer + 's>,
+    may_fall_back: bool,
+}
+
+impl PassRenderer for Fallback<'_> {
+    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
+        match self.inner.pass(pass, settings, progress) {
+            Err(Error::Gpu(why)) if self.may_fall_back => {
+                self.may_fall_back = false;
+                self.inner = fall_back(&why, self.scene, &self.settings)?;
+                self.inner.pass(pass, settings, progress)
+            }
+            r => {
+                self.may_fall_back = false;
+                r
+            }
+        }
+    }
+
+    fn report(&mut self) -> Result<RenderReport> {
+        self.inner.report()
+    }
+}
+
 
 /// Renders `scene` with `settings` on `backend`: one classic pass, or with
 /// `settings.pass_range` the mean of those progressive passes.
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
-    backend: Backend,
+    backend: impl Into<BackendChoice>,
     progress: Progress,
 ) -> Result<(Image, RenderReport)> {
     validate(settings)?;
     if let Some((a, b)) = settings.pass_range {
-        let (acc, report) = render_progressive(scene, settings, backend, progress, a..b, |_| {
-            crate::progressive::Flow::Continue
-        })?;
+        let (acc, report) =
+            render_progressive(scene, settings, backend, progress, a..b, |_| Flow::Continue)?;
         return Ok((acc.mean(), report));
     }
-    match backend {
-        Backend::Cpu => {
-            let (img, mut report) = crate::cpu::render(scene, settings, 0, &progress);
-            report.backend = format!("cpu ({} threads)", rayon::current_num_threads());
-            Ok((img, report))
-        }
-        Backend::Gpu => {
-            let mut r = crate::gpu::GpuRenderer::new(scene, settings)?;
-            let image = r.pass(0, settings, &progress)?;
-            Ok((image, r.report()?))
-        }
-    }
+    let mut renderer = open(backend.into(), scene, settings)?;
+    let image = renderer.pass(0, settings, &progress)?;
+    Ok((image, renderer.report()?))
 }
 
 /// Progressive passes `passes` (see `crate::progressive`), accumulated into a running mean;
@@ -60,12 +152,11 @@ pub fn render(
 pub fn render_progressive(
     scene: &Scene,
     settings: &RenderSettings,
-    backend: Backend,
+    backend: impl Into<BackendChoice>,
     progress: Progress,
-    passes: std::ops::Range<u32>,
-    mut on_pass: impl FnMut(&crate::progressive::Accumulator) -> crate::progressive::Flow,
-) -> Result<(crate::progressive::Accumulator, RenderReport)> {
-    use crate::progressive::{pass_settings, Accumulator, Flow};
+    passes: Range<u32>,
+    mut on_pass: impl FnMut(&Accumulator) -> Flow,
+) -> Result<(Accumulator, RenderReport)> {
     validate(settings)?;
     if !(settings.alpha > 0.0 && settings.alpha < 1.0) {
         return Err(Error::Setting {
@@ -82,37 +173,128 @@ pub fn render_progressive(
     let mut acc = Accumulator::new(settings.width, settings.height, passes.start);
     let bar = progress.bar(passes.len() as u64, "passes");
     let quiet = Progress { enabled: false };
-    let report = match backend {
-        Backend::Cpu => {
-            let mut report = RenderReport {
-                backend: format!("cpu ({} threads)", rayon::current_num_threads()),
-                ..Default::default()
-            };
-            for p in passes {
-                let (img, r) =
-                    crate::cpu::render(scene, &pass_settings(scene, settings, p), p, &quiet);
-                report.absorb(&r);
-                acc.add(&img);
-                bar.inc(1);
-                if on_pass(&acc) == Flow::Stop {
-                    break;
-                }
-            }
-            report
+    let mut renderer = open(backend.into(), scene, settings)?;
+    for p in passes {
+        let image = renderer.pass(p, &pass_settings(scene, settings, p), &quiet)?;
+        acc.add(&image);
+        bar.inc(1);
+        if on_pass(&acc) == Flow::Stop {
+            break;
         }
-        Backend::Gpu => {
-            let mut r = crate::gpu::GpuRenderer::new(scene, settings)?;
-            for p in passes {
-                let img = r.pass(p, &pass_settings(scene, settings, p), &quiet)?;
-                acc.add(&img);
-                bar.inc(1);
-                if on_pass(&acc) == Flow::Stop {
-                    break;
-                }
-            }
-            r.report()?
-        }
-    };
+    }
     bar.finish_and_clear();
-    Ok((acc, report))
+    Ok((acc, renderer.report()?))
+}
+
+/// How a progressive render to a file (`render --passes`, `--pass-range`, `--time`) stops
+/// and saves.
+pub struct SliceJob<'a> {
+    /// The scene file (its text goes into the slice's signature).
+    pub scene_path: &'a Path,
+    /// The image written (tagged with its pass range and signature, for `merge`).
+    pub output: &'a Path,
+    /// Stop after the pass that ends past this many seconds.
+    pub time: Option<f64>,
+    /// Also write the running mean every this many passes.
+    pub write_every: Option<u32>,
+    /// Stop after the current pass once this is set (Ctrl-C).
+    pub stop: &'a AtomicBool,
+    /// The pass count of the whole render this slice belongs to (`--passes P` with
+    /// `--slice`), recorded so `merge` can name missing passes; `None` for a bare range.
+    pub total_passes: Option<u32>,
+}
+
+/// What a progressive render to a file did.
+pub struct SliceOutcome {
+    /// The passes rendered (`first..first + count`) and their sum.
+    pub acc: Accumulator,
+    /// Timings and counts of every pass.
+    pub report: RenderReport,
+    /// When the passes started (after the signature was taken).
+    pub started: Instant,
+}
+
+impl SliceOutcome {
+    /// Wall time since the passes started.
+    pub fn wall(&self) -> Duration {
+        self.started.elapsed()
+    }
+
+    /// What `render` prints after a progressive render to `output` with `s`: the passes
+    /// (and whether they were `interrupted`), size, samples, mode and backend, then the
+    /// phases and the wall time.
+    pub fn summary(&self, output: &Path, s: &RenderSettings, interrupted: bool) -> Vec<String> {
+        let why = if interrupted { " (interrupted)" } else { "" };
+        let mut lines = vec![format!(
+            "{}: passes {}..{}{why}, {}x{}, {} spp per pass, mode {}, backend {}",
+            output.display(),
+            self.acc.first,
+            self.acc.first + self.acc.count,
+            s.width,
+            s.height,
+            s.spp,
+            s.mode.name(),
+            self.report.backend
+        )];
+        lines.extend(self.report.phase_lines(18));
+        lines.push(format!(
+            "  {:<18} {:>9.3} s",
+            "wall",
+            self.wall().as_secs_f64()
+        ));
+        lines
+    }
+}
+
+/// Renders the progressive passes of `settings.pass_range` (which must be set) to
+/// `job.output`, stopping early at the time budget or the stop flag, and writing the running
+/// mean every `job.write_every` passes and at the end.
+pub fn render_slice(
+    scene: &Scene,
+    settings: &RenderSettings,
+    choice: BackendChoice,
+    progress: Progress,
+    job: &SliceJob,
+) -> Result<SliceOutcome> {
+    let Some((a, b)) = settings.pass_range else {
+        return Err(Error::Setting {
+            field: "pass-range",
+            message: "a progressive render needs a pass range".into(),
+        });
+    };
+    let sig = crate::merge::signature(job.scene_path, settings)?;
+    let started = Instant::now();
+    let write = |acc: &Accumulator| -> Result<()> {
+        let tags = crate::merge::slice_tags(acc, &sig, job.total_passes);
+        acc.mean()
+            .write_tagged(job.output, settings.exposure, &tags)
+    };
+    let mut write_error = None;
+    let (acc, report) = render_progressive(scene, settings, choice, progress, a..b, |acc| {
+        if let Some(n) = job.write_every {
+            if n > 0 && acc.count % n == 0 {
+                if let Err(e) = write(acc) {
+                    write_error = Some(e);
+                    return Flow::Stop;
+                }
+            }
+        }
+        let out_of_time = job
+            .time
+            .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
+        if job.stop.load(Ordering::SeqCst) || out_of_time {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    })?;
+    if let Some(e) = write_error {
+        return Err(e);
+    }
+    write(&acc)?;
+    Ok(SliceOutcome {
+        acc,
+        report,
+        started,
+    })
 }

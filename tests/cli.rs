@@ -400,3 +400,63 @@ fn same_seed_gives_byte_identical_exr_and_another_seed_does_not() {
     );
     dir.assert_no_temp_files();
 }
+
+// ---------------------------------------------------------------------------------------------
+// --backend auto
+// ---------------------------------------------------------------------------------------------
+
+/// `--backend auto` is one rule for classic and progressive renders alike: the GPU on a
+/// hardware adapter; else the CPU, with exactly one warning line saying so. (Progressive
+/// renders once fell back silently, and only classic renders fell back on a GPU failure.)
+#[test]
+fn auto_backend_decides_alike_for_classic_and_progressive_renders() {
+    let dir = TempDir::new("auto");
+    let out = dir.path("auto.exr");
+    let mut on_cpu = Vec::new();
+    for extra in [&[][..], &["--passes", "2"][..]] {
+        let mut args = vec![
+            "render",
+            "scenes/cornell-box.toml",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "1",
+            "--photons",
+            "2000",
+            "--backend",
+            "auto",
+        ];
+        args.extend_from_slice(extra);
+        let o = run(&args);
+        assert_ok(&o, "auto render");
+        let err = stderr(&o);
+        let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+        let cpu = err.contains(", backend cpu (");
+        assert!(
+            cpu || err.contains(", backend "),
+            "{extra:?}: no summary line:\n{err}"
+        );
+        if cpu {
+            assert_eq!(warnings.len(), 1, "{extra:?}: one warning:\n{err}");
+            assert!(
+                warnings[0].ends_with("rendering on the CPU"),
+                "{extra:?}:\n{err}"
+            );
+        } else {
+            assert!(
+                warnings.is_empty(),
+                "{extra:?}: a GPU render warned:\n{err}"
+            );
+        }
+        on_cpu.push(cpu);
+    }
+    assert_eq!(
+        on_cpu[0], on_cpu[1],
+        "classic and progressive renders chose different backends"
+    );
+    dir.assert_no_temp_files();
+}

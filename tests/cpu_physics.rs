@@ -4,17 +4,18 @@
 //! closed box, and the determinism of renders.
 //!
 //! Every statistical assertion states its tolerance in standard errors measured from the
-//! same samples; the random numbers come from a SplitMix64 generator local to this file (so
-//! the tests do not lean on the library's RNG being good) with fixed seeds, so the results
+//! same samples; the random numbers come from the tests' own SplitMix64 generator
+//! (`common::TestRng`, so the tests do not lean on the library's RNG being good) with fixed seeds, so the results
 //! are reproducible.
 
+mod common;
+
+use common::{trace_global, TestRng};
 use glam::Vec3;
-use gpu_photon::bvh::Bvh;
 use gpu_photon::camera::Camera;
 use gpu_photon::cpu::photon_map::PhotonMap;
-use gpu_photon::cpu::photons::{trace_photons, TraceContext};
 use gpu_photon::geometry::{intersect_triangle, Ray, Shear};
-use gpu_photon::light::{scalar_power, split_budget, LightTable};
+use gpu_photon::light::{scalar_power, split_budget};
 use gpu_photon::material::{
     dielectric, fresnel, fresnel_exact, fresnel_schlick, photon_bounce, reflect, refract, Bounce,
 };
@@ -29,26 +30,6 @@ use std::f64::consts::PI;
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
-
-/// SplitMix64 (Steele, Lea, Flood 2014): a small, well-tested generator for test inputs.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1) with 24 bits, exactly representable in f32 (like the library's).
-    fn unit(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.unit()
-    }
-}
 
 /// Unit direction in the xz-plane arriving at the surface z = 0 (normal +z) at `theta` from
 /// the normal: it points *towards* the surface (negative z).
@@ -232,7 +213,7 @@ fn schlick_is_its_formula_and_close_to_exact_at_small_angles() {
 
 #[test]
 fn dielectric_reflectance_is_a_probability_and_directions_are_consistent() {
-    let mut rng = SplitMix(11);
+    let mut rng = TestRng(11);
     let n = Vec3::new(0.3, -0.5, 0.8).normalize();
     for mode in [FresnelMode::Exact, FresnelMode::Schlick] {
         for _ in 0..20_000 {
@@ -372,7 +353,7 @@ fn sample_bounces(
     mode: FresnelMode,
     seed: u64,
 ) -> (Stats, f64) {
-    let mut rng = SplitMix(seed);
+    let mut rng = TestRng(seed);
     let n = Vec3::Z;
     let d = if back {
         -incident(theta)
@@ -383,7 +364,7 @@ fn sample_bounces(
     let mut stats = Stats::default();
     let mut specular = 0usize;
     for _ in 0..BOUNCE_SAMPLES {
-        let u = [rng.unit(), rng.unit(), rng.unit()];
+        let u = [rng.f32(), rng.f32(), rng.f32()];
         let w = match photon_bounce(m, d, n, mode, u) {
             Bounce::Absorb => Vec3::ZERO,
             Bounce::Diffuse { dir, weight } => {
@@ -546,10 +527,10 @@ fn glass_photon_bounce_has_weight_one_and_reflects_with_the_fresnel_probability(
                     incident(theta)
                 };
                 let n = Vec3::Z;
-                let mut rng = SplitMix(3000 + j as u64);
+                let mut rng = TestRng(3000 + j as u64);
                 let mut reflected = 0usize;
                 for _ in 0..BOUNCE_SAMPLES {
-                    let u = [rng.unit(), rng.unit(), rng.unit()];
+                    let u = [rng.f32(), rng.f32(), rng.f32()];
                     match photon_bounce(&m, d, n, mode, u) {
                         Bounce::Specular {
                             dir,
@@ -587,9 +568,9 @@ fn black_absorbs_every_photon() {
         Material::black(),
         Material::emitter(Vec3::new(17.0, 12.0, 4.0)),
     ] {
-        let mut rng = SplitMix(5);
+        let mut rng = TestRng(5);
         for _ in 0..10_000 {
-            let u = [rng.unit(), rng.unit(), rng.unit()];
+            let u = [rng.f32(), rng.f32(), rng.f32()];
             assert_eq!(
                 photon_bounce(&m, incident(0.3), Vec3::Z, FresnelMode::Exact, u),
                 Bounce::Absorb
@@ -603,18 +584,18 @@ fn black_absorbs_every_photon() {
 // ---------------------------------------------------------------------------------------------
 
 /// `count` photons uniform in the unit cube, each tagged with its index as `id`.
-fn random_photons(rng: &mut SplitMix, count: usize, clustered: bool) -> Vec<Photon> {
+fn random_photons(rng: &mut TestRng, count: usize, clustered: bool) -> Vec<Photon> {
     (0..count)
         .map(|i| {
             let mut p = if clustered {
                 // A tight cluster (spread 1e-3) plus a sparse background.
                 if i % 4 == 0 {
-                    Vec3::new(rng.unit(), rng.unit(), rng.unit())
+                    Vec3::new(rng.f32(), rng.f32(), rng.f32())
                 } else {
-                    Vec3::splat(0.5) + 1e-3 * Vec3::new(rng.unit(), rng.unit(), rng.unit())
+                    Vec3::splat(0.5) + 1e-3 * Vec3::new(rng.f32(), rng.f32(), rng.f32())
                 }
             } else {
-                Vec3::new(rng.unit(), rng.unit(), rng.unit())
+                Vec3::new(rng.f32(), rng.f32(), rng.f32())
             };
             if i % 97 == 5 {
                 p.z = 0.0; // some on a plane, like photons on a wall
@@ -634,7 +615,7 @@ fn random_photons(rng: &mut SplitMix, count: usize, clustered: bool) -> Vec<Phot
 
 #[test]
 fn kd_tree_nearest_equals_brute_force() {
-    let mut rng = SplitMix(42);
+    let mut rng = TestRng(42);
     let mut checked = 0usize;
     for (count, clustered) in [
         (1usize, false),
@@ -837,7 +818,7 @@ fn add_area_light(s: &mut Scene, y: f32, h: f32, cx: f32, cz: f32, radiance: Vec
 
 #[test]
 fn split_budget_is_largest_remainder_proportional() {
-    let mut rng = SplitMix(77);
+    let mut rng = TestRng(77);
     for case in 0..500 {
         let n = 1 + case % 9;
         let powers: Vec<f64> = (0..n)
@@ -845,7 +826,7 @@ fn split_budget_is_largest_remainder_proportional() {
                 if (case + i) % 5 == 0 {
                     0.0
                 } else {
-                    (rng.unit() as f64 * 100.0).powi(2)
+                    (rng.f32() as f64 * 100.0).powi(2)
                 }
             })
             .collect();
@@ -948,21 +929,6 @@ fn budget_split_over_lights_of_different_power_and_colour() {
 // Photon power bookkeeping in a closed box
 // ---------------------------------------------------------------------------------------------
 
-fn trace(scene: &Scene, settings: &RenderSettings) -> (Budget, Vec<Photon>) {
-    let bvh = Bvh::build(scene);
-    let lights = LightTable::new(scene);
-    let ctx = TraceContext {
-        scene,
-        bvh: &bvh,
-        lights: &lights,
-        settings,
-        pass: 0,
-    };
-    let budget = Budget::split(scene, settings.photons);
-    let photons = trace_photons(&ctx, &budget);
-    (budget, photons)
-}
-
 #[test]
 fn first_hit_photons_carry_the_total_emitted_power() {
     // Every path's first hit is a wall of the sealed box, so the depth-0 photons carry the
@@ -978,7 +944,7 @@ fn first_hit_photons_carry_the_total_emitted_power() {
         photons: 100_000,
         ..RenderSettings::default()
     };
-    let (budget, photons) = trace(&s, &settings);
+    let (budget, photons) = trace_global(&s, &settings);
     let first: Vec<&Photon> = photons.iter().filter(|p| p.depth() == 0).collect();
     assert_eq!(budget.total(), 100_000);
     assert!(
@@ -1038,7 +1004,7 @@ fn stored_power_over_all_depths_is_the_russian_roulette_series() {
         max_photon_bounces: bounces,
         ..RenderSettings::default()
     };
-    let (_, photons) = trace(&s, &settings);
+    let (_, photons) = trace_global(&s, &settings);
 
     // Photons come in path-index order and every path starts with a depth-0 photon: split
     // them into paths to get the per-path stored power and its variance.
@@ -1214,7 +1180,7 @@ fn rays_through_a_shared_edge_always_hit_one_triangle() {
     let tris = [Triangle::new(a, b, c, 0), Triangle::new(a, c, d, 0)];
     let n = tris[0].normal();
     let along = (c - a).normalize();
-    let mut rng = SplitMix(7);
+    let mut rng = TestRng(7);
     let mut misses = 0;
     let rays = 200_000;
     for i in 0..rays {

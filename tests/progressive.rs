@@ -1,5 +1,6 @@
 //! Progressive photon mapping: error keeps falling with passes on both backends, and slices
-//! of a pass range merge into the image of the whole range.
+//! of a pass range merge into the image of the whole range, and the CPU renderer built once
+//! per render renders every pass as a fresh one would.
 
 mod common;
 
@@ -233,4 +234,47 @@ fn radius_schedule_follows_knaus_zwicker() {
     }
     // The radius keeps shrinking, slowly: r_i^2 ~ i^(alpha - 1).
     assert!(radius2_factor(1000, alpha) < radius2_factor(100, alpha));
+}
+
+/// The CPU renderer is built once per render (BVH, lights, photon plan) and keeps nothing of
+/// one pass for the next: every pass's image equals that of a renderer built for that pass
+/// alone, and the passes differ (so a renderer that ignored the pass index would fail).
+#[test]
+fn cpu_renderer_built_once_renders_every_pass_like_a_fresh_one() {
+    use gpu_photon::cpu::CpuRenderer;
+    use gpu_photon::progressive::pass_settings;
+    use gpu_photon::session::PassRenderer;
+    let scene = load("cornell-caustics");
+    let s = RenderSettings {
+        width: 16,
+        height: 16,
+        ..small(&scene)
+    };
+    let quiet = Progress::default();
+    let mut once = CpuRenderer::new(&scene, &s).unwrap();
+    let mut images = Vec::new();
+    for p in [0u32, 1, 5] {
+        let ps = pass_settings(&scene, &s, p);
+        let img = once.pass(p, &ps, &quiet).unwrap();
+        let fresh = CpuRenderer::new(&scene, &s)
+            .unwrap()
+            .pass(p, &ps, &quiet)
+            .unwrap();
+        assert!(
+            img == fresh,
+            "pass {p}: the reused renderer's image differs"
+        );
+        assert!(img.mean().iter().all(|&m| m > 0.0), "pass {p}: black");
+        images.push(img);
+    }
+    assert!(images[0] != images[1] && images[1] != images[2]);
+    // The report sums the phases of the same name over the passes, in the order they ran.
+    let report = once.report().unwrap();
+    let names: Vec<&str> = report.phases.iter().map(|p| p.0).collect();
+    assert_eq!(
+        names,
+        ["build BVH", "trace photons", "build kd-trees", "gather"]
+    );
+    assert!(report.backend.starts_with("cpu"));
+    assert!(report.caustic_stored > 0 && report.global_stored > 0);
 }

@@ -1,9 +1,11 @@
 //! Renders on the CPU backend measured against the independent reference images in
-//! `tests/data/` (Mitsuba 3 path tracer, 16,384 spp; see /work/shared/reference/README.md),
+//! `tests/data/` (Mitsuba 3 path tracer, 16,384 spp; their scenes and conventions: `scenes/README.md`),
 //! against the analytic image of the point-light plane, and a smoke render of every scene.
 //!
 //! On failure the rendered image and |render - reference| are written to
 //! `target/test-output/` for inspection.
+
+mod common;
 
 use glam::DVec3;
 use gpu_photon::film::{diff, DiffStats, Image};
@@ -40,11 +42,8 @@ fn save_for_inspection(name: &str, img: &Image, reference: Option<&Image>) -> Pa
     let out = dir.join(format!("{name}.exr"));
     img.write(&out, 0.0).expect("write rendered image");
     if let Some(r) = reference {
-        let mut err = img.clone();
-        for (p, q) in err.pixels.iter_mut().zip(&r.pixels) {
-            *p = [0, 1, 2].map(|c| (p[c] - q[c]).abs());
-        }
-        err.write(&dir.join(format!("{name}-error.exr")), 0.0)
+        img.abs_diff(r)
+            .write(&dir.join(format!("{name}-error.exr")), 0.0)
             .expect("write error image");
     }
     out
@@ -147,11 +146,10 @@ fn plane_point(px: f64, py: f64) -> DVec3 {
     EYE + d * (-EYE.y / d.y)
 }
 
-/// Exact radiance of the plane at `x`: L = albedo / pi * I cos(theta) / r^2 = albedo / pi *
-/// I h / r^3 (Lambertian, direct light only: nothing else to bounce from).
+/// Exact radiance of the plane at `x` (Lambertian, direct light only: nothing else to bounce
+/// from; `common::point_lit_plane_radiance`).
 fn analytic(x: DVec3) -> [f64; 3] {
-    let r = (LIGHT - x).length();
-    INTENSITY.map(|i| ALBEDO / std::f64::consts::PI * i * LIGHT.y / r.powi(3))
+    common::point_lit_plane_radiance(ALBEDO, INTENSITY, LIGHT, x)
 }
 
 /// The scene file must be the scene the constants above describe.

@@ -21,12 +21,19 @@ pub const GLASS_SPLIT_DEPTH: u32 = 3;
 
 /// Everything the camera pass reads.
 pub struct Gatherer<'a> {
+    /// The scene rendered.
     pub scene: &'a Scene,
+    /// Its BVH.
     pub bvh: &'a Bvh,
+    /// Its lights' sampling tables (shadow rays).
     pub lights: &'a LightTable,
+    /// The pass's settings (size, samples, K, radii, filter).
     pub settings: &'a RenderSettings,
+    /// The global photon map, if the mode has one.
     pub global: Option<&'a PhotonMap>,
+    /// The caustic photon map, if the plan traced one.
     pub caustic: Option<&'a PhotonMap>,
+    /// What the mode adds at a diffuse or glossy hit.
     pub terms: Terms,
 }
 

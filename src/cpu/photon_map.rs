@@ -6,6 +6,7 @@ use std::num::NonZeroUsize;
 
 /// Photons and a kd-tree over their positions (`tree` item `i` is `photons[i]`).
 pub struct PhotonMap {
+    /// The photons, in the order the tree indexes them.
     pub photons: Vec<Photon>,
     tree: Option<ImmutableKdTree<f32, 3>>,
 }
@@ -22,9 +23,11 @@ impl PhotonMap {
         PhotonMap { photons, tree }
     }
 
+    /// Number of photons.
     pub fn len(&self) -> usize {
         self.photons.len()
     }
+    /// Whether the map holds no photon.
     pub fn is_empty(&self) -> bool {
         self.photons.is_empty()
     }

@@ -14,10 +14,15 @@ use rayon::prelude::*;
 
 /// What one photon pass needs.
 pub struct TraceContext<'a> {
+    /// The scene traced.
     pub scene: &'a Scene,
+    /// Its BVH.
     pub bvh: &'a Bvh,
+    /// Its lights' sampling tables.
     pub lights: &'a LightTable,
+    /// The pass's settings (seed, bounces, Fresnel mode).
     pub settings: &'a RenderSettings,
+    /// The RNG's pass index.
     pub pass: u32,
 }
 

@@ -1,6 +1,6 @@
 //! The GPU backend: WGSL compute kernels through wgpu (Vulkan), from an H100 down to Mesa
 //! lavapipe. Photon tracing, the hash-grid build and the gather all run on the device; the
-//! image is read back once per pass. `GpuRenderer` is the backend's `session::PassRenderer`.
+//! image is read back once per pass. `GpuRenderer` is the backend's `report::PassRenderer`.
 //!
 //! Layers, each module importing only those above it in this list:
 //! `codes` (shared constants, the WGSL prelude), `types` (Gpu* twins of WGSL structs),

@@ -1,6 +1,6 @@
 //! The GPU backend's renderer: opens the device, checks its limits, uploads the scene and
 //! creates the pipelines once per render, then renders pass after pass
-//! (`session::PassRenderer`).
+//! (`report::PassRenderer`).
 
 use super::buffers::read_back;
 use super::codes::{MAX_HEAP, STATS_LEN};
@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
-use crate::session::PassRenderer;
+use crate::report::PassRenderer;
 use crate::settings::RenderSettings;
 use std::time::Instant;
 

@@ -1,7 +1,20 @@
-//! Helpers shared by the GPU integration tests.
+//! Helpers shared by the integration tests: the GPU (or a skip), a deterministic generator
+//! for test inputs, CPU photon tracing without a render, the analytic image of a plane lit
+//! by a point light, and the "no farther than another seed" statistic used to compare
+//! backends.
 #![allow(dead_code)]
 
+use glam::DVec3;
+use gpu_photon::bvh::Bvh;
+use gpu_photon::camera::Camera;
+use gpu_photon::cpu::photons::{trace_photons, TraceContext};
+use gpu_photon::film::DiffStats;
 use gpu_photon::gpu::GpuContext;
+use gpu_photon::light::LightTable;
+use gpu_photon::photon::{Budget, Photon};
+use gpu_photon::scene::Scene;
+use gpu_photon::settings::RenderSettings;
+use std::f64::consts::PI;
 
 /// Opens the GPU. Without an adapter the test is skipped, except under CI (CI=true), where
 /// lavapipe is installed and a missing adapter is a failure.
@@ -18,10 +31,11 @@ pub fn gpu() -> Option<GpuContext> {
     }
 }
 
-/// A small deterministic generator for test inputs (splitmix64).
+/// A small deterministic generator for test inputs: SplitMix64 (Steele, Lea, Flood 2014).
 pub struct TestRng(pub u64);
 
 impl TestRng {
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -29,7 +43,103 @@ impl TestRng {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
+
+    /// Uniform in [0, 1) with 24 bits, exactly representable in f32 (like the library's).
     pub fn f32(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+}
+
+/// Traces the global photon paths of `settings` (pass 0) in `scene` on the CPU, with the
+/// BVH, light table and budget built here: the budget and every stored photon.
+pub fn trace_global(scene: &Scene, settings: &RenderSettings) -> (Budget, Vec<Photon>) {
+    let bvh = Bvh::build(scene);
+    let lights = LightTable::new(scene);
+    let ctx = TraceContext {
+        scene,
+        bvh: &bvh,
+        lights: &lights,
+        settings,
+        pass: 0,
+    };
+    let budget = Budget::split(scene, settings.photons);
+    let photons = trace_photons(&ctx, &budget);
+    (budget, photons)
+}
+
+/// Radiance at `x` on the Lambertian plane y = 0 of `albedo` lit only by a point light of
+/// `intensity` at `light`: L = albedo / pi * I cos(theta) / r^2 = albedo / pi * I h / r^3.
+pub fn point_lit_plane_radiance(
+    albedo: f64,
+    intensity: [f64; 3],
+    light: DVec3,
+    x: DVec3,
+) -> [f64; 3] {
+    let r = (light - x).length();
+    intensity.map(|i| albedo / PI * i * light.y / r.powi(3))
+}
+
+/// The exact mean of the image at `w` x `h` of the plane y = 0, the square |x|, |z| <=
+/// `half`, seen by `cam` and lit as in [`point_lit_plane_radiance`]: each pixel the mean over
+/// its square (a 16 x 16 grid of points, f64), 0 where the ray misses the square.
+pub fn point_lit_plane_mean(
+    cam: &Camera,
+    albedo: f64,
+    intensity: [f64; 3],
+    light: DVec3,
+    half: f64,
+    w: u32,
+    h: u32,
+) -> [f64; 3] {
+    let (eye, fwd, right, up) = (
+        cam.eye.as_dvec3(),
+        cam.forward.as_dvec3(),
+        cam.right.as_dvec3(),
+        cam.up.as_dvec3(),
+    );
+    let n = 16;
+    let mut sum = [0.0f64; 3];
+    for py in 0..h * n {
+        for px in 0..w * n {
+            let (x, y) = ((px as f64 + 0.5) / n as f64, (py as f64 + 0.5) / n as f64);
+            let sx = (2.0 * x / w as f64 - 1.0) * (w as f64 / h as f64);
+            let sy = 1.0 - 2.0 * y / h as f64;
+            let d = (fwd + sx * right + sy * up).normalize();
+            if d.y >= 0.0 {
+                continue;
+            }
+            let p = eye + d * (-eye.y / d.y);
+            if p.x.abs() > half || p.z.abs() > half {
+                continue;
+            }
+            let l = point_lit_plane_radiance(albedo, intensity, light, p);
+            for c in 0..3 {
+                sum[c] += l[c];
+            }
+        }
+    }
+    sum.map(|v| v / (w * h * n * n) as f64)
+}
+
+/// How much farther than the seed-to-seed noise an independent render of the same image may
+/// be: per-pixel RMSE (1.0 expected; the slack covers the GPU's stochastic Fresnel choice at
+/// glass) ...
+pub const SEED_NOISE_RMSE_SLACK: f64 = 1.3;
+/// ... and RMSE of 8x8 block means.
+pub const SEED_NOISE_BLOCK_SLACK: f64 = 1.5;
+
+/// Whether an image is no farther from a second CPU seed than the first CPU seed is: `d` is
+/// its diff against that seed, `noise` the two CPU seeds' diff; `eps` absolute slack (for
+/// images whose noise is ~0). Returns (per-pixel RMSE within, block RMSE within); acne, a
+/// shifted shadow or lost light fail them.
+pub fn within_seed_noise(d: &DiffStats, noise: &DiffStats, eps: f64) -> (bool, bool) {
+    (
+        d.rmse <= SEED_NOISE_RMSE_SLACK * noise.rmse + eps,
+        d.block_rmse <= SEED_NOISE_BLOCK_SLACK * noise.block_rmse + eps,
+    )
 }

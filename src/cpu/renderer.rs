@@ -1,0 +1,119 @@
+//! The CPU renderer of a session: the BVH, the light table and the photon plan (with its
+//! pilot photons) built once per render, then each pass traces its photons, builds its
+//! kd-trees and gathers every pixel.
+
+use crate::bvh::Bvh;
+use crate::cpu::gather::Gatherer;
+use crate::cpu::photon_map::PhotonMap;
+use crate::cpu::photons::{trace_caustic_photons, trace_photons, TraceContext};
+use crate::error::Result;
+use crate::film::Image;
+use crate::light::LightTable;
+use crate::photon::Photon;
+use crate::plan::{MapPlan, Terms};
+use crate::report::{PassRenderer, Progress, RenderReport};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Renders passes of one scene on the CPU; what does not change from pass to pass is built
+/// once in `new`.
+pub struct CpuRenderer<'s> {
+    scene: &'s Scene,
+    bvh: Bvh,
+    lights: LightTable,
+    /// Built from the render's settings: a pass's settings differ only in `k` and the radii,
+    /// which the plan does not read.
+    plan: MapPlan,
+    report: RenderReport,
+}
+
+impl<'s> CpuRenderer<'s> {
+    /// Builds the BVH, the light table and the photon plan of `scene` for a render with
+    /// `settings`.
+    pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
+        let mut report = RenderReport {
+            backend: format!("cpu ({} threads)", rayon::current_num_threads()),
+            ..Default::default()
+        };
+        let t = Instant::now();
+        let bvh = Bvh::build(scene);
+        let lights = LightTable::new(scene);
+        report.phase("build BVH", t);
+        let plan = MapPlan::new(scene, settings);
+        Ok(CpuRenderer {
+            scene,
+            bvh,
+            lights,
+            plan,
+            report,
+        })
+    }
+}
+
+impl PassRenderer for CpuRenderer<'_> {
+    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
+        let (scene, plan) = (self.scene, &self.plan);
+        let mut report = RenderReport::default();
+        let ctx = TraceContext {
+            scene,
+            bvh: &self.bvh,
+            lights: &self.lights,
+            settings,
+            pass,
+        };
+        let t = Instant::now();
+        let global = plan.global.as_ref().map(|budget| {
+            let photons = trace_photons(&ctx, budget);
+            report.global_stored = photons.len();
+            let kept: Vec<Photon> = photons
+                .into_iter()
+                .filter(|p| plan.keep_in_global(p))
+                .collect();
+            kept
+        });
+        let caustic = plan.caustic.as_ref().map(|(budget, bounds)| {
+            let photons = trace_caustic_photons(&ctx, budget, bounds);
+            report.caustic_stored = photons.len();
+            photons
+        });
+        report.phase("trace photons", t);
+
+        let t = Instant::now();
+        let global = global.map(PhotonMap::build);
+        let caustic = caustic.map(PhotonMap::build);
+        report.phase("build kd-trees", t);
+
+        let t = Instant::now();
+        let g = Gatherer {
+            scene,
+            bvh: &self.bvh,
+            lights: &self.lights,
+            settings,
+            global: global.as_ref(),
+            caustic: caustic.as_ref(),
+            terms: Terms::of(plan.mode),
+        };
+        let mut image = Image::new(settings.width, settings.height);
+        let bar = progress.bar(settings.height as u64, "gather");
+        image
+            .pixels
+            .par_chunks_mut(settings.width as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, px) in row.iter_mut().enumerate() {
+                    *px = g.pixel(x as u32, y as u32, pass).to_array();
+                }
+                bar.inc(1);
+            });
+        bar.finish_and_clear();
+        report.phase("gather", t);
+        self.report.absorb(&report);
+        Ok(image)
+    }
+
+    fn report(&mut self) -> Result<RenderReport> {
+        Ok(self.report.clone())
+    }
+}
