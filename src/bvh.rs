@@ -25,9 +25,11 @@ const BINS: usize = 12;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
+    /// Lower corner of the node's bounds.
     pub bmin: [f32; 3],
     /// Right child (interior) or first entry of `prim_ids` (leaf).
     pub left_first: u32,
+    /// Upper corner of the node's bounds.
     pub bmax: [f32; 3],
     /// Number of primitives; 0 for an interior node.
     pub count: u32,
@@ -36,18 +38,24 @@ pub struct BvhNode {
 /// The flattened hierarchy.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
+    /// Nodes in depth-first order; node 0 is the root.
     pub nodes: Vec<BvhNode>,
+    /// Primitive indices referenced by the leaves (triangles first, then spheres).
     pub prim_ids: Vec<u32>,
 }
 
 /// A ray-surface intersection.
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
+    /// Distance along the ray.
     pub t: f32,
+    /// The hit point.
     pub position: Vec3,
     /// Unit geometric front normal of the primitive (not flipped towards the ray).
     pub normal: Vec3,
+    /// Index of the primitive's material in `Scene::materials`.
     pub material: u32,
+    /// Index of the primitive's light in `Scene::lights`, or `scene::NO_LIGHT`.
     pub light: u32,
 }
 

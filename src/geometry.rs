@@ -13,7 +13,9 @@ pub const BOX_SLACK: f32 =
 /// A ray `origin + t * dir` with `dir` of unit length.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {
+    /// Where the ray starts.
     pub origin: Vec3,
+    /// Unit direction.
     pub dir: Vec3,
 }
 
@@ -61,6 +63,7 @@ pub struct Shear {
 }
 
 impl Shear {
+    /// The shear and axis permutation that map `dir` onto +z.
     pub fn new(dir: Vec3) -> Self {
         let a = dir.abs();
         let kz = if a.x > a.y && a.x > a.z {
@@ -167,15 +170,19 @@ pub fn intersect_sphere(s: &Sphere, ray: &Ray, t_max: f32) -> Option<f32> {
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// Lower corner.
     pub min: Vec3,
+    /// Upper corner.
     pub max: Vec3,
 }
 
 impl Aabb {
+    /// The empty box (the identity of `union` and `grow`).
     pub const EMPTY: Aabb = Aabb {
         min: Vec3::splat(f32::INFINITY),
         max: Vec3::splat(f32::NEG_INFINITY),
     };
+    /// The bounds of a triangle.
     pub fn of_triangle(t: &Triangle) -> Self {
         let (a, b, c) = (t.v0, t.v1, t.v2);
         Aabb {
@@ -183,27 +190,32 @@ impl Aabb {
             max: a.max(b).max(c),
         }
     }
+    /// The bounds of a sphere.
     pub fn of_sphere(s: &Sphere) -> Self {
         Aabb {
             min: s.center - Vec3::splat(s.radius),
             max: s.center + Vec3::splat(s.radius),
         }
     }
+    /// The smallest box holding both boxes.
     pub fn union(self, o: Aabb) -> Aabb {
         Aabb {
             min: self.min.min(o.min),
             max: self.max.max(o.max),
         }
     }
+    /// The smallest box holding this box and point `p`.
     pub fn grow(self, p: Vec3) -> Aabb {
         Aabb {
             min: self.min.min(p),
             max: self.max.max(p),
         }
     }
+    /// The box's centre.
     pub fn centroid(&self) -> Vec3 {
         0.5 * (self.min + self.max)
     }
+    /// Whether the box holds no point.
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x
     }

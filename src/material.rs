@@ -74,6 +74,7 @@ pub fn fresnel(mode: FresnelMode, cos_i: f32, n_i: f32, n_t: f32) -> f32 {
 /// The two ways a ray leaves a dielectric interface, with the Fresnel weight of reflection.
 #[derive(Clone, Copy, Debug)]
 pub struct Dielectric {
+    /// The mirror direction.
     pub reflected: Vec3,
     /// `None` on total internal reflection.
     pub refracted: Option<Vec3>,
@@ -130,15 +131,21 @@ pub fn brdf(m: &Material, wi: Vec3, wo: Vec3, n: Vec3) -> Vec3 {
 pub enum Bounce {
     /// Photon continues in `dir` with its power multiplied by `weight`.
     Diffuse {
+        /// The new direction.
         dir: Vec3,
+        /// Factor on the photon's power.
         weight: Vec3,
     },
     /// Continues by a specular event (mirror, glass, glossy lobe); `delta` for mirror/glass.
     Specular {
+        /// The new direction.
         dir: Vec3,
+        /// Factor on the photon's power.
         weight: Vec3,
+        /// A mirror or glass event (a caustic path may continue).
         delta: bool,
     },
+    /// The photon ends here.
     Absorb,
 }
 

@@ -16,6 +16,7 @@ pub const MAX_AIM_FACTOR: f64 = 256.0;
 /// The photon maps a render needs: only what the scene and mode use.
 #[derive(Clone, Debug)]
 pub struct MapPlan {
+    /// The render mode the plan serves.
     pub mode: Mode,
     /// Global paths per light (`None`: no global map in this mode).
     pub global: Option<Budget>,
@@ -25,6 +26,7 @@ pub struct MapPlan {
 }
 
 impl MapPlan {
+    /// Plans the maps of a render of `scene` with `s` (pilot photons included).
     pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
         let uses_global = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::GlobalOnly);
         let uses_caustic = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::CausticOnly);
@@ -136,6 +138,7 @@ pub struct Terms {
 }
 
 impl Terms {
+    /// The terms mode `mode` adds.
     pub fn of(mode: Mode) -> Self {
         match mode {
             Mode::Photon => Terms {

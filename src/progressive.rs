@@ -31,8 +31,12 @@ pub fn initial_radii(scene: &Scene, s: &RenderSettings) -> (f32, f32) {
     let global = s.initial_radius.unwrap_or_else(|| {
         radius_for(s.k, s.photons as f64 * 1.8, area).min(s.radius as f64) as f32
     });
-    let caustic =
-        radius_for(s.k, s.caustic_photons as f64, area * 0.05).min(s.caustic_radius as f64) as f32;
+    let caustic = radius_for(
+        s.k,
+        s.caustic_photons as f64,
+        area * crate::plan::CAUSTIC_AREA_FRACTION,
+    )
+    .min(s.caustic_radius as f64) as f32;
     let caustic = if s.initial_radius.is_some() {
         caustic.min(global)
     } else {

@@ -127,7 +127,6 @@ impl PassRenderer for Fallback<'_> {
     }
 }
 
-
 /// Renders `scene` with `settings` on `backend`: one classic pass, or with
 /// `settings.pass_range` the mean of those progressive passes.
 pub fn render(
@@ -158,12 +157,6 @@ pub fn render_progressive(
     mut on_pass: impl FnMut(&Accumulator) -> Flow,
 ) -> Result<(Accumulator, RenderReport)> {
     validate(settings)?;
-    if !(settings.alpha > 0.0 && settings.alpha < 1.0) {
-        return Err(Error::Setting {
-            field: "alpha",
-            message: format!("{} is outside (0, 1)", settings.alpha),
-        });
-    }
     if passes.is_empty() {
         return Err(Error::Setting {
             field: "pass-range",
