@@ -29,13 +29,14 @@ const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
+const SOBOL: &str = include_str!("../../shaders/common/sobol.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 15] = [
+pub const WGSL_FILES: [(&str, &str); 16] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -47,6 +48,8 @@ pub const WGSL_FILES: [(&str, &str); 15] = [
     ("common/grid.wgsl", GRID),
     ("common/map.wgsl", MAP),
     ("common/estimate.wgsl", ESTIMATE),
+    // Composed by `crate::sobol::wgsl_library()` (behind its generated direction table).
+    ("common/sobol.wgsl", SOBOL),
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
     ("gather.wgsl", GATHER),
