@@ -443,3 +443,29 @@ fn a_bad_ply_in_a_scene_names_the_scene_line() {
     assert_eq!(e.to_string(), expect);
     assert!(matches!(e, Error::Scene { line: 7, .. }));
 }
+
+/// Every truncation of a binary and an ASCII file, and a header promising billions of
+/// elements, is an error, never a panic (nor an allocation of the promised size).
+#[test]
+fn every_truncation_is_an_error() {
+    let dir = scratch("cut");
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    for format in [Format::Ascii, Format::Le, Format::Be] {
+        let e = Encoding { format, ..ASCII };
+        let bytes = ply_bytes(&tri, &[vec![0, 1, 2]], e);
+        for len in 0..bytes.len() - 1 {
+            let path = write(&dir, "cut.ply", &bytes[..len]);
+            assert!(read_ply(&path).is_err(), "{len} of {} bytes", bytes.len());
+        }
+        let whole = write(&dir, "whole.ply", &bytes);
+        assert_eq!(read_ply(&whole).unwrap().triangles, [[0, 1, 2]]);
+    }
+    let huge = String::from_utf8(ply_bytes(&tri, &[vec![0, 1, 2]], ASCII))
+        .unwrap()
+        .replace("element vertex 3", "element vertex 4000000000");
+    let e = message(&dir, "huge.ply", huge.as_bytes());
+    // The face line is read as a fourth vertex; the file ends on line 14.
+    let expect = "FILE:14: not a valid PLY file: Unexpected end of file while reading element \
+                  'vertex' (expected 4000000000, got 4)";
+    assert_eq!(e, expect);
+}
