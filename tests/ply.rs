@@ -469,3 +469,56 @@ fn every_truncation_is_an_error() {
                   'vertex' (expected 4000000000, got 4)";
     assert_eq!(e, expect);
 }
+
+/// `gpu-photon render` on a scene with a bad PLY mesh exits 1 with the message, no panic;
+/// with the good twin it renders.
+#[test]
+fn the_cli_reports_a_bad_ply_and_renders_a_good_one() {
+    let dir = scratch("cli");
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    write(&dir, "bad.ply", &ply_bytes(&tri, &[vec![0, 1, 9]], ASCII));
+    let twin = root().join("tests/data/light.ply");
+    let text = std::fs::read_to_string(root().join("scenes/mesh-light.toml")).unwrap();
+    let good = text.replace("meshes/light.obj", twin.to_str().unwrap());
+    let bad = text.replace("meshes/light.obj", "bad.ply");
+    let run = |scene: &str, text: &str| {
+        let path = write(&dir, scene, text.as_bytes());
+        let out = dir.join("out.png");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+            .args([
+                "render",
+                path.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args([
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "--spp",
+                "1",
+                "--backend",
+                "cpu",
+                "-q",
+            ])
+            .output()
+            .expect("run gpu-photon");
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+            out,
+        )
+    };
+    let (code, err, _) = run("bad.toml", &bad);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let expect = format!(
+        "{}: face 0 refers to vertex 9; the mesh has 3 vertices",
+        dir.join("bad.ply").display()
+    );
+    assert!(err.contains(&expect), "{err}");
+    let (code, err, out) = run("good.toml", &good);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.exists());
+}
