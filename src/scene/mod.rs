@@ -3,18 +3,20 @@
 //! A [`Scene`] is what both backends render. Every importer builds one through a
 //! [`SceneBuilder`], which holds the rules (emission copies, lights and their power, the
 //! checks): [`load()`] reads a TOML description (see `scenes/README.md` for the format) and
-//! its OBJ meshes; tests may also fill a `Scene` directly. All geometry is flattened into
+//! its OBJ and PLY meshes; tests may also fill a `Scene` directly. All geometry is flattened into
 //! world-space triangles and analytic spheres; emission lives on the primitive's material,
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
 mod builder;
 mod locate;
 mod obj;
+mod ply;
 mod toml;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use locate::{Locate, Origin, Part};
+pub use ply::{read_ply, PlyError, PlyMesh};
 pub use toml::{load, load_str};
 
 use crate::camera::Camera;

@@ -10,7 +10,7 @@
 use super::builder::{SceneBuilder, Surface};
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use super::{obj, Material, Scene};
+use super::{obj, ply, Material, Scene};
 use crate::error::{Error, Result};
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, SETTINGS};
 use glam::Vec3;
@@ -250,7 +250,11 @@ fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
             let scale = scale.map_err(|m| t.fail("scale", m))?;
             let translate = t.vec3("translate")?.unwrap_or(Vec3::ZERO);
             let path = base_dir.join(file);
-            obj::add_obj(b, &path, scale, translate, surface, &at("file"))
+            let is_ply = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+            let add = if is_ply { ply::add_ply } else { obj::add_obj };
+            add(b, &path, scale, translate, surface, &at("file"))
         }
     }
 }

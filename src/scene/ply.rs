@@ -1,0 +1,267 @@
+//! PLY meshes (`type = "mesh"` with a `.ply` file, and the Mitsuba importer's `ply` shapes),
+//! read with the `ply-rs-bw` crate: ASCII and binary (little and big endian).
+//!
+//! The `vertex` element gives the positions (`x`, `y`, `z`, float or double) and, when all
+//! three are present, vertex normals (`nx`, `ny`, `nz`), which [`PlyMesh`] keeps although the
+//! scene has no shading normals yet. The `face` element's `vertex_indices` (or
+//! `vertex_index`) lists, of any integer type, are polygons triangulated as fans
+//! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
+//! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.
+
+use super::builder::{SceneBuilder, Surface};
+use super::locate::{Locate, Part};
+use super::obj;
+use crate::error::Result;
+use glam::Vec3;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{DefaultElement, ElementDef, Encoding, Property, PropertyType, ScalarType};
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+/// A triangle mesh read from a PLY file, in the file's coordinates.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlyMesh {
+    /// Vertex positions, all finite.
+    pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions` (polygons fan-triangulated), never empty.
+    pub triangles: Vec<[u32; 3]>,
+    /// Vertex normals as the file gives them (not normalised), one per position, when the
+    /// `vertex` element has `nx`, `ny` and `nz`.
+    pub normals: Option<Vec<Vec3>>,
+}
+
+impl PlyMesh {
+    /// The triangles' corner positions, in the order of [`PlyMesh::triangles`].
+    pub fn triangle_positions(&self) -> Vec<[Vec3; 3]> {
+        let at = |i: u32| self.positions[i as usize];
+        self.triangles
+            .iter()
+            .map(|t| [at(t[0]), at(t[1]), at(t[2])])
+            .collect()
+    }
+}
+
+/// Why a PLY file could not be read or used; shown as `FILE: what`, or `FILE:LINE: what`
+/// for a malformed header or ASCII payload line.
+#[derive(Debug, thiserror::Error)]
+#[error("{}{}: {message}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct PlyError {
+    /// The file.
+    pub path: PathBuf,
+    /// The 1-based line of a malformed header or ASCII payload.
+    pub line: Option<usize>,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+/// Reads the PLY file at `path` (see the module documentation for what is used).
+///
+/// Errors: the file cannot be read or is not valid PLY (a bad header, a truncated or
+/// malformed payload), the `vertex` or `face` element or a property is missing or of the
+/// wrong type, a face has fewer than 3 vertices or refers to a missing vertex, a position
+/// is not finite, or there are no faces.
+pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
+    let fail = |message: String| PlyError {
+        path: path.to_path_buf(),
+        line: None,
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let mut reader = Reader::new(BufReader::new(file));
+    let parser = Parser::<DefaultElement>::new();
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| invalid(path, &e, true))?;
+    let elements = &header.elements;
+    let vertex_def = elements
+        .get("vertex")
+        .ok_or_else(|| fail("no `vertex` element".into()))?;
+    for name in ["x", "y", "z"] {
+        check_float(vertex_def, name).map_err(&fail)?;
+    }
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|n| vertex_def.properties.contains_key(*n));
+    if has_normals {
+        for name in ["nx", "ny", "nz"] {
+            check_float(vertex_def, name).map_err(&fail)?;
+        }
+    }
+    let face_def = elements
+        .get("face")
+        .ok_or_else(|| fail("no `face` element: the mesh has no triangles".into()))?;
+    let list = ["vertex_indices", "vertex_index"]
+        .into_iter()
+        .find(|n| face_def.properties.contains_key(*n))
+        .ok_or_else(|| fail("the `face` element has no `vertex_indices` list".into()))?;
+    match &face_def.properties[list].data_type {
+        PropertyType::List(count, item) if is_integer(count) && is_integer(item) => {}
+        other => {
+            return Err(fail(format!(
+                "face property `{list}` is {}; expected a list of integers",
+                type_name(other)
+            )))
+        }
+    }
+
+    // A binary payload has no lines: the parser's line is then the header's last.
+    let ascii = matches!(header.encoding, Encoding::Ascii);
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(|e| invalid(path, &e, ascii))?;
+
+    let empty = Vec::new();
+    let vertices = payload.get("vertex").unwrap_or(&empty);
+    let faces = payload.get("face").unwrap_or(&empty);
+    let mut positions = Vec::with_capacity(vertices.len());
+    let mut normals = Vec::with_capacity(if has_normals { vertices.len() } else { 0 });
+    for (i, v) in vertices.iter().enumerate() {
+        let p = vec3(v, ["x", "y", "z"]).map_err(&fail)?;
+        if !p.is_finite() {
+            return Err(fail(format!("vertex {i} is not finite: {p}")));
+        }
+        positions.push(p);
+        if has_normals {
+            normals.push(vec3(v, ["nx", "ny", "nz"]).map_err(&fail)?);
+        }
+    }
+    let mut triangles = Vec::with_capacity(faces.len());
+    for (f, face) in faces.iter().enumerate() {
+        let indices = indices(face.get(list)).map_err(&fail)?;
+        if indices.len() < 3 {
+            return Err(fail(format!(
+                "face {f} has {} vertices; a face needs at least 3",
+                indices.len()
+            )));
+        }
+        let mut corner = Vec::with_capacity(indices.len());
+        for i in indices {
+            match u32::try_from(i) {
+                Ok(u) if (u as usize) < positions.len() => corner.push(u),
+                _ => {
+                    return Err(fail(format!(
+                        "face {f} refers to vertex {i}; the mesh has {} vertices",
+                        positions.len()
+                    )))
+                }
+            }
+        }
+        for k in 1..corner.len() - 1 {
+            triangles.push([corner[0], corner[k], corner[k + 1]]);
+        }
+    }
+    if triangles.is_empty() {
+        return Err(fail("the mesh has no triangles".into()));
+    }
+    Ok(PlyMesh {
+        positions,
+        triangles,
+        normals: has_normals.then_some(normals),
+    })
+}
+
+/// A parser error as a one-line [`PlyError`] (the parser's first line, without its
+/// `Line N:` prefix; the line is kept when `has_lines`).
+fn invalid(path: &Path, e: &ParseError, has_lines: bool) -> PlyError {
+    let shown = e.to_string();
+    let mut lines = shown.lines();
+    let first = lines.next().unwrap_or_default();
+    let mut what = match first.split_once(": ") {
+        Some((prefix, rest)) if prefix.starts_with("Line ") => rest,
+        _ => first,
+    }
+    .trim_end_matches('.')
+    .to_string();
+    // The parser's causes, without debug dumps or its grammar's expected tokens.
+    for cause in lines.filter_map(|l| l.trim().strip_prefix("Error: ")) {
+        let cause = cause.split(": expected one of").next().unwrap_or_default();
+        if !cause.contains('{') {
+            what = format!("{what}: {}", cause.trim_end_matches('.'));
+        }
+    }
+    PlyError {
+        path: path.to_path_buf(),
+        line: e.line().filter(|_| has_lines),
+        message: format!("not a valid PLY file: {what}"),
+    }
+}
+
+/// Adds the PLY file at `path`, scaled then translated (a mirroring scale reverses the
+/// winding, as for OBJ meshes), to `builder` as one shape of `surface`. A file that cannot be
+/// read or used is an error on [`Part::Geometry`] whose message is the [`PlyError`].
+pub(crate) fn add_ply(
+    builder: &mut SceneBuilder,
+    path: &Path,
+    scale: Vec3,
+    translate: Vec3,
+    surface: Surface,
+    at: &dyn Locate,
+) -> Result<()> {
+    let mesh = read_ply(path).map_err(|e| at.error(Part::Geometry, e.to_string()))?;
+    let tris = obj::transform(mesh.triangle_positions(), scale, translate);
+    builder.add_mesh(tris, surface, at)
+}
+
+/// Checks that `element` has the scalar float or double property `name`.
+fn check_float(element: &ElementDef, name: &str) -> Result<(), String> {
+    match element.properties.get(name).map(|p| &p.data_type) {
+        None => Err(format!("{} property `{name}` is missing", element.name)),
+        Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => Ok(()),
+        Some(other) => Err(format!(
+            "{} property `{name}` is {}; expected float or double",
+            element.name,
+            type_name(other)
+        )),
+    }
+}
+
+/// The three float or double properties `names` of vertex `v`.
+fn vec3(v: &DefaultElement, names: [&str; 3]) -> Result<Vec3, String> {
+    let mut out = [0.0f32; 3];
+    for (o, name) in out.iter_mut().zip(names) {
+        *o = match v.get(name) {
+            Some(Property::Float(x)) => *x,
+            Some(Property::Double(x)) => *x as f32,
+            _ => return Err(format!("vertex property `{name}` is not a float or double")),
+        };
+    }
+    Ok(Vec3::from_array(out))
+}
+
+/// The vertex indices of a face's index list, widened.
+fn indices(list: Option<&Property>) -> Result<Vec<i64>, String> {
+    fn wide<T: Copy + Into<i64>>(v: &[T]) -> Vec<i64> {
+        v.iter().map(|&x| x.into()).collect()
+    }
+    Ok(match list {
+        Some(Property::ListChar(v)) => wide(v),
+        Some(Property::ListUChar(v)) => wide(v),
+        Some(Property::ListShort(v)) => wide(v),
+        Some(Property::ListUShort(v)) => wide(v),
+        Some(Property::ListInt(v)) => wide(v),
+        Some(Property::ListUInt(v)) => wide(v),
+        _ => return Err("a face's vertex index list is not a list of integers".into()),
+    })
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+/// A property type as a PLY header writes it (`float`, `list uchar int`).
+fn type_name(t: &PropertyType) -> String {
+    let scalar = |s: &ScalarType| match s {
+        ScalarType::Char => "char",
+        ScalarType::UChar => "uchar",
+        ScalarType::Short => "short",
+        ScalarType::UShort => "ushort",
+        ScalarType::Int => "int",
+        ScalarType::UInt => "uint",
+        ScalarType::Float => "float",
+        ScalarType::Double => "double",
+    };
+    match t {
+        PropertyType::Scalar(s) => scalar(s).to_string(),
+        PropertyType::List(c, s) => format!("list {} {}", scalar(c), scalar(s)),
+    }
+}
