@@ -9,6 +9,7 @@
 
 mod builder;
 mod locate;
+pub mod mitsuba;
 mod obj;
 mod ply;
 mod toml;
@@ -17,7 +18,31 @@ mod toml_table;
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use locate::{Locate, Origin, Part};
 pub use ply::{read_ply, PlyError, PlyMesh};
-pub use toml::{load, load_str};
+pub use toml::load_str;
+
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// Reads and loads the scene file at `path`, by its extension: `.toml` (our format, see
+/// `scenes/README.md`) or `.xml` (Mitsuba 3, see [`mitsuba`]). An unreadable file, or one of
+/// another extension, is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
+pub fn load(path: &Path) -> Result<Scene> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => toml::load(path),
+        Some("xml") => mitsuba::load(path),
+        _ => Err(Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "unknown scene format (expected a .toml or Mitsuba .xml file)",
+            ),
+        }),
+    }
+}
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;

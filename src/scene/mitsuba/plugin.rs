@@ -1,0 +1,246 @@
+//! One Mitsuba plugin element (`<shape type="...">`, `<bsdf ...>`, ...): its typed parameters
+//! by name, and its nested objects. Every parameter must be read by the importer (or listed
+//! as ignored): [`Plugin::done`] reports the first one nobody read as unsupported, so that
+//! nothing in a file is skipped silently.
+
+use super::values::{Cx, IOR_NAMES};
+use crate::error::Result;
+use crate::settings::{setting, RenderSettings, Slot};
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+use std::cell::Cell;
+
+/// Elements that are parameters (they carry a `name`); every other child is an object.
+const PARAM_TAGS: &[&str] = &[
+    "float",
+    "integer",
+    "boolean",
+    "string",
+    "rgb",
+    "spectrum",
+    "point",
+    "vector",
+    "transform",
+    "texture",
+];
+
+/// A plugin element, read.
+pub(super) struct Plugin<'a, 'i> {
+    /// The element.
+    pub node: Node<'a, 'i>,
+    /// Its `type` attribute.
+    pub kind: String,
+    /// Its field path, for errors.
+    pub field: String,
+    /// Parameters: name, element, whether read.
+    params: Vec<(String, Node<'a, 'i>, Cell<bool>)>,
+    /// Nested objects (`bsdf`, `emitter`, `film`, `ref`, ...), in order.
+    pub objects: Vec<Node<'a, 'i>>,
+}
+
+impl<'a, 'i> Plugin<'a, 'i> {
+    /// Reads `node` (which must have a `type`) as the plugin at `field`.
+    pub fn new(cx: &Cx, node: Node<'a, 'i>, field: String) -> Result<Self> {
+        let kind = cx.need_attr(node, &field, "type")?;
+        let mut params: Vec<(String, Node, Cell<bool>)> = Vec::new();
+        let mut objects = Vec::new();
+        for child in node.children().filter(Node::is_element) {
+            let tag = child.tag_name().name();
+            if !PARAM_TAGS.contains(&tag) {
+                objects.push(child);
+                continue;
+            }
+            let name = cx.need_attr(child, &field, "name")?;
+            if params.iter().any(|(n, _, _)| *n == name) {
+                let message = format!("parameter `{name}` given twice");
+                return Err(cx.err(child, &format!("{field}.{name}"), message));
+            }
+            params.push((name, child, Cell::new(false)));
+        }
+        Ok(Plugin {
+            node,
+            kind,
+            field,
+            params,
+            objects,
+        })
+    }
+
+    /// The field path of parameter `name`.
+    pub fn at(&self, name: &str) -> String {
+        format!("{}.{name}", self.field)
+    }
+
+    /// The element of parameter `name`, marked read; its tag must be one of `tags`.
+    fn param(&self, cx: &Cx, name: &str, tags: &[&str]) -> Result<Option<Node<'a, 'i>>> {
+        let Some((_, node, read)) = self.params.iter().find(|(n, _, _)| n == name) else {
+            return Ok(None);
+        };
+        read.set(true);
+        let tag = node.tag_name().name();
+        if tag == "texture" && tags.contains(&"rgb") {
+            let kind = cx.attr(*node, &self.at(name), "type")?.unwrap_or_default();
+            let message = format!("unsupported texture `{kind}` (only constant colours)");
+            return Err(cx.err(*node, &self.at(name), message));
+        }
+        if !tags.contains(&tag) {
+            let want: Vec<String> = tags.iter().map(|t| format!("<{t}>")).collect();
+            let message = format!("expected {}, found <{tag}>", want.join(" or "));
+            return Err(cx.err(*node, &self.at(name), message));
+        }
+        Ok(Some(*node))
+    }
+
+    /// Marks parameters the importer accepts but does not use.
+    pub fn ignore(&self, names: &[&str]) {
+        for (name, _, read) in &self.params {
+            if names.contains(&name.as_str()) {
+                read.set(true);
+            }
+        }
+    }
+
+    /// A `float` (or `integer`) parameter.
+    pub fn float(&self, cx: &Cx, name: &str) -> Result<Option<f32>> {
+        let Some(node) = self.param(cx, name, &["float", "integer"])? else {
+            return Ok(None);
+        };
+        cx.number(node, &self.at(name), "value").map(Some)
+    }
+
+    /// A positive `float` parameter, `default` when absent.
+    pub fn positive(&self, cx: &Cx, name: &str, default: f32) -> Result<f32> {
+        let v = self.float(cx, name)?.unwrap_or(default);
+        if v > 0.0 {
+            return Ok(v);
+        }
+        let node = self
+            .param(cx, name, &["float", "integer"])?
+            .unwrap_or(self.node);
+        Err(cx.err(node, &self.at(name), "must be positive"))
+    }
+
+    /// A `string` parameter.
+    pub fn string(&self, cx: &Cx, name: &str) -> Result<Option<String>> {
+        let Some(node) = self.param(cx, name, &["string"])? else {
+            return Ok(None);
+        };
+        cx.need_attr(node, &self.at(name), "value").map(Some)
+    }
+
+    /// A `boolean` parameter, `false` when absent.
+    pub fn boolean(&self, cx: &Cx, name: &str) -> Result<bool> {
+        let Some(node) = self.param(cx, name, &["boolean"])? else {
+            return Ok(false);
+        };
+        match cx.need_attr(node, &self.at(name), "value")?.as_str() {
+            "true" => Ok(true),
+            "false" => Ok(false),
+            other => {
+                let message = format!("`{other}` is not `true` or `false`");
+                Err(cx.err(node, &self.at(name), message))
+            }
+        }
+    }
+
+    /// A colour: `rgb` (1 or 3 numbers), or a constant `spectrum` or `float`.
+    pub fn color(&self, cx: &Cx, name: &str) -> Result<Option<Vec3>> {
+        let tags = ["rgb", "spectrum", "float"];
+        let Some(node) = self.param(cx, name, &tags)? else {
+            return Ok(None);
+        };
+        let field = self.at(name);
+        let c = match node.tag_name().name() {
+            "rgb" => cx.triple(node, &field, 0.0)?,
+            _ => {
+                let text = cx.need_attr(node, &field, "value")?;
+                if text.contains(':') || node.attribute("filename").is_some() {
+                    let message = "only constant spectra (one number) are supported";
+                    return Err(cx.err(node, &field, message));
+                }
+                Vec3::splat(cx.number(node, &field, "value")?)
+            }
+        };
+        if c.min_element() < 0.0 {
+            return Err(cx.err(node, &field, "components must be >= 0"));
+        }
+        Ok(Some(c))
+    }
+
+    /// A reflectance: a colour with every component in [0, 1], `default` when absent.
+    pub fn albedo(&self, cx: &Cx, name: &str, default: f32) -> Result<Vec3> {
+        let c = self.color(cx, name)?.unwrap_or(Vec3::splat(default));
+        if c.max_element() > 1.0 {
+            let node = self.param(cx, name, &["rgb", "spectrum", "float"])?;
+            let message = "components must be in [0, 1]";
+            return Err(cx.err(node.unwrap_or(self.node), &self.at(name), message));
+        }
+        Ok(c)
+    }
+
+    /// A `point` or `vector` parameter.
+    pub fn point(&self, cx: &Cx, name: &str) -> Result<Option<Vec3>> {
+        let Some(node) = self.param(cx, name, &["point", "vector"])? else {
+            return Ok(None);
+        };
+        cx.triple(node, &self.at(name), 0.0).map(Some)
+    }
+
+    /// A `transform` parameter.
+    pub fn transform(&self, cx: &Cx, name: &str) -> Result<Option<Mat4>> {
+        let Some(node) = self.param(cx, name, &["transform"])? else {
+            return Ok(None);
+        };
+        cx.transform(node, &self.at(name)).map(Some)
+    }
+
+    /// An index of refraction: a positive `float` or a name from Mitsuba's table.
+    pub fn ior(&self, cx: &Cx, name: &str, default: f32) -> Result<f32> {
+        let Some(node) = self.param(cx, name, &["float", "string", "integer"])? else {
+            return Ok(default);
+        };
+        let field = self.at(name);
+        if node.tag_name().name() == "string" {
+            let text = cx.need_attr(node, &field, "value")?;
+            let found = IOR_NAMES.iter().find(|(n, _)| *n == text);
+            let message = format!("unknown index of refraction `{text}`");
+            return found
+                .map(|(_, v)| *v)
+                .ok_or_else(|| cx.err(node, &field, message));
+        }
+        match cx.number(node, &field, "value")? {
+            v if v > 0.0 => Ok(v),
+            _ => Err(cx.err(node, &field, "must be positive")),
+        }
+    }
+
+    /// Sets the integer setting `key` from parameter `name`, within the setting's range.
+    pub fn setting(&self, cx: &Cx, name: &str, key: &str, s: &mut RenderSettings) -> Result<()> {
+        let Some(node) = self.param(cx, name, &["integer"])? else {
+            return Ok(());
+        };
+        let field = self.at(name);
+        let text = cx.need_attr(node, &field, "value")?;
+        let Ok(v) = text.trim().parse::<i64>() else {
+            return Err(cx.err(node, &field, format!("`{text}` is not an integer")));
+        };
+        let row = setting(key).expect("a setting of the table");
+        if let (true, Slot::U32 { set, .. }) = (row.range.admits_int(v), row.slot) {
+            set(s, v as u32);
+            return Ok(());
+        }
+        let message = format!("must be {}", row.range.requirement());
+        Err(cx.err(node, &field, message))
+    }
+
+    /// Fails on the first parameter nobody read: it is not supported.
+    pub fn done(&self, cx: &Cx) -> Result<()> {
+        match self.params.iter().find(|(_, _, read)| !read.get()) {
+            None => Ok(()),
+            Some((name, node, _)) => {
+                let message = format!("unsupported parameter of `{}`", self.kind);
+                Err(cx.err(*node, &self.at(name), message))
+            }
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
+//! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `obj`
+//! and `ply` meshes, each with its bsdf (nested or `ref`) and optionally an `area` emitter.
+
+use super::plugin::Plugin;
+use super::{bsdf, Importer};
+use crate::error::Result;
+use crate::scene::builder::Surface;
+use crate::scene::obj;
+use crate::scene::ply::read_ply;
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+
+/// The outward faces of the cube [-1,1]^3: the normal and two edges `u`, `v` with
+/// `cross(u, v)` = normal.
+const CUBE_FACES: [[Vec3; 3]; 6] = [
+    [Vec3::X, Vec3::Y, Vec3::Z],
+    [Vec3::NEG_X, Vec3::Z, Vec3::Y],
+    [Vec3::Y, Vec3::Z, Vec3::X],
+    [Vec3::NEG_Y, Vec3::X, Vec3::Z],
+    [Vec3::Z, Vec3::X, Vec3::Y],
+    [Vec3::NEG_Z, Vec3::Y, Vec3::X],
+];
+
+/// The two triangles of the quad with `normal`, edges `u`, `v` (corners `n -/+ u -/+ v` in
+/// order around the edge), front face along `normal`.
+fn quad(normal: Vec3, u: Vec3, v: Vec3) -> [[Vec3; 3]; 2] {
+    let c = [
+        normal - u - v,
+        normal + u - v,
+        normal + u + v,
+        normal - u + v,
+    ];
+    [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
+}
+
+/// `tris` through `m`, keeping the front faces where Mitsuba's normals (transformed by the
+/// inverse transpose) point: a mirroring `m` reverses the winding, as does `flip`.
+fn transform(tris: Vec<[Vec3; 3]>, m: Mat4, flip: bool) -> Vec<[Vec3; 3]> {
+    let swap = (m.determinant() < 0.0) != flip;
+    tris.into_iter()
+        .map(|t| {
+            let mut t = t.map(|p| m.transform_point3(p));
+            if swap {
+                t.swap(1, 2);
+            }
+            t
+        })
+        .collect()
+}
+
+impl Importer<'_> {
+    /// A `<shape>` element: its surface, then its geometry.
+    pub(super) fn shape(&mut self, node: Node, field: &str) -> Result<()> {
+        let p = Plugin::new(&self.cx, node, field.to_string())?;
+        let mut material = None;
+        let mut emission = None;
+        for child in &p.objects {
+            let tag = child.tag_name().name();
+            let sub = format!("{field}.{tag}");
+            let found = match tag {
+                "bsdf" => {
+                    let m = bsdf::bsdf(&self.cx, *child, &sub, &mut self.warnings)?;
+                    let at = self.origin(*child, &sub);
+                    Some(self.b.add_material(None, m, &at)?)
+                }
+                "ref" => Some(self.reference(*child, &sub)?),
+                "emitter" => {
+                    let e = Plugin::new(&self.cx, *child, sub.clone())?;
+                    if e.kind != "area" {
+                        let message = format!("unsupported emitter `{}` on a shape", e.kind);
+                        return Err(self.cx.err(*child, &sub, message));
+                    }
+                    if let Some(extra) = e.objects.first() {
+                        let message =
+                            format!("unsupported <{}> in an emitter", extra.tag_name().name());
+                        return Err(self.cx.err(*extra, &sub, message));
+                    }
+                    let Some(radiance) = e.color(&self.cx, "radiance")? else {
+                        return Err(self.cx.err(*child, &e.at("radiance"), "missing"));
+                    };
+                    e.done(&self.cx)?;
+                    if emission.replace(radiance).is_some() {
+                        return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
+                    }
+                    None
+                }
+                other => {
+                    let message = format!("unsupported <{other}> in a shape");
+                    return Err(self.cx.err(*child, field, message));
+                }
+            };
+            if let Some(id) = found {
+                if material.replace(id).is_some() {
+                    return Err(self.cx.err(*child, &sub, "a shape has one bsdf"));
+                }
+            }
+        }
+        let material = match material {
+            Some(m) => m,
+            None => {
+                let at = self.origin(node, field);
+                self.default_material(&at)?
+            }
+        };
+        let surface = Surface {
+            material: Some(material),
+            emission,
+            two_sided: None,
+        };
+        self.geometry(&p, surface)
+    }
+
+    /// Adds the shape `p` is, of `surface`.
+    fn geometry(&mut self, p: &Plugin, surface: Surface) -> Result<()> {
+        let cx = &self.cx;
+        let at = self.origin(p.node, &p.field);
+        let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        let tris = match p.kind.as_str() {
+            "sphere" => {
+                let center = p.point(cx, "center")?.unwrap_or(Vec3::ZERO);
+                let radius = p.positive(cx, "radius", 1.0)?;
+                if p.boolean(cx, "flip_normals")? {
+                    let message = "unsupported: an inward-facing sphere";
+                    return Err(cx.err(p.node, &p.at("flip_normals"), message));
+                }
+                p.done(cx)?;
+                // A uniform scale keeps the sphere a sphere.
+                let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| c.truncate());
+                let s = cols[0].length();
+                let uniform = cols.iter().all(|c| (c.length() - s).abs() <= 1e-4 * s)
+                    && cols[0].dot(cols[1]).abs() <= 1e-4 * s * s
+                    && cols[1].dot(cols[2]).abs() <= 1e-4 * s * s
+                    && cols[0].dot(cols[2]).abs() <= 1e-4 * s * s;
+                if !uniform {
+                    let message = "unsupported: a sphere's to_world must scale uniformly";
+                    return Err(cx.err(p.node, &p.at("to_world"), message));
+                }
+                let center = m.transform_point3(center);
+                return self.b.add_sphere(center, radius * s, surface, &at);
+            }
+            "rectangle" => quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec(),
+            "cube" => CUBE_FACES
+                .iter()
+                .flat_map(|&[n, u, v]| quad(n, u, v))
+                .collect(),
+            "obj" | "ply" => {
+                let Some(file) = p.string(cx, "filename")? else {
+                    return Err(cx.err(p.node, &p.at("filename"), "missing"));
+                };
+                let path = self.base_dir.join(&file);
+                let node = p
+                    .node
+                    .children()
+                    .find(|c| c.attribute("name") == Some("filename"));
+                let node = node.unwrap_or(p.node);
+                let tris = if p.kind == "obj" {
+                    obj::load_triangles(&path).map_err(|m| cx.err(node, &p.at("filename"), m))?
+                } else {
+                    let mesh = read_ply(&path)
+                        .map_err(|e| cx.err(node, &p.at("filename"), e.to_string()))?;
+                    mesh.triangle_positions()
+                };
+                p.ignore(&["face_normals", "flip_tex_coords"]);
+                tris
+            }
+            other => {
+                let message = format!("unsupported shape `{other}`");
+                return Err(cx.err(p.node, &p.field, message));
+            }
+        };
+        let flip = p.boolean(cx, "flip_normals")?;
+        p.done(cx)?;
+        self.b.add_mesh(transform(tris, m, flip), surface, &at)
+    }
+}

@@ -1,0 +1,228 @@
+//! Reading Mitsuba 3 XML values: `$name` substitution in attributes, the typed parameter
+//! elements (`float`, `integer`, `boolean`, `string`, `rgb`, `spectrum`, `point`, `vector`)
+//! and `transform` elements (`lookat`, `matrix`, `translate`, `rotate`, `scale`, applied in
+//! the order they appear, each one after the previous).
+//!
+//! Every error is an [`Error::Scene`] naming the file, the line of the element and its field.
+
+use crate::error::{Error, Result};
+use glam::{Mat4, Vec3, Vec4};
+use roxmltree::Node;
+use std::collections::HashMap;
+
+/// What every reader needs: the file's name for errors and the `default` parameters.
+pub(super) struct Cx<'f> {
+    /// The file, as errors show it.
+    pub file: &'f str,
+    /// `<default name="..." value="..."/>` of the scene, for `$name` substitution.
+    pub defaults: HashMap<String, String>,
+}
+
+impl Cx<'_> {
+    /// An error about `node` (its line) and `field`.
+    pub fn err(&self, node: Node, field: &str, message: impl Into<String>) -> Error {
+        let line = node.document().text_pos_at(node.range().start).row as usize;
+        Error::Scene {
+            file: self.file.to_string(),
+            line,
+            field: field.to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// The attribute `name` of `node` after `$name` substitution, if present.
+    pub fn attr(&self, node: Node, field: &str, name: &str) -> Result<Option<String>> {
+        let Some(raw) = node.attribute(name) else {
+            return Ok(None);
+        };
+        let mut out = String::with_capacity(raw.len());
+        let mut rest = raw;
+        while let Some(i) = rest.find('$') {
+            out.push_str(&rest[..i]);
+            let tail = &rest[i + 1..];
+            let len = tail
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(tail.len());
+            let key = &tail[..len];
+            let Some(value) = self.defaults.get(key).filter(|_| !key.is_empty()) else {
+                let message = format!("`${key}` has no <default name=\"{key}\" .../>");
+                return Err(self.err(node, field, message));
+            };
+            out.push_str(value);
+            rest = &tail[len..];
+        }
+        out.push_str(rest);
+        Ok(Some(out))
+    }
+
+    /// The attribute `name` of `node`, which must be present.
+    pub fn need_attr(&self, node: Node, field: &str, name: &str) -> Result<String> {
+        let message = || format!("<{}> needs a `{name}` attribute", node.tag_name().name());
+        self.attr(node, field, name)?
+            .ok_or_else(|| self.err(node, field, message()))
+    }
+
+    /// The finite numbers of attribute `name` (separated by commas and/or spaces).
+    pub fn numbers(&self, node: Node, field: &str, name: &str) -> Result<Vec<f32>> {
+        let text = self.need_attr(node, field, name)?;
+        let words = text.split(|c: char| c == ',' || c.is_whitespace());
+        let mut out = Vec::new();
+        for word in words.filter(|w| !w.is_empty()) {
+            let Ok(v) = word.parse::<f32>() else {
+                let message = format!("`{word}` is not a number");
+                return Err(self.err(node, field, message));
+            };
+            if !v.is_finite() {
+                return Err(self.err(node, field, format!("`{word}` must be finite")));
+            }
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    /// One finite number in attribute `name`.
+    pub fn number(&self, node: Node, field: &str, name: &str) -> Result<f32> {
+        match self.numbers(node, field, name)?[..] {
+            [v] => Ok(v),
+            ref v => Err(self.err(node, field, format!("expected 1 number, found {}", v.len()))),
+        }
+    }
+
+    /// Three numbers: attribute `value` (one number is repeated) or `x`, `y`, `z` (each
+    /// `missing` when absent).
+    pub fn triple(&self, node: Node, field: &str, missing: f32) -> Result<Vec3> {
+        if node.attribute("value").is_some() {
+            return match self.numbers(node, field, "value")?[..] {
+                [v] => Ok(Vec3::splat(v)),
+                [x, y, z] => Ok(Vec3::new(x, y, z)),
+                ref v => {
+                    let message = format!("expected 1 or 3 numbers, found {}", v.len());
+                    Err(self.err(node, field, message))
+                }
+            };
+        }
+        let mut v = [missing; 3];
+        for (axis, slot) in ["x", "y", "z"].into_iter().zip(&mut v) {
+            if node.attribute(axis).is_some() {
+                *slot = self.number(node, field, axis)?;
+            }
+        }
+        Ok(Vec3::from(v))
+    }
+
+    /// A 3-vector attribute (`lookat`'s `origin`, `target`, `up`).
+    fn vec3_attr(&self, node: Node, field: &str, name: &str) -> Result<Vec3> {
+        match self.numbers(node, field, name)?[..] {
+            [x, y, z] => Ok(Vec3::new(x, y, z)),
+            ref v => {
+                let message = format!("`{name}` needs 3 numbers, found {}", v.len());
+                Err(self.err(node, field, message))
+            }
+        }
+    }
+
+    /// The matrix of a `<transform>` element.
+    pub fn transform(&self, node: Node, field: &str) -> Result<Mat4> {
+        let mut m = Mat4::IDENTITY;
+        for op in node.children().filter(Node::is_element) {
+            let step = match op.tag_name().name() {
+                "translate" => Mat4::from_translation(self.triple(op, field, 0.0)?),
+                "scale" => {
+                    let s = self.triple(op, field, 1.0)?;
+                    if s.x * s.y * s.z == 0.0 {
+                        return Err(self.err(op, field, "a zero scale"));
+                    }
+                    Mat4::from_scale(s)
+                }
+                "rotate" => {
+                    let axis = self.triple(op, field, 0.0)?;
+                    let angle = self.number(op, field, "angle")?;
+                    let Some(axis) = axis.try_normalize() else {
+                        return Err(self.err(op, field, "the rotation axis is zero"));
+                    };
+                    Mat4::from_axis_angle(axis, angle.to_radians())
+                }
+                "matrix" => self.matrix(op, field)?,
+                "lookat" => self.look_at(op, field)?,
+                other => {
+                    let message = format!("unsupported transform <{other}>");
+                    return Err(self.err(op, field, message));
+                }
+            };
+            m = step * m;
+        }
+        Ok(m)
+    }
+
+    /// `<matrix value="..."/>`: 16 (or 9) numbers, row by row; the last row must be 0 0 0 1.
+    fn matrix(&self, op: Node, field: &str) -> Result<Mat4> {
+        let v = self.numbers(op, field, "value")?;
+        let rows: [Vec4; 4] = match v.len() {
+            16 => std::array::from_fn(|r| Vec4::from_slice(&v[4 * r..4 * r + 4])),
+            9 => std::array::from_fn(|r| match r {
+                3 => Vec4::W,
+                r => Vec4::new(v[3 * r], v[3 * r + 1], v[3 * r + 2], 0.0),
+            }),
+            n => {
+                let message = format!("a matrix needs 16 or 9 numbers, found {n}");
+                return Err(self.err(op, field, message));
+            }
+        };
+        if rows[3] != Vec4::W {
+            let message = "projective matrices are unsupported (last row must be 0 0 0 1)";
+            return Err(self.err(op, field, message));
+        }
+        let m = Mat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+        if m.determinant() == 0.0 {
+            return Err(self.err(op, field, "the matrix is singular"));
+        }
+        Ok(m)
+    }
+
+    /// `<lookat origin target up/>`: camera space +z towards the target, +y up, +x left.
+    fn look_at(&self, op: Node, field: &str) -> Result<Mat4> {
+        let origin = self.vec3_attr(op, field, "origin")?;
+        let target = self.vec3_attr(op, field, "target")?;
+        let up = self.vec3_attr(op, field, "up")?;
+        let Some(dir) = (target - origin).try_normalize() else {
+            return Err(self.err(op, field, "lookat origin equals target"));
+        };
+        let Some(left) = up.cross(dir).try_normalize() else {
+            return Err(self.err(op, field, "lookat up is parallel to the view"));
+        };
+        let new_up = dir.cross(left);
+        Ok(Mat4::from_cols(
+            left.extend(0.0),
+            new_up.extend(0.0),
+            dir.extend(0.0),
+            origin.extend(1.0),
+        ))
+    }
+}
+
+/// Refractive indices Mitsuba 3 accepts by name (its `ior` table).
+pub(super) const IOR_NAMES: &[(&str, f32)] = &[
+    ("vacuum", 1.0),
+    ("helium", 1.000036),
+    ("hydrogen", 1.000132),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.333),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.47),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.575),
+    ("diamond", 2.419),
+];
