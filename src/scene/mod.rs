@@ -8,12 +8,14 @@
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
 mod builder;
+mod gltf;
 mod locate;
 mod obj;
 mod toml;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
 pub use toml::{load, load_str};
 

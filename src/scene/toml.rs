@@ -57,6 +57,12 @@ const LIGHT_TYPES: &Types = &[("point", &["position", "intensity"])];
 ///
 /// An unreadable file is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb") => {
+            return super::gltf::load_gltf(path, None)
+        }
+        _ => {}
+    }
     let text = std::fs::read_to_string(path);
     let text = text.map_err(|source| Error::Io {
         path: path.to_path_buf(),
