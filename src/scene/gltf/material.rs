@@ -2,7 +2,8 @@
 //! - `KHR_materials_transmission` > 0: glass of `KHR_materials_ior` (default 1.5); exact
 //!   for transmission 1, roughness 0 and a white base colour, else approximated;
 //! - metallic 1, roughness 0: a mirror of reflectance = base colour;
-//! - metallic 0, roughness 1, `KHR_materials_specular` 0: Lambertian of the base colour;
+//! - metallic 0, roughness 1, `KHR_materials_specular` 0: Lambertian of the base colour (a
+//!   black base colour reflects nothing: our `black`, as the TOML `emissive` type);
 //! - anything else: glossy (approximated), with alpha = roughness^2 and the Phong exponent
 //!   `n = 2 / alpha^2 - 2` (the Blinn-Phong/Beckmann equivalence, capped at [`MAX_EXPONENT`]),
 //!   `ks = (1 - metallic) 0.04 specular + metallic base` and
@@ -41,7 +42,10 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
     } else if metallic == 1.0 && roughness == 0.0 {
         (Material::mirror(base), None)
     } else if metallic == 0.0 && roughness == 1.0 && specular == 0.0 {
-        (Material::diffuse(base), None)
+        match base == Vec3::ZERO {
+            true => (Material::black(), None),
+            false => (Material::diffuse(base), None),
+        }
     } else {
         let f0 = DIELECTRIC_F0 * specular.clamp(0.0, 1.0);
         let ks = Vec3::splat((1.0 - metallic) * f0) + metallic * base;
