@@ -98,6 +98,12 @@ fn quads(q: &[[[f32; 3]; 4]]) -> Vec<Vec3> {
 /// The Cornell box of `scenes/cornell-box.toml` as a Blender-style glTF; with `point`, the
 /// area light is replaced by a KHR_lights_punctual point light of `point` W/sr per channel.
 fn cornell_gltf(point: Option<(Vec3, Vec3)>) -> String {
+    cornell_parts(point, true).0
+}
+
+/// The JSON of [`cornell_gltf`] and its buffer; with `embed` false, the buffer has no URI
+/// (a GLB's BIN chunk).
+fn cornell_parts(point: Option<(Vec3, Vec3)>, embed: bool) -> (String, Vec<u8>) {
     let mut bin = Bin::default();
     let white = quads(&[
         [
@@ -198,7 +204,14 @@ fn cornell_gltf(point: Option<(Vec3, Vec3)>) -> String {
             c[0], c[1], c[2]
         )
     };
-    format!(
+    let uri = match embed {
+        true => format!(
+            r#", "uri": "data:application/octet-stream;base64,{}""#,
+            b64(&bin.data)
+        ),
+        false => String::new(),
+    };
+    let json = format!(
         r#"{{
   "asset": {{"generator": "Khronos glTF Blender I/O v4.1.63", "version": "2.0"}},
   "extensionsUsed": ["KHR_materials_specular", "KHR_materials_emissive_strength", "KHR_lights_punctual"],
@@ -225,7 +238,7 @@ fn cornell_gltf(point: Option<(Vec3, Vec3)>) -> String {
   ],
   "accessors": [{accessors}],
   "bufferViews": [{views}],
-  "buffers": [{{"byteLength": {len}, "uri": "data:application/octet-stream;base64,{data}"}}]{lights}
+  "buffers": [{{"byteLength": {len}{uri}}}]{lights}
 }}
 "#,
         yfov = 40f32.to_radians(),
@@ -237,8 +250,33 @@ fn cornell_gltf(point: Option<(Vec3, Vec3)>) -> String {
         accessors = bin.accessors.join(",\n    "),
         views = bin.views.join(",\n    "),
         len = bin.data.len(),
-        data = b64(&bin.data),
-    )
+    );
+    (json, bin.data)
+}
+
+/// A GLB file of `json` and `bin` (chunks padded to 4 bytes).
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut j = json.as_bytes().to_vec();
+    while j.len() % 4 != 0 {
+        j.push(b' ');
+    }
+    let mut b = bin.to_vec();
+    while b.len() % 4 != 0 {
+        b.push(0);
+    }
+    let total = 12 + 8 + j.len() + 8 + b.len();
+    let mut out = b"glTF".to_vec();
+    for n in [2, total as u32, j.len() as u32, 0x4E4F534A] {
+        out.extend(u32::to_le_bytes(n));
+    }
+    out.extend(j);
+    out.extend(
+        [b.len() as u32, 0x004E4942]
+            .iter()
+            .flat_map(|n| n.to_le_bytes()),
+    );
+    out.extend(b);
+    out
 }
 
 /// Writes `text` as `target/test-output/gltf/NAME` and returns the path.
@@ -375,9 +413,9 @@ fn point_light_gltf_matches_its_toml_twin() {
     );
 }
 
-/// The message of loading the glTF `text` (as `NAME`) , which must fail.
-fn error_of(name: &str, text: &str) -> String {
-    let path = write(name, text.as_bytes());
+/// The message after `FILE:` of loading `bytes` as `NAME`, which must fail.
+fn error_of(name: &str, bytes: &[u8]) -> String {
+    let path = write(name, bytes);
     match load(&path) {
         Ok(_) => panic!("{name} loaded"),
         Err(e) => {
@@ -390,56 +428,115 @@ fn error_of(name: &str, text: &str) -> String {
 }
 
 #[test]
+fn glb_form_loads_as_the_gltf_form() {
+    let (json, bin) = cornell_parts(None, false);
+    let path = write("cornell-box.glb", &glb(&json, &bin));
+    let g = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let t = load(&write("cornell-box.gltf", cornell_gltf(None).as_bytes())).unwrap();
+    assert_eq!(g.triangles, t.triangles);
+    assert_eq!(g.lights, t.lights);
+}
+
+/// A one-triangle scene with a camera whose first vertex is `x`.
+fn tiny(x: f32) -> String {
+    let mut bin = Bin::default();
+    bin.positions(&[Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y]);
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0, 1]}}],
+"nodes": [{{"camera": 0, "translation": [0, 0, 3]}}, {{"mesh": 0}}],
+"cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.7, "znear": 0.1}}}}],
+"meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+"accessors": [{}], "bufferViews": [{}],
+"buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+        bin.accessors[0],
+        bin.views[0],
+        bin.data.len(),
+        b64(&bin.data)
+    )
+}
+
+#[test]
 fn malformed_gltf_files_give_file_line_field_messages() {
     let good = cornell_gltf(Some((Vec3::Y * 0.5, Vec3::ONE)));
-    let cases: Vec<(&str, String, &str)> =
-        vec![
-        ("truncated.gltf", good[..good.len() / 2].to_string(), "json: EOF while parsing"),
+    let uri = good.find("data:application").unwrap();
+    let end = uri + good[uri..].find('"').unwrap();
+    let missing = format!("{}nowhere.bin{}", &good[..uri], &good[end..]);
+    let dir = root().join("target/test-output/gltf");
+    let (json, bin) = cornell_parts(None, false);
+    let full = glb(&json, &bin);
+    assert!(tiny(0.0).len() > 0 && load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
+    let cases: Vec<(&str, Vec<u8>, String)> = vec![
+        (
+            "truncated.gltf",
+            good.as_bytes()[..good.len() / 2].to_vec(),
+            "22: json: EOF while parsing a string at line 22 column 75".into(),
+        ),
+        (
+            "truncated.glb",
+            full[..full.len() - 100].to_vec(),
+            "0: glb: malformed GLB: could not completely read the object".into(),
+        ),
         (
             "missing-buffer.gltf",
-            good.replacen("data:application/octet-stream;base64,", "nowhere.bin#", 1),
-            "buffers[0]: cannot read buffer",
+            missing.into_bytes(),
+            format!(
+                "37: buffers[0]: cannot read buffer {}: No such file or directory (os error 2)",
+                dir.join("nowhere.bin").display()
+            ),
         ),
         (
             "short-buffer.gltf",
-            good.replacen("\"byteLength\": ", "\"byteLength\": 1", 1)
-                .replacen("\"buffers\": [{\"byteLength\": ", "\"buffers\": [{\"byteLength\": 9", 1),
-            "truncated:",
+            good.replacen("\"buffers\": [{\"byteLength\": ", "\"buffers\": [{\"byteLength\": 9", 1)
+                .into_bytes(),
+            "37: buffers[0]: truncated: 588 bytes of 9588".into(),
         ),
         (
             "vec2.gltf",
-            good.replacen("\"type\": \"VEC3\"", "\"type\": \"VEC2\"", 1),
-            "meshes[0].primitives[0]: POSITION must be VEC3 of FLOAT, not Vec2 of F32",
+            good.replacen("\"type\": \"VEC3\"", "\"type\": \"VEC2\"", 1).into_bytes(),
+            "21: meshes[0].primitives[0]: POSITION must be VEC3 of FLOAT, not Vec2 of F32".into(),
+        ),
+        (
+            "nan-vertex.gltf",
+            tiny(f32::NAN).into_bytes(),
+            "4: meshes[0].primitives[0]: POSITION 0 is not finite".into(),
         ),
         (
             "spot.gltf",
-            good.replacen("\"type\": \"point\"", "\"type\": \"spot\", \"spot\": {}", 1),
-            "extensions.KHR_lights_punctual.lights[0]: light Point: unsupported spot light",
+            good.replacen("\"type\": \"point\"", "\"type\": \"spot\", \"spot\": {}", 1).into_bytes(),
+            "37: extensions.KHR_lights_punctual.lights[0]: light Point: unsupported spot light".into(),
         ),
         (
             "directional.gltf",
-            good.replacen("\"type\": \"point\"", "\"type\": \"directional\"", 1),
-            "extensions.KHR_lights_punctual.lights[0]: light Point: unsupported directional light",
+            good.replacen("\"type\": \"point\"", "\"type\": \"directional\"", 1).into_bytes(),
+            "37: extensions.KHR_lights_punctual.lights[0]: light Point: unsupported directional light"
+                .into(),
         ),
         (
             "bad-index.gltf",
-            good.replacen("\"indices\": ", "\"indices\": 9", 1),
-            "meshes[1].primitives[0].indices: Index out of bounds",
+            good.replacen("\"indices\": ", "\"indices\": 9", 1).into_bytes(),
+            "22: meshes[1].primitives[0].indices: Index out of bounds".into(),
         ),
         (
-            "nan-node.gltf",
-            good.replacen("\"translation\": [0, 0, 3.5]", "\"translation\": [0, 0, 1e999]", 1),
-            "json:",
+            "huge-number.gltf",
+            good.replacen("[0, 0, 3.5]", "[0, 0, 1e999]", 1).into_bytes(),
+            "7: json: number out of range at line 7 column 63".into(),
         ),
         (
             "no-camera.gltf",
-            good.replacen("\"camera\": 0, ", "", 1),
-            "cameras: the scene has no camera",
+            good.replacen("\"camera\": 0, ", "", 1).into_bytes(),
+            "14: cameras: the scene has no camera".into(),
         ),
     ];
-    for (name, text, want) in cases {
-        let got = error_of(name, &text);
+    for (name, bytes, want) in cases {
+        let got = error_of(name, &bytes);
         eprintln!("{name}: {got}");
-        assert!(got.contains(want), "{name}: `{got}` lacks `{want}`");
+        if want.ends_with(": ") {
+            assert!(
+                got.starts_with(&want),
+                "{name}: `{got}` does not start with `{want}`"
+            );
+        } else {
+            assert_eq!(got, want, "{name}");
+        }
     }
 }

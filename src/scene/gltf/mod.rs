@@ -121,7 +121,7 @@ impl Ctx<'_> {
                 };
                 self.err(&path.to_string(), format!("{e}{more}"))
             }
-            gltf::Error::Binary(e) => self.err("glb", format!("malformed GLB: {e:?}")),
+            gltf::Error::Binary(e) => self.err("glb", format!("malformed GLB: {e}")),
             e => self.err("gltf", e.to_string()),
         }
     }
