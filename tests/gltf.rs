@@ -540,3 +540,51 @@ fn malformed_gltf_files_give_file_line_field_messages() {
         }
     }
 }
+
+#[test]
+fn materials_map_by_the_documented_rules() {
+    use gpu_photon::scene::MaterialKind;
+    let base = tiny(0.0);
+    let with = |m: &str| {
+        let text = base.replacen(
+            r#""attributes": {"POSITION": 0}"#,
+            r#""attributes": {"POSITION": 0}, "material": 0"#,
+            1,
+        );
+        let text = text.replacen(
+            r#""meshes""#,
+            &format!(r#""materials": [{m}], "meshes""#),
+            1,
+        );
+        let s = load(&write("material.gltf", text.as_bytes())).unwrap_or_else(|e| panic!("{e}"));
+        s.materials[s.triangles[0].material as usize]
+    };
+    let pbr = |c: &str, m: f32, r: f32| {
+        format!(
+            r#""pbrMetallicRoughness": {{"baseColorFactor": [{c}, 1], "metallicFactor": {m}, "roughnessFactor": {r}}}"#
+        )
+    };
+    let mirror = with(&format!("{{{}}}", pbr("0.9, 0.8, 0.7", 1.0, 0.0)));
+    assert_eq!(mirror.kind, MaterialKind::Mirror);
+    assert!((mirror.ks - Vec3::new(0.9, 0.8, 0.7)).length() < 1e-6);
+    let glass = with(&format!(
+        r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}, "KHR_materials_ior": {{"ior": 1.33}}}}}}"#,
+        pbr("1, 1, 1", 0.0, 0.0)
+    ));
+    assert_eq!((glass.kind, glass.ior), (MaterialKind::Glass, 1.33));
+    // roughness 0.5: alpha 0.25, n = 2 / 0.0625 - 2 = 30; specular 1: ks 0.04, kd 0.96 base.
+    let glossy = with(&format!("{{{}}}", pbr("0.5, 0.5, 0.5", 0.0, 0.5)));
+    assert_eq!(glossy.kind, MaterialKind::Glossy);
+    assert!((glossy.exponent - 30.0).abs() < 1e-3);
+    assert!((glossy.ks - Vec3::splat(0.04)).length() < 1e-6);
+    assert!((glossy.kd - Vec3::splat(0.48)).length() < 1e-6);
+    // Half metal: kd + ks stays <= 1.
+    let metal = with(&format!("{{{}}}", pbr("1, 1, 1", 0.5, 0.3)));
+    assert!((metal.kd + metal.ks).max_element() <= 1.0 + 1e-6);
+    // The default material (none given) is glTF's: white metal, roughness 1 -> glossy.
+    let s = load(&write("default.gltf", base.as_bytes())).unwrap();
+    assert_eq!(
+        s.materials[s.triangles[0].material as usize].kind,
+        MaterialKind::Glossy
+    );
+}

@@ -148,6 +148,11 @@ mod tests {
         assert_eq!(line_of(json, "d"), 6);
         assert_eq!(line_of(json, "a[7]"), 0);
         assert_eq!(line_of(json, "e"), 0);
-        assert_eq!(steps("m[0].attributes[\"POSITION\"]").len(), 3);
+        let want = [Step::Key("m"), Step::Index(0), Step::Key("attributes")];
+        assert_eq!(steps("m[0].attributes[\"POSITION\"]")[..3], want);
+        assert_eq!(
+            steps("m[0].attributes[\"POSITION\"]")[3],
+            Step::Key("POSITION")
+        );
     }
 }
