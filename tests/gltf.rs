@@ -27,7 +27,7 @@ fn b64(bytes: &[u8]) -> String {
             s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
         }
     }
-    while s.len() % 4 != 0 {
+    while !s.len().is_multiple_of(4) {
         s.push('=');
     }
     s
@@ -72,7 +72,7 @@ impl Bin {
         for x in i {
             self.data.extend(x.to_le_bytes());
         }
-        while self.data.len() % 4 != 0 {
+        while !self.data.len().is_multiple_of(4) {
             self.data.push(0);
         }
         self.views.push(format!(
@@ -257,11 +257,11 @@ fn cornell_parts(point: Option<(Vec3, Vec3)>, embed: bool) -> (String, Vec<u8>) 
 /// A GLB file of `json` and `bin` (chunks padded to 4 bytes).
 fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut j = json.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + b.len();
@@ -393,7 +393,7 @@ fn point_light_gltf_matches_its_toml_twin() {
         &text[..cut]
     );
     let t = load_str(&twin, "twin.toml", &root().join("scenes")).unwrap();
-    assert_eq!(g.triangles.len(), t.triangles.len() + 0);
+    assert_eq!(g.triangles.len(), t.triangles.len());
     let LightShape::Point {
         position: p,
         intensity: i,
@@ -464,7 +464,7 @@ fn malformed_gltf_files_give_file_line_field_messages() {
     let dir = root().join("target/test-output/gltf");
     let (json, bin) = cornell_parts(None, false);
     let full = glb(&json, &bin);
-    assert!(tiny(0.0).len() > 0 && load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
+    assert!(load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
     let cases: Vec<(&str, Vec<u8>, String)> = vec![
         (
             "truncated.gltf",

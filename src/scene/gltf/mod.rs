@@ -243,7 +243,7 @@ impl Importer<'_> {
         };
         let points = data::read_positions(&positions, &self.buffers).map_err(&fail)?;
         let indices = match primitive.indices() {
-            Some(a) => data::read_indices(&a, &self.buffers).map_err(|m| fail(m))?,
+            Some(a) => data::read_indices(&a, &self.buffers).map_err(&fail)?,
             None => (0..points.len() as u32).collect(),
         };
         let corners: Vec<[u32; 3]> = match primitive.mode() {
