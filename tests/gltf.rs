@@ -279,7 +279,8 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Writes `text` as `target/test-output/gltf/NAME` and returns the path.
+/// Writes `text` as `target/test-output/gltf/NAME` and returns the path (each test writes
+/// names of its own: tests run in parallel).
 fn write(name: &str, text: &[u8]) -> PathBuf {
     let dir = root().join("target/test-output/gltf");
     std::fs::create_dir_all(&dir).unwrap();
@@ -432,7 +433,11 @@ fn glb_form_loads_as_the_gltf_form() {
     let (json, bin) = cornell_parts(None, false);
     let path = write("cornell-box.glb", &glb(&json, &bin));
     let g = load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let t = load(&write("cornell-box.gltf", cornell_gltf(None).as_bytes())).unwrap();
+    let t = load(&write(
+        "cornell-box-twin.gltf",
+        cornell_gltf(None).as_bytes(),
+    ))
+    .unwrap();
     assert_eq!(g.triangles, t.triangles);
     assert_eq!(g.lights, t.lights);
 }
@@ -587,4 +592,54 @@ fn materials_map_by_the_documented_rules() {
         s.materials[s.triangles[0].material as usize].kind,
         MaterialKind::Glossy
     );
+}
+
+#[test]
+fn a_mirroring_transform_keeps_the_front_face() {
+    // The triangle (0,0,0), (1,0,0), (0,1,0) faces +z; mirrored in x it still does.
+    for (scale, x) in [("[1, 1, 1]", 1.0), ("[-1, 1, 1]", -1.0)] {
+        let text = tiny(0.0).replacen(
+            r#"{"mesh": 0}"#,
+            &format!(r#"{{"mesh": 0, "scale": {scale}}}"#),
+            1,
+        );
+        let s = load(&write("mirrored.gltf", text.as_bytes())).unwrap();
+        let t = s.triangles[0];
+        assert!(t.normal().dot(Vec3::Z) > 0.999, "scale {scale}: {t:?}");
+        assert!([t.v0, t.v1, t.v2].iter().any(|v| (v.x - x).abs() < 1e-6));
+    }
+}
+
+#[test]
+fn point_light_gltf_renders_as_its_toml_twin() {
+    let (position, intensity) = (Vec3::new(0.1, 0.9, -0.2), Vec3::new(2.0, 1.5, 0.5));
+    let path = write(
+        "cornell-point.gltf",
+        cornell_gltf(Some((position, intensity))).as_bytes(),
+    );
+    let g = load(&path).unwrap();
+    let text = std::fs::read_to_string(root().join("scenes/cornell-box.toml")).unwrap();
+    let cut = text.find("# The area light").unwrap();
+    let twin = format!(
+        "{}[[lights]]\ntype = \"point\"\nposition = [0.1, 0.9, -0.2]\nintensity = [2.0, 1.5, 0.5]\n",
+        &text[..cut]
+    );
+    let t = load_str(&twin, "twin.toml", &root().join("scenes")).unwrap();
+    let settings = gpu_photon::settings::RenderSettings {
+        width: 64,
+        height: 64,
+        spp: 4,
+        photons: 50_000,
+        ..t.settings.clone()
+    };
+    let (a, _) = render(&g, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let (b, _) = render(&t, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let d = diff(&a, &b, 16).unwrap();
+    eprintln!("point-light glTF vs TOML (64x64, 4 spp): {d:?}");
+    assert!(a.mean().iter().all(|&m| m > 0.0));
+    assert!(
+        d.mean_ratio.iter().all(|r| (0.99..=1.01).contains(r)),
+        "{d:?}"
+    );
+    assert!(d.rmse < 0.01, "{d:?}");
 }
