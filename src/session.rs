@@ -127,6 +127,7 @@ impl PassRenderer for Fallback<'_> {
     }
 }
 
+
 /// Renders `scene` with `settings` on `backend`: one classic pass, or with
 /// `settings.pass_range` the mean of those progressive passes.
 pub fn render(

@@ -8,9 +8,9 @@ use super::context::GpuContext;
 use super::run::GpuRun;
 use crate::error::{Error, Result};
 use crate::film::Image;
-use crate::report::PassRenderer;
 use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
+use crate::report::PassRenderer;
 use crate::settings::RenderSettings;
 use std::time::Instant;
 
