@@ -8,6 +8,7 @@
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
 mod builder;
+mod gltf;
 mod locate;
 pub mod mitsuba;
 mod obj;
@@ -16,6 +17,7 @@ mod toml;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
 pub use ply::{read_ply, PlyError, PlyMesh};
 pub use toml::load_str;
@@ -24,7 +26,8 @@ use crate::error::{Error, Result};
 use std::path::Path;
 
 /// Reads and loads the scene file at `path`, by its extension: `.toml` (our format, see
-/// `scenes/README.md`) or `.xml` (Mitsuba 3, see [`mitsuba`]). An unreadable file, or one of
+/// `scenes/README.md`), `.xml` (Mitsuba 3, see [`mitsuba`]) or `.gltf`/`.glb` (glTF 2.0, see
+/// [`load_gltf`]). An unreadable file, or one of
 /// another extension, is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
     let ext = path
@@ -34,11 +37,12 @@ pub fn load(path: &Path) -> Result<Scene> {
     match ext.as_deref() {
         Some("toml") => toml::load(path),
         Some("xml") => mitsuba::load(path),
+        Some("gltf" | "glb") => gltf::load_gltf(path, None),
         _ => Err(Error::Io {
             path: path.to_path_buf(),
             source: std::io::Error::new(
                 std::io::ErrorKind::InvalidInput,
-                "unknown scene format (expected a .toml or Mitsuba .xml file)",
+                "unknown scene format (expected .toml, Mitsuba .xml, or glTF .gltf/.glb)",
             ),
         }),
     }

@@ -1,0 +1,327 @@
+//! glTF 2.0 scenes (`.gltf` with embedded or external buffers, `.glb`), read with the `gltf`
+//! crate and fed to the [`SceneBuilder`]. The mapping (units, materials, what is unsupported)
+//! is documented in `scenes/README.md`.
+//!
+//! The default scene (else the first) is walked from its root nodes; every node's world
+//! transform is its parents' times its own (matrix or TRS), so instanced meshes appear once
+//! per node. Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
+//! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
+//! normals are not read (shading is flat). The camera is the first met in the traversal, or
+//! the one named; point lights of `KHR_lights_punctual` are converted from candela at
+//! 683 lm/W. Errors are [`Error::Scene`] naming the file, the JSON line of the item (0 where
+//! unknown) and its field path; warnings (approximated materials, textures) go to stderr.
+
+mod data;
+mod json_line;
+mod material;
+
+use super::builder::{MaterialId, SceneBuilder, Surface};
+use super::locate::Part;
+use super::Scene;
+use crate::error::{Error, Result};
+use glam::{Mat4, Vec3};
+use gltf::khr_lights_punctual::Kind;
+use gltf::mesh::Mode;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Luminous efficacy used to convert photometric light units: `I [W/sr] = I [cd] / 683`.
+pub const LUMENS_PER_WATT: f32 = 683.0;
+
+/// The image height when the camera gives only an aspect ratio.
+pub const DEFAULT_HEIGHT: u32 = 256;
+
+/// Deepest node nesting accepted (deeper is taken for a cycle).
+const MAX_DEPTH: usize = 256;
+
+/// Loads the glTF or GLB file at `path`; `camera` picks a camera by name (else the first in
+/// the scene's node traversal). External buffers are relative to the file's directory.
+///
+/// An unreadable file is [`Error::Io`]; anything wrong inside is [`Error::Scene`].
+pub fn load_gltf(path: &Path, camera: Option<&str>) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let base_dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    load_slice(&bytes, &path.display().to_string(), base_dir, camera)
+}
+
+/// Loads a glTF (JSON) or GLB file from `bytes`; `file` names it in errors, external buffers
+/// are relative to `base_dir`. See [`load_gltf`].
+pub fn load_slice(
+    bytes: &[u8],
+    file: &str,
+    base_dir: &Path,
+    camera: Option<&str>,
+) -> Result<Scene> {
+    let cx = Ctx {
+        file,
+        json: json_text(bytes),
+    };
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| cx.parse_error(e))?;
+    let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir)
+        .map_err(|(field, m)| cx.err(&field, m))?;
+    let doc = &gltf.document;
+    let scene = doc
+        .default_scene()
+        .or_else(|| doc.scenes().next())
+        .ok_or_else(|| cx.err("scenes", "the file has no scene".into()))?;
+    let mut im = Importer {
+        cx: &cx,
+        buffers,
+        b: SceneBuilder::new(),
+        materials: HashMap::new(),
+        camera,
+        has_camera: false,
+        warned: Vec::new(),
+    };
+    for node in scene.nodes() {
+        im.node(&node, Mat4::IDENTITY, 0)?;
+    }
+    if let (Some(name), false) = (camera, im.has_camera) {
+        return Err(cx.err("cameras", format!("no camera named `{name}` in the scene")));
+    }
+    im.b.finish(&|_: Part, m: String| cx.err("cameras", m))
+}
+
+/// The file's name and JSON text (for the line of an item).
+struct Ctx<'a> {
+    file: &'a str,
+    json: String,
+}
+
+impl Ctx<'_> {
+    /// The error `message` about the item at `field`.
+    fn err(&self, field: &str, message: String) -> Error {
+        Error::Scene {
+            file: self.file.to_string(),
+            line: json_line::line_of(&self.json, field),
+            field: field.to_string(),
+            message,
+        }
+    }
+
+    fn parse_error(&self, e: gltf::Error) -> Error {
+        match e {
+            gltf::Error::Deserialize(e) => Error::Scene {
+                file: self.file.to_string(),
+                line: e.line(),
+                field: "json".into(),
+                message: e.to_string(),
+            },
+            gltf::Error::Validation(errors) => {
+                let (path, e) = &errors[0];
+                let more = match errors.len() {
+                    1 => String::new(),
+                    n => format!(" (and {} more problems)", n - 1),
+                };
+                self.err(&path.to_string(), format!("{e}{more}"))
+            }
+            gltf::Error::Binary(e) => self.err("glb", format!("malformed GLB: {e}")),
+            e => self.err("gltf", e.to_string()),
+        }
+    }
+}
+
+/// The JSON text of a glTF file or of a GLB's JSON chunk (empty when there is none).
+fn json_text(bytes: &[u8]) -> String {
+    let json = match bytes.get(..4) {
+        Some(b"glTF") => bytes
+            .get(12..16)
+            .map(|n| u32::from_le_bytes([n[0], n[1], n[2], n[3]]) as usize)
+            .and_then(|n| bytes.get(20..20 + n))
+            .unwrap_or(&[]),
+        _ => bytes,
+    };
+    String::from_utf8_lossy(json).into_owned()
+}
+
+struct Importer<'a> {
+    cx: &'a Ctx<'a>,
+    buffers: Vec<Vec<u8>>,
+    b: SceneBuilder,
+    /// glTF material index (None: the default material) to ours.
+    materials: HashMap<Option<usize>, MaterialId>,
+    camera: Option<&'a str>,
+    has_camera: bool,
+    /// Textures already warned about.
+    warned: Vec<String>,
+}
+
+impl Importer<'_> {
+    fn node(&mut self, node: &gltf::Node, parent: Mat4, depth: usize) -> Result<()> {
+        let field = format!("nodes[{}]", node.index());
+        if depth > MAX_DEPTH {
+            let message = format!("nodes nested deeper than {MAX_DEPTH} (a cycle?)");
+            return Err(self.cx.err(&field, message));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !world.is_finite() {
+            return Err(self.cx.err(&field, "the transform is not finite".into()));
+        }
+        if let Some(camera) = node.camera() {
+            self.camera(&camera, world)?;
+        }
+        if let Some(light) = node.light() {
+            self.light(&light, world)?;
+        }
+        if let Some(mesh) = node.mesh() {
+            for primitive in mesh.primitives() {
+                self.primitive(&mesh, &primitive, world)?;
+            }
+        }
+        for child in node.children() {
+            self.node(&child, world, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    fn camera(&mut self, camera: &gltf::Camera, world: Mat4) -> Result<()> {
+        let wanted = match self.camera {
+            Some(name) => camera.name() == Some(name),
+            None => !self.has_camera,
+        };
+        if !wanted || self.has_camera {
+            return Ok(());
+        }
+        let field = format!("cameras[{}]", camera.index());
+        let gltf::camera::Projection::Perspective(p) = camera.projection() else {
+            let message = "unsupported orthographic camera".into();
+            return Err(self.cx.err(&field, message));
+        };
+        let eye = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(-Vec3::Z);
+        let up = world.transform_vector3(Vec3::Y);
+        let at = |_: Part, m: String| self.cx.err(&field, m);
+        self.b
+            .camera(eye, eye + forward, up, p.yfov().to_degrees(), &at)?;
+        if let Some(aspect) = p.aspect_ratio() {
+            if !(aspect.is_finite() && aspect > 0.0) {
+                return Err(self.cx.err(&field, "aspectRatio must be positive".into()));
+            }
+            let width = (DEFAULT_HEIGHT as f32 * aspect).round().max(1.0) as u32;
+            let s = self.b.settings();
+            (s.width, s.height) = (width, DEFAULT_HEIGHT);
+        }
+        self.has_camera = true;
+        Ok(())
+    }
+
+    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Result<()> {
+        let field = format!("extensions.KHR_lights_punctual.lights[{}]", light.index());
+        let name = light
+            .name()
+            .map_or(format!("lights[{}]", light.index()), str::to_string);
+        let kind = match light.kind() {
+            Kind::Point => {
+                let position = world.transform_point3(Vec3::ZERO);
+                let intensity = Vec3::from(light.color()) * light.intensity() / LUMENS_PER_WATT;
+                let at = |_: Part, m: String| self.cx.err(&field, format!("light {name}: {m}"));
+                return self.b.add_point_light(position, intensity, &at);
+            }
+            Kind::Spot { .. } => "spot",
+            Kind::Directional => "directional",
+        };
+        let message = format!("light {name}: unsupported {kind} light");
+        Err(self.cx.err(&field, message))
+    }
+
+    fn primitive(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        world: Mat4,
+    ) -> Result<()> {
+        let field = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
+        let fail = |m: String| self.cx.err(&field, m);
+        let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
+            return Err(fail("has no POSITION attribute".into()));
+        };
+        let points = data::read_positions(&positions, &self.buffers).map_err(&fail)?;
+        let indices = match primitive.indices() {
+            Some(a) => data::read_indices(&a, &self.buffers).map_err(&fail)?,
+            None => (0..points.len() as u32).collect(),
+        };
+        let corners: Vec<[u32; 3]> = match primitive.mode() {
+            Mode::Triangles => indices
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect(),
+            Mode::TriangleStrip => (2..indices.len())
+                .map(|i| {
+                    let (a, b, c) = (indices[i - 2], indices[i - 1], indices[i]);
+                    if i % 2 == 0 {
+                        [a, b, c]
+                    } else {
+                        [b, a, c]
+                    }
+                })
+                .collect(),
+            Mode::TriangleFan => (2..indices.len())
+                .map(|i| [indices[0], indices[i - 1], indices[i]])
+                .collect(),
+            other => {
+                let m = format!("{other:?} primitives are skipped (only triangles are rendered)");
+                eprintln!("warning: {}: {field}: {m}", self.cx.file);
+                return Ok(());
+            }
+        };
+        let mirrored = world.determinant() < 0.0;
+        let mut tris = Vec::with_capacity(corners.len());
+        for (t, c) in corners.iter().enumerate() {
+            let p = |i: u32| {
+                let p = points.get(i as usize).ok_or_else(|| {
+                    fail(format!(
+                        "triangle {t}: index {i} is out of range ({} vertices)",
+                        points.len()
+                    ))
+                })?;
+                Ok::<_, Error>(world.transform_point3(*p))
+            };
+            let (a, b, c) = (p(c[0])?, p(c[1])?, p(c[2])?);
+            tris.push(if mirrored { [a, c, b] } else { [a, b, c] });
+        }
+        if tris.is_empty() {
+            return Ok(());
+        }
+        let material = self.material(&primitive.material())?;
+        let at = |_: Part, m: String| self.cx.err(&field, m);
+        self.b.add_mesh(tris, Surface::of(material), &at)
+    }
+
+    /// Our material for `m`, added (and warned about) the first time it is used.
+    fn material(&mut self, m: &gltf::Material) -> Result<MaterialId> {
+        if let Some(&id) = self.materials.get(&m.index()) {
+            return Ok(id);
+        }
+        let (field, name) = match m.index() {
+            Some(i) => {
+                let field = format!("materials[{i}]");
+                (field.clone(), m.name().map_or(field, str::to_string))
+            }
+            None => ("materials".to_string(), "(default material)".to_string()),
+        };
+        let file = self.cx.file;
+        let (material, note) = material::map(m);
+        if let Some(note) = note {
+            eprintln!("warning: {file}: material {name}: {note}");
+        }
+        for (texture, slot) in material::textures(m) {
+            if !self.warned.contains(&texture) {
+                eprintln!(
+                    "warning: {file}: material {name}: {slot} texture {texture} ignored \
+                     (its factor is used)"
+                );
+                self.warned.push(texture);
+            }
+        }
+        let at = |_: Part, msg: String| self.cx.err(&field, format!("material {name}: {msg}"));
+        let id = self.b.add_material(None, material, &at)?;
+        self.materials.insert(m.index(), id);
+        Ok(id)
+    }
+}
