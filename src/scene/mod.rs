@@ -8,6 +8,7 @@
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
 mod builder;
+mod file;
 mod gltf;
 mod locate;
 pub mod mitsuba;

@@ -11,7 +11,8 @@ use super::builder::{SceneBuilder, Surface};
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
 use super::{obj, ply, Material, Scene};
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::scene::file;
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, SETTINGS};
 use glam::Vec3;
 use serde::Deserialize;
@@ -57,16 +58,8 @@ const LIGHT_TYPES: &Types = &[("point", &["position", "intensity"])];
 ///
 /// An unreadable file is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path);
-    let text = text.map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let base_dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    load_str(&text, &path.display().to_string(), base_dir)
+    let text = file::read_text(path)?;
+    load_str(&text, &path.display().to_string(), file::base_dir(path))
 }
 
 /// Loads a scene from TOML `text`. `file` names it in errors; mesh paths are relative to

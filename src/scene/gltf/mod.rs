@@ -19,6 +19,7 @@ use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
 use super::Scene;
 use crate::error::{Error, Result};
+use crate::scene::file;
 use glam::{Mat4, Vec3};
 use gltf::khr_lights_punctual::Kind;
 use gltf::mesh::Mode;
@@ -39,15 +40,13 @@ const MAX_DEPTH: usize = 256;
 ///
 /// An unreadable file is [`Error::Io`]; anything wrong inside is [`Error::Scene`].
 pub fn load_gltf(path: &Path, camera: Option<&str>) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let base_dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    load_slice(&bytes, &path.display().to_string(), base_dir, camera)
+    let bytes = file::read_bytes(path)?;
+    load_slice(
+        &bytes,
+        &path.display().to_string(),
+        file::base_dir(path),
+        camera,
+    )
 }
 
 /// Loads a glTF (JSON) or GLB file from `bytes`; `file` names it in errors, external buffers

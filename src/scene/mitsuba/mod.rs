@@ -17,6 +17,7 @@ use super::builder::{MaterialId, SceneBuilder};
 use super::locate::Origin;
 use super::{Material, Scene};
 use crate::error::{Error, Result};
+use crate::scene::file;
 use glam::{Mat4, Vec3};
 use plugin::Plugin;
 use roxmltree::{Document, Node};
@@ -37,15 +38,8 @@ pub struct Imported {
 /// printing its warnings to stderr. An unreadable file is [`Error::Io`]; everything wrong
 /// inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let base_dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    load_str(&text, &path.display().to_string(), base_dir)
+    let text = file::read_text(path)?;
+    load_str(&text, &path.display().to_string(), file::base_dir(path))
 }
 
 /// Loads Mitsuba XML `text` (`file` names it in errors, meshes are relative to `base_dir`),
