@@ -94,13 +94,16 @@ enum BackendArg {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// Scene file (TOML; see scenes/README.md).
+    /// Scene file: .toml, Mitsuba .xml, glTF .gltf/.glb (see scenes/README.md).
     scene: PathBuf,
     /// Output image: .exr or .png.
     #[arg(short, long)]
     output: PathBuf,
     #[arg(long, value_enum, default_value = "auto")]
     backend: BackendArg,
+    /// The glTF camera to render from, by name (default: the first in the scene).
+    #[arg(long)]
+    camera: Option<String>,
     /// Photon paths for the global map.
     #[arg(long)]
     photons: Option<u32>,
@@ -227,7 +230,7 @@ impl BackendArg {
 
 fn run_render(args: &RenderArgs) -> Result<()> {
     gpu_photon::film::check_output_path(&args.output)?;
-    let scene = gpu_photon::scene::load(&args.scene)?;
+    let scene = gpu_photon::scene::load_with_camera(&args.scene, args.camera.as_deref())?;
     let mut settings = scene.settings.clone();
     args.apply(&mut settings)?;
     let show = !args.quiet && std::io::stderr().is_terminal();

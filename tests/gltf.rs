@@ -8,7 +8,7 @@
 use glam::{Quat, Vec3};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, load_gltf, load_str, LightShape, Scene};
+use gpu_photon::scene::{load, load_gltf, load_str, load_with_camera, LightShape, Scene};
 use gpu_photon::session::{render, Backend};
 use std::path::{Path, PathBuf};
 
@@ -642,4 +642,63 @@ fn point_light_gltf_renders_as_its_toml_twin() {
         "{d:?}"
     );
     assert!(d.rmse < 0.01, "{d:?}");
+}
+
+#[test]
+fn camera_flag_picks_a_gltf_camera_by_name() {
+    // Two cameras: "Front" at z = 3 and "Side" at x = 5 (the first in the traversal is Front).
+    let two = tiny(0.0)
+        .replacen(
+            r#""nodes": [{"camera": 0, "translation": [0, 0, 3]}, {"mesh": 0}]"#,
+            r#""nodes": [{"camera": 0, "translation": [0, 0, 3]}, {"mesh": 0}, {"camera": 1, "translation": [5, 0, 0]}]"#,
+            1,
+        )
+        .replacen(r#""nodes": [0, 1]"#, r#""nodes": [0, 1, 2]"#, 1)
+        .replacen(
+            r#""cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}]"#,
+            r#""cameras": [{"name": "Front", "type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}, {"name": "Side", "type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}]"#,
+            1,
+        );
+    let path = write("two-cameras.gltf", two.as_bytes());
+    let eye = |name: Option<&str>| load_with_camera(&path, name).unwrap().camera.eye;
+    assert_eq!(eye(None), Vec3::new(0.0, 0.0, 3.0));
+    assert_eq!(eye(Some("Front")), Vec3::new(0.0, 0.0, 3.0));
+    assert_eq!(eye(Some("Side")), Vec3::new(5.0, 0.0, 0.0));
+    let err = load_with_camera(&path, Some("Top"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.ends_with("cameras: no camera named `Top` in the scene"),
+        "{err}"
+    );
+    // Another format has one camera: naming one is a setting error, on the command line too.
+    let toml = root().join("scenes/cornell-box.toml");
+    let err = load_with_camera(&toml, Some("Side"))
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        err,
+        format!(
+            "invalid setting camera: {} has one camera; --camera picks among a glTF scene's cameras",
+            toml.display()
+        )
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+        .args([
+            "render",
+            "scenes/cornell-box.toml",
+            "--camera",
+            "Side",
+            "-o",
+        ])
+        .arg(root().join("target/test-output/gltf/never.png"))
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--camera picks among a glTF scene's cameras"),
+        "{stderr}"
+    );
 }

@@ -28,17 +28,34 @@ use std::path::Path;
 
 /// Reads and loads the scene file at `path`, by its extension: `.toml` (our format, see
 /// `scenes/README.md`), `.xml` (Mitsuba 3, see [`mitsuba`]) or `.gltf`/`.glb` (glTF 2.0, see
-/// [`load_gltf`]). An unreadable file, or one of
-/// another extension, is [`Error::Io`]; everything wrong inside it is [`Error::Scene`].
+/// [`load_gltf`]). An unreadable file, or one of another extension, is [`Error::Io`];
+/// everything wrong inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
+    load_with_camera(path, None)
+}
+
+/// [`load()`], with `camera` naming the glTF camera to render from (the command line's
+/// `--camera`); a name for a scene of another format, which has one camera, is an
+/// [`Error::Setting`].
+pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    let gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));
+    if let (Some(_), false) = (camera, gltf) {
+        return Err(Error::Setting {
+            field: "camera",
+            message: format!(
+                "{} has one camera; --camera picks among a glTF scene's cameras",
+                path.display()
+            ),
+        });
+    }
     match ext.as_deref() {
         Some("toml") => toml::load(path),
         Some("xml") => mitsuba::load(path),
-        Some("gltf" | "glb") => gltf::load_gltf(path, None),
+        Some("gltf" | "glb") => gltf::load_gltf(path, camera),
         _ => Err(Error::Io {
             path: path.to_path_buf(),
             source: std::io::Error::new(
