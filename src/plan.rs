@@ -189,11 +189,12 @@ impl Terms {
 /// (`depth` = `flags & 0xff`): about one photon in four, chosen by identity so that both
 /// backends cache the same photons whatever order their maps hold them in.
 pub const CACHE_STRIDE: u32 = 4;
-/// A cache lookup considers this many nearest cache points and takes the first (nearest)
-/// whose surface faces the same way as the lookup's.
-pub const CACHE_CANDIDATES: u32 = 8;
-/// "Faces the same way": the cosine between a cache point's normal and the lookup's normal
-/// is at least this.
+/// A cache point's value is the outgoing radiance of a white Lambertian surface there: the
+/// global map's estimate at the photon (its position and normal; K nearest within the
+/// global radius, or in progressive passes every photon within the pass's radius) with
+/// BRDF 1/pi. A lookup at `x` with normal `n` returns the value of the nearest cache point
+/// within the global radius whose normal has a cosine of at least this with `n` (ties by
+/// photon id, then flags), or zero when there is none; the caller multiplies by its kd.
 pub const CACHE_NORMAL_COS: f32 = 0.9;
 
 /// Fraction of the storing area the caustic photons are expected to cover: it sizes the
