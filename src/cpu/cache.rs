@@ -4,8 +4,7 @@
 //! radiance of a white Lambertian surface there, and a lookup returns the value of the
 //! nearest point within the global radius whose normal matches the query's.
 
-use crate::cpu::gather::estimate_at;
-use crate::cpu::photon_map::PhotonMap;
+use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::photon::{Photon, DEPTH_MASK};
 use crate::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
 use crate::settings::Filter;

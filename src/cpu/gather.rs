@@ -5,8 +5,7 @@
 
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
-use crate::cpu::photon_map::PhotonMap;
-use crate::estimate;
+use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
 use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
@@ -273,24 +272,4 @@ impl Gatherer<'_> {
         }
         l
     }
-}
-
-/// The radiance estimate from `map` at `x` with a Lambertian BRDF `kd / pi`: the K nearest
-/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2`.
-pub fn estimate_at(
-    map: &PhotonMap,
-    x: Vec3,
-    ns: Vec3,
-    k: usize,
-    max_r2: f32,
-    filter: crate::settings::Filter,
-    f: Vec3,
-) -> Vec3 {
-    let mut found = Vec::with_capacity(k.max(16));
-    if k == 0 {
-        map.within(x.to_array(), max_r2, &mut found);
-        return estimate::radiance(&found, usize::MAX, max_r2, filter, x, ns, |_| f);
-    }
-    map.nearest(x.to_array(), k, max_r2, &mut found);
-    estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)
 }
