@@ -21,7 +21,8 @@ pub const LOOKUP_FIRST: usize = 4;
 /// Whether global photon `p` is a cache point (`(id + depth) % CACHE_STRIDE == 0`).
 #[inline]
 pub fn is_cache_point(p: &Photon) -> bool {
-    p.id.wrapping_add(p.flags & DEPTH_MASK) % CACHE_STRIDE == 0
+    p.id.wrapping_add(p.flags & DEPTH_MASK)
+        .is_multiple_of(CACHE_STRIDE)
 }
 
 /// One cache point: where, which way its surface faces, its identity (for ties) and value.
