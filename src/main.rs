@@ -125,7 +125,7 @@ struct RenderArgs {
     /// Shadow rays per area light per camera sample (direct mode).
     #[arg(long)]
     shadow_samples: Option<u32>,
-    /// photon | direct | direct-only | global-only | caustic-only
+    /// photon | direct | gather | direct-only | global-only | caustic-only
     #[arg(long)]
     mode: Option<String>,
     /// disc | cone | epanechnikov

@@ -28,8 +28,14 @@ pub struct MapPlan {
 impl MapPlan {
     /// Plans the maps of a render of `scene` with `s` (pilot photons included).
     pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
-        let uses_global = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::GlobalOnly);
-        let uses_caustic = matches!(s.mode, Mode::Photon | Mode::Direct | Mode::CausticOnly);
+        let uses_global = matches!(
+            s.mode,
+            Mode::Photon | Mode::Direct | Mode::Gather | Mode::GlobalOnly
+        );
+        let uses_caustic = matches!(
+            s.mode,
+            Mode::Photon | Mode::Direct | Mode::Gather | Mode::CausticOnly
+        );
         let global =
             (uses_global && !scene.lights.is_empty()).then(|| Budget::split(scene, s.photons));
         let bounds = specular_bounds(scene);
@@ -63,8 +69,9 @@ impl MapPlan {
     }
 
     /// Which photons of the global paths the global map drops in this mode: `direct` drops
-    /// direct photons (shadow rays do that light); both main modes drop L S+ D photons when
-    /// the caustic map carries them. Both backends read this rule (the GPU as drop flags).
+    /// direct photons (shadow rays do that light); `photon` and `direct` drop L S+ D photons
+    /// when the caustic map carries them. `gather` keeps every photon: its radiance cache is
+    /// the whole outgoing light where gather rays land. Both backends read this rule (the GPU as drop flags).
     pub fn global_filter(&self) -> GlobalFilter {
         let caustic_elsewhere = self.caustic.is_some();
         match self.mode {
@@ -135,6 +142,9 @@ pub struct Terms {
     pub point_lobe: bool,
     /// A ray sampled from the glossy lobe (it sees area lights and everything else).
     pub lobe_ray: bool,
+    /// Indirect diffuse light by one final-gather ray per camera sample that reads the
+    /// radiance cache where it lands, instead of the global map's estimate at the hit.
+    pub final_gather: bool,
 }
 
 impl Terms {
@@ -145,25 +155,47 @@ impl Terms {
                 direct: false,
                 point_lobe: true,
                 lobe_ray: true,
+                final_gather: false,
             },
             Mode::Direct => Terms {
                 direct: true,
                 point_lobe: true,
                 lobe_ray: true,
+                final_gather: false,
+            },
+            Mode::Gather => Terms {
+                direct: true,
+                point_lobe: true,
+                lobe_ray: true,
+                final_gather: true,
             },
             Mode::DirectOnly => Terms {
                 direct: true,
                 point_lobe: true,
                 lobe_ray: false,
+                final_gather: false,
             },
             Mode::GlobalOnly | Mode::CausticOnly => Terms {
                 direct: false,
                 point_lobe: false,
                 lobe_ray: false,
+                final_gather: false,
             },
         }
     }
 }
+
+/// Radiance-cache points are the global photons whose `(id + depth) % CACHE_STRIDE == 0`
+/// (`depth` = `flags & 0xff`): about one photon in four, chosen by identity so that both
+/// backends cache the same photons whatever order their maps hold them in.
+pub const CACHE_STRIDE: u32 = 4;
+/// A cache point's value is the outgoing radiance of a white Lambertian surface there: the
+/// global map's estimate at the photon (its position and normal; K nearest within the
+/// global radius, or in progressive passes every photon within the pass's radius) with
+/// BRDF 1/pi. A lookup at `x` with normal `n` returns the value of the nearest cache point
+/// within the global radius whose normal has a cosine of at least this with `n` (ties by
+/// photon id, then flags), or zero when there is none; the caller multiplies by its kd.
+pub const CACHE_NORMAL_COS: f32 = 0.9;
 
 /// Fraction of the storing area the caustic photons are expected to cover: it sizes the
 /// caustic map's searches (the progressive first radius, the GPU grid's cells).

@@ -12,6 +12,10 @@ pub enum Mode {
     Photon,
     /// Direct light by shadow rays + the global map for indirect light + the caustic map.
     Direct,
+    /// Final gathering (Jensen; Christensen's radiance cache): direct light by shadow rays,
+    /// caustics from the caustic map, indirect light from gather rays that read a radiance
+    /// cache built from the global map (see `crate::plan::CACHE_STRIDE`).
+    Gather,
     /// Debug view: direct light by shadow rays only.
     DirectOnly,
     /// Debug view: the global map's estimate only (all global photons).
@@ -22,9 +26,10 @@ pub enum Mode {
 
 impl Mode {
     /// The names [`Mode::parse`] accepts, as the scene file and the command line write them.
-    pub const NAMES: [&'static str; 5] = [
+    pub const NAMES: [&'static str; 6] = [
         "photon",
         "direct",
+        "gather",
         "direct-only",
         "global-only",
         "caustic-only",
@@ -34,6 +39,7 @@ impl Mode {
         Some(match s {
             "photon" => Mode::Photon,
             "direct" => Mode::Direct,
+            "gather" => Mode::Gather,
             "direct-only" => Mode::DirectOnly,
             "global-only" => Mode::GlobalOnly,
             "caustic-only" => Mode::CausticOnly,
@@ -45,6 +51,7 @@ impl Mode {
         match self {
             Mode::Photon => "photon",
             Mode::Direct => "direct",
+            Mode::Gather => "gather",
             Mode::DirectOnly => "direct-only",
             Mode::GlobalOnly => "global-only",
             Mode::CausticOnly => "caustic-only",

@@ -238,7 +238,7 @@ max_depth = 65  #! render.max_depth | 1..=64
 max_photon_bounces = 0  #! render.max_photon_bounces | 1..=64
 ---
 [render]
-mode = "fast"  #! render.mode | must be one of "photon", "direct", "direct-only", "global-only", "caustic-only"
+mode = "fast"  #! render.mode | must be one of "photon", "direct", "gather", "direct-only", "global-only", "caustic-only"
 ---
 [render]
 filter = "gauss"  #! render.filter | "epanechnikov"

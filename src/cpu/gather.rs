@@ -1,10 +1,11 @@
 //! The camera pass on the CPU (twin: `shaders/gather.wgsl`): camera rays with jittered
 //! supersampling, the mirror/glass chain, and at diffuse and glossy hits the radiance
-//! estimate from the photon maps and (in `direct` mode) shadow rays to the lights.
+//! estimate from the photon maps and (in `direct` and `gather` modes) shadow rays to the
+//! lights; in `gather` mode the gather ray of `final_gather.rs` stands for the global map.
 
 use crate::bvh::{Bvh, Hit};
-use crate::cpu::photon_map::PhotonMap;
-use crate::estimate;
+use crate::cpu::cache::RadianceCache;
+use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
 use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
@@ -35,6 +36,8 @@ pub struct Gatherer<'a> {
     pub caustic: Option<&'a PhotonMap>,
     /// What the mode adds at a diffuse or glossy hit.
     pub terms: Terms,
+    /// The radiance cache gather rays read (`terms.final_gather`; else `None`).
+    pub cache: Option<&'a RadianceCache>,
 }
 
 impl Gatherer<'_> {
@@ -157,7 +160,13 @@ impl Gatherer<'_> {
         }
         // The photon estimate uses the diffuse part; the glossy lobe is traced below.
         let kd_over_pi = m.kd / std::f32::consts::PI;
-        for (map, max_r) in [(self.global, s.radius), (self.caustic, s.caustic_radius)] {
+        // Final gathering replaces the global map's estimate here by the gather ray below.
+        let global = if self.terms.final_gather {
+            None
+        } else {
+            self.global
+        };
+        for (map, max_r) in [(global, s.radius), (self.caustic, s.caustic_radius)] {
             if let Some(map) = map {
                 l += estimate_at(
                     map,
@@ -169,6 +178,9 @@ impl Gatherer<'_> {
                     kd_over_pi,
                 );
             }
+        }
+        if self.terms.final_gather && depth < s.max_depth && m.kd.max_element() > 0.0 {
+            l += m.kd * self.final_gather(hit, ns, depth, rng);
         }
         if self.terms.lobe_ray
             && m.kind == MaterialKind::Glossy
@@ -260,24 +272,4 @@ impl Gatherer<'_> {
         }
         l
     }
-}
-
-/// The radiance estimate from `map` at `x` with a Lambertian BRDF `kd / pi`: the K nearest
-/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2`.
-pub fn estimate_at(
-    map: &PhotonMap,
-    x: Vec3,
-    ns: Vec3,
-    k: usize,
-    max_r2: f32,
-    filter: crate::settings::Filter,
-    f: Vec3,
-) -> Vec3 {
-    let mut found = Vec::with_capacity(k.max(16));
-    if k == 0 {
-        map.within(x.to_array(), max_r2, &mut found);
-        return estimate::radiance(&found, usize::MAX, max_r2, filter, x, ns, |_| f);
-    }
-    map.nearest(x.to_array(), k, max_r2, &mut found);
-    estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)
 }

@@ -1,6 +1,8 @@
 //! The CPU backend: rayon over photon paths and image rows, kiddo kd-trees for the K nearest
 //! photons. It is the fallback and the reference the GPU backend is tested against.
 
+pub mod cache;
+pub mod final_gather;
 pub mod gather;
 pub mod photon_map;
 pub mod photons;

@@ -1,6 +1,9 @@
-//! A photon map: photons in a kd-tree (kiddo) for K-nearest-neighbour queries.
+//! A photon map: photons in a kd-tree (kiddo) for K-nearest-neighbour queries, and the
+//! radiance estimate from it (read by the camera pass and the radiance cache).
 
+use crate::estimate;
 use crate::photon::Photon;
+use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use std::num::NonZeroUsize;
 
@@ -72,4 +75,24 @@ impl PhotonMap {
                 .map(|r| (r.distance, &self.photons[r.item as usize])),
         );
     }
+}
+
+/// The radiance estimate from `map` at `x` with a Lambertian BRDF `kd / pi`: the K nearest
+/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2`.
+pub fn estimate_at(
+    map: &PhotonMap,
+    x: Vec3,
+    ns: Vec3,
+    k: usize,
+    max_r2: f32,
+    filter: crate::settings::Filter,
+    f: Vec3,
+) -> Vec3 {
+    let mut found = Vec::with_capacity(k.max(16));
+    if k == 0 {
+        map.within(x.to_array(), max_r2, &mut found);
+        return estimate::radiance(&found, usize::MAX, max_r2, filter, x, ns, |_| f);
+    }
+    map.nearest(x.to_array(), k, max_r2, &mut found);
+    estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)
 }

@@ -1,8 +1,10 @@
 //! The CPU renderer of a session: the BVH, the light table and the photon plan (with its
 //! pilot photons) built once per render, then each pass traces its photons, builds its
-//! kd-trees and gathers every pixel.
+//! kd-trees (and in `gather` mode the radiance cache over the global map) and gathers every
+//! pixel.
 
 use crate::bvh::Bvh;
+use crate::cpu::cache::RadianceCache;
 use crate::cpu::gather::Gatherer;
 use crate::cpu::photon_map::PhotonMap;
 use crate::cpu::photons::{trace_caustic_photons, trace_photons, TraceContext};
@@ -85,6 +87,18 @@ impl PassRenderer for CpuRenderer<'_> {
         let caustic = caustic.map(PhotonMap::build);
         report.phase("build kd-trees", t);
 
+        let terms = Terms::of(plan.mode);
+        let cache = match (&global, terms.final_gather) {
+            (Some(global), true) => {
+                let t = Instant::now();
+                let cache =
+                    RadianceCache::build(global, settings.k, settings.radius, settings.filter);
+                report.phase("build cache", t);
+                Some(cache)
+            }
+            _ => None,
+        };
+
         let t = Instant::now();
         let g = Gatherer {
             scene,
@@ -93,7 +107,8 @@ impl PassRenderer for CpuRenderer<'_> {
             settings,
             global: global.as_ref(),
             caustic: caustic.as_ref(),
-            terms: Terms::of(plan.mode),
+            terms,
+            cache: cache.as_ref(),
         };
         let mut image = Image::new(settings.width, settings.height);
         let bar = progress.bar(settings.height as u64, "gather");
