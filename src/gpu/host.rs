@@ -3,8 +3,8 @@
 //! split of a pass into photon batches.
 
 use super::codes::{
-    filter_code, fresnel_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT, TERM_LOBE_RAY,
-    TERM_POINT_LOBE,
+    filter_code, fresnel_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT, TERM_FINAL_GATHER,
+    TERM_LOBE_RAY, TERM_POINT_LOBE,
 };
 use super::types::{lights, GpuLight, GpuParams};
 use crate::light::LightTable;
@@ -25,6 +25,11 @@ pub fn terms_bits(terms: Terms) -> u32 {
     (if terms.direct { TERM_DIRECT } else { 0 })
         | (if terms.point_lobe { TERM_POINT_LOBE } else { 0 })
         | (if terms.lobe_ray { TERM_LOBE_RAY } else { 0 })
+        | (if terms.final_gather {
+            TERM_FINAL_GATHER
+        } else {
+            0
+        })
 }
 
 /// `MapParams.drop_flags`: the plan's global filter as DROP_* bits.

@@ -36,6 +36,9 @@ pub struct GpuRun {
     /// Maps of earlier passes, reused when a pass needs buffers of the same sizes (so
     /// memory stays flat over passes).
     pub map_cache: Vec<MapBuffers>,
+    /// The radiance cache (`cache`, one vec4 per global photon slot; 16 bytes outside mode
+    /// gather), grown by `radiance_cache::ensure_cache`.
+    pub cache: wgpu::Buffer,
 }
 
 impl GpuRun {
@@ -65,7 +68,9 @@ impl GpuRun {
             &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
         );
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type);
-        let pipelines = Pipelines::new(&ctx, &layouts, &constants)?;
+        let final_gather = crate::plan::Terms::of(s.mode).final_gather;
+        let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather)?;
+        let cache = cache_buffer(&ctx.device, 16);
         Ok(GpuRun {
             ctx,
             layouts,
@@ -74,6 +79,7 @@ impl GpuRun {
             params,
             plan,
             map_cache: Vec::new(),
+            cache,
         })
     }
 
@@ -158,7 +164,7 @@ impl GpuRun {
         Ok(map)
     }
 
-    /// The gather kernel's group 1 over two maps and the accumulator.
+    /// The gather kernel's group 1 over two maps, the accumulator and the radiance cache.
     pub fn gather_bind_group(
         &self,
         global: &MapBuffers,
@@ -178,7 +184,18 @@ impl GpuRun {
                 ("c_cells", caustic.cell_start.as_entire_binding()),
                 ("c_map", caustic.params_buf.as_entire_binding()),
                 ("accum", accum.as_entire_binding()),
+                ("cache", self.cache.as_entire_binding()),
             ],
         )
     }
+}
+
+/// A radiance-cache buffer of `bytes` (read-write storage, copyable for probes).
+pub fn cache_buffer(dev: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
+    empty_buffer(
+        dev,
+        "radiance cache",
+        bytes,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    )
 }
