@@ -1,10 +1,13 @@
 // radiance_cache: the radiance cache of final gathering (mode gather), twin of the CPU's cache
-// (src/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS): build_cache (one invocation per sorted global
-// photon, WG_SIZE-wide 2D dispatch) writes cache[i] = (the global estimate at photon i with
-// BRDF 1/pi, 1) for cache points and 0 elsewhere; cache_find/cache_lookup read it (gather.wgsl,
-// probes.wgsl). Composed after common/estimate.wgsl; uses the global map's grid (g_*).
+// (src/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS). list_cache_points, then build_cache (WG_SIZE-
+// wide 2D dispatches over the global map's sorted photons) write cache[i] = (the global
+// estimate at photon i with BRDF 1/pi, 1) at cache points, 0 elsewhere; cache_find and
+// cache_lookup read it (gather.wgsl, probes.wgsl). Composed after common/estimate.wgsl.
 
 @group(1) @binding(7) var<storage, read_write> cache: array<vec4<f32>>;
+// [0]: how many cache points; [1 + k]: the sorted index of the k-th (in no fixed order: each
+// value depends only on its photon). Lanes of a SIMD group then all build a cache point.
+@group(1) @binding(8) var<storage, read_write> cache_list: array<atomic<u32>>;
 
 // No cache point found.
 const CACHE_NONE: u32 = 0xffffffffu;
@@ -19,17 +22,34 @@ fn global_count() -> u32 {
     return min(g_cells[g_map.table_size], g_map.capacity);
 }
 
+// Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
+fn cache_invocation(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
+    return gid.x + gid.y * nwg.x * WG_SIZE;
+}
+
+// Clears every entry of the cache and lists the cache points (cache_list[0] cleared before).
 @compute @workgroup_size(WG_SIZE)
-fn build_cache(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = gid.x + gid.y * nwg.x * WG_SIZE;
+fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = cache_invocation(gid, nwg);
     if g_map.paths == 0u || i >= global_count() {
         return;
     }
-    let p = g_photons[i];
-    if !is_cache_point(p) {
-        cache[i] = vec4<f32>(0.0);
+    cache[i] = vec4<f32>(0.0);
+    if is_cache_point(g_photons[i]) {
+        let k = atomicAdd(&cache_list[0], 1u);
+        atomicStore(&cache_list[1u + k], i);
+    }
+}
+
+// The value of the k-th listed cache point.
+@compute @workgroup_size(WG_SIZE)
+fn build_cache(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let k = cache_invocation(gid, nwg);
+    if k >= atomicLoad(&cache_list[0]) {
         return;
     }
+    let i = atomicLoad(&cache_list[1u + k]);
+    let p = g_photons[i];
     let l = estimate(0u, p.position, unpack_normal(p.normal), vec3<f32>(1.0 / PI));
     cache[i] = vec4<f32>(l, 1.0);
 }

@@ -408,12 +408,13 @@ fn host_tables_are_the_expected_layouts() {
     // (table, its bindings 0.. in order with their access): the scene is read-only but for
     // the stats counters, a map's buffers are written by its kernels but for its parameters,
     // and the gather group reads both maps and writes only the accumulator and the radiance
-    // cache (built by `build_cache`, read by the gather).
+    // cache with its point list (built by `list_cache_points` and `build_cache`, read by the
+    // gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
         (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W]),
         (&MAP_GROUP, &[W, W, W, W, W, W, R]),
-        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
     let mut errors = Vec::new();
     for (table, kinds) in expected {
@@ -775,7 +776,7 @@ fn wgsl_files_are_short_and_have_a_header() {
 fn radiance_cache_entries_fit_where_the_global_maps_photons_do() {
     // The cache holds one entry per slot of the global map; its binding stays within the
     // device limit because an entry is no larger than the photon whose slot it shares.
-    use gpu_photon::gpu::radiance_cache::CACHE_ENTRY_BYTES;
+    use gpu_photon::gpu::buffers::CACHE_ENTRY_BYTES;
     assert!(CACHE_ENTRY_BYTES <= std::mem::size_of::<Photon>() as u64);
     let mut errors = Vec::new();
     for kernel in [Kernel::Gather, Kernel::Probes] {

@@ -68,7 +68,8 @@ impl GpuRun {
                 }
                 if self.plan_final_gather() && global.params.paths > 0 {
                     let t = Instant::now();
-                    self.build_cache(&global, &caustic, accum)?;
+                    let stored = report.global_stored as u32;
+                    self.build_cache(&global, stored, &caustic, accum)?;
                     report.phase("radiance cache", t);
                 }
                 let t = Instant::now();

@@ -45,8 +45,9 @@ pub struct Pipelines {
     pub scatter: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
-    /// `build_cache` (shaders/radiance_cache.wgsl): only for a render in mode gather.
-    pub build_cache: Option<wgpu::ComputePipeline>,
+    /// `list_cache_points` and `build_cache` (shaders/radiance_cache.wgsl): only for a
+    /// render in mode gather.
+    pub radiance_cache: Option<[wgpu::ComputePipeline; 2]>,
 }
 
 /// The shader module of `kernel`, labelled with its name.
@@ -110,7 +111,9 @@ impl Pipelines {
             add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
             scatter: pipeline(&grid, &map_layout, "scatter"),
             gather: pipeline(&gather, &gather_layout, "gather"),
-            build_cache: final_gather.then(|| pipeline(&gather, &gather_layout, "build_cache")),
+            radiance_cache: final_gather.then(|| {
+                ["list_cache_points", "build_cache"].map(|e| pipeline(&gather, &gather_layout, e))
+            }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!("pipeline creation failed: {e}")));

@@ -138,14 +138,14 @@ pub fn radiance_cache(
     ctx.queue
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
-    run.build_cache(&map, &empty, &accum)?;
+    run.build_cache(&map, photons.len() as u32, &empty, &accum)?;
     let count = photons.len();
     let sorted: Vec<Photon> = read_back(
         ctx,
         &map.sorted,
         (count.max(1) * std::mem::size_of::<Photon>()) as u64,
     )?;
-    let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache, run.cache.size())?;
+    let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache[0], run.cache[0].size())?;
     let bg = run.gather_bind_group(&map, &empty, &accum);
     let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg))?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;

@@ -89,7 +89,7 @@ impl Kernel {
                 "add_offsets",
                 "scatter",
             ],
-            Kernel::Gather => &["gather", "build_cache"],
+            Kernel::Gather => &["gather", "list_cache_points", "build_cache"],
             Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache"],
         }
     }
