@@ -223,6 +223,7 @@ fn gpu_gather_mode_renders_the_cornell_box() {
     );
     let reference = Image::read(&root.join("tests/data/cornell-diffuse.exr")).unwrap();
     let (got, want) = (img.mean(), reference.mean());
+    eprintln!("mode gather mean {got:?}, reference {want:?}");
     for c in 0..3 {
         let ratio = got[c] / want[c];
         assert!(

@@ -106,3 +106,28 @@ pub fn batch_settings(s: &RenderSettings, b: u32, n: u32) -> RenderSettings {
         ..s.clone()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::Mode;
+
+    #[test]
+    fn only_mode_gather_sets_the_final_gather_bit() {
+        for mode in [
+            Mode::Photon,
+            Mode::Direct,
+            Mode::Gather,
+            Mode::DirectOnly,
+            Mode::GlobalOnly,
+            Mode::CausticOnly,
+        ] {
+            let bits = terms_bits(Terms::of(mode));
+            assert_eq!(
+                bits & TERM_FINAL_GATHER != 0,
+                mode == Mode::Gather,
+                "{mode:?}"
+            );
+        }
+    }
+}
