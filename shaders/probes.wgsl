@@ -51,3 +51,15 @@ fn probe_cache(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     accum[2u * params.width + i] = vec4<f32>(l, select(f32(j), -1.0, j == CACHE_NONE));
 }
+
+// probe_cosine: for i < width, normal accum[i].xyz and (u1, u2) = accum[width + i].xy, writes
+// cosine_hemisphere(normal, u1, u2) (the final gather's direction) to accum[2 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_cosine(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let u = accum[params.width + i].xy;
+    accum[2u * params.width + i] = vec4<f32>(cosine_hemisphere(accum[i].xyz, u.x, u.y), 0.0);
+}

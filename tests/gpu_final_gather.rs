@@ -188,6 +188,36 @@ fn device_radiance_cache_equals_cpu_brute_force() {
     }
 }
 
+/// The gather ray's direction: the device's cosine_hemisphere equals src/sampling.rs's on
+/// the same (normal, u1, u2), normals with a zero z of either sign included (the basis's
+/// sign is Rust's copysign: -0.0 counts as negative), within f32 rounding of sin and cos.
+#[test]
+fn device_cosine_hemisphere_equals_rust() {
+    let Some(ctx) = gpu() else { return };
+    let mut r = TestRng(21);
+    let mut cases = Vec::new();
+    for i in 0..512 {
+        let n = match i % 4 {
+            0 => [0.0, 1.0, -0.0],
+            1 => [-0.0, -1.0, 0.0],
+            2 => [1.0, 0.0, -0.0],
+            _ => Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0))
+                .normalize()
+                .to_array(),
+        };
+        cases.push((n, [r.f32(), r.f32()]));
+    }
+    let got = probe::cosine_hemisphere(&ctx, &cases).unwrap();
+    for (i, ((n, u), g)) in cases.iter().zip(&got).enumerate() {
+        let want = gpu_photon::sampling::cosine_hemisphere(Vec3::from(*n), u[0], u[1]);
+        let err = (Vec3::from(*g) - want).abs().max_element();
+        assert!(
+            err < 1e-5,
+            "case {i} n={n:?} u={u:?}: gpu {g:?} rust {want}"
+        );
+    }
+}
+
 /// The Cornell box in mode gather renders on the device without NaN, its mean within a few
 /// percent of the reference image's (tiny: lavapipe is slow).
 #[test]

@@ -93,6 +93,35 @@ pub fn estimate(
     ))
 }
 
+/// The device's `cosine_hemisphere(normal, u1, u2)` (shaders/common/sampling.wgsl) for each
+/// `(normal, [u1, u2])`.
+pub fn cosine_hemisphere(
+    ctx: &GpuContext,
+    cases: &[([f32; 3], [f32; 2])],
+) -> Result<Vec<[f32; 3]>> {
+    let scene = Scene::empty();
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 3 * n];
+    for (i, (nrm, u)) in cases.iter().enumerate() {
+        init[i] = [nrm[0], nrm[1], nrm[2], 0.0];
+        init[n + i] = [u[0], u[1], 0.0, 0.0];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_cosine", &accum, n as u32, None)?;
+    Ok(out[2 * n..2 * n + cases.len()]
+        .iter()
+        .map(|v| [v[0], v[1], v[2]])
+        .collect())
+}
+
 /// What [`radiance_cache`] read back from the device.
 #[derive(Clone, Debug)]
 pub struct CacheProbe {

@@ -90,7 +90,7 @@ impl Kernel {
                 "scatter",
             ],
             Kernel::Gather => &["gather", "list_cache_points", "build_cache"],
-            Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache"],
+            Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
         }
     }
 
