@@ -251,6 +251,28 @@ fn gpu_gather_mode_renders_the_cornell_box() {
         "no radiance cache was built: {:?}",
         report.phases
     );
+    // Other modes build no cache.
+    let direct = RenderSettings {
+        mode: Mode::Direct,
+        width: 8,
+        height: 8,
+        spp: 1,
+        ..settings.clone()
+    };
+    let (_, direct_report) = gpu_photon::session::render(
+        &scene,
+        &direct,
+        gpu_photon::session::BackendChoice::Gpu,
+        gpu_photon::report::Progress::default(),
+    )
+    .unwrap();
+    assert!(
+        !direct_report
+            .phases
+            .iter()
+            .any(|(name, _)| *name == "radiance cache"),
+        "mode direct built a radiance cache"
+    );
     let reference = Image::read(&root.join("tests/data/cornell-diffuse.exr")).unwrap();
     let (got, want) = (img.mean(), reference.mean());
     eprintln!("mode gather mean {got:?}, reference {want:?}");
