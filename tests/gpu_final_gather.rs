@@ -72,7 +72,8 @@ fn queries(n: usize, seed: u64) -> Vec<([f32; 3], [f32; 3])> {
 }
 
 fn is_cache_point(p: &Photon) -> bool {
-    (p.id + (p.flags & DEPTH_MASK)) % CACHE_STRIDE == 0
+    p.id.wrapping_add(p.flags & DEPTH_MASK)
+        .is_multiple_of(CACHE_STRIDE)
 }
 
 /// Lexicographic (squared distance, id, flags): the order of the K nearest and of the lookup.
