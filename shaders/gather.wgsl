@@ -1,8 +1,8 @@
 // gather: the camera pass, twin of src/cpu/gather.rs: camera ray, the mirror/glass chain (a
 // stochastic Fresnel choice), then at diffuse and glossy hits the photon maps' estimate
-// (common/estimate.wgsl), shadow rays in `direct` mode and the glossy lobe as the same path.
-// Dispatch: one invocation per pixel of sample `params.sample`, GATHER_TILE^2 workgroups.
-// Writes: accum[pixel] += radiance / spp.
+// (common/estimate.wgsl), shadow rays, final-gather rays into radiance_cache.wgsl (mode
+// gather) and the glossy lobe as the same path. Dispatch: one invocation per pixel of sample
+// `params.sample`, GATHER_TILE^2 workgroups. Writes: accum[pixel] += radiance / spp.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -59,6 +59,50 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
         total += acc / f32(samples);
     }
     return total;
+}
+
+// A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
+// through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
+// per bounce up to max_depth, to its first diffuse or glossy hit y, where it returns
+// throughput * kd(y) * the radiance cache at y (normal facing the ray). Emission is ignored.
+fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<function, Rng>) -> vec3<f32> {
+    var d = dir;
+    var o = offset_origin(x, n, d);
+    var t = vec3<f32>(1.0);
+    for (var gd = depth + 1u; gd <= params.max_depth && spend(); gd += 1u) {
+        let hit = trace_ray(o, d, 3.0e38, false);
+        if !hit.found {
+            break;
+        }
+        let m = materials[hit.material];
+        let can_continue = gd < params.max_depth;
+        if m.kind == MAT_BLACK {
+            break;
+        }
+        if m.kind == MAT_MIRROR {
+            if !can_continue {
+                break;
+            }
+            let ns = select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0);
+            t *= m.ks;
+            d = reflect_dir(d, ns);
+            o = offset_origin(hit.position, hit.normal, d);
+            continue;
+        }
+        if HAS_GLASS && m.kind == MAT_GLASS {
+            if !can_continue {
+                break;
+            }
+            let g = dielectric(d, hit.normal, m.ior);
+            let u = rng_next(rng);
+            d = select(g.refracted, g.reflected, u < g.reflectance);
+            o = offset_origin(hit.position, hit.normal, d);
+            continue;
+        }
+        let ny = select(-hit.normal, hit.normal, dot(-d, hit.normal) >= 0.0);
+        return t * m.kd * cache_lookup(hit.position, ny);
+    }
+    return vec3<f32>(0.0);
 }
 
 fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
@@ -123,8 +167,17 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             l += direct_light(hit.position, hit.normal, ns, wo, m, &rng);
         }
         let kd_pi = m.kd / PI;
-        l += estimate(0u, hit.position, ns, kd_pi);
+        let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
+        if !final_gather {
+            l += estimate(0u, hit.position, ns, kd_pi);
+        }
         l += estimate(1u, hit.position, ns, kd_pi);
+        if final_gather && max3(m.kd) > 0.0 && can_continue {
+            let u1 = rng_next(&rng);
+            let u2 = rng_next(&rng);
+            let dir = cosine_hemisphere(ns, u1, u2);
+            l += m.kd * gather_ray(hit.position, hit.normal, dir, depth, &rng);
+        }
         radiance += throughput * l;
         if (params.terms & TERM_LOBE_RAY) == 0u || m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
             break;

@@ -1,7 +1,8 @@
 // Oracle probes for tests/gpu_oracle.rs, never used by a render: single library functions
 // (the RNG, the K-nearest estimate) run on chosen inputs so a test can compare them with their
 // Rust twins. Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per value.
-// Writes: accum[] as each entry point says. Composed after common/estimate.wgsl.
+// Writes: accum[] as each entry point says. Composed after common/estimate.wgsl and
+// radiance_cache.wgsl.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -30,4 +31,35 @@ fn probe_knn(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ns = accum[params.width + i].xyz;
     let l = estimate(0u, x, ns, vec3<f32>(1.0));
     accum[2u * params.width + i] = vec4<f32>(l, f32(last_found));
+}
+
+// probe_cache: for query i < width, position accum[i].xyz and normal accum[width + i].xyz,
+// writes the radiance cache's lookup and the sorted index it read (-1 when none) to
+// accum[2 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_cache(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let y = accum[i].xyz;
+    let n = accum[params.width + i].xyz;
+    let j = cache_find(y, n);
+    var l = vec3<f32>(0.0);
+    if j != CACHE_NONE {
+        l = cache[j].xyz;
+    }
+    accum[2u * params.width + i] = vec4<f32>(l, select(f32(j), -1.0, j == CACHE_NONE));
+}
+
+// probe_cosine: for i < width, normal accum[i].xyz and (u1, u2) = accum[width + i].xy, writes
+// cosine_hemisphere(normal, u1, u2) (the final gather's direction) to accum[2 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_cosine(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width {
+        return;
+    }
+    let u = accum[params.width + i].xy;
+    accum[2u * params.width + i] = vec4<f32>(cosine_hemisphere(accum[i].xyz, u.x, u.y), 0.0);
 }

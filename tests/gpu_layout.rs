@@ -407,12 +407,14 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
 fn host_tables_are_the_expected_layouts() {
     // (table, its bindings 0.. in order with their access): the scene is read-only but for
     // the stats counters, a map's buffers are written by its kernels but for its parameters,
-    // and the gather reads both maps and writes only the accumulator.
+    // and the gather group reads both maps and writes only the accumulator and the radiance
+    // cache with its point list (built by `list_cache_points` and `build_cache`, read by the
+    // gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
         (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W]),
         (&MAP_GROUP, &[W, W, W, W, W, W, R]),
-        (&GATHER_GROUP, &[R, R, R, R, R, R, W]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
     let mut errors = Vec::new();
     for (table, kinds) in expected {
@@ -583,6 +585,9 @@ fn shared_constants_agree() {
         "TERM_DIRECT",
         "TERM_POINT_LOBE",
         "TERM_LOBE_RAY",
+        "TERM_FINAL_GATHER",
+        "CACHE_STRIDE",
+        "CACHE_NORMAL_COS",
         "LIGHT_POINT",
         "LIGHT_TRIANGLES",
         "LIGHT_SPHERE",
@@ -632,6 +637,12 @@ fn shared_constants_agree() {
             Literal::U32(material_code(MaterialKind::Black)),
         ),
         ("MAX_HEAP", Literal::U32(codes::MAX_HEAP)),
+        ("TERM_FINAL_GATHER", Literal::U32(codes::TERM_FINAL_GATHER)),
+        ("CACHE_STRIDE", Literal::U32(gpu_photon::plan::CACHE_STRIDE)),
+        (
+            "CACHE_NORMAL_COS",
+            Literal::F32(gpu_photon::plan::CACHE_NORMAL_COS),
+        ),
     ];
     let mut check = |kernel: Kernel, name: &str, rust: Literal| match constant(module(kernel), name)
     {
@@ -759,4 +770,32 @@ fn wgsl_files_are_short_and_have_a_header() {
         }
     }
     fail_if_any("WGSL files", &errors);
+}
+
+#[test]
+fn radiance_cache_entries_fit_where_the_global_maps_photons_do() {
+    // The cache holds one entry per slot of the global map; its binding stays within the
+    // device limit because an entry is no larger than the photon whose slot it shares.
+    use gpu_photon::gpu::buffers::CACHE_ENTRY_BYTES;
+    assert!(CACHE_ENTRY_BYTES <= std::mem::size_of::<Photon>() as u64);
+    let mut errors = Vec::new();
+    for kernel in [Kernel::Gather, Kernel::Probes] {
+        let m = module(kernel);
+        let Some((_, var)) = m
+            .global_variables
+            .iter()
+            .find(|(_, v)| v.name.as_deref() == Some("cache"))
+        else {
+            errors.push(format!("[{}] no `cache` global", kernel.name()));
+            continue;
+        };
+        match m.types[var.ty].inner {
+            TypeInner::Array { stride, .. } if stride as u64 == CACHE_ENTRY_BYTES => {}
+            ref other => errors.push(format!(
+                "[{}] `cache` is {other:?}, want an array of {CACHE_ENTRY_BYTES}-byte entries",
+                kernel.name()
+            )),
+        }
+    }
+    fail_if_any("radiance cache", &errors);
 }

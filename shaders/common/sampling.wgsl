@@ -2,15 +2,20 @@
 // Phong lobe); twin of src/sampling.rs.
 // Library, no entry point; writes nothing.
 
+// Rust's 1.0.copysign(n.z): -1 for every z with the sign bit set, -0.0 included.
+fn basis_sign(z: f32) -> f32 {
+    return select(1.0, -1.0, (bitcast<u32>(z) & 0x80000000u) != 0u);
+}
+
 fn basis_t(n: vec3<f32>) -> vec3<f32> {
-    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let s = basis_sign(n.z);
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
     return vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
 }
 
 fn basis_b(n: vec3<f32>) -> vec3<f32> {
-    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let s = basis_sign(n.z);
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
     return vec3<f32>(b, s + n.y * n.y * a, -n.y);

@@ -110,7 +110,9 @@ pub const MAP_GROUP: GroupTable = GroupTable {
 };
 
 /// Group 1 of the gather and the probes (shaders/common/estimate.wgsl, gather.wgsl): both
-/// maps' sorted photons, cell starts and parameters, and the image accumulator.
+/// maps' sorted photons, cell starts and parameters, the image accumulator, and the radiance
+/// cache (parallel to the global map's sorted photons: written by `build_cache`, read by the
+/// gather) with the list of its points (small stand-ins outside mode gather).
 pub const GATHER_GROUP: GroupTable = GroupTable {
     group: 1,
     label: "gather",
@@ -122,6 +124,8 @@ pub const GATHER_GROUP: GroupTable = GroupTable {
         ro("c_cells", 4),
         ro("c_map", 5),
         rw("accum", 6),
+        rw("cache", 7),
+        rw("cache_list", 8),
     ],
 };
 

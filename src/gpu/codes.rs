@@ -52,6 +52,9 @@ pub const TERM_DIRECT: u32 = 1;
 pub const TERM_POINT_LOBE: u32 = 2;
 /// `Params.terms` bit: a ray sampled from the glossy lobe (`plan::Terms::lobe_ray`).
 pub const TERM_LOBE_RAY: u32 = 4;
+/// `Params.terms` bit: a final-gather ray into the radiance cache instead of the global
+/// map's estimate (`plan::Terms::final_gather`).
+pub const TERM_FINAL_GATHER: u32 = 8;
 
 /// `MapParams.drop_flags` bit: drop direct photons (`plan::GlobalFilter::drop_direct`).
 pub const DROP_DIRECT: u32 = 1;
@@ -155,6 +158,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("TERM_DIRECT", U32(TERM_DIRECT)),
         ("TERM_POINT_LOBE", U32(TERM_POINT_LOBE)),
         ("TERM_LOBE_RAY", U32(TERM_LOBE_RAY)),
+        ("TERM_FINAL_GATHER", U32(TERM_FINAL_GATHER)),
+        ("CACHE_STRIDE", U32(crate::plan::CACHE_STRIDE)),
+        ("CACHE_NORMAL_COS", F32(crate::plan::CACHE_NORMAL_COS)),
         ("DROP_DIRECT", U32(DROP_DIRECT)),
         ("DROP_CAUSTIC", U32(DROP_CAUSTIC)),
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),

@@ -3,8 +3,8 @@
 //! split of a pass into photon batches.
 
 use super::codes::{
-    filter_code, fresnel_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT, TERM_LOBE_RAY,
-    TERM_POINT_LOBE,
+    filter_code, fresnel_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT, TERM_FINAL_GATHER,
+    TERM_LOBE_RAY, TERM_POINT_LOBE,
 };
 use super::types::{lights, GpuLight, GpuParams};
 use crate::light::LightTable;
@@ -25,6 +25,11 @@ pub fn terms_bits(terms: Terms) -> u32 {
     (if terms.direct { TERM_DIRECT } else { 0 })
         | (if terms.point_lobe { TERM_POINT_LOBE } else { 0 })
         | (if terms.lobe_ray { TERM_LOBE_RAY } else { 0 })
+        | (if terms.final_gather {
+            TERM_FINAL_GATHER
+        } else {
+            0
+        })
 }
 
 /// `MapParams.drop_flags`: the plan's global filter as DROP_* bits.
@@ -99,5 +104,30 @@ pub fn batch_settings(s: &RenderSettings, b: u32, n: u32) -> RenderSettings {
         photons: share(s.photons).max(1),
         caustic_photons: share(s.caustic_photons),
         ..s.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::Mode;
+
+    #[test]
+    fn only_mode_gather_sets_the_final_gather_bit() {
+        for mode in [
+            Mode::Photon,
+            Mode::Direct,
+            Mode::Gather,
+            Mode::DirectOnly,
+            Mode::GlobalOnly,
+            Mode::CausticOnly,
+        ] {
+            let bits = terms_bits(Terms::of(mode));
+            assert_eq!(
+                bits & TERM_FINAL_GATHER != 0,
+                mode == Mode::Gather,
+                "{mode:?}"
+            );
+        }
     }
 }

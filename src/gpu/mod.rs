@@ -6,7 +6,8 @@
 //! `codes` (shared constants, the WGSL prelude), `types` (Gpu* twins of WGSL structs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
 //! `buffers`, `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
-//! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`, `pass`,
+//! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`,
+//! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes).
 
 pub mod bindings;
@@ -20,6 +21,7 @@ pub mod pass;
 pub mod photon_maps;
 pub mod pipelines;
 pub mod probe;
+pub mod radiance_cache;
 pub mod renderer;
 pub mod run;
 pub mod scene_buffers;

@@ -1,5 +1,6 @@
 //! One pass on the device: photon maps in batches (as many as one storage binding per map
-//! requires), then every camera sample gathered into the accumulator in one submission.
+//! requires), the radiance cache in mode gather, then every camera sample gathered into the
+//! accumulator in one submission.
 
 use super::buffers::{read_back, wait};
 use super::codes::{GATHER_TILE, STATS_LEN};
@@ -65,6 +66,12 @@ impl GpuRun {
                     );
                     continue 'attempt;
                 }
+                if self.plan_final_gather() && global.params.paths > 0 {
+                    let t = Instant::now();
+                    let stored = report.global_stored as u32;
+                    self.build_cache(&global, stored, &caustic, accum)?;
+                    report.phase("radiance cache", t);
+                }
                 let t = Instant::now();
                 self.gather(s, &global, &caustic, accum, progress)?;
                 report.phase("gather", t);
@@ -81,6 +88,11 @@ impl GpuRun {
             *dst = [src[0] * scale, src[1] * scale, src[2] * scale];
         }
         Ok(image)
+    }
+
+    /// Whether the current plan's mode gathers through the radiance cache.
+    fn plan_final_gather(&self) -> bool {
+        crate::plan::Terms::of(self.plan.mode).final_gather
     }
 
     /// Gathers every camera sample of `s` over the two maps into `accum`: each sample's

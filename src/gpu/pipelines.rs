@@ -45,6 +45,9 @@ pub struct Pipelines {
     pub scatter: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
+    /// `list_cache_points` and `build_cache` (shaders/radiance_cache.wgsl): only for a
+    /// render in mode gather.
+    pub radiance_cache: Option<[wgpu::ComputePipeline; 2]>,
 }
 
 /// The shader module of `kernel`, labelled with its name.
@@ -70,9 +73,15 @@ pub fn pipeline_layout(
 }
 
 impl Pipelines {
-    /// Compiles every kernel's pipelines with the override constants `constants`; a shader
-    /// or layout error is returned, not raised.
-    pub fn new(ctx: &GpuContext, layouts: &Layouts, constants: &[(&str, f64)]) -> Result<Self> {
+    /// Compiles every kernel's pipelines with the override constants `constants` (the
+    /// radiance cache's build only when `final_gather`); a shader or layout error is
+    /// returned, not raised.
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        constants: &[(&str, f64)],
+        final_gather: bool,
+    ) -> Result<Self> {
         let dev = &ctx.device;
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
         let map_layout = pipeline_layout(dev, "photon map pipeline layout", layouts, &layouts.map);
@@ -102,6 +111,9 @@ impl Pipelines {
             add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
             scatter: pipeline(&grid, &map_layout, "scatter"),
             gather: pipeline(&gather, &gather_layout, "gather"),
+            radiance_cache: final_gather.then(|| {
+                ["list_cache_points", "build_cache"].map(|e| pipeline(&gather, &gather_layout, e))
+            }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!("pipeline creation failed: {e}")));

@@ -1,5 +1,6 @@
 //! Oracle probes: run single kernels on chosen inputs so tests can compare them with the
-//! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate). The probe
+//! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate, the radiance
+//! cache's build and lookup). The probe
 //! entry points live in shaders/probes.wgsl; the set-up is the render's own (`GpuRun`).
 
 use super::bindings::GATHER_GROUP;
@@ -12,7 +13,7 @@ use super::shaders::Kernel;
 use crate::error::{Error, Result};
 use crate::photon::Photon;
 use crate::scene::Scene;
-use crate::settings::RenderSettings;
+use crate::settings::{Filter, Mode, RenderSettings};
 
 /// `(path_key, draw_u32, to_unit bits, pcg_hash(i))` for i < n, from WGSL, with the key's
 /// stream `1 + i % 4` and dimension `i % 9`.
@@ -90,6 +91,103 @@ pub fn estimate(
             .collect(),
         stats,
     ))
+}
+
+/// The device's `cosine_hemisphere(normal, u1, u2)` (shaders/common/sampling.wgsl) for each
+/// `(normal, [u1, u2])`.
+pub fn cosine_hemisphere(
+    ctx: &GpuContext,
+    cases: &[([f32; 3], [f32; 2])],
+) -> Result<Vec<[f32; 3]>> {
+    let scene = Scene::empty();
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 3 * n];
+    for (i, (nrm, u)) in cases.iter().enumerate() {
+        init[i] = [nrm[0], nrm[1], nrm[2], 0.0];
+        init[n + i] = [u[0], u[1], 0.0, 0.0];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_cosine", &accum, n as u32, None)?;
+    Ok(out[2 * n..2 * n + cases.len()]
+        .iter()
+        .map(|v| [v[0], v[1], v[2]])
+        .collect())
+}
+
+/// What [`radiance_cache`] read back from the device.
+#[derive(Clone, Debug)]
+pub struct CacheProbe {
+    /// The map's photons in the grid's order (the cache is parallel to them).
+    pub sorted: Vec<Photon>,
+    /// One entry per sorted photon: (value, 1) at a cache point, zero elsewhere.
+    pub cache: Vec<[f32; 4]>,
+    /// Per query: the lookup's value and the sorted index it read (`None`: no cache point).
+    pub lookups: Vec<([f32; 3], Option<u32>)>,
+    /// The stats counters (bounds hit) after the build and the lookups.
+    pub stats: Vec<u32>,
+}
+
+/// Builds the radiance cache of `photons` (as the global map, with the render's own
+/// `build_cache` pipeline: K = `k` nearest within `radius`, `k == 0` every photon within
+/// it, `filter`) and looks it up at each query `(position, normal)`.
+pub fn radiance_cache(
+    ctx: &GpuContext,
+    photons: &[Photon],
+    queries: &[([f32; 3], [f32; 3])],
+    (k, radius, cell_size, filter): (u32, f32, f32, Filter),
+) -> Result<CacheProbe> {
+    let scene = Scene::empty();
+    let n = queries.len().max(1) as u32;
+    let settings = RenderSettings {
+        width: n,
+        height: 1,
+        k,
+        radius,
+        filter,
+        mode: Mode::Gather,
+        ..Default::default()
+    };
+    let mut run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
+    let table = super::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let map = run.upload_map(photons, cell_size, table, radius * radius)?;
+    let mut init = vec![[0f32; 4]; 3 * n as usize];
+    for (i, (p, nrm)) in queries.iter().enumerate() {
+        init[i] = [p[0], p[1], p[2], 0.0];
+        init[n as usize + i] = [nrm[0], nrm[1], nrm[2], 0.0];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let empty = run.empty_map(true);
+    run.build_cache(&map, photons.len() as u32, &empty, &accum)?;
+    let count = photons.len();
+    let sorted: Vec<Photon> = read_back(
+        ctx,
+        &map.sorted,
+        (count.max(1) * std::mem::size_of::<Photon>()) as u64,
+    )?;
+    let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache[0], run.cache[0].size())?;
+    let bg = run.gather_bind_group(&map, &empty, &accum);
+    let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg))?;
+    let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
+    let lookups = out[2 * n as usize..2 * n as usize + queries.len()]
+        .iter()
+        .map(|v| ([v[0], v[1], v[2]], (v[3] >= 0.0).then_some(v[3] as u32)))
+        .collect();
+    Ok(CacheProbe {
+        sorted: sorted[..count].to_vec(),
+        cache: cache[..count].to_vec(),
+        lookups,
+        stats,
+    })
 }
 
 /// Runs the probe entry point `entry` over `n` invocations (WG_SIZE-wide) with group 1 `bg`

@@ -40,12 +40,6 @@ impl<'s> GpuRenderer<'s> {
     /// creates every pipeline, for a render with `settings`.
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
         let s = settings;
-        if s.mode == crate::settings::Mode::Gather {
-            return Err(Error::Gpu(
-                "mode gather (final gathering) is not on the GPU backend yet (use --backend cpu)"
-                    .into(),
-            ));
-        }
         let mut report = RenderReport::default();
         let t = Instant::now();
         let ctx = GpuContext::new()?;

@@ -3,7 +3,7 @@
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
 use super::bindings::{bind_group, Layouts, GATHER_GROUP};
-use super::buffers::empty_buffer;
+use super::buffers::{cache_buffers, empty_buffer};
 use super::codes::SCAN_BLOCK;
 use super::context::GpuContext;
 use super::host::{budgeted_lights, gpu_params};
@@ -36,6 +36,9 @@ pub struct GpuRun {
     /// Maps of earlier passes, reused when a pass needs buffers of the same sizes (so
     /// memory stays flat over passes).
     pub map_cache: Vec<MapBuffers>,
+    /// The radiance cache (`cache`, one vec4 per global photon slot) and the list of its
+    /// points (`cache_list`), grown by `GpuRun::ensure_cache` (stand-ins outside mode gather).
+    pub cache: [wgpu::Buffer; 2],
 }
 
 impl GpuRun {
@@ -65,7 +68,9 @@ impl GpuRun {
             &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
         );
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type);
-        let pipelines = Pipelines::new(&ctx, &layouts, &constants)?;
+        let final_gather = crate::plan::Terms::of(s.mode).final_gather;
+        let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather)?;
+        let cache = cache_buffers(&ctx.device, 1);
         Ok(GpuRun {
             ctx,
             layouts,
@@ -74,6 +79,7 @@ impl GpuRun {
             params,
             plan,
             map_cache: Vec::new(),
+            cache,
         })
     }
 
@@ -158,7 +164,7 @@ impl GpuRun {
         Ok(map)
     }
 
-    /// The gather kernel's group 1 over two maps and the accumulator.
+    /// The gather kernel's group 1 over two maps, the accumulator and the radiance cache.
     pub fn gather_bind_group(
         &self,
         global: &MapBuffers,
@@ -178,6 +184,8 @@ impl GpuRun {
                 ("c_cells", caustic.cell_start.as_entire_binding()),
                 ("c_map", caustic.params_buf.as_entire_binding()),
                 ("accum", accum.as_entire_binding()),
+                ("cache", self.cache[0].as_entire_binding()),
+                ("cache_list", self.cache[1].as_entire_binding()),
             ],
         )
     }

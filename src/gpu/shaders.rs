@@ -12,7 +12,8 @@ pub enum Kernel {
     TracePhotons,
     /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid.
     BuildGrid,
-    /// `shaders/gather.wgsl`: the camera pass and the radiance estimate.
+    /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
+    /// `shaders/radiance_cache.wgsl` (the final gather's cache build and lookup).
     Gather,
     /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
     Probes,
@@ -32,11 +33,12 @@ const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
 const SOBOL: &str = include_str!("../../shaders/common/sobol.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
+const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 16] = [
+pub const WGSL_FILES: [(&str, &str); 17] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -52,6 +54,7 @@ pub const WGSL_FILES: [(&str, &str); 16] = [
     ("common/sobol.wgsl", SOBOL),
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
+    ("radiance_cache.wgsl", RADIANCE_CACHE),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
 ];
@@ -86,8 +89,8 @@ impl Kernel {
                 "add_offsets",
                 "scatter",
             ],
-            Kernel::Gather => &["gather"],
-            Kernel::Probes => &["probe_rng", "probe_knn"],
+            Kernel::Gather => &["gather", "list_cache_points", "build_cache"],
+            Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
         }
     }
 
@@ -100,8 +103,8 @@ impl Kernel {
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
-            Kernel::Gather => &[ESTIMATE, GATHER],
-            Kernel::Probes => &[ESTIMATE, PROBES],
+            Kernel::Gather => &[ESTIMATE, RADIANCE_CACHE, GATHER],
+            Kernel::Probes => &[ESTIMATE, RADIANCE_CACHE, PROBES],
         };
         libs.iter()
             .chain(own)

@@ -1,0 +1,65 @@
+//! The radiance cache of final gathering (mode gather) on the device, twin of the CPU's
+//! cache: after a pass's maps are built, `build_cache` (shaders/radiance_cache.wgsl) writes
+//! one value per global photon slot, parallel to the global map's sorted photons (the cache
+//! points are the photons `plan::CACHE_STRIDE` picks; the others hold zero), and the gather
+//! looks it up through the global map's grid. No other mode allocates or dispatches it.
+
+use super::buffers::{cache_buffers, grid_2d, wait, CACHE_ENTRY_BYTES};
+use super::codes::WG_SIZE;
+use super::maps::MapBuffers;
+use super::run::GpuRun;
+use crate::error::{Error, Result};
+
+impl GpuRun {
+    /// Grows the cache buffer to hold one entry per slot of `global` (kept across passes).
+    pub fn ensure_cache(&mut self, global: &MapBuffers) {
+        let slots = global.params.capacity;
+        if self.cache[0].size() < slots as u64 * CACHE_ENTRY_BYTES {
+            self.cache = cache_buffers(&self.ctx.device, slots);
+        }
+    }
+
+    /// Builds the radiance cache of `global`, whose grid holds `stored` photons (at most its
+    /// capacity), on the device: lists the cache points, then computes their values (one
+    /// submission, waited for). `caustic` and `accum` complete the gather group, untouched.
+    pub fn build_cache(
+        &mut self,
+        global: &MapBuffers,
+        stored: u32,
+        caustic: &MapBuffers,
+        accum: &wgpu::Buffer,
+    ) -> Result<()> {
+        self.ensure_cache(global);
+        let Some(pipelines) = &self.pipelines.radiance_cache else {
+            return Err(Error::Gpu(
+                "the radiance cache's pipeline was not created (a render not in mode gather)"
+                    .into(),
+            ));
+        };
+        let ctx = &self.ctx;
+        let bg = self.gather_bind_group(global, caustic, accum);
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("radiance cache"),
+            });
+        enc.clear_buffer(&self.cache[1], 0, Some(4));
+        {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("radiance cache"),
+                timestamp_writes: None,
+            });
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
+            cp.set_bind_group(1, &bg, &[]);
+            let slots = stored.min(global.params.capacity).max(1);
+            for pipeline in pipelines {
+                cp.set_pipeline(pipeline);
+                let (x, y) = grid_2d(slots.div_ceil(WG_SIZE));
+                cp.dispatch_workgroups(x, y, 1);
+            }
+        }
+        ctx.queue.submit([enc.finish()]);
+        wait(ctx)?;
+        ctx.check()
+    }
+}
