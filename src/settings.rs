@@ -159,7 +159,7 @@ impl Default for RenderSettings {
             caustic_radius: 0.1,
             spp: 64,
             shadow_samples: 1,
-            mode: Mode::Direct,
+            mode: Mode::Gather,
             filter: Filter::Disc,
             fresnel: FresnelMode::Exact,
             max_photon_bounces: 16,

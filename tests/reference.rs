@@ -82,7 +82,7 @@ fn cornell_box_default_settings_match_reference() {
     // The scene's defaults are what the reference is compared at.
     assert_eq!(
         (settings.width, settings.height, settings.mode),
-        (256, 256, Mode::Direct)
+        (256, 256, Mode::Gather)
     );
     let img = render_cpu(&scene, &settings);
     let reference = reference("cornell-diffuse.exr");
@@ -106,14 +106,16 @@ fn cornell_box_default_settings_match_reference() {
                 ratio_ok(&d, 0.98, 1.02),
                 format!("mean ratio {:?} outside 0.98..1.02", d.mean_ratio),
             ),
-            // Per-pixel RMSE is dominated by photon-map noise and area-light sampling at
-            // 64 spp (measured 0.0127; the reference's own is 0.0014).
+            // Per-pixel RMSE is dominated by area-light sampling and the gather ray at
+            // 64 spp (measured 0.0133; the reference's own is 0.0014).
             (d.rmse < 0.02, format!("RMSE {} >= 0.02", d.rmse)),
-            // 16x16 block means keep bias and lose most noise (measured 0.0028): a shifted
-            // or blurred shadow, or a colour-bleeding error, shows here.
+            // 16x16 block means keep bias and lose most noise (measured 0.00096 in `gather`):
+            // a shifted or blurred shadow, a colour-bleeding error, or the photon map's
+            // blotches show here (`direct` mode, which reads the global map at every sample,
+            // measures 0.0028 and fails this bound).
             (
-                d.block_rmse < 0.006,
-                format!("block RMSE {} >= 0.006", d.block_rmse),
+                d.block_rmse < 0.002,
+                format!("block RMSE {} >= 0.002", d.block_rmse),
             ),
         ],
     );

@@ -445,7 +445,7 @@ fn cornell_reference_scene() {
     assert_eq!(
         s.settings,
         RenderSettings {
-            mode: Mode::Direct,
+            mode: Mode::Gather,
             ..RenderSettings::default()
         }
     );
