@@ -79,6 +79,10 @@ struct BenchArgs {
     /// Progressive passes of the curve (measured at 1, 2, 4, ... and the last).
     #[arg(long)]
     passes: Option<u32>,
+    /// With --out: the modes the ladder compares, comma-separated (e.g. `direct,gather`;
+    /// default: the scene's mode).
+    #[arg(long)]
+    modes: Option<String>,
     /// Write the curve as DIR/progressive.csv.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -298,6 +302,20 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
     let scene = gpu_photon::scene::load(&args.scene)?;
     let s = bench::bench_settings(&scene, args.photons, args.spp, args.width, args.height);
     let which = BenchBackends::of(args.backend.map(BackendArg::choice));
+    let modes = match &args.modes {
+        Some(list) => list
+            .split(',')
+            .map(|m| {
+                Mode::parse(m.trim()).with_context(|| {
+                    format!(
+                        "--modes {list}: `{m}` is not one of {}",
+                        Mode::NAMES.join(", ")
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>>>()?,
+        None => vec![s.mode],
+    };
     println!("{}", bench::heading(&args.scene, &s, args.runs));
     println!("{}", bench::Throughput::header());
     let results = bench::throughputs(&scene, &s, &which, args.runs, |r| match r {
@@ -321,7 +339,7 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
                 path
             }
         };
-        ladder_bench(&scene, &args.scene, &s, &ran, &reference, dir)?;
+        ladder_bench(&scene, &args.scene, &s, &ran, &modes, &reference, dir)?;
     }
     if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
         curve_bench(&scene, &s, &ran, reference, passes, args.out.as_deref())?;
@@ -339,6 +357,7 @@ fn ladder_bench(
     scene_path: &std::path::Path,
     s: &RenderSettings,
     which: &gpu_photon::bench::BenchBackends,
+    modes: &[Mode],
     reference: &std::path::Path,
     dir: &std::path::Path,
 ) -> Result<()> {
@@ -350,7 +369,7 @@ fn ladder_bench(
         reference.width, reference.height
     );
     println!("{}", LadderRow::header());
-    let rows = ladder(scene, s, &which.backends, &reference, &LADDER, |r| {
+    let rows = ladder(scene, s, &which.backends, modes, &reference, &LADDER, |r| {
         println!("{r}")
     })?;
     let csv = dir.join("bench.csv");
@@ -358,7 +377,7 @@ fn ladder_bench(
         .with_context(|| format!("writing {}", csv.display()))?;
     println!("wrote {}", csv.display());
     let png = dir.join("bench.png");
-    let title = plot_title(scene_path, reference.width, reference.height, s.mode);
+    let title = plot_title(scene_path, reference.width, reference.height, modes);
     match plot(&rows, &png, &title) {
         Ok(()) => println!("wrote {}", png.display()),
         Err(e) => eprintln!("warning: no plot: {e}"),

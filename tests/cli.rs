@@ -460,3 +460,27 @@ fn auto_backend_decides_alike_for_classic_and_progressive_renders() {
     );
     dir.assert_no_temp_files();
 }
+
+/// `bench --modes` names the ladder's techniques; a wrong name fails before any rendering,
+/// naming the name and the modes there are.
+#[test]
+fn bench_modes_are_checked_before_rendering() {
+    let o = run(&[
+        "bench",
+        "scenes/cornell-box.toml",
+        "--modes",
+        "direct,fast",
+        "--out",
+        "target/test-output/never-bench",
+    ]);
+    let err = assert_fails_cleanly(&o, "bench --modes direct,fast");
+    assert!(
+        err.contains("--modes direct,fast: `fast` is not one of photon, direct, gather, direct-only, global-only, caustic-only"),
+        "{err}"
+    );
+    assert!(
+        stdout(&o).is_empty(),
+        "it measured before checking: {}",
+        stdout(&o)
+    );
+}

@@ -7,7 +7,7 @@ use crate::film::Image;
 use crate::report::Progress;
 use crate::scene::Scene;
 use crate::session::{render, Backend};
-use crate::settings::RenderSettings;
+use crate::settings::{Mode, RenderSettings};
 use std::path::Path;
 
 /// The settings of the reference a ladder is measured against when none is given: the CPU,
@@ -62,6 +62,9 @@ pub fn render_reference(scene: &Scene, path: &Path) -> Result<()> {
 pub struct LadderRow {
     /// "cpu" or "gpu".
     pub backend: &'static str,
+    /// The render mode (the technique: `direct` reads the global map at every sample,
+    /// `gather` gathers from the radiance cache).
+    pub mode: Mode,
     /// Photon paths of the rung.
     pub photons: u32,
     /// Samples per pixel of the rung.
@@ -84,8 +87,8 @@ impl LadderRow {
     /// The header of the ladder's table ([`LadderRow`]'s `Display` gives its rows).
     pub fn header() -> String {
         format!(
-            "{:<8} {:>8} {:>5} {:>5} {:>10} {:>10} {:>10} {:>24}",
-            "backend", "photons", "spp", "k", "seconds", "rmse", "rel_mse", "mean ratio"
+            "{:<8} {:<8} {:>8} {:>5} {:>5} {:>10} {:>10} {:>10} {:>24}",
+            "backend", "mode", "photons", "spp", "k", "seconds", "rmse", "rel_mse", "mean ratio"
         )
     }
 }
@@ -95,8 +98,9 @@ impl std::fmt::Display for LadderRow {
         let m = self.mean_ratio;
         write!(
             f,
-            "{:<8} {:>8} {:>5} {:>5} {:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}",
+            "{:<8} {:<8} {:>8} {:>5} {:>5} {:>10.2} {:>10.5} {:>10.5} {:>8.4} {:>7.4} {:>7.4}",
             self.backend,
+            self.mode.name(),
             self.photons,
             self.spp,
             self.k,
@@ -110,20 +114,16 @@ impl std::fmt::Display for LadderRow {
     }
 }
 
-/// The title of the ladder's plot of `scene_path` rendered at `width` x `height` in `mode`.
-pub fn plot_title(
-    scene_path: &Path,
-    width: u32,
-    height: u32,
-    mode: crate::settings::Mode,
-) -> String {
+/// The title of the ladder's plot of `scene_path` rendered at `width` x `height` in `modes`.
+pub fn plot_title(scene_path: &Path, width: u32, height: u32, modes: &[Mode]) -> String {
     let name = scene_path.file_name().map_or_else(
         || scene_path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
+    let modes: Vec<&str> = modes.iter().map(|m| m.name()).collect();
     format!(
-        "speed against error: {name}, {width}x{height}, {} mode",
-        mode.name()
+        "speed against error: {name}, {width}x{height}, mode {}",
+        modes.join(" and ")
     )
 }
 
@@ -136,22 +136,28 @@ pub const LADDER: [(u32, u32, u32); 5] = [
     (400_000, 64, 100),
 ];
 
-/// Renders `scene` at each rung on each backend and measures it against `reference`.
+/// Renders `scene` at each rung in each of `modes` on each backend and measures it against
+/// `reference`.
 pub fn ladder(
     scene: &Scene,
     base: &RenderSettings,
     backends: &[Backend],
+    modes: &[Mode],
     reference: &Image,
     rungs: &[(u32, u32, u32)],
     mut on_row: impl FnMut(&LadderRow),
 ) -> Result<Vec<LadderRow>> {
     let mut rows = Vec::new();
-    for &b in backends {
+    let runs = backends
+        .iter()
+        .flat_map(|&b| modes.iter().map(move |&m| (b, m)));
+    for (b, mode) in runs {
         for &(photons, spp, k) in rungs {
             let s = RenderSettings {
                 photons,
                 spp,
                 k,
+                mode,
                 width: reference.width,
                 height: reference.height,
                 ..base.clone()
@@ -163,6 +169,7 @@ pub fn ladder(
             })?;
             let row = LadderRow {
                 backend: backend_name(b),
+                mode,
                 photons,
                 spp,
                 k,
@@ -181,7 +188,7 @@ pub fn ladder(
 
 /// The ladder as CSV: one header row, one row per run.
 pub fn ladder_csv(rows: &[LadderRow]) -> String {
-    let mut out = String::from("backend,photons,spp,k,trace_s,build_s,gather_s,total_s,rmse,rel_mse,mean_ratio_r,mean_ratio_g,mean_ratio_b\n");
+    let mut out = String::from("backend,mode,photons,spp,k,trace_s,build_s,gather_s,total_s,rmse,rel_mse,mean_ratio_r,mean_ratio_g,mean_ratio_b\n");
     for r in rows {
         let ph = |names: &[&str]| {
             r.phases
@@ -191,13 +198,14 @@ pub fn ladder_csv(rows: &[LadderRow]) -> String {
                 .sum::<f64>()
         };
         out.push_str(&format!(
-            "{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{:.5},{:.5},{:.5}\n",
+            "{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{:.5},{:.5},{:.5}\n",
             r.backend,
+            r.mode.name(),
             r.photons,
             r.spp,
             r.k,
             ph(&["trace photons"]),
-            ph(&["build kd-trees", "build grids"]),
+            ph(&["build kd-trees", "build grids", "build cache"]),
             ph(&["gather"]),
             r.total_s,
             r.rmse,

@@ -1,11 +1,12 @@
-//! The ladder's plot: RMSE against wall time, log-log, one curve per backend (plotters).
+//! The ladder's plot: RMSE against wall time, log-log, one curve per backend and mode
+//! (plotters).
 
 use super::LadderRow;
 
 /// Where the plot's font is looked for (Debian's fonts-dejavu-core).
 pub const PLOT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
-/// Plots RMSE against wall time, log-log, one curve per backend, as a PNG.
+/// Plots RMSE against wall time, log-log, one curve per backend and mode , as a PNG.
 pub fn plot(
     rows: &[LadderRow],
     path: &std::path::Path,
@@ -50,19 +51,24 @@ pub fn plot(
         .label_style(("sans-serif", 15))
         .draw()
         .map_err(|e| err(&e))?;
-    for (name, colour) in [("cpu", BLUE), ("gpu", RED)] {
+    let mut curves: Vec<(&str, crate::settings::Mode)> = Vec::new();
+    for r in rows {
+        if !curves.contains(&(r.backend, r.mode)) {
+            curves.push((r.backend, r.mode));
+        }
+    }
+    const COLOURS: [RGBColor; 6] = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
+    for (i, &(name, mode)) in curves.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
         let pts: Vec<(f64, f64)> = rows
             .iter()
-            .filter(|r| r.backend == name)
+            .filter(|r| r.backend == name && r.mode == mode)
             .map(|r| (r.total_s, r.rmse))
             .collect();
-        if pts.is_empty() {
-            continue;
-        }
         chart
             .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
             .map_err(|e| err(&e))?
-            .label(name)
+            .label(format!("{name}, {}", mode.name()))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
             });
