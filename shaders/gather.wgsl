@@ -1,16 +1,18 @@
-// gather: the camera pass, twin of src/cpu/gather.rs: camera ray, the mirror/glass chain (a
-// stochastic Fresnel choice), then at diffuse and glossy hits the photon maps' estimate
-// (common/estimate.wgsl), shadow rays, final-gather rays into radiance_cache.wgsl (mode
-// gather) and the glossy lobe as the same path. Dispatch: one invocation per pixel of sample
-// `params.sample`, GATHER_TILE^2 workgroups. Writes: accum[pixel] += radiance / spp.
+// gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the
+// mirror/glass chain (a stochastic Fresnel choice), then at diffuse and glossy hits the photon
+// maps' estimate, shadow rays, final-gather rays into radiance_cache.wgsl (mode gather; at the
+// first shaded hit the first area-light sample and the gather direction are Sobol points) and
+// the glossy lobe. One invocation per pixel of sample `params.sample`; accum += radiance / spp.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
 // Shadow-ray direct light: area lights through kd/pi, point lights through the whole BRDF
-// (or only the glossy lobe without TERM_DIRECT).
-fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>) -> vec3<f32> {
+// (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
+// takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
+fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
     let with_direct = (params.terms & TERM_DIRECT) != 0u;
     var total = vec3<f32>(0.0);
+    var sobol_left = use_sobol;
     for (var li = 0u; li < params.n_lights && spend(); li += 1u) {
         let light = lights[li];
         let is_point = HAS_POINT_LIGHTS && light.kind == LIGHT_POINT;
@@ -20,7 +22,14 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
         let samples = select(params.shadow_samples, 1u, is_point);
         var acc = vec3<f32>(0.0);
         for (var s = 0u; s < samples && spend(); s += 1u) {
-            let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
+            var u: vec3<f32>;
+            if sobol_left && !is_point {
+                sobol_left = false;
+                let uv = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_LIGHT);
+                u = vec3<f32>(uv, sobol_sample(sob.key, sob.index, SOBOL_DIM_LIGHT_THIRD));
+            } else {
+                u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
+            }
             let ls = sample_light(light, x, u);
             if all(ls.weight == vec3<f32>(0.0)) {
                 continue;
@@ -108,15 +117,12 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
 fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     let pixel = py * params.width + px;
     var rng = Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + sample), 0u);
-    let jx = rng_next(&rng);
-    let jy = rng_next(&rng);
-    let n = u32(sqrt(f32(params.spp)));
-    var fx = jx;
-    var fy = jy;
-    if n * n == params.spp {
-        fx = (f32(sample % n) + jx) / f32(n);
-        fy = (f32(sample / n) + jy) / f32(n);
-    }
+    let sob = sobol_stream(params.seed, params.pass_index, pixel, params.spp, sample);
+    let jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
+    let fx = jitter.x;
+    let fy = jitter.y;
+    // The first diffuse or glossy hit shaded takes the Sobol light and gather samples.
+    var first_shade = true;
     let w = f32(params.width);
     let h = f32(params.height);
     let sx = (2.0 * (f32(px) + fx) / w - 1.0) * (w / h);
@@ -163,8 +169,10 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         let wo = -d;
         let ns = select(-hit.normal, hit.normal, dot(wo, hit.normal) >= 0.0);
         var l = vec3<f32>(0.0);
+        let use_sobol = first_shade;
+        first_shade = false;
         if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && m.kind == MAT_GLOSSY) {
-            l += direct_light(hit.position, hit.normal, ns, wo, m, &rng);
+            l += direct_light(hit.position, hit.normal, ns, wo, m, &rng, sob, use_sobol);
         }
         let kd_pi = m.kd / PI;
         let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
@@ -173,9 +181,14 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         }
         l += estimate(1u, hit.position, ns, kd_pi);
         if final_gather && max3(m.kd) > 0.0 && can_continue {
-            let u1 = rng_next(&rng);
-            let u2 = rng_next(&rng);
-            let dir = cosine_hemisphere(ns, u1, u2);
+            var gu: vec2<f32>;
+            if use_sobol {
+                gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
+            } else {
+                gu.x = rng_next(&rng);
+                gu.y = rng_next(&rng);
+            }
+            let dir = cosine_hemisphere(ns, gu.x, gu.y);
             l += m.kd * gather_ray(hit.position, hit.normal, dir, depth, &rng);
         }
         radiance += throughput * l;

@@ -38,6 +38,16 @@ pub const INDEX_BITS: u32 = 16;
 
 const _: () = assert!(SET_DIMENSIONS == 2 && SET_DIMENSIONS <= sobol_burley::NUM_DIMENSIONS);
 
+/// Camera pass (both backends): the pair of the pixel jitter `(fx, fy)` of every sample.
+pub const PAIR_JITTER: u32 = 0;
+/// Camera pass: the pair of the first area-light shadow sample's `u[0], u[1]` at the first
+/// diffuse or glossy hit the sample shades.
+pub const PAIR_LIGHT: u32 = 1;
+/// Camera pass: the dimension of that shadow sample's `u[2]` (pair 2's first component).
+pub const DIM_LIGHT_THIRD: u32 = 4;
+/// Camera pass: the pair of the gather ray's direction `(u1, u2)` at that first hit.
+pub const PAIR_GATHER: u32 = 3;
+
 /// The key of one pixel's sequence: a hash of (seed, pixel).
 #[inline]
 pub fn pixel_key(seed: u32, pixel: u32) -> u32 {

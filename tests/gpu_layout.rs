@@ -598,6 +598,10 @@ fn shared_constants_agree() {
         "WG_SIZE",
         "SCAN_BLOCK",
         "GATHER_TILE",
+        "SOBOL_PAIR_JITTER",
+        "SOBOL_PAIR_LIGHT",
+        "SOBOL_DIM_LIGHT_THIRD",
+        "SOBOL_PAIR_GATHER",
     ] {
         if !shared.iter().any(|(n, _)| *n == name) {
             errors.push(format!("{name} is not in codes::shared_constants()"));
@@ -642,6 +646,22 @@ fn shared_constants_agree() {
         (
             "CACHE_NORMAL_COS",
             Literal::F32(gpu_photon::plan::CACHE_NORMAL_COS),
+        ),
+        (
+            "SOBOL_PAIR_JITTER",
+            Literal::U32(gpu_photon::sobol::PAIR_JITTER),
+        ),
+        (
+            "SOBOL_PAIR_LIGHT",
+            Literal::U32(gpu_photon::sobol::PAIR_LIGHT),
+        ),
+        (
+            "SOBOL_DIM_LIGHT_THIRD",
+            Literal::U32(gpu_photon::sobol::DIM_LIGHT_THIRD),
+        ),
+        (
+            "SOBOL_PAIR_GATHER",
+            Literal::U32(gpu_photon::sobol::PAIR_GATHER),
         ),
     ];
     let mut check = |kernel: Kernel, name: &str, rust: Literal| match constant(module(kernel), name)

@@ -1,7 +1,7 @@
 //! The gather ray of final gathering on the CPU (twin: `gather_ray` in `shaders/gather.wgsl`).
 //! At a diffuse or glossy camera hit x in `gather` mode one cosine-weighted direction about
 //! the facing normal is drawn (`rng.next2()`, after the direct light and before the glossy
-//! lobe ray); the ray follows mirrors (times ks) and glass (always one branch: one
+//! lobe ray; at the sample's first shaded hit Sobol pair `sobol::PAIR_GATHER` instead); the ray follows mirrors (times ks) and glass (always one branch: one
 //! `rng.next()` < reflectance reflects, 1 on total internal reflection), depth + 1 per bounce
 //! up to `max_depth`, ignores emission (shadow rays and the caustic map count it), and at
 //! its first diffuse or glossy hit y returns kd(y) times the radiance cache at y (normal
@@ -14,14 +14,26 @@ use crate::material::{dielectric, reflect};
 use crate::rng::Rng;
 use crate::sampling::cosine_hemisphere;
 use crate::scene::MaterialKind;
+use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
 
 impl Gatherer<'_> {
     /// Indirect diffuse light at camera hit `hit` (facing normal `ns`, camera depth `depth`)
-    /// by one gather ray, before the factor kd(x): draws (u1, u2) from `rng` for the
-    /// direction, then one number per glass bounce.
-    pub fn final_gather(&self, hit: &Hit, ns: Vec3, depth: u32, rng: &mut Rng) -> Vec3 {
-        let (u1, u2) = rng.next2();
+    /// by one gather ray, before the factor kd(x): (u1, u2) for the direction from `sobol`'s
+    /// pair `PAIR_GATHER` when given (the first shaded hit), else from `rng`; then one `rng`
+    /// number per glass bounce.
+    pub fn final_gather(
+        &self,
+        hit: &Hit,
+        ns: Vec3,
+        depth: u32,
+        rng: &mut Rng,
+        sobol: Option<SobolStream>,
+    ) -> Vec3 {
+        let (u1, u2) = match sobol {
+            Some(st) => sample_pair(st.key, st.index, PAIR_GATHER),
+            None => rng.next2(),
+        };
         let dir = cosine_hemisphere(ns, u1, u2);
         self.gather_ray(
             &Ray {

@@ -2,6 +2,14 @@
 //! supersampling, the mirror/glass chain, and at diffuse and glossy hits the radiance
 //! estimate from the photon maps and (in `direct` and `gather` modes) shadow rays to the
 //! lights; in `gather` mode the gather ray of `final_gather.rs` stands for the global map.
+//!
+//! Low-discrepancy samples (`crate::sobol`, issue 10): the pixel jitter is Sobol pair
+//! [`PAIR_JITTER`] of the sample; at the *first diffuse or glossy hit the sample shades* (the
+//! first `shade` call, after any mirror/glass chain; with a glass split below
+//! [`GLASS_SPLIT_DEPTH`] that is the reflected branch's, traced first) the first shadow sample
+//! of the first sampled area light takes `u[0], u[1]` from pair [`PAIR_LIGHT`] and `u[2]` from
+//! dimension [`DIM_LIGHT_THIRD`], and the gather direction takes pair [`crate::sobol::PAIR_GATHER`]. Those
+//! numbers are not drawn from the hash `Rng` at all; every other draw stays on it, in order.
 
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
@@ -14,6 +22,9 @@ use crate::rng::Rng;
 use crate::sampling::phong_lobe;
 use crate::scene::{LightShape, Material, MaterialKind, Scene};
 use crate::settings::RenderSettings;
+use crate::sobol::{
+    sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
+};
 use glam::Vec3;
 
 /// Below this depth a glass hit traces both the reflected and the refracted ray; deeper,
@@ -44,9 +55,8 @@ impl Gatherer<'_> {
     /// Mean radiance of pixel (x, y) over `spp` jittered camera samples.
     pub fn pixel(&self, x: u32, y: u32, pass: u32) -> Vec3 {
         let s = self.settings;
-        let n = (s.spp as f32).sqrt() as u32;
-        let stratified = n * n == s.spp;
         let pixel_index = y * s.width + x;
+        let sobol = SobolSampler::new(s.seed, pass, pixel_index, s.spp);
         let mut sum = Vec3::ZERO;
         for i in 0..s.spp {
             let mut rng = Rng::new(
@@ -55,15 +65,8 @@ impl Gatherer<'_> {
                 pass,
                 pixel_index.wrapping_mul(s.spp).wrapping_add(i),
             );
-            let (jx, jy) = rng.next2();
-            let (fx, fy) = if stratified {
-                (
-                    ((i % n) as f32 + jx) / n as f32,
-                    ((i / n) as f32 + jy) / n as f32,
-                )
-            } else {
-                (jx, jy)
-            };
+            let stream = sobol.stream(i);
+            let (fx, fy) = sample_pair(stream.key, stream.index, PAIR_JITTER);
             let dir = self
                 .scene
                 .camera
@@ -75,13 +78,22 @@ impl Gatherer<'_> {
                 },
                 0,
                 &mut rng,
+                &mut Some(stream),
             );
         }
         sum / s.spp as f32
     }
 
     /// Radiance arriving along `ray` (the chain of specular bounces, then shading).
-    pub fn radiance(&self, ray: &Ray, depth: u32, rng: &mut Rng) -> Vec3 {
+    /// `first` is the sample's Sobol stream until a diffuse or glossy hit is shaded (which
+    /// takes it; see the module's doc), then `None`.
+    pub fn radiance(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        rng: &mut Rng,
+        first: &mut Option<SobolStream>,
+    ) -> Vec3 {
         let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
             return Vec3::ZERO;
         };
@@ -110,6 +122,7 @@ impl Gatherer<'_> {
                             },
                             depth + 1,
                             rng,
+                            first,
                         )
             }
             MaterialKind::Glass => {
@@ -117,7 +130,7 @@ impl Gatherer<'_> {
                     return emitted;
                 }
                 let g = dielectric(ray.dir, hit.normal, m.ior, self.settings.fresnel);
-                let trace = |dir: Vec3, rng: &mut Rng| {
+                let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
                     self.radiance(
                         &Ray {
                             origin: offset_origin(hit.position, hit.normal, dir),
@@ -125,29 +138,40 @@ impl Gatherer<'_> {
                         },
                         depth + 1,
                         rng,
+                        first,
                     )
                 };
                 let Some(t) = g.refracted else {
-                    return emitted + trace(g.reflected, rng);
+                    return emitted + trace(g.reflected, rng, first);
                 };
                 if depth < GLASS_SPLIT_DEPTH {
-                    emitted
-                        + g.reflectance * trace(g.reflected, rng)
-                        + (1.0 - g.reflectance) * trace(t, rng)
+                    // The reflected branch first: it gets the Sobol hit if one is left.
+                    let r = trace(g.reflected, rng, first);
+                    emitted + g.reflectance * r + (1.0 - g.reflectance) * trace(t, rng, first)
                 } else if rng.next() < g.reflectance {
-                    emitted + trace(g.reflected, rng)
+                    emitted + trace(g.reflected, rng, first)
                 } else {
-                    emitted + trace(t, rng)
+                    emitted + trace(t, rng, first)
                 }
             }
             MaterialKind::Diffuse | MaterialKind::Glossy => {
-                emitted + self.shade(&hit, m, -ray.dir, depth, rng)
+                let sobol = first.take();
+                emitted + self.shade(&hit, m, -ray.dir, depth, rng, sobol)
             }
         }
     }
 
-    /// Radiance leaving a diffuse or glossy hit towards `wo`.
-    fn shade(&self, hit: &Hit, m: &Material, wo: Vec3, depth: u32, rng: &mut Rng) -> Vec3 {
+    /// Radiance leaving a diffuse or glossy hit towards `wo`; `sobol` is the sample's Sobol
+    /// stream at its first shaded hit (first shadow sample and gather direction), else `None`.
+    fn shade(
+        &self,
+        hit: &Hit,
+        m: &Material,
+        wo: Vec3,
+        depth: u32,
+        rng: &mut Rng,
+        sobol: Option<SobolStream>,
+    ) -> Vec3 {
         let ns = if wo.dot(hit.normal) >= 0.0 {
             hit.normal
         } else {
@@ -156,7 +180,7 @@ impl Gatherer<'_> {
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
-            l += self.direct(hit, m, ns, wo, rng);
+            l += self.direct(hit, m, ns, wo, rng, sobol);
         }
         // The photon estimate uses the diffuse part; the glossy lobe is traced below.
         let kd_over_pi = m.kd / std::f32::consts::PI;
@@ -180,7 +204,7 @@ impl Gatherer<'_> {
             }
         }
         if self.terms.final_gather && depth < s.max_depth && m.kd.max_element() > 0.0 {
-            l += m.kd * self.final_gather(hit, ns, depth, rng);
+            l += m.kd * self.final_gather(hit, ns, depth, rng, sobol);
         }
         if self.terms.lobe_ray
             && m.kind == MaterialKind::Glossy
@@ -199,6 +223,7 @@ impl Gatherer<'_> {
                     },
                     depth + 1,
                     rng,
+                    &mut None,
                 );
             }
         }
@@ -207,7 +232,16 @@ impl Gatherer<'_> {
 
     /// Direct light by shadow rays. With `terms.direct`: area lights through the diffuse part
     /// and point lights through the whole BRDF; otherwise only point lights' glossy lobe.
-    fn direct(&self, hit: &Hit, m: &Material, ns: Vec3, wo: Vec3, rng: &mut Rng) -> Vec3 {
+    /// With `sobol`, the first area-light sample takes its three numbers from it.
+    fn direct(
+        &self,
+        hit: &Hit,
+        m: &Material,
+        ns: Vec3,
+        wo: Vec3,
+        rng: &mut Rng,
+        mut sobol: Option<SobolStream>,
+    ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for (li, light) in self.scene.lights.iter().enumerate() {
             let is_point = matches!(light.shape, LightShape::Point { .. });
@@ -221,7 +255,14 @@ impl Gatherer<'_> {
             };
             let mut acc = Vec3::ZERO;
             for _ in 0..n_samples {
-                let u = [rng.next(), rng.next(), rng.next()];
+                let sobol_here = if is_point { None } else { sobol.take() };
+                let u = match sobol_here {
+                    Some(st) => {
+                        let (u0, u1) = sample_pair(st.key, st.index, PAIR_LIGHT);
+                        [u0, u1, sample(st.key, st.index, DIM_LIGHT_THIRD)]
+                    }
+                    None => [rng.next(), rng.next(), rng.next()],
+                };
                 let ls = self.lights.sample(self.scene, li, hit.position, u);
                 if ls.weight == Vec3::ZERO {
                     continue;

@@ -13,7 +13,8 @@ pub enum Kernel {
     /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid.
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
-    /// `shaders/radiance_cache.wgsl` (the final gather's cache build and lookup).
+    /// `shaders/radiance_cache.wgsl` (the final gather's cache build and lookup) and the
+    /// Sobol library (`crate::sobol::wgsl_library`).
     Gather,
     /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
     Probes,
@@ -100,10 +101,13 @@ impl Kernel {
         let libs: &[&str] = &[
             &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
         ];
+        // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
+        // samples): the library with its generated direction table, after rng.wgsl.
+        let sobol = crate::sobol::wgsl_library();
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
-            Kernel::Gather => &[ESTIMATE, RADIANCE_CACHE, GATHER],
+            Kernel::Gather => &[&sobol, ESTIMATE, RADIANCE_CACHE, GATHER],
             Kernel::Probes => &[ESTIMATE, RADIANCE_CACHE, PROBES],
         };
         libs.iter()
