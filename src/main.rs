@@ -303,17 +303,7 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
     let s = bench::bench_settings(&scene, args.photons, args.spp, args.width, args.height);
     let which = BenchBackends::of(args.backend.map(BackendArg::choice));
     let modes = match &args.modes {
-        Some(list) => list
-            .split(',')
-            .map(|m| {
-                Mode::parse(m.trim()).with_context(|| {
-                    format!(
-                        "--modes {list}: `{m}` is not one of {}",
-                        Mode::NAMES.join(", ")
-                    )
-                })
-            })
-            .collect::<Result<Vec<_>>>()?,
+        Some(list) => Mode::parse_list(list)?,
         None => vec![s.mode],
     };
     println!("{}", bench::heading(&args.scene, &s, args.runs));

@@ -46,6 +46,22 @@ impl Mode {
             _ => return None,
         })
     }
+    /// The modes of a comma-separated `list` (`direct,gather`); an unknown name is an
+    /// [`Error::Setting`] on `modes` naming it and the modes there are.
+    pub fn parse_list(list: &str) -> Result<Vec<Self>> {
+        list.split(',')
+            .map(|m| {
+                Mode::parse(m.trim()).ok_or_else(|| Error::Setting {
+                    field: "modes",
+                    message: format!(
+                        "`{}` in `{list}` is not one of {}",
+                        m.trim(),
+                        Mode::NAMES.join(", ")
+                    ),
+                })
+            })
+            .collect()
+    }
     /// The mode's name, as [`Mode::parse`] reads it.
     pub fn name(self) -> &'static str {
         match self {

@@ -475,7 +475,7 @@ fn bench_modes_are_checked_before_rendering() {
     ]);
     let err = assert_fails_cleanly(&o, "bench --modes direct,fast");
     assert!(
-        err.contains("--modes direct,fast: `fast` is not one of photon, direct, gather, direct-only, global-only, caustic-only"),
+        err.contains("invalid setting modes: `fast` in `direct,fast` is not one of photon, direct, gather, direct-only, global-only, caustic-only"),
         "{err}"
     );
     assert!(
