@@ -125,11 +125,11 @@ fn caustics_xml_is_the_toml_scene() {
 
 #[test]
 fn cornell_xml_matches_reference() {
-    // The TOML test's settings (tests/reference.rs: the scene's own, 64 spp, gather mode),
+    // The TOML test's settings (tests/reference.rs: the scene's own, 128 spp, gather mode),
     // the same bounds: mean ratio within 2%, RMSE < 0.02, block RMSE < 0.006.
     let xml = load_path(&data("cornell-diffuse.xml"));
     let settings = load_path(&root().join("scenes/cornell-box.toml")).settings;
-    assert_eq!((settings.mode, settings.spp), (Mode::Gather, 64));
+    assert_eq!((settings.mode, settings.spp), (Mode::Gather, 128));
     let img = render_cpu(&xml, &settings);
     let reference = Image::read(&data("cornell-diffuse.exr")).expect("reference");
     let d = diff(&img, &reference, 16).expect("same size");

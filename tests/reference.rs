@@ -106,9 +106,10 @@ fn cornell_box_default_settings_match_reference() {
                 ratio_ok(&d, 0.98, 1.02),
                 format!("mean ratio {:?} outside 0.98..1.02", d.mean_ratio),
             ),
-            // Per-pixel RMSE is dominated by area-light sampling and the gather ray at
-            // 64 spp (measured 0.0133; the reference's own is 0.0014).
-            (d.rmse < 0.02, format!("RMSE {} >= 0.02", d.rmse)),
+            // Per-pixel RMSE is dominated by area-light sampling and the gather ray at the
+            // scene's 128 spp (measured 0.0040 with Sobol samples; the reference's own is
+            // 0.0014). 0.0058 is issue 10's target (Mitsuba's error at 1,024 spp).
+            (d.rmse < 0.0058, format!("RMSE {} >= 0.0058", d.rmse)),
             // 16x16 block means keep bias and lose most noise (measured 0.00096 in `gather`):
             // a shifted or blurred shadow, a colour-bleeding error, or the photon map's
             // blotches show here (`direct` mode, which reads the global map at every sample,

@@ -446,6 +446,7 @@ fn cornell_reference_scene() {
         s.settings,
         RenderSettings {
             mode: Mode::Gather,
+            spp: 128,
             ..RenderSettings::default()
         }
     );
