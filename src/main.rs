@@ -456,23 +456,16 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
     Ok(())
 }
 
-/// Mesa's Vulkan drivers print an error on every device creation when XDG_RUNTIME_DIR is
-/// unset (headless machines); give them a private directory instead.
-fn quiet_headless_vulkan() {
-    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
-        return;
-    }
-    let dir = std::env::temp_dir().join("gpu-photon-runtime");
-    if std::fs::create_dir_all(&dir).is_ok() {
-        use std::os::unix::fs::PermissionsExt;
-        let _ = std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700));
-        std::env::set_var("XDG_RUNTIME_DIR", &dir);
-    }
-}
-
 fn main() -> ExitCode {
+    // SAFETY: called before any thread starts. The default SIGPIPE action ends the process
+    // quietly when its output pipe closes (`gpu-photon diff A B | head -1`), instead of a
+    // panic in `println!`.
+    #[cfg(unix)]
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
-    quiet_headless_vulkan();
+    gpu_photon::gpu::quiet_headless_vulkan();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
         Command::Adapters => run_adapters(),

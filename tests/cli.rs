@@ -484,3 +484,26 @@ fn bench_modes_are_checked_before_rendering() {
         stdout(&o)
     );
 }
+
+/// Output into a pipe that closes early (`gpu-photon diff A B | head -1`) ends the process
+/// quietly, as other command-line tools do, never with a panic in `println!`.
+#[test]
+fn a_closed_output_pipe_is_no_panic() {
+    use std::process::Stdio;
+    let reference = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/cornell-diffuse.exr"
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+        .args(["diff", reference, reference])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run gpu-photon");
+    // Close the reading end before the two images are read and the first line is printed.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait");
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_ne!(out.status.code(), Some(101), "{err}");
+}

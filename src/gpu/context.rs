@@ -168,3 +168,18 @@ impl GpuContext {
         format!("gpu: {} ({:?}, {:?})", i.name, i.backend, i.device_type)
     }
 }
+
+/// Mesa's Vulkan drivers print an error on every device creation when XDG_RUNTIME_DIR is
+/// unset (headless machines); this gives them a private directory instead. Call it at
+/// start-up, before any thread exists (it sets an environment variable).
+pub fn quiet_headless_vulkan() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return;
+    }
+    let dir = std::env::temp_dir().join("gpu-photon-runtime");
+    if std::fs::create_dir_all(&dir).is_ok() {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700));
+        std::env::set_var("XDG_RUNTIME_DIR", &dir);
+    }
+}
