@@ -29,66 +29,71 @@ fn settings(scene: &gpu_photon::Scene, seed: u32) -> RenderSettings {
     }
 }
 
-#[test]
-fn gpu_matches_cpu_on_every_scene() {
-    let Some(_ctx) = gpu() else { return };
-    let mut failures = Vec::new();
+/// The example scenes, sorted.
+fn scene_paths() -> Vec<std::path::PathBuf> {
     let mut paths: Vec<_> = std::fs::read_dir("scenes")
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     paths.sort();
-    for path in paths {
-        let scene = gpu_photon::scene::load(&path).unwrap();
-        let run = |backend, seed| {
-            render(
-                &scene,
-                &settings(&scene, seed),
-                backend,
-                Progress::default(),
-            )
+    paths
+}
+
+/// Renders `scene` with `settings(seed)` on the CPU at seeds 1 and 2 and on the GPU at seed
+/// 1, and adds to `failures` what disagrees: the statistic of the module comment, and without
+/// glass (where both backends draw the same numbers for the same paths, so only float rounding
+/// and fused multiply-adds separate them) the same-seed images far below the noise.
+fn compare_backends(
+    what: &str,
+    scene: &gpu_photon::Scene,
+    settings: impl Fn(u32) -> RenderSettings,
+    failures: &mut Vec<String>,
+) {
+    let run = |backend, seed| {
+        render(scene, &settings(seed), backend, Progress::default())
             .unwrap()
             .0
-        };
-        let cpu1 = run(Backend::Cpu, 1);
-        let cpu2 = run(Backend::Cpu, 2);
-        let gpu1 = run(Backend::Gpu, 1);
-        assert_eq!(
-            gpu1.non_finite(),
-            0,
-            "{}: NaN or infinity in the GPU image",
-            path.display()
-        );
-        let self_d = diff(&cpu1, &cpu2, 8).unwrap();
-        let cross = diff(&gpu1, &cpu2, 8).unwrap();
-        let line = format!(
-            "{}: rmse gpu1-cpu2 {:.5} vs cpu1-cpu2 {:.5}; block {:.5} vs {:.5}",
-            path.display(),
-            cross.rmse,
-            self_d.rmse,
-            cross.block_rmse,
-            self_d.block_rmse
-        );
-        eprintln!("{line}");
-        let (pixels, blocks) = common::within_seed_noise(&cross, &self_d, 1e-6);
-        if !(pixels && blocks) {
-            failures.push(line);
+    };
+    let cpu1 = run(Backend::Cpu, 1);
+    let cpu2 = run(Backend::Cpu, 2);
+    let gpu1 = run(Backend::Gpu, 1);
+    assert_eq!(
+        gpu1.non_finite(),
+        0,
+        "{what}: NaN or infinity in the GPU image"
+    );
+    let self_d = diff(&cpu1, &cpu2, 8).unwrap();
+    let cross = diff(&gpu1, &cpu2, 8).unwrap();
+    let line = format!(
+        "{what}: rmse gpu1-cpu2 {:.5} vs cpu1-cpu2 {:.5}; block {:.5} vs {:.5}",
+        cross.rmse, self_d.rmse, cross.block_rmse, self_d.block_rmse
+    );
+    eprintln!("{line}");
+    let (pixels, blocks) = common::within_seed_noise(&cross, &self_d, 1e-6);
+    if !(pixels && blocks) {
+        failures.push(line);
+    }
+    if !scene.has_glass() {
+        let same = diff(&gpu1, &cpu1, 8).unwrap();
+        if same.rmse > 0.01 * self_d.rmse {
+            failures.push(format!(
+                "{what}: same seed, rmse gpu1-cpu1 {:.6} is not << {:.6}",
+                same.rmse, self_d.rmse
+            ));
         }
-        // Without glass both backends draw the same numbers for the same paths (the counter
-        // RNG is shared), so the images agree far below the noise: only float rounding and
-        // fused multiply-adds separate them.
-        if !scene.has_glass() {
-            let same = diff(&gpu1, &cpu1, 8).unwrap();
-            if same.rmse > 0.01 * self_d.rmse {
-                failures.push(format!(
-                    "{}: same seed, rmse gpu1-cpu1 {:.6} is not << {:.6}",
-                    path.display(),
-                    same.rmse,
-                    self_d.rmse
-                ));
-            }
-        }
+    }
+}
+
+/// Every example scene in its own mode (`gather` for most).
+#[test]
+fn gpu_matches_cpu_on_every_scene() {
+    let Some(_ctx) = gpu() else { return };
+    let mut failures = Vec::new();
+    for path in scene_paths() {
+        let scene = gpu_photon::scene::load(&path).unwrap();
+        let what = path.display().to_string();
+        compare_backends(&what, &scene, |seed| settings(&scene, seed), &mut failures);
     }
     assert!(
         failures.is_empty(),
@@ -163,53 +168,20 @@ fn one_gpu_renderer_renders_pass_after_pass() {
     }
 }
 
-/// Final gathering (mode `gather`) on both backends: the same statistic as above on the
-/// scenes with and without glass. Both backends draw the same numbers for each camera sample
-/// (camera jitter, shadow ray, then the gather direction), cache the same photons (chosen by
-/// identity) and look them up by the same rule, so the images must agree within seed noise.
+/// Every example scene in mode `direct` (the global map read at every camera hit, kept beside
+/// `gather` for comparison): the same statistic.
 #[test]
-fn gpu_matches_cpu_in_gather_mode() {
+fn gpu_matches_cpu_in_direct_mode() {
     let Some(_ctx) = gpu() else { return };
     let mut failures = Vec::new();
-    for name in ["scenes/cornell-box.toml", "scenes/cornell-caustics.toml"] {
-        let scene = gpu_photon::scene::load(std::path::Path::new(name)).unwrap();
-        let run = |backend, seed| {
-            let s = RenderSettings {
-                mode: gpu_photon::settings::Mode::Gather,
-                ..settings(&scene, seed)
-            };
-            render(&scene, &s, backend, Progress::default()).unwrap().0
+    for path in scene_paths() {
+        let scene = gpu_photon::scene::load(&path).unwrap();
+        let what = format!("{} (direct)", path.display());
+        let direct = |seed| RenderSettings {
+            mode: gpu_photon::settings::Mode::Direct,
+            ..settings(&scene, seed)
         };
-        let cpu1 = run(Backend::Cpu, 1);
-        let cpu2 = run(Backend::Cpu, 2);
-        let gpu1 = run(Backend::Gpu, 1);
-        assert_eq!(
-            gpu1.non_finite(),
-            0,
-            "{name}: NaN or infinity in the GPU image"
-        );
-        let self_d = diff(&cpu1, &cpu2, 8).unwrap();
-        let cross = diff(&gpu1, &cpu2, 8).unwrap();
-        let line = format!(
-            "{name} (gather): rmse gpu1-cpu2 {:.5} vs cpu1-cpu2 {:.5}; block {:.5} vs {:.5}",
-            cross.rmse, self_d.rmse, cross.block_rmse, self_d.block_rmse
-        );
-        eprintln!("{line}");
-        let (pixels, blocks) = common::within_seed_noise(&cross, &self_d, 1e-6);
-        if !(pixels && blocks) {
-            failures.push(line);
-        }
-        // Without glass the same seed draws the same numbers on both backends, gather
-        // directions and cache points included: the images agree far below the noise.
-        if !scene.has_glass() {
-            let same = diff(&gpu1, &cpu1, 8).unwrap();
-            if same.rmse > 0.01 * self_d.rmse {
-                failures.push(format!(
-                    "{name} (gather): same seed, rmse gpu1-cpu1 {:.6} is not << {:.6}",
-                    same.rmse, self_d.rmse
-                ));
-            }
-        }
+        compare_backends(&what, &scene, direct, &mut failures);
     }
     assert!(
         failures.is_empty(),
