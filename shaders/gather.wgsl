@@ -70,6 +70,22 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
     return total;
 }
 
+// One mirror or glass bounce at `hit` of a ray along *d: the mirror reflects about the normal
+// facing the ray and scales *t by ks; glass takes one rng draw to choose the reflected
+// (u < Fresnel reflectance) or refracted branch. *o becomes the offset origin of the new ray.
+fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) {
+    if m.kind == MAT_MIRROR {
+        let ns = select(-hit.normal, hit.normal, dot(*d, hit.normal) < 0.0);
+        *t *= m.ks;
+        *d = reflect_dir(*d, ns);
+    } else {
+        let g = dielectric(*d, hit.normal, m.ior);
+        let u = rng_next(rng);
+        *d = select(g.refracted, g.reflected, u < g.reflectance);
+    }
+    *o = offset_origin(hit.position, hit.normal, *d);
+}
+
 // A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
 // through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
 // per bounce up to max_depth, to its first diffuse or glossy hit y, where it returns
@@ -88,24 +104,11 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         if m.kind == MAT_BLACK {
             break;
         }
-        if m.kind == MAT_MIRROR {
+        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
             if !can_continue {
                 break;
             }
-            let ns = select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0);
-            t *= m.ks;
-            d = reflect_dir(d, ns);
-            o = offset_origin(hit.position, hit.normal, d);
-            continue;
-        }
-        if HAS_GLASS && m.kind == MAT_GLASS {
-            if !can_continue {
-                break;
-            }
-            let g = dielectric(d, hit.normal, m.ior);
-            let u = rng_next(rng);
-            d = select(g.refracted, g.reflected, u < g.reflectance);
-            o = offset_origin(hit.position, hit.normal, d);
+            specular_bounce(hit, m, &d, &o, &t, rng);
             continue;
         }
         let ny = select(-hit.normal, hit.normal, dot(-d, hit.normal) >= 0.0);
@@ -145,24 +148,11 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         if m.kind == MAT_BLACK {
             break;
         }
-        if m.kind == MAT_MIRROR {
+        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
             if !can_continue {
                 break;
             }
-            let ns = select(-hit.normal, hit.normal, front);
-            throughput *= m.ks;
-            d = reflect_dir(d, ns);
-            o = offset_origin(hit.position, hit.normal, d);
-            continue;
-        }
-        if HAS_GLASS && m.kind == MAT_GLASS {
-            if !can_continue {
-                break;
-            }
-            let g = dielectric(d, hit.normal, m.ior);
-            let u = rng_next(&rng);
-            d = select(g.refracted, g.reflected, u < g.reflectance);
-            o = offset_origin(hit.position, hit.normal, d);
+            specular_bounce(hit, m, &d, &o, &throughput, &rng);
             continue;
         }
         // Diffuse or glossy: shade.
