@@ -245,10 +245,7 @@ fn gpu_gather_mode_renders_the_cornell_box() {
     .unwrap();
     assert_eq!(img.non_finite(), 0, "NaN or infinite pixels");
     assert!(
-        report
-            .phases
-            .iter()
-            .any(|(name, _)| *name == "radiance cache"),
+        report.phases.iter().any(|(name, _)| *name == "build cache"),
         "no radiance cache was built: {:?}",
         report.phases
     );
@@ -271,7 +268,7 @@ fn gpu_gather_mode_renders_the_cornell_box() {
         !direct_report
             .phases
             .iter()
-            .any(|(name, _)| *name == "radiance cache"),
+            .any(|(name, _)| *name == "build cache"),
         "mode direct built a radiance cache"
     );
     let reference = Image::read(&root.join("tests/data/cornell-diffuse.exr")).unwrap();

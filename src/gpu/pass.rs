@@ -70,7 +70,7 @@ impl GpuRun {
                     let t = Instant::now();
                     let stored = report.global_stored as u32;
                     self.build_cache(&global, stored, &caustic, accum)?;
-                    report.phase("radiance cache", t);
+                    report.phase("build cache", t);
                 }
                 let t = Instant::now();
                 self.gather(s, &global, &caustic, accum, progress)?;
