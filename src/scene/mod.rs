@@ -11,6 +11,7 @@ mod builder;
 mod file;
 mod gltf;
 mod locate;
+mod mesh_file;
 pub mod mitsuba;
 mod obj;
 mod ply;

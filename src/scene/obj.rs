@@ -5,27 +5,9 @@
 //! `(v0, v1, v2), (v0, v2, v3), ...`, keeping the file's winding, so a face's front normal is
 //! `cross(v1 - v0, v2 - v0)`.
 
-use super::builder::{SceneBuilder, Surface};
-use super::locate::{Locate, Part};
-use crate::error::Result;
 use glam::Vec3;
 use std::io::BufReader;
 use std::path::Path;
-
-/// Adds the OBJ file at `path`, scaled then translated, to `builder` as one shape of
-/// `surface`. A file that cannot be read or used is an error on [`Part::Geometry`] whose
-/// message names the resolved path.
-pub(crate) fn add_obj(
-    builder: &mut SceneBuilder,
-    path: &Path,
-    scale: Vec3,
-    translate: Vec3,
-    surface: Surface,
-    at: &dyn Locate,
-) -> Result<()> {
-    let tris = load_triangles(path).map_err(|m| at.error(Part::Geometry, m))?;
-    builder.add_mesh(transform(tris, scale, translate), surface, at)
-}
 
 /// Loads the triangles of the OBJ file at `path` (in the file's coordinates).
 ///
@@ -40,18 +22,6 @@ pub(crate) fn load_triangles(path: &Path) -> Result<Vec<[Vec3; 3]>, String> {
         }
         result => result.map_err(|e| format!("{}: {e}", path.display())),
     }
-}
-
-/// Scales, then translates, `tris`. A scale that mirrors (negative product) also reverses
-/// the winding, so that front faces stay on the same side of the surface.
-pub(crate) fn transform(mut tris: Vec<[Vec3; 3]>, scale: Vec3, translate: Vec3) -> Vec<[Vec3; 3]> {
-    for tri in &mut tris {
-        *tri = tri.map(|p| p * scale + translate);
-        if scale.x * scale.y * scale.z < 0.0 {
-            tri.swap(1, 2);
-        }
-    }
-    tris
 }
 
 /// Parses OBJ `text` into triangles; see [`load_triangles`].

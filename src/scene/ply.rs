@@ -8,9 +8,6 @@
 //! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
 //! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.
 
-use super::builder::{SceneBuilder, Surface};
-use super::locate::{Locate, Part};
-use super::obj;
 use crate::error::Result;
 use glam::Vec3;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
@@ -184,22 +181,6 @@ fn invalid(path: &Path, e: &ParseError, has_lines: bool) -> PlyError {
         line: e.line().filter(|_| has_lines),
         message: format!("not a valid PLY file: {what}"),
     }
-}
-
-/// Adds the PLY file at `path`, scaled then translated (a mirroring scale reverses the
-/// winding, as for OBJ meshes), to `builder` as one shape of `surface`. A file that cannot be
-/// read or used is an error on [`Part::Geometry`] whose message is the [`PlyError`].
-pub(crate) fn add_ply(
-    builder: &mut SceneBuilder,
-    path: &Path,
-    scale: Vec3,
-    translate: Vec3,
-    surface: Surface,
-    at: &dyn Locate,
-) -> Result<()> {
-    let mesh = read_ply(path).map_err(|e| at.error(Part::Geometry, e.to_string()))?;
-    let tris = obj::transform(mesh.triangle_positions(), scale, translate);
-    builder.add_mesh(tris, surface, at)
 }
 
 /// Checks that `element` has the scalar float or double property `name`.

@@ -10,7 +10,7 @@
 use super::builder::{SceneBuilder, Surface};
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use super::{obj, ply, Material, Scene};
+use super::{mesh_file, Material, Scene};
 use crate::error::Result;
 use crate::scene::file;
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, SETTINGS};
@@ -243,11 +243,7 @@ fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
             let scale = scale.map_err(|m| t.fail("scale", m))?;
             let translate = t.vec3("translate")?.unwrap_or(Vec3::ZERO);
             let path = base_dir.join(file);
-            let is_ply = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-            let add = if is_ply { ply::add_ply } else { obj::add_obj };
-            add(b, &path, scale, translate, surface, &at("file"))
+            mesh_file::add_mesh_file(b, &path, scale, translate, surface, &at("file"))
         }
     }
 }

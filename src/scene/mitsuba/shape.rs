@@ -6,8 +6,7 @@ use super::plugin::Plugin;
 use super::{bsdf, Importer};
 use crate::error::Result;
 use crate::scene::builder::Surface;
-use crate::scene::obj;
-use crate::scene::ply::read_ply;
+use crate::scene::mesh_file::{self, MeshFormat};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -154,13 +153,13 @@ impl Importer<'_> {
                     .children()
                     .find(|c| c.attribute("name") == Some("filename"));
                 let node = node.unwrap_or(p.node);
-                let tris = if p.kind == "obj" {
-                    obj::load_triangles(&path).map_err(|m| cx.err(node, &p.at("filename"), m))?
+                let format = if p.kind == "obj" {
+                    MeshFormat::Obj
                 } else {
-                    let mesh = read_ply(&path)
-                        .map_err(|e| cx.err(node, &p.at("filename"), e.to_string()))?;
-                    mesh.triangle_positions()
+                    MeshFormat::Ply
                 };
+                let tris = mesh_file::load_triangles(&path, format)
+                    .map_err(|m| cx.err(node, &p.at("filename"), m))?;
                 p.ignore(&["face_normals", "flip_tex_coords"]);
                 tris
             }
