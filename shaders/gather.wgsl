@@ -169,7 +169,9 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         if !final_gather {
             l += estimate(0u, hit.position, ns, kd_pi);
         }
-        l += estimate(1u, hit.position, ns, kd_pi);
+        if params.caustic_weight > 0.0 {
+            l += params.caustic_weight * estimate(1u, hit.position, ns, kd_pi);
+        }
         if final_gather && max3(m.kd) > 0.0 && can_continue {
             var gu: vec2<f32>;
             if use_sobol {

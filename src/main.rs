@@ -129,6 +129,9 @@ struct RenderArgs {
     /// Shadow rays per area light per camera sample (direct mode).
     #[arg(long)]
     shadow_samples: Option<u32>,
+    /// Run the caustic-map estimate on one camera sample in N (1: every sample).
+    #[arg(long)]
+    caustic_every: Option<u32>,
     /// photon | direct | gather | direct-only | global-only | caustic-only
     #[arg(long)]
     mode: Option<String>,
@@ -187,6 +190,7 @@ impl RenderArgs {
             caustic_radius,
             spp,
             shadow_samples,
+            caustic_every,
             seed,
             width,
             height,

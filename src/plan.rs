@@ -197,6 +197,44 @@ pub const CACHE_STRIDE: u32 = 4;
 /// photon id, then flags), or zero when there is none; the caller multiplies by its kd.
 pub const CACHE_NORMAL_COS: f32 = 0.9;
 
+/// Weight of the caustic-map estimate in camera sample `sample` of a pixel's `spp`, when the
+/// estimate runs on one sample in `every` (decoupled rates, issue 10): the first
+/// `ceil(spp / every)` samples run it (a prefix of the pixel's Sobol points, so they still
+/// cover the pixel evenly), weighted `spp / ceil(spp / every)` so the pixel's mean is
+/// unbiased; the others skip it (weight 0). `every` = 1: every sample, weight 1.
+pub fn caustic_weight(spp: u32, every: u32, sample: u32) -> f32 {
+    let runs = spp.div_ceil(every.max(1));
+    if sample < runs {
+        spp as f32 / runs as f32
+    } else {
+        0.0
+    }
+}
+
 /// Fraction of the storing area the caustic photons are expected to cover: it sizes the
 /// caustic map's searches (the progressive first radius, the GPU grid's cells).
 pub const CAUSTIC_AREA_FRACTION: f64 = 0.05;
+
+#[cfg(test)]
+mod tests {
+    use super::caustic_weight;
+
+    #[test]
+    fn caustic_weights_sum_to_the_sample_count() {
+        for spp in [1, 2, 3, 4, 7, 16, 64, 100] {
+            for every in [1, 2, 3, 4, 8, 200] {
+                let w: Vec<f32> = (0..spp).map(|i| caustic_weight(spp, every, i)).collect();
+                let runs = w.iter().filter(|&&x| x > 0.0).count() as u32;
+                assert_eq!(runs, spp.div_ceil(every), "spp {spp} every {every}");
+                // The estimating samples come first (a Sobol prefix).
+                assert!(w[..runs as usize].iter().all(|&x| x > 0.0));
+                let sum: f32 = w.iter().sum();
+                assert!(
+                    (sum - spp as f32).abs() < 1e-3 * spp as f32,
+                    "{sum} vs {spp}"
+                );
+            }
+            assert!((0..spp).all(|i| caustic_weight(spp, 1, i) == 1.0));
+        }
+    }
+}

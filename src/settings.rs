@@ -140,6 +140,9 @@ pub struct RenderSettings {
     pub spp: u32,
     /// Shadow rays per area light sample in `direct` mode.
     pub shadow_samples: u32,
+    /// The caustic-map estimate runs on one camera sample in this many (see
+    /// [`crate::plan::caustic_weight`]); 1: on every sample.
+    pub caustic_every: u32,
     /// How radiance is computed at the first diffuse or glossy hit.
     pub mode: Mode,
     /// The density-estimation kernel.
@@ -175,6 +178,7 @@ impl Default for RenderSettings {
             caustic_radius: 0.1,
             spp: 64,
             shadow_samples: 1,
+            caustic_every: 4,
             mode: Mode::Gather,
             filter: Filter::Disc,
             fresnel: FresnelMode::Exact,
@@ -387,6 +391,8 @@ pub static SETTINGS: &[Setting] = &[
     row!(spp, "spp", RENDER, int(1, MAX_SPP), u32, "camera samples per pixel"),
     row!(shadow_samples, "shadow-samples", RENDER, int(1, MAX_SHADOW_SAMPLES), u32,
         "shadow rays per area-light sample (direct mode)"),
+    row!(caustic_every, "caustic-every", RENDER, int(1, MAX_SPP), u32,
+        "camera samples per caustic-map estimate (1: every sample)"),
     row!(max_photon_bounces, "max-photon-bounces", RENDER, int(1, MAX_BOUNCES), u32,
         "bounces a photon path may make"),
     row!(max_depth, "max-depth", RENDER, int(1, MAX_BOUNCES), u32,

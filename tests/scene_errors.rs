@@ -906,7 +906,7 @@ fn every_scene_file_setting_has_the_range_of_validate() {
     }
     // Two bad values for every setting but photons (one: its top is u32::MAX) and
     // caustic_photons, seed, exposure (none: every u32, every finite number).
-    assert_eq!(checked, 19);
+    assert_eq!(checked, 21);
 }
 
 #[test]

@@ -99,7 +99,7 @@ struct Params {
     n_bounds: u32,
     n_triangles: u32,
     terms: u32,
-    _pad0: u32,
+    caustic_weight: f32,
     _pad1: u32,
     _pad2: u32,
 }

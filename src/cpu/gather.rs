@@ -17,7 +17,7 @@ use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
 use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
-use crate::plan::Terms;
+use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
 use crate::scene::{LightShape, Material, MaterialKind, Scene};
@@ -79,6 +79,7 @@ impl Gatherer<'_> {
                 0,
                 &mut rng,
                 &mut Some(stream),
+                caustic_weight(s.spp, s.caustic_every, i),
             );
         }
         sum / s.spp as f32
@@ -86,13 +87,15 @@ impl Gatherer<'_> {
 
     /// Radiance arriving along `ray` (the chain of specular bounces, then shading).
     /// `first` is the sample's Sobol stream until a diffuse or glossy hit is shaded (which
-    /// takes it; see the module's doc), then `None`.
+    /// takes it; see the module's doc), then `None`. `cw` weighs the caustic-map estimate
+    /// (`plan::caustic_weight`; 0 skips it).
     pub fn radiance(
         &self,
         ray: &Ray,
         depth: u32,
         rng: &mut Rng,
         first: &mut Option<SobolStream>,
+        cw: f32,
     ) -> Vec3 {
         let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
             return Vec3::ZERO;
@@ -123,6 +126,7 @@ impl Gatherer<'_> {
                             depth + 1,
                             rng,
                             first,
+                            cw,
                         )
             }
             MaterialKind::Glass => {
@@ -139,6 +143,7 @@ impl Gatherer<'_> {
                         depth + 1,
                         rng,
                         first,
+                        cw,
                     )
                 };
                 let Some(t) = g.refracted else {
@@ -156,13 +161,15 @@ impl Gatherer<'_> {
             }
             MaterialKind::Diffuse | MaterialKind::Glossy => {
                 let sobol = first.take();
-                emitted + self.shade(&hit, m, -ray.dir, depth, rng, sobol)
+                emitted + self.shade(&hit, m, -ray.dir, depth, rng, sobol, cw)
             }
         }
     }
 
     /// Radiance leaving a diffuse or glossy hit towards `wo`; `sobol` is the sample's Sobol
-    /// stream at its first shaded hit (first shadow sample and gather direction), else `None`.
+    /// stream at its first shaded hit (first shadow sample and gather direction), else `None`;
+    /// `cw` the caustic estimate's weight.
+    #[allow(clippy::too_many_arguments)]
     fn shade(
         &self,
         hit: &Hit,
@@ -171,6 +178,7 @@ impl Gatherer<'_> {
         depth: u32,
         rng: &mut Rng,
         sobol: Option<SobolStream>,
+        cw: f32,
     ) -> Vec3 {
         let ns = if wo.dot(hit.normal) >= 0.0 {
             hit.normal
@@ -190,9 +198,10 @@ impl Gatherer<'_> {
         } else {
             self.global
         };
-        for (map, max_r) in [(global, s.radius), (self.caustic, s.caustic_radius)] {
+        let caustic = self.caustic.filter(|_| cw > 0.0);
+        for (map, max_r, w) in [(global, s.radius, 1.0), (caustic, s.caustic_radius, cw)] {
             if let Some(map) = map {
-                l += estimate_at(
+                l += w * estimate_at(
                     map,
                     hit.position,
                     ns,
@@ -224,6 +233,7 @@ impl Gatherer<'_> {
                     depth + 1,
                     rng,
                     &mut None,
+                    cw,
                 );
             }
         }

@@ -10,6 +10,7 @@ use super::run::GpuRun;
 use super::types::GpuParams;
 use crate::error::Result;
 use crate::film::Image;
+use crate::plan::caustic_weight;
 use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -116,6 +117,7 @@ impl GpuRun {
         for sample in 0..s.spp {
             let p = GpuParams {
                 sample,
+                caustic_weight: caustic_weight(s.spp, s.caustic_every, sample),
                 ..self.params
             };
             let at = (PARAMS_STRIDE * sample as u64) as usize;

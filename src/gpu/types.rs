@@ -167,8 +167,8 @@ pub struct GpuParams {
     pub n_triangles: u32,
     /// TERM_* bits of the mode.
     pub terms: u32,
-    /// Padding.
-    pub _pad0: u32,
+    /// This sample's weight of the caustic-map estimate (`plan::caustic_weight`; 0: skip).
+    pub caustic_weight: f32,
     /// Padding.
     pub _pad1: u32,
     /// Padding.
