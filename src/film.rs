@@ -301,6 +301,24 @@ pub struct DiffStats {
     pub max_error: f64,
 }
 
+impl DiffStats {
+    /// What `gpu-photon diff` prints, one statistic per line; `block` is the block side
+    /// the block RMSE was measured with.
+    pub fn lines(&self, block: u32) -> Vec<String> {
+        let r = self.mean_ratio;
+        vec![
+            format!("rmse        {:.6}", self.rmse),
+            format!(
+                "block_rmse  {:.6} ({block}x{block} blocks)",
+                self.block_rmse
+            ),
+            format!("rel_mse     {:.6}", self.rel_mse),
+            format!("mean_ratio  {:.4} {:.4} {:.4}", r[0], r[1], r[2]),
+            format!("max_error   {:.6}", self.max_error),
+        ]
+    }
+}
+
 /// Compares `a` with reference `b` (same size required).
 pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, String> {
     if a.width != b.width || a.height != b.height {

@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
 use gpu_photon::session::{render, render_slice, BackendChoice, SliceJob};
-use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings};
+use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings, MAX_PASSES};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -150,7 +150,8 @@ struct RenderArgs {
     /// PNG exposure in stops.
     #[arg(long)]
     exposure: Option<f32>,
-    /// Progressive photon mapping: render passes 0..N and write their mean.
+    /// Progressive photon mapping: render passes 0..N and write their mean (0: one classic
+    /// pass with K-nearest estimates; default: the scene's `passes`, else 4).
     #[arg(long)]
     passes: Option<u32>,
     /// Progressive passes A..B only (a slice of a longer render, for `gpu-photon merge`).
@@ -163,6 +164,10 @@ struct RenderArgs {
     /// Stop progressive passes after this many seconds (without --passes: pass until then).
     #[arg(long)]
     time: Option<f64>,
+    /// Stop progressive passes at the first even pass count whose estimated relative noise
+    /// is at most this (e.g. 0.03), at most --passes of them.
+    #[arg(long)]
+    noise: Option<f64>,
     /// Write the running mean every N progressive passes.
     #[arg(long)]
     write_every: Option<u32>,
@@ -200,14 +205,18 @@ impl RenderArgs {
         if self.initial_radius.is_some() {
             s.initial_radius = self.initial_radius;
         }
+        s.passes = self.passes.unwrap_or(s.passes);
         s.pass_range = match (self.passes, self.pass_range, self.time) {
             (Some(_), Some(_), _) => bail!("--passes and --pass-range exclude each other"),
-            (Some(0), _, _) => bail!("--passes must be at least 1"),
+            (Some(0), _, _) if self.slice.is_some() || self.time.is_some() => {
+                bail!("--passes 0 (one classic pass) excludes --slice and --time")
+            }
             (None, _, _) if self.slice.is_some() => bail!("--slice needs --passes"),
+            (Some(0), None, _) => None,
             (Some(n), None, _) => Some(gpu_photon::slice::pass_range(n, self.slice)?),
             (None, Some(r), _) => Some(r),
-            (None, None, Some(_)) => Some((0, u32::MAX >> 8)),
-            (None, None, None) => None,
+            (None, None, Some(_)) => Some((0, MAX_PASSES)),
+            (None, None, None) => s.as_default_render().pass_range,
         };
         if let Some(m) = &self.mode {
             s.mode = Mode::parse(m).with_context(|| {
@@ -275,6 +284,7 @@ fn run_progressive(
         output: &args.output,
         time: args.time,
         write_every: args.write_every,
+        noise: args.noise,
         stop: &interrupted,
         total_passes: args.passes,
     };
@@ -449,14 +459,7 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
     if let Some(path) = error_image {
         ia.abs_diff(&ib).write(path, 0.0)?;
     }
-    println!("rmse        {:.6}", d.rmse);
-    println!("block_rmse  {:.6} ({block}x{block} blocks)", d.block_rmse);
-    println!("rel_mse     {:.6}", d.rel_mse);
-    println!(
-        "mean_ratio  {:.4} {:.4} {:.4}",
-        d.mean_ratio[0], d.mean_ratio[1], d.mean_ratio[2]
-    );
-    println!("max_error   {:.6}", d.max_error);
+    d.lines(block).iter().for_each(|l| println!("{l}"));
     Ok(())
 }
 

@@ -25,8 +25,8 @@ pub const TAG_SIGNATURE: &str = "gpu_photon.signature";
 /// from a file that holds all its render's passes `0..P`, and from `--pass-range` slices.
 pub const TAG_TOTAL: &str = "gpu_photon.total_passes";
 
-/// A fingerprint of the scene file and every setting but the pass range: slices to merge
-/// must share it.
+/// A fingerprint of the scene file and every setting but the pass range and count (the
+/// render's pass count is a tag of its own, [`TAG_TOTAL`]): slices to merge must share it.
 pub fn signature(scene_path: &Path, s: &RenderSettings) -> Result<String> {
     let text = std::fs::read(scene_path).map_err(|source| Error::Io {
         path: scene_path.to_path_buf(),
@@ -38,6 +38,7 @@ pub fn signature(scene_path: &Path, s: &RenderSettings) -> Result<String> {
     }
     let s = RenderSettings {
         pass_range: None,
+        passes: 0,
         ..s.clone()
     };
     Ok(format!("scene-fnv1a {h:016x}; {s:?}"))

@@ -81,6 +81,9 @@ pub struct Accumulator {
     pub first: u32,
     /// Passes in the sum.
     pub count: u32,
+    /// Per-pixel alternating sum `img_0 - img_1 + img_2 - ...` of the passes added, for
+    /// [`Accumulator::noise`] (f32: it only measures noise).
+    alternating: Vec<[f32; 3]>,
 }
 
 impl Accumulator {
@@ -92,16 +95,47 @@ impl Accumulator {
             height,
             first,
             count: 0,
+            alternating: vec![[0.0; 3]; (width * height) as usize],
         }
     }
     /// Adds the next pass's image.
     pub fn add(&mut self, img: &Image) {
-        for (s, p) in self.sum.iter_mut().zip(&img.pixels) {
+        let sign = if self.count % 2 == 0 { 1.0 } else { -1.0 };
+        for ((s, a), p) in self
+            .sum
+            .iter_mut()
+            .zip(&mut self.alternating)
+            .zip(&img.pixels)
+        {
             for c in 0..3 {
                 s[c] += p[c] as f64;
+                a[c] += sign * p[c];
             }
         }
         self.count += 1;
+    }
+
+    /// Estimated relative noise of [`Accumulator::mean`]: the RMS over pixels and channels
+    /// of its standard error, over the mean pixel value. The passes are independent with
+    /// the same expectation, so after an even number n of them the alternating sum D has
+    /// mean 0 and variance n sigma^2 per pixel, and the mean's standard error sigma/sqrt(n)
+    /// is estimated by |D| / n. Bias (the photon maps' blur) is not noise and is not
+    /// counted. `None` before two passes, after an odd number, or on a black image.
+    pub fn noise(&self) -> Option<f64> {
+        if self.count < 2 || self.count % 2 == 1 {
+            return None;
+        }
+        let n = self.count as f64;
+        let (mut d2, mut total) = (0.0f64, 0.0f64);
+        for (a, s) in self.alternating.iter().zip(&self.sum) {
+            for c in 0..3 {
+                d2 += (a[c] as f64).powi(2);
+                total += s[c];
+            }
+        }
+        let values = 3.0 * self.sum.len() as f64;
+        let mean = total / n / values;
+        (mean > 0.0).then(|| (d2 / values).sqrt() / n / mean)
     }
     /// The mean of the passes so far.
     pub fn mean(&self) -> Image {

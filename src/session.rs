@@ -190,6 +190,9 @@ pub struct SliceJob<'a> {
     pub time: Option<f64>,
     /// Also write the running mean every this many passes.
     pub write_every: Option<u32>,
+    /// Stop after the first even pass count whose estimated relative noise
+    /// ([`Accumulator::noise`]) is at most this.
+    pub noise: Option<f64>,
     /// Stop after the current pass once this is set (Ctrl-C).
     pub stop: &'a AtomicBool,
     /// The pass count of the whole render this slice belongs to (`--passes P` with
@@ -229,6 +232,12 @@ impl SliceOutcome {
             s.mode.name(),
             self.report.backend
         )];
+        if let Some(n) = self.acc.noise() {
+            lines.push(format!(
+                "  estimated noise {:.2}% (relative RMS)",
+                100.0 * n
+            ));
+        }
         lines.extend(self.report.phase_lines(18));
         lines.push(format!(
             "  {:<18} {:>9.3} s",
@@ -275,7 +284,8 @@ pub fn render_slice(
         let out_of_time = job
             .time
             .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
-        if job.stop.load(Ordering::SeqCst) || out_of_time {
+        let quiet_enough = job.noise.zip(acc.noise()).is_some_and(|(t, n)| n <= t);
+        if job.stop.load(Ordering::SeqCst) || out_of_time || quiet_enough {
             Flow::Stop
         } else {
             Flow::Continue

@@ -157,6 +157,10 @@ pub struct RenderSettings {
     pub seed: u32,
     /// PNG exposure in stops (EXR is always linear and unscaled).
     pub exposure: f32,
+    /// Progressive passes `gpu-photon render` runs when its command line names no pass
+    /// count, range or time (`--passes` sets it too); 0: one classic pass with K-nearest
+    /// estimates. The library's `render` ignores it (it follows `pass_range`).
+    pub passes: u32,
     /// Progressive photon mapping over passes `start..end` (None: one classic pass with the
     /// K-nearest estimate). See `crate::progressive`.
     pub pass_range: Option<(u32, u32)>,
@@ -186,6 +190,7 @@ impl Default for RenderSettings {
             max_depth: 12,
             seed: 1,
             exposure: 0.0,
+            passes: 4,
             pass_range: None,
             alpha: 0.7,
             initial_radius: None,
@@ -193,6 +198,20 @@ impl Default for RenderSettings {
     }
 }
 
+impl RenderSettings {
+    /// What `gpu-photon render` renders when its command line names no pass count, range or
+    /// time: these settings with `pass_range` `0..passes` (progressive), or unchanged (one
+    /// classic pass) when `passes` is 0.
+    pub fn as_default_render(&self) -> RenderSettings {
+        RenderSettings {
+            pass_range: (self.passes > 0).then_some((0, self.passes)),
+            ..self.clone()
+        }
+    }
+}
+
+/// Largest accepted progressive pass count (pass indices leave the RNG's top 8 bits free).
+pub const MAX_PASSES: u32 = u32::MAX >> 8;
 /// Largest accepted image side, in pixels.
 pub const MAX_RESOLUTION: u32 = 16384;
 /// Largest accepted K.
@@ -399,6 +418,8 @@ pub static SETTINGS: &[Setting] = &[
         "longest mirror/glass chain of a camera ray"),
     row!(seed, "seed", RENDER, int(0, u32::MAX), u32, "random seed"),
     row!(exposure, "exposure", RENDER, Range::Finite, f32, "PNG exposure, stops"),
+    row!(passes, "passes", RENDER, int(0, MAX_PASSES), u32,
+        "progressive passes of a render (0: one classic K-nearest pass)"),
     row!(alpha, "alpha", None, Range::Open { lo: 0.0, hi: 1.0 }, f32,
         "radius reduction of progressive passes"),
     row!(initial_radius, "initial-radius", None, Range::Positive, opt_f32,

@@ -446,7 +446,8 @@ fn cornell_reference_scene() {
         s.settings,
         RenderSettings {
             mode: Mode::Gather,
-            spp: 128,
+            spp: 32,
+            passes: 4,
             ..RenderSettings::default()
         }
     );
@@ -904,9 +905,10 @@ fn every_scene_file_setting_has_the_range_of_validate() {
             assert!(validate(&s.settings).is_ok(), "{} = {value}", row.name);
         }
     }
-    // Two bad values for every setting but photons (one: its top is u32::MAX) and
+    // Two bad values for every setting but photons (one: its top is u32::MAX), passes (one:
+    // its bottom is 0) and
     // caustic_photons, seed, exposure (none: every u32, every finite number).
-    assert_eq!(checked, 21);
+    assert_eq!(checked, 22);
 }
 
 #[test]
