@@ -121,11 +121,18 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     let pixel = py * params.width + px;
     var rng = Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + sample), 0u);
     let sob = sobol_stream(params.seed, params.pass_index, pixel, params.spp, sample);
-    let jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
+    // The first diffuse or glossy hit shaded takes the Sobol light and gather samples
+    // (sampler "independent": every number from the RNG).
+    var first_shade = params.sampler == SAMPLER_SOBOL;
+    var jitter: vec2<f32>;
+    if first_shade {
+        jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
+    } else {
+        jitter.x = rng_next(&rng);
+        jitter.y = rng_next(&rng);
+    }
     let fx = jitter.x;
     let fy = jitter.y;
-    // The first diffuse or glossy hit shaded takes the Sobol light and gather samples.
-    var first_shade = true;
     let w = f32(params.width);
     let h = f32(params.height);
     let sx = (2.0 * (f32(px) + fx) / w - 1.0) * (w / h);

@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
 use gpu_photon::session::{render, render_slice, BackendChoice, SliceJob};
-use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings, MAX_PASSES};
+use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, MAX_PASSES};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -135,6 +135,9 @@ struct RenderArgs {
     /// photon | direct | gather | direct-only | global-only | caustic-only
     #[arg(long)]
     mode: Option<String>,
+    /// sobol | independent: where camera samples' first numbers come from.
+    #[arg(long)]
+    sampler: Option<String>,
     /// disc | cone | epanechnikov
     #[arg(long)]
     filter: Option<String>,
@@ -227,6 +230,10 @@ impl RenderArgs {
             s.filter = Filter::parse(f).with_context(|| {
                 format!("--filter {f}: expected one of {}", Filter::NAMES.join(", "))
             })?;
+        }
+        if let Some(m) = &self.sampler {
+            s.sampler = Sampler::parse(m)
+                .with_context(|| format!("--sampler {m}: expected sobol or independent"))?;
         }
         if self.schlick {
             s.fresnel = FresnelMode::Schlick;
@@ -426,25 +433,7 @@ fn run_adapters() -> Result<()> {
         bail!("no Vulkan adapter found (install mesa-vulkan-drivers for lavapipe)");
     }
     for (i, a) in adapters.iter().enumerate() {
-        println!("[{i}] {} ({}, {})", a.name, a.backend, a.device_type);
-        println!("    driver: {}", a.driver);
-        println!(
-            "    max_storage_buffer_binding_size: {} MiB",
-            a.max_storage_buffer_binding_size >> 20
-        );
-        println!("    max_buffer_size: {} MiB", a.max_buffer_size >> 20);
-        println!(
-            "    max_storage_buffers_per_shader_stage: {}",
-            a.max_storage_buffers_per_shader_stage
-        );
-        println!(
-            "    max_compute_workgroups_per_dimension: {}",
-            a.max_compute_workgroups_per_dimension
-        );
-        println!(
-            "    max_compute_invocations_per_workgroup: {}",
-            a.max_compute_invocations_per_workgroup
-        );
+        a.lines(i).iter().for_each(|l| println!("{l}"));
     }
     Ok(())
 }

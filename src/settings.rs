@@ -109,6 +109,30 @@ impl Filter {
     }
 }
 
+/// Where a camera sample's first numbers come from (issue 10: a technique that can be
+/// switched off, so `bench` can show what it buys).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampler {
+    /// Owen-scrambled Sobol points (`crate::sobol`) for the pixel jitter, the first shaded
+    /// hit's first area-light sample and its gather direction.
+    Sobol,
+    /// Every number from the hash RNG (independent uniform samples).
+    Independent,
+}
+
+impl Sampler {
+    /// The names [`Sampler::parse`] accepts.
+    pub const NAMES: [&'static str; 2] = ["sobol", "independent"];
+    /// The sampler named `s` (one of [`Sampler::NAMES`]).
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "sobol" => Some(Sampler::Sobol),
+            "independent" => Some(Sampler::Independent),
+            _ => None,
+        }
+    }
+}
+
 /// Which Fresnel reflectance dielectrics use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FresnelMode {
@@ -149,6 +173,8 @@ pub struct RenderSettings {
     pub filter: Filter,
     /// Which Fresnel reflectance dielectrics use.
     pub fresnel: FresnelMode,
+    /// Where camera samples' first numbers come from.
+    pub sampler: Sampler,
     /// Maximum photon bounces (stored photons per path are at most this many).
     pub max_photon_bounces: u32,
     /// Maximum depth of the camera ray's mirror/glass chain.
@@ -186,6 +212,7 @@ impl Default for RenderSettings {
             mode: Mode::Gather,
             filter: Filter::Disc,
             fresnel: FresnelMode::Exact,
+            sampler: Sampler::Sobol,
             max_photon_bounces: 16,
             max_depth: 12,
             seed: 1,

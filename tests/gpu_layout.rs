@@ -176,7 +176,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Params",
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
-                n_triangles, terms, caustic_weight, _pad1, _pad2),
+                n_triangles, terms, caustic_weight, sampler, _pad2),
         ),
         (
             "MapParams",

@@ -1,13 +1,14 @@
-//! Decoupled rates (issue 10): the caustic-map estimate on one camera sample in N, weighted,
-//! gives the same caustic light as on every sample, on both backends (the caustic-only view
-//! isolates it; the photon maps are the same, so only the samples' positions differ).
+//! Techniques that can be switched off (issue 10), on both backends. Decoupled rates: the
+//! caustic-map estimate on one camera sample in N, weighted, gives the same caustic light as on
+//! every sample (the caustic-only view isolates it; the photon maps are the same, so only the
+//! samples' positions differ). The Sobol sampler: switched off, the error grows.
 
 mod common;
 
-use gpu_photon::film::Image;
+use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
 use gpu_photon::session::{render, Backend};
-use gpu_photon::settings::{Mode, RenderSettings};
+use gpu_photon::settings::{Mode, RenderSettings, Sampler};
 
 fn caustic_view(backend: Backend, every: u32, caustic_photons: u32) -> Image {
     let scene =
@@ -61,4 +62,57 @@ fn gpu_caustic_estimate_on_fewer_samples_keeps_the_caustic_light() {
         return;
     }
     check(Backend::Gpu);
+}
+
+/// The Cornell box at 64x64 against the reference averaged down 4x4, classic gather pass.
+fn cornell_rmse(backend: Backend, sampler: Sampler) -> f64 {
+    let scene = gpu_photon::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    let s = RenderSettings {
+        width: 64,
+        height: 64,
+        spp: 16,
+        photons: 50_000,
+        sampler,
+        ..scene.settings.clone()
+    };
+    let img = render(&scene, &s, backend, Progress::default()).unwrap().0;
+    let reference = Image::read(std::path::Path::new("tests/data/cornell-diffuse.exr")).unwrap();
+    let mut small = Image::new(64, 64);
+    for (i, p) in small.pixels.iter_mut().enumerate() {
+        let (x, y) = (i as u32 % 64, i as u32 / 64);
+        for yy in 0..4 {
+            for xx in 0..4 {
+                let q = reference.pixels[((4 * y + yy) * 256 + 4 * x + xx) as usize];
+                for c in 0..3 {
+                    p[c] += q[c] / 16.0;
+                }
+            }
+        }
+    }
+    diff(&img, &small, 8).unwrap().rmse
+}
+
+/// The Sobol sampler is a setting that can be switched off (`sampler = "independent"`), and
+/// at equal samples it lowers the error on both backends.
+fn check_sampler(backend: Backend) {
+    let sobol = cornell_rmse(backend, Sampler::Sobol);
+    let independent = cornell_rmse(backend, Sampler::Independent);
+    eprintln!("{backend:?}: RMSE {sobol} with Sobol points, {independent} independent");
+    assert!(
+        sobol < 0.85 * independent,
+        "{backend:?}: Sobol RMSE {sobol} not clearly below independent {independent}"
+    );
+}
+
+#[test]
+fn cpu_sobol_samples_beat_independent_ones() {
+    check_sampler(Backend::Cpu);
+}
+
+#[test]
+fn gpu_sobol_samples_beat_independent_ones() {
+    if common::gpu().is_none() {
+        return;
+    }
+    check_sampler(Backend::Gpu);
 }

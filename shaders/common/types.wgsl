@@ -100,7 +100,7 @@ struct Params {
     n_triangles: u32,
     terms: u32,
     caustic_weight: f32,
-    _pad1: u32,
+    sampler: u32,
     _pad2: u32,
 }
 

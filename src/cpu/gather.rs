@@ -21,7 +21,7 @@ use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
 use crate::scene::{LightShape, Material, MaterialKind, Scene};
-use crate::settings::RenderSettings;
+use crate::settings::{RenderSettings, Sampler};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
 };
@@ -66,7 +66,14 @@ impl Gatherer<'_> {
                 pixel_index.wrapping_mul(s.spp).wrapping_add(i),
             );
             let stream = sobol.stream(i);
-            let (fx, fy) = sample_pair(stream.key, stream.index, PAIR_JITTER);
+            // `sampler = "independent"`: the jitter, light and gather numbers from the RNG.
+            let (mut stream, (fx, fy)) = match s.sampler {
+                Sampler::Sobol => (
+                    Some(stream),
+                    sample_pair(stream.key, stream.index, PAIR_JITTER),
+                ),
+                Sampler::Independent => (None, rng.next2()),
+            };
             let dir = self
                 .scene
                 .camera
@@ -78,7 +85,7 @@ impl Gatherer<'_> {
                 },
                 0,
                 &mut rng,
-                &mut Some(stream),
+                &mut stream,
                 caustic_weight(s.spp, s.caustic_every, i),
             );
         }

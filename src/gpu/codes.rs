@@ -5,7 +5,7 @@
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
 use crate::scene::MaterialKind;
-use crate::settings::{Filter, FresnelMode};
+use crate::settings::{Filter, FresnelMode, Sampler};
 
 /// `Material.kind` of a diffuse surface.
 pub const MAT_DIFFUSE: u32 = 0;
@@ -36,6 +36,11 @@ pub const FILTER_EPANECHNIKOV: u32 = 2;
 pub const FRESNEL_EXACT: u32 = 0;
 /// `Params.fresnel` for Schlick's approximation.
 pub const FRESNEL_SCHLICK: u32 = 1;
+
+/// `Params.sampler`: Owen-scrambled Sobol points.
+pub const SAMPLER_SOBOL: u32 = 0;
+/// `Params.sampler`: every number from the hash RNG.
+pub const SAMPLER_INDEPENDENT: u32 = 1;
 
 /// `Bounce.kind` (shaders/common/material.wgsl): the photon is absorbed.
 pub const BOUNCE_ABSORB: u32 = 0;
@@ -105,6 +110,14 @@ pub fn filter_code(filter: Filter) -> u32 {
     }
 }
 
+/// The WGSL code of a sampler.
+pub fn sampler_code(sampler: Sampler) -> u32 {
+    match sampler {
+        Sampler::Sobol => SAMPLER_SOBOL,
+        Sampler::Independent => SAMPLER_INDEPENDENT,
+    }
+}
+
 /// The WGSL code of a Fresnel mode.
 pub fn fresnel_code(mode: FresnelMode) -> u32 {
     match mode {
@@ -151,6 +164,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("FILTER_EPANECHNIKOV", U32(FILTER_EPANECHNIKOV)),
         ("FRESNEL_EXACT", U32(FRESNEL_EXACT)),
         ("FRESNEL_SCHLICK", U32(FRESNEL_SCHLICK)),
+        ("SAMPLER_SOBOL", U32(SAMPLER_SOBOL)),
+        ("SAMPLER_INDEPENDENT", U32(SAMPLER_INDEPENDENT)),
         ("BOUNCE_ABSORB", U32(BOUNCE_ABSORB)),
         ("BOUNCE_DIFFUSE", U32(BOUNCE_DIFFUSE)),
         ("BOUNCE_LOBE", U32(BOUNCE_LOBE)),

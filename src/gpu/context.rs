@@ -45,6 +45,36 @@ pub struct AdapterSummary {
     pub max_storage_buffers_per_shader_stage: u32,
 }
 
+impl AdapterSummary {
+    /// What `gpu-photon adapters` prints for adapter number `index`.
+    pub fn lines(&self, index: usize) -> Vec<String> {
+        vec![
+            format!(
+                "[{index}] {} ({}, {})",
+                self.name, self.backend, self.device_type
+            ),
+            format!("    driver: {}", self.driver),
+            format!(
+                "    max_storage_buffer_binding_size: {} MiB",
+                self.max_storage_buffer_binding_size >> 20
+            ),
+            format!("    max_buffer_size: {} MiB", self.max_buffer_size >> 20),
+            format!(
+                "    max_storage_buffers_per_shader_stage: {}",
+                self.max_storage_buffers_per_shader_stage
+            ),
+            format!(
+                "    max_compute_workgroups_per_dimension: {}",
+                self.max_compute_workgroups_per_dimension
+            ),
+            format!(
+                "    max_compute_invocations_per_workgroup: {}",
+                self.max_compute_invocations_per_workgroup
+            ),
+        ]
+    }
+}
+
 fn instance() -> wgpu::Instance {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = wgpu::Backends::VULKAN;

@@ -3,8 +3,8 @@
 //! split of a pass into photon batches.
 
 use super::codes::{
-    filter_code, fresnel_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT, TERM_FINAL_GATHER,
-    TERM_LOBE_RAY, TERM_POINT_LOBE,
+    filter_code, fresnel_code, sampler_code, DROP_CAUSTIC, DROP_DIRECT, TERM_DIRECT,
+    TERM_FINAL_GATHER, TERM_LOBE_RAY, TERM_POINT_LOBE,
 };
 use super::types::{lights, GpuLight, GpuParams};
 use crate::light::LightTable;
@@ -59,6 +59,7 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
         max_photon_bounces: s.max_photon_bounces,
         shadow_samples: s.shadow_samples,
         fresnel: fresnel_code(s.fresnel),
+        sampler: sampler_code(s.sampler),
         n_lights: scene.lights.len() as u32,
         n_bounds,
         n_triangles: scene.triangles.len() as u32,

@@ -169,8 +169,8 @@ pub struct GpuParams {
     pub terms: u32,
     /// This sample's weight of the caustic-map estimate (`plan::caustic_weight`; 0: skip).
     pub caustic_weight: f32,
-    /// Padding.
-    pub _pad1: u32,
+    /// A SAMPLER_* code.
+    pub sampler: u32,
     /// Padding.
     pub _pad2: u32,
 }

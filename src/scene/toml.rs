@@ -13,7 +13,7 @@ use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
 use super::{mesh_file, Material, Scene};
 use crate::error::Result;
 use crate::scene::file;
-use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, SETTINGS};
+use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, SETTINGS};
 use glam::Vec3;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -36,7 +36,7 @@ struct RawScene {
 /// `[camera]` keys besides the settings whose table is `camera` (width, height).
 const CAMERA_KEYS: &[&str] = &["eye", "target", "up", "fov"];
 /// `[render]` keys besides the settings whose table is `render`.
-const RENDER_NAMES: &[&str] = &["mode", "filter", "fresnel"];
+const RENDER_NAMES: &[&str] = &["mode", "filter", "fresnel", "sampler"];
 const MATERIAL_TYPES: &Types = &[
     ("diffuse", &["albedo"]),
     ("glossy", &["kd", "ks", "exponent"]),
@@ -159,6 +159,9 @@ fn render(t: &Tab, s: &mut RenderSettings) -> Result<()> {
     }
     if let Some(f) = t.parse("fresnel", &["exact", "schlick"], fresnel)? {
         s.fresnel = f;
+    }
+    if let Some(f) = t.parse("sampler", &Sampler::NAMES, Sampler::parse)? {
+        s.sampler = f;
     }
     Ok(())
 }
