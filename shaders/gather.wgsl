@@ -94,12 +94,18 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
     var d = dir;
     var o = offset_origin(x, n, d);
     var t = vec3<f32>(1.0);
+    var sum = vec3<f32>(0.0);
+    var after_lobe = false;
     for (var gd = depth + 1u; gd <= params.max_depth && spend(); gd += 1u) {
         let hit = trace_ray(o, d, 3.0e38, false);
         if !hit.found {
             break;
         }
         let m = materials[hit.material];
+        // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+        if after_lobe && (dot(d, hit.normal) < 0.0 || m.two_sided != 0u) {
+            sum += t * m.emission;
+        }
         let can_continue = gd < params.max_depth;
         if m.kind == MAT_BLACK {
             break;
@@ -112,9 +118,25 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
             continue;
         }
         let ny = select(-hit.normal, hit.normal, dot(-d, hit.normal) >= 0.0);
-        return t * m.kd * cache_lookup(hit.position, ny);
+        sum += t * m.kd * cache_lookup(hit.position, ny);
+        // A glossy surface's lobe is not in the cache (Lambertian radiance): go on along one
+        // direction drawn from the lobe, weighted as the camera's lobe ray is.
+        if m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
+            break;
+        }
+        let u1 = rng_next(rng);
+        let u2 = rng_next(rng);
+        let ld = phong_lobe(reflect_dir(d, ny), m.exponent, u1, u2);
+        let c = dot(ld, ny);
+        if c <= 0.0 {
+            break;
+        }
+        t *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c);
+        after_lobe = true;
+        d = ld;
+        o = offset_origin(hit.position, hit.normal, d);
     }
-    return vec3<f32>(0.0);
+    return sum;
 }
 
 fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {

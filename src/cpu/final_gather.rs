@@ -4,15 +4,19 @@
 //! lobe ray; at the sample's first shaded hit Sobol pair `sobol::PAIR_GATHER` instead); the ray follows mirrors (times ks) and glass (always one branch: one
 //! `rng.next()` < reflectance reflects, 1 on total internal reflection), depth + 1 per bounce
 //! up to `max_depth`, ignores emission (shadow rays and the caustic map count it), and at
-//! its first diffuse or glossy hit y returns kd(y) times the radiance cache at y (normal
-//! facing the ray). The caller multiplies by kd(x): the cosine pdf cancels the cosine and 1/pi.
+//! its first diffuse or glossy hit y adds kd(y) times the radiance cache at y (normal facing
+//! the ray). At a glossy y it goes on along one direction from the lobe (`rng.next2()`,
+//! weight as the camera's lobe ray), counting emission it meets from there on (light over a
+//! glossy lobe is in no shadow ray and no caustic photon); without that, light reflected by
+//! glossy surfaces would be missing (the cache holds Lambertian radiance). The caller
+//! multiplies by kd(x): the cosine pdf cancels the cosine and 1/pi.
 
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
 use crate::geometry::{offset_origin, Ray};
 use crate::material::{dielectric, reflect};
 use crate::rng::Rng;
-use crate::sampling::cosine_hemisphere;
+use crate::sampling::{cosine_hemisphere, phong_lobe};
 use crate::scene::MaterialKind;
 use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
@@ -46,30 +50,51 @@ impl Gatherer<'_> {
     }
 
     /// Radiance the cache gives along `ray` (its hit at depth `depth`): the specular chain,
-    /// then kd times the cache at the first diffuse or glossy hit; zero on a miss, at a black
-    /// surface or when the chain runs past `max_depth`.
+    /// then kd times the cache at the first diffuse or glossy hit, continued over glossy
+    /// lobes; nothing more on a miss, at a black surface or past `max_depth`.
     fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng) -> Vec3 {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
+        let (mut sum, mut after_lobe) = (Vec3::ZERO, false);
         loop {
             let Some(hit) = self.bvh.intersect(self.scene, &ray, f32::INFINITY) else {
-                return Vec3::ZERO;
+                return sum;
             };
             let m = &self.scene.materials[hit.material as usize];
+            // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+            if after_lobe && (ray.dir.dot(hit.normal) < 0.0 || m.two_sided_emission) {
+                sum += throughput * m.emission;
+            }
             let can_recurse = depth < self.settings.max_depth;
             let dir = match m.kind {
-                MaterialKind::Black => return Vec3::ZERO,
+                MaterialKind::Black => return sum,
                 MaterialKind::Diffuse | MaterialKind::Glossy => {
                     let Some(cache) = self.cache else {
-                        return Vec3::ZERO;
+                        return sum;
                     };
                     let ny = if ray.dir.dot(hit.normal) <= 0.0 {
                         hit.normal
                     } else {
                         -hit.normal
                     };
-                    return throughput * m.kd * cache.lookup(hit.position, ny);
+                    sum += throughput * m.kd * cache.lookup(hit.position, ny);
+                    // A glossy surface's lobe is not in the cache (it holds Lambertian
+                    // radiance): the ray goes on along one direction drawn from the lobe,
+                    // weighted as the camera's lobe ray is.
+                    if m.kind == MaterialKind::Diffuse || !can_recurse || m.ks.max_element() <= 0.0
+                    {
+                        return sum;
+                    }
+                    let (u1, u2) = rng.next2();
+                    let dir = phong_lobe(reflect(ray.dir, ny), m.exponent, u1, u2);
+                    let cos = dir.dot(ny);
+                    if cos <= 0.0 {
+                        return sum;
+                    }
+                    throughput *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
+                    after_lobe = true;
+                    dir
                 }
-                _ if !can_recurse => return Vec3::ZERO,
+                _ if !can_recurse => return sum,
                 MaterialKind::Mirror => {
                     let ns = if ray.dir.dot(hit.normal) < 0.0 {
                         hit.normal
