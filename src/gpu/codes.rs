@@ -24,6 +24,10 @@ pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_TRIANGLES: u32 = 1;
 /// `Light.kind` of an emitting sphere.
 pub const LIGHT_SPHERE: u32 = 2;
+/// `Light.kind` of a spot light.
+pub const LIGHT_SPOT: u32 = 3;
+/// `Light.kind` of a directional light.
+pub const LIGHT_DIRECTIONAL: u32 = 4;
 
 /// `Params.filter_kind` of the disc (constant) kernel.
 pub const FILTER_DISC: u32 = 0;
@@ -146,6 +150,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("LIGHT_POINT", U32(LIGHT_POINT)),
         ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
         ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
+        ("LIGHT_SPOT", U32(LIGHT_SPOT)),
+        ("LIGHT_DIRECTIONAL", U32(LIGHT_DIRECTIONAL)),
+        ("SPOT_MIN_RAMP", F32(crate::scene::SpotCone::MIN_RAMP)),
         ("FILTER_DISC", U32(FILTER_DISC)),
         ("FILTER_CONE", U32(FILTER_CONE)),
         ("FILTER_EPANECHNIKOV", U32(FILTER_EPANECHNIKOV)),
