@@ -470,7 +470,8 @@ fn malformed_gltf_files_give_file_line_field_messages() {
     let (json, bin) = cornell_parts(None, false);
     let full = glb(&json, &bin);
     assert!(load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
-    let cases: Vec<(&str, Vec<u8>, String)> = vec![
+    let cases: Vec<(&str, Vec<u8>, String)> =
+        vec![
         (
             "truncated.gltf",
             good.as_bytes()[..good.len() / 2].to_vec(),
@@ -506,14 +507,36 @@ fn malformed_gltf_files_give_file_line_field_messages() {
             "4: meshes[0].primitives[0]: POSITION 0 is not finite".into(),
         ),
         (
-            "spot.gltf",
-            good.replacen("\"type\": \"point\"", "\"type\": \"spot\", \"spot\": {}", 1).into_bytes(),
-            "37: extensions.KHR_lights_punctual.lights[0]: light Point: unsupported spot light".into(),
+            "spot-wide.gltf",
+            good.replacen(
+                "\"type\": \"point\"",
+                "\"type\": \"spot\", \"spot\": {\"outerConeAngle\": 2.0}",
+                1,
+            )
+            .into_bytes(),
+            "37: extensions.KHR_lights_punctual.lights[0]: light Point: spot.outerConeAngle (in \
+             degrees): must be in (0, 90] degrees (got 114.59156)"
+                .into(),
         ),
         (
-            "directional.gltf",
-            good.replacen("\"type\": \"point\"", "\"type\": \"directional\"", 1).into_bytes(),
-            "37: extensions.KHR_lights_punctual.lights[0]: light Point: unsupported directional light"
+            "spot-inner.gltf",
+            good.replacen(
+                "\"type\": \"point\"",
+                "\"type\": \"spot\", \"spot\": {\"innerConeAngle\": 0.5, \"outerConeAngle\": 0.25}",
+                1,
+            )
+            .into_bytes(),
+            "37: extensions.KHR_lights_punctual.lights[0]: light Point: spot.innerConeAngle (in \
+             degrees): must be in [0, outer angle 14.323945] degrees (got 28.64789)"
+                .into(),
+        ),
+        (
+            "directional-flat.gltf",
+            good.replacen("\"type\": \"point\"", "\"type\": \"directional\"", 1)
+                .replacen("\"name\": \"Point\", ", "\"name\": \"Point\", \"scale\": [1, 1, 0], ", 1)
+                .into_bytes(),
+            "37: extensions.KHR_lights_punctual.lights[0]: light Point: direction (the node's -Z \
+             axis): must not be zero"
                 .into(),
         ),
         (
