@@ -283,7 +283,7 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let origin = offset_origin(hit.position, hit.normal, wi);
-                // Area lights: stop short of the light's own surface. A point light is no
+                // Area lights: stop short of the light's own surface. A delta light is no
                 // surface: the ray runs all the way, so a wall however close still shadows.
                 let end_eps = if is_delta {
                     0.0

@@ -52,7 +52,8 @@ pub const BOUNCE_DELTA: u32 = 3;
 
 /// `Params.terms` bit: shadow rays (`plan::Terms::direct`).
 pub const TERM_DIRECT: u32 = 1;
-/// `Params.terms` bit: the glossy lobe for point lights (`plan::Terms::point_lobe`).
+/// `Params.terms` bit: the glossy lobe for point, spot and directional lights
+/// (`plan::Terms::point_lobe`).
 pub const TERM_POINT_LOBE: u32 = 2;
 /// `Params.terms` bit: a ray sampled from the glossy lobe (`plan::Terms::lobe_ray`).
 pub const TERM_LOBE_RAY: u32 = 4;
