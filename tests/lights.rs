@@ -593,6 +593,11 @@ fn bad_lights_give_file_line_field_messages() {
             "t.xml:4: emitter[0].cutoff_angle: must be in (0, 90] degrees (got 0)",
         ),
         (
+            r#"<emitter type="spot"><rgb name="intensity" value="1"/><float name="cutoff_angle" value="30"/>
+<float name="beam_width" value="40"/></emitter>"#,
+            "t.xml:5: emitter[0].beam_width: must be in [0, outer angle 30] degrees (got 40)",
+        ),
+        (
             r#"<emitter type="spot"><rgb name="intensity" value="-1"/></emitter>"#,
             "t.xml:4: emitter[0].intensity: components must be >= 0",
         ),

@@ -83,7 +83,7 @@ impl Importer<'_> {
                     position: m.transform_point3(Vec3::ZERO),
                     direction: m.transform_vector3(Vec3::Z),
                     intensity: color,
-                    inner: beam.min(outer),
+                    inner: beam,
                     outer,
                 };
                 self.b.add_spot_light(spot, &at)?;
