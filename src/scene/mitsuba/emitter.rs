@@ -44,19 +44,15 @@ impl Importer<'_> {
         };
         // Builder errors point at the parameter they are about.
         let origin = self.origin(node, field);
+        let given = |name: &str| p.node_of(name) != node;
         let at = |part: Part, message: String| {
             let name = match part {
                 Part::Emission => emission,
                 Part::Parameter("outer_angle") => "cutoff_angle",
                 Part::Parameter("inner_angle") => "beam_width",
-                Part::Parameter("direction") if kind == "directional" => "direction",
+                Part::Parameter("direction") if given("direction") => "direction",
                 Part::Parameter("direction") | Part::Geometry => "to_world",
                 _ => return origin.error(part, message),
-            };
-            let name = if p.node_of(name) == node && name == "direction" {
-                "to_world"
-            } else {
-                name
             };
             cx.err(p.node_of(name), &p.at(name), message)
         };
