@@ -145,6 +145,54 @@ fn directional_light_on_a_plane_is_rho_over_pi_e_cos_theta() {
     }
 }
 
+#[test]
+fn directional_shadow_rays_reach_occluders_however_far() {
+    // A 2 x 2 plane seen from straight above, lit straight down; a quad 1000 units up hides
+    // its x < 0 half. Direct mode: that half exactly black, the other rho/pi E.
+    let s = scene(&format!(
+        r#"[camera]
+eye = [0.0, 3.0, 0.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, -1.0]
+fov = 30.0
+[materials.white]
+type = "diffuse"
+albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
+[[shapes]]
+type = "quad"
+corners = [[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0]]
+material = "white"
+[[shapes]]
+type = "quad"
+corners = [[-5.0, 1000.0, 5.0], [0.0, 1000.0, 5.0], [0.0, 1000.0, -5.0], [-5.0, 1000.0, -5.0]]
+material = "white"
+[[lights]]
+type = "directional"
+direction = [0.0, -1.0, 0.0]
+irradiance = [1.0, 1.0, 1.0]
+"#
+    ));
+    let want = (ALBEDO / PI) as f32;
+    let size = 16;
+    for backend in backends() {
+        let img = run(&s, &small(Mode::Direct, 1000, size, 1), backend);
+        for y in 0..size {
+            for x in 0..size {
+                let got = img.pixels[(y * size + x) as usize][0];
+                // Columns wholly left of x = 0 are shadowed, wholly right lit.
+                if x < size / 2 - 1 {
+                    assert_eq!(got, 0.0, "{backend:?}: ({x}, {y}) not shadowed");
+                } else if x > size / 2 {
+                    assert!(
+                        (got - want).abs() < 1e-4 * want,
+                        "{backend:?}: ({x}, {y}) {got}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // A spot above a plane
 // ---------------------------------------------------------------------------------------------
