@@ -6,8 +6,8 @@
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
-// Shadow-ray direct light: area lights through kd/pi, point lights through the whole BRDF
-// (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
+// Shadow-ray direct light: area lights through kd/pi, delta lights (point, spot, directional)
+// through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
     let with_direct = (params.terms & TERM_DIRECT) != 0u;
@@ -15,15 +15,15 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
     var sobol_left = use_sobol;
     for (var li = 0u; li < params.n_lights && spend(); li += 1u) {
         let light = lights[li];
-        let is_point = HAS_POINT_LIGHTS && light.kind == LIGHT_POINT;
-        if !with_direct && !is_point {
+        let is_delta = is_delta_light(light);
+        if !with_direct && !is_delta {
             continue;
         }
-        let samples = select(params.shadow_samples, 1u, is_point);
+        let samples = select(params.shadow_samples, 1u, is_delta);
         var acc = vec3<f32>(0.0);
         for (var s = 0u; s < samples && spend(); s += 1u) {
             var u: vec3<f32>;
-            if sobol_left && !is_point {
+            if sobol_left && !is_delta {
                 sobol_left = false;
                 let uv = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_LIGHT);
                 u = vec3<f32>(uv, sobol_sample(sob.key, sob.index, SOBOL_DIM_LIGHT_THIRD));
@@ -42,7 +42,7 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
                 continue;
             }
             var f = m.kd / PI;
-            if is_point {
+            if is_delta {
                 let lobe = m.ks * phong_lobe_value(wi, wo, ns, m.exponent);
                 if m.kind != MAT_GLOSSY {
                     f = select(vec3<f32>(0.0), f, with_direct);
@@ -55,12 +55,18 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
             }
             let o = offset_origin(x, n, wi);
             // Area lights: stop short of the light's surface; a point light is no surface.
-            let end_eps = select(OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0, 0.0, is_point);
-            // Aim from the moved origin (wi from x would pass the light by up to the offset).
-            let to = ls.point - o;
-            let len = length(to);
-            let t_max = len - end_eps;
-            if t_max > 0.0 && trace_ray(o, to / len, t_max, true).found {
+            let end_eps = select(OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0, 0.0, is_delta);
+            // Aim from the moved origin (wi from x would pass the light by up to the offset);
+            // a directional light is at infinity, in the same direction from everywhere.
+            var dir = wi;
+            var t_max = 3.0e38;
+            if !ls.distant {
+                let to = ls.point - o;
+                let len = length(to);
+                dir = to / len;
+                t_max = len - end_eps;
+            }
+            if t_max > 0.0 && trace_ray(o, dir, t_max, true).found {
                 continue;
             }
             acc += f * ls.weight * c;

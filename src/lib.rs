@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+pub mod choices;
 pub mod error;
 pub mod scene;
 pub mod settings;

@@ -1,8 +1,14 @@
 //! Light sampling: the power-proportional photon budget, photon emission, and the points
 //! that shadow rays aim at. Twin: `shaders/common/light.wgsl`.
+//!
+//! Spot lights emit from their position with directions drawn in proportion to their falloff
+//! ([`SpotCone::sample_cos`](crate::scene::SpotCone::sample_cos)), so every photon of a light
+//! carries the same power. Directional lights emit parallel photons from a disc of the radius
+//! of the scene's bounding sphere, perpendicular to the light and two radii back from the
+//! sphere's centre, so that every photon starts outside the scene.
 
 use crate::geometry::Aabb;
-use crate::sampling::{cosine_hemisphere, uniform_sphere, uniform_triangle};
+use crate::sampling::{basis, cosine_hemisphere, to_world, uniform_sphere, uniform_triangle};
 use crate::scene::{LightShape, Scene};
 use glam::Vec3;
 
@@ -40,8 +46,11 @@ pub struct LightTable {
     pub cdf_start: Vec<u32>,
     /// Concatenated per-light triangle CDFs.
     pub tri_cdf: Vec<f32>,
-    /// Per light: total emitting area (0 for point lights).
+    /// Per light: total emitting area (0 for point, spot and directional lights).
     pub area: Vec<f32>,
+    /// The scene's bounding sphere (centre, radius): where directional lights' photons
+    /// start ([`Scene::bounding_sphere`]).
+    pub bounds: (Vec3, f32),
 }
 
 /// A photon leaving a light.
@@ -51,7 +60,8 @@ pub struct Emission {
     pub origin: Vec3,
     /// Unit direction it leaves in.
     pub dir: Vec3,
-    /// Normal of the emitting surface (zero for point lights), for the ray offset.
+    /// Normal of the emitting surface (zero for point, spot and directional lights), for the
+    /// ray offset.
     pub normal: Vec3,
 }
 
@@ -61,10 +71,14 @@ pub struct LightSample {
     /// Position on the light.
     pub point: Vec3,
     /// Incident radiance times the geometry term over the pdf, excluding the receiver's cosine
-    /// and BRDF: `Le cos_l / (d^2 pdf_A)` for area lights, `I / d^2` for point lights.
+    /// and BRDF: `Le cos_l / (d^2 pdf_A)` for area lights, `I / d^2` for point lights,
+    /// `I att(cos) / d^2` for spot lights, the irradiance `E` for directional lights.
     pub weight: Vec3,
-    /// Unit normal of the light surface at `point` (zero for point lights).
+    /// Unit normal of the light surface at `point` (zero for the other lights).
     pub normal: Vec3,
+    /// A directional light: `point` is one unit from the shading point towards the light,
+    /// and the shadow ray runs to infinity.
+    pub distant: bool,
 }
 
 impl LightTable {
@@ -74,11 +88,14 @@ impl LightTable {
             cdf_start: vec![],
             tri_cdf: vec![],
             area: vec![],
+            bounds: scene.bounding_sphere(),
         };
         for l in &scene.lights {
             t.cdf_start.push(t.tri_cdf.len() as u32);
             match l.shape {
-                LightShape::Point { .. } => t.area.push(0.0),
+                LightShape::Point { .. }
+                | LightShape::Spot { .. }
+                | LightShape::Directional { .. } => t.area.push(0.0),
                 LightShape::Sphere { index } => {
                     let r = scene.spheres[index as usize].radius;
                     t.area.push(4.0 * std::f32::consts::PI * r * r);
@@ -116,10 +133,14 @@ impl LightTable {
         first as usize + i
     }
 
-    /// A uniform point on light `l`'s surface with its front normal.
+    /// A uniform point on light `l`'s surface with its front normal (an area light's, or a
+    /// point or spot light's position with a zero normal).
     fn surface_point(&self, scene: &Scene, l: usize, u: [f32; 3]) -> (Vec3, Vec3) {
         match scene.lights[l].shape {
-            LightShape::Point { position, .. } => (position, Vec3::ZERO),
+            LightShape::Point { position, .. } | LightShape::Spot { position, .. } => {
+                (position, Vec3::ZERO)
+            }
+            LightShape::Directional { .. } => unreachable!("a directional light has no point"),
             LightShape::Sphere { index } => {
                 let s = &scene.spheres[index as usize];
                 let n = uniform_sphere(u[1], u[2]);
@@ -135,8 +156,41 @@ impl LightTable {
 
     /// Emits a photon from light `l` using five uniform numbers: area lights pick a triangle
     /// by area and a uniform point on it, then a cosine-weighted direction around the front
-    /// normal (or a random face when two-sided); point lights emit uniformly over the sphere.
+    /// normal (or a random face when two-sided); point lights emit uniformly over the sphere;
+    /// spot lights by their falloff (`u[3]` the cosine to the axis, `u[4]` the azimuth);
+    /// directional lights from a uniform point of their disc (`u[1]`, `u[2]`).
     pub fn emit(&self, scene: &Scene, l: usize, u: [f32; 5]) -> Emission {
+        match scene.lights[l].shape {
+            LightShape::Spot {
+                position,
+                direction,
+                cone,
+                ..
+            } => {
+                let c = cone.sample_cos(u[3]);
+                let s = (1.0 - c * c).max(0.0).sqrt();
+                let phi = 2.0 * std::f32::consts::PI * u[4];
+                let local = Vec3::new(s * phi.cos(), s * phi.sin(), c);
+                return Emission {
+                    origin: position,
+                    dir: to_world(local, direction),
+                    normal: Vec3::ZERO,
+                };
+            }
+            LightShape::Directional { direction, .. } => {
+                let (centre, r) = self.bounds;
+                let (t, b) = basis(direction);
+                let rho = r * u[1].sqrt();
+                let phi = 2.0 * std::f32::consts::PI * u[2];
+                let across = rho * (phi.cos() * t + phi.sin() * b);
+                return Emission {
+                    origin: centre - 2.0 * r * direction + across,
+                    dir: direction,
+                    normal: Vec3::ZERO,
+                };
+            }
+            _ => {}
+        }
         let (p, mut n) = self.surface_point(scene, l, [u[0], u[1], u[2]]);
         if n == Vec3::ZERO {
             return Emission {
@@ -164,7 +218,9 @@ impl LightTable {
 
     fn two_sided(&self, scene: &Scene, l: usize) -> bool {
         let mat = match scene.lights[l].shape {
-            LightShape::Point { .. } => return false,
+            LightShape::Point { .. } | LightShape::Spot { .. } | LightShape::Directional { .. } => {
+                return false
+            }
             LightShape::Sphere { index } => scene.spheres[index as usize].material,
             LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
         };
@@ -172,20 +228,39 @@ impl LightTable {
     }
 
     /// A shadow-ray target on light `l` for shading point `x`, from three uniform numbers.
-    /// Area lights are sampled uniformly by area.
+    /// Area lights are sampled uniformly by area; the others are one point or direction.
     pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, u: [f32; 3]) -> LightSample {
         let light = &scene.lights[l];
-        if let LightShape::Point {
-            position,
-            intensity,
-        } = light.shape
-        {
-            let d2 = (position - x).length_squared().max(1e-20);
-            return LightSample {
-                point: position,
-                weight: intensity / d2,
-                normal: Vec3::ZERO,
-            };
+        let delta = |point, weight, distant| LightSample {
+            point,
+            weight,
+            normal: Vec3::ZERO,
+            distant,
+        };
+        match light.shape {
+            LightShape::Point {
+                position,
+                intensity,
+            } => {
+                let d2 = (position - x).length_squared().max(1e-20);
+                return delta(position, intensity / d2, false);
+            }
+            LightShape::Spot {
+                position,
+                direction,
+                intensity,
+                cone,
+            } => {
+                let to_x = x - position;
+                let d2 = to_x.length_squared().max(1e-20);
+                let att = cone.falloff(direction.dot(to_x) / d2.sqrt());
+                return delta(position, intensity * (att / d2), false);
+            }
+            LightShape::Directional {
+                direction,
+                irradiance,
+            } => return delta(x - direction, irradiance, true),
+            _ => {}
         }
         let (p, n) = self.surface_point(scene, l, u);
         let mat = match light.shape {
@@ -193,7 +268,7 @@ impl LightTable {
             LightShape::Triangles { .. } => {
                 scene.triangles[self.pick_triangle(scene, l, u[0])].material
             }
-            LightShape::Point { .. } => unreachable!(),
+            _ => unreachable!("handled above"),
         };
         let m = &scene.materials[mat as usize];
         let to_x = x - p;
@@ -203,6 +278,7 @@ impl LightTable {
                 point: p,
                 weight: Vec3::ZERO,
                 normal: n,
+                distant: false,
             };
         }
         let mut cos_l = n.dot(to_x) / d2.sqrt();
@@ -214,12 +290,14 @@ impl LightTable {
                 point: p,
                 weight: Vec3::ZERO,
                 normal: n,
+                distant: false,
             };
         }
         LightSample {
             point: p,
             weight: m.emission * (cos_l * self.area[l] / d2),
             normal: n,
+            distant: false,
         }
     }
 }

@@ -136,9 +136,11 @@ fn aim_fraction(
 /// Which terms a mode adds at a diffuse or glossy hit.
 #[derive(Clone, Copy, Debug)]
 pub struct Terms {
-    /// Shadow rays: the kd part of area lights and the whole BRDF for point lights.
+    /// Shadow rays: the kd part of area lights and the whole BRDF for delta lights (point,
+    /// spot and directional: no ray sampled from a lobe can hit them).
     pub direct: bool,
-    /// The glossy lobe for point lights by shadow rays (always wanted unless a debug view).
+    /// The glossy lobe for delta lights (point, spot, directional) by shadow rays (always
+    /// wanted unless a debug view).
     pub point_lobe: bool,
     /// A ray sampled from the glossy lobe (it sees area lights and everything else).
     pub lobe_ray: bool,

@@ -165,7 +165,8 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         (
             "Light",
             fields!(GpuLight: position, kind, intensity, first, global_power, count, caustic_power, cdf_start,
-                area, global_offset, global_count, caustic_offset, caustic_count, _pad0, _pad1, _pad2),
+                area, global_offset, global_count, caustic_offset, caustic_count, cos_inner, cos_outer,
+                radius, direction, _pad0),
         ),
         ("Aabb", fields!(GpuAabb: bmin, _pad0, bmax, _pad1)),
         (
@@ -591,6 +592,8 @@ fn shared_constants_agree() {
         "LIGHT_POINT",
         "LIGHT_TRIANGLES",
         "LIGHT_SPHERE",
+        "LIGHT_SPOT",
+        "LIGHT_DIRECTIONAL",
         "BOUNCE_ABSORB",
         "BOUNCE_DELTA",
         "FILTER_CONE",
@@ -602,6 +605,9 @@ fn shared_constants_agree() {
         "SOBOL_PAIR_LIGHT",
         "SOBOL_DIM_LIGHT_THIRD",
         "SOBOL_PAIR_GATHER",
+        "LIGHT_SPOT",
+        "LIGHT_DIRECTIONAL",
+        "SPOT_MIN_RAMP",
     ] {
         if !shared.iter().any(|(n, _)| *n == name) {
             errors.push(format!("{name} is not in codes::shared_constants()"));

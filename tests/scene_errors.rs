@@ -317,7 +317,97 @@ corners = [[0, 0, 0], [1, 0, 0]]  #! shapes[0].corners | must be an array of 4 p
 emission = [1, 1, 1]
 ---
 [[lights]]
-type = "spot"  #! lights[0].type | valid: "point"
+type = "area"  #! lights[0].type | valid: "point", "spot", "directional"
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [nan, -1, 0]  #! lights[0].direction | must be finite
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, 0, 0]  #! lights[0].direction | must not be zero
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+target = [0, 1, 0]  #! lights[0].target | must not be zero (`target` equals `position`)
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+target = [0, 0, 0]  #! lights[0].target | give `direction` or `target`, not both
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]  #! lights[0].direction | missing field `direction` (or `target`)
+type = "spot"
+position = [0, 1, 0]
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+outer_angle = 0  #! lights[0].outer_angle | must be in (0, 90] degrees (got 0)
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+outer_angle = 90.5  #! lights[0].outer_angle | must be in (0, 90] degrees (got 90.5)
+intensity = [1, 1, 1]
+---
+[[lights]]  #! lights[0].outer_angle | missing field `outer_angle`
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+inner_angle = 31  #! lights[0].inner_angle | must be in [0, outer angle 30] degrees (got 31)
+outer_angle = 30
+intensity = [1, 1, 1]
+---
+[[lights]]
+type = "spot"
+position = [0, 1, 0]
+direction = [0, -1, 0]
+outer_angle = 30
+intensity = [1, -1, 1]  #! lights[0].intensity | components must be >= 0
+---
+[[lights]]
+type = "directional"
+direction = [0, -1, 0]
+irradiance = [1, 1, -2]  #! lights[0].irradiance | components must be >= 0
+---
+[[lights]]
+type = "directional"
+direction = [0, 0, 0]  #! lights[0].direction | must not be zero
+irradiance = [1, 1, 1]
+---
+[[lights]]
+type = "directional"
+direction = [0, -1, 0]
+position = [0, 1, 0]  #! lights[0].position | does not apply to type "directional"
+irradiance = [1, 1, 1]
+---
+[[lights]]  #! lights[0].irradiance | missing field `irradiance`
+type = "directional"
+direction = [0, -1, 0]
 ---
 [materials.w]
 type = "diffuse"
@@ -504,6 +594,7 @@ fn every_scene_file_loads() {
         "inside-glass",
         "mesh-light",
         "point-light-plane",
+        "spot-light",
     ];
     assert_eq!(names, expected);
 }

@@ -1,6 +1,37 @@
-// Light emission (photon origins and directions) and shadow-ray targets on point, triangle
-// and sphere lights; twin of src/light.rs. LIGHT_* kinds come from the generated prelude.
+// Light emission (photon origins and directions) and shadow-ray targets on point, spot,
+// directional, triangle and sphere lights; twin of src/light.rs (spot falloff: twin of
+// src/scene/spot.rs). LIGHT_* kinds and SPOT_MIN_RAMP come from the generated prelude.
 // Library, no entry point; writes nothing.
+
+// Point, spot and directional lights: no surface, one shadow ray each, every BRDF lobe.
+// (HAS_POINT_LIGHTS is set when the scene has any of them.)
+fn is_delta_light(l: Light) -> bool {
+    return HAS_POINT_LIGHTS && (l.kind == LIGHT_POINT || l.kind == LIGHT_SPOT || l.kind == LIGHT_DIRECTIONAL);
+}
+
+// The spot falloff at cosine cd to the axis: glTF's reference form (SpotCone::falloff).
+fn spot_falloff(l: Light, cd: f32) -> f32 {
+    let scale = 1.0 / max(l.cos_inner - l.cos_outer, SPOT_MIN_RAMP);
+    let offset = -l.cos_outer * scale;
+    let a = clamp(cd * scale + offset, 0.0, 1.0);
+    return a * a;
+}
+
+// A cosine to the spot's axis drawn in proportion to the falloff (SpotCone::sample_cos):
+// the ramp holds (a - co)^3 / (3 w^2) of the falloff's integral over the cosine, the flat
+// top 1 - a.
+fn spot_cos(l: Light, u: f32) -> f32 {
+    let co = l.cos_outer;
+    let w = max(l.cos_inner - co, SPOT_MIN_RAMP);
+    let a = min(co + w, 1.0);
+    let ramp = (a - co) * (a - co) * (a - co) / (3.0 * w * w);
+    let t = u * (ramp + (1.0 - a));
+    var c = a + (t - ramp);
+    if t < ramp {
+        c = co + select(0.0, pow(3.0 * w * w * t, 1.0 / 3.0), t > 0.0);
+    }
+    return min(c, 1.0);
+}
 
 struct SurfacePoint {
     p: vec3<f32>,
@@ -56,8 +87,27 @@ struct Emission {
 }
 
 fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
-    let sp = light_point(l, u0);
     var e: Emission;
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_SPOT {
+        let c = spot_cos(l, u3);
+        let s = sqrt(max(1.0 - c * c, 0.0));
+        let phi = 2.0 * PI * u4;
+        e.origin = l.position;
+        e.normal = vec3<f32>(0.0);
+        e.dir = to_world(vec3<f32>(s * cos(phi), s * sin(phi), c), l.direction);
+        return e;
+    }
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
+        // A uniform point of the disc of radius l.radius, two radii back from the centre.
+        let rho = l.radius * sqrt(u0.y);
+        let phi = 2.0 * PI * u0.z;
+        let across = rho * (cos(phi) * basis_t(l.direction) + sin(phi) * basis_b(l.direction));
+        e.origin = l.position - 2.0 * l.radius * l.direction + across;
+        e.normal = vec3<f32>(0.0);
+        e.dir = l.direction;
+        return e;
+    }
+    let sp = light_point(l, u0);
     e.origin = sp.p;
     e.normal = sp.n;
     if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
@@ -79,31 +129,43 @@ fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     return e;
 }
 
+// A shadow-ray target: `distant` for a directional light, whose point is one unit from x
+// towards the light and whose shadow ray has no end.
 struct LightSample {
     point: vec3<f32>,
     weight: vec3<f32>,
+    distant: bool,
 }
 
 fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
     if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
         let d = l.position - x;
-        return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20));
+        return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20), false);
+    }
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_SPOT {
+        let to_x = x - l.position;
+        let d2 = max(dot(to_x, to_x), 1e-20);
+        let att = spot_falloff(l, dot(l.direction, to_x) / sqrt(d2));
+        return LightSample(l.position, l.intensity * (att / d2), false);
+    }
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
+        return LightSample(x - l.direction, l.intensity, true);
     }
     let sp = light_point(l, u);
     let m = materials[sp.material];
     let to_x = x - sp.p;
     let d2 = dot(to_x, to_x);
     if d2 <= 0.0 {
-        return LightSample(sp.p, vec3<f32>(0.0));
+        return LightSample(sp.p, vec3<f32>(0.0), false);
     }
     var cos_l = dot(sp.n, to_x) / sqrt(d2);
     if m.two_sided != 0u {
         cos_l = abs(cos_l);
     }
     if cos_l <= 0.0 {
-        return LightSample(sp.p, vec3<f32>(0.0));
+        return LightSample(sp.p, vec3<f32>(0.0), false);
     }
-    return LightSample(sp.p, m.emission * (cos_l * l.area / d2));
+    return LightSample(sp.p, m.emission * (cos_l * l.area / d2), false);
 }
 
 fn aims_at(o: vec3<f32>, d: vec3<f32>) -> bool {

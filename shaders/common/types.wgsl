@@ -55,9 +55,11 @@ struct Light {
     global_count: u32,
     caustic_offset: u32,
     caustic_count: u32,
+    cos_inner: f32,
+    cos_outer: f32,
+    radius: f32,
+    direction: vec3<f32>,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 }
 
 struct Aabb {

@@ -20,7 +20,7 @@ use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
-use crate::scene::{LightShape, Material, MaterialKind, Scene};
+use crate::scene::{Material, MaterialKind, Scene};
 use crate::settings::{RenderSettings, Sampler};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
@@ -248,7 +248,8 @@ impl Gatherer<'_> {
     }
 
     /// Direct light by shadow rays. With `terms.direct`: area lights through the diffuse part
-    /// and point lights through the whole BRDF; otherwise only point lights' glossy lobe.
+    /// and delta lights (point, spot, directional) through the whole BRDF; otherwise only
+    /// delta lights' glossy lobe. A directional light's shadow ray has no end.
     /// With `sobol`, the first area-light sample takes its three numbers from it.
     fn direct(
         &self,
@@ -261,18 +262,18 @@ impl Gatherer<'_> {
     ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for (li, light) in self.scene.lights.iter().enumerate() {
-            let is_point = matches!(light.shape, LightShape::Point { .. });
-            if !self.terms.direct && !is_point {
+            let is_delta = light.shape.is_delta();
+            if !self.terms.direct && !is_delta {
                 continue;
             }
-            let n_samples = if is_point {
+            let n_samples = if is_delta {
                 1
             } else {
                 self.settings.shadow_samples
             };
             let mut acc = Vec3::ZERO;
             for _ in 0..n_samples {
-                let sobol_here = if is_point { None } else { sobol.take() };
+                let sobol_here = if is_delta { None } else { sobol.take() };
                 let u = match sobol_here {
                     Some(st) => {
                         let (u0, u1) = sample_pair(st.key, st.index, PAIR_LIGHT);
@@ -285,13 +286,12 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let to_light = ls.point - hit.position;
-                let dist = to_light.length();
-                let wi = to_light / dist;
+                let wi = to_light / to_light.length();
                 let cos = wi.dot(ns);
                 if cos <= 0.0 {
                     continue;
                 }
-                let f = match (is_point, self.terms.direct) {
+                let f = match (is_delta, self.terms.direct) {
                     (true, true) => brdf(m, wi, wo, ns),
                     (true, false) => m.ks * phong_lobe_value(wi, wo, ns, m.exponent),
                     _ => m.kd / std::f32::consts::PI,
@@ -300,28 +300,24 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let origin = offset_origin(hit.position, hit.normal, wi);
-                // Area lights: stop short of the light's own surface. A point light is no
+                // Area lights: stop short of the light's own surface. A delta light is no
                 // surface: the ray runs all the way, so a wall however close still shadows.
-                let end_eps = if is_point {
+                let end_eps = if is_delta {
                     0.0
                 } else {
                     OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0
                 };
                 // Aim from the moved origin: `wi` (from the surface point) would pass the
                 // light by up to the offset, e.g. outside a corner that hides it.
-                let to = ls.point - origin;
-                let len = to.length();
-                let t_max = len - end_eps;
-                if t_max > 0.0
-                    && self.bvh.occluded(
-                        self.scene,
-                        &Ray {
-                            origin,
-                            dir: to / len,
-                        },
-                        t_max,
-                    )
-                {
+                // A directional light is at infinity, in the same direction from everywhere.
+                let (dir, t_max) = if ls.distant {
+                    (wi, f32::INFINITY)
+                } else {
+                    let to = ls.point - origin;
+                    let len = to.length();
+                    (to / len, len - end_eps)
+                };
+                if t_max > 0.0 && self.bvh.occluded(self.scene, &Ray { origin, dir }, t_max) {
                     continue;
                 }
                 acc += f * ls.weight * cos;

@@ -24,6 +24,10 @@ pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_TRIANGLES: u32 = 1;
 /// `Light.kind` of an emitting sphere.
 pub const LIGHT_SPHERE: u32 = 2;
+/// `Light.kind` of a spot light.
+pub const LIGHT_SPOT: u32 = 3;
+/// `Light.kind` of a directional light.
+pub const LIGHT_DIRECTIONAL: u32 = 4;
 
 /// `Params.filter_kind` of the disc (constant) kernel.
 pub const FILTER_DISC: u32 = 0;
@@ -53,7 +57,8 @@ pub const BOUNCE_DELTA: u32 = 3;
 
 /// `Params.terms` bit: shadow rays (`plan::Terms::direct`).
 pub const TERM_DIRECT: u32 = 1;
-/// `Params.terms` bit: the glossy lobe for point lights (`plan::Terms::point_lobe`).
+/// `Params.terms` bit: the glossy lobe for point, spot and directional lights
+/// (`plan::Terms::point_lobe`).
 pub const TERM_POINT_LOBE: u32 = 2;
 /// `Params.terms` bit: a ray sampled from the glossy lobe (`plan::Terms::lobe_ray`).
 pub const TERM_LOBE_RAY: u32 = 4;
@@ -159,6 +164,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("LIGHT_POINT", U32(LIGHT_POINT)),
         ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
         ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
+        ("LIGHT_SPOT", U32(LIGHT_SPOT)),
+        ("LIGHT_DIRECTIONAL", U32(LIGHT_DIRECTIONAL)),
+        ("SPOT_MIN_RAMP", F32(crate::scene::SpotCone::MIN_RAMP)),
         ("FILTER_DISC", U32(FILTER_DISC)),
         ("FILTER_CONE", U32(FILTER_CONE)),
         ("FILTER_EPANECHNIKOV", U32(FILTER_EPANECHNIKOV)),

@@ -25,7 +25,8 @@ pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&
         ("LOOP_BUDGET", budget as f64),
         ("HAS_GLASS", scene.has_glass() as u32 as f64),
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
-        ("HAS_POINT_LIGHTS", scene.has_point_lights() as u32 as f64),
+        // The WGSL name covers every delta light: point, spot and directional.
+        ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
     ]
 }
 

@@ -2,7 +2,9 @@
 //! field for field (`BvhNode` and `Photon` live in src/bvh.rs and src/photon.rs).
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
-use super::codes::{material_code, LIGHT_POINT, LIGHT_SPHERE, LIGHT_TRIANGLES};
+use super::codes::{
+    material_code, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLES,
+};
 use crate::scene::{LightShape, Material, Scene, Sphere, Triangle};
 use bytemuck::{Pod, Zeroable};
 
@@ -72,11 +74,13 @@ pub struct GpuMaterial {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
-    /// Point light: position.
+    /// Point and spot light: position; directional light: centre of the scene's bounding
+    /// sphere.
     pub position: [f32; 3],
     /// A LIGHT_* code.
     pub kind: u32,
-    /// Point light: radiant intensity.
+    /// Point light: radiant intensity; spot light: on-axis intensity; directional light:
+    /// irradiance.
     pub intensity: [f32; 3],
     /// Triangle light: first triangle; sphere light: sphere index.
     pub first: u32,
@@ -98,12 +102,16 @@ pub struct GpuLight {
     pub caustic_offset: u32,
     /// Caustic paths (attempts) of this light.
     pub caustic_count: u32,
+    /// Spot light: cosine of the inner half-angle.
+    pub cos_inner: f32,
+    /// Spot light: cosine of the outer half-angle.
+    pub cos_outer: f32,
+    /// Directional light: radius of the scene's bounding sphere (its photons' disc).
+    pub radius: f32,
+    /// Spot light: unit axis; directional light: unit direction of travel.
+    pub direction: [f32; 3],
     /// Padding.
     pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
 }
 
 /// Twin of WGSL `Aabb`: a specular surface's bounds that caustic photons aim at.
@@ -267,6 +275,29 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
                 LightShape::Sphere { index } => {
                     g.kind = LIGHT_SPHERE;
                     g.first = index;
+                }
+                LightShape::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cone,
+                } => {
+                    g.kind = LIGHT_SPOT;
+                    g.position = position.to_array();
+                    g.direction = direction.to_array();
+                    g.intensity = intensity.to_array();
+                    g.cos_inner = cone.cos_inner;
+                    g.cos_outer = cone.cos_outer;
+                }
+                LightShape::Directional {
+                    direction,
+                    irradiance,
+                } => {
+                    g.kind = LIGHT_DIRECTIONAL;
+                    g.position = table.bounds.0.to_array();
+                    g.radius = table.bounds.1;
+                    g.direction = direction.to_array();
+                    g.intensity = irradiance.to_array();
                 }
             }
             g

@@ -10,7 +10,9 @@
 //! - every emissive shape becomes **one** area light, in the order shapes are added: a
 //!   sphere's light is the sphere, any other shape's is its triangles, stored contiguously;
 //!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
-//!   `4 pi * intensity`;
+//!   `4 pi * intensity`, a spot light's `intensity * SpotCone::solid_angle`, a directional
+//!   light's `irradiance * pi R^2` with R the radius of the finished scene's
+//!   [`Scene::bounding_sphere`];
 //! - an emissive shape must have a positive area and finite power; vertices must be finite;
 //!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
 //!   importer may skip what it cannot use and go on.
@@ -76,7 +78,7 @@ pub struct SceneBuilder {
     names: HashMap<String, MaterialId>,
     triangles: Vec<Triangle>,
     spheres: Vec<Sphere>,
-    lights: Vec<Light>,
+    pub(super) lights: Vec<Light>,
     settings: RenderSettings,
 }
 
@@ -284,19 +286,27 @@ impl SceneBuilder {
         Ok(())
     }
 
-    /// The scene; without a camera, an error on [`Part::Camera`].
+    /// The scene; without a camera, an error on [`Part::Camera`]. Directional lights get
+    /// their power here: `irradiance * pi R^2`, R the radius of [`Scene::bounding_sphere`].
     pub fn finish(self, at: &dyn Locate) -> Result<Scene> {
         let Some(camera) = self.camera else {
             return Err(at.error(Part::Camera, "the scene has no camera".into()));
         };
-        Ok(Scene {
+        let mut scene = Scene {
             camera,
             materials: self.materials,
             triangles: self.triangles,
             spheres: self.spheres,
             lights: self.lights,
             settings: self.settings,
-        })
+        };
+        let (_, radius) = scene.bounding_sphere();
+        for l in &mut scene.lights {
+            if let LightShape::Directional { irradiance, .. } = l.shape {
+                l.power = irradiance * (PI * radius * radius);
+            }
+        }
+        Ok(scene)
     }
 
     /// The material a shape of `surface` gets, and its radiance; changes nothing yet (a
@@ -356,7 +366,7 @@ struct Resolved {
 }
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
-fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
+pub(super) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
     check_color(c, None, Part::Emission, at)
 }
 

@@ -15,6 +15,8 @@ mod mesh_file;
 pub mod mitsuba;
 mod obj;
 mod ply;
+mod punctual;
+mod spot;
 mod toml;
 mod toml_table;
 
@@ -22,6 +24,8 @@ pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
 pub use ply::{read_ply, PlyError, PlyMesh};
+pub use punctual::SpotLight;
+pub use spot::SpotCone;
 pub use toml::load_str;
 
 use crate::error::{Error, Result};
@@ -263,14 +267,49 @@ pub enum LightShape {
         /// Index into [`Scene::spheres`].
         index: u32,
     },
+    /// Spot light: a point source whose intensity in direction `w` is `intensity` times the
+    /// falloff of [`SpotCone`] at `cos = dot(direction, w)`; invisible to the camera.
+    Spot {
+        /// Where it is.
+        position: Vec3,
+        /// Unit axis of the cone, the direction it shines in.
+        direction: Vec3,
+        /// Radiant intensity on the axis, W/sr per channel.
+        intensity: Vec3,
+        /// Its cone (full intensity inside the inner half-angle, none outside the outer).
+        cone: SpotCone,
+    },
+    /// Directional (distant) light: parallel light travelling along `direction`, delivering
+    /// `irradiance` to a surface facing it; invisible to the camera. Its photons start on a
+    /// disc of the radius of [`Scene::bounding_sphere`] outside the scene.
+    Directional {
+        /// Unit direction the light travels in.
+        direction: Vec3,
+        /// Irradiance on a surface facing the light, W/m^2 per channel.
+        irradiance: Vec3,
+    },
 }
 
-/// A light source: a point light or an emissive shape.
+impl LightShape {
+    /// Point, spot and directional lights: a point or a direction, no surface. Shadow rays
+    /// reach them exactly (one sample), nothing else can hit them, and they light every BRDF
+    /// lobe through shadow rays.
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            LightShape::Point { .. } | LightShape::Spot { .. } | LightShape::Directional { .. }
+        )
+    }
+}
+
+/// A light source: a point, spot or directional light, or an emissive shape.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
     /// What it is made of.
     pub shape: LightShape,
-    /// Emitted power per channel (W): 4 pi I for a point light, pi A L for a one-sided emitter.
+    /// Emitted power per channel (W): 4 pi I for a point light, pi A L for a one-sided
+    /// emitter, I [`SpotCone::solid_angle`] for a spot light, E pi R^2 for a directional light
+    /// (R the radius of [`Scene::bounding_sphere`]).
     pub power: Vec3,
 }
 
@@ -336,11 +375,28 @@ impl Scene {
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
     }
-    /// Whether some light is a point light.
-    pub fn has_point_lights(&self) -> bool {
-        self.lights
-            .iter()
-            .any(|l| matches!(l.shape, LightShape::Point { .. }))
+    /// Whether some light is a point, spot or directional light ([`LightShape::is_delta`]).
+    pub fn has_delta_lights(&self) -> bool {
+        self.lights.iter().any(|l| l.shape.is_delta())
+    }
+    /// A sphere around every triangle and sphere (centre and radius): the centre and half
+    /// the diagonal of their bounding box, the radius grown by 0.1% (and 1e-4) so that a
+    /// directional light's photons start clear of the scene. `(0, 0)` for an empty scene.
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for t in &self.triangles {
+            lo = lo.min(t.v0).min(t.v1).min(t.v2);
+            hi = hi.max(t.v0).max(t.v1).max(t.v2);
+        }
+        for s in &self.spheres {
+            lo = lo.min(s.center - s.radius);
+            hi = hi.max(s.center + s.radius);
+        }
+        if lo.x > hi.x {
+            return (Vec3::ZERO, 0.0);
+        }
+        let centre = 0.5 * (lo + hi);
+        (centre, 0.5 * (hi - lo).length() * 1.001 + 1e-4)
     }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {

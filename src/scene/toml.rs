@@ -8,9 +8,10 @@
 //! [`crate::settings::SETTINGS`].
 
 use super::builder::{SceneBuilder, Surface};
+use super::locate::Locate;
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use super::{mesh_file, Material, Scene};
+use super::{mesh_file, Material, Scene, SpotLight};
 use crate::error::Result;
 use crate::scene::file;
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, SETTINGS};
@@ -52,7 +53,21 @@ const SHAPE_TYPES: &Types = &[
     ("mesh", &["file", "scale", "translate"]),
 ];
 const SHAPE_KEYS: &[&str] = &["material", "emission", "two_sided"];
-const LIGHT_TYPES: &Types = &[("point", &["position", "intensity"])];
+const LIGHT_TYPES: &Types = &[
+    ("point", &["position", "intensity"]),
+    (
+        "spot",
+        &[
+            "position",
+            "direction",
+            "target",
+            "intensity",
+            "inner_angle",
+            "outer_angle",
+        ],
+    ),
+    ("directional", &["direction", "irradiance"]),
+];
 
 /// Reads and loads the scene file at `path`; meshes are resolved relative to its directory.
 ///
@@ -101,18 +116,58 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
         shape(&Tab::new(&cx, format!("shapes[{i}]"), s), base_dir, &mut b)?;
     }
     for (i, l) in raw.lights.iter().enumerate() {
-        let t = Tab::new(&cx, format!("lights[{i}]"), l);
-        t.typed(LIGHT_TYPES, &[])?;
-        let position = t.need("position", t.vec3("position")?)?;
-        let intensity = t.need("intensity", t.color("intensity", None)?)?;
-        let at = At {
-            tab: &t,
-            geometry: "position",
-            emission: "intensity",
-        };
-        b.add_point_light(position, intensity, &at)?;
+        light(&Tab::new(&cx, format!("lights[{i}]"), l), &mut b)?;
     }
     b.finish(&no_camera)
+}
+
+/// A `[[lights]]` table: a point, spot or directional light.
+fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
+    let kind = t.typed(LIGHT_TYPES, &[])?;
+    let emission = if kind == "directional" {
+        "irradiance"
+    } else {
+        "intensity"
+    };
+    let at = At {
+        tab: t,
+        geometry: "position",
+        emission,
+    };
+    let color = t.need(emission, t.color(emission, None)?)?;
+    if kind == "directional" {
+        let direction = t.need("direction", t.vec3("direction")?)?;
+        return b.add_directional_light(direction, color, &at);
+    }
+    let position = t.need("position", t.vec3("position")?)?;
+    if kind == "point" {
+        return b.add_point_light(position, color, &at);
+    }
+    // A spot aims along `direction`, or at `target` (exactly one of them).
+    let (direction, target) = (t.vec3("direction")?, t.vec3("target")?);
+    let direction = match (direction, target) {
+        (Some(d), None) => d,
+        (None, Some(target)) => target - position,
+        (Some(_), Some(_)) => {
+            return Err(t.fail("target", "give `direction` or `target`, not both"))
+        }
+        (None, None) => return Err(t.fail("direction", "missing field `direction` (or `target`)")),
+    };
+    let spot = SpotLight {
+        position,
+        direction,
+        intensity: color,
+        inner: t.num("inner_angle")?.unwrap_or(0.0),
+        outer: t.need("outer_angle", t.num("outer_angle")?)?,
+    };
+    // With `target`, a zero direction is the target's fault.
+    let aimed = |part: Part, message: String| match part {
+        Part::Parameter("direction") if target.is_some() => {
+            t.fail("target", format!("{message} (`target` equals `position`)"))
+        }
+        part => at.error(part, message),
+    };
+    b.add_spot_light(spot, &aimed)
 }
 
 /// The settings of [`SETTINGS`] that table `table` may set.

@@ -7,8 +7,9 @@
 //! per node. Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
 //! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
 //! normals are not read (shading is flat). The camera is the first met in the traversal, or
-//! the one named; point lights of `KHR_lights_punctual` are converted from candela at
-//! 683 lm/W. Errors are [`Error::Scene`] naming the file, the JSON line of the item (0 where
+//! the one named; `KHR_lights_punctual` lights are converted from photometric units at
+//! 683 lm/W (point and spot from candela to W/sr, directional from lux to W/m^2), spot and
+//! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`] naming the file, the JSON line of the item (0 where
 //! unknown) and its field path; warnings (approximated materials, textures) go to stderr.
 
 mod data;
@@ -17,7 +18,7 @@ mod material;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
-use super::Scene;
+use super::{Scene, SpotLight};
 use crate::error::{Error, Result};
 use crate::scene::file;
 use glam::{Mat4, Vec3};
@@ -215,18 +216,37 @@ impl Importer<'_> {
         let name = light
             .name()
             .map_or(format!("lights[{}]", light.index()), str::to_string);
-        let kind = match light.kind() {
-            Kind::Point => {
-                let position = world.transform_point3(Vec3::ZERO);
-                let intensity = Vec3::from(light.color()) * light.intensity() / LUMENS_PER_WATT;
-                let at = |_: Part, m: String| self.cx.err(&field, format!("light {name}: {m}"));
-                return self.b.add_point_light(position, intensity, &at);
-            }
-            Kind::Spot { .. } => "spot",
-            Kind::Directional => "directional",
+        // Point and spot in candela, directional in lux: both / 683 to W/sr and W/m^2.
+        let position = world.transform_point3(Vec3::ZERO);
+        let intensity = Vec3::from(light.color()) * light.intensity() / LUMENS_PER_WATT;
+        // Spot and directional lights point along the node's -Z axis.
+        let direction = world.transform_vector3(-Vec3::Z);
+        let at = |part: Part, m: String| {
+            let what = match part {
+                Part::Parameter("inner_angle") => "spot.innerConeAngle (in degrees): ",
+                Part::Parameter("outer_angle") => "spot.outerConeAngle (in degrees): ",
+                Part::Parameter("direction") => "direction (the node's -Z axis): ",
+                _ => "",
+            };
+            self.cx.err(&field, format!("light {name}: {what}{m}"))
         };
-        let message = format!("light {name}: unsupported {kind} light");
-        Err(self.cx.err(&field, message))
+        match light.kind() {
+            Kind::Point => self.b.add_point_light(position, intensity, &at),
+            Kind::Spot {
+                inner_cone_angle,
+                outer_cone_angle,
+            } => {
+                let spot = SpotLight {
+                    position,
+                    direction,
+                    intensity,
+                    inner: inner_cone_angle.to_degrees(),
+                    outer: outer_cone_angle.to_degrees(),
+                };
+                self.b.add_spot_light(spot, &at)
+            }
+            Kind::Directional => self.b.add_directional_light(direction, intensity, &at),
+        }
     }
 
     fn primitive(

@@ -3,12 +3,13 @@
 //!
 //! Read: one `perspective` sensor (with its `hdrfilm` size and `sampler` count as spp),
 //! `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `obj`, `area` emitters on
-//! shapes, `point` emitters, `ref` ids, `default` parameters and `$name` substitution. The
+//! shapes, `point`, `spot` and `directional` emitters (see `emitter.rs`), `ref` ids, `default` parameters and `$name` substitution. The
 //! `integrator` is ignored (the render mode is ours). Anything else (other plugins, textures,
 //! environment maps, parameters we do not read) is an `unsupported` error: nothing is skipped
 //! silently. Every error is `FILE:LINE: field: message`; approximations are warnings.
 
 mod bsdf;
+mod emitter;
 mod plugin;
 mod shape;
 mod values;
@@ -234,40 +235,6 @@ impl Importer<'_> {
         }
         let at = self.origin(node, field);
         self.b.camera(eye, eye + forward, up, fov_y, &at)
-    }
-
-    /// `<emitter type="point">` at the top level.
-    fn emitter(&mut self, node: Node, field: &str) -> Result<()> {
-        let cx = &self.cx;
-        let p = Plugin::new(cx, node, field.to_string())?;
-        if p.kind != "point" {
-            let message = match p.kind.as_str() {
-                "area" => "an `area` emitter must be inside a <shape>".to_string(),
-                other => format!("unsupported emitter `{other}`"),
-            };
-            return Err(cx.err(node, field, message));
-        }
-        if let Some(extra) = p.objects.first() {
-            let message = format!(
-                "unsupported <{}> in a point emitter",
-                extra.tag_name().name()
-            );
-            return Err(cx.err(*extra, field, message));
-        }
-        let Some(intensity) = p.color(cx, "intensity")? else {
-            return Err(cx.err(node, &p.at("intensity"), "missing"));
-        };
-        let position = match (p.point(cx, "position")?, p.transform(cx, "to_world")?) {
-            (Some(_), Some(_)) => {
-                let message = "give `position` or `to_world`, not both";
-                return Err(cx.err(node, field, message));
-            }
-            (Some(position), None) => position,
-            (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
-        };
-        p.done(cx)?;
-        let at = self.origin(node, field);
-        self.b.add_point_light(position, intensity, &at)
     }
 
     /// The material of a `<ref id>` to a bsdf defined earlier.

@@ -71,6 +71,13 @@ impl<'a, 'i> Plugin<'a, 'i> {
         format!("{}.{name}", self.field)
     }
 
+    /// The element of parameter `name` when present (else the plugin's own), for pointing
+    /// an error at its line; does not mark it read.
+    pub fn node_of(&self, name: &str) -> Node<'a, 'i> {
+        let found = self.params.iter().find(|(n, _, _)| n == name);
+        found.map_or(self.node, |(_, node, _)| *node)
+    }
+
     /// The element of parameter `name`, marked read; its tag must be one of `tags`.
     fn param(&self, cx: &Cx, name: &str, tags: &[&str]) -> Result<Option<Node<'a, 'i>>> {
         let Some((_, node, read)) = self.params.iter().find(|(n, _, _)| n == name) else {

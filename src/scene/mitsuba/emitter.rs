@@ -1,0 +1,112 @@
+//! Mitsuba's top-level emitters: `point`, `spot` and `directional` (an `area` emitter lives
+//! inside its shape, `shape.rs`). Intensity is W/sr and irradiance W/m^2 per linear RGB
+//! channel, as in Mitsuba. A `spot` (cone along its `to_world`'s +Z) keeps its angles:
+//! `beam_width` becomes the inner and `cutoff_angle` the outer half-angle of our glTF-style
+//! falloff, which is quadratic in the cosine between them where Mitsuba's is linear in the
+//! angle, so a spot with a transition band is approximated (a warning says so).
+
+use super::plugin::Plugin;
+use super::Importer;
+use crate::error::Result;
+use crate::scene::locate::{Locate, Part};
+use crate::scene::SpotLight;
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+
+/// Mitsuba's default `cutoff_angle` of a spot, degrees.
+const DEFAULT_CUTOFF: f32 = 20.0;
+
+impl Importer<'_> {
+    /// `<emitter type="point|spot|directional">` at the top level.
+    pub(super) fn emitter(&mut self, node: Node, field: &str) -> Result<()> {
+        let cx = &self.cx;
+        let p = Plugin::new(cx, node, field.to_string())?;
+        let kind = p.kind.as_str();
+        if !matches!(kind, "point" | "spot" | "directional") {
+            let message = match kind {
+                "area" => "an `area` emitter must be inside a <shape>".to_string(),
+                other => format!("unsupported emitter `{other}`"),
+            };
+            return Err(cx.err(node, field, message));
+        }
+        if let Some(extra) = p.objects.first() {
+            let tag = extra.tag_name().name();
+            let message = format!("unsupported <{tag}> in a {kind} emitter");
+            return Err(cx.err(*extra, field, message));
+        }
+        let emission = if kind == "directional" {
+            "irradiance"
+        } else {
+            "intensity"
+        };
+        let Some(color) = p.color(cx, emission)? else {
+            return Err(cx.err(node, &p.at(emission), "missing"));
+        };
+        // Builder errors point at the parameter they are about.
+        let origin = self.origin(node, field);
+        let given = |name: &str| p.node_of(name) != node;
+        let at = |part: Part, message: String| {
+            let name = match part {
+                Part::Emission => emission,
+                Part::Parameter("outer_angle") => "cutoff_angle",
+                Part::Parameter("inner_angle") => "beam_width",
+                Part::Parameter("direction") if given("direction") => "direction",
+                Part::Parameter("direction") | Part::Geometry => "to_world",
+                _ => return origin.error(part, message),
+            };
+            cx.err(p.node_of(name), &p.at(name), message)
+        };
+        let to_world = p.transform(cx, "to_world")?;
+        match kind {
+            "point" => {
+                let position = match (p.point(cx, "position")?, to_world) {
+                    (Some(_), Some(_)) => {
+                        let message = "give `position` or `to_world`, not both";
+                        return Err(cx.err(node, field, message));
+                    }
+                    (Some(position), None) => position,
+                    (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
+                };
+                p.done(cx)?;
+                self.b.add_point_light(position, color, &at)
+            }
+            "spot" => {
+                let m = to_world.unwrap_or(Mat4::IDENTITY);
+                let outer = p.float(cx, "cutoff_angle")?.unwrap_or(DEFAULT_CUTOFF);
+                let beam = p.float(cx, "beam_width")?.unwrap_or(outer * 0.75);
+                p.done(cx)?;
+                let spot = SpotLight {
+                    position: m.transform_point3(Vec3::ZERO),
+                    direction: m.transform_vector3(Vec3::Z),
+                    intensity: color,
+                    inner: beam,
+                    outer,
+                };
+                self.b.add_spot_light(spot, &at)?;
+                if beam < outer {
+                    let line = node.document().text_pos_at(node.range().start).row;
+                    self.warnings.push(format!(
+                        "{}:{line}: {field}: spot falloff approximated: Mitsuba's ramp, linear \
+                         in angle from beam_width {beam} to cutoff_angle {outer} degrees, \
+                         becomes a ramp quadratic in the cosine between the same angles \
+                         (glTF's form)",
+                        cx.file
+                    ));
+                }
+                Ok(())
+            }
+            _ => {
+                let direction = match (p.point(cx, "direction")?, to_world) {
+                    (Some(_), Some(_)) => {
+                        let message = "give `direction` or `to_world`, not both";
+                        return Err(cx.err(node, field, message));
+                    }
+                    (Some(d), None) => d,
+                    (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::Z),
+                };
+                p.done(cx)?;
+                self.b.add_directional_light(direction, color, &at)
+            }
+        }
+    }
+}
