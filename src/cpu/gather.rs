@@ -14,9 +14,9 @@
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
-use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
+use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
-use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
+use crate::material::{brdf, dielectric_shading, phong_lobe_value, reflect};
 use crate::plan::Terms;
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
@@ -111,8 +111,11 @@ impl Gatherer<'_> {
                 if !can_recurse {
                     return emitted;
                 }
-                let ns = if front { hit.normal } else { -hit.normal };
-                let dir = reflect(ray.dir, ns);
+                let f = Facing::new(hit.normal, hit.shading, front);
+                let dir = reflect(ray.dir, f.ns);
+                if f.reflection_leaks(dir) {
+                    return emitted;
+                }
                 emitted
                     + m.ks
                         * self.radiance(
@@ -129,8 +132,20 @@ impl Gatherer<'_> {
                 if !can_recurse {
                     return emitted;
                 }
-                let g = dielectric(ray.dir, hit.normal, m.ior, self.settings.fresnel);
+                let (ng, ns) = (hit.normal, hit.shading);
+                let g = dielectric_shading(ray.dir, ng, ns, m.ior, self.settings.fresnel);
+                let f = Facing::new(ng, ns, front);
+                // A branch that ends on the wrong side of the geometric surface carries
+                // nothing (smooth triangles only).
                 let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
+                    let leaks = if Some(dir) == g.refracted {
+                        f.refraction_leaks(dir)
+                    } else {
+                        f.reflection_leaks(dir)
+                    };
+                    if leaks {
+                        return Vec3::ZERO;
+                    }
                     self.radiance(
                         &Ray {
                             origin: offset_origin(hit.position, hit.normal, dir),
@@ -172,15 +187,12 @@ impl Gatherer<'_> {
         rng: &mut Rng,
         sobol: Option<SobolStream>,
     ) -> Vec3 {
-        let ns = if wo.dot(hit.normal) >= 0.0 {
-            hit.normal
-        } else {
-            -hit.normal
-        };
+        let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
+        let ns = f.ns;
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
-            l += self.direct(hit, m, ns, wo, rng, sobol);
+            l += self.direct(hit, m, &f, wo, rng, sobol);
         }
         // The photon estimate uses the diffuse part; the glossy lobe is traced below.
         let kd_over_pi = m.kd / std::f32::consts::PI;
@@ -192,10 +204,11 @@ impl Gatherer<'_> {
         };
         for (map, max_r) in [(global, s.radius), (self.caustic, s.caustic_radius)] {
             if let Some(map) = map {
+                // The geometric normal: photons carry their surface's.
                 l += estimate_at(
                     map,
                     hit.position,
-                    ns,
+                    f.ng,
                     s.k as usize,
                     max_r * max_r,
                     s.filter,
@@ -204,7 +217,7 @@ impl Gatherer<'_> {
             }
         }
         if self.terms.final_gather && depth < s.max_depth && m.kd.max_element() > 0.0 {
-            l += m.kd * self.final_gather(hit, ns, depth, rng, sobol);
+            l += m.kd * self.final_gather(hit, &f, depth, rng, sobol);
         }
         if self.terms.lobe_ray
             && m.kind == MaterialKind::Glossy
@@ -214,7 +227,7 @@ impl Gatherer<'_> {
             let (u1, u2) = rng.next2();
             let dir = phong_lobe(reflect(-wo, ns), m.exponent, u1, u2);
             let cos = dir.dot(ns);
-            if cos > 0.0 {
+            if cos > 0.0 && !f.reflection_leaks(dir) {
                 let w = m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
                 l += w * self.radiance(
                     &Ray {
@@ -232,12 +245,14 @@ impl Gatherer<'_> {
 
     /// Direct light by shadow rays. With `terms.direct`: area lights through the diffuse part
     /// and point lights through the whole BRDF; otherwise only point lights' glossy lobe.
-    /// With `sobol`, the first area-light sample takes its three numbers from it.
+    /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
+    /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
+    /// nothing.
     fn direct(
         &self,
         hit: &Hit,
         m: &Material,
-        ns: Vec3,
+        f: &Facing,
         wo: Vec3,
         rng: &mut Rng,
         mut sobol: Option<SobolStream>,
@@ -270,8 +285,9 @@ impl Gatherer<'_> {
                 let to_light = ls.point - hit.position;
                 let dist = to_light.length();
                 let wi = to_light / dist;
+                let ns = f.ns;
                 let cos = wi.dot(ns);
-                if cos <= 0.0 {
+                if cos <= 0.0 || f.reflection_leaks(wi) {
                     continue;
                 }
                 let f = match (is_point, self.terms.direct) {

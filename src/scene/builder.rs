@@ -21,7 +21,10 @@
 //! fixed place).
 
 use super::locate::{Locate, Part};
-use super::{Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, NO_LIGHT};
+use super::{
+    Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, VertexNormals, FLAT,
+    NO_LIGHT,
+};
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::settings::RenderSettings;
@@ -75,6 +78,7 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
     triangles: Vec<Triangle>,
+    shading_normals: Vec<VertexNormals>,
     spheres: Vec<Sphere>,
     lights: Vec<Light>,
     settings: RenderSettings,
@@ -231,10 +235,29 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
+        self.add_smooth_mesh(tris, None, surface, at)
+    }
+
+    /// [`SceneBuilder::add_mesh`] with, when `normals` is given, smooth shading: one
+    /// [`VertexNormals`] per triangle (the corners' normals in world space, any length; each
+    /// is normalised). A normal that is zero or not finite, or a count that differs from the
+    /// triangles', is an error on [`Part::Geometry`] (importers check first, naming their
+    /// file and field).
+    pub fn add_smooth_mesh(
+        &mut self,
+        tris: Vec<[Vec3; 3]>,
+        normals: Option<Vec<VertexNormals>>,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
         let surface = self.resolve(surface, at)?;
         if tris.iter().flatten().any(|p| !p.is_finite()) {
             return Err(at.error(Part::Geometry, "vertices must be finite".into()));
         }
+        let normals = match normals {
+            Some(n) => Some(unit_normals(n, tris.len()).map_err(|m| at.error(Part::Geometry, m))?),
+            None => None,
+        };
         let triangles = tris.iter().map(|&[a, b, c]| Triangle::new(a, b, c, 0));
         let mut light = None;
         if let Some(radiance) = surface.radiance {
@@ -251,13 +274,20 @@ impl SceneBuilder {
         }
         let material = self.commit(&surface);
         let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
-        for triangle in triangles {
+        let first_normals = self.shading_normals.len() as u32;
+        for (i, triangle) in triangles.enumerate() {
+            let shading = match normals {
+                Some(_) => first_normals + i as u32,
+                None => FLAT,
+            };
             self.triangles.push(Triangle {
                 material,
                 light,
+                shading,
                 ..triangle
             });
         }
+        self.shading_normals.extend(normals.into_iter().flatten());
         Ok(())
     }
 
@@ -293,6 +323,7 @@ impl SceneBuilder {
             camera,
             materials: self.materials,
             triangles: self.triangles,
+            shading_normals: self.shading_normals,
             spheres: self.spheres,
             lights: self.lights,
             settings: self.settings,
@@ -353,6 +384,30 @@ struct Resolved {
     existing: Option<u32>,
     material: Material,
     radiance: Option<Vec3>,
+}
+
+/// `normals`, one set per triangle of `count`, each normalised; an error message when the
+/// count differs or a normal is zero or not finite.
+fn unit_normals(
+    mut normals: Vec<VertexNormals>,
+    count: usize,
+) -> Result<Vec<VertexNormals>, String> {
+    if normals.len() != count {
+        let n = normals.len();
+        return Err(format!("{n} sets of vertex normals for {count} triangles"));
+    }
+    for (i, set) in normals.iter_mut().enumerate() {
+        for n in set.iter_mut() {
+            let unit = n.normalize_or_zero();
+            if !n.is_finite() || unit == Vec3::ZERO {
+                return Err(format!(
+                    "vertex normal {n} of triangle {i} is zero or not finite"
+                ));
+            }
+            *n = unit;
+        }
+    }
+    Ok(normals)
 }
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
