@@ -68,7 +68,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             return;
         }
         let u = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
-        let b = photon_bounce(m, d, hit.normal, u);
+        let b = photon_bounce(m, d, hit, u);
         if b.kind == BOUNCE_ABSORB {
             return;
         }

@@ -77,7 +77,7 @@ pub struct Facing {
     /// Shading normal on the same side as `ng`: BSDF evaluation and sampling.
     pub ns: Vec3,
     /// `ns != ng`: only then can a direction be on opposite sides of the two.
-    pub smooth: bool,
+    pub interpolated: bool,
 }
 
 impl Facing {
@@ -89,7 +89,7 @@ impl Facing {
         Facing {
             ng: s * ng,
             ns: s * ns,
-            smooth: ns != ng,
+            interpolated: ns != ng,
         }
     }
     /// Whether `dir`, leaving the surface on the ray's side (a reflection), lies below the
@@ -97,13 +97,13 @@ impl Facing {
     /// terminator). Always false on a flat surface, whose callers test the same cosine.
     #[inline]
     pub fn reflection_leaks(&self, dir: Vec3) -> bool {
-        self.smooth && dir.dot(self.ng) <= 0.0
+        self.interpolated && dir.dot(self.ng) <= 0.0
     }
     /// Whether `dir`, meant to cross the surface (a refraction), stays on the ray's side of
     /// the geometric surface; always false on a flat surface.
     #[inline]
     pub fn refraction_leaks(&self, dir: Vec3) -> bool {
-        self.smooth && dir.dot(self.ng) >= 0.0
+        self.interpolated && dir.dot(self.ng) >= 0.0
     }
 }
 

@@ -26,6 +26,7 @@ pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&
         ("HAS_GLASS", scene.has_glass() as u32 as f64),
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         ("HAS_POINT_LIGHTS", scene.has_point_lights() as u32 as f64),
+        ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
     ]
 }
 
