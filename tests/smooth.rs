@@ -34,15 +34,15 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 /// A UV sphere of `stacks` x `slices` (vertices on the sphere), as OBJ text with a `vn` per
-/// vertex (the exact sphere normal); faces wound outwards. With `cap`, only the vertices
-/// with y >= `cap` (relative to the centre, in radii) and the faces between them: an open
-/// cap. Returns the text and the number of triangles.
+/// vertex (the exact sphere normal); faces wound outwards. Only the faces whose three
+/// corners' unit normals pass `keep` are written (all of them: a closed sphere). Returns the
+/// text and the number of triangles.
 fn uv_sphere_obj(
     center: Vec3,
     radius: f32,
     stacks: u32,
     slices: u32,
-    cap: Option<f32>,
+    keep: impl Fn(DVec3) -> bool,
 ) -> (String, usize) {
     let mut text = String::new();
     let mut normals = Vec::new();
@@ -65,7 +65,7 @@ fn uv_sphere_obj(
     let mut count = 0;
     let mut face = |a: u32, b: u32, c: u32| {
         let n = |k: u32| normals[k as usize - 1];
-        if cap.is_some_and(|y| [a, b, c].iter().any(|&k| n(k).y < y as f64 - 1e-9)) {
+        if ![a, b, c].iter().all(|&k| keep(n(k))) {
             return;
         }
         // Outward: the winding's normal along the corners' mean normal.
@@ -179,7 +179,7 @@ fn relative_error(image: &Image, analytic: &[(f64, bool)]) -> (f64, f64, usize) 
 #[test]
 fn smooth_shading_follows_the_analytic_cosine_law_and_flat_does_not() {
     let dir = temp_dir("cosine");
-    let (obj, tris) = uv_sphere_obj(Vec3::ZERO, 1.0, 24, 48, None);
+    let (obj, tris) = uv_sphere_obj(Vec3::ZERO, 1.0, 24, 48, |_| true);
     std::fs::write(dir.join("sphere.obj"), obj).unwrap();
     let mesh = |smooth: bool| format!("type = \"mesh\"\nfile = \"sphere.obj\"\nsmooth = {smooth}");
     let smooth = diffuse_scene(&mesh(true), &dir);
@@ -234,14 +234,15 @@ fn smooth_shading_follows_the_analytic_cosine_law_and_flat_does_not() {
 
 #[test]
 fn no_light_leaks_where_the_geometric_surface_faces_away() {
-    // An open cap of a coarse sphere, seen from above, lit by a light low on its side: on
-    // the far side the facets face away from the light while their interpolated normals, near
-    // the rim, still face it; nothing else is there to cast a shadow.
+    // Part of an open cap of a coarse sphere (the upper half, without the side nearest the
+    // light), seen from above, lit by a light low on its side: past the terminator the facets
+    // face away from the light while their interpolated normals still face it, and nothing
+    // is there to cast a shadow (the near side that would is cut away).
     let dir = temp_dir("terminator");
-    let (obj, _) = uv_sphere_obj(Vec3::ZERO, 1.0, 8, 16, Some(0.0));
+    let (obj, _) = uv_sphere_obj(Vec3::ZERO, 1.0, 8, 16, |n| n.y >= 0.0 && n.x <= 0.3);
     std::fs::write(dir.join("cap.obj"), obj).unwrap();
     let text = "[camera]\neye = [0.0, 4.0, 0.5]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, -1.0]\n\
-                fov = 40.0\nwidth = 48\nheight = 48\n[render]\nmode = \"direct-only\"\n\
+                fov = 40.0\nwidth = 64\nheight = 64\n[render]\nmode = \"direct-only\"\n\
                 [materials.white]\ntype = \"diffuse\"\nalbedo = [0.8, 0.8, 0.8]\n\
                 [[shapes]]\ntype = \"mesh\"\nfile = \"cap.obj\"\nmaterial = \"white\"\n\
                 [[lights]]\ntype = \"point\"\nposition = [6.0, 0.2, 0.0]\nintensity = [30.0, 30.0, 30.0]\n";
@@ -281,7 +282,7 @@ fn no_light_leaks_where_the_geometric_surface_faces_away() {
     }
     eprintln!("{} pixels face away from the light, {tempting} of them with a shading normal that faces it", away.len());
     assert!(
-        tempting >= 20,
+        tempting >= 30,
         "the scene must tempt a leak ({tempting} pixels)"
     );
     let mut backends = vec![Backend::Cpu];
@@ -291,7 +292,8 @@ fn no_light_leaks_where_the_geometric_surface_faces_away() {
     for backend in backends {
         let image = run(&scene, &scene.settings, backend);
         let lit = image.pixels.iter().filter(|p| p[0] > 0.0).count();
-        assert!(lit > 100, "{backend:?}: the lit side is lit ({lit} pixels)");
+        eprintln!("{backend:?}: {lit} pixels lit");
+        assert!(lit > 20, "{backend:?}: the lit side is lit ({lit} pixels)");
         let leaks: Vec<_> = away
             .iter()
             .filter(|&&i| image.pixels[i] != [0.0; 3])
@@ -393,7 +395,7 @@ fn region_rmse(a: &Image, b: &Image, region: &[usize]) -> f64 {
 #[test]
 fn tessellated_glass_sphere_renders_within_noise_of_the_analytic_one() {
     let dir = temp_dir("glass");
-    let (obj, tris) = uv_sphere_obj(Vec3::new(0.45, -0.6, 0.3), 0.4, 32, 64, None);
+    let (obj, tris) = uv_sphere_obj(Vec3::new(0.45, -0.6, 0.3), 0.4, 32, 64, |_| true);
     std::fs::write(dir.join("glass.obj"), obj).unwrap();
     let exact = caustics_with(None, &dir);
     let smooth = caustics_with(Some("type = \"mesh\"\nfile = \"glass.obj\""), &dir);
@@ -473,7 +475,7 @@ fn gpu_matches_cpu_on_a_smooth_mesh_scene() {
     // shading normals and geometric normals differ a lot) where the glass one was, and the
     // mirror sphere; mode gather (shadow rays, caustics, gather rays into the cache).
     let dir = temp_dir("backends");
-    let (obj, _) = uv_sphere_obj(Vec3::new(0.45, -0.6, 0.3), 0.4, 10, 20, None);
+    let (obj, _) = uv_sphere_obj(Vec3::new(0.45, -0.6, 0.3), 0.4, 10, 20, |_| true);
     std::fs::write(dir.join("ball.obj"), obj).unwrap();
     let scene = caustics_with(
         Some("type = \"mesh\"\nfile = \"ball.obj\"\nsmooth = true"),
