@@ -522,3 +522,190 @@ fn gpu_matches_cpu_on_a_smooth_mesh_scene() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+// ---------------------------------------------------------------------------------------------
+// 5. Vertex normals from each format
+// ---------------------------------------------------------------------------------------------
+
+const CAMERA: &str = "[camera]\neye = [0.0, 0.0, 5.0]\ntarget = [0.0, 0.0, 0.0]\nfov = 40.0\n\
+                      [materials.white]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n";
+
+/// The scene of one TOML mesh shape (`keys` added to its table) over `file`, or its error.
+fn toml_mesh(dir: &std::path::Path, file: &str, keys: &str) -> Result<Scene, String> {
+    let text = format!(
+        "{CAMERA}[[shapes]]\ntype = \"mesh\"\nfile = \"{file}\"\nmaterial = \"white\"\n{keys}\n"
+    );
+    load_str(&text, "mesh.toml", dir).map_err(|e| e.to_string())
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).length() < 1e-5
+}
+
+#[test]
+fn obj_and_ply_normals_are_read_transformed_and_checked() {
+    let dir = temp_dir("formats");
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 1 0 1\nvn 0 1 1\n";
+    std::fs::write(dir.join("tri.obj"), format!("{tri}f 1//1 2//2 3//3\n")).unwrap();
+    // A mirroring scale: positions scaled, normals divided by the scale and renormalised,
+    // corners 1 and 2 swapped with their normals (fronts stay outside).
+    let s = toml_mesh(&dir, "tri.obj", "scale = [-1.0, 2.0, 1.0]").unwrap();
+    assert_eq!(s.triangles[0].shading, 0);
+    let want = [
+        Vec3::Z,
+        Vec3::new(0.0, 0.5, 1.0).normalize(),
+        Vec3::new(-1.0, 0.0, 1.0).normalize(),
+    ];
+    for (got, want) in s.shading_normals[0].iter().zip(want) {
+        assert!(close(*got, want), "{:?}", s.shading_normals[0]);
+    }
+    assert_eq!(s.triangles[0].v1, Vec3::new(0.0, 2.0, 0.0));
+    // smooth = false: flat, no normals kept.
+    let s = toml_mesh(&dir, "tri.obj", "smooth = false").unwrap();
+    assert!(s.shading_normals.is_empty() && s.triangles[0].shading == gpu_photon::scene::FLAT);
+    // A corner without a normal: the whole mesh is flat; smooth = true then is an error.
+    std::fs::write(dir.join("part.obj"), format!("{tri}f 1//1 2 3//3\n")).unwrap();
+    assert!(toml_mesh(&dir, "part.obj", "")
+        .unwrap()
+        .shading_normals
+        .is_empty());
+    let e = toml_mesh(&dir, "part.obj", "smooth = true").unwrap_err();
+    assert!(
+        e.contains("part.obj") && e.contains("no vertex normals"),
+        "{e}"
+    );
+    // Zero, NaN and missing normals: errors naming the file and the field.
+    let bad = [
+        (
+            "zero.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n",
+            "vn",
+        ),
+        (
+            "nan.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn nan 0 1\nf 1//1 2//1 3//1\n",
+            "vn",
+        ),
+        (
+            "range.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//7\n",
+            "3//7",
+        ),
+        (
+            "ahead.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//2\nvn 0 0 1\nvn 0 0 1\n",
+            "1//1",
+        ),
+    ];
+    for (file, text, field) in bad {
+        std::fs::write(dir.join(file), text).unwrap();
+        let e = toml_mesh(&dir, file, "").unwrap_err();
+        assert!(e.contains(file) && e.contains(field), "{file}: {e}");
+    }
+    let ply = |n: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+             property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+             element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+             0 0 0 0 0 1\n1 0 0 {n}\n0 1 0 0 0 1\n3 0 1 2\n"
+        )
+    };
+    std::fs::write(dir.join("ok.ply"), ply("0 0 2")).unwrap();
+    let s = toml_mesh(&dir, "ok.ply", "").unwrap();
+    assert!(s.shading_normals[0].iter().all(|&n| close(n, Vec3::Z)));
+    std::fs::write(dir.join("zero.ply"), ply("0 0 0")).unwrap();
+    let e = toml_mesh(&dir, "zero.ply", "").unwrap_err();
+    assert!(
+        e.contains("zero.ply") && e.contains("vertex 1") && e.contains("nx, ny, nz"),
+        "{e}"
+    );
+}
+
+#[test]
+fn mitsuba_face_normals_forces_flat_shading() {
+    let dir = temp_dir("mitsuba");
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 1 0 1\nvn 0 1 1\nf 1//1 2//2 3//3\n";
+    std::fs::write(dir.join("tri.obj"), obj).unwrap();
+    let xml = |extra: &str| {
+        format!(
+            "<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\
+             <transform name=\"to_world\"><lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform></sensor>\
+             <shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/>{extra}\
+             <transform name=\"to_world\"><scale x=\"2\" y=\"1\" z=\"1\"/></transform></shape></scene>"
+        )
+    };
+    let import = |text: &str| {
+        gpu_photon::scene::mitsuba::import(text, "t.xml", &dir)
+            .unwrap()
+            .scene
+    };
+    let smooth = import(&xml(""));
+    // The inverse transpose of scale(2, 1, 1) halves the normal's x.
+    assert!(close(
+        smooth.shading_normals[0][1],
+        Vec3::new(0.5, 0.0, 1.0).normalize()
+    ));
+    let flat = import(&xml("<boolean name=\"face_normals\" value=\"true\"/>"));
+    assert!(flat.shading_normals.is_empty());
+}
+
+fn b64(bytes: &[u8]) -> String {
+    const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for i in 0..=c.len() {
+            s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
+        }
+    }
+    while s.len() % 4 != 0 {
+        s.push('=');
+    }
+    s
+}
+
+#[test]
+fn gltf_normals_go_through_the_inverse_transpose_and_zero_ones_are_refused() {
+    let dir = temp_dir("gltf");
+    let gltf = |normals: [Vec3; 3]| {
+        let points = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let mut bytes = Vec::new();
+        for v in points.iter().chain(&normals) {
+            for x in v.to_array() {
+                bytes.extend(x.to_le_bytes());
+            }
+        }
+        format!(
+            r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0, 1]}}],
+"nodes": [{{"mesh": 0, "scale": [2, 1, 1]}}, {{"camera": 0, "translation": [0, 0, 5]}}],
+"cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.7, "znear": 0.1}}}}],
+"meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1}}}}]}}],
+"buffers": [{{"byteLength": 72, "uri": "data:application/octet-stream;base64,{}"}}],
+"bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 36}}],
+"accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+{{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}}]}}"#,
+            b64(&bytes)
+        )
+    };
+    let path = dir.join("tri.gltf");
+    let n = Vec3::new(1.0, 0.0, 1.0).normalize();
+    std::fs::write(&path, gltf([Vec3::Z, n, Vec3::Z])).unwrap();
+    let s = gpu_photon::scene::load(&path).unwrap();
+    assert!(
+        close(
+            s.shading_normals[0][1],
+            Vec3::new(0.5, 0.0, 1.0).normalize()
+        ),
+        "{:?}",
+        s.shading_normals
+    );
+    assert!(close(s.shading_normals[0][0], Vec3::Z));
+    std::fs::write(&path, gltf([Vec3::Z, Vec3::ZERO, Vec3::Z])).unwrap();
+    let e = gpu_photon::scene::load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("tri.gltf") && e.contains("NORMAL 1 is zero"),
+        "{e}"
+    );
+}
