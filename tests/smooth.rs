@@ -610,9 +610,18 @@ fn obj_and_ply_normals_are_read_transformed_and_checked() {
              0 0 0 0 0 1\n1 0 0 {n}\n0 1 0 0 0 1\n3 0 1 2\n"
         )
     };
-    std::fs::write(dir.join("ok.ply"), ply("0 0 2")).unwrap();
+    std::fs::write(dir.join("ok.ply"), ply("0 2 2")).unwrap();
     let s = toml_mesh(&dir, "ok.ply", "").unwrap();
-    assert!(s.shading_normals[0].iter().all(|&n| close(n, Vec3::Z)));
+    let n = Vec3::new(0.0, 1.0, 1.0).normalize();
+    let got = s.shading_normals[0];
+    assert!(
+        close(got[0], Vec3::Z) && close(got[1], n) && close(got[2], Vec3::Z),
+        "{got:?}"
+    );
+    // Normals along the face normal (a planar mesh): flat, nothing kept.
+    std::fs::write(dir.join("planar.ply"), ply("0 0 2")).unwrap();
+    let s = toml_mesh(&dir, "planar.ply", "").unwrap();
+    assert!(s.shading_normals.is_empty() && s.triangles[0].shading == gpu_photon::scene::FLAT);
     std::fs::write(dir.join("zero.ply"), ply("0 0 0")).unwrap();
     let e = toml_mesh(&dir, "zero.ply", "").unwrap_err();
     assert!(

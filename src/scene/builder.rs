@@ -240,7 +240,9 @@ impl SceneBuilder {
 
     /// [`SceneBuilder::add_mesh`] with, when `normals` is given, smooth shading: one
     /// [`VertexNormals`] per triangle (the corners' normals in world space, any length; each
-    /// is normalised). A normal that is zero or not finite, or a count that differs from the
+    /// is normalised). A triangle whose three normals are all its face normal (or all its
+    /// opposite, within [`FLAT_COS`]) stays flat, and keeps no normals: a planar mesh costs
+    /// nothing. A normal that is zero or not finite, or a count that differs from the
     /// triangles', is an error on [`Part::Geometry`] (importers check first, naming their
     /// file and field).
     pub fn add_smooth_mesh(
@@ -274,11 +276,13 @@ impl SceneBuilder {
         }
         let material = self.commit(&surface);
         let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
-        let first_normals = self.shading_normals.len() as u32;
         for (i, triangle) in triangles.enumerate() {
-            let shading = match normals {
-                Some(_) => first_normals + i as u32,
-                None => FLAT,
+            let shading = match &normals {
+                Some(n) if !is_flat(triangle.normal(), &n[i]) => {
+                    self.shading_normals.push(n[i]);
+                    self.shading_normals.len() as u32 - 1
+                }
+                _ => FLAT,
             };
             self.triangles.push(Triangle {
                 material,
@@ -287,7 +291,6 @@ impl SceneBuilder {
                 ..triangle
             });
         }
-        self.shading_normals.extend(normals.into_iter().flatten());
         Ok(())
     }
 
@@ -384,6 +387,15 @@ struct Resolved {
     existing: Option<u32>,
     material: Material,
     radiance: Option<Vec3>,
+}
+
+/// Vertex normals within this cosine of a triangle's face normal (0.1 degrees) shade it flat.
+pub const FLAT_COS: f32 = 0.999_998_5;
+
+/// Whether unit vertex normals `n` all lie along the face normal `ng` (or all against it):
+/// smooth shading would give the flat normal.
+fn is_flat(ng: Vec3, n: &VertexNormals) -> bool {
+    n.iter().all(|v| v.dot(ng) >= FLAT_COS) || n.iter().all(|v| v.dot(ng) <= -FLAT_COS)
 }
 
 /// `normals`, one set per triangle of `count`, each normalised; an error message when the
