@@ -1,6 +1,7 @@
-// Ray-primitive intersection and BVH traversal; twin of src/geometry.rs and src/bvh.rs.
-// OFFSET_SCALE, OFFSET_FLOOR, BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is
-// widened by its rounding bound) and BVH_STACK come from the generated prelude.
+// Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
+// normals, Facing); twin of src/geometry.rs and src/bvh.rs. OFFSET_SCALE, OFFSET_FLOOR,
+// BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound),
+// BVH_STACK and FLAT come from the generated prelude.
 // Library, no entry point; writes nothing but the loop budget it spends.
 
 struct Hit {

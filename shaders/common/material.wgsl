@@ -1,5 +1,5 @@
 // Fresnel (exact or Schlick, FRESNEL_* codes), Snell, the glossy lobe and the photon's
-// Russian-roulette bounce (BOUNCE_* kinds); twin of src/material.rs.
+// Russian-roulette bounce (BOUNCE_* kinds) about the shading normal; twin of src/material.rs.
 // Library, no entry point; writes nothing.
 
 fn reflect_dir(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {

@@ -11,6 +11,8 @@
 //!   sphere's light is the sphere, any other shape's is its triangles, stored contiguously;
 //!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
 //!   `4 pi * intensity`;
+//! - a mesh may come with vertex normals (smooth shading): each set is normalised and stored
+//!   in [`Scene::shading_normals`], unless it lies along the face normal (then flat);
 //! - an emissive shape must have a positive area and finite power; vertices must be finite;
 //!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
 //!   importer may skip what it cannot use and go on.
@@ -21,6 +23,7 @@
 //! fixed place).
 
 use super::locate::{Locate, Part};
+use super::normals::{is_flat, unit_normals};
 use super::{
     Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, VertexNormals, FLAT,
     NO_LIGHT,
@@ -241,7 +244,7 @@ impl SceneBuilder {
     /// [`SceneBuilder::add_mesh`] with, when `normals` is given, smooth shading: one
     /// [`VertexNormals`] per triangle (the corners' normals in world space, any length; each
     /// is normalised). A triangle whose three normals are all its face normal (or all its
-    /// opposite, within [`FLAT_COS`]) stays flat, and keeps no normals: a planar mesh costs
+    /// opposite, within 0.1 degrees) stays flat, and keeps no normals: a planar mesh costs
     /// nothing. A normal that is zero or not finite, or a count that differs from the
     /// triangles', is an error on [`Part::Geometry`] (importers check first, naming their
     /// file and field).
@@ -387,39 +390,6 @@ struct Resolved {
     existing: Option<u32>,
     material: Material,
     radiance: Option<Vec3>,
-}
-
-/// Vertex normals within this cosine of a triangle's face normal (0.1 degrees) shade it flat.
-pub const FLAT_COS: f32 = 0.999_998_5;
-
-/// Whether unit vertex normals `n` all lie along the face normal `ng` (or all against it):
-/// smooth shading would give the flat normal.
-fn is_flat(ng: Vec3, n: &VertexNormals) -> bool {
-    n.iter().all(|v| v.dot(ng) >= FLAT_COS) || n.iter().all(|v| v.dot(ng) <= -FLAT_COS)
-}
-
-/// `normals`, one set per triangle of `count`, each normalised; an error message when the
-/// count differs or a normal is zero or not finite.
-fn unit_normals(
-    mut normals: Vec<VertexNormals>,
-    count: usize,
-) -> Result<Vec<VertexNormals>, String> {
-    if normals.len() != count {
-        let n = normals.len();
-        return Err(format!("{n} sets of vertex normals for {count} triangles"));
-    }
-    for (i, set) in normals.iter_mut().enumerate() {
-        for n in set.iter_mut() {
-            let unit = n.normalize_or_zero();
-            if !n.is_finite() || unit == Vec3::ZERO {
-                return Err(format!(
-                    "vertex normal {n} of triangle {i} is zero or not finite"
-                ));
-            }
-            *n = unit;
-        }
-    }
-    Ok(normals)
 }
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.

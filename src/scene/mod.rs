@@ -13,6 +13,7 @@ mod gltf;
 mod locate;
 mod mesh_file;
 pub mod mitsuba;
+mod normals;
 mod obj;
 mod ply;
 mod toml;
