@@ -9,7 +9,11 @@
 // Shadow-ray direct light: area lights through kd/pi, delta lights (point, spot, directional)
 // through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
-fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
+// The BRDF and cosine use the shading normal f.ns; a light below the geometric surface
+// gives nothing.
+fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
+    let n = f.ng;
+    let ns = f.ns;
     let with_direct = (params.terms & TERM_DIRECT) != 0u;
     var total = vec3<f32>(0.0);
     var sobol_left = use_sobol;
@@ -38,7 +42,7 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
             let dist = length(to_light);
             let wi = to_light / dist;
             let c = dot(wi, ns);
-            if c <= 0.0 {
+            if c <= 0.0 || reflection_leaks(f, wi) {
                 continue;
             }
             var f = m.kd / PI;
@@ -76,20 +80,27 @@ fn direct_light(x: vec3<f32>, n: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Mat
     return total;
 }
 
-// One mirror or glass bounce at `hit` of a ray along *d: the mirror reflects about the normal
-// facing the ray and scales *t by ks; glass takes one rng draw to choose the reflected
-// (u < Fresnel reflectance) or refracted branch. *o becomes the offset origin of the new ray.
-fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) {
+// One mirror or glass bounce at `hit` of a ray along *d: the mirror reflects about the
+// shading normal facing the ray and scales *t by ks; glass takes one rng draw to choose the
+// reflected (u < Fresnel reflectance) or refracted branch. *o becomes the offset origin of
+// the new ray. False when the new direction leaks through the geometric surface (the path
+// carries nothing further).
+fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) -> bool {
+    let f = facing(hit, dot(*d, hit.normal) < 0.0);
+    var leaks = false;
     if m.kind == MAT_MIRROR {
-        let ns = select(-hit.normal, hit.normal, dot(*d, hit.normal) < 0.0);
         *t *= m.ks;
-        *d = reflect_dir(*d, ns);
+        *d = reflect_dir(*d, f.ns);
+        leaks = reflection_leaks(f, *d);
     } else {
-        let g = dielectric(*d, hit.normal, m.ior);
+        let g = dielectric(*d, hit.normal, hit.shading, m.ior);
         let u = rng_next(rng);
-        *d = select(g.refracted, g.reflected, u < g.reflectance);
+        let reflects = u < g.reflectance;
+        *d = select(g.refracted, g.reflected, reflects);
+        leaks = select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
     }
     *o = offset_origin(hit.position, hit.normal, *d);
+    return !leaks;
 }
 
 // A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
@@ -120,7 +131,9 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
             if !can_continue {
                 break;
             }
-            specular_bounce(hit, m, &d, &o, &t, rng);
+            if !specular_bounce(hit, m, &d, &o, &t, rng) {
+                break;
+            }
             continue;
         }
         let ny = select(-hit.normal, hit.normal, dot(-d, hit.normal) >= 0.0);
@@ -132,9 +145,10 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         }
         let u1 = rng_next(rng);
         let u2 = rng_next(rng);
-        let ld = phong_lobe(reflect_dir(d, ny), m.exponent, u1, u2);
-        let c = dot(ld, ny);
-        if c <= 0.0 {
+        let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
+        let ld = phong_lobe(reflect_dir(d, lf.ns), m.exponent, u1, u2);
+        let c = dot(ld, lf.ns);
+        if c <= 0.0 || reflection_leaks(lf, ld) {
             break;
         }
         t *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c);
@@ -187,25 +201,29 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             if !can_continue {
                 break;
             }
-            specular_bounce(hit, m, &d, &o, &throughput, &rng);
+            if !specular_bounce(hit, m, &d, &o, &throughput, &rng) {
+                break;
+            }
             continue;
         }
         // Diffuse or glossy: shade.
         let wo = -d;
-        let ns = select(-hit.normal, hit.normal, dot(wo, hit.normal) >= 0.0);
+        let f = facing(hit, dot(wo, hit.normal) >= 0.0);
+        let ns = f.ns;
         var l = vec3<f32>(0.0);
         let use_sobol = first_shade;
         first_shade = false;
         if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && m.kind == MAT_GLOSSY) {
-            l += direct_light(hit.position, hit.normal, ns, wo, m, &rng, sob, use_sobol);
+            l += direct_light(hit.position, f, wo, m, &rng, sob, use_sobol);
         }
         let kd_pi = m.kd / PI;
         let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
+        // The geometric normal: photons carry their surface's.
         if !final_gather {
-            l += estimate(0u, hit.position, ns, kd_pi);
+            l += estimate(0u, hit.position, f.ng, kd_pi);
         }
         if params.caustic_weight > 0.0 {
-            l += params.caustic_weight * estimate(1u, hit.position, ns, kd_pi);
+            l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
         }
         if final_gather && max3(m.kd) > 0.0 && can_continue {
             var gu: vec2<f32>;
@@ -216,7 +234,9 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
                 gu.y = rng_next(&rng);
             }
             let dir = cosine_hemisphere(ns, gu.x, gu.y);
-            l += m.kd * gather_ray(hit.position, hit.normal, dir, depth, &rng);
+            if !reflection_leaks(f, dir) {
+                l += m.kd * gather_ray(hit.position, hit.normal, dir, depth, &rng);
+            }
         }
         radiance += throughput * l;
         if (params.terms & TERM_LOBE_RAY) == 0u || m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
@@ -226,7 +246,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         let u2 = rng_next(&rng);
         let dir = phong_lobe(reflect_dir(-wo, ns), m.exponent, u1, u2);
         let c = dot(dir, ns);
-        if c <= 0.0 {
+        if c <= 0.0 || reflection_leaks(f, dir) {
             break;
         }
         throughput *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c);

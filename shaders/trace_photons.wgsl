@@ -54,21 +54,21 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         let stores = m.kind == MAT_DIFFUSE || m.kind == MAT_GLOSSY;
         let specular = m.kind == MAT_MIRROR || m.kind == MAT_GLASS;
         if stores {
-            let facing = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
+            let stored_normal = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
             let caustic = depth > 0u && all_specular;
             let flags = min(depth, DEPTH_MASK) | select(0u, FLAG_CAUSTIC, caustic);
             if caustic_map {
                 if caustic {
-                    store_photon(Photon(hit.position, flags, power, i, d, facing));
+                    store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
                 }
                 return;
             }
-            store_photon(Photon(hit.position, flags, power, i, d, facing));
+            store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
         } else if caustic_map && !specular {
             return;
         }
         let u = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
-        let b = photon_bounce(m, d, hit.normal, u);
+        let b = photon_bounce(m, d, hit, u);
         if b.kind == BOUNCE_ABSORB {
             return;
         }

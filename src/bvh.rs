@@ -6,8 +6,10 @@
 //! below [`SPHERE_BIT`] is a triangle index; with the bit set, the rest is a sphere index.
 //! Twin: `BvhNode` in `shaders/common/types.wgsl`, traversal in `shaders/common/intersect.wgsl`.
 
-use crate::geometry::{inset, intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
-use crate::scene::Scene;
+use crate::geometry::{
+    inset, intersect_sphere, intersect_triangle, shading_normal, Aabb, Facing, Ray, Shear,
+};
+use crate::scene::{Scene, FLAT};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -53,10 +55,22 @@ pub struct Hit {
     pub position: Vec3,
     /// Unit geometric front normal of the primitive (not flipped towards the ray).
     pub normal: Vec3,
+    /// Unit shading normal, on the side of `normal`: the interpolated vertex normals of a
+    /// smooth triangle, else `normal` itself.
+    pub shading: Vec3,
     /// Index of the primitive's material in `Scene::materials`.
     pub material: u32,
     /// Index of the primitive's light in `Scene::lights`, or `scene::NO_LIGHT`.
     pub light: u32,
+}
+
+impl Hit {
+    /// The normals turned towards a ray along `d` that arrives from the front when
+    /// `d . normal < 0` (see [`Facing`]).
+    #[inline]
+    pub fn facing(&self, d: Vec3) -> Facing {
+        Facing::new(self.normal, self.shading, d.dot(self.normal) < 0.0)
+    }
 }
 
 struct Item {
@@ -167,12 +181,18 @@ impl Bvh {
         let (id, u, v) = best?;
         Some(if id & SPHERE_BIT == 0 {
             let tri = &scene.triangles[id as usize];
+            let normal = tri.normal();
+            let shading = match tri.shading {
+                FLAT => normal,
+                i => shading_normal(normal, &scene.shading_normals[i as usize], u, v),
+            };
             Hit {
                 t: best_t,
                 // Barycentric position (closer to the plane than origin + t dir), inset
                 // from the edges.
                 position: inset(tri, tri.point(u, v)),
-                normal: tri.normal(),
+                normal,
+                shading,
                 material: tri.material,
                 light: tri.light,
             }
@@ -184,6 +204,7 @@ impl Bvh {
                 t: best_t,
                 position: s.center + n * s.radius,
                 normal: n,
+                shading: n,
                 material: s.material,
                 light: s.light,
             }

@@ -2,7 +2,7 @@
 //!
 //! Twin: `shaders/common/intersect.wgsl`.
 
-use crate::scene::{Sphere, Triangle};
+use crate::scene::{Sphere, Triangle, VertexNormals};
 use glam::{Vec2, Vec3};
 
 /// 1 + 2 gamma(3), gamma(n) = n u / (1 - n u) with u = 2^-24: the relative error bound of
@@ -49,6 +49,62 @@ pub fn inset(tri: &Triangle, p: Vec3) -> Vec3 {
     }
     let eps = OFFSET_SCALE * (p.abs().max_element() + OFFSET_FLOOR);
     p + to_c * (eps / len).min(0.5)
+}
+
+/// The shading normal at barycentric `(1 - u - v, u, v)` of a smooth triangle with unit
+/// geometric normal `ng` and vertex normals `n`: their normalised interpolation, negated
+/// when it points against `ng` (vertex normals wound the other way round), and `ng` itself
+/// where the interpolation vanishes. Twin: `shading_normal` in `shaders/common/intersect.wgsl`.
+#[inline]
+pub fn shading_normal(ng: Vec3, n: &VertexNormals, u: f32, v: f32) -> Vec3 {
+    let ns = ((1.0 - u - v) * n[0] + u * n[1] + v * n[2]).normalize_or_zero();
+    if ns == Vec3::ZERO {
+        ng
+    } else if ns.dot(ng) < 0.0 {
+        -ns
+    } else {
+        ns
+    }
+}
+
+/// The facing frame of a hit for a ray travelling along `d`: the geometric normal `ng` and
+/// the shading normal `ns` turned to the side the ray arrives from (`d . ng < 0` keeps them),
+/// and whether the shading normal differs from the geometric one (a smooth triangle).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Facing {
+    /// Geometric normal on the ray's side: sidedness, ray offsets, light leaks.
+    pub ng: Vec3,
+    /// Shading normal on the same side as `ng`: BSDF evaluation and sampling.
+    pub ns: Vec3,
+    /// `ns != ng`: only then can a direction be on opposite sides of the two.
+    pub interpolated: bool,
+}
+
+impl Facing {
+    /// The frame for front normal `ng`, shading normal `ns` (same side as `ng`), a ray along
+    /// `d`; `front` chooses the side: `d . ng < 0` (or `<= 0`, as the caller's rule is).
+    #[inline]
+    pub fn new(ng: Vec3, ns: Vec3, front: bool) -> Self {
+        let s = if front { 1.0 } else { -1.0 };
+        Facing {
+            ng: s * ng,
+            ns: s * ns,
+            interpolated: ns != ng,
+        }
+    }
+    /// Whether `dir`, leaving the surface on the ray's side (a reflection), lies below the
+    /// geometric surface: on a smooth triangle it carries nothing (no light leaks through the
+    /// terminator). Always false on a flat surface, whose callers test the same cosine.
+    #[inline]
+    pub fn reflection_leaks(&self, dir: Vec3) -> bool {
+        self.interpolated && dir.dot(self.ng) <= 0.0
+    }
+    /// Whether `dir`, meant to cross the surface (a refraction), stays on the ray's side of
+    /// the geometric surface; always false on a flat surface.
+    #[inline]
+    pub fn refraction_leaks(&self, dir: Vec3) -> bool {
+        self.interpolated && dir.dot(self.ng) >= 0.0
+    }
 }
 
 /// Per-ray constants of the watertight ray-triangle test (Woop, Benthin and Wald, "Watertight

@@ -2,6 +2,7 @@
 //!
 //! Twin: `shaders/common/material.wgsl`.
 
+use crate::geometry::Facing;
 use crate::sampling::{cosine_hemisphere, phong_lobe};
 use crate::scene::{Material, MaterialKind};
 use crate::settings::FresnelMode;
@@ -84,11 +85,19 @@ pub struct Dielectric {
 
 /// Splits unit `d` arriving at a glass surface with front (outward) normal `n`.
 pub fn dielectric(d: Vec3, n: Vec3, ior: f32, mode: FresnelMode) -> Dielectric {
-    let entering = d.dot(n) < 0.0;
+    dielectric_shading(d, n, n, ior, mode)
+}
+
+/// [`dielectric`] on a smooth surface: the geometric front normal `ng` says whether the ray
+/// enters or leaves (which index is inside), the shading normal `ns` (on the side of `ng`)
+/// bends and weighs the directions. The caller drops a direction that ends on the wrong side
+/// of the geometric surface ([`Facing`]).
+pub fn dielectric_shading(d: Vec3, ng: Vec3, ns: Vec3, ior: f32, mode: FresnelMode) -> Dielectric {
+    let entering = d.dot(ng) < 0.0;
     let (nn, n_i, n_t) = if entering {
-        (n, 1.0, ior)
+        (ns, 1.0, ior)
     } else {
-        (-n, ior, 1.0)
+        (-ns, ior, 1.0)
     };
     let cos_i = -d.dot(nn);
     let reflected = reflect(d, nn);
@@ -160,8 +169,30 @@ pub fn photon_bounce(
     fresnel_mode: FresnelMode,
     u: [f32; 3],
 ) -> Bounce {
-    // Shading normal on the side the photon arrived from.
-    let ns = if d.dot(n) < 0.0 { n } else { -n };
+    photon_bounce_shading(m, d, n, n, fresnel_mode, u)
+}
+
+/// [`photon_bounce`] on a surface of geometric front normal `ng` and shading normal `ns` (on
+/// the side of `ng`): directions are sampled and weighed about `ns`; one that ends on the
+/// wrong side of the geometric surface absorbs the photon (no light leaks through the
+/// terminator). No adjoint shading-normal correction (see scenes/README.md).
+pub fn photon_bounce_shading(
+    m: &Material,
+    d: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+    fresnel_mode: FresnelMode,
+    u: [f32; 3],
+) -> Bounce {
+    let f = Facing::new(ng, ns, d.dot(ng) < 0.0);
+    let nf = f.ns;
+    let reflected = |dir: Vec3, weight: Vec3, delta: bool| {
+        if f.reflection_leaks(dir) {
+            Bounce::Absorb
+        } else {
+            Bounce::Specular { dir, weight, delta }
+        }
+    };
     match m.kind {
         MaterialKind::Black => Bounce::Absorb,
         MaterialKind::Diffuse | MaterialKind::Glossy => {
@@ -175,24 +206,24 @@ pub fn photon_bounce(
             let pd = total * sd / (sd + ss);
             let ps = total * ss / (sd + ss);
             if u[0] < pd {
+                let dir = cosine_hemisphere(nf, u[1], u[2]);
+                if f.reflection_leaks(dir) {
+                    return Bounce::Absorb;
+                }
                 Bounce::Diffuse {
-                    dir: cosine_hemisphere(ns, u[1], u[2]),
+                    dir,
                     weight: m.kd / pd,
                 }
             } else if u[0] < pd + ps {
-                let axis = reflect(d, ns);
+                let axis = reflect(d, nf);
                 let dir = phong_lobe(axis, m.exponent, u[1], u[2]);
-                let cos = dir.dot(ns);
+                let cos = dir.dot(nf);
                 if cos <= 0.0 {
                     return Bounce::Absorb;
                 }
                 // f cos / pdf = ks (n+2)/(n+1) cos(theta).
                 let w = (m.exponent + 2.0) / (m.exponent + 1.0) * cos;
-                Bounce::Specular {
-                    dir,
-                    weight: m.ks * (w / ps),
-                    delta: false,
-                }
+                reflected(dir, m.ks * (w / ps), false)
             } else {
                 Bounce::Absorb
             }
@@ -200,28 +231,25 @@ pub fn photon_bounce(
         MaterialKind::Mirror => {
             let p = m.ks.max_element();
             if u[0] < p {
-                Bounce::Specular {
-                    dir: reflect(d, ns),
-                    weight: m.ks / p,
-                    delta: true,
-                }
+                reflected(reflect(d, nf), m.ks / p, true)
             } else {
                 Bounce::Absorb
             }
         }
         MaterialKind::Glass => {
-            let g = dielectric(d, n, m.ior, fresnel_mode);
+            let g = dielectric_shading(d, ng, ns, m.ior, fresnel_mode);
             match g.refracted {
-                Some(t) if u[0] >= g.reflectance => Bounce::Specular {
-                    dir: t,
-                    weight: Vec3::ONE,
-                    delta: true,
-                },
-                _ => Bounce::Specular {
-                    dir: g.reflected,
-                    weight: Vec3::ONE,
-                    delta: true,
-                },
+                Some(t) if u[0] >= g.reflectance => {
+                    if f.refraction_leaks(t) {
+                        return Bounce::Absorb;
+                    }
+                    Bounce::Specular {
+                        dir: t,
+                        weight: Vec3::ONE,
+                        delta: true,
+                    }
+                }
+                _ => reflected(g.reflected, Vec3::ONE, true),
             }
         }
     }

@@ -772,6 +772,7 @@ fn sealed_box(albedo: Vec3) -> Scene {
         camera: camera(),
         materials: vec![Material::diffuse(albedo)],
         triangles: tris,
+        shading_normals: vec![],
         spheres: vec![],
         lights: vec![],
         settings: RenderSettings::default(),

@@ -22,11 +22,12 @@ use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
 use gpu_photon::gpu::types::{
-    GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuParams, GpuSphere, GpuTriangle,
+    GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuParams, GpuShadingNormals, GpuSphere,
+    GpuTriangle,
 };
 use gpu_photon::photon::{self, Photon};
 use gpu_photon::rng::Stream;
-use gpu_photon::scene::{MaterialKind, NO_LIGHT};
+use gpu_photon::scene::{MaterialKind, FLAT, NO_LIGHT};
 use naga::proc::Layouter;
 use naga::{AddressSpace, Expression, Literal, Module, StorageAccess, TypeInner};
 use std::collections::BTreeMap;
@@ -151,7 +152,11 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
     vec![
         (
             "Triangle",
-            fields!(GpuTriangle: v0, material, v1, light, v2, _pad),
+            fields!(GpuTriangle: v0, material, v1, light, v2, shading),
+        ),
+        (
+            "ShadingNormals",
+            fields!(GpuShadingNormals: n0, _pad0, n1, _pad1, n2, _pad2),
         ),
         (
             "Sphere",
@@ -413,7 +418,7 @@ fn host_tables_are_the_expected_layouts() {
     // gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
-        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W]),
+        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R]),
         (&MAP_GROUP, &[W, W, W, W, W, W, R]),
         (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
@@ -564,6 +569,7 @@ fn shared_constants_agree() {
         "FLAG_CAUSTIC",
         "DEPTH_MASK",
         "NO_LIGHT",
+        "FLAT",
         "OFFSET_SCALE",
         "BOX_SLACK",
         "FACING_COS",
@@ -619,6 +625,7 @@ fn shared_constants_agree() {
         ("FLAG_CAUSTIC", Literal::U32(photon::FLAG_CAUSTIC)),
         ("DEPTH_MASK", Literal::U32(photon::DEPTH_MASK)),
         ("NO_LIGHT", Literal::U32(NO_LIGHT)),
+        ("FLAT", Literal::U32(FLAT)),
         ("OFFSET_SCALE", Literal::F32(geometry::OFFSET_SCALE)),
         ("BOX_SLACK", Literal::F32(geometry::BOX_SLACK)),
         ("FACING_COS", Literal::F32(gpu_photon::estimate::FACING_COS)),

@@ -1,12 +1,15 @@
-// Ray-primitive intersection and BVH traversal; twin of src/geometry.rs and src/bvh.rs.
-// OFFSET_SCALE, OFFSET_FLOOR, BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is
-// widened by its rounding bound) and BVH_STACK come from the generated prelude.
+// Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
+// normals, Facing); twin of src/geometry.rs and src/bvh.rs. OFFSET_SCALE, OFFSET_FLOOR,
+// BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound),
+// BVH_STACK and FLAT come from the generated prelude.
 // Library, no entry point; writes nothing but the loop budget it spends.
 
 struct Hit {
     t: f32,
     position: vec3<f32>,
     normal: vec3<f32>,
+    // Shading normal on the side of `normal` (equal to it where flat).
+    shading: vec3<f32>,
     material: u32,
     light: u32,
     found: bool,
@@ -33,6 +36,43 @@ fn inset(tri: Triangle, p: vec3<f32>) -> vec3<f32> {
     }
     let eps = OFFSET_SCALE * (max_abs(p) + OFFSET_FLOOR);
     return p + to_c * min(eps / len, 0.5);
+}
+
+// The shading normal at (u, v) of a triangle with geometric normal ng and vertex normals i:
+// their normalised interpolation, negated when against ng, ng where it vanishes (twin of
+// shading_normal in src/geometry.rs).
+fn shading_normal(ng: vec3<f32>, i: u32, uv: vec2<f32>) -> vec3<f32> {
+    let n = shading_normals[i];
+    let s = (1.0 - uv.x - uv.y) * n.n0 + uv.x * n.n1 + uv.y * n.n2;
+    let len = length(s);
+    if !(len > 0.0) {
+        return ng;
+    }
+    let ns = s / len;
+    return select(ns, -ns, dot(ns, ng) < 0.0);
+}
+
+// The hit's normals turned to the side a ray arrives from (`front`), twin of Facing in
+// src/geometry.rs: ng for sidedness, offsets and leaks, ns for the BSDF.
+struct Facing {
+    ng: vec3<f32>,
+    ns: vec3<f32>,
+    interpolated: bool,
+}
+
+fn facing(hit: Hit, front: bool) -> Facing {
+    let s = select(-1.0, 1.0, front);
+    return Facing(s * hit.normal, s * hit.shading, HAS_SMOOTH && any(hit.shading != hit.normal));
+}
+
+// A reflected direction below the geometric surface carries nothing (smooth triangles only).
+fn reflection_leaks(f: Facing, dir: vec3<f32>) -> bool {
+    return f.interpolated && dot(dir, f.ng) <= 0.0;
+}
+
+// A refracted direction that stays on the ray's side carries nothing (smooth triangles only).
+fn refraction_leaks(f: Facing, dir: vec3<f32>) -> bool {
+    return f.interpolated && dot(dir, f.ng) >= 0.0;
 }
 
 // Per-ray constants of the watertight test (twin of Shear in src/geometry.rs): the axes
@@ -137,7 +177,7 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
 
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
-    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
     var best_id = 0u;
     var best_uv = vec2<f32>(0.0);
     let inv = 1.0 / d;
@@ -201,6 +241,10 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             let e2 = tri.v2 - tri.v0;
             best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
             best.normal = normalize(cross(e1, e2));
+            best.shading = best.normal;
+            if HAS_SMOOTH && tri.shading != FLAT {
+                best.shading = shading_normal(best.normal, tri.shading, best_uv);
+            }
             best.material = tri.material;
             best.light = tri.light;
         } else {
@@ -208,6 +252,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             let n = normalize(o + best.t * d - s.center);
             best.position = s.center + n * s.radius;
             best.normal = n;
+            best.shading = n;
             best.material = s.material;
             best.light = s.light;
         }

@@ -1,5 +1,5 @@
 // Fresnel (exact or Schlick, FRESNEL_* codes), Snell, the glossy lobe and the photon's
-// Russian-roulette bounce (BOUNCE_* kinds); twin of src/material.rs.
+// Russian-roulette bounce (BOUNCE_* kinds) about the shading normal; twin of src/material.rs.
 // Library, no entry point; writes nothing.
 
 fn reflect_dir(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
@@ -42,9 +42,11 @@ struct Dielectric {
     reflectance: f32,
 }
 
-fn dielectric(d: vec3<f32>, n: vec3<f32>, ior: f32) -> Dielectric {
-    let entering = dot(d, n) < 0.0;
-    let nn = select(-n, n, entering);
+// The geometric normal ng says whether the ray enters (which index is inside), the shading
+// normal ns (on the side of ng) bends and weighs the directions (twin of dielectric_shading).
+fn dielectric(d: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, ior: f32) -> Dielectric {
+    let entering = dot(d, ng) < 0.0;
+    let nn = select(-ns, ns, entering);
     let n_i = select(ior, 1.0, entering);
     let n_t = select(1.0, ior, entering);
     let cos_i = clamp(-dot(d, nn), 0.0, 1.0);
@@ -90,9 +92,12 @@ struct Bounce {
     weight: vec3<f32>,
 }
 
-// Bounce.kind is one of BOUNCE_* (generated prelude, src/gpu/codes.rs).
-fn photon_bounce(m: Material, d: vec3<f32>, n: vec3<f32>, u: vec3<f32>) -> Bounce {
-    let ns = select(-n, n, dot(d, n) < 0.0);
+// Bounce.kind is one of BOUNCE_* (generated prelude, src/gpu/codes.rs). Directions are
+// sampled about the shading normal; one below the geometric surface absorbs the photon
+// (twin of photon_bounce_shading).
+fn photon_bounce(m: Material, d: vec3<f32>, hit: Hit, u: vec3<f32>) -> Bounce {
+    let f = facing(hit, dot(d, hit.normal) < 0.0);
+    let ns = f.ns;
     var b = Bounce(vec3<f32>(0.0), BOUNCE_ABSORB, vec3<f32>(0.0));
     if m.kind == MAT_DIFFUSE || m.kind == MAT_GLOSSY {
         let total = max3(m.kd + m.ks);
@@ -110,7 +115,7 @@ fn photon_bounce(m: Material, d: vec3<f32>, n: vec3<f32>, u: vec3<f32>) -> Bounc
         } else if u.x < pd + ps {
             let dir = phong_lobe(reflect_dir(d, ns), m.exponent, u.y, u.z);
             let c = dot(dir, ns);
-            if c > 0.0 {
+            if c > 0.0 && !reflection_leaks(f, dir) {
                 b.kind = BOUNCE_LOBE;
                 b.dir = dir;
                 b.weight = m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c / ps);
@@ -124,10 +129,18 @@ fn photon_bounce(m: Material, d: vec3<f32>, n: vec3<f32>, u: vec3<f32>) -> Bounc
             b.weight = m.ks / p;
         }
     } else if HAS_GLASS && m.kind == MAT_GLASS {
-        let g = dielectric(d, n, m.ior);
+        let g = dielectric(d, hit.normal, hit.shading, m.ior);
         b.kind = BOUNCE_DELTA;
         b.weight = vec3<f32>(1.0);
-        b.dir = select(g.refracted, g.reflected, u.x < g.reflectance);
+        let reflects = u.x < g.reflectance;
+        b.dir = select(g.refracted, g.reflected, reflects);
+        if (reflects && reflection_leaks(f, b.dir)) || (!reflects && refraction_leaks(f, b.dir)) {
+            b.kind = BOUNCE_ABSORB;
+        }
+        return b;
+    }
+    if b.kind != BOUNCE_ABSORB && reflection_leaks(f, b.dir) {
+        b.kind = BOUNCE_ABSORB;
     }
     return b;
 }

@@ -13,12 +13,16 @@
 @group(0) @binding(7) var<storage, read> spec_bounds: array<Aabb>;
 @group(0) @binding(8) var<storage, read> params: Params;
 @group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
+// Vertex normals of the smooth-shaded triangles (one placeholder when the scene has none).
+@group(0) @binding(10) var<storage, read> shading_normals: array<ShadingNormals>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.
 override HAS_GLASS: bool = true;
 override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
+// Some triangle is smooth-shaded: without, the shading normal is the geometric one.
+override HAS_SMOOTH: bool = true;
 
 // Loop iterations one invocation may spend in total, across all its loops. Lavapipe cuts
 // loops silently after 65,535 iterations counted per SIMD group (8 lanes), across all loops,

@@ -9,7 +9,17 @@ struct Triangle {
     v1: vec3<f32>,
     light: u32,
     v2: vec3<f32>,
-    _pad: u32,
+    shading: u32,
+}
+
+// The vertex normals of one smooth-shaded triangle (Triangle.shading indexes them).
+struct ShadingNormals {
+    n0: vec3<f32>,
+    _pad0: u32,
+    n1: vec3<f32>,
+    _pad1: u32,
+    n2: vec3<f32>,
+    _pad2: u32,
 }
 
 struct Sphere {

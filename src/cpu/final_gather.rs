@@ -13,8 +13,8 @@
 
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
-use crate::geometry::{offset_origin, Ray};
-use crate::material::{dielectric, reflect};
+use crate::geometry::{offset_origin, Facing, Ray};
+use crate::material::{dielectric_shading, reflect};
 use crate::rng::Rng;
 use crate::sampling::{cosine_hemisphere, phong_lobe};
 use crate::scene::MaterialKind;
@@ -22,14 +22,15 @@ use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
 
 impl Gatherer<'_> {
-    /// Indirect diffuse light at camera hit `hit` (facing normal `ns`, camera depth `depth`)
-    /// by one gather ray, before the factor kd(x): (u1, u2) for the direction from `sobol`'s
-    /// pair `PAIR_GATHER` when given (the first shaded hit), else from `rng`; then one `rng`
-    /// number per glass bounce.
+    /// Indirect diffuse light at camera hit `hit` (normals `f` facing the viewer, camera
+    /// depth `depth`) by one gather ray about the shading normal, before the factor kd(x):
+    /// (u1, u2) for the direction from `sobol`'s pair `PAIR_GATHER` when given (the first
+    /// shaded hit), else from `rng`; then one `rng` number per glass bounce. A direction
+    /// below the geometric surface gives zero.
     pub fn final_gather(
         &self,
         hit: &Hit,
-        ns: Vec3,
+        f: &Facing,
         depth: u32,
         rng: &mut Rng,
         sobol: Option<SobolStream>,
@@ -38,7 +39,10 @@ impl Gatherer<'_> {
             Some(st) => sample_pair(st.key, st.index, PAIR_GATHER),
             None => rng.next2(),
         };
-        let dir = cosine_hemisphere(ns, u1, u2);
+        let dir = cosine_hemisphere(f.ns, u1, u2);
+        if f.reflection_leaks(dir) {
+            return Vec3::ZERO;
+        }
         self.gather_ray(
             &Ray {
                 origin: offset_origin(hit.position, hit.normal, dir),
@@ -84,10 +88,11 @@ impl Gatherer<'_> {
                     {
                         return sum;
                     }
+                    let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
                     let (u1, u2) = rng.next2();
-                    let dir = phong_lobe(reflect(ray.dir, ny), m.exponent, u1, u2);
-                    let cos = dir.dot(ny);
-                    if cos <= 0.0 {
+                    let dir = phong_lobe(reflect(ray.dir, f.ns), m.exponent, u1, u2);
+                    let cos = dir.dot(f.ns);
+                    if cos <= 0.0 || f.reflection_leaks(dir) {
                         return sum;
                     }
                     throughput *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
@@ -96,19 +101,27 @@ impl Gatherer<'_> {
                 }
                 _ if !can_recurse => return sum,
                 MaterialKind::Mirror => {
-                    let ns = if ray.dir.dot(hit.normal) < 0.0 {
-                        hit.normal
-                    } else {
-                        -hit.normal
-                    };
+                    let f = hit.facing(ray.dir);
                     throughput *= m.ks;
-                    reflect(ray.dir, ns)
+                    let dir = reflect(ray.dir, f.ns);
+                    if f.reflection_leaks(dir) {
+                        return sum;
+                    }
+                    dir
                 }
                 MaterialKind::Glass => {
-                    let g = dielectric(ray.dir, hit.normal, m.ior, self.settings.fresnel);
+                    let (ng, ns) = (hit.normal, hit.shading);
+                    let g = dielectric_shading(ray.dir, ng, ns, m.ior, self.settings.fresnel);
+                    let f = hit.facing(ray.dir);
                     let u = rng.next();
                     match g.refracted {
-                        Some(t) if u >= g.reflectance => t,
+                        Some(t) if u >= g.reflectance => {
+                            if f.refraction_leaks(t) {
+                                return sum;
+                            }
+                            t
+                        }
+                        _ if f.reflection_leaks(g.reflected) => return sum,
                         _ => g.reflected,
                     }
                 }

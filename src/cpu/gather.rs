@@ -14,9 +14,9 @@
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
-use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
+use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
-use crate::material::{brdf, dielectric, phong_lobe_value, reflect};
+use crate::material::{brdf, dielectric_shading, phong_lobe_value, reflect};
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::sampling::phong_lobe;
@@ -121,8 +121,11 @@ impl Gatherer<'_> {
                 if !can_recurse {
                     return emitted;
                 }
-                let ns = if front { hit.normal } else { -hit.normal };
-                let dir = reflect(ray.dir, ns);
+                let f = Facing::new(hit.normal, hit.shading, front);
+                let dir = reflect(ray.dir, f.ns);
+                if f.reflection_leaks(dir) {
+                    return emitted;
+                }
                 emitted
                     + m.ks
                         * self.radiance(
@@ -140,8 +143,20 @@ impl Gatherer<'_> {
                 if !can_recurse {
                     return emitted;
                 }
-                let g = dielectric(ray.dir, hit.normal, m.ior, self.settings.fresnel);
+                let (ng, ns) = (hit.normal, hit.shading);
+                let g = dielectric_shading(ray.dir, ng, ns, m.ior, self.settings.fresnel);
+                let f = Facing::new(ng, ns, front);
+                // A branch that ends on the wrong side of the geometric surface carries
+                // nothing (smooth triangles only).
                 let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
+                    let leaks = if Some(dir) == g.refracted {
+                        f.refraction_leaks(dir)
+                    } else {
+                        f.reflection_leaks(dir)
+                    };
+                    if leaks {
+                        return Vec3::ZERO;
+                    }
                     self.radiance(
                         &Ray {
                             origin: offset_origin(hit.position, hit.normal, dir),
@@ -187,15 +202,12 @@ impl Gatherer<'_> {
         sobol: Option<SobolStream>,
         cw: f32,
     ) -> Vec3 {
-        let ns = if wo.dot(hit.normal) >= 0.0 {
-            hit.normal
-        } else {
-            -hit.normal
-        };
+        let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
+        let ns = f.ns;
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
-            l += self.direct(hit, m, ns, wo, rng, sobol);
+            l += self.direct(hit, m, &f, wo, rng, sobol);
         }
         // The photon estimate uses the diffuse part; the glossy lobe is traced below.
         let kd_over_pi = m.kd / std::f32::consts::PI;
@@ -208,10 +220,11 @@ impl Gatherer<'_> {
         let caustic = self.caustic.filter(|_| cw > 0.0);
         for (map, max_r, w) in [(global, s.radius, 1.0), (caustic, s.caustic_radius, cw)] {
             if let Some(map) = map {
+                // The geometric normal: photons carry their surface's.
                 l += w * estimate_at(
                     map,
                     hit.position,
-                    ns,
+                    f.ng,
                     s.k as usize,
                     max_r * max_r,
                     s.filter,
@@ -220,7 +233,7 @@ impl Gatherer<'_> {
             }
         }
         if self.terms.final_gather && depth < s.max_depth && m.kd.max_element() > 0.0 {
-            l += m.kd * self.final_gather(hit, ns, depth, rng, sobol);
+            l += m.kd * self.final_gather(hit, &f, depth, rng, sobol);
         }
         if self.terms.lobe_ray
             && m.kind == MaterialKind::Glossy
@@ -230,7 +243,7 @@ impl Gatherer<'_> {
             let (u1, u2) = rng.next2();
             let dir = phong_lobe(reflect(-wo, ns), m.exponent, u1, u2);
             let cos = dir.dot(ns);
-            if cos > 0.0 {
+            if cos > 0.0 && !f.reflection_leaks(dir) {
                 let w = m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
                 l += w * self.radiance(
                     &Ray {
@@ -250,12 +263,14 @@ impl Gatherer<'_> {
     /// Direct light by shadow rays. With `terms.direct`: area lights through the diffuse part
     /// and delta lights (point, spot, directional) through the whole BRDF; otherwise only
     /// delta lights' glossy lobe. A directional light's shadow ray has no end.
-    /// With `sobol`, the first area-light sample takes its three numbers from it.
+    /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
+    /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
+    /// nothing.
     fn direct(
         &self,
         hit: &Hit,
         m: &Material,
-        ns: Vec3,
+        f: &Facing,
         wo: Vec3,
         rng: &mut Rng,
         mut sobol: Option<SobolStream>,
@@ -287,8 +302,9 @@ impl Gatherer<'_> {
                 }
                 let to_light = ls.point - hit.position;
                 let wi = to_light / to_light.length();
+                let ns = f.ns;
                 let cos = wi.dot(ns);
-                if cos <= 0.0 {
+                if cos <= 0.0 || f.reflection_leaks(wi) {
                     continue;
                 }
                 let f = match (is_delta, self.terms.direct) {

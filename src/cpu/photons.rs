@@ -4,7 +4,7 @@
 use crate::bvh::Bvh;
 use crate::geometry::{offset_origin, Ray};
 use crate::light::{aims_at, LightTable};
-use crate::material::{photon_bounce, Bounce};
+use crate::material::{photon_bounce_shading, Bounce};
 use crate::photon::{Budget, Photon};
 use crate::rng::{Rng, Stream};
 use crate::scene::Scene;
@@ -123,7 +123,8 @@ fn trace_path(
             return;
         }
         let u = [rng.next(), rng.next(), rng.next()];
-        let (dir, weight) = match photon_bounce(m, ray.dir, hit.normal, s.fresnel, u) {
+        let bounce = photon_bounce_shading(m, ray.dir, hit.normal, hit.shading, s.fresnel, u);
+        let (dir, weight) = match bounce {
             Bounce::Absorb => return,
             Bounce::Diffuse { dir, weight } => {
                 all_specular = false;

@@ -91,6 +91,7 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
             dynamic: true,
         },
         rw("stats", 9),
+        ro("shading_normals", 10),
     ],
 };
 

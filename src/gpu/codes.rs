@@ -199,6 +199,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),
         ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
+        ("FLAT", U32(crate::scene::FLAT)),
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
         ("FLAG_CAUSTIC", U32(crate::photon::FLAG_CAUSTIC)),
         ("DEPTH_MASK", U32(crate::photon::DEPTH_MASK)),

@@ -27,6 +27,7 @@ pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         // The WGSL name covers every delta light: point, spot and directional.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
+        ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
     ]
 }
 

@@ -43,6 +43,15 @@ impl SceneBuffers {
         let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
         let spheres: Vec<GpuSphere> = scene.spheres.iter().map(GpuSphere::from).collect();
         let mats: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::from).collect();
+        // One placeholder when every triangle is flat (a binding cannot be empty).
+        let mut normals: Vec<GpuShadingNormals> = scene
+            .shading_normals
+            .iter()
+            .map(GpuShadingNormals::from)
+            .collect();
+        if normals.is_empty() {
+            normals.push(GpuShadingNormals::default());
+        }
         let nodes: &[BvhNode] = &bvh.nodes;
         let triangles = storage_buffer(dev, "triangles", &tris, none);
         let spheres = storage_buffer(dev, "spheres", &spheres, none);
@@ -52,6 +61,7 @@ impl SceneBuffers {
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
         let light_cdf = storage_buffer(dev, "light cdf", &table.tri_cdf, none);
         let spec_bounds = storage_buffer(dev, "specular bounds", bounds, none);
+        let shading_normals = storage_buffer(dev, "shading normals", &normals, none);
         // One PARAMS_STRIDE slot per camera sample: a pass's gathers are all recorded into
         // one submission, each dispatch reading its sample's slot (dynamic offset).
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -89,6 +99,7 @@ impl SceneBuffers {
                 ("spec_bounds", spec_bounds.as_entire_binding()),
                 (PARAMS, params_slot),
                 ("stats", stats.as_entire_binding()),
+                ("shading_normals", shading_normals.as_entire_binding()),
             ],
         );
         SceneBuffers {

@@ -5,10 +5,11 @@
 use super::codes::{
     material_code, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLES,
 };
-use crate::scene::{LightShape, Material, Scene, Sphere, Triangle};
+use crate::scene::{LightShape, Material, Scene, Sphere, Triangle, VertexNormals};
 use bytemuck::{Pod, Zeroable};
 
-/// Twin of WGSL `Triangle`: a triangle's vertices, material and light (NO_LIGHT if none).
+/// Twin of WGSL `Triangle`: a triangle's vertices, material, light (NO_LIGHT if none) and
+/// vertex normals (FLAT if none).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuTriangle {
@@ -22,8 +23,37 @@ pub struct GpuTriangle {
     pub light: u32,
     /// Third vertex.
     pub v2: [f32; 3],
+    /// Index into the shading normals, or FLAT.
+    pub shading: u32,
+}
+
+/// Twin of WGSL `ShadingNormals`: the unit vertex normals of one smooth-shaded triangle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadingNormals {
+    /// Normal at `v0`.
+    pub n0: [f32; 3],
     /// Padding.
-    pub _pad: u32,
+    pub _pad0: u32,
+    /// Normal at `v1`.
+    pub n1: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
+    /// Normal at `v2`.
+    pub n2: [f32; 3],
+    /// Padding.
+    pub _pad2: u32,
+}
+
+impl From<&VertexNormals> for GpuShadingNormals {
+    fn from(n: &VertexNormals) -> Self {
+        GpuShadingNormals {
+            n0: n[0].to_array(),
+            n1: n[1].to_array(),
+            n2: n[2].to_array(),
+            ..Self::default()
+        }
+    }
 }
 
 /// Twin of WGSL `Sphere`: an analytic sphere with its material and light.
@@ -213,7 +243,7 @@ impl From<&Triangle> for GpuTriangle {
             v1: t.v1.to_array(),
             light: t.light,
             v2: t.v2.to_array(),
-            _pad: 0,
+            shading: t.shading,
         }
     }
 }

@@ -13,6 +13,8 @@
 //!   `4 pi * intensity`, a spot light's `intensity * SpotCone::solid_angle`, a directional
 //!   light's `irradiance * pi R^2` with R the radius of the finished scene's
 //!   [`Scene::bounding_sphere`];
+//! - a mesh may come with vertex normals (smooth shading): each set is normalised and stored
+//!   in [`Scene::shading_normals`], unless it lies along the face normal (then flat);
 //! - an emissive shape must have a positive area and finite power; vertices must be finite;
 //!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
 //!   importer may skip what it cannot use and go on.
@@ -23,7 +25,11 @@
 //! fixed place).
 
 use super::locate::{Locate, Part};
-use super::{Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, NO_LIGHT};
+use super::normals::{is_flat, unit_normals};
+use super::{
+    Light, LightShape, Material, MaterialKind, Scene, Sphere, Triangle, VertexNormals, FLAT,
+    NO_LIGHT,
+};
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::settings::RenderSettings;
@@ -77,6 +83,7 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
     triangles: Vec<Triangle>,
+    shading_normals: Vec<VertexNormals>,
     spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
     settings: RenderSettings,
@@ -233,10 +240,31 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
+        self.add_smooth_mesh(tris, None, surface, at)
+    }
+
+    /// [`SceneBuilder::add_mesh`] with, when `normals` is given, smooth shading: one
+    /// [`VertexNormals`] per triangle (the corners' normals in world space, any length; each
+    /// is normalised). A triangle whose three normals are all its face normal (or all its
+    /// opposite, within 0.1 degrees) stays flat, and keeps no normals: a planar mesh costs
+    /// nothing. A normal that is zero or not finite, or a count that differs from the
+    /// triangles', is an error on [`Part::Geometry`] (importers check first, naming their
+    /// file and field).
+    pub fn add_smooth_mesh(
+        &mut self,
+        tris: Vec<[Vec3; 3]>,
+        normals: Option<Vec<VertexNormals>>,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
         let surface = self.resolve(surface, at)?;
         if tris.iter().flatten().any(|p| !p.is_finite()) {
             return Err(at.error(Part::Geometry, "vertices must be finite".into()));
         }
+        let normals = match normals {
+            Some(n) => Some(unit_normals(n, tris.len()).map_err(|m| at.error(Part::Geometry, m))?),
+            None => None,
+        };
         let triangles = tris.iter().map(|&[a, b, c]| Triangle::new(a, b, c, 0));
         let mut light = None;
         if let Some(radiance) = surface.radiance {
@@ -253,10 +281,18 @@ impl SceneBuilder {
         }
         let material = self.commit(&surface);
         let light = light.map_or(NO_LIGHT, |l| self.add_light(l));
-        for triangle in triangles {
+        for (i, triangle) in triangles.enumerate() {
+            let shading = match &normals {
+                Some(n) if !is_flat(triangle.normal(), &n[i]) => {
+                    self.shading_normals.push(n[i]);
+                    self.shading_normals.len() as u32 - 1
+                }
+                _ => FLAT,
+            };
             self.triangles.push(Triangle {
                 material,
                 light,
+                shading,
                 ..triangle
             });
         }
@@ -296,6 +332,7 @@ impl SceneBuilder {
             camera,
             materials: self.materials,
             triangles: self.triangles,
+            shading_normals: self.shading_normals,
             spheres: self.spheres,
             lights: self.lights,
             settings: self.settings,

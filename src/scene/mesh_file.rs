@@ -1,12 +1,13 @@
 //! Mesh files named by a scene: OBJ ([`super::obj`]) or PLY ([`super::ply`]), read to
-//! world-space triangles. Every importer that refers to a mesh file (the TOML `type = "mesh"`
-//! shape, Mitsuba's `obj` and `ply` shapes) reads it here.
+//! world-space triangles and, when the file has them, vertex normals (OBJ `vn`, PLY `nx`,
+//! `ny`, `nz`) for smooth shading. Every importer that refers to a mesh file (the TOML
+//! `type = "mesh"` shape, Mitsuba's `obj` and `ply` shapes) reads it here.
 
 use super::builder::{SceneBuilder, Surface};
 use super::locate::{Locate, Part};
-use super::{obj, ply};
+use super::{obj, ply, VertexNormals};
 use crate::error::Result;
-use glam::Vec3;
+use glam::{Mat3, Mat4, Vec3};
 use std::path::Path;
 
 /// The format of a mesh file.
@@ -32,14 +33,88 @@ impl MeshFormat {
     }
 }
 
-/// The triangles of the mesh file at `path`, in the file's coordinates. Errors are messages
-/// naming the resolved path (for PLY, the [`ply::PlyError`]).
-pub(crate) fn load_triangles(path: &Path, format: MeshFormat) -> Result<Vec<[Vec3; 3]>, String> {
+/// A mesh file's triangles and, when it has them, one set of vertex normals per triangle
+/// (zero and non-finite normals already refused; not normalised).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct MeshData {
+    /// The triangles, corners in the file's winding.
+    pub tris: Vec<[Vec3; 3]>,
+    /// The corners' normals, parallel to `tris`; `None` for a flat mesh.
+    pub normals: Option<Vec<VertexNormals>>,
+}
+
+impl MeshData {
+    /// The mesh through the affine map `m` (normals through its inverse transpose), front
+    /// faces kept on the side they were: a mirroring `m` reverses the winding (corners 1 and
+    /// 2 swap, with their normals), as does `flip`.
+    pub(crate) fn transform(self, m: Mat4, flip: bool) -> Self {
+        let swap = (m.determinant() < 0.0) != flip;
+        let tris = self.tris.into_iter().map(|t| {
+            let mut t = t.map(|p| m.transform_point3(p));
+            if swap {
+                t.swap(1, 2);
+            }
+            t
+        });
+        let normal_map = Mat3::from_mat4(m).inverse().transpose();
+        MeshData {
+            tris: tris.collect(),
+            normals: self
+                .normals
+                .map(|ns| transform_normals(ns, normal_map, swap)),
+        }
+    }
+
+    /// Drops the normals when `flat` (forced flat shading).
+    pub(crate) fn flat_if(self, flat: bool) -> Self {
+        MeshData {
+            normals: self.normals.filter(|_| !flat),
+            ..self
+        }
+    }
+}
+
+/// Each normal through `map` (an inverse transpose), corners 1 and 2 swapped when `swap`.
+fn transform_normals(mut ns: Vec<VertexNormals>, map: Mat3, swap: bool) -> Vec<VertexNormals> {
+    for set in &mut ns {
+        *set = set.map(|n| map * n);
+        if swap {
+            set.swap(1, 2);
+        }
+    }
+    ns
+}
+
+/// The mesh file at `path`, in the file's coordinates. Errors are messages naming the
+/// resolved path (for PLY, the [`ply::PlyError`]); a vertex normal that is zero or not
+/// finite is one, naming its field (`vn`, or `nx, ny, nz` and the vertex).
+pub(crate) fn load_mesh(path: &Path, format: MeshFormat) -> Result<MeshData, String> {
     match format {
-        MeshFormat::Obj => obj::load_triangles(path),
-        MeshFormat::Ply => ply::read_ply(path)
-            .map(|mesh| mesh.triangle_positions())
-            .map_err(|e| e.to_string()),
+        MeshFormat::Obj => {
+            let (tris, normals) = obj::load_triangles(path)?;
+            Ok(MeshData { tris, normals })
+        }
+        MeshFormat::Ply => {
+            let mesh = ply::read_ply(path).map_err(|e| e.to_string())?;
+            let normals = match &mesh.normals {
+                None => None,
+                Some(ns) => {
+                    if let Some(i) = ns.iter().position(|n| !n.is_finite() || *n == Vec3::ZERO) {
+                        return Err(format!(
+                            "{}: vertex {i}: the normal (nx, ny, nz) {} is zero or not finite",
+                            path.display(),
+                            ns[i]
+                        ));
+                    }
+                    let at = |i: u32| ns[i as usize];
+                    Some(mesh.triangles.iter().map(|t| t.map(at)).collect())
+                }
+            };
+            Ok(MeshData {
+                tris: mesh.triangle_positions(),
+                normals,
+            })
+        }
     }
 }
 
@@ -56,16 +131,33 @@ pub(crate) fn transform(mut tris: Vec<[Vec3; 3]>, scale: Vec3, translate: Vec3) 
 }
 
 /// Adds the mesh file at `path`, scaled then translated, to `builder` as one shape of
-/// `surface`. A file that cannot be read or used is an error on [`Part::Geometry`].
+/// `surface`: smooth-shaded with the file's vertex normals unless `smooth` is `Some(false)`;
+/// `Some(true)` requires the file to have them. A file that cannot be read or used is an
+/// error on [`Part::Geometry`].
 pub(crate) fn add_mesh_file(
     builder: &mut SceneBuilder,
     path: &Path,
     scale: Vec3,
     translate: Vec3,
+    smooth: Option<bool>,
     surface: Surface,
     at: &dyn Locate,
 ) -> Result<()> {
-    let tris =
-        load_triangles(path, MeshFormat::of_path(path)).map_err(|m| at.error(Part::Geometry, m))?;
-    builder.add_mesh(transform(tris, scale, translate), surface, at)
+    let mesh = load_mesh(path, MeshFormat::of_path(path))
+        .map_err(|m| at.error(Part::Geometry, m))?
+        .flat_if(smooth == Some(false));
+    if smooth == Some(true) && mesh.normals.is_none() {
+        let message = format!(
+            "{}: `smooth = true`, but the mesh has no vertex normals",
+            path.display()
+        );
+        return Err(at.error(Part::Geometry, message));
+    }
+    // Normals through the inverse of the (diagonal) scale; the winding swap as `transform`.
+    let mirrored = scale.x * scale.y * scale.z < 0.0;
+    let normals = mesh
+        .normals
+        .map(|ns| transform_normals(ns, Mat3::from_diagonal(scale.recip()), mirrored));
+    let tris = transform(mesh.tris, scale, translate);
+    builder.add_smooth_mesh(tris, normals, surface, at)
 }

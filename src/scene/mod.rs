@@ -13,6 +13,7 @@ mod gltf;
 mod locate;
 mod mesh_file;
 pub mod mitsuba;
+mod normals;
 mod obj;
 mod ply;
 mod punctual;
@@ -193,10 +194,13 @@ pub struct Triangle {
     pub material: u32,
     /// Index into [`Scene::lights`] when the triangle is emissive, else [`NO_LIGHT`].
     pub light: u32,
+    /// Index into [`Scene::shading_normals`] of its vertex normals (smooth shading), or
+    /// [`FLAT`].
+    pub shading: u32,
 }
 
 impl Triangle {
-    /// The triangle `a, b, c` of `material`, not a light.
+    /// The triangle `a, b, c` of `material`, flat-shaded, not a light.
     pub fn new(a: Vec3, b: Vec3, c: Vec3, material: u32) -> Self {
         Self {
             v0: a,
@@ -204,6 +208,7 @@ impl Triangle {
             v2: c,
             material,
             light: NO_LIGHT,
+            shading: FLAT,
         }
     }
     /// The edge `v1 - v0`.
@@ -243,6 +248,15 @@ pub struct Sphere {
 
 /// Marks a primitive that is not a light.
 pub const NO_LIGHT: u32 = u32::MAX;
+
+/// Marks a flat-shaded triangle ([`Triangle::shading`]): its shading normal is its
+/// geometric normal.
+pub const FLAT: u32 = u32::MAX;
+
+/// The unit vertex normals of one smooth-shaded triangle, world space, at `v0, v1, v2`;
+/// the shading normal at barycentric `(1 - u - v, u, v)` is their normalised interpolation
+/// (see `geometry::shading_normal`).
+pub type VertexNormals = [Vec3; 3];
 
 /// What a light is made of.
 #[derive(Clone, Debug, PartialEq)]
@@ -322,6 +336,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// World-space triangles; an emissive shape's triangles are contiguous.
     pub triangles: Vec<Triangle>,
+    /// Vertex normals of the smooth-shaded triangles, indexed by [`Triangle::shading`];
+    /// empty when every triangle is flat.
+    pub shading_normals: Vec<VertexNormals>,
     /// Analytic spheres.
     pub spheres: Vec<Sphere>,
     /// Lights, in the order their shapes (then point lights) were added.
@@ -343,6 +360,7 @@ impl Scene {
             },
             materials: vec![],
             triangles: vec![],
+            shading_normals: vec![],
             spheres: vec![],
             lights: vec![],
             settings: RenderSettings::default(),
@@ -374,6 +392,10 @@ impl Scene {
     /// Whether some material is glass.
     pub fn has_glass(&self) -> bool {
         self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
+    }
+    /// Whether some triangle is smooth-shaded.
+    pub fn has_smooth(&self) -> bool {
+        !self.shading_normals.is_empty()
     }
     /// Whether some light is a point, spot or directional light ([`LightShape::is_delta`]).
     pub fn has_delta_lights(&self) -> bool {

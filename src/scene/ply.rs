@@ -2,8 +2,8 @@
 //! read with the `ply-rs-bw` crate: ASCII and binary (little and big endian).
 //!
 //! The `vertex` element gives the positions (`x`, `y`, `z`, float or double) and, when all
-//! three are present, vertex normals (`nx`, `ny`, `nz`), which [`PlyMesh`] keeps although the
-//! scene has no shading normals yet. The `face` element's `vertex_indices` (or
+//! three are present, vertex normals (`nx`, `ny`, `nz`), which [`PlyMesh`] keeps as given
+//! (`mesh_file.rs` checks them and makes the mesh smooth-shaded). The `face` element's `vertex_indices` (or
 //! `vertex_index`) lists, of any integer type, are polygons triangulated as fans
 //! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
 //! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.

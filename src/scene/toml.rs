@@ -50,7 +50,7 @@ const SHAPE_TYPES: &Types = &[
     ("triangle", &["vertices"]),
     ("sphere", &["center", "radius"]),
     ("box", &["min", "max", "rotate_y"]),
-    ("mesh", &["file", "scale", "translate"]),
+    ("mesh", &["file", "scale", "translate", "smooth"]),
 ];
 const SHAPE_KEYS: &[&str] = &["material", "emission", "two_sided"];
 const LIGHT_TYPES: &Types = &[
@@ -300,8 +300,14 @@ fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
             };
             let scale = scale.map_err(|m| t.fail("scale", m))?;
             let translate = t.vec3("translate")?.unwrap_or(Vec3::ZERO);
+            let smooth = t.boolean("smooth")?;
             let path = base_dir.join(file);
-            mesh_file::add_mesh_file(b, &path, scale, translate, surface, &at("file"))
+            let at = at(if smooth == Some(true) {
+                "smooth"
+            } else {
+                "file"
+            });
+            mesh_file::add_mesh_file(b, &path, scale, translate, smooth, surface, &at)
         }
     }
 }

@@ -117,9 +117,27 @@ pub(super) fn read_positions(
     accessor: &Accessor,
     buffers: &[Vec<u8>],
 ) -> Result<Vec<glam::Vec3>, String> {
+    read_vec3(accessor, buffers, "POSITION", false)
+}
+
+/// The `NORMAL` accessor's vectors: VEC3 of FLOAT, all finite and non-zero.
+pub(super) fn read_normals(
+    accessor: &Accessor,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<glam::Vec3>, String> {
+    read_vec3(accessor, buffers, "NORMAL", true)
+}
+
+/// The VEC3-of-FLOAT attribute `name`, all finite (and non-zero with `nonzero`).
+fn read_vec3(
+    accessor: &Accessor,
+    buffers: &[Vec<u8>],
+    name: &str,
+    nonzero: bool,
+) -> Result<Vec<glam::Vec3>, String> {
     if accessor.dimensions() != Dimensions::Vec3 || accessor.data_type() != DataType::F32 {
         return Err(format!(
-            "POSITION must be VEC3 of FLOAT, not {:?} of {:?}",
+            "{name} must be VEC3 of FLOAT, not {:?} of {:?}",
             accessor.dimensions(),
             accessor.data_type()
         ));
@@ -129,7 +147,10 @@ pub(super) fn read_positions(
         let f = |i: usize| f32::from_le_bytes([e[i], e[i + 1], e[i + 2], e[i + 3]]);
         let p = glam::Vec3::new(f(0), f(4), f(8));
         if !p.is_finite() {
-            return Err(format!("POSITION {} is not finite", points.len()));
+            return Err(format!("{name} {} is not finite", points.len()));
+        }
+        if nonzero && p == glam::Vec3::ZERO {
+            return Err(format!("{name} {} is zero", points.len()));
         }
         points.push(p);
     }

@@ -6,10 +6,12 @@
 //! transform is its parents' times its own (matrix or TRS), so instanced meshes appear once
 //! per node. Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
 //! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
-//! normals are not read (shading is flat). The camera is the first met in the traversal, or
+//! normals (`NORMAL`, through the inverse transpose of the world matrix) make a primitive
+//! smooth-shaded; without them it is flat. The camera is the first met in the traversal, or
 //! the one named; `KHR_lights_punctual` lights are converted from photometric units at
 //! 683 lm/W (point and spot from candela to W/sr, directional from lux to W/m^2), spot and
-//! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`] naming the file, the JSON line of the item (0 where
+//! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`]
+//! naming the file, the JSON line of the item (0 where
 //! unknown) and its field path; warnings (approximated materials, textures) go to stderr.
 
 mod data;
@@ -261,6 +263,16 @@ impl Importer<'_> {
             return Err(fail("has no POSITION attribute".into()));
         };
         let points = data::read_positions(&positions, &self.buffers).map_err(&fail)?;
+        let normals = match primitive.get(&gltf::Semantic::Normals) {
+            Some(a) => Some(data::read_normals(&a, &self.buffers).map_err(&fail)?),
+            None => None,
+        };
+        if let Some(n) = normals.as_ref().filter(|n| n.len() != points.len()) {
+            let message = format!("{} NORMALs for {} POSITIONs", n.len(), points.len());
+            return Err(fail(message));
+        }
+        // Normals go through the inverse transpose of the node's matrix.
+        let normal_map = glam::Mat3::from_mat4(world).inverse().transpose();
         let indices = match primitive.indices() {
             Some(a) => data::read_indices(&a, &self.buffers).map_err(&fail)?,
             None => (0..points.len() as u32).collect(),
@@ -291,6 +303,7 @@ impl Importer<'_> {
         };
         let mirrored = world.determinant() < 0.0;
         let mut tris = Vec::with_capacity(corners.len());
+        let mut shading = Vec::with_capacity(normals.as_ref().map_or(0, |_| corners.len()));
         for (t, c) in corners.iter().enumerate() {
             let p = |i: u32| {
                 let p = points.get(i as usize).ok_or_else(|| {
@@ -303,13 +316,20 @@ impl Importer<'_> {
             };
             let (a, b, c) = (p(c[0])?, p(c[1])?, p(c[2])?);
             tris.push(if mirrored { [a, c, b] } else { [a, b, c] });
+            if let Some(normals) = &normals {
+                // In range: the indices were checked against the positions, as many.
+                let n = corners[t].map(|i| normal_map * normals[i as usize]);
+                shading.push(if mirrored { [n[0], n[2], n[1]] } else { n });
+            }
         }
         if tris.is_empty() {
             return Ok(());
         }
         let material = self.material(&primitive.material())?;
         let at = |_: Part, m: String| self.cx.err(&field, m);
-        self.b.add_mesh(tris, Surface::of(material), &at)
+        let shading = normals.map(|_| shading);
+        self.b
+            .add_smooth_mesh(tris, shading, Surface::of(material), &at)
     }
 
     /// Our material for `m`, added (and warned about) the first time it is used.

@@ -1,12 +1,13 @@
 //! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
 //! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `obj`
-//! and `ply` meshes, each with its bsdf (nested or `ref`) and optionally an `area` emitter.
+//! and `ply` meshes (smooth-shaded with the file's vertex normals unless `face_normals` is
+//! true), each with its bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use super::plugin::Plugin;
 use super::{bsdf, Importer};
 use crate::error::Result;
 use crate::scene::builder::Surface;
-use crate::scene::mesh_file::{self, MeshFormat};
+use crate::scene::mesh_file::{self, MeshData, MeshFormat};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -31,21 +32,6 @@ fn quad(normal: Vec3, u: Vec3, v: Vec3) -> [[Vec3; 3]; 2] {
         normal - u + v,
     ];
     [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
-}
-
-/// `tris` through `m`, keeping the front faces where Mitsuba's normals (transformed by the
-/// inverse transpose) point: a mirroring `m` reverses the winding, as does `flip`.
-fn transform(tris: Vec<[Vec3; 3]>, m: Mat4, flip: bool) -> Vec<[Vec3; 3]> {
-    let swap = (m.determinant() < 0.0) != flip;
-    tris.into_iter()
-        .map(|t| {
-            let mut t = t.map(|p| m.transform_point3(p));
-            if swap {
-                t.swap(1, 2);
-            }
-            t
-        })
-        .collect()
 }
 
 impl Importer<'_> {
@@ -115,7 +101,7 @@ impl Importer<'_> {
         let cx = &self.cx;
         let at = self.origin(p.node, &p.field);
         let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
-        let tris = match p.kind.as_str() {
+        let mesh = match p.kind.as_str() {
             "sphere" => {
                 let center = p.point(cx, "center")?.unwrap_or(Vec3::ZERO);
                 let radius = p.positive(cx, "radius", 1.0)?;
@@ -138,11 +124,17 @@ impl Importer<'_> {
                 let center = m.transform_point3(center);
                 return self.b.add_sphere(center, radius * s, surface, &at);
             }
-            "rectangle" => quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec(),
-            "cube" => CUBE_FACES
-                .iter()
-                .flat_map(|&[n, u, v]| quad(n, u, v))
-                .collect(),
+            "rectangle" => MeshData {
+                tris: quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec(),
+                normals: None,
+            },
+            "cube" => MeshData {
+                tris: CUBE_FACES
+                    .iter()
+                    .flat_map(|&[n, u, v]| quad(n, u, v))
+                    .collect(),
+                normals: None,
+            },
             "obj" | "ply" => {
                 let Some(file) = p.string(cx, "filename")? else {
                     return Err(cx.err(p.node, &p.at("filename"), "missing"));
@@ -158,10 +150,11 @@ impl Importer<'_> {
                 } else {
                     MeshFormat::Ply
                 };
-                let tris = mesh_file::load_triangles(&path, format)
+                let mesh = mesh_file::load_mesh(&path, format)
                     .map_err(|m| cx.err(node, &p.at("filename"), m))?;
-                p.ignore(&["face_normals", "flip_tex_coords"]);
-                tris
+                p.ignore(&["flip_tex_coords"]);
+                // Mitsuba's `face_normals`: flat shading even where the file has normals.
+                mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
             other => {
                 let message = format!("unsupported shape `{other}`");
@@ -170,6 +163,8 @@ impl Importer<'_> {
         };
         let flip = p.boolean(cx, "flip_normals")?;
         p.done(cx)?;
-        self.b.add_mesh(transform(tris, m, flip), surface, &at)
+        let mesh = mesh.transform(m, flip);
+        self.b
+            .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at)
     }
 }
