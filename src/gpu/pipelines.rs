@@ -45,9 +45,9 @@ pub struct Pipelines {
     pub scatter: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
-    /// `list_cache_points` and `build_cache` (shaders/radiance_cache.wgsl): only for a
-    /// render in mode gather.
-    pub radiance_cache: Option<[wgpu::ComputePipeline; 2]>,
+    /// `list_cache_points`, `size_cache_build` and `build_cache` (shaders/cache_build.wgsl):
+    /// only for a render in mode gather.
+    pub radiance_cache: Option<[wgpu::ComputePipeline; 3]>,
 }
 
 /// The shader module of `kernel`, labelled with its name.
@@ -112,7 +112,8 @@ impl Pipelines {
             scatter: pipeline(&grid, &map_layout, "scatter"),
             gather: pipeline(&gather, &gather_layout, "gather"),
             radiance_cache: final_gather.then(|| {
-                ["list_cache_points", "build_cache"].map(|e| pipeline(&gather, &gather_layout, e))
+                ["list_cache_points", "size_cache_build", "build_cache"]
+                    .map(|e| pipeline(&gather, &gather_layout, e))
             }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
