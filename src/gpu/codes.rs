@@ -84,6 +84,12 @@ pub const CACHE_LANES: u32 = 8;
 pub const CACHE_BINS: u32 = 256;
 /// Photons sharing the K-th's histogram bin that `build_cache` lists and ranks.
 pub const CACHE_CANDIDATES: u32 = 128;
+/// Photons before the K-th's bin that `build_cache` lists for its sum (more: it walks the
+/// ring search's photons again). Its workgroup memory stays within 16 KB with CACHE_NEAR.
+pub const CACHE_SELECT_LOW: u32 = 384;
+/// Photons `build_cache`'s ring search lists in workgroup memory (later phases read them
+/// there; when more lie in the rings, they walk the cells again).
+pub const CACHE_NEAR: u32 = 1280;
 /// `cache_list` index of the number of cache points (0..3: build_cache's dispatch).
 pub const CACHE_LIST_COUNT: u32 = 3;
 /// `cache_list` index of the first cache point.
@@ -187,6 +193,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_LANES", U32(CACHE_LANES)),
         ("CACHE_BINS", U32(CACHE_BINS)),
         ("CACHE_CANDIDATES", U32(CACHE_CANDIDATES)),
+        ("CACHE_NEAR", U32(CACHE_NEAR)),
+        ("CACHE_SELECT_LOW", U32(CACHE_SELECT_LOW)),
         ("CACHE_LIST_COUNT", U32(CACHE_LIST_COUNT)),
         ("CACHE_LIST_FIRST", U32(CACHE_LIST_FIRST)),
         ("MAX_RINGS", U32(MAX_RINGS)),

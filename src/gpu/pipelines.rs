@@ -88,6 +88,8 @@ impl Pipelines {
         let gather_layout =
             pipeline_layout(dev, "gather pipeline layout", layouts, &layouts.gather);
         let pipeline = |m: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, entry: &str| {
+            // build_cache clears what it reads of its 14 KB of workgroup memory itself.
+            let zero = entry != "build_cache";
             dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
@@ -95,7 +97,7 @@ impl Pipelines {
                 entry_point: Some(entry),
                 compilation_options: wgpu::PipelineCompilationOptions {
                     constants,
-                    zero_initialize_workgroup_memory: true,
+                    zero_initialize_workgroup_memory: zero,
                 },
                 cache: None,
             })
