@@ -12,11 +12,6 @@
 // No cache point found.
 const CACHE_NONE: u32 = 0xffffffffu;
 
-// Whether photon p is a cache point: chosen by identity, whatever order the map holds it in.
-fn is_cache_point(p: Photon) -> bool {
-    return (p.id + (p.flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
-}
-
 // (d2, id, flags) of candidate a before b (the lookup's order: nearest, then photon identity).
 fn cache_before(d2a: f32, pa: Photon, d2b: f32, pb: Photon) -> bool {
     if d2a != d2b {
@@ -69,13 +64,18 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                         continue;
                     }
                     let range = map_cell(0u, cell_hash(c, mp.table_size));
+                    // A cell lists its cache points first (build_grid.wgsl scatter).
                     for (var j = range.x; j < range.y; j += 1u) {
                         visits += 1u;
                         if visits > MAX_VISITS || !spend() {
                             truncated = true;
                             break;
                         }
-                        let pos = g_photons[j].position;
+                        let q = g_photons[j];
+                        if (q.id + (q.flags & DEPTH_MASK)) % CACHE_STRIDE != 0u {
+                            break;
+                        }
+                        let pos = q.position;
                         if any(cell_of(pos, mp.cell_size) != c) {
                             continue;
                         }
@@ -85,7 +85,7 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                             continue;
                         }
                         let p = g_photons[j];
-                        if !is_cache_point(p) || dot(unpack_normal(p.normal), n) < CACHE_NORMAL_COS {
+                        if dot(unpack_normal(p.normal), n) < CACHE_NORMAL_COS {
                             continue;
                         }
                         if best == CACHE_NONE || cache_before(d2, p, best_d2, best_p) {

@@ -43,6 +43,8 @@ pub struct Pipelines {
     pub add_offsets: wgpu::ComputePipeline,
     /// `scatter` (shaders/build_grid.wgsl).
     pub scatter: wgpu::ComputePipeline,
+    /// `scatter_rest` (shaders/build_grid.wgsl).
+    pub scatter_rest: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
     /// `list_cache_points`, `size_cache_build` and `build_cache` (shaders/cache_build.wgsl):
@@ -112,6 +114,7 @@ impl Pipelines {
             scan_sums: pipeline(&grid, &map_layout, "scan_sums"),
             add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
             scatter: pipeline(&grid, &map_layout, "scatter"),
+            scatter_rest: pipeline(&grid, &map_layout, "scatter_rest"),
             gather: pipeline(&gather, &gather_layout, "gather"),
             radiance_cache: final_gather.then(|| {
                 ["list_cache_points", "size_cache_build", "build_cache"]

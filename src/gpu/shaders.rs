@@ -92,6 +92,7 @@ impl Kernel {
                 "scan_sums",
                 "add_offsets",
                 "scatter",
+                "scatter_rest",
             ],
             Kernel::Gather => &[
                 "gather",
