@@ -75,23 +75,20 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                         if (q.id + (q.flags & DEPTH_MASK)) % CACHE_STRIDE != 0u {
                             break;
                         }
-                        let pos = q.position;
-                        if any(cell_of(pos, mp.cell_size) != c) {
-                            continue;
-                        }
-                        let dv = pos - y;
+                        // A photon of a colliding cell is a cache point too, and seeing one
+                        // twice changes no minimum: no cell test.
+                        let dv = q.position - y;
                         let d2 = dot(dv, dv);
                         if d2 > best_d2 {
                             continue;
                         }
-                        let p = g_photons[j];
-                        if dot(unpack_normal(p.normal), n) < CACHE_NORMAL_COS {
+                        if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
                             continue;
                         }
-                        if best == CACHE_NONE || cache_before(d2, p, best_d2, best_p) {
+                        if best == CACHE_NONE || cache_before(d2, q, best_d2, best_p) {
                             best = j;
                             best_d2 = d2;
-                            best_p = p;
+                            best_p = q;
                         }
                     }
                 }
