@@ -1,9 +1,8 @@
 // cache_build: the radiance cache's values (mode gather), twin of RadianceCache::build in
-// src/cpu/cache.rs. list_cache_points lists the global map's cache points, size_cache_build
-// turns their count into build_cache's indirect dispatch, and build_cache computes one cache
-// point per workgroup of CACHE_LANES invocations sharing its K-nearest search (no heap: a
-// histogram of distances picks the K-th photon, then an exact fixed-point sum). Writes cache
-// and cache_list. Composed after radiance_cache.wgsl.
+// src/cpu/cache.rs. list_cache_points (one invocation per global photon slot) lists the cache
+// points; size_cache_build writes build_cache's indirect dispatch; build_cache (one workgroup
+// of CACHE_LANES per point) shares the point's K-nearest search: a distance histogram picks
+// the K-th photon, then an exact fixed-point sum. Writes cache and cache_list.
 
 // cache_list (prelude offsets): [0..3] build_cache's dispatch (x, y, 1), [CACHE_LIST_COUNT]
 // the number of cache points, [CACHE_LIST_FIRST + k] the sorted index of the k-th.
