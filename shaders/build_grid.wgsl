@@ -1,6 +1,6 @@
 // build_grid: the photon map's spatial hash grid, built on the device by a counting sort.
 // Dispatch, in order over one map's group-1 buffers: count_cells, scan_blocks, scan_sums,
-// add_offsets, scatter (shapes below). Writes: cell_start (first sorted photon per cell;
+// add_offsets, scatter, scatter_rest (shapes below). Writes: cell_start (first sorted photon per cell;
 // cell_start[table_size] = photons in the grid), sorted (photons by cell), block_sums.
 
 // Entry points:
@@ -8,7 +8,8 @@
 //   scan_blocks   (SCAN_BLOCK-wide, one per block)  cell_start = exclusive scan within blocks
 //   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
-//   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = photon
+//   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = cache point
+//   scatter_rest  (one invocation per photon slot)  the same for the other photons
 // Loops: the scan's 8 steps and scan_sums' chunks of at most 256 (table_size <= 2^24) per
 // invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
 
@@ -99,12 +100,25 @@ fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     atomicStore(&cell_count[i], 0u);
 }
 
-@compute @workgroup_size(WG_SIZE)
-fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = flat_index(gid, nwg);
+// Places photon slot i in its cell if it is (`cache_points`) or is not a radiance-cache
+// point (the rule of cache_build.wgsl, applied to every map: the order within a cell is
+// otherwise free).
+fn scatter_if(i: u32, cache_points: bool) {
     let h = photon_slot(i);
-    if h != 0xffffffffu {
+    if h != 0xffffffffu && is_cache_point(photons[i]) == cache_points {
         let k = atomicAdd(&cell_count[h], 1u);
         sorted[cell_start[h] + k] = photons[i];
     }
+}
+
+// scatter, then scatter_rest: each cell lists its cache points first, so that the cache's
+// lookup (radiance_cache.wgsl cache_find) stops at the first other photon.
+@compute @workgroup_size(WG_SIZE)
+fn scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    scatter_if(flat_index(gid, nwg), true);
+}
+
+@compute @workgroup_size(WG_SIZE)
+fn scatter_rest(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    scatter_if(flat_index(gid, nwg), false);
 }

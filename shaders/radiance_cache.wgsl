@@ -1,58 +1,16 @@
 // radiance_cache: the radiance cache of final gathering (mode gather), twin of the CPU's cache
-// (src/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS). list_cache_points, then build_cache (WG_SIZE-
-// wide 2D dispatches over the global map's sorted photons) write cache[i] = (the global
-// estimate at photon i with BRDF 1/pi, 1) at cache points, 0 elsewhere; cache_find and
-// cache_lookup read it (gather.wgsl, probes.wgsl). Composed after common/estimate.wgsl.
+// (src/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS): cache[i] = (the global estimate at photon i
+// with BRDF 1/pi, 1) at cache points, 0 elsewhere, written by cache_build.wgsl; cache_find and
+// cache_lookup read it (gather.wgsl, probes.wgsl). Library, no entry point; composed after
+// common/estimate.wgsl.
 
 @group(1) @binding(7) var<storage, read_write> cache: array<vec4<f32>>;
-// [0]: how many cache points; [1 + k]: the sorted index of the k-th (in no fixed order: each
-// value depends only on its photon). Lanes of a SIMD group then all build a cache point.
+// build_cache's dispatch, the number of cache points and their sorted indices (in no fixed
+// order: each value depends only on its photon); layout in cache_build.wgsl.
 @group(1) @binding(8) var<storage, read_write> cache_list: array<atomic<u32>>;
 
 // No cache point found.
 const CACHE_NONE: u32 = 0xffffffffu;
-
-// Whether photon p is a cache point: chosen by identity, whatever order the map holds it in.
-fn is_cache_point(p: Photon) -> bool {
-    return (p.id + (p.flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
-}
-
-// Photons the global map holds sorted (its grid's total, at most its capacity).
-fn global_count() -> u32 {
-    return min(g_cells[g_map.table_size], g_map.capacity);
-}
-
-// Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
-fn cache_invocation(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
-    return gid.x + gid.y * nwg.x * WG_SIZE;
-}
-
-// Clears every entry of the cache and lists the cache points (cache_list[0] cleared before).
-@compute @workgroup_size(WG_SIZE)
-fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = cache_invocation(gid, nwg);
-    if g_map.paths == 0u || i >= global_count() {
-        return;
-    }
-    cache[i] = vec4<f32>(0.0);
-    if is_cache_point(g_photons[i]) {
-        let k = atomicAdd(&cache_list[0], 1u);
-        atomicStore(&cache_list[1u + k], i);
-    }
-}
-
-// The value of the k-th listed cache point.
-@compute @workgroup_size(WG_SIZE)
-fn build_cache(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let k = cache_invocation(gid, nwg);
-    if k >= atomicLoad(&cache_list[0]) {
-        return;
-    }
-    let i = atomicLoad(&cache_list[1u + k]);
-    let p = g_photons[i];
-    let l = estimate(0u, p.position, unpack_normal(p.normal), vec3<f32>(1.0 / PI));
-    cache[i] = vec4<f32>(l, 1.0);
-}
 
 // (d2, id, flags) of candidate a before b (the lookup's order: nearest, then photon identity).
 fn cache_before(d2a: f32, pa: Photon, d2b: f32, pb: Photon) -> bool {
@@ -91,13 +49,18 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
         for (var dz = -s; dz <= s && !truncated && spend(); dz += 1) {
             for (var dy = -s; dy <= s && !truncated && spend(); dy += 1) {
                 for (var dx = -s; dx <= s && !truncated; dx += 1) {
-                    cells += 1u;
-                    if cells > MAX_CELLS || !spend() {
+                    if !spend() {
                         truncated = true;
                         break;
                     }
                     if max(abs(dx), max(abs(dy), abs(dz))) != s {
                         continue;
+                    }
+                    // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
+                    cells += 1u;
+                    if cells > MAX_CELLS {
+                        truncated = true;
+                        break;
                     }
                     let c = home + vec3<i32>(dx, dy, dz);
                     let lo = vec3<f32>(c) * mp.cell_size;
@@ -106,29 +69,31 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                         continue;
                     }
                     let range = map_cell(0u, cell_hash(c, mp.table_size));
+                    // A cell lists its cache points first (build_grid.wgsl scatter).
                     for (var j = range.x; j < range.y; j += 1u) {
                         visits += 1u;
                         if visits > MAX_VISITS || !spend() {
                             truncated = true;
                             break;
                         }
-                        let pos = g_photons[j].position;
-                        if any(cell_of(pos, mp.cell_size) != c) {
-                            continue;
+                        let q = g_photons[j];
+                        if (q.id + (q.flags & DEPTH_MASK)) % CACHE_STRIDE != 0u {
+                            break;
                         }
-                        let dv = pos - y;
+                        // A photon of a colliding cell is a cache point too, and seeing one
+                        // twice changes no minimum: no cell test.
+                        let dv = q.position - y;
                         let d2 = dot(dv, dv);
                         if d2 > best_d2 {
                             continue;
                         }
-                        let p = g_photons[j];
-                        if !is_cache_point(p) || dot(unpack_normal(p.normal), n) < CACHE_NORMAL_COS {
+                        if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
                             continue;
                         }
-                        if best == CACHE_NONE || cache_before(d2, p, best_d2, best_p) {
+                        if best == CACHE_NONE || cache_before(d2, q, best_d2, best_p) {
                             best = j;
                             best_d2 = d2;
-                            best_p = p;
+                            best_p = q;
                         }
                     }
                 }

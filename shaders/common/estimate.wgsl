@@ -229,13 +229,18 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
         for (var dz = -s; dz <= s && !truncated && spend(); dz += 1) {
             for (var dy = -s; dy <= s && !truncated && spend(); dy += 1) {
                 for (var dx = -s; dx <= s && !truncated; dx += 1) {
-                    cells += 1u;
-                    if cells > MAX_CELLS || !spend() {
+                    if !spend() {
                         truncated = true;
                         break;
                     }
                     if max(abs(dx), max(abs(dy), abs(dz))) != s {
                         continue;
+                    }
+                    // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
+                    cells += 1u;
+                    if cells > MAX_CELLS {
+                        truncated = true;
+                        break;
                     }
                     let c = home + vec3<i32>(dx, dy, dz);
                     // Skip cells entirely farther than the current K-th photon (or the radius).

@@ -1,5 +1,6 @@
-// Hash-grid cells (twin: src/gpu/grid.rs): a point's cell, a cell's table slot, and whether
-// a map keeps a photon (DROP_* flags from the generated prelude, src/gpu/codes.rs).
+// Hash-grid cells (twin: src/gpu/grid.rs): a point's cell, a cell's table slot, whether a
+// map keeps a photon (DROP_* flags from the generated prelude, src/gpu/codes.rs) and whether
+// it is a radiance-cache point.
 // Library, no entry point; writes nothing.
 
 fn cell_of(p: vec3<f32>, cell_size: f32) -> vec3<i32> {
@@ -20,4 +21,10 @@ fn keep_photon(p: Photon, drop: u32) -> bool {
         return false;
     }
     return true;
+}
+
+// Whether photon p is a radiance-cache point (plan::CACHE_STRIDE): chosen by identity,
+// whatever order a map holds it in.
+fn is_cache_point(p: Photon) -> bool {
+    return (p.id + (p.flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
 }

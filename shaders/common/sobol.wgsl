@@ -46,10 +46,12 @@ fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
     let shuffled = sobol_shuffle(index, seed);
     var sobol_rev = 0u;
     let base = dim * SOBOL_INDEX_BITS;
-    for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
-        if ((shuffled >> k) & 1u) != 0u {
-            sobol_rev ^= SOBOL_DIRECTIONS[base + k];
-        }
+    // Only the set bits (XOR is order-free): at most SOBOL_INDEX_BITS iterations.
+    var bits = shuffled & ((1u << SOBOL_INDEX_BITS) - 1u);
+    while bits != 0u {
+        let k = firstTrailingBit(bits);
+        sobol_rev ^= SOBOL_DIRECTIONS[base + k];
+        bits &= bits - 1u;
     }
     return sobol_finish(sobol_rev, dim, seed);
 }
@@ -58,10 +60,11 @@ fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
 fn sobol_burley_pair(index: u32, seed: u32) -> vec2<f32> {
     let shuffled = sobol_shuffle(index, seed);
     var sobol_rev = vec2<u32>(0u);
-    for (var k = 0u; k < SOBOL_INDEX_BITS; k++) {
-        if ((shuffled >> k) & 1u) != 0u {
-            sobol_rev ^= vec2<u32>(SOBOL_DIRECTIONS[k], SOBOL_DIRECTIONS[SOBOL_INDEX_BITS + k]);
-        }
+    var bits = shuffled & ((1u << SOBOL_INDEX_BITS) - 1u);
+    while bits != 0u {
+        let k = firstTrailingBit(bits);
+        sobol_rev ^= vec2<u32>(SOBOL_DIRECTIONS[k], SOBOL_DIRECTIONS[SOBOL_INDEX_BITS + k]);
+        bits &= bits - 1u;
     }
     return vec2<f32>(sobol_finish(sobol_rev.x, 0u, seed), sobol_finish(sobol_rev.y, 1u, seed));
 }

@@ -86,14 +86,24 @@ pub fn grid_2d(groups: u32) -> (u32, u32) {
 /// Bytes of one radiance-cache entry (`vec4<f32>`: the value, and 1 at a cache point).
 pub const CACHE_ENTRY_BYTES: u64 = 16;
 
-/// The radiance cache's buffers for `slots` global photon slots: the cache (16 bytes a slot)
-/// and its point list (a count and 4 bytes a slot); read-write storage, copyable for probes.
-pub fn cache_buffers(dev: &wgpu::Device, slots: u32) -> [wgpu::Buffer; 2] {
+/// The radiance cache's buffers for `slots` global photon slots: the cache (16 bytes a slot),
+/// its point list (`build_cache`'s dispatch, a count and 4 bytes a slot: layout in
+/// shaders/cache_build.wgsl), read-write storage copyable for probes; and the indirect
+/// arguments of `build_cache`, copied from the list's head (a buffer bound read-write in a
+/// dispatch cannot be that dispatch's indirect arguments).
+pub fn cache_buffers(dev: &wgpu::Device, slots: u32) -> [wgpu::Buffer; 3] {
     let usage =
         wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
     let slots = slots as u64;
+    let head = super::codes::CACHE_LIST_FIRST as u64;
     [
         empty_buffer(dev, "radiance cache", slots * CACHE_ENTRY_BYTES, usage),
-        empty_buffer(dev, "radiance cache points", 4 * (slots + 1), usage),
+        empty_buffer(dev, "radiance cache points", 4 * (slots + head), usage),
+        empty_buffer(
+            dev,
+            "radiance cache dispatch",
+            16,
+            wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+        ),
     ]
 }

@@ -87,6 +87,26 @@ pub const SCAN_BLOCK: u32 = 256;
 /// The gather's workgroups are GATHER_TILE x GATHER_TILE pixels.
 pub const GATHER_TILE: u32 = 8;
 
+/// Invocations of a `build_cache` workgroup, which share one cache point's search (one
+/// lavapipe SIMD group: its loops then advance together).
+pub const CACHE_LANES: u32 = 8;
+/// Bins of `build_cache`'s distance histogram (a power of two, a multiple of CACHE_LANES).
+pub const CACHE_BINS: u32 = 256;
+/// Photons sharing the K-th's histogram bin that `build_cache` lists and ranks.
+pub const CACHE_CANDIDATES: u32 = 128;
+/// Photons before the K-th's bin that `build_cache` lists for its sum (more: it walks the
+/// ring search's photons again). Its workgroup memory stays within 16 KB with CACHE_NEAR.
+pub const CACHE_SELECT_LOW: u32 = 384;
+/// Photons `build_cache`'s ring search lists in workgroup memory (later phases read them
+/// there; when more lie in the rings, they walk the cells again).
+pub const CACHE_NEAR: u32 = 1280;
+/// `cache_list` index of the number of cache points (0..3: build_cache's dispatch).
+pub const CACHE_LIST_COUNT: u32 = 3;
+/// `cache_list` index of the first cache point.
+pub const CACHE_LIST_FIRST: u32 = 4;
+/// Rings of cells around a query's cell that a search visits at most (MAX_CELLS = 11^3).
+pub const MAX_RINGS: u32 = 5;
+
 /// Largest K the gather kernel's heap holds.
 pub const MAX_HEAP: u32 = 256;
 /// Grid cells one K-nearest search may visit: 11^3, rings 0..=5 (`grid::cell_size_for`
@@ -193,6 +213,14 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("SCAN_BLOCK", U32(SCAN_BLOCK)),
         ("GATHER_TILE", U32(GATHER_TILE)),
         ("MAX_HEAP", U32(MAX_HEAP)),
+        ("CACHE_LANES", U32(CACHE_LANES)),
+        ("CACHE_BINS", U32(CACHE_BINS)),
+        ("CACHE_CANDIDATES", U32(CACHE_CANDIDATES)),
+        ("CACHE_NEAR", U32(CACHE_NEAR)),
+        ("CACHE_SELECT_LOW", U32(CACHE_SELECT_LOW)),
+        ("CACHE_LIST_COUNT", U32(CACHE_LIST_COUNT)),
+        ("CACHE_LIST_FIRST", U32(CACHE_LIST_FIRST)),
+        ("MAX_RINGS", U32(MAX_RINGS)),
         ("MAX_CELLS", U32(MAX_CELLS)),
         ("BVH_STACK", U32(BVH_STACK)),
         ("STREAM_PHOTON", U32(Stream::Photon as u32)),

@@ -25,9 +25,10 @@ pub fn table_size_for(expected: u32, max_binding: u64) -> u32 {
         .min(cap)
 }
 
-/// Cell size: twice the expected distance to the K-th photon if `expected` photons covered
-/// `area * concentration` uniformly (so the first ring of 27 cells usually holds the K
-/// nearest), kept within [radius / 5, radius] so a search visits at most 11^3 cells
+/// Cell size: the expected distance to the K-th photon if `expected` photons covered
+/// `area * concentration` uniformly (rings 0..=2 then usually hold the K nearest, and the
+/// radiance cache's lookup scans few photons per cell; twice that measured slower on
+/// lavapipe), kept within [radius / 5, radius] so a search visits at most 11^3 cells
 /// (`codes::MAX_CELLS`, the bound of the WGSL search). Fixed-radius estimates (`k == 0`)
 /// use cells of the radius.
 pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentration: f32) -> f32 {
@@ -35,7 +36,7 @@ pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentratio
         return radius;
     }
     let density = expected.max(1) as f32 / (area * concentration).max(1e-30);
-    let r_k = 2.0 * (k as f32 / (std::f32::consts::PI * density)).sqrt();
+    let r_k = (k as f32 / (std::f32::consts::PI * density)).sqrt();
     if r_k.is_finite() {
         r_k.clamp(radius / 5.0, radius)
     } else {

@@ -146,6 +146,7 @@ impl MapBuffers {
             (&p.scan_sums, SCAN_BLOCK, SCAN_BLOCK),
             (&p.add_offsets, t, WG_SIZE),
             (&p.scatter, cap, WG_SIZE),
+            (&p.scatter_rest, cap, WG_SIZE),
         ];
         let stages = if trace { &trace_stage[..] } else { &[] };
         let grid_stages = if grid { &grid_stages[..] } else { &[] };

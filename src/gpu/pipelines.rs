@@ -45,11 +45,13 @@ pub struct Pipelines {
     pub add_offsets: wgpu::ComputePipeline,
     /// `scatter` (shaders/build_grid.wgsl).
     pub scatter: wgpu::ComputePipeline,
+    /// `scatter_rest` (shaders/build_grid.wgsl).
+    pub scatter_rest: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
-    /// `list_cache_points` and `build_cache` (shaders/radiance_cache.wgsl): only for a
-    /// render in mode gather.
-    pub radiance_cache: Option<[wgpu::ComputePipeline; 2]>,
+    /// `list_cache_points`, `size_cache_build` and `build_cache` (shaders/cache_build.wgsl):
+    /// only for a render in mode gather.
+    pub radiance_cache: Option<[wgpu::ComputePipeline; 3]>,
 }
 
 /// The shader module of `kernel`, labelled with its name.
@@ -90,6 +92,8 @@ impl Pipelines {
         let gather_layout =
             pipeline_layout(dev, "gather pipeline layout", layouts, &layouts.gather);
         let pipeline = |m: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, entry: &str| {
+            // build_cache clears what it reads of its 14 KB of workgroup memory itself.
+            let zero = entry != "build_cache";
             dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
@@ -97,7 +101,7 @@ impl Pipelines {
                 entry_point: Some(entry),
                 compilation_options: wgpu::PipelineCompilationOptions {
                     constants,
-                    zero_initialize_workgroup_memory: true,
+                    zero_initialize_workgroup_memory: zero,
                 },
                 cache: None,
             })
@@ -112,9 +116,11 @@ impl Pipelines {
             scan_sums: pipeline(&grid, &map_layout, "scan_sums"),
             add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
             scatter: pipeline(&grid, &map_layout, "scatter"),
+            scatter_rest: pipeline(&grid, &map_layout, "scatter_rest"),
             gather: pipeline(&gather, &gather_layout, "gather"),
             radiance_cache: final_gather.then(|| {
-                ["list_cache_points", "build_cache"].map(|e| pipeline(&gather, &gather_layout, e))
+                ["list_cache_points", "size_cache_build", "build_cache"]
+                    .map(|e| pipeline(&gather, &gather_layout, e))
             }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {

@@ -5,7 +5,7 @@
 //! looks it up through the global map's grid. No other mode allocates or dispatches it.
 
 use super::buffers::{cache_buffers, grid_2d, wait, CACHE_ENTRY_BYTES};
-use super::codes::WG_SIZE;
+use super::codes::{CACHE_LIST_FIRST, WG_SIZE};
 use super::maps::MapBuffers;
 use super::run::GpuRun;
 use crate::error::{Error, Result};
@@ -20,8 +20,9 @@ impl GpuRun {
     }
 
     /// Builds the radiance cache of `global`, whose grid holds `stored` photons (at most its
-    /// capacity), on the device: lists the cache points, then computes their values (one
-    /// submission, waited for). `caustic` and `accum` complete the gather group, untouched.
+    /// capacity), on the device: lists the cache points, sizes the build's dispatch from
+    /// their count, then computes their values, one workgroup each (one submission, waited
+    /// for: no read-back). `caustic` and `accum` complete the gather group, untouched.
     pub fn build_cache(
         &mut self,
         global: &MapBuffers,
@@ -43,20 +44,33 @@ impl GpuRun {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("radiance cache"),
             });
-        enc.clear_buffer(&self.cache[1], 0, Some(4));
+        // build_cache's dispatch and the count of cache points.
+        enc.clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
+        let slots = stored.min(global.params.capacity).max(1);
+        let [list, size, build] = pipelines;
         {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("radiance cache"),
+                label: Some("radiance cache points"),
                 timestamp_writes: None,
             });
             cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
             cp.set_bind_group(1, &bg, &[]);
-            let slots = stored.min(global.params.capacity).max(1);
-            for pipeline in pipelines {
-                cp.set_pipeline(pipeline);
-                let (x, y) = grid_2d(slots.div_ceil(WG_SIZE));
-                cp.dispatch_workgroups(x, y, 1);
-            }
+            cp.set_pipeline(list);
+            let (x, y) = grid_2d(slots.div_ceil(WG_SIZE));
+            cp.dispatch_workgroups(x, y, 1);
+            cp.set_pipeline(size);
+            cp.dispatch_workgroups(1, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);
+        {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("radiance cache values"),
+                timestamp_writes: None,
+            });
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
+            cp.set_bind_group(1, &bg, &[]);
+            cp.set_pipeline(build);
+            cp.dispatch_workgroups_indirect(&self.cache[2], 0);
         }
         ctx.queue.submit([enc.finish()]);
         wait(ctx)?;

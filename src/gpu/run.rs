@@ -38,7 +38,7 @@ pub struct GpuRun {
     pub map_cache: Vec<MapBuffers>,
     /// The radiance cache (`cache`, one vec4 per global photon slot) and the list of its
     /// points (`cache_list`), grown by `GpuRun::ensure_cache` (stand-ins outside mode gather).
-    pub cache: [wgpu::Buffer; 2],
+    pub cache: [wgpu::Buffer; 3],
 }
 
 impl GpuRun {

@@ -13,7 +13,8 @@ pub enum Kernel {
     /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid.
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
-    /// `shaders/radiance_cache.wgsl` (the final gather's cache build and lookup) and the
+    /// `shaders/radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
+    /// (its build) and the
     /// Sobol library (`crate::sobol::wgsl_library`).
     Gather,
     /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
@@ -35,11 +36,12 @@ const SOBOL: &str = include_str!("../../shaders/common/sobol.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
+const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 17] = [
+pub const WGSL_FILES: [(&str, &str); 18] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -56,6 +58,7 @@ pub const WGSL_FILES: [(&str, &str); 17] = [
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
     ("radiance_cache.wgsl", RADIANCE_CACHE),
+    ("cache_build.wgsl", CACHE_BUILD),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
 ];
@@ -89,8 +92,14 @@ impl Kernel {
                 "scan_sums",
                 "add_offsets",
                 "scatter",
+                "scatter_rest",
             ],
-            Kernel::Gather => &["gather", "list_cache_points", "build_cache"],
+            Kernel::Gather => &[
+                "gather",
+                "list_cache_points",
+                "size_cache_build",
+                "build_cache",
+            ],
             Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
         }
     }
@@ -107,7 +116,7 @@ impl Kernel {
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
-            Kernel::Gather => &[&sobol, ESTIMATE, RADIANCE_CACHE, GATHER],
+            Kernel::Gather => &[&sobol, ESTIMATE, RADIANCE_CACHE, CACHE_BUILD, GATHER],
             Kernel::Probes => &[ESTIMATE, RADIANCE_CACHE, PROBES],
         };
         libs.iter()
