@@ -14,6 +14,7 @@ pub use scene::Scene;
 pub use settings::RenderSettings;
 pub mod bench;
 pub mod bvh;
+pub mod calibration;
 pub mod cpu;
 pub mod estimate;
 pub mod film;

@@ -28,7 +28,7 @@ pub enum Backend {
 /// Which backend the caller asks for: one of them, or `Auto` (see [`open`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BackendChoice {
-    /// The GPU on a hardware adapter, else the CPU with a one-line warning.
+    /// The faster backend on this machine, by the measured rule of `crate::calibration`.
     Auto,
     /// The CPU backend.
     Cpu,
@@ -58,9 +58,11 @@ fn open_backend<'s>(
 }
 
 /// The renderer the caller's choice gives, built once for a render of `scene` with
-/// `settings`. The one rule for `Auto`: the GPU when a hardware adapter is there, else the CPU
-/// with a one-line warning on stderr; a GPU that fails to open or fails its first pass
-/// (`Error::Gpu`) also gives way to the CPU with a warning.
+/// `settings`. The one rule for `Auto` (`crate::calibration`): the GPU when, on this adapter,
+/// it rendered the calibration scene faster than the CPU (measured once, then read from the
+/// cache file), else the CPU with a one-line warning on stderr; without an adapter, the CPU
+/// with a warning; a GPU that fails to open or fails its first pass (`Error::Gpu`) also gives
+/// way to the CPU with a warning.
 pub fn open<'s>(
     choice: BackendChoice,
     scene: &'s Scene,
@@ -69,7 +71,7 @@ pub fn open<'s>(
     match choice {
         BackendChoice::Cpu => open_backend(Backend::Cpu, scene, settings),
         BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),
-        BackendChoice::Auto => match crate::gpu::hardware_adapter() {
+        BackendChoice::Auto => match auto_rule() {
             Err(why) => {
                 eprintln!("warning: {why}; rendering on the CPU");
                 open_backend(Backend::Cpu, scene, settings)
@@ -86,6 +88,63 @@ pub fn open<'s>(
             },
         },
     }
+}
+
+/// `Ok` when `Auto` should render on the GPU; else why not (see [`open`]).
+fn auto_rule() -> std::result::Result<(), String> {
+    use crate::calibration::{cache_file, key, read, write};
+    let adapter = crate::gpu::preferred_adapter()?;
+    let key = key(&adapter.name, &adapter.driver);
+    let file = cache_file();
+    let c = match file.as_deref().and_then(|f| read(f, &key)) {
+        Some(c) => c,
+        None => {
+            let c = calibrate(key).map_err(|e| format!("the calibration render failed ({e})"))?;
+            if let Some(f) = &file {
+                let _ = write(f, &c);
+            }
+            c
+        }
+    };
+    if c.gpu_is_faster() {
+        return Ok(());
+    }
+    let at = file.map_or(String::new(), |f| {
+        format!("; measured once, kept in {}", f.display())
+    });
+    Err(format!(
+        "on {} the CPU backend is faster ({:.3} s against {:.3} s for the calibration pass{at})",
+        adapter.name, c.cpu_seconds, c.gpu_seconds
+    ))
+}
+
+/// Times one warm pass of the calibration scene on each backend.
+fn calibrate(key: String) -> Result<crate::calibration::Calibration> {
+    let scene = crate::scene::load_str(
+        crate::calibration::CALIBRATION_SCENE,
+        "calibration scene",
+        Path::new("."),
+    )?;
+    let s = &scene.settings;
+    let quiet = Progress { enabled: false };
+    let time = |b: Backend| -> Result<f64> {
+        let mut r = open_backend(b, &scene, s)?;
+        r.pass(0, s, &quiet)?;
+        let t = Instant::now();
+        r.pass(1, s, &quiet)?;
+        Ok(t.elapsed().as_secs_f64())
+    };
+    let cpu_seconds = time(Backend::Cpu)?;
+    let gpu_seconds = match time(Backend::Gpu) {
+        Ok(t) => t,
+        Err(Error::Gpu(_)) => f64::INFINITY,
+        Err(e) => return Err(e),
+    };
+    Ok(crate::calibration::Calibration {
+        key,
+        cpu_seconds,
+        gpu_seconds,
+    })
 }
 
 /// Warns that the GPU failed and opens the CPU renderer instead.

@@ -405,8 +405,9 @@ fn same_seed_gives_byte_identical_exr_and_another_seed_does_not() {
 // --backend auto
 // ---------------------------------------------------------------------------------------------
 
-/// `--backend auto` is one rule for classic and progressive renders alike: the GPU on a
-/// hardware adapter; else the CPU, with exactly one warning line saying so. (Progressive
+/// `--backend auto` is one rule for classic and progressive renders alike: the GPU where it
+/// measured faster than the CPU on the calibration scene (`tests/auto_backend.rs`); else the
+/// CPU, with exactly one warning line saying so. (Progressive
 /// renders once fell back silently, and only classic renders fell back on a GPU failure.)
 #[test]
 fn auto_backend_decides_alike_for_classic_and_progressive_renders() {

@@ -28,5 +28,5 @@ pub mod scene_buffers;
 pub mod shaders;
 pub mod types;
 
-pub use context::{hardware_adapter, list_adapters, quiet_headless_vulkan, GpuContext};
+pub use context::{list_adapters, preferred_adapter, quiet_headless_vulkan, GpuContext};
 pub use renderer::GpuRenderer;
