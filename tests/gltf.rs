@@ -5,6 +5,8 @@
 //! against its TOML twin `scenes/cornell-box.toml` and the reference image; a variant with
 //! a KHR_lights_punctual point light in candela; and malformed files with their messages.
 
+mod common;
+
 use glam::{Quat, Vec3};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
@@ -14,23 +16,6 @@ use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn b64(bytes: &[u8]) -> String {
-    const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for i in 0..=c.len() {
-            s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
-        }
-    }
-    while !s.len().is_multiple_of(4) {
-        s.push('=');
-    }
-    s
 }
 
 /// Accumulates one buffer, its views and accessors.
@@ -207,7 +192,7 @@ fn cornell_parts(point: Option<(Vec3, Vec3)>, embed: bool) -> (String, Vec<u8>) 
     let uri = match embed {
         true => format!(
             r#", "uri": "data:application/octet-stream;base64,{}""#,
-            b64(&bin.data)
+            common::b64(&bin.data)
         ),
         false => String::new(),
     };
@@ -457,7 +442,7 @@ fn tiny(x: f32) -> String {
         bin.accessors[0],
         bin.views[0],
         bin.data.len(),
-        b64(&bin.data)
+        common::b64(&bin.data)
     )
 }
 

@@ -658,23 +658,6 @@ fn mitsuba_face_normals_forces_flat_shading() {
     assert!(flat.shading_normals.is_empty());
 }
 
-fn b64(bytes: &[u8]) -> String {
-    const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for i in 0..=c.len() {
-            s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
-        }
-    }
-    while s.len() % 4 != 0 {
-        s.push('=');
-    }
-    s
-}
-
 #[test]
 fn gltf_normals_go_through_the_inverse_transpose_and_zero_ones_are_refused() {
     let dir = temp_dir("gltf");
@@ -695,7 +678,7 @@ fn gltf_normals_go_through_the_inverse_transpose_and_zero_ones_are_refused() {
 "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 36}}],
 "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
 {{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}}]}}"#,
-            b64(&bytes)
+            common::b64(&bytes)
         )
     };
     let path = dir.join("tri.gltf");

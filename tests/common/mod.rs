@@ -143,3 +143,21 @@ pub fn within_seed_noise(d: &DiffStats, noise: &DiffStats, eps: f64) -> (bool, b
         d.block_rmse <= SEED_NOISE_BLOCK_SLACK * noise.block_rmse + eps,
     )
 }
+
+/// Standard base64 with padding (glTF data URIs in the tests).
+pub fn b64(bytes: &[u8]) -> String {
+    const T: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for i in 0..=c.len() {
+            s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
+        }
+    }
+    while !s.len().is_multiple_of(4) {
+        s.push('=');
+    }
+    s
+}
