@@ -355,6 +355,9 @@ fn run_bench(args: &BenchArgs) -> Result<()> {
     if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
         curve_bench(&scene, &s, &ran, reference, passes, args.out.as_deref())?;
     }
+    bench::phase_table(&results)
+        .iter()
+        .for_each(|l| println!("{l}"));
     if let [cpu, gpu] = &results[..] {
         println!("{}", bench::ratios(cpu, gpu));
     }

@@ -123,6 +123,52 @@ pub struct Throughput {
     pub gather_s_per_mpix_sample: f64,
     /// Whole render, seconds.
     pub total_s: f64,
+    /// Median seconds of every phase of the render, in the order they ran (on the GPU each
+    /// phase is its own submission, waited for: a per-submission wall time).
+    pub phases: Vec<(&'static str, f64)>,
+}
+
+/// The per-phase table of `results` (one column per backend, then the GPU/CPU ratio when
+/// both ran): where each backend's time goes, phase by phase.
+pub fn phase_table(results: &[Throughput]) -> Vec<String> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for t in results {
+        for &(n, _) in &t.phases {
+            if !names.contains(&n) {
+                names.push(n);
+            }
+        }
+    }
+    let secs = |t: &Throughput, n: &str| t.phases.iter().find(|p| p.0 == n).map(|p| p.1);
+    let mut head = format!("{:<22}", "phase (s, median)");
+    for t in results {
+        head += &format!(" {:>10}", backend_name(t.kind));
+    }
+    let pair = match results {
+        [c, g] if c.kind == Backend::Cpu && g.kind == Backend::Gpu => Some((c, g)),
+        _ => None,
+    };
+    if pair.is_some() {
+        head += &format!(" {:>8}", "gpu/cpu");
+    }
+    let mut lines = vec![head];
+    for n in names {
+        let mut row = format!("{n:<22}");
+        for t in results {
+            row += &match secs(t, n) {
+                Some(s) => format!(" {s:>10.3}"),
+                None => format!(" {:>10}", "-"),
+            };
+        }
+        if let Some((c, g)) = pair {
+            row += &match (secs(c, n), secs(g, n)) {
+                (Some(a), Some(b)) if a > 0.0 => format!(" {:>8.2}", b / a),
+                _ => format!(" {:>8}", "-"),
+            };
+        }
+        lines.push(row);
+    }
+    lines
 }
 
 impl Throughput {
@@ -175,9 +221,16 @@ pub fn throughput(
     let msamples = s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
     let mut rows = Vec::new();
     let mut name = String::new();
+    let mut phases: Vec<(&'static str, Vec<f64>)> = Vec::new();
     for _ in 0..runs.max(1) {
         let (_, r) = render(scene, s, backend, Progress::default())?;
         name = r.backend.clone();
+        for &(n, d) in &r.phases {
+            match phases.iter_mut().find(|p| p.0 == n) {
+                Some(p) => p.1.push(d.as_secs_f64()),
+                None => phases.push((n, vec![d.as_secs_f64()])),
+            }
+        }
         rows.push((
             paths / phase(&r, &["trace photons"]).max(1e-9),
             phase(&r, &["build kd-trees", "build grids"]),
@@ -192,6 +245,7 @@ pub fn throughput(
         build_s: median(rows.iter().map(|r| r.1).collect()),
         gather_s_per_mpix_sample: median(rows.iter().map(|r| r.2).collect()),
         total_s: median(rows.iter().map(|r| r.3).collect()),
+        phases: phases.into_iter().map(|(n, v)| (n, median(v))).collect(),
     })
 }
 
@@ -218,4 +272,55 @@ pub fn throughputs(
         }
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(kind: Backend, phases: Vec<(&'static str, f64)>) -> Throughput {
+        Throughput {
+            kind,
+            backend: backend_name(kind).into(),
+            paths_per_s: 1.0,
+            build_s: 0.0,
+            gather_s_per_mpix_sample: 0.0,
+            total_s: phases.iter().map(|p| p.1).sum(),
+            phases,
+        }
+    }
+
+    #[test]
+    fn the_phase_table_lines_up_phases_and_gives_the_gpu_cpu_ratio() {
+        let cpu = run(
+            Backend::Cpu,
+            vec![
+                ("trace photons", 0.5),
+                ("build kd-trees", 0.25),
+                ("gather", 2.0),
+            ],
+        );
+        let gpu = run(
+            Backend::Gpu,
+            vec![
+                ("trace photons", 1.0),
+                ("build grids", 0.5),
+                ("gather", 7.0),
+            ],
+        );
+        let t = phase_table(&[cpu, gpu]);
+        assert!(t[0].contains("cpu") && t[0].contains("gpu") && t[0].contains("gpu/cpu"));
+        let row = |name: &str| t.iter().find(|l| l.starts_with(name)).unwrap().clone();
+        let cells = |name: &str| -> Vec<String> {
+            row(name)[22..]
+                .split_whitespace()
+                .map(String::from)
+                .collect()
+        };
+        assert_eq!(cells("trace photons"), ["0.500", "1.000", "2.00"]);
+        assert_eq!(cells("gather"), ["2.000", "7.000", "3.50"]);
+        assert_eq!(cells("build kd-trees"), ["0.250", "-", "-"]);
+        assert_eq!(cells("build grids"), ["-", "0.500", "-"]);
+        assert_eq!(t.len(), 5);
+    }
 }
