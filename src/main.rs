@@ -168,7 +168,7 @@ struct RenderArgs {
     #[arg(long)]
     time: Option<f64>,
     /// Stop progressive passes at the first even pass count whose estimated relative noise
-    /// is at most this (e.g. 0.03), at most --passes of them.
+    /// is at most this (e.g. 0.03); without --passes: pass until then.
     #[arg(long)]
     noise: Option<f64>,
     /// Write the running mean every N progressive passes.
@@ -209,10 +209,11 @@ impl RenderArgs {
             s.initial_radius = self.initial_radius;
         }
         s.passes = self.passes.unwrap_or(s.passes);
-        s.pass_range = match (self.passes, self.pass_range, self.time) {
+        let until = self.time.or(self.noise);
+        s.pass_range = match (self.passes, self.pass_range, until) {
             (Some(_), Some(_), _) => bail!("--passes and --pass-range exclude each other"),
-            (Some(0), _, _) if self.slice.is_some() || self.time.is_some() => {
-                bail!("--passes 0 (one classic pass) excludes --slice and --time")
+            (Some(0), _, _) if self.slice.is_some() || until.is_some() => {
+                bail!("--passes 0 (one classic pass) excludes --slice, --time and --noise")
             }
             (None, _, _) if self.slice.is_some() => bail!("--slice needs --passes"),
             (Some(0), None, _) => None,

@@ -184,3 +184,53 @@ fn time_budget_stops_passes() {
     assert!(passes >= 1);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The default is progressive (the scene's `passes`, 4 when unset); `--passes 0` is one
+/// classic pass; `--noise T` stops at the first even pass count whose estimated noise is at
+/// most T, at most `--passes` of them; the estimate is printed.
+#[test]
+fn default_passes_classic_pass_and_noise_target() {
+    let d = tmp("noise");
+    let out = d.join("o.exr");
+    let ok = |extra: &[&str]| {
+        let o = render(&out, extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    // No flag: passes 0..4, recorded like any progressive render.
+    ok(&[]);
+    assert_eq!(tag(&out, "gpu_photon.pass_range").as_deref(), Some("0..4"));
+    // One classic pass writes no pass range.
+    ok(&["--passes", "0"]);
+    assert_eq!(tag(&out, "gpu_photon.pass_range"), None);
+    // A loose target: met at the first estimate (2 passes); an unreachable one runs
+    // every pass allowed.
+    ok(&["--noise", "10"]);
+    assert_eq!(tag(&out, "gpu_photon.pass_range").as_deref(), Some("0..2"));
+    ok(&["--noise", "1e-9", "--passes", "6"]);
+    assert_eq!(tag(&out, "gpu_photon.pass_range").as_deref(), Some("0..6"));
+    // The summary names the estimate.
+    let o = bin()
+        .args(["render", "scenes/cornell-box.toml", "-o"])
+        .arg(&out)
+        .args([
+            "--backend",
+            "cpu",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "1",
+        ])
+        .args(["--photons", "2000", "--passes", "2"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("estimated noise "), "{err}");
+    let refused = render(&out, &["--passes", "0", "--noise", "0.1"]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&refused.stderr).contains("excludes --slice, --time and --noise")
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
