@@ -189,3 +189,45 @@ fn gpu_matches_cpu_in_direct_mode() {
         failures.join("\n")
     );
 }
+
+/// The GPU's loop budget and search bounds are never hit on the example scenes at their own
+/// photon counts, K and radii (images made small, one pass): as the first pass of their
+/// default progressive render (fixed-radius estimates; `point-light-plane.toml` renders
+/// classic by default because of this test: its first radius overran the bounds under the
+/// light, 25 invocations out of budget and 47 searches truncated) and as one classic pass
+/// (K-nearest).
+/// The 500,000-triangle case is `tests/scale.rs`.
+#[test]
+fn example_scenes_at_their_defaults_hit_no_gpu_bound() {
+    if gpu().is_none() {
+        return;
+    }
+    for path in scene_paths() {
+        let scene = gpu_photon::scene::load(&path).unwrap();
+        let small = RenderSettings {
+            width: 24,
+            height: 24,
+            spp: 2,
+            ..scene.settings.clone()
+        };
+        let progressive = (small.passes > 0).then(|| RenderSettings {
+            pass_range: Some((0, 1)),
+            ..small.clone()
+        });
+        let classic = RenderSettings {
+            pass_range: None,
+            ..small
+        };
+        let runs = progressive.map(|p| ("first progressive pass", p));
+        for (what, s) in runs.into_iter().chain([("classic pass", classic)]) {
+            let (img, report) = render(&scene, &s, Backend::Gpu, Progress::default()).unwrap();
+            assert_eq!(img.non_finite(), 0, "{}: {what}", path.display());
+            assert_eq!(
+                report.gpu_stats[..3],
+                [0, 0, 0],
+                "{} ({what}): photons dropped, invocations out of budget, truncated searches",
+                path.display()
+            );
+        }
+    }
+}
