@@ -100,7 +100,11 @@ impl Accumulator {
     }
     /// Adds the next pass's image.
     pub fn add(&mut self, img: &Image) {
-        let sign = if self.count % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if self.count.is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
         for ((s, a), p) in self
             .sum
             .iter_mut()
@@ -122,7 +126,7 @@ impl Accumulator {
     /// is estimated by |D| / n. Bias (the photon maps' blur) is not noise and is not
     /// counted. `None` before two passes, after an odd number, or on a black image.
     pub fn noise(&self) -> Option<f64> {
-        if self.count < 2 || self.count % 2 == 1 {
+        if self.count < 2 || !self.count.is_multiple_of(2) {
             return None;
         }
         let n = self.count as f64;
