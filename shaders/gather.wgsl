@@ -107,6 +107,22 @@ fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<fu
 // through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
 // per bounce up to max_depth, to its first diffuse or glossy hit y, where it returns
 // throughput * kd(y) * the radiance cache at y (normal facing the ray). Emission is ignored.
+// One camera-path ray from a glossy lobe about the mirror direction of d (towards the surface),
+// normals f facing -d (twin of `material::lobe_ray`): its direction and weight
+// ks (n + 2) / (n + 1) cos; not ok below the shading or the geometric surface.
+struct LobeRay {
+    dir: vec3<f32>,
+    weight: vec3<f32>,
+    ok: bool,
+}
+
+fn lobe_ray(m: Material, d: vec3<f32>, f: Facing, u1: f32, u2: f32) -> LobeRay {
+    let dir = phong_lobe(reflect_dir(d, f.ns), m.exponent, u1, u2);
+    let c = dot(dir, f.ns);
+    let ok = c > 0.0 && !reflection_leaks(f, dir);
+    return LobeRay(dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c), ok);
+}
+
 fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     var d = dir;
     var o = offset_origin(x, n, d);
@@ -136,8 +152,8 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
             }
             continue;
         }
-        let ny = select(-hit.normal, hit.normal, dot(-d, hit.normal) >= 0.0);
-        sum += t * m.kd * cache_lookup(hit.position, ny);
+        let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
+        sum += t * m.kd * cache_lookup(hit.position, lf.ng);
         // A glossy surface's lobe is not in the cache (Lambertian radiance): go on along one
         // direction drawn from the lobe, weighted as the camera's lobe ray is.
         if m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
@@ -145,15 +161,13 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         }
         let u1 = rng_next(rng);
         let u2 = rng_next(rng);
-        let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
-        let ld = phong_lobe(reflect_dir(d, lf.ns), m.exponent, u1, u2);
-        let c = dot(ld, lf.ns);
-        if c <= 0.0 || reflection_leaks(lf, ld) {
+        let lr = lobe_ray(m, d, lf, u1, u2);
+        if !lr.ok {
             break;
         }
-        t *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c);
+        t *= lr.weight;
         after_lobe = true;
-        d = ld;
+        d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
     }
     return sum;
@@ -244,13 +258,12 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         }
         let u1 = rng_next(&rng);
         let u2 = rng_next(&rng);
-        let dir = phong_lobe(reflect_dir(-wo, ns), m.exponent, u1, u2);
-        let c = dot(dir, ns);
-        if c <= 0.0 || reflection_leaks(f, dir) {
+        let lr = lobe_ray(m, -wo, f, u1, u2);
+        if !lr.ok {
             break;
         }
-        throughput *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c);
-        d = dir;
+        throughput *= lr.weight;
+        d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
     }
     return radiance;

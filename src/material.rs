@@ -125,6 +125,19 @@ pub fn phong_lobe_value(wi: Vec3, wo: Vec3, n: Vec3, exponent: f32) -> f32 {
     (exponent + 2.0) / (2.0 * PI) * cos_a.powf(exponent)
 }
 
+/// One camera-path ray drawn from a glossy material's lobe about the mirror direction of `d`
+/// (pointing towards the surface), with the hit's normals `f` facing `-d`, from the uniforms
+/// (u1, u2): the direction and its weight `ks (n + 2) / (n + 1) cos` (the lobe's pdf cancels
+/// the rest of BRDF x cosine), or `None` below the shading or the geometric surface.
+/// Twin: `lobe_ray` in `shaders/gather.wgsl`.
+#[inline]
+pub fn lobe_ray(m: &Material, d: Vec3, f: &Facing, u1: f32, u2: f32) -> Option<(Vec3, Vec3)> {
+    let dir = phong_lobe(reflect(d, f.ns), m.exponent, u1, u2);
+    let cos = dir.dot(f.ns);
+    (cos > 0.0 && !f.reflection_leaks(dir))
+        .then(|| (dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos)))
+}
+
 /// The non-delta BRDF `f(wi, wo)` of a diffuse or glossy material, both directions on the
 /// side of unit normal `n`.
 pub fn brdf(m: &Material, wi: Vec3, wo: Vec3, n: Vec3) -> Vec3 {

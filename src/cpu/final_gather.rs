@@ -14,9 +14,9 @@
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
 use crate::geometry::{offset_origin, Facing, Ray};
-use crate::material::{dielectric_shading, reflect};
+use crate::material::{dielectric_shading, lobe_ray, reflect};
 use crate::rng::Rng;
-use crate::sampling::{cosine_hemisphere, phong_lobe};
+use crate::sampling::cosine_hemisphere;
 use crate::scene::MaterialKind;
 use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
@@ -75,12 +75,8 @@ impl Gatherer<'_> {
                     let Some(cache) = self.cache else {
                         return sum;
                     };
-                    let ny = if ray.dir.dot(hit.normal) <= 0.0 {
-                        hit.normal
-                    } else {
-                        -hit.normal
-                    };
-                    sum += throughput * m.kd * cache.lookup(hit.position, ny);
+                    let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
+                    sum += throughput * m.kd * cache.lookup(hit.position, f.ng);
                     // A glossy surface's lobe is not in the cache (it holds Lambertian
                     // radiance): the ray goes on along one direction drawn from the lobe,
                     // weighted as the camera's lobe ray is.
@@ -88,14 +84,11 @@ impl Gatherer<'_> {
                     {
                         return sum;
                     }
-                    let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
                     let (u1, u2) = rng.next2();
-                    let dir = phong_lobe(reflect(ray.dir, f.ns), m.exponent, u1, u2);
-                    let cos = dir.dot(f.ns);
-                    if cos <= 0.0 || f.reflection_leaks(dir) {
+                    let Some((dir, w)) = lobe_ray(m, ray.dir, &f, u1, u2) else {
                         return sum;
-                    }
-                    throughput *= m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
+                    };
+                    throughput *= w;
                     after_lobe = true;
                     dir
                 }

@@ -16,10 +16,9 @@ use crate::cpu::cache::RadianceCache;
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
-use crate::material::{brdf, dielectric_shading, phong_lobe_value, reflect};
+use crate::material::{brdf, dielectric_shading, lobe_ray, phong_lobe_value, reflect};
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
-use crate::sampling::phong_lobe;
 use crate::scene::{Material, MaterialKind, Scene};
 use crate::settings::{RenderSettings, Sampler};
 use crate::sobol::{
@@ -203,7 +202,6 @@ impl Gatherer<'_> {
         cw: f32,
     ) -> Vec3 {
         let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
-        let ns = f.ns;
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
@@ -241,10 +239,7 @@ impl Gatherer<'_> {
             && m.ks.max_element() > 0.0
         {
             let (u1, u2) = rng.next2();
-            let dir = phong_lobe(reflect(-wo, ns), m.exponent, u1, u2);
-            let cos = dir.dot(ns);
-            if cos > 0.0 && !f.reflection_leaks(dir) {
-                let w = m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos);
+            if let Some((dir, w)) = lobe_ray(m, -wo, &f, u1, u2) {
                 l += w * self.radiance(
                     &Ray {
                         origin: offset_origin(hit.position, hit.normal, dir),
