@@ -1,81 +1,34 @@
 //! `--backend auto`'s rule, by measurement (issue 11): the GPU renders when, on that adapter,
-//! it rendered the calibration scene faster than the CPU backend did. The calibration is a
-//! small Cornell box in the default technique ([`CALIBRATION_SCENE`]: 64x64, 8 spp, 50,000
-//! photon paths, mode `gather`); each backend's renderer is opened (device, pipelines), renders
+//! it rendered the calibration scene faster than the CPU backend did. The calibration is the
+//! Cornell box made small, in the default technique ([`CALIBRATION_SCENE`] with
+//! [`calibration_settings`]: 64x64, 8 spp, 50,000 photon paths, mode `gather`); each backend's renderer is opened (device, pipelines), renders
 //! one pass to warm up, then a second pass is timed. The two times are stored per adapter,
 //! driver, crate version and CPU thread count in [`cache_file`], so the measurement (a few
 //! seconds on a software device) runs once per machine; deleting the file measures again.
 //! Software adapters (lavapipe) are measured like any other: nothing is assumed from the
 //! device type.
 
+use crate::settings::{Mode, RenderSettings};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The calibration scene: the Cornell box of `scenes/cornell-box.toml` with its area light,
-/// small, in the default technique.
-pub const CALIBRATION_SCENE: &str = r#"
-[camera]
-eye = [0.0, 0.0, 3.5]
-target = [0.0, 0.0, 0.0]
-up = [0.0, 1.0, 0.0]
-fov = 40.0
-width = 64
-height = 64
+/// The calibration scene: `scenes/cornell-box.toml` (its geometry, materials and light), which
+/// [`calibration_settings`] makes small.
+pub const CALIBRATION_SCENE: &str = include_str!("../scenes/cornell-box.toml");
 
-[render]
-mode = "gather"
-spp = 8
-photons = 50000
-
-[materials.white]
-type = "diffuse"
-albedo = [0.73, 0.73, 0.73]
-
-[materials.red]
-type = "diffuse"
-albedo = [0.63, 0.065, 0.05]
-
-[materials.green]
-type = "diffuse"
-albedo = [0.14, 0.45, 0.091]
-
-[[shapes]]
-type = "quad"
-corners = [[-1.0, -1.0, 1.0], [1.0, -1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, -1.0, -1.0]]
-material = "white"
-
-[[shapes]]
-type = "quad"
-corners = [[-1.0, 1.0, -1.0], [1.0, 1.0, -1.0], [1.0, 1.0, 1.0], [-1.0, 1.0, 1.0]]
-material = "white"
-
-[[shapes]]
-type = "quad"
-corners = [[-1.0, -1.0, -1.0], [1.0, -1.0, -1.0], [1.0, 1.0, -1.0], [-1.0, 1.0, -1.0]]
-material = "white"
-
-[[shapes]]
-type = "quad"
-corners = [[-1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, 1.0, 1.0], [-1.0, -1.0, 1.0]]
-material = "red"
-
-[[shapes]]
-type = "quad"
-corners = [[1.0, -1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.0, -1.0], [1.0, -1.0, -1.0]]
-material = "green"
-
-[[shapes]]
-type = "box"
-min = [-0.6, -1.0, -0.6]
-max = [-0.05, 0.2, -0.05]
-rotate_y = 18.0
-material = "white"
-
-[[shapes]]
-type = "quad"
-corners = [[-0.25, 0.98, -0.25], [0.25, 0.98, -0.25], [0.25, 0.98, 0.25], [-0.25, 0.98, 0.25]]
-emission = [17.0, 12.0, 4.0]
-"#;
+/// The calibration render's settings: the scene's own, in mode `gather`, at 64x64, 8 spp and
+/// 50,000 photon paths, one classic pass.
+pub fn calibration_settings(scene: &RenderSettings) -> RenderSettings {
+    RenderSettings {
+        width: 64,
+        height: 64,
+        spp: 8,
+        photons: 50_000,
+        mode: Mode::Gather,
+        pass_range: None,
+        ..scene.clone()
+    }
+}
 
 /// One adapter's calibration: the timed pass's wall time on each backend.
 #[derive(Clone, Debug, PartialEq)]

@@ -120,12 +120,9 @@ fn auto_rule() -> std::result::Result<(), String> {
 
 /// Times one warm pass of the calibration scene on each backend.
 fn calibrate(key: String) -> Result<crate::calibration::Calibration> {
-    let scene = crate::scene::load_str(
-        crate::calibration::CALIBRATION_SCENE,
-        "calibration scene",
-        Path::new("."),
-    )?;
-    let s = &scene.settings;
+    use crate::calibration::{calibration_settings, CALIBRATION_SCENE};
+    let scene = crate::scene::load_str(CALIBRATION_SCENE, "calibration scene", Path::new("."))?;
+    let s = &calibration_settings(&scene.settings);
     let quiet = Progress { enabled: false };
     let time = |b: Backend| -> Result<f64> {
         let mut r = open_backend(b, &scene, s)?;
