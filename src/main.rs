@@ -233,8 +233,12 @@ impl RenderArgs {
             })?;
         }
         if let Some(m) = &self.sampler {
-            s.sampler = Sampler::parse(m)
-                .with_context(|| format!("--sampler {m}: expected sobol or independent"))?;
+            s.sampler = Sampler::parse(m).with_context(|| {
+                format!(
+                    "--sampler {m}: expected one of {}",
+                    Sampler::NAMES.join(", ")
+                )
+            })?;
         }
         if self.schlick {
             s.fresnel = FresnelMode::Schlick;

@@ -15,28 +15,6 @@ fn load(name: &str) -> Scene {
     gpu_photon::scene::load(std::path::Path::new(&format!("scenes/{name}.toml"))).unwrap()
 }
 
-/// The reference averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
-/// times smaller (pixels are box-filtered mean radiance).
-fn downsample(img: &Image, f: u32) -> Image {
-    let (w, h) = (img.width / f, img.height / f);
-    let mut out = Image::new(w, h);
-    for y in 0..h {
-        for x in 0..w {
-            let mut s = [0.0f64; 3];
-            for yy in 0..f {
-                for xx in 0..f {
-                    let p = img.pixels[((y * f + yy) * img.width + x * f + xx) as usize];
-                    for c in 0..3 {
-                        s[c] += p[c] as f64;
-                    }
-                }
-            }
-            out.pixels[(y * w + x) as usize] = s.map(|v| (v / (f * f) as f64) as f32);
-        }
-    }
-    out
-}
-
 fn small(scene: &Scene) -> RenderSettings {
     RenderSettings {
         width: 32,
@@ -84,7 +62,7 @@ fn check_falls(name: &str, backend: Backend, checkpoints: &[u32], reference: &Im
 }
 
 fn cornell_reference() -> Image {
-    downsample(
+    common::downsample(
         &Image::read(std::path::Path::new("tests/data/cornell-diffuse.exr")).unwrap(),
         8,
     )

@@ -77,19 +77,9 @@ fn cornell_rmse(backend: Backend, sampler: Sampler) -> f64 {
     };
     let img = render(&scene, &s, backend, Progress::default()).unwrap().0;
     let reference = Image::read(std::path::Path::new("tests/data/cornell-diffuse.exr")).unwrap();
-    let mut small = Image::new(64, 64);
-    for (i, p) in small.pixels.iter_mut().enumerate() {
-        let (x, y) = (i as u32 % 64, i as u32 / 64);
-        for yy in 0..4 {
-            for xx in 0..4 {
-                let q = reference.pixels[((4 * y + yy) * 256 + 4 * x + xx) as usize];
-                for c in 0..3 {
-                    p[c] += q[c] / 16.0;
-                }
-            }
-        }
-    }
-    diff(&img, &small, 8).unwrap().rmse
+    diff(&img, &common::downsample(&reference, 4), 8)
+        .unwrap()
+        .rmse
 }
 
 /// The Sobol sampler is a setting that can be switched off (`sampler = "independent"`), and

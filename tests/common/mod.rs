@@ -161,3 +161,25 @@ pub fn b64(bytes: &[u8]) -> String {
     }
     s
 }
+
+/// An image (e.g. a reference) averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
+/// times smaller (pixels are box-filtered mean radiance).
+pub fn downsample(img: &gpu_photon::film::Image, f: u32) -> gpu_photon::film::Image {
+    let (w, h) = (img.width / f, img.height / f);
+    let mut out = gpu_photon::film::Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let mut s = [0.0f64; 3];
+            for yy in 0..f {
+                for xx in 0..f {
+                    let p = img.pixels[((y * f + yy) * img.width + x * f + xx) as usize];
+                    for c in 0..3 {
+                        s[c] += p[c] as f64;
+                    }
+                }
+            }
+            out.pixels[(y * w + x) as usize] = s.map(|v| (v / (f * f) as f64) as f32);
+        }
+    }
+    out
+}
