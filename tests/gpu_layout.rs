@@ -418,7 +418,7 @@ fn host_tables_are_the_expected_layouts() {
     // gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
-        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R]),
+        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R, R]),
         (&MAP_GROUP, &[W, W, W, W, W, W, R]),
         (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
@@ -586,7 +586,7 @@ fn shared_constants_agree() {
         "STREAM_CAUSTIC",
         "STREAM_CAMERA",
         "MAX_HEAP",
-        "BVH_STACK",
+        "NO_NODE",
         "DROP_DIRECT",
         "DROP_CAUSTIC",
         "TERM_DIRECT",
@@ -699,17 +699,7 @@ fn shared_constants_agree() {
         }
     }
 
-    // The CPU traversal (Bvh::intersect) uses a stack of MAX_DEPTH + 2 entries; the WGSL one
-    // (intersect.wgsl) must hold at least as many, or deep trees traverse differently.
     for &kernel in &Kernel::ALL {
-        match constant(module(kernel), "BVH_STACK") {
-            Some(Literal::U32(s)) if s as usize >= bvh::MAX_DEPTH + 2 => {}
-            other => errors.push(format!(
-                "[{}] WGSL BVH_STACK = {other:?}, must be a u32 >= bvh::MAX_DEPTH + 2 = {}",
-                kernel.name(),
-                bvh::MAX_DEPTH + 2
-            )),
-        }
         // The WGSL default of the loop budget (which the probes run with) is lavapipe's.
         let budget = module(kernel)
             .overrides

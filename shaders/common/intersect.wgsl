@@ -1,7 +1,7 @@
 // Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
 // normals, Facing); twin of src/geometry.rs and src/bvh.rs. OFFSET_SCALE, OFFSET_FLOOR,
 // BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound),
-// BVH_STACK and FLAT come from the generated prelude.
+// NO_NODE and FLAT come from the generated prelude.
 // Library, no entry point; writes nothing but the loop budget it spends.
 
 struct Hit {
@@ -182,57 +182,56 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best_uv = vec2<f32>(0.0);
     let inv = 1.0 / d;
     let sh = make_shear(d);
-    var stack: array<u32, BVH_STACK>;
-    var sp = 1u;
-    stack[0] = 0u;
     var axis = 2u;
     if abs(d.x) > abs(d.y) && abs(d.x) > abs(d.z) {
         axis = 0u;
     } else if abs(d.y) > abs(d.z) {
         axis = 1u;
     }
-    let dir_pos = d[axis] >= 0.0;
+    // Stackless: the depth-first order that enters the left child first when the ray runs
+    // up its dominant axis, else the right child first, and each node's escape link in that
+    // order (node_links, src/bvh.rs) where a box is missed or a leaf is done.
+    let left_first = d[axis] >= 0.0;
+    let order = select(1u, 0u, left_first);
+    var ni = 0u;
     // A scene without primitives binds a placeholder node that must not be walked.
     if params.n_triangles == 0u && !HAS_SPHERES {
-        sp = 0u;
+        ni = NO_NODE;
     }
-    while sp > 0u && spend() {
-        sp -= 1u;
-        let ni = stack[sp];
+    while ni != NO_NODE && spend() {
         let node = nodes[ni];
+        let skip = node_links[ni][order];
         if !hit_box(node.bmin, node.bmax, o, inv, best.t) {
+            ni = skip;
             continue;
         }
-        if node.count > 0u {
-            for (var i = 0u; i < node.count && spend(); i += 1u) {
-                let id = prim_ids[node.left_first + i];
-                if (id & SPHERE_BIT) == 0u {
-                    let h = intersect_triangle(triangles[id], o, d, sh, best.t);
-                    if h.x > 0.0 {
-                        best.t = h.x;
-                        best.found = true;
-                        best_id = id;
-                        best_uv = h.yz;
-                    }
-                } else if HAS_SPHERES {
-                    let t = intersect_sphere(spheres[id & ~SPHERE_BIT], o, d, best.t);
-                    if t > 0.0 {
-                        best.t = t;
-                        best.found = true;
-                        best_id = id;
-                    }
+        if node.count == 0u {
+            ni = select(node.left_first, ni + 1u, left_first);
+            continue;
+        }
+        for (var i = 0u; i < node.count && spend(); i += 1u) {
+            let id = prim_ids[node.left_first + i];
+            if (id & SPHERE_BIT) == 0u {
+                let h = intersect_triangle(triangles[id], o, d, sh, best.t);
+                if h.x > 0.0 {
+                    best.t = h.x;
+                    best.found = true;
+                    best_id = id;
+                    best_uv = h.yz;
+                }
+            } else if HAS_SPHERES {
+                let t = intersect_sphere(spheres[id & ~SPHERE_BIT], o, d, best.t);
+                if t > 0.0 {
+                    best.t = t;
+                    best.found = true;
+                    best_id = id;
                 }
             }
-            if any_hit && best.found {
-                return best;
-            }
-        } else if sp + 2u <= BVH_STACK {
-            let left = ni + 1u;
-            let right = node.left_first;
-            stack[sp] = select(left, right, dir_pos);
-            stack[sp + 1u] = select(right, left, dir_pos);
-            sp += 2u;
         }
+        if any_hit && best.found {
+            return best;
+        }
+        ni = skip;
     }
     if best.found {
         if (best_id & SPHERE_BIT) == 0u {

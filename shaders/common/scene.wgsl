@@ -15,6 +15,8 @@
 @group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
 // Vertex normals of the smooth-shaded triangles (one placeholder when the scene has none).
 @group(0) @binding(10) var<storage, read> shading_normals: array<ShadingNormals>;
+// Each BVH node's escape links (src/bvh.rs Bvh::links): [left-first order, right-first order].
+@group(0) @binding(11) var<storage, read> node_links: array<vec2<u32>>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.

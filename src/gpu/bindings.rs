@@ -92,6 +92,7 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         },
         rw("stats", 9),
         ro("shading_normals", 10),
+        ro("node_links", 11),
     ],
 };
 

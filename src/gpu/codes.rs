@@ -112,8 +112,6 @@ pub const MAX_HEAP: u32 = 256;
 /// Grid cells one K-nearest search may visit: 11^3, rings 0..=5 (`grid::cell_size_for`
 /// keeps cells at least radius / 5 wide so the radius fits in them).
 pub const MAX_CELLS: u32 = 1331;
-/// Entries of the WGSL BVH traversal stack: as many as the CPU traversal's.
-pub const BVH_STACK: u32 = crate::bvh::MAX_DEPTH as u32 + 2;
 
 /// The WGSL code of a material kind.
 pub fn material_code(kind: MaterialKind) -> u32 {
@@ -222,7 +220,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_LIST_FIRST", U32(CACHE_LIST_FIRST)),
         ("MAX_RINGS", U32(MAX_RINGS)),
         ("MAX_CELLS", U32(MAX_CELLS)),
-        ("BVH_STACK", U32(BVH_STACK)),
+        ("NO_NODE", U32(crate::bvh::NO_NODE)),
         ("STREAM_PHOTON", U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),

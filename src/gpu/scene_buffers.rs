@@ -57,6 +57,7 @@ impl SceneBuffers {
         let spheres = storage_buffer(dev, "spheres", &spheres, none);
         let nodes = storage_buffer(dev, "bvh nodes", nodes, none);
         let prim_ids = storage_buffer(dev, "bvh prim ids", &bvh.prim_ids, none);
+        let node_links = storage_buffer(dev, "bvh node links", &bvh.links(), none);
         let materials = storage_buffer(dev, "materials", &mats, none);
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
         let light_cdf = storage_buffer(dev, "light cdf", &table.tri_cdf, none);
@@ -100,6 +101,7 @@ impl SceneBuffers {
                 (PARAMS, params_slot),
                 ("stats", stats.as_entire_binding()),
                 ("shading_normals", shading_normals.as_entire_binding()),
+                ("node_links", node_links.as_entire_binding()),
             ],
         );
         SceneBuffers {
