@@ -25,8 +25,9 @@ fn cache_before(d2a: f32, pa: Photon, d2b: f32, pb: Photon) -> bool {
 
 // Index (in the global map's sorted photons) of the nearest cache point within the global
 // radius of y whose normal has a cosine of at least CACHE_NORMAL_COS with n; CACHE_NONE when
-// none. Rings of grid cells outward, stopping once no farther ring can hold a nearer point;
-// bounded by MAX_CELLS and MAX_VISITS (a cut search counts stats[STAT_GATHER_TRUNCATED]).
+// none. Rings of grid cells outward, each cut to the cells that can hold a point nearer than
+// the best so far, stopping once no farther ring can; bounded by MAX_CELLS and MAX_VISITS (a
+// cut search counts stats[STAT_GATHER_TRUNCATED]).
 fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
     let mp = g_map;
     if mp.paths == 0u {
@@ -41,14 +42,18 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
     var cells = 0u;
     var truncated = false;
     for (var s = 0; s <= rings && !truncated && spend(); s += 1) {
-        // Rings before s cover every point within (s - 1) * cell_size of y.
-        let covered = f32(s - 1) * mp.cell_size;
-        if best != CACHE_NONE && s >= 2 && best_d2 < covered * covered {
+        // The cells that can hold a point nearer than the best so far (the whole radius
+        // before one is found), as offsets from home; padded so rounding never drops one.
+        let reach = sqrt(best_d2) * 1.00001 + 1e-30;
+        let near = cell_of(y - vec3<f32>(reach), mp.cell_size) - home;
+        let far = cell_of(y + vec3<f32>(reach), mp.cell_size) - home;
+        // Rings before s hold all of them.
+        if s > max(max(max(-near.x, -near.y), -near.z), max(max(far.x, far.y), far.z)) {
             break;
         }
-        for (var dz = -s; dz <= s && !truncated && spend(); dz += 1) {
-            for (var dy = -s; dy <= s && !truncated && spend(); dy += 1) {
-                for (var dx = -s; dx <= s && !truncated; dx += 1) {
+        for (var dz = max(-s, near.z); dz <= min(s, far.z) && !truncated && spend(); dz += 1) {
+            for (var dy = max(-s, near.y); dy <= min(s, far.y) && !truncated && spend(); dy += 1) {
+                for (var dx = max(-s, near.x); dx <= min(s, far.x) && !truncated; dx += 1) {
                     if !spend() {
                         truncated = true;
                         break;
