@@ -1,20 +1,56 @@
 // build_grid: the photon map's spatial hash grid, built on the device by a counting sort.
-// Dispatch, in order over one map's group-1 buffers: count_cells, scan_blocks, scan_sums,
-// add_offsets, scatter, scatter_rest (shapes below). Writes: cell_start (first sorted photon per cell;
-// cell_start[table_size] = photons in the grid), sorted (photons by cell), block_sums.
+// Dispatch, in order over one map's group-1 buffers: size_grid, count_cells, scan_blocks,
+// scan_sums, add_offsets, scatter, scatter_rest (shapes below). Writes: map_params.cell_size,
+// counters[1..4] (the per-photon kernels' indirect dispatch), cell_start (first sorted photon
+// per cell; cell_start[table_size] = photons in the grid), sorted (photons by cell), block_sums.
 
 // Entry points:
-//   count_cells   (one invocation per photon slot)  cell_count[h] += 1
+//   size_grid     (one invocation)                  cell size and dispatch from the count
+//   count_cells   (one invocation per stored photon, indirect)  cell_count[h] += 1
 //   scan_blocks   (SCAN_BLOCK-wide, one per block)  cell_start = exclusive scan within blocks
 //   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
-//   scatter       (one invocation per photon slot)  sorted[cell_start[h] + k] = cache point
-//   scatter_rest  (one invocation per photon slot)  the same for the other photons
+//   scatter       (one per stored photon, indirect)  sorted[cell_start[h] + k] = cache point
+//   scatter_rest  (one per stored photon, indirect)  the same for the other photons
 // Loops: the scan's 8 steps and scan_sums' chunks of at most 256 (table_size <= 2^24) per
 // invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
 
 fn stored_count() -> u32 {
     return min(atomicLoad(&counters[0]), map_params.capacity);
+}
+
+// Twin of grid::cell_size_for (src/gpu/grid.rs): the expected distance to the K-th photon
+// when `stored` photons cover map_params.storing_area uniformly, within [radius / 5, radius];
+// the radius itself for fixed-radius estimates (k = 0).
+fn cell_size_for(stored: u32) -> f32 {
+    let radius = sqrt(map_params.radius2);
+    if map_params.k == 0u {
+        return radius;
+    }
+    let density = f32(max(stored, 1u)) / max(map_params.storing_area, 1e-30);
+    let r_k = sqrt(f32(map_params.k) / (PI * density));
+    // A NaN or infinite r_k gives the radius.
+    if !(r_k <= 3.0e38) {
+        return radius;
+    }
+    return clamp(r_k, radius / 5.0, radius);
+}
+
+// Sizes the grid from the photons the trace stored, on the device (no read-back inside a
+// pass): the cell edge (kept where storing_area is 0: an uploaded map's cells are the
+// host's), and in counters[1..4] the count_cells/scatter dispatch of
+// ceil(stored / WG_SIZE) workgroups, split in 2D as src/gpu/buffers.rs grid_2d does.
+@compute @workgroup_size(1)
+fn size_grid() {
+    let stored = stored_count();
+    if map_params.storing_area > 0.0 {
+        map_params.cell_size = cell_size_for(stored);
+    }
+    let groups = max((stored + WG_SIZE - 1u) / WG_SIZE, 1u);
+    let x = min(groups, 65535u);
+    atomicStore(&counters[1], x);
+    atomicStore(&counters[2], (groups + x - 1u) / x);
+    atomicStore(&counters[3], 1u);
 }
 
 // The grid slot of photon slot i, or 0xffffffff when the slot is empty or the map drops it.

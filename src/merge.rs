@@ -39,6 +39,7 @@ pub fn signature(scene_path: &Path, s: &RenderSettings) -> Result<String> {
     let s = RenderSettings {
         pass_range: None,
         passes: 0,
+        timed_phases: false,
         ..s.clone()
     };
     Ok(format!("scene-fnv1a {h:016x}; {s:?}"))

@@ -59,6 +59,9 @@ pub struct RenderSettings {
     pub alpha: f32,
     /// Global-map radius of the first progressive pass (None: chosen from the scene).
     pub initial_radius: Option<f32>,
+    /// GPU only: submit and wait for each phase of a pass on its own and report its wall
+    /// time (`bench`), instead of one submission per pass. Changes no pixel.
+    pub timed_phases: bool,
 }
 
 impl Default for RenderSettings {
@@ -86,6 +89,7 @@ impl Default for RenderSettings {
             pass_range: None,
             alpha: 0.7,
             initial_radius: None,
+            timed_phases: false,
         }
     }
 }

@@ -241,6 +241,9 @@ fn gpu_gather_mode_renders_the_cornell_box() {
         caustic_photons: 0,
         mode: Mode::Gather,
         seed: 3,
+        // Each phase submitted and reported on its own (changes no pixel), so the report
+        // shows whether a cache was built.
+        timed_phases: true,
         ..Default::default()
     };
     let (img, report) = gpu_photon::session::render(

@@ -186,7 +186,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "MapParams",
-            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2),
+            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area),
         ),
     ]
 }
@@ -412,14 +412,14 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
 #[test]
 fn host_tables_are_the_expected_layouts() {
     // (table, its bindings 0.. in order with their access): the scene is read-only but for
-    // the stats counters, a map's buffers are written by its kernels but for its parameters,
-    // and the gather group reads both maps and writes only the accumulator and the radiance
+    // the stats counters, a map's buffers are all written by its kernels (its parameters'
+    // cell size by size_grid), and the gather group reads both maps and writes only the accumulator and the radiance
     // cache with its point list (built by `list_cache_points` and `build_cache`, read by the
     // gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
         (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R, R]),
-        (&MAP_GROUP, &[W, W, W, W, W, W, R]),
+        (&MAP_GROUP, &[W, W, W, W, W, W, W]),
         (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
     let mut errors = Vec::new();

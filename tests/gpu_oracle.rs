@@ -227,3 +227,50 @@ fn device_fixed_radius_estimate_equals_kd_tree() {
     // point was written for.
     assert!(dense > 0, "no query held more than 256 photons");
 }
+
+/// The device sizes a traced map's grid cells (`size_grid`, no read-back inside a pass) as
+/// the host's `grid::cell_size_for` would from the photons actually stored.
+#[test]
+fn device_sizes_grid_cells_as_the_host_rule() {
+    use gpu_photon::gpu::buffers::read_back;
+    use gpu_photon::gpu::grid::cell_size_for;
+    use gpu_photon::gpu::run::GpuRun;
+    use gpu_photon::gpu::types::GpuMapParams;
+    use gpu_photon::report::{Progress, RenderReport};
+    use gpu_photon::settings::RenderSettings;
+    let Some(ctx) = gpu() else { return };
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let s = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 1,
+        photons: 20_000,
+        ..Default::default()
+    };
+    let mut run = GpuRun::new(ctx, &scene, &s, 0).unwrap();
+    let accum = run.accum_buffer(16 * 16 * 16);
+    let mut report = RenderReport::default();
+    run.render_pass(&scene, &s, 0, &accum, &Progress::default(), &mut report)
+        .unwrap();
+    let global = run
+        .map_cache
+        .iter()
+        .find(|m| m.params.is_caustic == 0 && m.params.paths > 0)
+        .expect("the pass's global map");
+    let bytes = std::mem::size_of::<GpuMapParams>() as u64;
+    let device: Vec<GpuMapParams> = read_back(&run.ctx, &global.params_buf, bytes).unwrap();
+    let stored = (report.global_stored as u32).min(global.params.capacity);
+    let want = cell_size_for(s.radius, s.k, stored, scene.storing_area(), 1.0);
+    let got = device[0].cell_size;
+    eprintln!(
+        "stored {stored}, host's first guess {}, device {got}, host rule {want}",
+        global.params.cell_size
+    );
+    assert!(
+        (got / want - 1.0).abs() < 1e-5,
+        "device {got} vs host {want}"
+    );
+    // The first guess (3 photons a path) was not what the trace stored: the device resized.
+    assert!((global.params.cell_size / want - 1.0).abs() > 1e-3);
+}

@@ -126,6 +126,8 @@ struct MapParams {
     is_caustic: u32,
     drop_flags: u32,
     radius2: f32,
+    k: u32,
+    storing_area: f32,
 }
 
 // The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)

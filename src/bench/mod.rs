@@ -222,6 +222,11 @@ pub fn throughput(
     let mut rows = Vec::new();
     let mut name = String::new();
     let mut phases: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    // Each GPU phase its own submission, so the phases can be timed apart.
+    let s = &RenderSettings {
+        timed_phases: true,
+        ..s.clone()
+    };
     for _ in 0..runs.max(1) {
         let (_, r) = render(scene, s, backend, Progress::default())?;
         name = r.backend.clone();

@@ -107,7 +107,7 @@ pub const MAP_GROUP: GroupTable = GroupTable {
         rw("cell_start", 3),
         rw("sorted", 4),
         rw("block_sums", 5),
-        ro("map_params", 6),
+        rw("map_params", 6),
     ],
 };
 

@@ -20,9 +20,12 @@ pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
     is_caustic: 0,
     drop_flags: 0,
     radius2: 0.0,
+    k: 0,
+    storing_area: 0.0,
 };
 
-/// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped).
+/// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped,
+/// cells of `cell_size`: `size_grid` is not run).
 pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -> GpuMapParams {
     GpuMapParams {
         stream: 0,
@@ -33,6 +36,8 @@ pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -
         is_caustic: 0,
         drop_flags: 0,
         radius2,
+        k: 0,
+        storing_area: 0.0,
     }
 }
 
@@ -42,8 +47,12 @@ pub struct MapBuffers {
     pub params: GpuMapParams,
     /// Photons in the order tracing stored them (`photons`).
     pub photons: wgpu::Buffer,
-    /// `counters[0]`: photons stored (may pass the capacity; the excess is dropped).
+    /// `counters[0]`: photons stored (may pass the capacity; the excess is dropped);
+    /// `counters[1..4]`: the per-photon grid kernels' dispatch, written by `size_grid`.
     pub counters: wgpu::Buffer,
+    /// The per-photon grid kernels' indirect dispatch, copied from `counters[1..4]` (a
+    /// buffer bound read-write cannot also be a dispatch's indirect arguments).
+    pub dispatch: wgpu::Buffer,
     /// Photons per grid cell (`cell_count`).
     pub cell_count: wgpu::Buffer,
     /// First sorted photon of each cell, and the total at `table_size` (`cell_start`).
@@ -69,6 +78,8 @@ impl MapBuffers {
         let t = params.table_size as u64;
         let photons = empty_buffer(dev, &format!("{label} photons"), photon_bytes, rw);
         let counters = empty_buffer(dev, &format!("{label} counters"), 16, rw);
+        let indirect = wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST;
+        let dispatch = empty_buffer(dev, &format!("{label} grid dispatch"), 12, indirect);
         let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);
         let cell_start = empty_buffer(dev, &format!("{label} cell starts"), 4 * (t + 1), rw);
         let sorted = empty_buffer(dev, &format!("{label} sorted photons"), photon_bytes, rw);
@@ -77,7 +88,8 @@ impl MapBuffers {
         let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(&format!("{label} map params")),
             contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            // COPY_SRC: tests read the cell size the device chose.
+            usage: rw,
         });
         let bind_group = bind_group(
             dev,
@@ -98,6 +110,7 @@ impl MapBuffers {
             params,
             photons,
             counters,
+            dispatch,
             cell_count,
             cell_start,
             sorted,
@@ -114,46 +127,70 @@ impl MapBuffers {
         self.params = p;
     }
 
-    /// Records tracing this map's photons (when `trace`) and building its grid (when
-    /// `grid`) into `enc`.
-    pub fn record_build(
+    /// Records tracing this map's photons into `enc`.
+    pub fn record_trace(
         &self,
         enc: &mut wgpu::CommandEncoder,
         p: &Pipelines,
         scene_bg: &wgpu::BindGroup,
-        trace: bool,
-        grid: bool,
     ) {
-        if trace {
-            enc.clear_buffer(&self.counters, 0, None);
-        }
-        if grid {
-            enc.clear_buffer(&self.cell_count, 0, None);
-        }
+        enc.clear_buffer(&self.counters, 0, None);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("build photon map"),
+            label: Some("trace photons"),
             timestamp_writes: None,
         });
         pass.set_bind_group(0, scene_bg, &[0]);
         pass.set_bind_group(1, &self.bind_group, &[]);
-        let cap = self.params.capacity;
+        pass.set_pipeline(&p.trace_photons);
+        let (x, y) = grid_2d(self.params.paths.div_ceil(WG_SIZE));
+        pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// Records building this map's grid over the photons the trace stored into `enc`, sized
+    /// on the device (`size_grid`): nothing is read back.
+    pub fn record_grid(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        p: &Pipelines,
+        scene_bg: &wgpu::BindGroup,
+    ) {
+        enc.clear_buffer(&self.cell_count, 0, None);
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("size grid"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, scene_bg, &[0]);
+            pass.set_bind_group(1, &self.bind_group, &[]);
+            pass.set_pipeline(&p.size_grid);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&self.counters, 4, &self.dispatch, 0, 12);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("build grid"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, scene_bg, &[0]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
         let t = self.params.table_size;
-        // (pipeline, invocations, workgroup width)
-        let trace_stage = [(&p.trace_photons, self.params.paths, WG_SIZE)];
-        let grid_stages = [
-            (&p.count_cells, cap, WG_SIZE),
-            (&p.scan_blocks, t, SCAN_BLOCK),
-            (&p.scan_sums, SCAN_BLOCK, SCAN_BLOCK),
-            (&p.add_offsets, t, WG_SIZE),
-            (&p.scatter, cap, WG_SIZE),
-            (&p.scatter_rest, cap, WG_SIZE),
+        // (pipeline, invocations and workgroup width; None: one per stored photon)
+        let stages = [
+            (&p.count_cells, None),
+            (&p.scan_blocks, Some((t, SCAN_BLOCK))),
+            (&p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
+            (&p.add_offsets, Some((t, WG_SIZE))),
+            (&p.scatter, None),
+            (&p.scatter_rest, None),
         ];
-        let stages = if trace { &trace_stage[..] } else { &[] };
-        let grid_stages = if grid { &grid_stages[..] } else { &[] };
-        for &(pipeline, n, wg) in stages.iter().chain(grid_stages) {
+        for (pipeline, size) in stages {
             pass.set_pipeline(pipeline);
-            let (x, y) = grid_2d(n.div_ceil(wg));
-            pass.dispatch_workgroups(x, y, 1);
+            match size {
+                Some((n, wg)) => {
+                    let (x, y) = grid_2d(n.div_ceil(wg));
+                    pass.dispatch_workgroups(x, y, 1);
+                }
+                None => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
+            }
         }
     }
 }

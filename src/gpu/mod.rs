@@ -22,6 +22,7 @@ pub mod photon_maps;
 pub mod pipelines;
 pub mod probe;
 pub mod radiance_cache;
+pub mod recorder;
 pub mod renderer;
 pub mod run;
 pub mod scene_buffers;

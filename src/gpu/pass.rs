@@ -1,11 +1,13 @@
 //! One pass on the device: photon maps in batches (as many as one storage binding per map
 //! requires), the radiance cache in mode gather, then every camera sample gathered into the
-//! accumulator in one submission.
+//! accumulator: all of a batch's stages recorded into one encoder and one submission, the
+//! photon counts and the image read back once, when the pass ends.
 
-use super::buffers::{read_back, wait};
+use super::buffers::{empty_buffer, read_back, wait};
 use super::codes::{GATHER_TILE, STATS_LEN};
 use super::host::{batch_pass, batch_settings, MAX_BATCHES, PARAMS_STRIDE};
 use super::maps::MapBuffers;
+use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::types::GpuParams;
 use crate::error::Result;
@@ -16,22 +18,14 @@ use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use std::time::Instant;
 
-/// Photons the map's kernels stored (the reports' counts).
-fn report_count(r: &RenderReport, m: &MapBuffers) -> usize {
-    if m.params.is_caustic != 0 {
-        r.caustic_stored
-    } else {
-        r.global_stored
-    }
-}
-
 impl GpuRun {
     /// One pass: photon maps (in batches when one storage binding cannot hold them), then
     /// every camera sample gathered into `accum`; returns the pass's image.
     ///
     /// Batch b traces paths of its own (RNG pass `batch_pass(pass, b)`), builds its grid and
     /// gathers every camera sample; the image is the mean of the batches. The batch count
-    /// grows until no map overflows (decided by the first batch, so it is deterministic).
+    /// grows until no map overflows (decided by the first batch's counts, read back when the
+    /// pass ends, so it is deterministic; a pass that overflowed is rendered again).
     pub fn render_pass(
         &mut self,
         scene: &Scene,
@@ -44,40 +38,64 @@ impl GpuRun {
         let accum_bytes = accum.size();
         let phases_before = report.phases.len();
         let mut batches = 1u32;
-        'attempt: loop {
+        // Photons each batch's maps stored: (global, caustic) per batch.
+        let counts = empty_buffer(
+            &self.ctx.device,
+            "photon counts",
+            8 * MAX_BATCHES as u64,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        );
+        loop {
+            let t = Instant::now();
             self.ctx
                 .queue
                 .write_buffer(accum, 0, &vec![0u8; accum_bytes as usize]);
+            let mut capacity = [1u32; 2];
+            let bar = progress.bar(batches as u64 * s.spp as u64, "gather");
             for b in 0..batches {
                 let sb = batch_settings(s, b, batches);
                 self.configure_pass(scene, &sb, batch_pass(pass, b));
-                let (global, caustic) = self.trace_maps(scene, &sb, report)?;
-                let overflow = [&global, &caustic]
-                    .iter()
-                    .map(|m| report_count(report, m).div_ceil(m.params.capacity.max(1) as usize))
-                    .max()
-                    .unwrap_or(1);
-                if overflow > 1 && b == 0 && batches < MAX_BATCHES {
-                    batches = (batches * overflow as u32 + batches / 4 + 1).min(MAX_BATCHES);
-                    report.phases.truncate(phases_before);
-                    self.ctx.queue.write_buffer(
-                        &self.scene_buffers.stats,
-                        0,
-                        &[0u8; STATS_LEN * 4],
-                    );
-                    continue 'attempt;
+                let mut rec = Recorder::new(self.ctx.clone(), s.timed_phases);
+                let (global, caustic) = self.record_maps(scene, &sb, &mut rec, report)?;
+                for (i, m) in [&global, &caustic].into_iter().enumerate() {
+                    let at = 8 * b as u64 + 4 * i as u64;
+                    rec.enc()
+                        .copy_buffer_to_buffer(&m.counters, 0, &counts, at, 4);
+                    if b == 0 {
+                        capacity[i] = m.params.capacity.max(1);
+                    }
                 }
                 if self.plan_final_gather() && global.params.paths > 0 {
-                    let t = Instant::now();
-                    let stored = report.global_stored as u32;
-                    self.build_cache(&global, stored, &caustic, accum)?;
-                    report.phase("build cache", t);
+                    self.record_cache(rec.enc(), &global, &caustic, accum)?;
+                    rec.phase("build cache", report)?;
                 }
-                let t = Instant::now();
-                self.gather(s, &global, &caustic, accum, progress)?;
-                report.phase("gather", t);
+                self.record_gather(rec.enc(), s, &global, &caustic, accum);
+                rec.phase("gather", report)?;
+                rec.submit();
                 self.map_cache.push(global);
                 self.map_cache.push(caustic);
+            }
+            wait(&self.ctx)?;
+            self.ctx.check()?;
+            bar.inc(batches as u64 * s.spp as u64);
+            bar.finish_and_clear();
+            let n: Vec<u32> = read_back(&self.ctx, &counts, 8 * batches as u64)?;
+            let overflow = (0..2)
+                .map(|i| n[i].div_ceil(capacity[i]))
+                .max()
+                .unwrap_or(1);
+            if overflow > 1 && batches < MAX_BATCHES {
+                batches = (batches * overflow + batches / 4 + 1).min(MAX_BATCHES);
+                report.phases.truncate(phases_before);
+                let stats = &self.scene_buffers.stats;
+                self.ctx.queue.write_buffer(stats, 0, &[0u8; STATS_LEN * 4]);
+                continue;
+            }
+            let last = 2 * (batches as usize - 1);
+            report.global_stored = n[last] as usize;
+            report.caustic_stored = n[last + 1] as usize;
+            if !s.timed_phases {
+                report.phase("device pass", t);
             }
             break;
         }
@@ -96,19 +114,19 @@ impl GpuRun {
         crate::plan::Terms::of(self.plan.mode).final_gather
     }
 
-    /// Gathers every camera sample of `s` over the two maps into `accum`: each sample's
-    /// parameters in its slot, then all the sample layers in one submission, waited for.
-    fn gather(
+    /// Records gathering every camera sample of `s` over the two maps into `accum` in
+    /// `enc`: each sample's parameters in its slot (written before the submission), then one
+    /// dispatch per sample layer.
+    fn record_gather(
         &self,
+        enc: &mut wgpu::CommandEncoder,
         s: &RenderSettings,
         global: &MapBuffers,
         caustic: &MapBuffers,
         accum: &wgpu::Buffer,
-        progress: &Progress,
-    ) -> Result<()> {
+    ) {
         let ctx = &self.ctx;
         let gather_bg = self.gather_bind_group(global, caustic, accum);
-        let bar = progress.bar(s.spp as u64, "gather");
         let (wx, wy) = (
             s.width.div_ceil(GATHER_TILE),
             s.height.div_ceil(GATHER_TILE),
@@ -126,28 +144,16 @@ impl GpuRun {
         }
         ctx.queue
             .write_buffer(&self.scene_buffers.params, 0, &slots);
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("gather"),
-            });
-        {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("gather"),
-                timestamp_writes: None,
-            });
-            cp.set_pipeline(&self.pipelines.gather);
-            cp.set_bind_group(1, &gather_bg, &[]);
-            for sample in 0..s.spp {
-                let offset = (PARAMS_STRIDE * sample as u64) as u32;
-                cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset]);
-                cp.dispatch_workgroups(wx, wy, 1);
-            }
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("gather"),
+            timestamp_writes: None,
+        });
+        cp.set_pipeline(&self.pipelines.gather);
+        cp.set_bind_group(1, &gather_bg, &[]);
+        for sample in 0..s.spp {
+            let offset = (PARAMS_STRIDE * sample as u64) as u32;
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset]);
+            cp.dispatch_workgroups(wx, wy, 1);
         }
-        ctx.queue.submit([enc.finish()]);
-        wait(ctx)?;
-        bar.inc(s.spp as u64);
-        bar.finish_and_clear();
-        Ok(())
     }
 }

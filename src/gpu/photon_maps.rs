@@ -1,11 +1,11 @@
 //! A pass's photon maps: their sizes from the plan (paths, capacity within one storage
-//! binding, grid table and cell size), tracing them and building their grids on the device,
-//! with the cells resized from the photons actually stored.
+//! binding, grid table and a first cell size), and the recording of their tracing and grid
+//! builds, whose cells the device resizes from the photons actually stored (`size_grid`).
 
-use super::buffers::{read_back, wait};
 use super::grid::{cell_size_for, table_size_for};
 use super::host::drop_flags;
 use super::maps::{MapBuffers, EMPTY_MAP};
+use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::types::GpuMapParams;
 use crate::error::Result;
@@ -14,7 +14,6 @@ use crate::report::RenderReport;
 use crate::rng::Stream;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-use std::time::Instant;
 
 /// The caustic map's photons are expected on this fraction of the storing area (its grid's
 /// cells are sized for that concentration).
@@ -66,6 +65,8 @@ impl GpuRun {
             is_caustic: caustic as u32,
             drop_flags,
             radius2: radius * radius,
+            k: s.k,
+            storing_area: area * concentration,
         };
         let (gp, glabel) = match &self.plan.global {
             Some(b) => {
@@ -100,66 +101,29 @@ impl GpuRun {
         (global, caustic)
     }
 
-    /// Traces the photon maps the plan asks for and builds their grids on the device.
-    pub fn trace_maps(
+    /// Records tracing the photon maps the plan asks for and building their grids (the
+    /// phases "trace photons" and "build grids" of `rec`); returns the maps.
+    pub fn record_maps(
         &mut self,
         scene: &Scene,
         s: &RenderSettings,
+        rec: &mut Recorder,
         report: &mut RenderReport,
     ) -> Result<(MapBuffers, MapBuffers)> {
-        let mut t = Instant::now();
-        let (mut global, mut caustic) = self.plan_maps(scene, s);
-        let ctx = &self.ctx;
-        let area = scene.storing_area();
-        // Two submissions, each waited for, so the phases can be timed apart.
-        for (trace, grid, name) in [(true, false, "trace photons"), (false, true, "build grids")] {
-            let mut enc = ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(name) });
-            for m in [&global, &caustic] {
-                if m.params.paths > 0 {
-                    let scene_bg = &self.scene_buffers.bind_group;
-                    m.record_build(&mut enc, &self.pipelines, scene_bg, trace, grid);
-                }
-            }
-            ctx.queue.submit([enc.finish()]);
-            wait(ctx)?;
-            ctx.check()?;
-            report.phase(name, t);
-            t = Instant::now();
-            if trace {
-                let gc: Vec<u32> = read_back(ctx, &global.counters, 16)?;
-                let cc: Vec<u32> = read_back(ctx, &caustic.counters, 16)?;
-                report.global_stored = gc[0] as usize;
-                report.caustic_stored = cc[0] as usize;
-                // Size the grid's cells from the photons actually stored (an open scene stores
-                // far fewer per path than a closed one; too small cells would make sparse
-                // searches run out of cells and be cut).
-                for (m, stored, concentration) in [
-                    (&mut global, gc[0], 1.0f32),
-                    (&mut caustic, cc[0], CAUSTIC_CONCENTRATION),
-                ] {
-                    if m.params.paths == 0 {
-                        continue;
-                    }
-                    let cell = cell_size_for(
-                        m.params.radius2.sqrt(),
-                        s.k,
-                        stored.min(m.params.capacity),
-                        area,
-                        concentration,
-                    );
-                    if cell != m.params.cell_size {
-                        let p = GpuMapParams {
-                            cell_size: cell,
-                            ..m.params
-                        };
-                        m.set_params(ctx, p);
-                    }
-                }
-                t = Instant::now();
+        let (global, caustic) = self.plan_maps(scene, s);
+        let scene_bg = &self.scene_buffers.bind_group;
+        for m in [&global, &caustic] {
+            if m.params.paths > 0 {
+                m.record_trace(rec.enc(), &self.pipelines, scene_bg);
             }
         }
+        rec.phase("trace photons", report)?;
+        for m in [&global, &caustic] {
+            if m.params.paths > 0 {
+                m.record_grid(rec.enc(), &self.pipelines, scene_bg);
+            }
+        }
+        rec.phase("build grids", report)?;
         Ok((global, caustic))
     }
 }

@@ -35,6 +35,8 @@ pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&
 pub struct Pipelines {
     /// `trace_photons` (shaders/trace_photons.wgsl).
     pub trace_photons: wgpu::ComputePipeline,
+    /// `size_grid` (shaders/build_grid.wgsl).
+    pub size_grid: wgpu::ComputePipeline,
     /// `count_cells` (shaders/build_grid.wgsl).
     pub count_cells: wgpu::ComputePipeline,
     /// `scan_blocks` (shaders/build_grid.wgsl).
@@ -111,6 +113,7 @@ impl Pipelines {
         let gather = shader_module(dev, Kernel::Gather);
         let p = Pipelines {
             trace_photons: pipeline(&trace, &map_layout, "trace_photons"),
+            size_grid: pipeline(&grid, &map_layout, "size_grid"),
             count_cells: pipeline(&grid, &map_layout, "count_cells"),
             scan_blocks: pipeline(&grid, &map_layout, "scan_blocks"),
             scan_sums: pipeline(&grid, &map_layout, "scan_sums"),

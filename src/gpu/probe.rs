@@ -167,7 +167,13 @@ pub fn radiance_cache(
     ctx.queue
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
-    run.build_cache(&map, photons.len() as u32, &empty, &accum)?;
+    let mut enc = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("probe cache"),
+        });
+    run.record_cache(&mut enc, &map, &empty, &accum)?;
+    ctx.queue.submit([enc.finish()]);
     let count = photons.len();
     let sorted: Vec<Photon> = read_back(
         ctx,

@@ -4,8 +4,8 @@
 //! points are the photons `plan::CACHE_STRIDE` picks; the others hold zero), and the gather
 //! looks it up through the global map's grid. No other mode allocates or dispatches it.
 
-use super::buffers::{cache_buffers, grid_2d, wait, CACHE_ENTRY_BYTES};
-use super::codes::{CACHE_LIST_FIRST, WG_SIZE};
+use super::buffers::{cache_buffers, CACHE_ENTRY_BYTES};
+use super::codes::CACHE_LIST_FIRST;
 use super::maps::MapBuffers;
 use super::run::GpuRun;
 use crate::error::{Error, Result};
@@ -19,14 +19,14 @@ impl GpuRun {
         }
     }
 
-    /// Builds the radiance cache of `global`, whose grid holds `stored` photons (at most its
-    /// capacity), on the device: lists the cache points, sizes the build's dispatch from
-    /// their count, then computes their values, one workgroup each (one submission, waited
-    /// for: no read-back). `caustic` and `accum` complete the gather group, untouched.
-    pub fn build_cache(
+    /// Records building the radiance cache of `global` into `enc`: lists the cache points
+    /// (one invocation per stored photon, the grid's indirect dispatch), sizes the build's
+    /// dispatch from their count, then computes their values, one workgroup each; nothing is
+    /// read back. `caustic` and `accum` complete the gather group, untouched.
+    pub fn record_cache(
         &mut self,
+        enc: &mut wgpu::CommandEncoder,
         global: &MapBuffers,
-        stored: u32,
         caustic: &MapBuffers,
         accum: &wgpu::Buffer,
     ) -> Result<()> {
@@ -37,16 +37,9 @@ impl GpuRun {
                     .into(),
             ));
         };
-        let ctx = &self.ctx;
         let bg = self.gather_bind_group(global, caustic, accum);
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("radiance cache"),
-            });
         // build_cache's dispatch and the count of cache points.
         enc.clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
-        let slots = stored.min(global.params.capacity).max(1);
         let [list, size, build] = pipelines;
         {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -56,8 +49,7 @@ impl GpuRun {
             cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
             cp.set_bind_group(1, &bg, &[]);
             cp.set_pipeline(list);
-            let (x, y) = grid_2d(slots.div_ceil(WG_SIZE));
-            cp.dispatch_workgroups(x, y, 1);
+            cp.dispatch_workgroups_indirect(&global.dispatch, 0);
             cp.set_pipeline(size);
             cp.dispatch_workgroups(1, 1, 1);
         }
@@ -72,8 +64,6 @@ impl GpuRun {
             cp.set_pipeline(build);
             cp.dispatch_workgroups_indirect(&self.cache[2], 0);
         }
-        ctx.queue.submit([enc.finish()]);
-        wait(ctx)?;
-        ctx.check()
+        Ok(())
     }
 }

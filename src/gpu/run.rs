@@ -158,7 +158,7 @@ impl GpuRun {
                 label: Some("grid build"),
             });
         let scene_bg = &self.scene_buffers.bind_group;
-        map.record_build(&mut enc, &self.pipelines, scene_bg, false, true);
+        map.record_grid(&mut enc, &self.pipelines, scene_bg);
         ctx.queue.submit([enc.finish()]);
         ctx.check()?;
         Ok(map)

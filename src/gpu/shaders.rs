@@ -87,6 +87,7 @@ impl Kernel {
         match self {
             Kernel::TracePhotons => &["trace_photons"],
             Kernel::BuildGrid => &[
+                "size_grid",
                 "count_cells",
                 "scan_blocks",
                 "scan_sums",

@@ -233,6 +233,12 @@ pub struct GpuMapParams {
     pub drop_flags: u32,
     /// Squared search radius.
     pub radius2: f32,
+    /// K of the map's K-nearest estimates (0: fixed radius), for sizing the cells.
+    pub k: u32,
+    /// The area the map's photons are expected on (the scene's storing area times the map's
+    /// concentration), for sizing the cells on the device; 0 keeps `cell_size` (an uploaded
+    /// map's cells are the host's).
+    pub storing_area: f32,
 }
 
 impl From<&Triangle> for GpuTriangle {
