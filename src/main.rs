@@ -86,6 +86,9 @@ struct BenchArgs {
     /// Write the curve as DIR/progressive.csv.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Bench the scene's default render (as `render SCENE -o OUT`) instead of --photons etc.
+    #[arg(long)]
+    default_render: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -326,7 +329,8 @@ fn run_merge(inputs: &[PathBuf], output: &PathBuf, partial: bool) -> Result<()> 
 fn run_bench(args: &BenchArgs) -> Result<()> {
     use gpu_photon::bench::{self, BenchBackends};
     let scene = gpu_photon::scene::load(&args.scene)?;
-    let s = bench::bench_settings(&scene, args.photons, args.spp, args.width, args.height);
+    let sizes = (args.photons, args.spp, args.width, args.height);
+    let s = bench::bench_settings(&scene, (!args.default_render).then_some(sizes));
     let which = BenchBackends::of(args.backend.map(BackendArg::choice));
     let modes = match &args.modes {
         Some(list) => Mode::parse_list(list)?,

@@ -44,6 +44,11 @@ impl RenderReport {
         self.phases.push((name, since.elapsed()));
     }
 
+    /// Records a phase that took `d` (timed elsewhere, e.g. on the device).
+    pub fn phase_took(&mut self, name: &'static str, d: Duration) {
+        self.phases.push((name, d));
+    }
+
     /// The sum of all phases.
     pub fn total(&self) -> Duration {
         self.phases.iter().map(|p| p.1).sum()

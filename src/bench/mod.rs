@@ -58,28 +58,30 @@ impl BenchBackends {
     }
 }
 
-/// The settings of the throughput benchmark: the scene's, with its own photons, samples and
-/// size.
-pub fn bench_settings(
-    scene: &Scene,
-    photons: u32,
-    spp: u32,
-    width: u32,
-    height: u32,
-) -> RenderSettings {
-    RenderSettings {
-        photons,
-        spp,
-        width,
-        height,
-        ..scene.settings.clone()
+/// The benchmark's settings: the scene's with `(photons, spp, width, height)`, one classic
+/// pass; or, with `None`, the scene's own default render (`gpu-photon render SCENE -o OUT`:
+/// its size, photons and progressive passes).
+pub fn bench_settings(scene: &Scene, sizes: Option<(u32, u32, u32, u32)>) -> RenderSettings {
+    match sizes {
+        Some((photons, spp, width, height)) => RenderSettings {
+            photons,
+            spp,
+            width,
+            height,
+            ..scene.settings.clone()
+        },
+        None => scene.settings.as_default_render(),
     }
 }
 
 /// The first line of the benchmark's report: scene, size, samples, photons, mode, runs.
 pub fn heading(scene_path: &std::path::Path, s: &RenderSettings, runs: usize) -> String {
+    let passes = match s.pass_range {
+        Some((a, b)) => format!("{} passes of ", b - a),
+        None => String::new(),
+    };
     format!(
-        "{}: {}x{} at {} spp, {} photon paths, mode {}, medians of {runs} runs",
+        "{}: {}x{} at {passes}{} spp, {} photon paths, mode {}, medians of {runs} runs",
         scene_path.display(),
         s.width,
         s.height,
@@ -216,9 +218,12 @@ pub fn throughput(
     runs: usize,
 ) -> Result<Throughput> {
     let plan = crate::plan::MapPlan::new(scene, s);
-    let paths = plan.global.as_ref().map_or(0, |b| b.total()) as f64
-        + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64;
-    let msamples = s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
+    // Every pass traces the first pass's paths (the radius shrinks, the count stays).
+    let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
+    let paths = passes
+        * (plan.global.as_ref().map_or(0, |b| b.total()) as f64
+            + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64);
+    let msamples = passes * s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
     let mut rows = Vec::new();
     let mut name = String::new();
     let mut phases: Vec<(&'static str, Vec<f64>)> = Vec::new();

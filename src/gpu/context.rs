@@ -20,6 +20,10 @@ pub struct GpuContext {
     pub max_binding: u64,
     /// The first error the device reported outside an error scope (instead of a panic).
     pub uncaptured: Arc<Mutex<Option<String>>>,
+    /// The device was opened with timestamp queries inside encoders (an optional feature):
+    /// a pass's phases are then timed on the device, in one submission. Clearing it makes
+    /// renders take the fallback (see `gpu::recorder`).
+    pub timestamps: bool,
 }
 
 /// One adapter, described for `gpu-photon adapters`.
@@ -154,9 +158,17 @@ impl GpuContext {
             256.min(limits.max_compute_invocations_per_workgroup);
         required.max_compute_workgroup_size_x = 256.min(limits.max_compute_workgroup_size_x);
         required.max_bind_groups = 2;
+        // Optional: per-phase device times where the adapter has them.
+        let stamps =
+            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        let timestamps = adapter.features().contains(stamps);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("gpu-photon device"),
-            required_features: wgpu::Features::empty(),
+            required_features: if timestamps {
+                stamps
+            } else {
+                wgpu::Features::empty()
+            },
             required_limits: required,
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,
@@ -176,6 +188,7 @@ impl GpuContext {
             queue,
             max_binding,
             uncaptured,
+            timestamps,
         })
     }
 

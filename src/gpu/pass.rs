@@ -1,7 +1,8 @@
 //! One pass on the device: photon maps in batches (as many as one storage binding per map
 //! requires), the radiance cache in mode gather, then every camera sample gathered into the
 //! accumulator: all of a batch's stages recorded into one encoder and one submission, the
-//! photon counts and the image read back once, when the pass ends.
+//! photon counts, the phases' device times (where the device has timestamps) and the image
+//! read back once, when the pass ends.
 
 use super::buffers::{empty_buffer, read_back, wait};
 use super::codes::{GATHER_TILE, STATS_LEN};
@@ -51,6 +52,7 @@ impl GpuRun {
                 .queue
                 .write_buffer(accum, 0, &vec![0u8; accum_bytes as usize]);
             let mut capacity = [1u32; 2];
+            let mut recorders = Vec::new();
             let bar = progress.bar(batches as u64 * s.spp as u64, "gather");
             for b in 0..batches {
                 let sb = batch_settings(s, b, batches);
@@ -72,6 +74,7 @@ impl GpuRun {
                 self.record_gather(rec.enc(), s, &global, &caustic, accum);
                 rec.phase("gather", report)?;
                 rec.submit();
+                recorders.push(rec);
                 self.map_cache.push(global);
                 self.map_cache.push(caustic);
             }
@@ -94,7 +97,10 @@ impl GpuRun {
             let last = 2 * (batches as usize - 1);
             report.global_stored = n[last] as usize;
             report.caustic_stored = n[last + 1] as usize;
-            if !s.timed_phases {
+            for rec in &recorders {
+                rec.times(report)?;
+            }
+            if !s.timed_phases && !recorders.iter().any(Recorder::on_device) {
                 report.phase("device pass", t);
             }
             break;

@@ -1,31 +1,65 @@
-//! A pass's command recording: every stage of a batch goes into one encoder and one
-//! submission, nothing waited for or read back until the pass ends; or, for `bench`
-//! (`RenderSettings::timed_phases`), one submission per phase, each waited for and its wall
-//! time recorded (lavapipe has no timestamp queries).
+//! A batch's command recording: every stage of a pass goes into one encoder and one
+//! submission, nothing waited for or read back until the pass ends. Where the device has
+//! timestamp queries (`GpuContext::timestamps`; lavapipe has them) a timestamp between
+//! phases gives each phase's device time, read back with the image. Without them the phases
+//! are not timed apart, unless `RenderSettings::timed_phases` (`bench`) asks: then each
+//! phase is a submission of its own, waited for, and its wall time recorded.
 
-use super::buffers::wait;
+use super::buffers::{empty_buffer, read_back, wait};
 use super::context::GpuContext;
 use crate::error::Result;
 use crate::report::RenderReport;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-/// The encoder of the work not yet submitted.
+/// Phases one recording can time on the device (a pass has four).
+const MAX_PHASES: u32 = 8;
+
+/// The timestamps of one recording: one before the first phase, one after each.
+struct Stamps {
+    set: wgpu::QuerySet,
+    resolved: wgpu::Buffer,
+    names: Vec<&'static str>,
+}
+
+/// The encoder of the work not yet submitted, and how its phases are timed.
 pub struct Recorder {
     ctx: GpuContext,
     enc: Option<wgpu::CommandEncoder>,
     timed: bool,
     start: Instant,
+    stamps: Option<Stamps>,
 }
 
 impl Recorder {
-    /// An empty recording; with `timed`, each `phase` is submitted and timed on its own.
+    /// An empty recording; phases are timed on the device when it has timestamps, else with
+    /// `timed` one submission each.
     pub fn new(ctx: GpuContext, timed: bool) -> Self {
-        Recorder {
+        let stamps = ctx.timestamps.then(|| Stamps {
+            set: ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("phase timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: MAX_PHASES + 1,
+            }),
+            resolved: empty_buffer(
+                &ctx.device,
+                "phase timestamps resolved",
+                8 * (MAX_PHASES as u64 + 1),
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            names: Vec::new(),
+        });
+        let mut r = Recorder {
             ctx,
             enc: None,
             timed,
             start: Instant::now(),
+            stamps,
+        };
+        if let Some(s) = r.stamps.take() {
+            r.enc().write_timestamp(&s.set, 0);
+            r.stamps = Some(s);
         }
+        r
     }
 
     /// The encoder to record into.
@@ -38,10 +72,17 @@ impl Recorder {
         })
     }
 
-    /// Ends phase `name`: when timed, submits what was recorded, waits for it and adds its
-    /// wall time to `report`; otherwise recording goes on in the same encoder.
+    /// Ends phase `name`: a timestamp; or, without timestamps but `timed`, submits what was
+    /// recorded, waits for it and adds its wall time to `report`; otherwise nothing.
     pub fn phase(&mut self, name: &'static str, report: &mut RenderReport) -> Result<()> {
-        if self.timed {
+        if let Some(mut s) = self.stamps.take() {
+            let at = s.names.len() as u32 + 1;
+            if at <= MAX_PHASES {
+                self.enc().write_timestamp(&s.set, at);
+                s.names.push(name);
+            }
+            self.stamps = Some(s);
+        } else if self.timed {
             self.submit();
             wait(&self.ctx)?;
             self.ctx.check()?;
@@ -51,10 +92,35 @@ impl Recorder {
         Ok(())
     }
 
-    /// Submits what was recorded (not waited for).
+    /// Submits what was recorded (not waited for), with the timestamps' resolution.
     pub fn submit(&mut self) {
+        if let Some(s) = &self.stamps {
+            let n = s.names.len() as u32 + 1;
+            let (set, resolved) = (s.set.clone(), s.resolved.clone());
+            self.enc().resolve_query_set(&set, 0..n, &resolved, 0);
+        }
         if let Some(enc) = self.enc.take() {
             self.ctx.queue.submit([enc.finish()]);
         }
+    }
+
+    /// Whether the phases are timed on the device (`times` reports them).
+    pub fn on_device(&self) -> bool {
+        self.stamps.is_some()
+    }
+
+    /// After the submission completed: each phase's device time into `report`.
+    pub fn times(&self, report: &mut RenderReport) -> Result<()> {
+        let Some(s) = &self.stamps else {
+            return Ok(());
+        };
+        let n = s.names.len() as u64 + 1;
+        let ticks: Vec<u64> = read_back(&self.ctx, &s.resolved, 8 * n)?;
+        let ns = self.ctx.queue.get_timestamp_period() as f64;
+        for (i, &name) in s.names.iter().enumerate() {
+            let d = ticks[i + 1].saturating_sub(ticks[i]) as f64 * ns;
+            report.phase_took(name, Duration::from_nanos(d as u64));
+        }
+        Ok(())
     }
 }

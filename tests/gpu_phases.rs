@@ -1,0 +1,73 @@
+//! A GPU pass records all its stages into one submission. Its phases are timed on the device
+//! where the adapter has timestamp queries (lavapipe does), else reported as one "device
+//! pass", or, when `timed_phases` asks (bench), each submitted and waited for on its own.
+//! The three give the same pixels, and device times add up to no more than the wall time.
+
+mod common;
+
+use common::gpu;
+use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::report::{Progress, RenderReport};
+use gpu_photon::settings::RenderSettings;
+use std::time::Instant;
+
+const PHASES: [&str; 4] = ["trace photons", "build grids", "build cache", "gather"];
+
+fn pass(timestamps: bool, timed: bool) -> Option<(Vec<f32>, RenderReport, f64)> {
+    let mut ctx = gpu()?;
+    if timestamps && !ctx.timestamps {
+        eprintln!("skipping: the adapter has no timestamp queries");
+        return None;
+    }
+    ctx.timestamps = timestamps;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let s = RenderSettings {
+        width: 32,
+        height: 32,
+        spp: 4,
+        photons: 20_000,
+        timed_phases: timed,
+        ..Default::default()
+    };
+    let mut run = GpuRun::new(ctx, &scene, &s, 0).unwrap();
+    let accum = run.accum_buffer(32 * 32 * 16);
+    let mut report = RenderReport::default();
+    let t = Instant::now();
+    let img = run
+        .render_pass(&scene, &s, 0, &accum, &Progress::default(), &mut report)
+        .unwrap();
+    let wall = t.elapsed().as_secs_f64();
+    Some((img.pixels.concat(), report, wall))
+}
+
+fn names(r: &RenderReport) -> Vec<&'static str> {
+    r.phases.iter().map(|p| p.0).collect()
+}
+
+#[test]
+fn phases_are_timed_on_the_device_or_apart_and_change_no_pixel() {
+    let Some((plain, r, _)) = pass(false, false) else {
+        return;
+    };
+    assert_eq!(names(&r), ["device pass"]);
+    let (split, r, _) = pass(false, true).unwrap();
+    assert_eq!(names(&r), PHASES);
+    assert!(split == plain, "separate submissions changed the image");
+    let Some((stamped, r, wall)) = pass(true, false) else {
+        return;
+    };
+    assert_eq!(names(&r), PHASES);
+    assert!(stamped == plain, "timestamps changed the image");
+    let device: f64 = r.phases.iter().map(|p| p.1.as_secs_f64()).sum();
+    eprintln!("device phases {:?}, wall {wall:.3} s", r.phases);
+    assert!(
+        device > 0.0 && device <= wall,
+        "device time {device} s against the pass's wall time {wall} s"
+    );
+    assert!(
+        r.phases.iter().all(|p| p.1.as_nanos() > 0),
+        "{:?}",
+        r.phases
+    );
+}
