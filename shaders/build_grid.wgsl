@@ -20,8 +20,8 @@ fn stored_count() -> u32 {
 }
 
 // Twin of grid::cell_size_for (src/gpu/grid.rs): the expected distance to the K-th photon
-// when `stored` photons cover map_params.storing_area uniformly, within [radius / 5, radius];
-// the radius itself for fixed-radius estimates (k = 0).
+// when `stored` photons cover map_params.storing_area uniformly, within [radius / MAX_RINGS,
+// radius]; the radius itself for fixed-radius estimates (k = 0).
 fn cell_size_for(stored: u32) -> f32 {
     let radius = sqrt(map_params.radius2);
     if map_params.k == 0u {
@@ -33,7 +33,7 @@ fn cell_size_for(stored: u32) -> f32 {
     if !(r_k <= 3.0e38) {
         return radius;
     }
-    return clamp(r_k, radius / 5.0, radius);
+    return clamp(r_k, radius / f32(MAX_RINGS), radius);
 }
 
 // Sizes the grid from the photons the trace stored, on the device (no read-back inside a

@@ -104,14 +104,15 @@ pub const CACHE_NEAR: u32 = 1280;
 pub const CACHE_LIST_COUNT: u32 = 3;
 /// `cache_list` index of the first cache point.
 pub const CACHE_LIST_FIRST: u32 = 4;
-/// Rings of cells around a query's cell that a search visits at most (MAX_CELLS = 11^3).
+/// Rings of cells around a query's cell that a search visits at most (`grid::cell_size_for`
+/// keeps cells at least radius / MAX_RINGS wide).
 pub const MAX_RINGS: u32 = 5;
 
 /// Largest K the gather kernel's heap holds.
 pub const MAX_HEAP: u32 = 256;
-/// Grid cells one K-nearest search may visit: 11^3, rings 0..=5 (`grid::cell_size_for`
-/// keeps cells at least radius / 5 wide so the radius fits in them).
-pub const MAX_CELLS: u32 = 1331;
+/// Grid cells one K-nearest search may visit: rings 0..=MAX_RINGS, 11^3 (the radius fits in
+/// them).
+pub const MAX_CELLS: u32 = (2 * MAX_RINGS + 1).pow(3);
 
 /// The WGSL code of a material kind.
 pub fn material_code(kind: MaterialKind) -> u32 {

@@ -28,8 +28,8 @@ pub fn table_size_for(expected: u32, max_binding: u64) -> u32 {
 /// Cell size: the expected distance to the K-th photon if `expected` photons covered
 /// `area * concentration` uniformly (rings 0..=2 then usually hold the K nearest, and the
 /// radiance cache's lookup scans few photons per cell; twice that measured slower on
-/// lavapipe), kept within [radius / 5, radius] so a search visits at most 11^3 cells
-/// (`codes::MAX_CELLS`, the bound of the WGSL search). Fixed-radius estimates (`k == 0`)
+/// lavapipe), kept within [radius / MAX_RINGS, radius] so a search visits at most
+/// (2 MAX_RINGS + 1)^3 cells (`codes::MAX_CELLS`, the bound of the WGSL search). Fixed-radius estimates (`k == 0`)
 /// use cells of the radius.
 pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentration: f32) -> f32 {
     if k == 0 {
@@ -38,7 +38,7 @@ pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentratio
     let density = expected.max(1) as f32 / (area * concentration).max(1e-30);
     let r_k = (k as f32 / (std::f32::consts::PI * density)).sqrt();
     if r_k.is_finite() {
-        r_k.clamp(radius / 5.0, radius)
+        r_k.clamp(radius / super::codes::MAX_RINGS as f32, radius)
     } else {
         radius
     }
