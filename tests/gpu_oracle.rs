@@ -234,13 +234,9 @@ fn device_fixed_radius_estimate_equals_kd_tree() {
 fn device_sizes_grid_cells_as_the_host_rule() {
     use gpu_photon::gpu::buffers::read_back;
     use gpu_photon::gpu::grid::cell_size_for;
-    use gpu_photon::gpu::run::GpuRun;
     use gpu_photon::gpu::types::GpuMapParams;
-    use gpu_photon::report::{Progress, RenderReport};
     use gpu_photon::settings::RenderSettings;
     let Some(ctx) = gpu() else { return };
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let s = RenderSettings {
         width: 16,
         height: 16,
@@ -248,11 +244,9 @@ fn device_sizes_grid_cells_as_the_host_rule() {
         photons: 20_000,
         ..Default::default()
     };
-    let mut run = GpuRun::new(ctx, &scene, &s, 0).unwrap();
-    let accum = run.accum_buffer(16 * 16 * 16);
-    let mut report = RenderReport::default();
-    run.render_pass(&scene, &s, 0, &accum, &Progress::default(), &mut report)
-        .unwrap();
+    let (run, _, report, _) = common::cornell_gpu_pass(ctx, &s);
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let global = run
         .map_cache
         .iter()

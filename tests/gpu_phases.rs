@@ -6,10 +6,8 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::gpu::run::GpuRun;
-use gpu_photon::report::{Progress, RenderReport};
+use gpu_photon::report::RenderReport;
 use gpu_photon::settings::RenderSettings;
-use std::time::Instant;
 
 const PHASES: [&str; 4] = ["trace photons", "build grids", "build cache", "gather"];
 
@@ -20,8 +18,6 @@ fn pass(timestamps: bool, timed: bool) -> Option<(Vec<f32>, RenderReport, f64)> 
         return None;
     }
     ctx.timestamps = timestamps;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let s = RenderSettings {
         width: 32,
         height: 32,
@@ -30,14 +26,7 @@ fn pass(timestamps: bool, timed: bool) -> Option<(Vec<f32>, RenderReport, f64)> 
         timed_phases: timed,
         ..Default::default()
     };
-    let mut run = GpuRun::new(ctx, &scene, &s, 0).unwrap();
-    let accum = run.accum_buffer(32 * 32 * 16);
-    let mut report = RenderReport::default();
-    let t = Instant::now();
-    let img = run
-        .render_pass(&scene, &s, 0, &accum, &Progress::default(), &mut report)
-        .unwrap();
-    let wall = t.elapsed().as_secs_f64();
+    let (_, img, report, wall) = common::cornell_gpu_pass(ctx, &s);
     Some((img.pixels.concat(), report, wall))
 }
 

@@ -127,6 +127,22 @@ impl MapBuffers {
         self.params = p;
     }
 
+    /// A compute pass `label` in `enc` with the scene (sample slot 0) and this map bound.
+    fn begin<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        label: &str,
+        scene_bg: &wgpu::BindGroup,
+    ) -> wgpu::ComputePass<'e> {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, scene_bg, &[0]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass
+    }
+
     /// Records tracing this map's photons into `enc`.
     pub fn record_trace(
         &self,
@@ -135,12 +151,7 @@ impl MapBuffers {
         scene_bg: &wgpu::BindGroup,
     ) {
         enc.clear_buffer(&self.counters, 0, None);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("trace photons"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, scene_bg, &[0]);
-        pass.set_bind_group(1, &self.bind_group, &[]);
+        let mut pass = self.begin(enc, "trace photons", scene_bg);
         pass.set_pipeline(&p.trace_photons);
         let (x, y) = grid_2d(self.params.paths.div_ceil(WG_SIZE));
         pass.dispatch_workgroups(x, y, 1);
@@ -156,22 +167,12 @@ impl MapBuffers {
     ) {
         enc.clear_buffer(&self.cell_count, 0, None);
         {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("size grid"),
-                timestamp_writes: None,
-            });
-            pass.set_bind_group(0, scene_bg, &[0]);
-            pass.set_bind_group(1, &self.bind_group, &[]);
+            let mut pass = self.begin(enc, "size grid", scene_bg);
             pass.set_pipeline(&p.size_grid);
             pass.dispatch_workgroups(1, 1, 1);
         }
         enc.copy_buffer_to_buffer(&self.counters, 4, &self.dispatch, 0, 12);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("build grid"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, scene_bg, &[0]);
-        pass.set_bind_group(1, &self.bind_group, &[]);
+        let mut pass = self.begin(enc, "build grid", scene_bg);
         let t = self.params.table_size;
         // (pipeline, invocations and workgroup width; None: one per stored photon)
         let stages = [

@@ -16,6 +16,31 @@ use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::f64::consts::PI;
 
+/// One GPU pass (pass 0) of `scenes/cornell-box.toml` with settings `s` on `ctx`: the run
+/// (its maps kept in `map_cache`), the image, the report and the pass's wall time in seconds
+/// (without the upload and pipelines).
+pub fn cornell_gpu_pass(
+    ctx: GpuContext,
+    s: &RenderSettings,
+) -> (
+    gpu_photon::gpu::run::GpuRun,
+    gpu_photon::film::Image,
+    gpu_photon::report::RenderReport,
+    f64,
+) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let mut run = gpu_photon::gpu::run::GpuRun::new(ctx, &scene, s, 0).unwrap();
+    let accum = run.accum_buffer(s.width as u64 * s.height as u64 * 16);
+    let mut report = gpu_photon::report::RenderReport::default();
+    let progress = gpu_photon::report::Progress::default();
+    let t = std::time::Instant::now();
+    let img = run
+        .render_pass(&scene, s, 0, &accum, &progress, &mut report)
+        .unwrap();
+    (run, img, report, t.elapsed().as_secs_f64())
+}
+
 /// Opens the GPU. Without an adapter the test is skipped, except under CI (CI=true), where
 /// lavapipe is installed and a missing adapter is a failure.
 pub fn gpu() -> Option<GpuContext> {
