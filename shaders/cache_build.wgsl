@@ -326,7 +326,7 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     if want_rings > rings && lid == 0u {
         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
     }
-    let k = min(params.k, MAX_HEAP);
+    let k = select(0u, min(params.k, MAX_HEAP), KNN);
     // The ring search lists the photons within a cell of x (at most CACHE_NEAR): the K-th
     // usually lies there (grid::cell_size_for), and the later phases then read the list.
     let near_lim = u32(min(mp.cell_size * mp.cell_size / mp.radius2, 1.0) * f32(CACHE_BINS));

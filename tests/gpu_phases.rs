@@ -2,6 +2,7 @@
 //! where the adapter has timestamp queries (lavapipe does), else reported as one "device
 //! pass", or, when `timed_phases` asks (bench), each submitted and waited for on its own.
 //! The three give the same pixels, and device times add up to no more than the wall time.
+//! Pipelines built for a progressive render (override KNN false) refuse a K-nearest pass.
 
 mod common;
 
@@ -58,5 +59,37 @@ fn phases_are_timed_on_the_device_or_apart_and_change_no_pixel() {
         r.phases.iter().all(|p| p.1.as_nanos() > 0),
         "{:?}",
         r.phases
+    );
+}
+
+#[test]
+fn progressive_pipelines_refuse_a_k_nearest_pass() {
+    let Some(ctx) = gpu() else { return };
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let s = RenderSettings {
+        width: 8,
+        height: 8,
+        spp: 1,
+        photons: 1_000,
+        pass_range: Some((0, 2)),
+        ..Default::default()
+    };
+    let mut run = gpu_photon::gpu::run::GpuRun::new(ctx, &scene, &s, 0).unwrap();
+    assert!(!run.knn);
+    let accum = run.accum_buffer(8 * 8 * 16);
+    let progress = gpu_photon::report::Progress::default();
+    let mut report = RenderReport::default();
+    // A progressive pass (k = 0) renders; the classic settings (k = 100) are refused.
+    let pass = gpu_photon::progressive::pass_settings(&scene, &s, 0);
+    assert_eq!(pass.k, 0);
+    run.render_pass(&scene, &pass, 0, &accum, &progress, &mut report)
+        .unwrap();
+    let err = run
+        .render_pass(&scene, &s, 0, &accum, &progress, &mut report)
+        .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "GPU backend: a K-nearest pass on pipelines built for a progressive render (fixed radii)"
     );
 }

@@ -305,7 +305,7 @@ fn estimate(which: u32, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> 
     if mp.paths == 0u {
         return vec3<f32>(0.0);
     }
-    if params.k == 0u {
+    if !KNN || params.k == 0u {
         return fixed_radius_estimate(which, mp, x, ns, f);
     }
     let n = knn(which, x);

@@ -25,6 +25,11 @@ override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
 // Some triangle is smooth-shaded: without, the shading normal is the geometric one.
 override HAS_SMOOTH: bool = true;
+// The render's passes may run K-nearest estimates (classic passes, params.k > 0); false for a
+// progressive render, whose passes all use fixed radii: the heap search and the cache build's
+// K-th selection then fold away (on lavapipe the gather kernel compiles 6x faster, and runs
+// about 10% faster).
+override KNN: bool = true;
 
 // Loop iterations one invocation may spend in total, across all its loops. Lavapipe cuts
 // loops silently after 65,535 iterations counted per SIMD group (8 lanes), across all loops,

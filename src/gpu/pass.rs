@@ -36,6 +36,11 @@ impl GpuRun {
         progress: &Progress,
         report: &mut RenderReport,
     ) -> Result<Image> {
+        if s.k > 0 && !self.knn {
+            return Err(crate::error::Error::Gpu(
+                "a K-nearest pass on pipelines built for a progressive render (fixed radii)".into(),
+            ));
+        }
         let accum_bytes = accum.size();
         let phases_before = report.phases.len();
         let mut batches = 1u32;

@@ -14,8 +14,13 @@ pub const CPU_DEVICE_LOOP_BUDGET: u32 = 8000;
 /// Loop budget on devices without lavapipe's cut: a guard against runaway loops only.
 pub const GPU_DEVICE_LOOP_BUDGET: u32 = 1_000_000;
 
-/// Scene features and the device's loop budget as pipeline-overridable constants.
-pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&'static str, f64)> {
+/// Scene features, the device's loop budget and whether any pass may run K-nearest
+/// estimates (`knn`: false for a progressive render) as pipeline-overridable constants.
+pub fn feature_constants(
+    scene: &Scene,
+    device_type: wgpu::DeviceType,
+    knn: bool,
+) -> Vec<(&'static str, f64)> {
     let budget = if device_type == wgpu::DeviceType::Cpu {
         CPU_DEVICE_LOOP_BUDGET
     } else {
@@ -28,6 +33,7 @@ pub fn feature_constants(scene: &Scene, device_type: wgpu::DeviceType) -> Vec<(&
         // The WGSL name covers every delta light: point, spot and directional.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
         ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
+        ("KNN", knn as u32 as f64),
     ]
 }
 

@@ -39,6 +39,9 @@ pub struct GpuRun {
     /// The radiance cache (`cache`, one vec4 per global photon slot) and the list of its
     /// points (`cache_list`), grown by `GpuRun::ensure_cache` (stand-ins outside mode gather).
     pub cache: [wgpu::Buffer; 3],
+    /// The pipelines run K-nearest estimates (override `KNN`); false for a progressive
+    /// render, whose passes must then all have `k == 0`.
+    pub knn: bool,
 }
 
 impl GpuRun {
@@ -67,7 +70,9 @@ impl GpuRun {
         let scene_buffers = SceneBuffers::new(
             &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
         );
-        let constants = feature_constants(scene, ctx.adapter.get_info().device_type);
+        // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
+        let knn = s.pass_range.is_none();
+        let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
         let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather)?;
         let cache = cache_buffers(&ctx.device, 1);
@@ -80,6 +85,7 @@ impl GpuRun {
             plan,
             map_cache: Vec::new(),
             cache,
+            knn,
         })
     }
 
