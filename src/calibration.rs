@@ -1,8 +1,9 @@
 //! `--backend auto`'s rule, by measurement (issue 11): the GPU renders when, on that adapter,
 //! it rendered the calibration scene faster than the CPU backend did. The calibration is the
 //! Cornell box made small, in the default technique ([`CALIBRATION_SCENE`] with
-//! [`calibration_settings`]: 64x64, 8 spp, 50,000 photon paths, mode `gather`); each backend's renderer is opened (device, pipelines), renders
-//! one pass to warm up, then a second pass is timed. The two times are stored per adapter,
+//! [`calibration_settings`]: 64x64, 8 spp, 50,000 photon paths, mode `gather`, progressive);
+//! each backend's renderer is opened (device, pipelines), renders progressive pass 0 to warm
+//! up, then pass 1 is timed. The two times are stored per adapter,
 //! driver, crate version and CPU thread count in [`cache_file`], so the measurement (a few
 //! seconds on a software device) runs once per machine; deleting the file measures again.
 //! Software adapters (lavapipe) are measured like any other: nothing is assumed from the
@@ -16,8 +17,13 @@ use std::path::{Path, PathBuf};
 /// [`calibration_settings`] makes small.
 pub const CALIBRATION_SCENE: &str = include_str!("../scenes/cornell-box.toml");
 
+/// Bumped whenever the calibration render changes, so times measured for another one are not
+/// reused (2: progressive passes instead of one classic pass).
+pub const CALIBRATION_VERSION: u32 = 2;
+
 /// The calibration render's settings: the scene's own, in mode `gather`, at 64x64, 8 spp and
-/// 50,000 photon paths, one classic pass.
+/// 50,000 photon paths, progressive passes 0..2 (the default render's technique: each pass
+/// from `progressive::pass_settings`).
 pub fn calibration_settings(scene: &RenderSettings) -> RenderSettings {
     RenderSettings {
         width: 64,
@@ -25,7 +31,7 @@ pub fn calibration_settings(scene: &RenderSettings) -> RenderSettings {
         spp: 8,
         photons: 50_000,
         mode: Mode::Gather,
-        pass_range: None,
+        pass_range: Some((0, 2)),
         ..scene.clone()
     }
 }
@@ -49,10 +55,10 @@ impl Calibration {
 }
 
 /// What a calibration holds for: the adapter's name and driver, this crate's version (the
-/// kernels change with it) and the CPU backend's thread count.
+/// kernels change with it) and [`CALIBRATION_VERSION`], and the CPU backend's thread count.
 pub fn key(adapter_name: &str, driver: &str) -> String {
     format!(
-        "{adapter_name} | {driver} | gpu-photon {} | {} threads",
+        "{adapter_name} | {driver} | gpu-photon {} calibration {CALIBRATION_VERSION} | {} threads",
         env!("CARGO_PKG_VERSION"),
         rayon::current_num_threads()
     )

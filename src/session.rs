@@ -126,9 +126,9 @@ fn calibrate(key: String) -> Result<crate::calibration::Calibration> {
     let quiet = Progress { enabled: false };
     let time = |b: Backend| -> Result<f64> {
         let mut r = open_backend(b, &scene, s)?;
-        r.pass(0, s, &quiet)?;
+        r.pass(0, &pass_settings(&scene, s, 0), &quiet)?;
         let t = Instant::now();
-        r.pass(1, s, &quiet)?;
+        r.pass(1, &pass_settings(&scene, s, 1), &quiet)?;
         Ok(t.elapsed().as_secs_f64())
     };
     let cpu_seconds = time(Backend::Cpu)?;
