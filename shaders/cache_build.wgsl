@@ -294,7 +294,8 @@ fn size_cache_build() {
 // (1) rings outward, a histogram of key24 until the K nearest are surely seen (listing the
 // photons in `near` while they fit); (2) the bin of the K-th refined until few photons share
 // it; those before it and in it listed in `sel`, the latter ranked; (3) the sum of the
-// photons before the K-th (the CPU's estimate: its distance is the radius).
+// photons before the K-th (the CPU's estimate: its distance is the radius). A fixed radius
+// skips (1) and (2): every photon within the radius is listed in `sel`, then summed.
 @compute @workgroup_size(CACHE_LANES)
 fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     if lid == 0u {
@@ -335,9 +336,8 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     var bound2 = mp.radius2;
     var rank = 0u;
     var n = 0u;
-    if k == 0u {
-        scan_cells(lid, x, ns, 0, rings, mp.radius2, sc);
-    } else {
+    // A fixed radius (k == 0) needs no histogram: SELECT lists the photons from the cells.
+    if k > 0u {
         // (1) Ring s covers every point within s cells of x: stop once K photons lie there.
         var total = 0u;
         for (var s = 0; s <= rings; s += 1) {
@@ -386,7 +386,7 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         // Every photon within the radius (fewer than K, or a fixed radius): all keys 0.
         sc.shift = 24u;
         sc.prefix = 1u;
-        if near_lim < CACHE_BINS {
+        if k == 0u || near_lim < CACHE_BINS {
             n = CACHE_NEAR + 1u;
         }
     }
