@@ -1,11 +1,12 @@
 // cache_build: the radiance cache's values (mode gather), twin of RadianceCache::build in
 // src/cpu/cache.rs. list_cache_points (one invocation per global photon slot) lists the cache
-// points; size_cache_build writes build_cache's indirect dispatch; build_cache (one workgroup
-// of CACHE_LANES per point) shares the point's K-nearest search: a distance histogram picks
-// the K-th photon, then an exact fixed-point sum. Writes cache and cache_list.
+// points; size_cache_build writes the values' dispatch; build_cache (K-nearest, one workgroup
+// of CACHE_LANES per point; fixed radii: cache_fixed.wgsl) shares the point's search: a
+// distance histogram picks the K-th photon, then an exact fixed-point sum. Writes cache(_list).
 
-// cache_list (prelude offsets): [0..3] build_cache's dispatch (x, y, 1), [CACHE_LIST_COUNT]
-// the number of cache points, [CACHE_LIST_FIRST + k] the sorted index of the k-th.
+// cache_list (prelude offsets): [0..3] the values' dispatch (x, y, 1), [CACHE_LIST_COUNT]
+// the number of cache points, [CACHE_LIST_MAX] the bits of the map's largest photon term
+// (fixed radius only), [CACHE_LIST_FIRST + k] the sorted index of the k-th point.
 
 // The search's shared state. Keys: key24(d2) orders photons by distance (ties: equal keys).
 var<workgroup> hist: array<atomic<u32>, CACHE_BINS>;
@@ -273,29 +274,44 @@ fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     cache[i] = vec4<f32>(0.0);
-    if is_cache_point(g_photons[i]) {
+    let p = g_photons[i];
+    if fixed_radius_cache() {
+        // The largest term (power / pi; kernel weights are at most 1) over the whole map.
+        let t = max3(p.power) / PI;
+        if t > 0.0 && bitcast<u32>(t) > atomicLoad(&cache_list[CACHE_LIST_MAX]) {
+            atomicMax(&cache_list[CACHE_LIST_MAX], bitcast<u32>(t));
+        }
+    }
+    if is_cache_point(p) {
         let k = atomicAdd(&cache_list[CACHE_LIST_COUNT], 1u);
         atomicStore(&cache_list[CACHE_LIST_FIRST + k], i);
     }
 }
 
-// build_cache's dispatch: one workgroup per cache point over a 2D grid.
+// Whether the cache's values are fixed-radius estimates (build_cache_fixed, cache_fixed.wgsl)
+// rather than K-nearest ones (build_cache); the host records the same choice (k == 0).
+fn fixed_radius_cache() -> bool {
+    return !KNN || params.k == 0u;
+}
+
+// The values' dispatch over a 2D grid: one workgroup per cache point (build_cache), or one
+// invocation per cache point (build_cache_fixed).
 @compute @workgroup_size(1)
 fn size_cache_build() {
-    let n = atomicLoad(&cache_list[CACHE_LIST_COUNT]);
+    let points = atomicLoad(&cache_list[CACHE_LIST_COUNT]);
+    let n = select(points, (points + WG_SIZE - 1u) / WG_SIZE, fixed_radius_cache());
     let x = min(n, 65535u);
     atomicStore(&cache_list[0], x);
     atomicStore(&cache_list[1], select(1u, (n + x - 1u) / max(x, 1u), x > 0u));
     atomicStore(&cache_list[2], 1u);
 }
 
-// The value of one cache point: the global map's K-nearest (params.k; 0: every photon
-// within the radius) estimate at the photon with BRDF 1/pi, in three phases over the cells:
+// The value of one cache point: the global map's K-nearest (params.k > 0; fewer within the
+// radius: all of them) estimate at the photon with BRDF 1/pi, in three phases over the cells:
 // (1) rings outward, a histogram of key24 until the K nearest are surely seen (listing the
 // photons in `near` while they fit); (2) the bin of the K-th refined until few photons share
 // it; those before it and in it listed in `sel`, the latter ranked; (3) the sum of the
-// photons before the K-th (the CPU's estimate: its distance is the radius). A fixed radius
-// skips (1) and (2): every photon within the radius is listed in `sel`, then summed.
+// photons before the K-th (the CPU's estimate: its distance is the radius).
 @compute @workgroup_size(CACHE_LANES)
 fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     if lid == 0u {
@@ -327,7 +343,7 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     if want_rings > rings && lid == 0u {
         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
     }
-    let k = select(0u, min(params.k, MAX_HEAP), KNN);
+    let k = min(params.k, MAX_HEAP);
     // The ring search lists the photons within a cell of x (at most CACHE_NEAR): the K-th
     // usually lies there (grid::cell_size_for), and the later phases then read the list.
     let near_lim = u32(min(mp.cell_size * mp.cell_size / mp.radius2, 1.0) * f32(CACHE_BINS));
@@ -336,26 +352,23 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     var bound2 = mp.radius2;
     var rank = 0u;
     var n = 0u;
-    // A fixed radius (k == 0) needs no histogram: SELECT lists the photons from the cells.
-    if k > 0u {
-        // (1) Ring s covers every point within s cells of x: stop once K photons lie there.
-        var total = 0u;
-        for (var s = 0; s <= rings; s += 1) {
-            scan_cells(lid, x, ns, s, s, mp.radius2, sc);
-            workgroupBarrier();
-            let reach = f32(s) * mp.cell_size;
-            let lim = u32(min(reach * reach / mp.radius2, 1.0) * f32(CACHE_BINS));
-            let counts = hist_count(lid, select(lim, CACHE_BINS, s == rings));
-            total = counts.y;
-            if counts.x >= k {
-                outer = s;
-                bound2 = min(reach * reach, mp.radius2);
-                break;
-            }
+    // (1) Ring s covers every point within s cells of x: stop once K photons lie there.
+    var total = 0u;
+    for (var s = 0; s <= rings; s += 1) {
+        scan_cells(lid, x, ns, s, s, mp.radius2, sc);
+        workgroupBarrier();
+        let reach = f32(s) * mp.cell_size;
+        let lim = u32(min(reach * reach / mp.radius2, 1.0) * f32(CACHE_BINS));
+        let counts = hist_count(lid, select(lim, CACHE_BINS, s == rings));
+        total = counts.y;
+        if counts.x >= k {
+            outer = s;
+            bound2 = min(reach * reach, mp.radius2);
+            break;
         }
-        if total >= k {
-            rank = k;
-        }
+    }
+    if total >= k {
+        rank = k;
     }
     workgroupBarrier();
     if lid == 0u {
@@ -383,10 +396,10 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         rank -= pick.y;
         sc.prefix = (sc.prefix << 8u) | pick.x;
     } else {
-        // Every photon within the radius (fewer than K, or a fixed radius): all keys 0.
+        // Every photon within the radius (fewer than K): all keys 0.
         sc.shift = 24u;
         sc.prefix = 1u;
-        if k == 0u || near_lim < CACHE_BINS {
+        if near_lim < CACHE_BINS {
             n = CACHE_NEAR + 1u;
         }
     }

@@ -113,7 +113,7 @@ pub const MAP_GROUP: GroupTable = GroupTable {
 
 /// Group 1 of the gather and the probes (shaders/common/estimate.wgsl, gather.wgsl): both
 /// maps' sorted photons, cell starts and parameters, the image accumulator, and the radiance
-/// cache (parallel to the global map's sorted photons: written by `build_cache`, read by the
+/// cache (parallel to the global map's sorted photons: written by the cache build, read by the
 /// gather) with the list of its points (small stand-ins outside mode gather).
 pub const GATHER_GROUP: GroupTable = GroupTable {
     group: 1,

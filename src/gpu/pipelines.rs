@@ -57,9 +57,20 @@ pub struct Pipelines {
     pub scatter_rest: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
-    /// `list_cache_points`, `size_cache_build` and `build_cache` (shaders/cache_build.wgsl):
-    /// only for a render in mode gather.
-    pub radiance_cache: Option<[wgpu::ComputePipeline; 3]>,
+    /// The radiance cache's build: only for a render in mode gather.
+    pub radiance_cache: Option<CachePipelines>,
+}
+
+/// The radiance cache's build (shaders/cache_build.wgsl and cache_fixed.wgsl).
+pub struct CachePipelines {
+    /// `list_cache_points`.
+    pub list: wgpu::ComputePipeline,
+    /// `size_cache_build`.
+    pub size: wgpu::ComputePipeline,
+    /// `build_cache`, the K-nearest values: only on pipelines with K-nearest estimates.
+    pub knn: Option<wgpu::ComputePipeline>,
+    /// `build_cache_fixed`, the fixed-radius values.
+    pub fixed: wgpu::ComputePipeline,
 }
 
 /// The shader module of `kernel`, labelled with its name.
@@ -86,13 +97,14 @@ pub fn pipeline_layout(
 
 impl Pipelines {
     /// Compiles every kernel's pipelines with the override constants `constants` (the
-    /// radiance cache's build only when `final_gather`); a shader or layout error is
-    /// returned, not raised.
+    /// radiance cache's build only when `final_gather`, its K-nearest kernel only when `knn`,
+    /// the constants' `KNN`); a shader or layout error is returned, not raised.
     pub fn new(
         ctx: &GpuContext,
         layouts: &Layouts,
         constants: &[(&str, f64)],
         final_gather: bool,
+        knn: bool,
     ) -> Result<Self> {
         let dev = &ctx.device;
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -127,9 +139,11 @@ impl Pipelines {
             scatter: pipeline(&grid, &map_layout, "scatter"),
             scatter_rest: pipeline(&grid, &map_layout, "scatter_rest"),
             gather: pipeline(&gather, &gather_layout, "gather"),
-            radiance_cache: final_gather.then(|| {
-                ["list_cache_points", "size_cache_build", "build_cache"]
-                    .map(|e| pipeline(&gather, &gather_layout, e))
+            radiance_cache: final_gather.then(|| CachePipelines {
+                list: pipeline(&gather, &gather_layout, "list_cache_points"),
+                size: pipeline(&gather, &gather_layout, "size_cache_build"),
+                knn: knn.then(|| pipeline(&gather, &gather_layout, "build_cache")),
+                fixed: pipeline(&gather, &gather_layout, "build_cache_fixed"),
             }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {

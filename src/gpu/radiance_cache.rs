@@ -1,6 +1,7 @@
 //! The radiance cache of final gathering (mode gather) on the device, twin of the CPU's
-//! cache: after a pass's maps are built, `build_cache` (shaders/radiance_cache.wgsl) writes
-//! one value per global photon slot, parallel to the global map's sorted photons (the cache
+//! cache: after a pass's maps are built, `build_cache` (K-nearest values,
+//! shaders/cache_build.wgsl) or `build_cache_fixed` (fixed radius, shaders/cache_fixed.wgsl)
+//! writes one value per global photon slot, parallel to the global map's sorted photons (the cache
 //! points are the photons `plan::CACHE_STRIDE` picks; the others hold zero), and the gather
 //! looks it up through the global map's grid. No other mode allocates or dispatches it.
 
@@ -21,8 +22,9 @@ impl GpuRun {
 
     /// Records building the radiance cache of `global` into `enc`: lists the cache points
     /// (one invocation per stored photon, the grid's indirect dispatch), sizes the build's
-    /// dispatch from their count, then computes their values, one workgroup each; nothing is
-    /// read back. `caustic` and `accum` complete the gather group, untouched.
+    /// dispatch from their count, then computes their values (K-nearest: one workgroup per
+    /// point; a fixed radius, the current parameters' `k == 0`: one invocation per point);
+    /// nothing is read back. `caustic` and `accum` complete the gather group, untouched.
     pub fn record_cache(
         &mut self,
         enc: &mut wgpu::CommandEncoder,
@@ -38,9 +40,16 @@ impl GpuRun {
             ));
         };
         let bg = self.gather_bind_group(global, caustic, accum);
-        // build_cache's dispatch and the count of cache points.
+        // The values' dispatch, the count of cache points and the largest photon term.
         enc.clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
-        let [list, size, build] = pipelines;
+        // size_cache_build makes the same choice on the device (from the same k).
+        let build = if self.params.k == 0 {
+            &pipelines.fixed
+        } else {
+            pipelines.knn.as_ref().ok_or_else(|| {
+                Error::Gpu("a K-nearest radiance cache on pipelines built for fixed radii".into())
+            })?
+        };
         {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("radiance cache points"),
@@ -48,9 +57,9 @@ impl GpuRun {
             });
             cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
             cp.set_bind_group(1, &bg, &[]);
-            cp.set_pipeline(list);
+            cp.set_pipeline(&pipelines.list);
             cp.dispatch_workgroups_indirect(&global.dispatch, 0);
-            cp.set_pipeline(size);
+            cp.set_pipeline(&pipelines.size);
             cp.dispatch_workgroups(1, 1, 1);
         }
         enc.copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);

@@ -74,7 +74,7 @@ impl GpuRun {
         let knn = s.pass_range.is_none();
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
-        let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather)?;
+        let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather, knn)?;
         let cache = cache_buffers(&ctx.device, 1);
         Ok(GpuRun {
             ctx,

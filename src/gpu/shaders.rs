@@ -14,8 +14,8 @@ pub enum Kernel {
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
     /// `shaders/radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
-    /// (its build) and the
-    /// Sobol library (`crate::sobol::wgsl_library`).
+    /// and `cache_fixed.wgsl` (its build) and the Sobol library
+    /// (`crate::sobol::wgsl_library`).
     Gather,
     /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
     Probes,
@@ -37,11 +37,12 @@ const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
 const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
+const CACHE_FIXED: &str = include_str!("../../shaders/cache_fixed.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 18] = [
+pub const WGSL_FILES: [(&str, &str); 19] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -59,6 +60,7 @@ pub const WGSL_FILES: [(&str, &str); 18] = [
     ("build_grid.wgsl", BUILD_GRID),
     ("radiance_cache.wgsl", RADIANCE_CACHE),
     ("cache_build.wgsl", CACHE_BUILD),
+    ("cache_fixed.wgsl", CACHE_FIXED),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
 ];
@@ -100,6 +102,7 @@ impl Kernel {
                 "list_cache_points",
                 "size_cache_build",
                 "build_cache",
+                "build_cache_fixed",
             ],
             Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
         }
@@ -117,7 +120,14 @@ impl Kernel {
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
-            Kernel::Gather => &[&sobol, ESTIMATE, RADIANCE_CACHE, CACHE_BUILD, GATHER],
+            Kernel::Gather => &[
+                &sobol,
+                ESTIMATE,
+                RADIANCE_CACHE,
+                CACHE_BUILD,
+                CACHE_FIXED,
+                GATHER,
+            ],
             Kernel::Probes => &[ESTIMATE, RADIANCE_CACHE, PROBES],
         };
         libs.iter()
