@@ -18,8 +18,9 @@ use std::path::{Path, PathBuf};
 pub const CALIBRATION_SCENE: &str = include_str!("../scenes/cornell-box.toml");
 
 /// Bumped whenever the calibration render changes, so times measured for another one are not
-/// reused (2: progressive passes instead of one classic pass).
-pub const CALIBRATION_VERSION: u32 = 2;
+/// reused (2: progressive passes instead of one classic pass; 3: the fixed-radius cache
+/// kernel, which made the GPU's pass faster).
+pub const CALIBRATION_VERSION: u32 = 3;
 
 /// The calibration render's settings: the scene's own, in mode `gather`, at 64x64, 8 spp and
 /// 50,000 photon paths, progressive passes 0..2 (the default render's technique: each pass
