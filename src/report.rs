@@ -26,6 +26,10 @@ pub trait PassRenderer {
 pub struct RenderReport {
     /// Wall time per phase, in the order the phases first ran.
     pub phases: Vec<(&'static str, Duration)>,
+    /// Device time per GPU kernel (its entry point's name), in the order the kernels first
+    /// ran: only where a `bench` render (`RenderSettings::timed_phases`) ran on a device with
+    /// timestamp queries; each lies within its phase.
+    pub kernels: Vec<(&'static str, Duration)>,
     /// Photons stored by the global paths (before filtering by mode).
     pub global_stored: usize,
     /// Photons stored in the caustic map.
@@ -54,7 +58,15 @@ impl RenderReport {
         self.phases.iter().map(|p| p.1).sum()
     }
 
-    /// Adds a later pass's report: phases of the same name summed, bound counters summed,
+    /// Records that GPU kernel `name` took `d` on the device (summed with earlier runs of it).
+    pub fn kernel_took(&mut self, name: &'static str, d: Duration) {
+        match self.kernels.iter_mut().find(|k| k.0 == name) {
+            Some(k) => k.1 += d,
+            None => self.kernels.push((name, d)),
+        }
+    }
+
+    /// Adds a later pass's report: phases (and kernels) of the same name summed, bound counters summed,
     /// the photon counts of the later pass, the most batches, and its backend if this report
     /// names none yet.
     pub fn absorb(&mut self, other: &RenderReport) {
@@ -63,6 +75,9 @@ impl RenderReport {
                 Some(p) => p.1 += d,
                 None => self.phases.push((name, d)),
             }
+        }
+        for &(name, d) in &other.kernels {
+            self.kernel_took(name, d);
         }
         self.global_stored = other.global_stored;
         self.caustic_stored = other.caustic_stored;

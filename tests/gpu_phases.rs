@@ -2,6 +2,7 @@
 //! where the adapter has timestamp queries (lavapipe does), else reported as one "device
 //! pass", or, when `timed_phases` asks (bench), each submitted and waited for on its own.
 //! The three give the same pixels, and device times add up to no more than the wall time.
+//! A bench pass with timestamps also times each kernel, within its phases.
 //! Pipelines built for a progressive render (override KNN false) refuse a K-nearest pass.
 
 mod common;
@@ -59,6 +60,57 @@ fn phases_are_timed_on_the_device_or_apart_and_change_no_pixel() {
         r.phases.iter().all(|p| p.1.as_nanos() > 0),
         "{:?}",
         r.phases
+    );
+}
+
+#[test]
+fn a_bench_pass_with_timestamps_times_each_kernel_within_its_phases() {
+    let Some((plain, r, _)) = pass(false, false) else {
+        return;
+    };
+    assert!(r.kernels.is_empty(), "{:?}", r.kernels);
+    let (_, r, _) = pass(false, true).unwrap();
+    assert!(r.kernels.is_empty(), "no timestamps, yet {:?}", r.kernels);
+    let Some((timed, r, _)) = pass(true, true) else {
+        return;
+    };
+    assert!(timed == plain, "kernel timestamps changed the image");
+    eprintln!("phases {:?}\nkernels {:?}", r.phases, r.kernels);
+    let kernels: Vec<&str> = r.kernels.iter().map(|k| k.0).collect();
+    for want in [
+        "trace_photons",
+        "size_grid",
+        "count_cells",
+        "scan_blocks",
+        "scan_sums",
+        "add_offsets",
+        "scatter",
+        "scatter_rest",
+        "list_cache_points",
+        "size_cache_build",
+        "gather",
+    ] {
+        assert!(kernels.contains(&want), "{want} missing from {kernels:?}");
+    }
+    assert!(
+        kernels.contains(&"build_cache") != kernels.contains(&"build_cache_fixed"),
+        "one cache kernel: {kernels:?}"
+    );
+    let secs =
+        |v: &[(&str, std::time::Duration)]| -> f64 { v.iter().map(|k| k.1.as_secs_f64()).sum() };
+    let (k, p) = (secs(&r.kernels), secs(&r.phases));
+    assert!(
+        k > 0.0 && k <= p + 1e-6,
+        "kernels {k} s against phases {p} s"
+    );
+    // The gather phase is its one kernel.
+    let of = |v: &[(&'static str, std::time::Duration)], n: &str| {
+        v.iter().find(|x| x.0 == n).unwrap().1.as_secs_f64()
+    };
+    let (kg, pg) = (of(&r.kernels, "gather"), of(&r.phases, "gather"));
+    assert!(
+        kg <= pg + 1e-6 && kg >= 0.5 * pg,
+        "gather kernel {kg} s, phase {pg} s"
     );
 }
 

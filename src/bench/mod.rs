@@ -128,10 +128,14 @@ pub struct Throughput {
     /// Median seconds of every phase of the render, in the order they ran (on the GPU each
     /// phase is its own submission, waited for: a per-submission wall time).
     pub phases: Vec<(&'static str, f64)>,
+    /// Median device seconds of every GPU kernel (timestamp queries; empty on the CPU and
+    /// on a device without them).
+    pub kernels: Vec<(&'static str, f64)>,
 }
 
 /// The per-phase table of `results` (one column per backend, then the GPU/CPU ratio when
-/// both ran): where each backend's time goes, phase by phase.
+/// both ran): where each backend's time goes, phase by phase; then each GPU kernel's device
+/// time, where timed (rows `kernel NAME`).
 pub fn phase_table(results: &[Throughput]) -> Vec<String> {
     let mut names: Vec<&'static str> = Vec::new();
     for t in results {
@@ -166,6 +170,24 @@ pub fn phase_table(results: &[Throughput]) -> Vec<String> {
             row += &match (secs(c, n), secs(g, n)) {
                 (Some(a), Some(b)) if a > 0.0 => format!(" {:>8.2}", b / a),
                 _ => format!(" {:>8}", "-"),
+            };
+        }
+        lines.push(row);
+    }
+    let mut kernels: Vec<&'static str> = Vec::new();
+    for t in results {
+        for &(n, _) in &t.kernels {
+            if !kernels.contains(&n) {
+                kernels.push(n);
+            }
+        }
+    }
+    for n in kernels {
+        let mut row = format!("{:<22}", format!("kernel {n}"));
+        for t in results {
+            row += &match t.kernels.iter().find(|k| k.0 == n) {
+                Some(k) => format!(" {:>10.3}", k.1),
+                None => format!(" {:>10}", "-"),
             };
         }
         lines.push(row);
@@ -227,6 +249,7 @@ pub fn throughput(
     let mut rows = Vec::new();
     let mut name = String::new();
     let mut phases: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    let mut kernels: Vec<(&'static str, Vec<f64>)> = Vec::new();
     // Each GPU phase its own submission, so the phases can be timed apart.
     let s = &RenderSettings {
         timed_phases: true,
@@ -235,10 +258,12 @@ pub fn throughput(
     for _ in 0..runs.max(1) {
         let (_, r) = render(scene, s, backend, Progress::default())?;
         name = r.backend.clone();
-        for &(n, d) in &r.phases {
-            match phases.iter_mut().find(|p| p.0 == n) {
-                Some(p) => p.1.push(d.as_secs_f64()),
-                None => phases.push((n, vec![d.as_secs_f64()])),
+        for (all, times) in [(&mut phases, &r.phases), (&mut kernels, &r.kernels)] {
+            for &(n, d) in times {
+                match all.iter_mut().find(|p| p.0 == n) {
+                    Some(p) => p.1.push(d.as_secs_f64()),
+                    None => all.push((n, vec![d.as_secs_f64()])),
+                }
             }
         }
         rows.push((
@@ -256,6 +281,7 @@ pub fn throughput(
         gather_s_per_mpix_sample: median(rows.iter().map(|r| r.2).collect()),
         total_s: median(rows.iter().map(|r| r.3).collect()),
         phases: phases.into_iter().map(|(n, v)| (n, median(v))).collect(),
+        kernels: kernels.into_iter().map(|(n, v)| (n, median(v))).collect(),
     })
 }
 
@@ -297,6 +323,7 @@ mod tests {
             gather_s_per_mpix_sample: 0.0,
             total_s: phases.iter().map(|p| p.1).sum(),
             phases,
+            kernels: Vec::new(),
         }
     }
 
@@ -310,7 +337,7 @@ mod tests {
                 ("gather", 2.0),
             ],
         );
-        let gpu = run(
+        let mut gpu = run(
             Backend::Gpu,
             vec![
                 ("trace photons", 1.0),
@@ -318,6 +345,7 @@ mod tests {
                 ("gather", 7.0),
             ],
         );
+        gpu.kernels = vec![("count_cells", 0.125), ("gather", 6.75)];
         let t = phase_table(&[cpu, gpu]);
         assert!(t[0].contains("cpu") && t[0].contains("gpu") && t[0].contains("gpu/cpu"));
         let row = |name: &str| t.iter().find(|l| l.starts_with(name)).unwrap().clone();
@@ -331,6 +359,9 @@ mod tests {
         assert_eq!(cells("gather"), ["2.000", "7.000", "3.50"]);
         assert_eq!(cells("build kd-trees"), ["0.250", "-", "-"]);
         assert_eq!(cells("build grids"), ["-", "0.500", "-"]);
-        assert_eq!(t.len(), 5);
+        // Kernels after the phases, GPU column only (no ratio: the CPU has no kernels).
+        assert_eq!(cells("kernel count_cells"), ["-", "0.125"]);
+        assert_eq!(cells("kernel gather"), ["-", "6.750"]);
+        assert_eq!(t.len(), 7);
     }
 }

@@ -6,6 +6,7 @@ use super::buffers::{empty_buffer, grid_2d};
 use super::codes::{SCAN_BLOCK, WG_SIZE};
 use super::context::GpuContext;
 use super::pipelines::Pipelines;
+use super::recorder::Recorder;
 use super::types::GpuMapParams;
 use crate::photon::Photon;
 use wgpu::util::DeviceExt;
@@ -143,55 +144,55 @@ impl MapBuffers {
         pass
     }
 
-    /// Records tracing this map's photons into `enc`.
-    pub fn record_trace(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        p: &Pipelines,
-        scene_bg: &wgpu::BindGroup,
-    ) {
+    /// Records tracing this map's photons into `rec`.
+    pub fn record_trace(&self, rec: &mut Recorder, p: &Pipelines, scene_bg: &wgpu::BindGroup) {
+        let enc = rec.enc();
         enc.clear_buffer(&self.counters, 0, None);
-        let mut pass = self.begin(enc, "trace photons", scene_bg);
-        pass.set_pipeline(&p.trace_photons);
-        let (x, y) = grid_2d(self.params.paths.div_ceil(WG_SIZE));
-        pass.dispatch_workgroups(x, y, 1);
+        {
+            let mut pass = self.begin(enc, "trace photons", scene_bg);
+            pass.set_pipeline(&p.trace_photons);
+            let (x, y) = grid_2d(self.params.paths.div_ceil(WG_SIZE));
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        rec.kernel("trace_photons");
     }
 
-    /// Records building this map's grid over the photons the trace stored into `enc`, sized
-    /// on the device (`size_grid`): nothing is read back.
-    pub fn record_grid(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        p: &Pipelines,
-        scene_bg: &wgpu::BindGroup,
-    ) {
-        enc.clear_buffer(&self.cell_count, 0, None);
+    /// Records building this map's grid over the photons the trace stored into `rec`, sized
+    /// on the device (`size_grid`): nothing is read back. One compute pass per kernel, so
+    /// that a `bench` recording times each.
+    pub fn record_grid(&self, rec: &mut Recorder, p: &Pipelines, scene_bg: &wgpu::BindGroup) {
+        rec.enc().clear_buffer(&self.cell_count, 0, None);
         {
-            let mut pass = self.begin(enc, "size grid", scene_bg);
+            let mut pass = self.begin(rec.enc(), "size grid", scene_bg);
             pass.set_pipeline(&p.size_grid);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        enc.copy_buffer_to_buffer(&self.counters, 4, &self.dispatch, 0, 12);
-        let mut pass = self.begin(enc, "build grid", scene_bg);
+        rec.kernel("size_grid");
+        rec.enc()
+            .copy_buffer_to_buffer(&self.counters, 4, &self.dispatch, 0, 12);
         let t = self.params.table_size;
-        // (pipeline, invocations and workgroup width; None: one per stored photon)
+        // (kernel, pipeline, invocations and workgroup width; None: one per stored photon)
         let stages = [
-            (&p.count_cells, None),
-            (&p.scan_blocks, Some((t, SCAN_BLOCK))),
-            (&p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
-            (&p.add_offsets, Some((t, WG_SIZE))),
-            (&p.scatter, None),
-            (&p.scatter_rest, None),
+            ("count_cells", &p.count_cells, None),
+            ("scan_blocks", &p.scan_blocks, Some((t, SCAN_BLOCK))),
+            ("scan_sums", &p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
+            ("add_offsets", &p.add_offsets, Some((t, WG_SIZE))),
+            ("scatter", &p.scatter, None),
+            ("scatter_rest", &p.scatter_rest, None),
         ];
-        for (pipeline, size) in stages {
-            pass.set_pipeline(pipeline);
-            match size {
-                Some((n, wg)) => {
-                    let (x, y) = grid_2d(n.div_ceil(wg));
-                    pass.dispatch_workgroups(x, y, 1);
+        for (name, pipeline, size) in stages {
+            {
+                let mut pass = self.begin(rec.enc(), name, scene_bg);
+                pass.set_pipeline(pipeline);
+                match size {
+                    Some((n, wg)) => {
+                        let (x, y) = grid_2d(n.div_ceil(wg));
+                        pass.dispatch_workgroups(x, y, 1);
+                    }
+                    None => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
                 }
-                None => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
             }
+            rec.kernel(name);
         }
     }
 }

@@ -42,7 +42,7 @@ impl GpuRun {
             ));
         }
         let accum_bytes = accum.size();
-        let phases_before = report.phases.len();
+        let (phases_before, kernels_before) = (report.phases.len(), report.kernels.len());
         let mut batches = 1u32;
         // Photons each batch's maps stored: (global, caustic) per batch.
         let counts = empty_buffer(
@@ -73,10 +73,11 @@ impl GpuRun {
                     }
                 }
                 if self.plan_final_gather() && global.params.paths > 0 {
-                    self.record_cache(rec.enc(), &global, &caustic, accum)?;
+                    self.record_cache(&mut rec, &global, &caustic, accum)?;
                     rec.phase("build cache", report)?;
                 }
                 self.record_gather(rec.enc(), s, &global, &caustic, accum);
+                rec.kernel("gather");
                 rec.phase("gather", report)?;
                 rec.submit();
                 recorders.push(rec);
@@ -95,6 +96,7 @@ impl GpuRun {
             if overflow > 1 && batches < MAX_BATCHES {
                 batches = (batches * overflow + batches / 4 + 1).min(MAX_BATCHES);
                 report.phases.truncate(phases_before);
+                report.kernels.truncate(kernels_before);
                 let stats = &self.scene_buffers.stats;
                 self.ctx.queue.write_buffer(stats, 0, &[0u8; STATS_LEN * 4]);
                 continue;

@@ -114,13 +114,13 @@ impl GpuRun {
         let scene_bg = &self.scene_buffers.bind_group;
         for m in [&global, &caustic] {
             if m.params.paths > 0 {
-                m.record_trace(rec.enc(), &self.pipelines, scene_bg);
+                m.record_trace(rec, &self.pipelines, scene_bg);
             }
         }
         rec.phase("trace photons", report)?;
         for m in [&global, &caustic] {
             if m.params.paths > 0 {
-                m.record_grid(rec.enc(), &self.pipelines, scene_bg);
+                m.record_grid(rec, &self.pipelines, scene_bg);
             }
         }
         rec.phase("build grids", report)?;

@@ -8,6 +8,7 @@ use super::buffers::{grid_2d, read_back};
 use super::codes::{STATS_LEN, WG_SIZE};
 use super::context::GpuContext;
 use super::pipelines::{pipeline_layout, shader_module};
+use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::shaders::Kernel;
 use crate::error::{Error, Result};
@@ -167,13 +168,9 @@ pub fn radiance_cache(
     ctx.queue
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
-    let mut enc = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("probe cache"),
-        });
-    run.record_cache(&mut enc, &map, &empty, &accum)?;
-    ctx.queue.submit([enc.finish()]);
+    let mut rec = Recorder::new(ctx.clone(), false);
+    run.record_cache(&mut rec, &map, &empty, &accum)?;
+    rec.submit();
     let count = photons.len();
     let sorted: Vec<Photon> = read_back(
         ctx,

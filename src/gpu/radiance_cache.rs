@@ -8,6 +8,7 @@
 use super::buffers::{cache_buffers, CACHE_ENTRY_BYTES};
 use super::codes::CACHE_LIST_FIRST;
 use super::maps::MapBuffers;
+use super::recorder::Recorder;
 use super::run::GpuRun;
 use crate::error::{Error, Result};
 
@@ -24,10 +25,11 @@ impl GpuRun {
     /// (one invocation per stored photon, the grid's indirect dispatch), sizes the build's
     /// dispatch from their count, then computes their values (K-nearest: one workgroup per
     /// point; a fixed radius, the current parameters' `k == 0`: one invocation per point);
-    /// nothing is read back. `caustic` and `accum` complete the gather group, untouched.
+    /// nothing is read back; one compute pass per kernel, so that a `bench` recording times
+    /// each. `caustic` and `accum` complete the gather group, untouched.
     pub fn record_cache(
         &mut self,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recorder,
         global: &MapBuffers,
         caustic: &MapBuffers,
         accum: &wgpu::Buffer,
@@ -41,37 +43,43 @@ impl GpuRun {
         };
         let bg = self.gather_bind_group(global, caustic, accum);
         // The values' dispatch, the count of cache points and the largest photon term.
-        enc.clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
+        rec.enc()
+            .clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
         // size_cache_build makes the same choice on the device (from the same k).
-        let build = if self.params.k == 0 {
-            &pipelines.fixed
+        let (build_name, build) = if self.params.k == 0 {
+            ("build_cache_fixed", &pipelines.fixed)
         } else {
-            pipelines.knn.as_ref().ok_or_else(|| {
+            let knn = pipelines.knn.as_ref().ok_or_else(|| {
                 Error::Gpu("a K-nearest radiance cache on pipelines built for fixed radii".into())
-            })?
+            })?;
+            ("build_cache", knn)
         };
-        {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("radiance cache points"),
-                timestamp_writes: None,
-            });
-            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
-            cp.set_bind_group(1, &bg, &[]);
-            cp.set_pipeline(&pipelines.list);
-            cp.dispatch_workgroups_indirect(&global.dispatch, 0);
-            cp.set_pipeline(&pipelines.size);
-            cp.dispatch_workgroups(1, 1, 1);
-        }
-        enc.copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);
-        {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("radiance cache values"),
-                timestamp_writes: None,
-            });
-            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[0]);
-            cp.set_bind_group(1, &bg, &[]);
-            cp.set_pipeline(build);
-            cp.dispatch_workgroups_indirect(&self.cache[2], 0);
+        let groups = &self.scene_buffers.bind_group;
+        // (kernel, pipeline, indirect arguments; None: one invocation)
+        let stages = [
+            ("list_cache_points", &pipelines.list, Some(&global.dispatch)),
+            ("size_cache_build", &pipelines.size, None),
+            (build_name, build, Some(&self.cache[2])),
+        ];
+        for (name, pipeline, indirect) in stages {
+            if name == build_name {
+                let enc = rec.enc();
+                enc.copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);
+            }
+            {
+                let mut cp = rec.enc().begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(name),
+                    timestamp_writes: None,
+                });
+                cp.set_bind_group(0, groups, &[0]);
+                cp.set_bind_group(1, &bg, &[]);
+                cp.set_pipeline(pipeline);
+                match indirect {
+                    Some(args) => cp.dispatch_workgroups_indirect(args, 0),
+                    None => cp.dispatch_workgroups(1, 1, 1),
+                }
+            }
+            rec.kernel(name);
         }
         Ok(())
     }

@@ -3,7 +3,9 @@
 //! timestamp queries (`GpuContext::timestamps`; lavapipe has them) a timestamp between
 //! phases gives each phase's device time, read back with the image. Without them the phases
 //! are not timed apart, unless `RenderSettings::timed_phases` (`bench`) asks: then each
-//! phase is a submission of its own, waited for, and its wall time recorded.
+//! phase is a submission of its own, waited for, and its wall time recorded. A `bench`
+//! recording on a device with timestamps also times each kernel (a timestamp after each
+//! kernel's compute pass).
 
 use super::buffers::{empty_buffer, read_back, wait};
 use super::context::GpuContext;
@@ -11,14 +13,18 @@ use crate::error::Result;
 use crate::report::RenderReport;
 use std::time::{Duration, Instant};
 
-/// Phases one recording can time on the device (a pass has four).
-const MAX_PHASES: u32 = 8;
+/// Timestamps one recording can write after its first: a pass has four phases and about
+/// twenty kernels (two maps' trace and seven grid kernels, three of the cache, the gather).
+const MAX_STAMPS: u32 = 40;
+/// Stamps kept for phases: kernels take a timestamp only while more than this many are left.
+const PHASE_RESERVE: u32 = 8;
 
-/// The timestamps of one recording: one before the first phase, one after each.
+/// The timestamps of one recording: one at its start, one after each phase and (`bench`)
+/// each kernel, named, `true` for a phase.
 struct Stamps {
     set: wgpu::QuerySet,
     resolved: wgpu::Buffer,
-    names: Vec<&'static str>,
+    names: Vec<(&'static str, bool)>,
 }
 
 /// The encoder of the work not yet submitted, and how its phases are timed.
@@ -38,12 +44,12 @@ impl Recorder {
             set: ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("phase timestamps"),
                 ty: wgpu::QueryType::Timestamp,
-                count: MAX_PHASES + 1,
+                count: MAX_STAMPS + 1,
             }),
             resolved: empty_buffer(
                 &ctx.device,
                 "phase timestamps resolved",
-                8 * (MAX_PHASES as u64 + 1),
+                8 * (MAX_STAMPS as u64 + 1),
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             ),
             names: Vec::new(),
@@ -72,14 +78,30 @@ impl Recorder {
         })
     }
 
+    /// Ends kernel `name` (its compute pass recorded just before): a timestamp in a `timed`
+    /// recording on a device with timestamps; otherwise nothing.
+    pub fn kernel(&mut self, name: &'static str) {
+        if !self.timed {
+            return;
+        }
+        if let Some(mut s) = self.stamps.take() {
+            let at = s.names.len() as u32 + 1;
+            if at + PHASE_RESERVE <= MAX_STAMPS {
+                self.enc().write_timestamp(&s.set, at);
+                s.names.push((name, false));
+            }
+            self.stamps = Some(s);
+        }
+    }
+
     /// Ends phase `name`: a timestamp; or, without timestamps but `timed`, submits what was
     /// recorded, waits for it and adds its wall time to `report`; otherwise nothing.
     pub fn phase(&mut self, name: &'static str, report: &mut RenderReport) -> Result<()> {
         if let Some(mut s) = self.stamps.take() {
             let at = s.names.len() as u32 + 1;
-            if at <= MAX_PHASES {
+            if at <= MAX_STAMPS {
                 self.enc().write_timestamp(&s.set, at);
-                s.names.push(name);
+                s.names.push((name, true));
             }
             self.stamps = Some(s);
         } else if self.timed {
@@ -109,7 +131,8 @@ impl Recorder {
         self.stamps.is_some()
     }
 
-    /// After the submission completed: each phase's device time into `report`.
+    /// After the submission completed: each phase's device time (since the previous
+    /// phase's timestamp) and each kernel's (since the previous timestamp) into `report`.
     pub fn times(&self, report: &mut RenderReport) -> Result<()> {
         let Some(s) = &self.stamps else {
             return Ok(());
@@ -117,9 +140,18 @@ impl Recorder {
         let n = s.names.len() as u64 + 1;
         let ticks: Vec<u64> = read_back(&self.ctx, &s.resolved, 8 * n)?;
         let ns = self.ctx.queue.get_timestamp_period() as f64;
-        for (i, &name) in s.names.iter().enumerate() {
-            let d = ticks[i + 1].saturating_sub(ticks[i]) as f64 * ns;
-            report.phase_took(name, Duration::from_nanos(d as u64));
+        let took = |from: usize, to: usize| {
+            let d = ticks[to].saturating_sub(ticks[from]) as f64 * ns;
+            Duration::from_nanos(d as u64)
+        };
+        let mut phase_start = 0;
+        for (i, &(name, is_phase)) in s.names.iter().enumerate() {
+            if is_phase {
+                report.phase_took(name, took(phase_start, i + 1));
+                phase_start = i + 1;
+            } else {
+                report.kernel_took(name, took(i, i + 1));
+            }
         }
         Ok(())
     }

@@ -9,6 +9,7 @@ use super::context::GpuContext;
 use super::host::{budgeted_lights, gpu_params};
 use super::maps::{probe_map_params, MapBuffers};
 use super::pipelines::{feature_constants, Pipelines};
+use super::recorder::Recorder;
 use super::scene_buffers::SceneBuffers;
 use super::types::{GpuAabb, GpuMapParams, GpuParams};
 use crate::bvh::Bvh;
@@ -158,14 +159,10 @@ impl GpuRun {
         }
         ctx.queue
             .write_buffer(&map.counters, 0, bytemuck::bytes_of(&[n, 0, 0, 0]));
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("grid build"),
-            });
+        let mut rec = Recorder::new(ctx.clone(), false);
         let scene_bg = &self.scene_buffers.bind_group;
-        map.record_grid(&mut enc, &self.pipelines, scene_bg);
-        ctx.queue.submit([enc.finish()]);
+        map.record_grid(&mut rec, &self.pipelines, scene_bg);
+        rec.submit();
         ctx.check()?;
         Ok(map)
     }
