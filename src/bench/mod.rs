@@ -146,7 +146,13 @@ pub fn phase_table(results: &[Throughput]) -> Vec<String> {
         }
     }
     let secs = |t: &Throughput, n: &str| t.phases.iter().find(|p| p.0 == n).map(|p| p.1);
-    let mut head = format!("{:<22}", "phase (s, median)");
+    // The name column: 22 wide, wider for a long kernel name.
+    let w = results
+        .iter()
+        .flat_map(|t| &t.kernels)
+        .map(|k| "kernel ".len() + k.0.len() + 1)
+        .fold(22, usize::max);
+    let mut head = format!("{:<w$}", "phase (s, median)");
     for t in results {
         head += &format!(" {:>10}", backend_name(t.kind));
     }
@@ -159,7 +165,7 @@ pub fn phase_table(results: &[Throughput]) -> Vec<String> {
     }
     let mut lines = vec![head];
     for n in names {
-        let mut row = format!("{n:<22}");
+        let mut row = format!("{n:<w$}");
         for t in results {
             row += &match secs(t, n) {
                 Some(s) => format!(" {s:>10.3}"),
@@ -183,7 +189,7 @@ pub fn phase_table(results: &[Throughput]) -> Vec<String> {
         }
     }
     for n in kernels {
-        let mut row = format!("{:<22}", format!("kernel {n}"));
+        let mut row = format!("{:<w$}", format!("kernel {n}"));
         for t in results {
             row += &match t.kernels.iter().find(|k| k.0 == n) {
                 Some(k) => format!(" {:>10.3}", k.1),
@@ -345,12 +351,13 @@ mod tests {
                 ("gather", 7.0),
             ],
         );
-        gpu.kernels = vec![("count_cells", 0.125), ("gather", 6.75)];
+        gpu.kernels = vec![("count_cells", 0.125), ("list_cache_points", 0.0625)];
         let t = phase_table(&[cpu, gpu]);
         assert!(t[0].contains("cpu") && t[0].contains("gpu") && t[0].contains("gpu/cpu"));
         let row = |name: &str| t.iter().find(|l| l.starts_with(name)).unwrap().clone();
+        // "kernel list_cache_points" is 24 characters: the name column is 25 wide.
         let cells = |name: &str| -> Vec<String> {
-            row(name)[22..]
+            row(name)[25..]
                 .split_whitespace()
                 .map(String::from)
                 .collect()
@@ -361,7 +368,7 @@ mod tests {
         assert_eq!(cells("build grids"), ["-", "0.500", "-"]);
         // Kernels after the phases, GPU column only (no ratio: the CPU has no kernels).
         assert_eq!(cells("kernel count_cells"), ["-", "0.125"]);
-        assert_eq!(cells("kernel gather"), ["-", "6.750"]);
+        assert_eq!(cells("kernel list_cache_points"), ["-", "0.062"]);
         assert_eq!(t.len(), 7);
     }
 }
