@@ -1,14 +1,15 @@
 // build_grid: the photon map's spatial hash grid, built on the device by a counting sort.
 // Dispatch, in order over one map's group-1 buffers: size_grid, count_cells, scan_blocks,
-// scan_sums, add_offsets, scatter, scatter_rest (shapes below). Writes: map_params.cell_size,
-// counters[1..4] (the per-photon kernels' indirect dispatch), cell_start (first sorted photon
-// per cell; cell_start[table_size] = photons in the grid), sorted (photons by cell), block_sums.
+// scan_sums, add_offsets, scatter, scatter_rest (shapes below). Writes: map_params (cell_size,
+// max_power), counters[1..4] (per-photon kernels' dispatch) and [COUNTER_MAX_POWER], cell_start
+// (first sorted photon per cell; [table_size] = photons in the grid), sorted, block_sums.
 
 // Entry points:
 //   size_grid     (one invocation)                  cell size and dispatch from the count
-//   count_cells   (one invocation per stored photon, indirect)  cell_count[h] += 1
+//   count_cells   (one invocation per stored photon, indirect)  cell_count[h] += 1, max power
 //   scan_blocks   (SCAN_BLOCK-wide, one per block)  cell_start = exclusive scan within blocks
-//   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals
+//   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals;
+//                                                   map_params.max_power from the counters
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
 //   scatter       (one per stored photon, indirect)  sorted[cell_start[h] + k] = cache point
 //   scatter_rest  (one per stored photon, indirect)  the same for the other photons
@@ -63,9 +64,15 @@ fn photon_slot(i: u32) -> u32 {
 
 @compute @workgroup_size(WG_SIZE)
 fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let h = photon_slot(flat_index(gid, nwg));
+    let i = flat_index(gid, nwg);
+    let h = photon_slot(i);
     if h != 0xffffffffu {
         atomicAdd(&cell_count[h], 1u);
+        // The largest power channel (bits of a non-negative float order as the float).
+        let m = bitcast<u32>(max(max3(photons[i].power), 0.0));
+        if m > atomicLoad(&counters[COUNTER_MAX_POWER]) {
+            atomicMax(&counters[COUNTER_MAX_POWER], m);
+        }
     }
 }
 
@@ -123,6 +130,9 @@ fn scan_sums(@builtin(local_invocation_id) lid: vec3<u32>) {
     }
     if lid.x == SCAN_BLOCK - 1u {
         cell_start[map_params.table_size] = scan_tmp[SCAN_BLOCK - 1u];
+    }
+    if lid.x == 0u {
+        map_params.max_power = bitcast<f32>(atomicLoad(&counters[COUNTER_MAX_POWER]));
     }
 }
 

@@ -5,8 +5,7 @@
 // distance histogram picks the K-th photon, then an exact fixed-point sum. Writes cache(_list).
 
 // cache_list (prelude offsets): [0..3] the values' dispatch (x, y, 1), [CACHE_LIST_COUNT]
-// the number of cache points, [CACHE_LIST_MAX] the bits of the map's largest photon term
-// (fixed radius only), [CACHE_LIST_FIRST + k] the sorted index of the k-th point.
+// the number of cache points, [CACHE_LIST_FIRST + k] the sorted index of the k-th point.
 
 // The search's shared state. Keys: key24(d2) orders photons by distance (ties: equal keys).
 var<workgroup> hist: array<atomic<u32>, CACHE_BINS>;
@@ -274,15 +273,7 @@ fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     cache[i] = vec4<f32>(0.0);
-    let p = g_photons[i];
-    if fixed_radius_cache() {
-        // The largest term (power / pi; kernel weights are at most 1) over the whole map.
-        let t = max3(p.power) / PI;
-        if t > 0.0 && bitcast<u32>(t) > atomicLoad(&cache_list[CACHE_LIST_MAX]) {
-            atomicMax(&cache_list[CACHE_LIST_MAX], bitcast<u32>(t));
-        }
-    }
-    if is_cache_point(p) {
+    if is_cache_point(g_photons[i]) {
         let k = atomicAdd(&cache_list[CACHE_LIST_COUNT], 1u);
         atomicStore(&cache_list[CACHE_LIST_FIRST + k], i);
     }

@@ -186,7 +186,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "MapParams",
-            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area),
+            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area, max_power),
         ),
     ]
 }

@@ -189,18 +189,21 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
 }
 
 // The fixed-radius (progressive) estimate: every facing photon within the radius, summed
-// exactly in fixed point (two scans; see radius_scan). Each term's rounding is at most
-// 2^-25 of the largest term.
+// exactly in fixed point in one scan (see radius_scan). The scale bounds every term: the
+// largest BRDF channel times the map's largest photon power channel (the grid build's
+// max_power; kernel weights are at most 1). Each term's rounding is at most 2^-25 of that.
 fn fixed_radius_estimate(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>) -> vec3<f32> {
-    let first = radius_scan(which, mp, x, ns, f, 0.0);
-    last_found = first.n;
-    // (Below 1e-30 the scale 2^24 / m would overflow; such light is nothing.)
-    if !(first.m > 1e-30) {
+    let m = max3(f) * mp.max_power;
+    // (Below 1e-30 the scale 2^24 / m would overflow; such light is nothing. The count of
+    // photons found is still taken, for probe_knn.)
+    if !(m > 1e-30) {
+        last_found = radius_scan(which, mp, x, ns, f, 0.0).n;
         return vec3<f32>(0.0);
     }
-    let s = radius_scan(which, mp, x, ns, f, 16777216.0 / first.m);
+    let s = radius_scan(which, mp, x, ns, f, 16777216.0 / m);
+    last_found = s.n;
     let sum = vec3<f32>(s.hi) * 4294967296.0 + vec3<f32>(s.lo);
-    return sum * (first.m / 16777216.0) * kernel_norm(mp.radius2);
+    return sum * (m / 16777216.0) * kernel_norm(mp.radius2);
 }
 
 // Finds the K nearest photons of map `which` within its radius around x; returns how many

@@ -128,6 +128,7 @@ struct MapParams {
     radius2: f32,
     k: u32,
     storing_area: f32,
+    max_power: f32,
 }
 
 // The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)

@@ -87,7 +87,7 @@ pub fn grid_2d(groups: u32) -> (u32, u32) {
 pub const CACHE_ENTRY_BYTES: u64 = 16;
 
 /// The radiance cache's buffers for `slots` global photon slots: the cache (16 bytes a slot),
-/// its point list (the values' dispatch, a count, a maximum and 4 bytes a slot: layout in
+/// its point list (the values' dispatch, a count and 4 bytes a slot: layout in
 /// shaders/cache_build.wgsl), read-write storage copyable for probes; and the indirect
 /// arguments of `build_cache` or `build_cache_fixed`, copied from the list's head (a buffer
 /// bound read-write in a dispatch cannot be that dispatch's indirect arguments).

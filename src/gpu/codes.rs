@@ -100,13 +100,13 @@ pub const CACHE_SELECT_LOW: u32 = 384;
 /// Photons `build_cache`'s ring search lists in workgroup memory (later phases read them
 /// there; when more lie in the rings, they walk the cells again).
 pub const CACHE_NEAR: u32 = 1280;
+/// `counters` index (a map's group) of the bits of the largest photon power channel the grid
+/// holds (`count_cells`), the fixed-point scale of the fixed-radius estimates.
+pub const COUNTER_MAX_POWER: u32 = 4;
 /// `cache_list` index of the number of cache points (0..3: the cache values' dispatch).
 pub const CACHE_LIST_COUNT: u32 = 3;
-/// `cache_list` index of the bits of the global map's largest photon term (power / pi), the
-/// fixed-point scale of `build_cache_fixed`'s sums.
-pub const CACHE_LIST_MAX: u32 = 4;
 /// `cache_list` index of the first cache point.
-pub const CACHE_LIST_FIRST: u32 = 5;
+pub const CACHE_LIST_FIRST: u32 = 4;
 /// Rings of cells around a query's cell that a search visits at most (`grid::cell_size_for`
 /// keeps cells at least radius / MAX_RINGS wide).
 pub const MAX_RINGS: u32 = 5;
@@ -221,7 +221,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_NEAR", U32(CACHE_NEAR)),
         ("CACHE_SELECT_LOW", U32(CACHE_SELECT_LOW)),
         ("CACHE_LIST_COUNT", U32(CACHE_LIST_COUNT)),
-        ("CACHE_LIST_MAX", U32(CACHE_LIST_MAX)),
+        ("COUNTER_MAX_POWER", U32(COUNTER_MAX_POWER)),
         ("CACHE_LIST_FIRST", U32(CACHE_LIST_FIRST)),
         ("MAX_RINGS", U32(MAX_RINGS)),
         ("MAX_CELLS", U32(MAX_CELLS)),

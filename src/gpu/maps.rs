@@ -3,7 +3,7 @@
 
 use super::bindings::{bind_group, Layouts, MAP_GROUP};
 use super::buffers::{empty_buffer, grid_2d};
-use super::codes::{SCAN_BLOCK, WG_SIZE};
+use super::codes::{COUNTER_MAX_POWER, SCAN_BLOCK, WG_SIZE};
 use super::context::GpuContext;
 use super::pipelines::Pipelines;
 use super::recorder::Recorder;
@@ -23,6 +23,7 @@ pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
     radius2: 0.0,
     k: 0,
     storing_area: 0.0,
+    max_power: 0.0,
 };
 
 /// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped,
@@ -39,6 +40,7 @@ pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -
         radius2,
         k: 0,
         storing_area: 0.0,
+        max_power: 0.0,
     }
 }
 
@@ -49,7 +51,8 @@ pub struct MapBuffers {
     /// Photons in the order tracing stored them (`photons`).
     pub photons: wgpu::Buffer,
     /// `counters[0]`: photons stored (may pass the capacity; the excess is dropped);
-    /// `counters[1..4]`: the per-photon grid kernels' dispatch, written by `size_grid`.
+    /// `counters[1..4]`: the per-photon grid kernels' dispatch, written by `size_grid`;
+    /// `counters[COUNTER_MAX_POWER]`: the largest photon power channel in the grid.
     pub counters: wgpu::Buffer,
     /// The per-photon grid kernels' indirect dispatch, copied from `counters[1..4]` (a
     /// buffer bound read-write cannot also be a dispatch's indirect arguments).
@@ -78,7 +81,12 @@ impl MapBuffers {
         let photon_bytes = params.capacity as u64 * std::mem::size_of::<Photon>() as u64;
         let t = params.table_size as u64;
         let photons = empty_buffer(dev, &format!("{label} photons"), photon_bytes, rw);
-        let counters = empty_buffer(dev, &format!("{label} counters"), 16, rw);
+        let counters = empty_buffer(
+            dev,
+            &format!("{label} counters"),
+            4 * (COUNTER_MAX_POWER as u64 + 1),
+            rw,
+        );
         let indirect = wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST;
         let dispatch = empty_buffer(dev, &format!("{label} grid dispatch"), 12, indirect);
         let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);

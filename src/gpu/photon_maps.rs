@@ -67,6 +67,8 @@ impl GpuRun {
             radius2: radius * radius,
             k: s.k,
             storing_area: area * concentration,
+            // Written by the grid build.
+            max_power: 0.0,
         };
         let (gp, glabel) = match &self.plan.global {
             Some(b) => {

@@ -42,7 +42,7 @@ impl GpuRun {
             ));
         };
         let bg = self.gather_bind_group(global, caustic, accum);
-        // The values' dispatch, the count of cache points and the largest photon term.
+        // The values' dispatch and the count of cache points.
         rec.enc()
             .clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));
         // size_cache_build makes the same choice on the device (from the same k).

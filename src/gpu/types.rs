@@ -239,6 +239,9 @@ pub struct GpuMapParams {
     /// concentration), for sizing the cells on the device; 0 keeps `cell_size` (an uploaded
     /// map's cells are the host's).
     pub storing_area: f32,
+    /// The largest power channel of the photons in the grid, written on the device by the
+    /// grid build (`scan_sums`; the host writes 0): the fixed-radius estimates' scale.
+    pub max_power: f32,
 }
 
 impl From<&Triangle> for GpuTriangle {
