@@ -59,8 +59,10 @@ pub struct RenderSettings {
     pub alpha: f32,
     /// Global-map radius of the first progressive pass (None: chosen from the scene).
     pub initial_radius: Option<f32>,
-    /// GPU only: submit and wait for each phase of a pass on its own and report its wall
-    /// time (`bench`), instead of one submission per pass. Changes no pixel.
+    /// GPU only (`bench`): time a pass's phases apart. On a device with timestamp queries
+    /// they are device times, and each kernel is timed too; without, each phase is submitted
+    /// and waited for on its own and its wall time reported, instead of one submission per
+    /// pass. Changes no pixel.
     pub timed_phases: bool,
 }
 

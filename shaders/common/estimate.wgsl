@@ -129,13 +129,12 @@ fn heap_k() -> u32 {
 }
 
 // One scan over every photon of map `which` within its radius of x that faces the surface,
-// in cell order. With scale = 0: `m` is the largest term f * power * w over photons and
-// channels (a maximum: the same in any order). With scale = 2^24 / m: each term, rounded to
-// an integer multiple of m / 2^24, is added into a 64-bit (hi, lo) sum per channel. Integer
-// sums do not depend on the order (which the atomics of tracing and sorting leave free), so
-// the fixed-radius estimate is the same on every run.
+// in cell order. With scale = 2^24 / m (m bounding every term f * power * w): each term,
+// rounded to an integer multiple of m / 2^24, is added into a 64-bit (hi, lo) sum per
+// channel; scale = 0 only counts (n). Integer sums do not depend on the order (which the
+// atomics of tracing and sorting leave free), so the fixed-radius estimate is the same on
+// every run.
 struct RadiusScan {
-    m: f32,
     hi: vec3<u32>,
     lo: vec3<u32>,
     // Photons within the radius, facing or not (read by probe_knn).
@@ -143,7 +142,7 @@ struct RadiusScan {
 }
 
 fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>, scale: f32) -> RadiusScan {
-    var out = RadiusScan(0.0, vec3<u32>(0u), vec3<u32>(0u), 0u);
+    var out = RadiusScan(vec3<u32>(0u), vec3<u32>(0u), 0u);
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
     var visits = 0u;
@@ -173,14 +172,10 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                         continue;
                     }
                     let t = f * p.power * kernel_weight(d2, mp.radius2);
-                    if scale == 0.0 {
-                        out.m = max(out.m, max(t.x, max(t.y, t.z)));
-                    } else {
-                        let q = vec3<u32>(t * scale + 0.5);
-                        let lo = out.lo + q;
-                        out.hi += select(vec3<u32>(0u), vec3<u32>(1u), lo < q);
-                        out.lo = lo;
-                    }
+                    let q = vec3<u32>(t * scale + 0.5);
+                    let lo = out.lo + q;
+                    out.hi += select(vec3<u32>(0u), vec3<u32>(1u), lo < q);
+                    out.lo = lo;
                 }
             }
         }

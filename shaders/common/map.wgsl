@@ -8,7 +8,8 @@
 @group(1) @binding(3) var<storage, read_write> cell_start: array<u32>;
 @group(1) @binding(4) var<storage, read_write> sorted: array<Photon>;
 @group(1) @binding(5) var<storage, read_write> block_sums: array<u32>;
-// Read-write: size_grid sets cell_size on the device from the photons stored.
+// Read-write: the grid build sets cell_size (size_grid, from the photons stored) and
+// max_power (scan_sums) on the device.
 @group(1) @binding(6) var<storage, read_write> map_params: MapParams;
 
 // Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.

@@ -137,14 +137,17 @@ pub struct Throughput {
 /// both ran): where each backend's time goes, phase by phase; then each GPU kernel's device
 /// time, where timed (rows `kernel NAME`).
 pub fn phase_table(results: &[Throughput]) -> Vec<String> {
-    let mut names: Vec<&'static str> = Vec::new();
-    for t in results {
-        for &(n, _) in &t.phases {
+    // The names in `times` of any result, in the order they first appear.
+    let names_in = |times: fn(&Throughput) -> &[(&'static str, f64)]| {
+        let mut names: Vec<&'static str> = Vec::new();
+        for &(n, _) in results.iter().flat_map(times) {
             if !names.contains(&n) {
                 names.push(n);
             }
         }
-    }
+        names
+    };
+    let names = names_in(|t| &t.phases);
     let secs = |t: &Throughput, n: &str| t.phases.iter().find(|p| p.0 == n).map(|p| p.1);
     // The name column: 22 wide, wider for a long kernel name.
     let w = results
@@ -180,15 +183,7 @@ pub fn phase_table(results: &[Throughput]) -> Vec<String> {
         }
         lines.push(row);
     }
-    let mut kernels: Vec<&'static str> = Vec::new();
-    for t in results {
-        for &(n, _) in &t.kernels {
-            if !kernels.contains(&n) {
-                kernels.push(n);
-            }
-        }
-    }
-    for n in kernels {
+    for n in names_in(|t| &t.kernels) {
         let mut row = format!("{:<w$}", format!("kernel {n}"));
         for t in results {
             row += &match t.kernels.iter().find(|k| k.0 == n) {

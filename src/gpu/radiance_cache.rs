@@ -55,17 +55,8 @@ impl GpuRun {
             ("build_cache", knn)
         };
         let groups = &self.scene_buffers.bind_group;
-        // (kernel, pipeline, indirect arguments; None: one invocation)
-        let stages = [
-            ("list_cache_points", &pipelines.list, Some(&global.dispatch)),
-            ("size_cache_build", &pipelines.size, None),
-            (build_name, build, Some(&self.cache[2])),
-        ];
-        for (name, pipeline, indirect) in stages {
-            if name == build_name {
-                let enc = rec.enc();
-                enc.copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);
-            }
+        // One kernel's compute pass (indirect arguments, or one invocation), then its stamp.
+        let dispatch = |rec: &mut Recorder, name, pipeline, indirect: Option<&wgpu::Buffer>| {
             {
                 let mut cp = rec.enc().begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(name),
@@ -80,7 +71,17 @@ impl GpuRun {
                 }
             }
             rec.kernel(name);
-        }
+        };
+        dispatch(
+            rec,
+            "list_cache_points",
+            &pipelines.list,
+            Some(&global.dispatch),
+        );
+        dispatch(rec, "size_cache_build", &pipelines.size, None);
+        rec.enc()
+            .copy_buffer_to_buffer(&self.cache[1], 0, &self.cache[2], 0, 12);
+        dispatch(rec, build_name, build, Some(&self.cache[2]));
         Ok(())
     }
 }
