@@ -413,9 +413,9 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
 fn host_tables_are_the_expected_layouts() {
     // (table, its bindings 0.. in order with their access): the scene is read-only but for
     // the stats counters, a map's buffers are all written by its kernels (its parameters'
-    // cell size by size_grid), and the gather group reads both maps and writes only the accumulator and the radiance
-    // cache with its point list (built by `list_cache_points` and `build_cache`, read by the
-    // gather).
+    // cell size by size_grid, max_power by scan_sums), and the gather group reads both maps
+    // and writes only the accumulator and the radiance cache with its point list (built by
+    // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
         (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R, R]),
