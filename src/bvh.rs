@@ -4,7 +4,8 @@
 //! Layout: the left child of interior node `i` is `i + 1`, the right child is `left_first`;
 //! a leaf (`count > 0`) holds `prim_ids[left_first .. left_first + count]`. A primitive id
 //! below [`SPHERE_BIT`] is a triangle index; with the bit set, the rest is a sphere index.
-//! Twin: `BvhNode` in `shaders/common/types.wgsl`, traversal in `shaders/common/intersect.wgsl`.
+//! The GPU walks a copy laid out for its traversal (src/gpu/bvh_layout.rs,
+//! `shaders/common/intersect.wgsl`).
 
 use crate::geometry::{
     inset, intersect_sphere, intersect_triangle, shading_normal, Aabb, Facing, Ray, Shear,
@@ -25,7 +26,7 @@ pub const MAX_DEPTH: usize = 64;
 const SAH_DEPTH: usize = 24;
 const BINS: usize = 12;
 
-/// One flattened node (32 bytes), shared with WGSL.
+/// One flattened node (32 bytes); the GPU reads it in src/gpu/bvh_layout.rs's layout.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {

@@ -13,11 +13,12 @@
 //!
 //! Each test gathers every mismatch it finds and fails once with the whole list.
 
-use gpu_photon::bvh::{self, BvhNode};
+use gpu_photon::bvh;
 use gpu_photon::geometry;
 use gpu_photon::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
 };
+use gpu_photon::gpu::bvh_layout::{GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
@@ -162,7 +163,14 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Sphere",
             fields!(GpuSphere: center, radius, material, light, _pad0, _pad1),
         ),
-        ("BvhNode", fields!(BvhNode: bmin, left_first, bmax, count)),
+        (
+            "TraversalNode",
+            fields!(GpuTraversalNode: bmin, first_count, bmax, skip),
+        ),
+        (
+            "LeafPrim",
+            fields!(GpuLeafPrim: v0, id, v1, _pad0, v2, _pad1),
+        ),
         (
             "Material",
             fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, _pad0, _pad1, _pad2),
@@ -418,7 +426,7 @@ fn host_tables_are_the_expected_layouts() {
     // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
-        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R, R]),
+        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R]),
         (&MAP_GROUP, &[W, W, W, W, W, W, W]),
         (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];
@@ -614,6 +622,7 @@ fn shared_constants_agree() {
         "LIGHT_SPOT",
         "LIGHT_DIRECTIONAL",
         "SPOT_MIN_RAMP",
+        "LEAF_COUNT_SHIFT",
     ] {
         if !shared.iter().any(|(n, _)| *n == name) {
             errors.push(format!("{name} is not in codes::shared_constants()"));
@@ -622,6 +631,7 @@ fn shared_constants_agree() {
     // Every shared constant, in every composed module, has the Rust value (bit for bit).
     let expected = [
         ("SPHERE_BIT", Literal::U32(bvh::SPHERE_BIT)),
+        ("LEAF_COUNT_SHIFT", Literal::U32(LEAF_COUNT_SHIFT)),
         ("FLAG_CAUSTIC", Literal::U32(photon::FLAG_CAUSTIC)),
         ("DEPTH_MASK", Literal::U32(photon::DEPTH_MASK)),
         ("NO_LIGHT", Literal::U32(NO_LIGHT)),

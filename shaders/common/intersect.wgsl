@@ -111,11 +111,11 @@ fn edge_function(p: vec2<f32>, q: vec2<f32>) -> f32 {
 
 // Watertight ray-triangle test (Woop, Benthin and Wald 2013): (t, u, v) with u, v the
 // weights of v1, v2, and t < 0 for a miss.
-fn intersect_triangle(tri: Triangle, o: vec3<f32>, d: vec3<f32>, sh: Shear, t_max: f32) -> vec3<f32> {
+fn intersect_triangle(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, o: vec3<f32>, d: vec3<f32>, sh: Shear, t_max: f32) -> vec3<f32> {
     let miss = vec3<f32>(-1.0, 0.0, 0.0);
-    let a = shear_project(sh, tri.v0, o);
-    let b = shear_project(sh, tri.v1, o);
-    let c = shear_project(sh, tri.v2, o);
+    let a = shear_project(sh, v0, o);
+    let b = shear_project(sh, v1, o);
+    let c = shear_project(sh, v2, o);
     let e0 = edge_function(c, b);
     let e1 = edge_function(a, c);
     let e2 = edge_function(b, a);
@@ -128,8 +128,8 @@ fn intersect_triangle(tri: Triangle, o: vec3<f32>, d: vec3<f32>, sh: Shear, t_ma
     }
     // t from the world-space plane equation: exactly 0 for a ray starting on an axis-aligned
     // plane.
-    let n = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
-    let t = dot(tri.v0 - o, n) / dot(d, n);
+    let n = cross(v1 - v0, v2 - v0);
+    let t = dot(v0 - o, n) / dot(d, n);
     if t > 0.0 && t < t_max {
         return vec3<f32>(t, e1 / det, e2 / det);
     }
@@ -175,6 +175,13 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
     return tmin <= tmax;
 }
 
+// TraversalNode i (its two words: (bmin, first_count), (bmax, skip)).
+fn load_node(i: u32) -> TraversalNode {
+    let a = nodes[2u * i];
+    let b = nodes[2u * i + 1u];
+    return TraversalNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
+}
+
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
@@ -189,30 +196,38 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         axis = 1u;
     }
     // Stackless: the depth-first order that enters the left child first when the ray runs
-    // up its dominant axis, else the right child first, and each node's escape link in that
-    // order (node_links, src/bvh.rs) where a box is missed or a leaf is done.
+    // up its dominant axis, else the right child first. `nodes` holds every node once per
+    // order (left-first, then right-first) with its escape link in that order (skip), taken
+    // where a box is missed or a leaf is done (src/gpu/bvh_layout.rs).
     let left_first = d[axis] >= 0.0;
-    let order = select(1u, 0u, left_first);
+    let base = select(arrayLength(&nodes) / 4u, 0u, left_first);
     var ni = 0u;
     // A scene without primitives binds a placeholder node that must not be walked.
     if params.n_triangles == 0u && !HAS_SPHERES {
         ni = NO_NODE;
     }
     while ni != NO_NODE && spend() {
-        let node = nodes[ni];
-        let skip = node_links[ni][order];
+        let node = load_node(base + ni);
         if !hit_box(node.bmin, node.bmax, o, inv, best.t) {
-            ni = skip;
+            ni = node.skip;
             continue;
         }
-        if node.count == 0u {
-            ni = select(node.left_first, ni + 1u, left_first);
+        let first = node.first_count & ((1u << LEAF_COUNT_SHIFT) - 1u);
+        let count = node.first_count >> LEAF_COUNT_SHIFT;
+        if count == 0u {
+            ni = select(first, ni + 1u, left_first);
             continue;
         }
-        for (var i = 0u; i < node.count && spend(); i += 1u) {
-            let id = prim_ids[node.left_first + i];
+        for (var i = 0u; i < count && spend(); i += 1u) {
+            // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
+            let w = 3u * (first + i);
+            let w0 = leaf_prims[w];
+            let id = w0.w;
             if (id & SPHERE_BIT) == 0u {
-                let h = intersect_triangle(triangles[id], o, d, sh, best.t);
+                let v0 = bitcast<vec3<f32>>(w0.xyz);
+                let v1 = bitcast<vec3<f32>>(leaf_prims[w + 1u].xyz);
+                let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
+                let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
                 if h.x > 0.0 {
                     best.t = h.x;
                     best.found = true;
@@ -231,7 +246,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         if any_hit && best.found {
             return best;
         }
-        ni = skip;
+        ni = node.skip;
     }
     if best.found {
         if (best_id & SPHERE_BIT) == 0u {

@@ -5,8 +5,12 @@
 
 @group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
-@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
-@group(0) @binding(3) var<storage, read> prim_ids: array<u32>;
+// The BVH in the traversal's layout (src/gpu/bvh_layout.rs): every TraversalNode in
+// left-first order, then every one in right-first order; each leaf entry's LeafPrim in leaf
+// order. Read as 16-byte words (load_node, intersect.wgsl): lavapipe turns each member of a
+// struct load into its own per-lane loop of bounds-checked loads, a vec4 into one.
+@group(0) @binding(2) var<storage, read> nodes: array<vec4<u32>>;
+@group(0) @binding(3) var<storage, read> leaf_prims: array<vec4<u32>>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
 @group(0) @binding(6) var<storage, read> light_cdf: array<f32>;
@@ -15,8 +19,6 @@
 @group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
 // Vertex normals of the smooth-shaded triangles (one placeholder when the scene has none).
 @group(0) @binding(10) var<storage, read> shading_normals: array<ShadingNormals>;
-// Each BVH node's escape links (src/bvh.rs Bvh::links): [left-first order, right-first order].
-@group(0) @binding(11) var<storage, read> node_links: array<vec2<u32>>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.

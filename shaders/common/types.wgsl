@@ -1,5 +1,5 @@
 // Types shared by every kernel. Each struct has a Rust twin with the same name prefixed by
-// `Gpu` (or the same name: BvhNode, Photon) in src/gpu/types.rs, src/bvh.rs, src/photon.rs;
+// `Gpu` (or the same name: Photon) in src/gpu/types.rs, src/gpu/bvh_layout.rs, src/photon.rs;
 // tests/gpu_layout.rs checks sizes and offsets against naga's reflection of this file.
 // Library of types only; no entry point.
 
@@ -31,11 +31,23 @@ struct Sphere {
     _pad1: u32,
 }
 
-struct BvhNode {
+// One BVH node in one child order (src/gpu/bvh_layout.rs): first_count = left_first |
+// count << LEAF_COUNT_SHIFT; skip = the escape link in this copy's order.
+struct TraversalNode {
     bmin: vec3<f32>,
-    left_first: u32,
+    first_count: u32,
     bmax: vec3<f32>,
-    count: u32,
+    skip: u32,
+}
+
+// One leaf entry: the primitive id (SPHERE_BIT: a sphere) and a triangle's vertices.
+struct LeafPrim {
+    v0: vec3<f32>,
+    id: u32,
+    v1: vec3<f32>,
+    _pad0: u32,
+    v2: vec3<f32>,
+    _pad1: u32,
 }
 
 struct Material {

@@ -79,7 +79,7 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         ro("triangles", 0),
         ro("spheres", 1),
         ro("nodes", 2),
-        ro("prim_ids", 3),
+        ro("leaf_prims", 3),
         ro("materials", 4),
         ro("lights", 5),
         ro("light_cdf", 6),
@@ -92,7 +92,6 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         },
         rw("stats", 9),
         ro("shading_normals", 10),
-        ro("node_links", 11),
     ],
 };
 

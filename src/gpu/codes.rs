@@ -226,6 +226,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAX_RINGS", U32(MAX_RINGS)),
         ("MAX_CELLS", U32(MAX_CELLS)),
         ("NO_NODE", U32(crate::bvh::NO_NODE)),
+        ("LEAF_COUNT_SHIFT", U32(super::bvh_layout::LEAF_COUNT_SHIFT)),
         ("STREAM_PHOTON", U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),

@@ -3,7 +3,8 @@
 //! image is read back once per pass. `GpuRenderer` is the backend's `report::PassRenderer`.
 //!
 //! Layers, each module importing only those above it in this list:
-//! `codes` (shared constants, the WGSL prelude), `types` (Gpu* twins of WGSL structs),
+//! `bvh_layout` (the BVH as the traversal reads it), `codes` (shared constants, the WGSL
+//! prelude), `types` (Gpu* twins of WGSL structs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
 //! `buffers`, `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`,
@@ -12,6 +13,7 @@
 
 pub mod bindings;
 pub mod buffers;
+pub mod bvh_layout;
 pub mod codes;
 pub mod context;
 pub mod grid;

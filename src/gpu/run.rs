@@ -70,7 +70,7 @@ impl GpuRun {
         let layouts = Layouts::new(&ctx.device);
         let scene_buffers = SceneBuffers::new(
             &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
-        );
+        )?;
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);

@@ -3,11 +3,13 @@
 
 use super::bindings::{bind_group, Layouts, PARAMS, SCENE_GROUP};
 use super::buffers::storage_buffer;
+use super::bvh_layout::{leaf_prims, traversal_nodes};
 use super::codes::STATS_LEN;
 use super::context::GpuContext;
 use super::host::PARAMS_STRIDE;
 use super::types::*;
-use crate::bvh::{Bvh, BvhNode};
+use crate::bvh::Bvh;
+use crate::error::{Error, Result};
 use crate::light::LightTable;
 use crate::scene::Scene;
 
@@ -25,7 +27,8 @@ pub struct SceneBuffers {
 
 impl SceneBuffers {
     /// Uploads the scene; `lights` already carry their budgets, `params` goes to slot 0 and
-    /// `samples` slots are made room for.
+    /// `samples` slots are made room for. Fails when a scene buffer would exceed the
+    /// device's largest storage binding.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &GpuContext,
@@ -37,7 +40,7 @@ impl SceneBuffers {
         bounds: &[GpuAabb],
         params: &GpuParams,
         samples: u32,
-    ) -> Self {
+    ) -> Result<Self> {
         let dev = &ctx.device;
         let none = wgpu::BufferUsages::empty();
         let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
@@ -52,12 +55,32 @@ impl SceneBuffers {
         if normals.is_empty() {
             normals.push(GpuShadingNormals::default());
         }
-        let nodes: &[BvhNode] = &bvh.nodes;
+        let nodes = traversal_nodes(bvh).ok_or_else(|| {
+            Error::Gpu(format!(
+                "the scene's BVH ({} nodes over {} primitives) is too large for the GPU's traversal layout; use --backend cpu",
+                bvh.nodes.len(),
+                bvh.prim_ids.len()
+            ))
+        })?;
+        let leaf_prims = leaf_prims(bvh, scene);
+        let sizes = [
+            ("triangles", std::mem::size_of_val(&tris[..])),
+            ("nodes", std::mem::size_of_val(&nodes[..])),
+            ("leaf_prims", std::mem::size_of_val(&leaf_prims[..])),
+            ("shading_normals", std::mem::size_of_val(&normals[..])),
+        ];
+        if let Some((name, bytes)) = sizes.iter().find(|s| s.1 as u64 > ctx.max_binding) {
+            return Err(Error::Gpu(format!(
+                "the scene's {} triangles need {} MiB in `{name}`, over this device's {} MiB storage binding limit; use --backend cpu",
+                tris.len(),
+                bytes >> 20,
+                ctx.max_binding >> 20
+            )));
+        }
         let triangles = storage_buffer(dev, "triangles", &tris, none);
         let spheres = storage_buffer(dev, "spheres", &spheres, none);
-        let nodes = storage_buffer(dev, "bvh nodes", nodes, none);
-        let prim_ids = storage_buffer(dev, "bvh prim ids", &bvh.prim_ids, none);
-        let node_links = storage_buffer(dev, "bvh node links", &bvh.links(), none);
+        let nodes = storage_buffer(dev, "bvh traversal nodes", &nodes, none);
+        let leaf_prims = storage_buffer(dev, "bvh leaf primitives", &leaf_prims, none);
         let materials = storage_buffer(dev, "materials", &mats, none);
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
         let light_cdf = storage_buffer(dev, "light cdf", &table.tri_cdf, none);
@@ -93,7 +116,7 @@ impl SceneBuffers {
                 ("triangles", triangles.as_entire_binding()),
                 ("spheres", spheres.as_entire_binding()),
                 ("nodes", nodes.as_entire_binding()),
-                ("prim_ids", prim_ids.as_entire_binding()),
+                ("leaf_prims", leaf_prims.as_entire_binding()),
                 ("materials", materials.as_entire_binding()),
                 ("lights", lights.as_entire_binding()),
                 ("light_cdf", light_cdf.as_entire_binding()),
@@ -101,14 +124,13 @@ impl SceneBuffers {
                 (PARAMS, params_slot),
                 ("stats", stats.as_entire_binding()),
                 ("shading_normals", shading_normals.as_entire_binding()),
-                ("node_links", node_links.as_entire_binding()),
             ],
         );
-        SceneBuffers {
+        Ok(SceneBuffers {
             lights,
             params: params_buf,
             stats,
             bind_group,
-        }
+        })
     }
 }

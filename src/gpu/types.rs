@@ -1,5 +1,5 @@
 //! Rust twins of the WGSL structs in `shaders/common/types.wgsl`: `GpuX` mirrors WGSL `X`
-//! field for field (`BvhNode` and `Photon` live in src/bvh.rs and src/photon.rs).
+//! field for field (`Photon` lives in src/photon.rs, the BVH's in src/gpu/bvh_layout.rs).
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
 use super::codes::{
