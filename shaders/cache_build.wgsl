@@ -69,8 +69,8 @@ fn photon_before(d2: u32, j: u32, dk: u32, k: u32) -> bool {
     if d2 != dk {
         return d2 < dk;
     }
-    let pa = g_photons[j];
-    let pb = g_photons[k];
+    let pa = map_photon(0u, j);
+    let pb = map_photon(0u, k);
     if pa.id != pb.id {
         return pa.id < pb.id;
     }
@@ -116,7 +116,7 @@ fn take_photon(j: u32, d2: f32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan, out:
     }
     let f = vec3<f32>(1.0 / PI);
     if sc.mode == SCAN_MAX {
-        let p = g_photons[j];
+        let p = map_photon(0u, j);
         if photon_faces(p, x, ns) {
             let t = f * p.power;
             (*out).m = max((*out).m, max(t.x, max(t.y, t.z)));
@@ -130,7 +130,7 @@ fn take_photon(j: u32, d2: f32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan, out:
     } else if !photon_before(bitcast<u32>(d2), j, bitcast<u32>(sc.t2), sc.kth) {
         return;
     }
-    let p = g_photons[j];
+    let p = map_photon(0u, j);
     if !photon_faces(p, x, ns) {
         return;
     }
@@ -167,7 +167,7 @@ fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound
                 atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
                 return out;
             }
-            let pos = g_photons[j].position;
+            let pos = map_position(0u, j);
             if any(cell_of(pos, mp.cell_size) != c) {
                 continue;
             }
@@ -273,7 +273,7 @@ fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     cache[i] = vec4<f32>(0.0);
-    if is_cache_point(g_photons[i]) {
+    if is_cache_point(map_photon(0u, i)) {
         let k = atomicAdd(&cache_list[CACHE_LIST_COUNT], 1u);
         atomicStore(&cache_list[CACHE_LIST_FIRST + k], i);
     }
@@ -326,7 +326,7 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     }
     clear_hist(lid);
     let mp = g_map;
-    let p = g_photons[i];
+    let p = map_photon(0u, i);
     let x = p.position;
     let ns = unpack_normal(p.normal);
     let want_rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));

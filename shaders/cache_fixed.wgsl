@@ -12,7 +12,7 @@ fn build_cache_fixed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     let i = atomicLoad(&cache_list[CACHE_LIST_FIRST + k]);
-    let p = g_photons[i];
+    let p = map_photon(0u, i);
     let l = fixed_radius_estimate(0u, g_map, p.position, unpack_normal(p.normal), vec3<f32>(1.0 / PI));
     cache[i] = vec4<f32>(l, 1.0);
 }

@@ -18,7 +18,7 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
     var total = vec3<f32>(0.0);
     var sobol_left = use_sobol;
     for (var li = 0u; li < params.n_lights && spend(); li += 1u) {
-        let light = lights[li];
+        let light = load_light(li);
         let is_delta = is_delta_light(light);
         if !with_direct && !is_delta {
             continue;
@@ -134,7 +134,7 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         if !hit.found {
             break;
         }
-        let m = materials[hit.material];
+        let m = load_material(hit.material);
         // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
         if after_lobe && (dot(d, hit.normal) < 0.0 || m.two_sided != 0u) {
             sum += t * m.emission;
@@ -202,7 +202,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         if !hit.found {
             break;
         }
-        let m = materials[hit.material];
+        let m = load_material(hit.material);
         let front = dot(d, hit.normal) < 0.0;
         if front || m.two_sided != 0u {
             radiance += throughput * m.emission;

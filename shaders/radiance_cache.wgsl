@@ -81,17 +81,21 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                             truncated = true;
                             break;
                         }
-                        let q = g_photons[j];
-                        if (q.id + (q.flags & DEPTH_MASK)) % CACHE_STRIDE != 0u {
+                        // Words (position, flags) and (power, id); (dir, normal) only for
+                        // a point near enough.
+                        let w0 = map_word(0u, j, 0u);
+                        let w1 = map_word(0u, j, 1u);
+                        if (w1.w + (w0.w & DEPTH_MASK)) % CACHE_STRIDE != 0u {
                             break;
                         }
                         // A photon of a colliding cell is a cache point too, and seeing one
                         // twice changes no minimum: no cell test.
-                        let dv = q.position - y;
+                        let dv = bitcast<vec3<f32>>(w0.xyz) - y;
                         let d2 = dot(dv, dv);
                         if d2 > best_d2 {
                             continue;
                         }
+                        let q = Photon(bitcast<vec3<f32>>(w0.xyz), w0.w, bitcast<vec3<f32>>(w1.xyz), w1.w, vec3<f32>(0.0), map_word(0u, j, 2u).w);
                         if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
                             continue;
                         }

@@ -22,14 +22,14 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     // The light that owns path i (light count is small; bounded by n_lights).
     var li = 0u;
     for (var l = 0u; l < params.n_lights && spend(); l += 1u) {
-        let lt = lights[l];
+        let lt = load_light(l);
         let off = select(lt.global_offset, lt.caustic_offset, caustic_map);
         let cnt = select(lt.global_count, lt.caustic_count, caustic_map);
         if i >= off && i < off + cnt {
             li = l;
         }
     }
-    let light = lights[li];
+    let light = load_light(li);
     var rng = Rng(path_key(params.seed, map_params.stream, params.pass_index, i), 0u);
     let u0 = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
     let u3 = rng_next(&rng);
@@ -50,7 +50,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if !hit.found {
             return;
         }
-        let m = materials[hit.material];
+        let m = load_material(hit.material);
         let stores = m.kind == MAT_DIFFUSE || m.kind == MAT_GLOSSY;
         let specular = m.kind == MAT_MIRROR || m.kind == MAT_GLASS;
         if stores {

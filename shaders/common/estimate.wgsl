@@ -3,10 +3,14 @@
 // estimate summed exactly in fixed point, and the filter kernels. Library, no entry point;
 // twin of src/estimate.rs. Writes only stats[STAT_GATHER_TRUNCATED] when a search is cut.
 
-@group(1) @binding(0) var<storage, read> g_photons: array<Photon>;
+// The maps' sorted photons as 16-byte words, three per Photon: (position, flags),
+// (power, id), (dir, normal). Lavapipe turns each member of a struct load into its own
+// per-lane loop of bounds-checked loads, a vec4 into one; read them through map_photon,
+// map_word and map_position.
+@group(1) @binding(0) var<storage, read> g_photons: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read> g_cells: array<u32>;
 @group(1) @binding(2) var<storage, read> g_map: MapParams;
-@group(1) @binding(3) var<storage, read> c_photons: array<Photon>;
+@group(1) @binding(3) var<storage, read> c_photons: array<vec4<u32>>;
 @group(1) @binding(4) var<storage, read> c_cells: array<u32>;
 @group(1) @binding(5) var<storage, read> c_map: MapParams;
 
@@ -21,19 +25,25 @@ var<private> heap: array<vec2<u32>, MAX_HEAP>;
 // Neighbours found by the last estimate (read by probe_knn).
 var<private> last_found: u32 = 0u;
 
-fn map_photon(which: u32, i: u32) -> Photon {
+// Word k (0: position and flags, 1: power and id, 2: dir and normal) of photon i of map
+// `which`.
+fn map_word(which: u32, i: u32, k: u32) -> vec4<u32> {
     if which == 0u {
-        return g_photons[i];
+        return g_photons[PHOTON_WORDS * i + k];
     }
-    return c_photons[i];
+    return c_photons[PHOTON_WORDS * i + k];
+}
+
+fn map_photon(which: u32, i: u32) -> Photon {
+    let a = map_word(which, i, 0u);
+    let b = map_word(which, i, 1u);
+    let c = map_word(which, i, 2u);
+    return Photon(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w);
 }
 
 // Only the position: the searches read nothing else of most photons they visit.
 fn map_position(which: u32, i: u32) -> vec3<f32> {
-    if which == 0u {
-        return g_photons[i].position;
-    }
-    return c_photons[i].position;
+    return bitcast<vec3<f32>>(map_word(which, i, 0u).xyz);
 }
 
 fn map_cell(which: u32, h: u32) -> vec2<u32> {

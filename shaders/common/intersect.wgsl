@@ -177,8 +177,8 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
 
 // TraversalNode i (its two words: (bmin, first_count), (bmax, skip)).
 fn load_node(i: u32) -> TraversalNode {
-    let a = nodes[2u * i];
-    let b = nodes[2u * i + 1u];
+    let a = nodes[NODE_WORDS * i];
+    let b = nodes[NODE_WORDS * i + 1u];
     return TraversalNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
 }
 
@@ -200,7 +200,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     // order (left-first, then right-first) with its escape link in that order (skip), taken
     // where a box is missed or a leaf is done (src/gpu/bvh_layout.rs).
     let left_first = d[axis] >= 0.0;
-    let base = select(arrayLength(&nodes) / 4u, 0u, left_first);
+    let base = select(arrayLength(&nodes) / (2u * NODE_WORDS), 0u, left_first);
     var ni = 0u;
     // A scene without primitives binds a placeholder node that must not be walked.
     if params.n_triangles == 0u && !HAS_SPHERES {
@@ -220,7 +220,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         }
         for (var i = 0u; i < count && spend(); i += 1u) {
             // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
-            let w = 3u * (first + i);
+            let w = LEAF_PRIM_WORDS * (first + i);
             let w0 = leaf_prims[w];
             let id = w0.w;
             if (id & SPHERE_BIT) == 0u {
@@ -235,7 +235,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                     best_uv = h.yz;
                 }
             } else if HAS_SPHERES {
-                let t = intersect_sphere(spheres[id & ~SPHERE_BIT], o, d, best.t);
+                let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
                 if t > 0.0 {
                     best.t = t;
                     best.found = true;
@@ -250,7 +250,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     }
     if best.found {
         if (best_id & SPHERE_BIT) == 0u {
-            let tri = triangles[best_id];
+            let tri = load_triangle(best_id);
             let e1 = tri.v1 - tri.v0;
             let e2 = tri.v2 - tri.v0;
             best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
@@ -262,7 +262,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             best.material = tri.material;
             best.light = tri.light;
         } else {
-            let s = spheres[best_id & ~SPHERE_BIT];
+            let s = load_sphere(best_id & ~SPHERE_BIT);
             let n = normalize(o + best.t * d - s.center);
             best.position = s.center + n * s.radius;
             best.normal = n;

@@ -61,13 +61,13 @@ fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
         sp.n = vec3<f32>(0.0);
         sp.material = 0u;
     } else if HAS_SPHERES && l.kind == LIGHT_SPHERE {
-        let s = spheres[l.first];
+        let s = load_sphere(l.first);
         let n = uniform_sphere(u.y, u.z);
         sp.p = s.center + s.radius * n;
         sp.n = n;
         sp.material = s.material;
     } else {
-        let tri = triangles[pick_triangle(l, u.x)];
+        let tri = load_triangle(pick_triangle(l, u.x));
         let s = sqrt(u.y);
         let b1 = 1.0 - s;
         let b2 = u.z * s;
@@ -116,7 +116,7 @@ fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     }
     var n = sp.n;
     var v = u3;
-    if materials[sp.material].two_sided != 0u {
+    if load_material(sp.material).two_sided != 0u {
         if v >= 0.5 {
             n = -n;
             v = v * 2.0 - 1.0;
@@ -152,7 +152,7 @@ fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
         return LightSample(x - l.direction, l.intensity, true);
     }
     let sp = light_point(l, u);
-    let m = materials[sp.material];
+    let m = load_material(sp.material);
     let to_x = x - sp.p;
     let d2 = dot(to_x, to_x);
     if d2 <= 0.0 {

@@ -3,16 +3,19 @@
 // keeps every invocation well below lavapipe's 65,535 loop iterations (see LOOP_BUDGET).
 // Library, no entry point; writes stats[STAT_LOOP_BUDGET] when a budget runs out.
 
-@group(0) @binding(0) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
+// Structs are read as 16-byte words through load_triangle, load_sphere, load_material and
+// load_light below: lavapipe turns each member of a struct load into its own per-lane loop
+// of bounds-checked loads, a vec4 into one.
+@group(0) @binding(0) var<storage, read> triangles: array<vec4<u32>>;
+@group(0) @binding(1) var<storage, read> spheres: array<vec4<u32>>;
 // The BVH in the traversal's layout (src/gpu/bvh_layout.rs): every TraversalNode in
 // left-first order, then every one in right-first order; each leaf entry's LeafPrim in leaf
 // order. Read as 16-byte words (load_node, intersect.wgsl): lavapipe turns each member of a
 // struct load into its own per-lane loop of bounds-checked loads, a vec4 into one.
 @group(0) @binding(2) var<storage, read> nodes: array<vec4<u32>>;
 @group(0) @binding(3) var<storage, read> leaf_prims: array<vec4<u32>>;
-@group(0) @binding(4) var<storage, read> materials: array<Material>;
-@group(0) @binding(5) var<storage, read> lights: array<Light>;
+@group(0) @binding(4) var<storage, read> materials: array<vec4<u32>>;
+@group(0) @binding(5) var<storage, read> lights: array<vec4<u32>>;
 @group(0) @binding(6) var<storage, read> light_cdf: array<f32>;
 @group(0) @binding(7) var<storage, read> spec_bounds: array<Aabb>;
 @group(0) @binding(8) var<storage, read> params: Params;
@@ -49,4 +52,44 @@ fn spend() -> bool {
         atomicAdd(&stats[STAT_LOOP_BUDGET], 1u);
     }
     return loop_iters < LOOP_BUDGET;
+}
+
+// Triangle i from its three words.
+fn load_triangle(i: u32) -> Triangle {
+    let a = triangles[TRIANGLE_WORDS * i];
+    let b = triangles[TRIANGLE_WORDS * i + 1u];
+    let c = triangles[TRIANGLE_WORDS * i + 2u];
+    return Triangle(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w);
+}
+
+// Sphere i from its two words.
+fn load_sphere(i: u32) -> Sphere {
+    let a = spheres[SPHERE_WORDS * i];
+    let b = spheres[SPHERE_WORDS * i + 1u];
+    return Sphere(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), b.x, b.y, b.z, b.w);
+}
+
+// Material i from its four words.
+fn load_material(i: u32) -> Material {
+    let a = materials[MATERIAL_WORDS * i];
+    let b = materials[MATERIAL_WORDS * i + 1u];
+    let c = materials[MATERIAL_WORDS * i + 2u];
+    let d = materials[MATERIAL_WORDS * i + 3u];
+    return Material(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), bitcast<f32>(b.w),
+        bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), d.x, d.y, d.z, d.w);
+}
+
+// Light i from its seven words.
+fn load_light(i: u32) -> Light {
+    let a = lights[LIGHT_WORDS * i];
+    let b = lights[LIGHT_WORDS * i + 1u];
+    let c = lights[LIGHT_WORDS * i + 2u];
+    let d = lights[LIGHT_WORDS * i + 3u];
+    let e = lights[LIGHT_WORDS * i + 4u];
+    let f = lights[LIGHT_WORDS * i + 5u];
+    let g = lights[LIGHT_WORDS * i + 6u];
+    return Light(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
+        bitcast<vec3<f32>>(c.xyz), c.w, bitcast<vec3<f32>>(d.xyz), d.w,
+        bitcast<f32>(e.x), e.y, e.z, e.w, f.x, bitcast<f32>(f.y), bitcast<f32>(f.z), bitcast<f32>(f.w),
+        bitcast<vec3<f32>>(g.xyz), g.w);
 }

@@ -20,6 +20,13 @@ use bytemuck::{Pod, Zeroable};
 /// child) lies below `1 << LEAF_COUNT_SHIFT`, the count above it.
 pub const LEAF_COUNT_SHIFT: u32 = 28;
 
+/// 16-byte words per [`GpuTraversalNode`] (the shader reads `nodes` as words).
+pub const NODE_WORDS: u32 = (std::mem::size_of::<GpuTraversalNode>() / 16) as u32;
+/// 16-byte words per [`GpuLeafPrim`].
+pub const LEAF_PRIM_WORDS: u32 = (std::mem::size_of::<GpuLeafPrim>() / 16) as u32;
+const _: () = assert!(std::mem::size_of::<GpuTraversalNode>() % 16 == 0);
+const _: () = assert!(std::mem::size_of::<GpuLeafPrim>() % 16 == 0);
+
 /// Twin of WGSL `TraversalNode`: one node of the GPU's traversal in one child order.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

@@ -111,6 +111,20 @@ pub const CACHE_LIST_FIRST: u32 = 4;
 /// keeps cells at least radius / MAX_RINGS wide).
 pub const MAX_RINGS: u32 = 5;
 
+/// 16-byte words per element of the buffers the kernels read as `array<vec4<u32>>` (lavapipe
+/// loads a vec4 in one per-lane loop, a struct in one per member); the WGSL accessors
+/// (`load_triangle`, `map_photon`, ...) decode them. Const assertions in src/gpu/types.rs
+/// tie each count to its twin's size.
+pub const TRIANGLE_WORDS: u32 = 3;
+/// Words per `Sphere`.
+pub const SPHERE_WORDS: u32 = 2;
+/// Words per `Material`.
+pub const MATERIAL_WORDS: u32 = 4;
+/// Words per `Light`.
+pub const LIGHT_WORDS: u32 = 7;
+/// Words per `Photon` (the gather group's maps).
+pub const PHOTON_WORDS: u32 = 3;
+
 /// Largest K the gather kernel's heap holds.
 pub const MAX_HEAP: u32 = 256;
 /// Grid cells one K-nearest search may visit: rings 0..=MAX_RINGS, 11^3 (the radius fits in
@@ -227,6 +241,13 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAX_CELLS", U32(MAX_CELLS)),
         ("NO_NODE", U32(crate::bvh::NO_NODE)),
         ("LEAF_COUNT_SHIFT", U32(super::bvh_layout::LEAF_COUNT_SHIFT)),
+        ("NODE_WORDS", U32(super::bvh_layout::NODE_WORDS)),
+        ("LEAF_PRIM_WORDS", U32(super::bvh_layout::LEAF_PRIM_WORDS)),
+        ("TRIANGLE_WORDS", U32(TRIANGLE_WORDS)),
+        ("SPHERE_WORDS", U32(SPHERE_WORDS)),
+        ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
+        ("LIGHT_WORDS", U32(LIGHT_WORDS)),
+        ("PHOTON_WORDS", U32(PHOTON_WORDS)),
         ("STREAM_PHOTON", U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),

@@ -244,6 +244,17 @@ pub struct GpuMapParams {
     pub max_power: f32,
 }
 
+// The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
+const _: () = {
+    use super::codes::{LIGHT_WORDS, MATERIAL_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS};
+    use std::mem::size_of;
+    assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
+    assert!(size_of::<GpuSphere>() == 16 * SPHERE_WORDS as usize);
+    assert!(size_of::<GpuMaterial>() == 16 * MATERIAL_WORDS as usize);
+    assert!(size_of::<GpuLight>() == 16 * LIGHT_WORDS as usize);
+    assert!(size_of::<crate::photon::Photon>() == 16 * PHOTON_WORDS as usize);
+};
+
 impl From<&Triangle> for GpuTriangle {
     fn from(t: &Triangle) -> Self {
         GpuTriangle {
