@@ -233,33 +233,35 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Renders `runs` times on `backend` and returns the medians.
-pub fn throughput(
-    scene: &Scene,
-    s: &RenderSettings,
-    backend: Backend,
-    runs: usize,
-) -> Result<Throughput> {
-    let plan = crate::plan::MapPlan::new(scene, s);
-    // Every pass traces the first pass's paths (the radius shrinks, the count stays).
-    let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
-    let paths = passes
-        * (plan.global.as_ref().map_or(0, |b| b.total()) as f64
-            + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64);
-    let msamples = passes * s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
-    let mut rows = Vec::new();
-    let mut name = String::new();
-    let mut phases: Vec<(&'static str, Vec<f64>)> = Vec::new();
-    let mut kernels: Vec<(&'static str, Vec<f64>)> = Vec::new();
-    // Each GPU phase its own submission, so the phases can be timed apart.
-    let s = &RenderSettings {
-        timed_phases: true,
-        ..s.clone()
-    };
-    for _ in 0..runs.max(1) {
-        let (_, r) = render(scene, s, backend, Progress::default())?;
-        name = r.backend.clone();
-        for (all, times) in [(&mut phases, &r.phases), (&mut kernels, &r.kernels)] {
+/// One backend's runs so far.
+struct Runs {
+    kind: Backend,
+    name: String,
+    /// (paths/s, build s, gather s per Mpix-sample, total s) of each run.
+    rows: Vec<[f64; 4]>,
+    phases: Vec<(&'static str, Vec<f64>)>,
+    kernels: Vec<(&'static str, Vec<f64>)>,
+}
+
+impl Runs {
+    fn new(kind: Backend) -> Self {
+        Runs {
+            kind,
+            name: String::new(),
+            rows: Vec::new(),
+            phases: Vec::new(),
+            kernels: Vec::new(),
+        }
+    }
+
+    /// Adds one render's report; `paths` and `msamples` are the render's photon paths and
+    /// camera samples (millions).
+    fn add(&mut self, r: &RenderReport, paths: f64, msamples: f64) {
+        self.name = r.backend.clone();
+        for (all, times) in [
+            (&mut self.phases, &r.phases),
+            (&mut self.kernels, &r.kernels),
+        ] {
             for &(n, d) in times {
                 match all.iter_mut().find(|p| p.0 == n) {
                     Some(p) => p.1.push(d.as_secs_f64()),
@@ -267,27 +269,42 @@ pub fn throughput(
                 }
             }
         }
-        rows.push((
-            paths / phase(&r, &["trace photons"]).max(1e-9),
-            phase(&r, &["build kd-trees", "build grids"]),
-            phase(&r, &["gather"]) / msamples.max(1e-12),
+        self.rows.push([
+            paths / phase(r, &["trace photons"]).max(1e-9),
+            phase(r, &["build kd-trees", "build grids"]),
+            phase(r, &["gather"]) / msamples.max(1e-12),
             r.total().as_secs_f64(),
-        ));
+        ]);
     }
-    Ok(Throughput {
-        kind: backend,
-        backend: name,
-        paths_per_s: median(rows.iter().map(|r| r.0).collect()),
-        build_s: median(rows.iter().map(|r| r.1).collect()),
-        gather_s_per_mpix_sample: median(rows.iter().map(|r| r.2).collect()),
-        total_s: median(rows.iter().map(|r| r.3).collect()),
-        phases: phases.into_iter().map(|(n, v)| (n, median(v))).collect(),
-        kernels: kernels.into_iter().map(|(n, v)| (n, median(v))).collect(),
-    })
+
+    fn medians(self) -> Throughput {
+        let col = |i: usize| median(self.rows.iter().map(|r| r[i]).collect());
+        Throughput {
+            kind: self.kind,
+            backend: self.name.clone(),
+            paths_per_s: col(0),
+            build_s: col(1),
+            gather_s_per_mpix_sample: col(2),
+            total_s: col(3),
+            phases: self
+                .phases
+                .into_iter()
+                .map(|(n, v)| (n, median(v)))
+                .collect(),
+            kernels: self
+                .kernels
+                .into_iter()
+                .map(|(n, v)| (n, median(v)))
+                .collect(),
+        }
+    }
 }
 
-/// The throughput of every backend of `which`, in order; `on_result` sees each result as it
-/// comes, or the reason a failing GPU was skipped. Returns those that ran.
+/// The median throughput of every backend of `which` over `runs` renders each, in order.
+/// The backends take turns run by run (CPU, GPU, CPU, GPU, ...), so a machine whose speed
+/// drifts during the benchmark slows both alike and their ratio stays fair. `on_result`
+/// sees each result, or the reason a failing GPU was skipped (at its first failure).
+/// Returns those that ran.
 pub fn throughputs(
     scene: &Scene,
     s: &RenderSettings,
@@ -295,18 +312,37 @@ pub fn throughputs(
     runs: usize,
     mut on_result: impl FnMut(std::result::Result<&Throughput, &str>),
 ) -> Result<Vec<Throughput>> {
-    let mut results = Vec::new();
-    for &b in &which.backends {
-        match throughput(scene, s, b, runs) {
-            Ok(t) => {
-                on_result(Ok(&t));
-                results.push(t);
+    let plan = crate::plan::MapPlan::new(scene, s);
+    // Every pass traces the first pass's paths (the radius shrinks, the count stays).
+    let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
+    let paths = passes
+        * (plan.global.as_ref().map_or(0, |b| b.total()) as f64
+            + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64);
+    let msamples = passes * s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
+    // Each GPU phase its own submission, so the phases can be timed apart.
+    let s = &RenderSettings {
+        timed_phases: true,
+        ..s.clone()
+    };
+    let mut all: Vec<Option<Runs>> = which.backends.iter().map(|&b| Some(Runs::new(b))).collect();
+    for _ in 0..runs.max(1) {
+        for slot in all.iter_mut() {
+            let Some(acc) = slot else { continue };
+            match render(scene, s, acc.kind, Progress::default()) {
+                Ok((_, r)) => acc.add(&r, paths, msamples),
+                Err(e) => match which.skips(&e) {
+                    Some(why) => {
+                        on_result(Err(why));
+                        *slot = None;
+                    }
+                    None => return Err(e),
+                },
             }
-            Err(e) => match which.skips(&e) {
-                Some(why) => on_result(Err(why)),
-                None => return Err(e),
-            },
         }
+    }
+    let results: Vec<Throughput> = all.into_iter().flatten().map(Runs::medians).collect();
+    for t in &results {
+        on_result(Ok(t));
     }
     Ok(results)
 }
