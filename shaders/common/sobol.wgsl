@@ -1,8 +1,8 @@
 // Owen-scrambled Sobol points (Burley 2020) in independently scrambled dimension pairs, the
 // twin of src/sobol.rs and the `sobol_burley` crate it calls (tests/sobol.rs checks bit
 // equality). A library, no entry points, no bindings: src/sobol.rs wgsl_library() prefixes it
-// with generated constants (SOBOL_DIRECTIONS from the crate); rng.wgsl (pcg_hash) must come
-// first. Loops are bounded by SOBOL_INDEX_BITS.
+// with generated constants; rng.wgsl (pcg_hash) must come first. No loops and no direction
+// table (lavapipe would keep one in per-lane scratch memory).
 
 // The crate's `parts::hash` (from hash-prospector).
 fn sobol_hash(v: u32) -> u32 {
@@ -41,32 +41,29 @@ fn sobol_finish(sobol_rev: u32, dim: u32, seed: u32) -> f32 {
     return bitcast<f32>((bits >> 9u) | 0x3f800000u) - 1.0;
 }
 
+// The crate's unscrambled (bit-reversed) Sobol integers of dimensions 0 and 1 for the index
+// bits `bits` (twin of sobol::rev_pair, which tests them against the crate's direction
+// numbers): dimension 0 is `bits` itself; dimension 1 XORs row k of Pascal's triangle mod 2
+// per set bit k, a superset XOR-sum over the 4-bit k in four butterfly steps.
+fn sobol_rev_pair(bits: u32) -> vec2<u32> {
+    var y = bits;
+    y ^= (y >> 1u) & 0x5555u;
+    y ^= (y >> 2u) & 0x3333u;
+    y ^= (y >> 4u) & 0x0f0fu;
+    y ^= (y >> 8u) & 0x00ffu;
+    return vec2<u32>(bits, y);
+}
+
 // The crate's `sample(index, dim, seed)` for index < 2^SOBOL_INDEX_BITS, dim < SOBOL_SET_DIMENSIONS.
 fn sobol_burley_sample(index: u32, dim: u32, seed: u32) -> f32 {
-    let shuffled = sobol_shuffle(index, seed);
-    var sobol_rev = 0u;
-    let base = dim * SOBOL_INDEX_BITS;
-    // Only the set bits (XOR is order-free): at most SOBOL_INDEX_BITS iterations.
-    var bits = shuffled & ((1u << SOBOL_INDEX_BITS) - 1u);
-    while bits != 0u {
-        let k = firstTrailingBit(bits);
-        sobol_rev ^= SOBOL_DIRECTIONS[base + k];
-        bits &= bits - 1u;
-    }
-    return sobol_finish(sobol_rev, dim, seed);
+    let rev = sobol_rev_pair(sobol_shuffle(index, seed) & ((1u << SOBOL_INDEX_BITS) - 1u));
+    return sobol_finish(select(rev.y, rev.x, dim == 0u), dim, seed);
 }
 
 // The crate's dimensions 0 and 1 together (its `sample_4d(index, 0, seed)`, first two lanes).
 fn sobol_burley_pair(index: u32, seed: u32) -> vec2<f32> {
-    let shuffled = sobol_shuffle(index, seed);
-    var sobol_rev = vec2<u32>(0u);
-    var bits = shuffled & ((1u << SOBOL_INDEX_BITS) - 1u);
-    while bits != 0u {
-        let k = firstTrailingBit(bits);
-        sobol_rev ^= vec2<u32>(SOBOL_DIRECTIONS[k], SOBOL_DIRECTIONS[SOBOL_INDEX_BITS + k]);
-        bits &= bits - 1u;
-    }
-    return vec2<f32>(sobol_finish(sobol_rev.x, 0u, seed), sobol_finish(sobol_rev.y, 1u, seed));
+    let rev = sobol_rev_pair(sobol_shuffle(index, seed) & ((1u << SOBOL_INDEX_BITS) - 1u));
+    return vec2<f32>(sobol_finish(rev.x, 0u, seed), sobol_finish(rev.y, 1u, seed));
 }
 
 // sobol::pixel_key: the key of one pixel's sequence.
