@@ -24,8 +24,8 @@ pub const LEAF_COUNT_SHIFT: u32 = 28;
 pub const NODE_WORDS: u32 = (std::mem::size_of::<GpuTraversalNode>() / 16) as u32;
 /// 16-byte words per [`GpuLeafPrim`].
 pub const LEAF_PRIM_WORDS: u32 = (std::mem::size_of::<GpuLeafPrim>() / 16) as u32;
-const _: () = assert!(std::mem::size_of::<GpuTraversalNode>() % 16 == 0);
-const _: () = assert!(std::mem::size_of::<GpuLeafPrim>() % 16 == 0);
+const _: () = assert!(std::mem::size_of::<GpuTraversalNode>().is_multiple_of(16));
+const _: () = assert!(std::mem::size_of::<GpuLeafPrim>().is_multiple_of(16));
 
 /// Twin of WGSL `TraversalNode`: one node of the GPU's traversal in one child order.
 #[repr(C)]
