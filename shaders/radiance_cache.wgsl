@@ -95,7 +95,7 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                         if d2 > best_d2 {
                             continue;
                         }
-                        let q = Photon(bitcast<vec3<f32>>(w0.xyz), w0.w, bitcast<vec3<f32>>(w1.xyz), w1.w, vec3<f32>(0.0), map_word(0u, j, 2u).w);
+                        let q = photon_of_words(w0, w1, map_word(0u, j, 2u));
                         if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
                             continue;
                         }

@@ -151,10 +151,11 @@ impl SobolStream {
     }
 }
 
-/// The crate's direction numbers for the WGSL twin, bit-reversed as the crate keeps them:
-/// entry `d * INDEX_BITS + k` is the vector XORed in when bit `k` of the (shuffled) index is
-/// set, for the crate's dimension `d < SET_DIMENSIONS`. Read from the crate's public
-/// `sobol_rev`, so they are never typed by hand.
+/// The crate's direction numbers, bit-reversed as the crate keeps them: entry
+/// `d * INDEX_BITS + k` is the vector XORed in when bit `k` of the (shuffled) index is set,
+/// for the crate's dimension `d < SET_DIMENSIONS`. Read from the crate's public `sobol_rev`,
+/// so they are never typed by hand; [`rev_pair`], which the WGSL twin computes, is tested
+/// against them.
 pub fn direction_table() -> Vec<u32> {
     (0..SET_DIMENSIONS)
         .flat_map(|d| {

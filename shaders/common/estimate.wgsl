@@ -34,11 +34,13 @@ fn map_word(which: u32, i: u32, k: u32) -> vec4<u32> {
     return c_photons[PHOTON_WORDS * i + k];
 }
 
-fn map_photon(which: u32, i: u32) -> Photon {
-    let a = map_word(which, i, 0u);
-    let b = map_word(which, i, 1u);
-    let c = map_word(which, i, 2u);
+// The Photon of its three words (a caller that has read some words already passes them).
+fn photon_of_words(a: vec4<u32>, b: vec4<u32>, c: vec4<u32>) -> Photon {
     return Photon(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w);
+}
+
+fn map_photon(which: u32, i: u32) -> Photon {
+    return photon_of_words(map_word(which, i, 0u), map_word(which, i, 1u), map_word(which, i, 2u));
 }
 
 // Only the position: the searches read nothing else of most photons they visit.
@@ -167,7 +169,8 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                         atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
                         return out;
                     }
-                    let pos = map_position(which, j);
+                    let w0 = map_word(which, j, 0u);
+                    let pos = bitcast<vec3<f32>>(w0.xyz);
                     if any(cell_of(pos, mp.cell_size) != c) {
                         continue;
                     }
@@ -177,7 +180,7 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                         continue;
                     }
                     out.n += 1u;
-                    let p = map_photon(which, j);
+                    let p = photon_of_words(w0, map_word(which, j, 1u), map_word(which, j, 2u));
                     if !photon_faces(p, x, ns) {
                         continue;
                     }
