@@ -7,14 +7,15 @@
 // Entry points:
 //   size_grid     (one invocation)                  cell size and dispatch from the count
 //   count_cells   (one invocation per stored photon, indirect)  cell_count[h] += 1, max power
-//   scan_blocks   (SCAN_BLOCK-wide, one per block)  cell_start = exclusive scan within blocks
+//   scan_blocks   (SCAN_BLOCK-wide, one per SCAN_SPAN cells)  cell_start = exclusive scan
+//                                                   within blocks
 //   scan_sums     (one workgroup of SCAN_BLOCK)     block_sums = exclusive scan of block totals;
 //                                                   map_params.max_power from the counters
 //   add_offsets   (one invocation per cell)         cell_start += block offset; cell_count = 0
 //   scatter       (one per stored photon, indirect)  sorted[cell_start[h] + k] = cache point
 //   scatter_rest  (one per stored photon, indirect)  the same for the other photons
-// Loops: the scan's 8 steps and scan_sums' chunks of at most 256 (table_size <= 2^24) per
-// invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
+// Loops: the scan's 8 steps, SCAN_ITEMS cells per scan_blocks invocation and scan_sums'
+// chunks of at most 16 blocks (table_size <= 2^24) per invocation, far below lavapipe's 65,535 (these kernels need no loop budget).
 
 fn stored_count() -> u32 {
     return min(atomicLoad(&counters[0]), map_params.capacity);
@@ -92,27 +93,36 @@ fn workgroup_scan(tid: u32) {
     workgroupBarrier();
 }
 
+// Cells per scan block: SCAN_ITEMS consecutive cells per invocation.
+const SCAN_SPAN: u32 = SCAN_BLOCK * SCAN_ITEMS;
+
+// Each invocation sums its SCAN_ITEMS cells, one workgroup scan over the sums, then each
+// writes its cells' exclusive prefixes (on lavapipe a workgroup barrier costs far more than a
+// load: the scan's barriers once per SCAN_SPAN cells rather than per SCAN_BLOCK).
 @compute @workgroup_size(SCAN_BLOCK)
 fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let block = wid.x + wid.y * nwg.x;
-    let idx = block * SCAN_BLOCK + lid.x;
-    var v = 0u;
-    if idx < map_params.table_size {
-        v = atomicLoad(&cell_count[idx]);
+    let first = block * SCAN_SPAN + lid.x * SCAN_ITEMS;
+    let end = min(first + SCAN_ITEMS, map_params.table_size);
+    var total = 0u;
+    for (var idx = first; idx < end; idx += 1u) {
+        total += atomicLoad(&cell_count[idx]);
     }
-    scan_tmp[lid.x] = v;
+    scan_tmp[lid.x] = total;
     workgroup_scan(lid.x);
-    if idx < map_params.table_size {
-        cell_start[idx] = scan_tmp[lid.x] - v;
+    var running = scan_tmp[lid.x] - total;
+    for (var idx = first; idx < end; idx += 1u) {
+        cell_start[idx] = running;
+        running += atomicLoad(&cell_count[idx]);
     }
-    if lid.x == SCAN_BLOCK - 1u {
+    if lid.x == SCAN_BLOCK - 1u && block * SCAN_SPAN < map_params.table_size {
         block_sums[block] = scan_tmp[SCAN_BLOCK - 1u];
     }
 }
 
 @compute @workgroup_size(SCAN_BLOCK)
 fn scan_sums(@builtin(local_invocation_id) lid: vec3<u32>) {
-    let blocks = (map_params.table_size + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let blocks = (map_params.table_size + SCAN_SPAN - 1u) / SCAN_SPAN;
     let chunk = (blocks + SCAN_BLOCK - 1u) / SCAN_BLOCK;
     let start = lid.x * chunk;
     let end = min(start + chunk, blocks);
@@ -142,7 +152,7 @@ fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     if i >= map_params.table_size {
         return;
     }
-    cell_start[i] += block_sums[i / SCAN_BLOCK];
+    cell_start[i] += block_sums[i / SCAN_SPAN];
     atomicStore(&cell_count[i], 0u);
 }
 

@@ -614,6 +614,7 @@ fn shared_constants_agree() {
         "FRESNEL_SCHLICK",
         "WG_SIZE",
         "SCAN_BLOCK",
+        "SCAN_ITEMS",
         "GATHER_TILE",
         "SOBOL_PAIR_JITTER",
         "SOBOL_PAIR_LIGHT",

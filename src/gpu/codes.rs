@@ -84,6 +84,9 @@ pub const STATS_LEN: usize = 4;
 pub const WG_SIZE: u32 = 64;
 /// Workgroup width of the grid's scan kernels: cells per scan block.
 pub const SCAN_BLOCK: u32 = 256;
+/// Consecutive cells each `scan_blocks` invocation sums (a scan block covers
+/// SCAN_BLOCK * SCAN_ITEMS cells).
+pub const SCAN_ITEMS: u32 = 16;
 /// The gather's workgroups are GATHER_TILE x GATHER_TILE pixels.
 pub const GATHER_TILE: u32 = 8;
 
@@ -227,6 +230,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
         ("WG_SIZE", U32(WG_SIZE)),
         ("SCAN_BLOCK", U32(SCAN_BLOCK)),
+        ("SCAN_ITEMS", U32(SCAN_ITEMS)),
         ("GATHER_TILE", U32(GATHER_TILE)),
         ("MAX_HEAP", U32(MAX_HEAP)),
         ("CACHE_LANES", U32(CACHE_LANES)),

@@ -3,7 +3,7 @@
 
 use super::bindings::{bind_group, Layouts, MAP_GROUP};
 use super::buffers::{empty_buffer, grid_2d};
-use super::codes::{COUNTER_MAX_POWER, SCAN_BLOCK, WG_SIZE};
+use super::codes::{COUNTER_MAX_POWER, SCAN_BLOCK, SCAN_ITEMS, WG_SIZE};
 use super::context::GpuContext;
 use super::pipelines::Pipelines;
 use super::recorder::Recorder;
@@ -92,7 +92,7 @@ impl MapBuffers {
         let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);
         let cell_start = empty_buffer(dev, &format!("{label} cell starts"), 4 * (t + 1), rw);
         let sorted = empty_buffer(dev, &format!("{label} sorted photons"), photon_bytes, rw);
-        let blocks = t.div_ceil(SCAN_BLOCK as u64);
+        let blocks = t.div_ceil((SCAN_BLOCK * SCAN_ITEMS) as u64);
         let block_sums = empty_buffer(dev, &format!("{label} block sums"), 4 * blocks, rw);
         let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(&format!("{label} map params")),
@@ -182,7 +182,11 @@ impl MapBuffers {
         // (kernel, pipeline, invocations and workgroup width; None: one per stored photon)
         let stages = [
             ("count_cells", &p.count_cells, None),
-            ("scan_blocks", &p.scan_blocks, Some((t, SCAN_BLOCK))),
+            (
+                "scan_blocks",
+                &p.scan_blocks,
+                Some((t.div_ceil(SCAN_ITEMS), SCAN_BLOCK)),
+            ),
             ("scan_sums", &p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
             ("add_offsets", &p.add_offsets, Some((t, WG_SIZE))),
             ("scatter", &p.scatter, None),
