@@ -57,10 +57,14 @@ fn size_grid() {
 
 // The grid slot of photon slot i, or 0xffffffff when the slot is empty or the map drops it.
 fn photon_slot(i: u32) -> u32 {
-    if i >= stored_count() || !keep_photon(photons[i], map_params.drop_flags) {
+    if i >= stored_count() {
         return 0xffffffffu;
     }
-    return cell_hash(cell_of(photons[i].position, map_params.cell_size), map_params.table_size);
+    let w0 = photon_word(i, 0u);
+    if !keep_photon(w0.w, map_params.drop_flags) {
+        return 0xffffffffu;
+    }
+    return cell_hash(cell_of(bitcast<vec3<f32>>(w0.xyz), map_params.cell_size), map_params.table_size);
 }
 
 @compute @workgroup_size(WG_SIZE)
@@ -70,7 +74,7 @@ fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     if h != 0xffffffffu {
         atomicAdd(&cell_count[h], 1u);
         // The largest power channel (bits of a non-negative float order as the float).
-        let m = bitcast<u32>(max(max3(photons[i].power), 0.0));
+        let m = bitcast<u32>(max(max3(bitcast<vec3<f32>>(photon_word(i, 1u).xyz)), 0.0));
         if m > atomicLoad(&counters[COUNTER_MAX_POWER]) {
             atomicMax(&counters[COUNTER_MAX_POWER], m);
         }
@@ -161,9 +165,9 @@ fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 // otherwise free).
 fn scatter_if(i: u32, cache_points: bool) {
     let h = photon_slot(i);
-    if h != 0xffffffffu && is_cache_point(photons[i]) == cache_points {
+    if h != 0xffffffffu && is_cache_point(photon_word(i, 0u).w, photon_word(i, 1u).w) == cache_points {
         let k = atomicAdd(&cell_count[h], 1u);
-        sorted[cell_start[h] + k] = photons[i];
+        copy_to_sorted(i, cell_start[h] + k);
     }
 }
 

@@ -273,7 +273,7 @@ fn list_cache_points(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num
         return;
     }
     cache[i] = vec4<f32>(0.0);
-    if is_cache_point(map_photon(0u, i)) {
+    if is_cache_point(map_word(0u, i, 0u).w, map_word(0u, i, 1u).w) {
         let k = atomicAdd(&cache_list[CACHE_LIST_COUNT], 1u);
         atomicStore(&cache_list[CACHE_LIST_FIRST + k], i);
     }

@@ -85,7 +85,7 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                         // a point near enough.
                         let w0 = map_word(0u, j, 0u);
                         let w1 = map_word(0u, j, 1u);
-                        if (w1.w + (w0.w & DEPTH_MASK)) % CACHE_STRIDE != 0u {
+                        if !is_cache_point(w0.w, w1.w) {
                             break;
                         }
                         // A photon of a colliding cell is a cache point too, and seeing one

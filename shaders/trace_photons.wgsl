@@ -6,7 +6,10 @@
 fn store_photon(p: Photon) {
     let slot = atomicAdd(&counters[0], 1u);
     if slot < map_params.capacity {
-        photons[slot] = p;
+        let w = PHOTON_WORDS * slot;
+        photons[w] = vec4<u32>(bitcast<vec3<u32>>(p.position), p.flags);
+        photons[w + 1u] = vec4<u32>(bitcast<vec3<u32>>(p.power), p.id);
+        photons[w + 2u] = vec4<u32>(bitcast<vec3<u32>>(p.dir), p.normal);
     } else {
         atomicAdd(&stats[STAT_PHOTON_OVERFLOW], 1u);
     }

@@ -3,10 +3,8 @@
 // estimate summed exactly in fixed point, and the filter kernels. Library, no entry point;
 // twin of src/estimate.rs. Writes only stats[STAT_GATHER_TRUNCATED] when a search is cut.
 
-// The maps' sorted photons as 16-byte words, three per Photon: (position, flags),
-// (power, id), (dir, normal). Lavapipe turns each member of a struct load into its own
-// per-lane loop of bounds-checked loads, a vec4 into one; read them through map_photon,
-// map_word and map_position.
+// The maps' sorted photons as PHOTON_WORDS words each (common/photon.wgsl); read them
+// through map_photon, map_word and map_position.
 @group(1) @binding(0) var<storage, read> g_photons: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read> g_cells: array<u32>;
 @group(1) @binding(2) var<storage, read> g_map: MapParams;
@@ -32,11 +30,6 @@ fn map_word(which: u32, i: u32, k: u32) -> vec4<u32> {
         return g_photons[PHOTON_WORDS * i + k];
     }
     return c_photons[PHOTON_WORDS * i + k];
-}
-
-// The Photon of its three words (a caller that has read some words already passes them).
-fn photon_of_words(a: vec4<u32>, b: vec4<u32>, c: vec4<u32>) -> Photon {
-    return Photon(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w);
 }
 
 fn map_photon(which: u32, i: u32) -> Photon {

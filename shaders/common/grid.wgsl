@@ -12,19 +12,19 @@ fn cell_hash(c: vec3<i32>, table_size: u32) -> u32 {
     return h & (table_size - 1u);
 }
 
-// Whether a photon belongs in a map that drops the kinds in `drop`.
-fn keep_photon(p: Photon, drop: u32) -> bool {
-    if (drop & DROP_DIRECT) != 0u && (p.flags & DEPTH_MASK) == 0u {
+// Whether a photon with these flags belongs in a map that drops the kinds in `drop`.
+fn keep_photon(flags: u32, drop: u32) -> bool {
+    if (drop & DROP_DIRECT) != 0u && (flags & DEPTH_MASK) == 0u {
         return false;
     }
-    if (drop & DROP_CAUSTIC) != 0u && (p.flags & FLAG_CAUSTIC) != 0u {
+    if (drop & DROP_CAUSTIC) != 0u && (flags & FLAG_CAUSTIC) != 0u {
         return false;
     }
     return true;
 }
 
-// Whether photon p is a radiance-cache point (plan::CACHE_STRIDE): chosen by identity,
-// whatever order a map holds it in.
-fn is_cache_point(p: Photon) -> bool {
-    return (p.id + (p.flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
+// Whether the photon with these flags and id is a radiance-cache point (plan::CACHE_STRIDE):
+// chosen by identity, whatever order a map holds it in.
+fn is_cache_point(flags: u32, id: u32) -> bool {
+    return (id + (flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
 }

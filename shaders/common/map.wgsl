@@ -2,11 +2,12 @@
 // map's buffers and parameters (table: MAP_GROUP in src/gpu/bindings.rs), and the flat
 // index of their WG_SIZE-wide 2D dispatches. Library, no entry point.
 
-@group(1) @binding(0) var<storage, read_write> photons: array<Photon>;
+// photons (as traced) and sorted (by cell): PHOTON_WORDS words per photon (common/photon.wgsl).
+@group(1) @binding(0) var<storage, read_write> photons: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read_write> cell_count: array<atomic<u32>>;
 @group(1) @binding(3) var<storage, read_write> cell_start: array<u32>;
-@group(1) @binding(4) var<storage, read_write> sorted: array<Photon>;
+@group(1) @binding(4) var<storage, read_write> sorted: array<vec4<u32>>;
 @group(1) @binding(5) var<storage, read_write> block_sums: array<u32>;
 // Read-write: the grid build sets cell_size (size_grid, from the photons stored) and
 // max_power (scan_sums) on the device.
@@ -15,4 +16,16 @@
 // Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {
     return gid.x + gid.y * nwg.x * WG_SIZE;
+}
+
+// Word k of traced photon i.
+fn photon_word(i: u32, k: u32) -> vec4<u32> {
+    return photons[PHOTON_WORDS * i + k];
+}
+
+// Traced photon i into slot `slot` of the sorted photons, word by word.
+fn copy_to_sorted(i: u32, slot: u32) {
+    for (var k = 0u; k < PHOTON_WORDS; k += 1u) {
+        sorted[PHOTON_WORDS * slot + k] = photon_word(i, k);
+    }
 }

@@ -2,6 +2,15 @@
 // src/photon.rs (pack_normal, unpack_normal) and src/estimate.rs (FACING_COS, photon_faces).
 // Library, no entry point; writes nothing.
 
+// A Photon as PHOTON_WORDS 16-byte words: (position, flags), (power, id), (dir, normal).
+// The map buffers hold these words: lavapipe turns each member of a struct load or store
+// into its own per-lane loop of bounds-checked accesses, a vec4 into one.
+
+// The Photon of its three words (a caller that has read some words already passes them).
+fn photon_of_words(a: vec4<u32>, b: vec4<u32>, c: vec4<u32>) -> Photon {
+    return Photon(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w);
+}
+
 // FACING_COS (prelude): normals within 60 degrees are the same surface; beyond 120 its
 // other side.
 
