@@ -16,8 +16,6 @@ use glam::Vec3;
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
-/// No node: the end of a traversal (see [`Bvh::links`]).
-pub const NO_NODE: u32 = u32::MAX;
 /// Maximum primitives in a leaf.
 pub const MAX_LEAF: usize = 4;
 /// Depth bound of the tree, and so the traversal stack size on both backends.
@@ -297,33 +295,6 @@ impl Bvh {
                 }
             }
         }
-    }
-
-    /// Escape links of the stackless traversal (`shaders/common/intersect.wgsl`): for each
-    /// node, the node that follows its whole subtree in the depth-first order that visits
-    /// left children first (`[0]`) or right children first (`[1]`), [`NO_NODE`] after the
-    /// last. A ray that misses a node's box, or has tested a leaf, goes to its link; one that
-    /// enters an interior node goes to the child its order visits first. This is the stack
-    /// traversal's order exactly (the same nodes tested against the same nearest hit).
-    pub fn links(&self) -> Vec<[u32; 2]> {
-        let mut links = vec![[NO_NODE; 2]; self.nodes.len()];
-        if self.prim_ids.is_empty() {
-            return links;
-        }
-        let mut todo = vec![0usize];
-        while let Some(i) = todo.pop() {
-            let n = &self.nodes[i];
-            if n.count > 0 {
-                continue;
-            }
-            let (left, right) = (i + 1, n.left_first as usize);
-            let [after_left_first, after_right_first] = links[i];
-            links[left] = [right as u32, after_right_first];
-            links[right] = [after_left_first, left as u32];
-            todo.push(left);
-            todo.push(right);
-        }
-        links
     }
 
     /// Depth of the tree (the root alone is 1).

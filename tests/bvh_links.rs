@@ -1,10 +1,12 @@
-//! The BVH's escape links (`Bvh::links`), which the GPU's stackless traversal follows: for
-//! every example scene and a generated 20,000-triangle mesh, in both child orders, the links
-//! must give the depth-first preorder of the stack traversal, and a missed node must jump to
-//! the first node after its whole subtree in that order.
+//! The GPU's stackless traversal layout (`gpu::bvh_layout::traversal_nodes`): for every
+//! example scene and a generated 20,000-triangle mesh, in both child orders, entering every
+//! box must walk the depth-first preorder of the stack traversal, missing a node must jump to
+//! the first node after its whole subtree in that order, leaves must keep their primitives,
+//! and every quantised box must contain the node's exact box.
 
 use glam::Vec3;
-use gpu_photon::bvh::{Bvh, NO_NODE};
+use gpu_photon::bvh::Bvh;
+use gpu_photon::gpu::bvh_layout::{traversal_nodes, LEAF_COUNT_SHIFT};
 use gpu_photon::scene::{Scene, Triangle};
 use std::path::Path;
 
@@ -31,38 +33,45 @@ fn preorder(bvh: &Bvh, right_first: bool) -> (Vec<u32>, Vec<usize>) {
 }
 
 fn check(name: &str, bvh: &Bvh) {
-    let links = bvh.links();
-    assert_eq!(links.len(), bvh.nodes.len(), "{name}");
-    for (o, right_first) in [(0usize, false), (1, true)] {
+    let layout = traversal_nodes(bvh).expect("fits");
+    let n = bvh.nodes.len();
+    assert_eq!(layout.frame.nodes as usize, n, "{name}");
+    assert_eq!(layout.nodes.len(), 2 * n, "{name}");
+    let mask = (1u32 << LEAF_COUNT_SHIFT) - 1;
+    for (c, right_first) in [(0usize, false), (1, true)] {
+        let copy = &layout.nodes[c * n..(c + 1) * n];
         let (order, size) = preorder(bvh, right_first);
-        assert_eq!(order.len(), bvh.nodes.len(), "{name}: every node once");
-        // Entering every box: interior nodes go to their first child, leaves to their link.
-        let mut walked = Vec::new();
-        let mut ni = 0u32;
-        while ni != NO_NODE {
-            assert!(walked.len() < bvh.nodes.len(), "{name}: the walk must end");
-            walked.push(ni);
-            let n = &bvh.nodes[ni as usize];
-            ni = match (n.count, right_first) {
-                (0, false) => ni + 1,
-                (0, true) => n.left_first,
-                _ => links[ni as usize][o],
-            };
-        }
-        assert_eq!(walked, order, "{name}: order {o} is the preorder");
-        // Missing a node skips exactly its subtree.
-        for (pos, &n) in order.iter().enumerate() {
-            let after = order
-                .get(pos + size[n as usize])
-                .copied()
-                .unwrap_or(NO_NODE);
-            assert_eq!(links[n as usize][o], after, "{name}: node {n}, order {o}");
+        // Copy position p holds the preorder's p-th node.
+        for (p, &i) in order.iter().enumerate() {
+            assert_eq!(
+                layout.position[c][i as usize] as usize, p,
+                "{name}: node {i}"
+            );
+            let (b, t) = (&bvh.nodes[i as usize], &copy[p]);
+            if b.count > 0 {
+                assert_eq!(t.link, b.left_first | b.count << LEAF_COUNT_SHIFT, "{name}");
+            } else {
+                // Missing an interior node skips exactly its subtree.
+                assert_eq!(t.link >> LEAF_COUNT_SHIFT, 0, "{name}");
+                assert_eq!(
+                    (t.link & mask) as usize,
+                    p + size[i as usize],
+                    "{name}: node {i}"
+                );
+            }
+            let (lo, hi) = layout.bounds(t);
+            for a in 0..3 {
+                assert!(
+                    lo[a] <= b.bmin[a] && hi[a] >= b.bmax[a],
+                    "{name}: node {i} axis {a}"
+                );
+            }
         }
     }
 }
 
 #[test]
-fn links_give_the_stack_traversal_order_on_every_example_scene() {
+fn layout_gives_the_stack_traversal_order_on_every_example_scene() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
@@ -77,7 +86,7 @@ fn links_give_the_stack_traversal_order_on_every_example_scene() {
 }
 
 #[test]
-fn links_give_the_stack_traversal_order_on_a_deep_mesh() {
+fn layout_gives_the_stack_traversal_order_on_a_deep_mesh() {
     let mut scene: Scene = gpu_photon::scene::load(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml"),
     )
@@ -99,11 +108,9 @@ fn links_give_the_stack_traversal_order_on_a_deep_mesh() {
     let bvh = Bvh::build(&scene);
     assert!(bvh.depth() > 12, "depth {}", bvh.depth());
     check("spiral", &bvh);
-    // The placeholder tree of an empty scene is never entered.
+    // The placeholder tree of an empty scene ends at once.
     scene.triangles.clear();
     scene.spheres.clear();
-    assert!(Bvh::build(&scene)
-        .links()
-        .iter()
-        .all(|l| *l == [NO_NODE; 2]));
+    let layout = traversal_nodes(&Bvh::build(&scene)).expect("fits");
+    assert!(layout.nodes.iter().all(|t| t.link == 1));
 }

@@ -18,7 +18,7 @@ use gpu_photon::geometry;
 use gpu_photon::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
 };
-use gpu_photon::gpu::bvh_layout::{GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
+use gpu_photon::gpu::bvh_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
@@ -163,10 +163,8 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Sphere",
             fields!(GpuSphere: center, radius, material, light, _pad0, _pad1),
         ),
-        (
-            "TraversalNode",
-            fields!(GpuTraversalNode: bmin, first_count, bmax, skip),
-        ),
+        ("BvhFrame", fields!(GpuBvhFrame: base, nodes, step, _pad)),
+        ("TraversalNode", fields!(GpuTraversalNode: qx, qy, qz, link)),
         (
             "LeafPrim",
             fields!(GpuLeafPrim: v0, id, v1, _pad0, v2, _pad1),
@@ -594,7 +592,7 @@ fn shared_constants_agree() {
         "STREAM_CAUSTIC",
         "STREAM_CAMERA",
         "MAX_HEAP",
-        "NO_NODE",
+        "FRAME_WORDS",
         "DROP_DIRECT",
         "DROP_CAUSTIC",
         "TERM_DIRECT",

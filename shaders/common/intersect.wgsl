@@ -1,7 +1,7 @@
 // Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
 // normals, Facing); twin of src/geometry.rs and src/bvh.rs. OFFSET_SCALE, OFFSET_FLOOR,
-// BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound),
-// NO_NODE and FLAT come from the generated prelude.
+// BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound)
+// and FLAT come from the generated prelude.
 // Library, no entry point; writes nothing but the loop budget it spends.
 
 struct Hit {
@@ -175,13 +175,6 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
     return tmin <= tmax;
 }
 
-// TraversalNode i (its two words: (bmin, first_count), (bmax, skip)).
-fn load_node(i: u32) -> TraversalNode {
-    let a = nodes[NODE_WORDS * i];
-    let b = nodes[NODE_WORDS * i + 1u];
-    return TraversalNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
-}
-
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
@@ -195,29 +188,36 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     } else if abs(d.y) > abs(d.z) {
         axis = 1u;
     }
+    // The BvhFrame's words: (base, nodes per copy), (step, _pad).
+    let f0 = nodes[0];
+    let grid_base = bitcast<vec3<i32>>(f0.xyz);
+    let n_nodes = f0.w;
+    let step = bitcast<vec3<f32>>(nodes[1].xyz);
     // Stackless: the depth-first order that enters the left child first when the ray runs
     // up its dominant axis, else the right child first. `nodes` holds every node once per
-    // order (left-first, then right-first) with its escape link in that order (skip), taken
-    // where a box is missed or a leaf is done (src/gpu/bvh_layout.rs).
+    // order, numbered in that order's preorder: entering a node or finishing a leaf goes to
+    // the next node, missing an interior node's box to the end of its subtree (its link).
     let left_first = d[axis] >= 0.0;
-    let base = select(arrayLength(&nodes) / (2u * NODE_WORDS), 0u, left_first);
+    let first_word = FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
     var ni = 0u;
     // A scene without primitives binds a placeholder node that must not be walked.
     if params.n_triangles == 0u && !HAS_SPHERES {
-        ni = NO_NODE;
+        ni = n_nodes;
     }
-    while ni != NO_NODE && spend() {
-        let node = load_node(base + ni);
-        if !hit_box(node.bmin, node.bmax, o, inv, best.t) {
-            ni = node.skip;
+    while ni < n_nodes && spend() {
+        let node = nodes[first_word + NODE_WORDS * ni];
+        let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
+        let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
+        let count = node.w >> LEAF_COUNT_SHIFT;
+        if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
+            ni = select(ni + 1u, node.w, count == 0u);
             continue;
         }
-        let first = node.first_count & ((1u << LEAF_COUNT_SHIFT) - 1u);
-        let count = node.first_count >> LEAF_COUNT_SHIFT;
+        ni += 1u;
         if count == 0u {
-            ni = select(first, ni + 1u, left_first);
             continue;
         }
+        let first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
         for (var i = 0u; i < count && spend(); i += 1u) {
             // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
             let w = LEAF_PRIM_WORDS * (first + i);
@@ -246,7 +246,6 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         if any_hit && best.found {
             return best;
         }
-        ni = node.skip;
     }
     if best.found {
         if (best_id & SPHERE_BIT) == 0u {

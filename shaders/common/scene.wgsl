@@ -8,9 +8,9 @@
 // of bounds-checked loads, a vec4 into one.
 @group(0) @binding(0) var<storage, read> triangles: array<vec4<u32>>;
 @group(0) @binding(1) var<storage, read> spheres: array<vec4<u32>>;
-// The BVH in the traversal's layout (src/gpu/bvh_layout.rs): every TraversalNode in
-// left-first order, then every one in right-first order; each leaf entry's LeafPrim in leaf
-// order. Read as words too (load_node and trace_ray, intersect.wgsl).
+// The BVH in the traversal's layout (src/gpu/bvh_layout.rs): the BvhFrame, then every
+// TraversalNode in left-first preorder, then every one in right-first preorder; each leaf
+// entry's LeafPrim in leaf order. Read as words too (trace_ray, intersect.wgsl).
 @group(0) @binding(2) var<storage, read> nodes: array<vec4<u32>>;
 @group(0) @binding(3) var<storage, read> leaf_prims: array<vec4<u32>>;
 @group(0) @binding(4) var<storage, read> materials: array<vec4<u32>>;

@@ -31,13 +31,23 @@ struct Sphere {
     _pad1: u32,
 }
 
-// One BVH node in one child order (src/gpu/bvh_layout.rs): first_count = left_first |
-// count << LEAF_COUNT_SHIFT; skip = the escape link in this copy's order.
+// The grid of the quantised node boxes (src/gpu/bvh_layout.rs): grid coordinate q on axis
+// a is the point f32(base[a] + q) * step[a], exactly; `nodes` nodes per copy.
+struct BvhFrame {
+    base: vec3<i32>,
+    nodes: u32,
+    step: vec3<f32>,
+    _pad: u32,
+}
+
+// One BVH node in one copy's preorder: qx, qy, qz = lower | upper << 16 grid coordinates of
+// its box; link = (interior) the node after its subtree, (leaf) first | count <<
+// LEAF_COUNT_SHIFT.
 struct TraversalNode {
-    bmin: vec3<f32>,
-    first_count: u32,
-    bmax: vec3<f32>,
-    skip: u32,
+    qx: u32,
+    qy: u32,
+    qz: u32,
+    link: u32,
 }
 
 // One leaf entry: the primitive id (SPHERE_BIT: a sphere) and a triangle's vertices.

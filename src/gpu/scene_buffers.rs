@@ -55,9 +55,9 @@ impl SceneBuffers {
         if normals.is_empty() {
             normals.push(GpuShadingNormals::default());
         }
-        let nodes = traversal_nodes(bvh).ok_or_else(|| {
+        let layout = traversal_nodes(bvh).ok_or_else(|| {
             Error::Gpu(format!(
-                "the scene's BVH ({} nodes over {} primitives) is too large for the GPU's traversal layout; use --backend cpu",
+                "the scene's BVH ({} nodes over {} primitives) does not fit the GPU's traversal layout (too many nodes, or coordinates beyond 1e30); use --backend cpu",
                 bvh.nodes.len(),
                 bvh.prim_ids.len()
             ))
@@ -65,7 +65,7 @@ impl SceneBuffers {
         let leaf_prims = leaf_prims(bvh, scene);
         let sizes = [
             ("triangles", std::mem::size_of_val(&tris[..])),
-            ("nodes", std::mem::size_of_val(&nodes[..])),
+            ("nodes", layout.bytes().len()),
             ("leaf_prims", std::mem::size_of_val(&leaf_prims[..])),
             ("shading_normals", std::mem::size_of_val(&normals[..])),
         ];
@@ -79,7 +79,7 @@ impl SceneBuffers {
         }
         let triangles = storage_buffer(dev, "triangles", &tris, none);
         let spheres = storage_buffer(dev, "spheres", &spheres, none);
-        let nodes = storage_buffer(dev, "bvh traversal nodes", &nodes, none);
+        let nodes = storage_buffer(dev, "bvh traversal nodes", &layout.bytes(), none);
         let leaf_prims = storage_buffer(dev, "bvh leaf primitives", &leaf_prims, none);
         let materials = storage_buffer(dev, "materials", &mats, none);
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
