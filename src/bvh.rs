@@ -16,7 +16,7 @@ use glam::Vec3;
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
-/// Maximum primitives in a leaf.
+/// Maximum primitives in a leaf of the CPU's hierarchy.
 pub const MAX_LEAF: usize = 4;
 /// Depth bound of the tree, and so the traversal stack size on both backends.
 pub const MAX_DEPTH: usize = 64;
@@ -36,6 +36,24 @@ pub struct BvhNode {
     pub bmax: [f32; 3],
     /// Number of primitives; 0 for an interior node.
     pub count: u32,
+}
+
+/// What a hierarchy's SAH weighs: the cost of one node step relative to one primitive test,
+/// and the largest leaf (twice that where no split is cheaper).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildCosts {
+    /// Cost of a node step, in primitive tests.
+    pub node_step: f32,
+    /// Leaves hold at most this many primitives unless no split is cheaper.
+    pub max_leaf: usize,
+}
+
+impl BuildCosts {
+    /// The CPU's walk: a node step costs about what a primitive test does.
+    pub const CPU: BuildCosts = BuildCosts {
+        node_step: 1.0,
+        max_leaf: MAX_LEAF,
+    };
 }
 
 /// The flattened hierarchy.
@@ -81,8 +99,13 @@ struct Item {
 }
 
 impl Bvh {
-    /// Builds the hierarchy over every triangle and sphere of `scene`.
+    /// Builds the hierarchy over every triangle and sphere of `scene` (the CPU's costs).
     pub fn build(scene: &Scene) -> Self {
+        Self::build_with(scene, BuildCosts::CPU)
+    }
+
+    /// Builds the hierarchy over every triangle and sphere of `scene` for a walk of `costs`.
+    pub fn build_with(scene: &Scene, costs: BuildCosts) -> Self {
         let mut items: Vec<Item> = Vec::with_capacity(scene.triangles.len() + scene.spheres.len());
         for (i, t) in scene.triangles.iter().enumerate() {
             let b = Aabb::of_triangle(t);
@@ -112,14 +135,20 @@ impl Bvh {
             return bvh;
         }
         bvh.nodes.reserve(2 * items.len());
-        bvh.build_node(&mut items, 0, 1);
+        bvh.build_node(&mut items, 0, 1, costs);
         bvh.prim_ids = items.iter().map(|it| it.id).collect();
         bvh
     }
 
     /// Builds the subtree over `items` (which start at `offset` in the final order) and
     /// returns its node index.
-    fn build_node(&mut self, items: &mut [Item], offset: usize, depth: usize) -> usize {
+    fn build_node(
+        &mut self,
+        items: &mut [Item],
+        offset: usize,
+        depth: usize,
+        costs: BuildCosts,
+    ) -> usize {
         let idx = self.nodes.len();
         let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
         self.nodes.push(BvhNode {
@@ -128,25 +157,25 @@ impl Bvh {
             left_first: offset as u32,
             count: items.len() as u32,
         });
-        if items.len() <= MAX_LEAF {
+        if items.len() <= costs.max_leaf {
             return idx;
         }
         // Past SAH_DEPTH only balanced median splits: the depth stays below
         // SAH_DEPTH + log2(N), within MAX_DEPTH for any N < 2^38.
         let sah = if depth < SAH_DEPTH {
-            sah_split(items, bounds.half_area())
+            sah_split(items, bounds.half_area(), costs)
         } else {
             None
         };
         let mid = match sah {
             Some(m) => m,
             // No split beats a leaf; split at the median anyway when the leaf would be large.
-            None if items.len() <= 2 * MAX_LEAF && depth < SAH_DEPTH => return idx,
+            None if items.len() <= 2 * costs.max_leaf && depth < SAH_DEPTH => return idx,
             None => median_split(items),
         };
         let (left, right) = items.split_at_mut(mid);
-        self.build_node(left, offset, depth + 1);
-        let r = self.build_node(right, offset + mid, depth + 1);
+        self.build_node(left, offset, depth + 1, costs);
+        let r = self.build_node(right, offset + mid, depth + 1, costs);
         self.nodes[idx].left_first = r as u32;
         self.nodes[idx].count = 0;
         idx
@@ -312,7 +341,7 @@ impl Bvh {
 }
 
 /// Binned SAH: the split position in `items` (reordered) or `None` when a leaf is cheaper.
-fn sah_split(items: &mut [Item], parent_half_area: f32) -> Option<usize> {
+fn sah_split(items: &mut [Item], parent_half_area: f32, costs: BuildCosts) -> Option<usize> {
     let cb = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let extent = cb.max - cb.min;
     let mut best: Option<(f32, usize, f32)> = None; // (cost, axis, split value)
@@ -352,11 +381,11 @@ fn sah_split(items: &mut [Item], parent_half_area: f32) -> Option<usize> {
         }
     }
     let (cost, axis, split) = best?;
-    // Leaf cost = N intersections; interior = traversal (1) + weighted children.
+    // Leaf cost = N intersections; interior = a node step + weighted children.
     let leaf_cost = items.len() as f32;
     if parent_half_area > 0.0
-        && 1.0 + cost / parent_half_area >= leaf_cost
-        && items.len() <= MAX_LEAF * 2
+        && costs.node_step + cost / parent_half_area >= leaf_cost
+        && items.len() <= costs.max_leaf * 2
     {
         return None;
     }

@@ -1,12 +1,13 @@
 //! The GPU's stackless traversal layout (`gpu::bvh_layout::traversal_nodes`): for every
-//! example scene and a generated 20,000-triangle mesh, in both child orders, entering every
+//! example scene and a generated 20,000-triangle mesh, built with the CPU's SAH costs and the
+//! GPU's (`GPU_COSTS`: smaller leaves), in both child orders, entering every
 //! box must walk the depth-first preorder of the stack traversal, missing a node must jump to
 //! the first node after its whole subtree in that order, leaves must keep their primitives,
 //! and every quantised box must contain the node's exact box.
 
 use glam::Vec3;
 use gpu_photon::bvh::Bvh;
-use gpu_photon::gpu::bvh_layout::{traversal_nodes, LEAF_COUNT_SHIFT};
+use gpu_photon::gpu::bvh_layout::{traversal_nodes, GPU_COSTS, LEAF_COUNT_SHIFT};
 use gpu_photon::scene::{Scene, Triangle};
 use std::path::Path;
 
@@ -78,7 +79,9 @@ fn layout_gives_the_stack_traversal_order_on_every_example_scene() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "toml") {
             let scene = gpu_photon::scene::load(&path).unwrap();
-            check(&path.display().to_string(), &Bvh::build(&scene));
+            let name = path.display().to_string();
+            check(&name, &Bvh::build(&scene));
+            check(&name, &Bvh::build_with(&scene, GPU_COSTS));
             n += 1;
         }
     }
@@ -108,6 +111,7 @@ fn layout_gives_the_stack_traversal_order_on_a_deep_mesh() {
     let bvh = Bvh::build(&scene);
     assert!(bvh.depth() > 12, "depth {}", bvh.depth());
     check("spiral", &bvh);
+    check("spiral (GPU costs)", &Bvh::build_with(&scene, GPU_COSTS));
     // The placeholder tree of an empty scene ends at once.
     scene.triangles.clear();
     scene.spheres.clear();

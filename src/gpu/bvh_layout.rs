@@ -16,9 +16,18 @@
 //! per node, where full-precision boxes and two links took two.
 //! Twins: `BvhFrame`, `TraversalNode` and `LeafPrim` in shaders/common/types.wgsl.
 
-use crate::bvh::{Bvh, SPHERE_BIT};
+use crate::bvh::{BuildCosts, Bvh, SPHERE_BIT};
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
+
+/// The SAH costs of the GPU's hierarchy: a node step loads one 16-byte word, a triangle test
+/// three, and on lavapipe loads set the cost (smaller leaves than the CPU's).
+pub const GPU_COSTS: BuildCosts = BuildCosts {
+    node_step: NODE_STEP_COST,
+    max_leaf: GPU_MAX_LEAF,
+};
+const NODE_STEP_COST: f32 = 1.0 / 3.0;
+const GPU_MAX_LEAF: usize = 2;
 
 /// Bits of a leaf's `link` below its primitive count: its first leaf entry lies below
 /// `1 << LEAF_COUNT_SHIFT`, the count (at least 1) above it; an interior node's link (the

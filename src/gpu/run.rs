@@ -49,7 +49,7 @@ impl GpuRun {
     /// Uploads the scene and creates the pipelines, specialised to the scene's features;
     /// `s` and `pass` give the first parameters and plan (each pass re-plans).
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
-        let bvh = Bvh::build(scene);
+        let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
         let table = LightTable::new(scene);
         let plan = MapPlan::new(scene, s);
         let lights = budgeted_lights(scene, &table, &plan);
