@@ -49,33 +49,25 @@ impl GpuRun {
     /// Uploads the scene and creates the pipelines, specialised to the scene's features;
     /// `s` and `pass` give the first parameters and plan (each pass re-plans).
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
-        let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
-        let table = LightTable::new(scene);
-        let plan = MapPlan::new(scene, s);
-        let lights = budgeted_lights(scene, &table, &plan);
-        let bounds: Vec<GpuAabb> = plan
-            .caustic
-            .as_ref()
-            .map(|(_, b)| {
-                b.iter()
-                    .map(|a| GpuAabb {
-                        bmin: a.min.to_array(),
-                        bmax: a.max.to_array(),
-                        ..Default::default()
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
-        let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let layouts = Layouts::new(&ctx.device);
-        let scene_buffers = SceneBuffers::new(
-            &ctx, &layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
-        )?;
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
-        let pipelines = Pipelines::new(&ctx, &layouts, &constants, final_gather, knn)?;
+        // The pipelines compile (synchronously, on lavapipe) on a second thread while this one
+        // builds the BVH and uploads the scene: neither needs the other.
+        let (pipelines, (plan_params, scene_buffers)) = std::thread::scope(|threads| {
+            let compile =
+                threads.spawn(|| Pipelines::new(&ctx, &layouts, &constants, final_gather, knn));
+            let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass);
+            let pipelines = compile
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (pipelines, scene_side)
+        });
+        let pipelines = pipelines?;
+        let (plan, params) = plan_params;
+        let scene_buffers = scene_buffers?;
         let cache = cache_buffers(&ctx.device, 1);
         Ok(GpuRun {
             ctx,
@@ -122,6 +114,39 @@ impl GpuRun {
                 | wgpu::BufferUsages::COPY_SRC
                 | wgpu::BufferUsages::COPY_DST,
         )
+    }
+
+    /// The scene's buffers (its BVH built for the GPU's walk) with the pass's plan and
+    /// parameters.
+    fn upload_scene(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        scene: &Scene,
+        s: &RenderSettings,
+        pass: u32,
+    ) -> ((MapPlan, GpuParams), Result<SceneBuffers>) {
+        let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
+        let table = LightTable::new(scene);
+        let plan = MapPlan::new(scene, s);
+        let lights = budgeted_lights(scene, &table, &plan);
+        let bounds: Vec<GpuAabb> = plan
+            .caustic
+            .as_ref()
+            .map(|(_, b)| {
+                b.iter()
+                    .map(|a| GpuAabb {
+                        bmin: a.min.to_array(),
+                        bmax: a.max.to_array(),
+                        ..Default::default()
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let params = gpu_params(scene, s, pass, bounds.len() as u32);
+        let buffers = SceneBuffers::new(
+            ctx, layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
+        );
+        ((plan, params), buffers)
     }
 
     /// An absent map (`paths == 0`), bound where a mode or scene has none.
