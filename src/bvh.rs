@@ -17,7 +17,7 @@ use glam::Vec3;
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
 /// Maximum primitives in a leaf of the CPU's hierarchy.
-pub const MAX_LEAF: usize = 4;
+pub const MAX_LEAF: usize = 2;
 /// Depth bound of the tree, and so the traversal stack size on both backends.
 pub const MAX_DEPTH: usize = 64;
 /// Depth up to which splits follow the SAH.

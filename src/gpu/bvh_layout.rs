@@ -21,7 +21,8 @@ use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 
 /// The SAH costs of the GPU's hierarchy: a node step loads one 16-byte word, a triangle test
-/// three, and on lavapipe loads set the cost (smaller leaves than the CPU's).
+/// three, and on lavapipe loads set the cost (a step a third of a test, where the CPU's costs
+/// weigh them alike).
 pub const GPU_COSTS: BuildCosts = BuildCosts {
     node_step: NODE_STEP_COST,
     max_leaf: GPU_MAX_LEAF,
