@@ -1,5 +1,5 @@
-//! The BVH as the GPU walks it (`trace_ray` in shaders/common/intersect.wgsl): the shared
-//! hierarchy of src/bvh.rs, copied into the two arrays one traversal step reads.
+//! The BVH as the GPU walks it (`trace_ray` in shaders/common/intersect.wgsl): the hierarchy
+//! of src/bvh.rs, built with [`GPU_COSTS`], copied into the two arrays a traversal step reads.
 //!
 //! - `nodes`: a [`GpuBvhFrame`], then every node once per child order (left child first,
 //!   then right child first), each copy numbered in its own depth-first preorder. A node is
@@ -152,7 +152,8 @@ fn axis_grid(lo: f32, hi: f32) -> Option<(i64, i32)> {
 
 /// The traversal layout of `bvh`. None when it does not fit: 2^28 nodes or leaf entries
 /// (where a storage binding runs out long before), a leaf of 16 primitives (which the build
-/// never makes), or coordinates beyond 2^100.
+/// never makes), or a scene wider than 65,535 x 2^100 (about 8e34) or farther out than
+/// 2^124 (only coordinates beyond about 1e34 come near either).
 pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
     let limit = 1usize << LEAF_COUNT_SHIFT;
     let counts_fit = bvh

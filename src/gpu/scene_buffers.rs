@@ -57,15 +57,16 @@ impl SceneBuffers {
         }
         let layout = traversal_nodes(bvh).ok_or_else(|| {
             Error::Gpu(format!(
-                "the scene's BVH ({} nodes over {} primitives) does not fit the GPU's traversal layout (too many nodes, or coordinates beyond 1e30); use --backend cpu",
+                "the scene's BVH ({} nodes over {} primitives) does not fit the GPU's traversal layout (too many nodes, or coordinates beyond about 1e34); use --backend cpu",
                 bvh.nodes.len(),
                 bvh.prim_ids.len()
             ))
         })?;
+        let node_bytes = layout.bytes();
         let leaf_prims = leaf_prims(bvh, scene);
         let sizes = [
             ("triangles", std::mem::size_of_val(&tris[..])),
-            ("nodes", layout.bytes().len()),
+            ("nodes", node_bytes.len()),
             ("leaf_prims", std::mem::size_of_val(&leaf_prims[..])),
             ("shading_normals", std::mem::size_of_val(&normals[..])),
         ];
@@ -79,7 +80,7 @@ impl SceneBuffers {
         }
         let triangles = storage_buffer(dev, "triangles", &tris, none);
         let spheres = storage_buffer(dev, "spheres", &spheres, none);
-        let nodes = storage_buffer(dev, "bvh traversal nodes", &layout.bytes(), none);
+        let nodes = storage_buffer(dev, "bvh traversal nodes", &node_bytes, none);
         let leaf_prims = storage_buffer(dev, "bvh leaf primitives", &leaf_prims, none);
         let materials = storage_buffer(dev, "materials", &mats, none);
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
