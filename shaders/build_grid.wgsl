@@ -55,12 +55,9 @@ fn size_grid() {
     atomicStore(&counters[3], 1u);
 }
 
-// The grid slot of photon slot i, or 0xffffffff when the slot is empty or the map drops it.
-fn photon_slot(i: u32) -> u32 {
-    if i >= stored_count() {
-        return 0xffffffffu;
-    }
-    let w0 = photon_word(i, 0u);
+// The grid slot of the stored photon whose first word (position, flags) is w0, or
+// 0xffffffff when the map drops it.
+fn grid_slot(w0: vec4<u32>) -> u32 {
     if !keep_photon(w0.w, map_params.drop_flags) {
         return 0xffffffffu;
     }
@@ -70,7 +67,10 @@ fn photon_slot(i: u32) -> u32 {
 @compute @workgroup_size(WG_SIZE)
 fn count_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
-    let h = photon_slot(i);
+    if i >= stored_count() {
+        return;
+    }
+    let h = grid_slot(photon_word(i, 0u));
     if h != 0xffffffffu {
         atomicAdd(&cell_count[h], 1u);
         // The largest power channel (bits of a non-negative float order as the float).
@@ -164,8 +164,12 @@ fn add_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 // point (the rule of cache_build.wgsl, applied to every map: the order within a cell is
 // otherwise free).
 fn scatter_if(i: u32, cache_points: bool) {
-    let h = photon_slot(i);
-    if h != 0xffffffffu && is_cache_point(photon_word(i, 0u).w, photon_word(i, 1u).w) == cache_points {
+    if i >= stored_count() {
+        return;
+    }
+    let w0 = photon_word(i, 0u);
+    let h = grid_slot(w0);
+    if h != 0xffffffffu && is_cache_point(w0.w, photon_word(i, 1u).w) == cache_points {
         let k = atomicAdd(&cell_count[h], 1u);
         copy_to_sorted(i, cell_start[h] + k);
     }

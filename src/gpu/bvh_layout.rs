@@ -191,18 +191,17 @@ pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
     let mut position = [vec![0u32; n], vec![0u32; n]];
     for (copy, right_first) in [false, true].into_iter().enumerate() {
         let offset = nodes.len();
-        // Preorder with each interior node's subtree size patched in after its children.
+        let start = &mut position[copy];
+        // Preorder; an interior node's link, the end of its subtree, is patched in once its
+        // children are placed (the placeholder root of a scene without primitives has none).
         let mut todo = vec![(0usize, false)];
-        let mut start = vec![0usize; n];
         while let Some((i, done)) = todo.pop() {
             let b = &bvh.nodes[i];
             if done {
-                let end = (nodes.len() - offset) as u32;
-                nodes[offset + start[i]].link = end;
+                nodes[offset + start[i] as usize].link = (nodes.len() - offset) as u32;
                 continue;
             }
-            start[i] = nodes.len() - offset;
-            position[copy][i] = start[i] as u32;
+            start[i] = (nodes.len() - offset) as u32;
             let [qx, qy, qz] = quantise(b);
             let link = if b.count > 0 {
                 b.left_first | b.count << LEAF_COUNT_SHIFT
@@ -210,15 +209,14 @@ pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
                 0
             };
             nodes.push(GpuTraversalNode { qx, qy, qz, link });
-            if b.count == 0 && bvh.prim_ids.is_empty() {
-                // The placeholder root: its subtree is itself.
-                nodes[offset + start[i]].link = start[i] as u32 + 1;
-            } else if b.count == 0 {
-                let (l, r) = (i + 1, b.left_first as usize);
-                let (first, second) = if right_first { (r, l) } else { (l, r) };
+            if b.count == 0 {
                 todo.push((i, true));
-                todo.push((second, false));
-                todo.push((first, false));
+                if !bvh.prim_ids.is_empty() {
+                    let (l, r) = (i + 1, b.left_first as usize);
+                    let (first, second) = if right_first { (r, l) } else { (l, r) };
+                    todo.push((second, false));
+                    todo.push((first, false));
+                }
             }
         }
     }

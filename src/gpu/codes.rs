@@ -125,7 +125,7 @@ pub const SPHERE_WORDS: u32 = 2;
 pub const MATERIAL_WORDS: u32 = 4;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 7;
-/// Words per `Photon` (the gather group's maps).
+/// Words per `Photon` (every map buffer: traced, sorted, and the gather group's).
 pub const PHOTON_WORDS: u32 = 3;
 
 /// Largest K the gather kernel's heap holds.

@@ -56,7 +56,7 @@ impl GpuRun {
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
         // The pipelines compile (synchronously, on lavapipe) on a second thread while this one
         // builds the BVH and uploads the scene: neither needs the other.
-        let (pipelines, (plan_params, scene_buffers)) = std::thread::scope(|threads| {
+        let (pipelines, scene_side) = std::thread::scope(|threads| {
             let compile =
                 threads.spawn(|| Pipelines::new(&ctx, &layouts, &constants, final_gather, knn));
             let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass);
@@ -66,8 +66,7 @@ impl GpuRun {
             (pipelines, scene_side)
         });
         let pipelines = pipelines?;
-        let (plan, params) = plan_params;
-        let scene_buffers = scene_buffers?;
+        let (plan, params, scene_buffers) = scene_side?;
         let cache = cache_buffers(&ctx.device, 1);
         Ok(GpuRun {
             ctx,
@@ -116,15 +115,15 @@ impl GpuRun {
         )
     }
 
-    /// The scene's buffers (its BVH built for the GPU's walk) with the pass's plan and
-    /// parameters.
+    /// The pass's plan and parameters, and the scene's buffers (its BVH built for the GPU's
+    /// walk).
     fn upload_scene(
         ctx: &GpuContext,
         layouts: &Layouts,
         scene: &Scene,
         s: &RenderSettings,
         pass: u32,
-    ) -> ((MapPlan, GpuParams), Result<SceneBuffers>) {
+    ) -> Result<(MapPlan, GpuParams, SceneBuffers)> {
         let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
         let table = LightTable::new(scene);
         let plan = MapPlan::new(scene, s);
@@ -145,8 +144,8 @@ impl GpuRun {
         let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let buffers = SceneBuffers::new(
             ctx, layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
-        );
-        ((plan, params), buffers)
+        )?;
+        Ok((plan, params, buffers))
     }
 
     /// An absent map (`paths == 0`), bound where a mode or scene has none.
