@@ -204,20 +204,31 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     if params.n_triangles == 0u && !HAS_SPHERES {
         ni = n_nodes;
     }
-    while ni < n_nodes && spend() {
-        let node = nodes[first_word + NODE_WORDS * ni];
-        let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
-        let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
-        let count = node.w >> LEAF_COUNT_SHIFT;
-        if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
-            ni = select(ni + 1u, node.w, count == 0u);
-            continue;
+    // While-while: the inner loop walks nodes only, up to the next leaf whose box the ray
+    // hits; its primitives are tested after it. A SIMD group's lanes then test their leaves
+    // together, instead of every node step waiting on the lanes that are in a leaf.
+    loop {
+        var first = 0u;
+        var count = 0u;
+        while ni < n_nodes && spend() {
+            let node = nodes[first_word + NODE_WORDS * ni];
+            let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
+            let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
+            let c = node.w >> LEAF_COUNT_SHIFT;
+            if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
+                ni = select(ni + 1u, node.w, c == 0u);
+                continue;
+            }
+            ni += 1u;
+            if c != 0u {
+                first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
+                count = c;
+                break;
+            }
         }
-        ni += 1u;
         if count == 0u {
-            continue;
+            break;
         }
-        let first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
         for (var i = 0u; i < count && spend(); i += 1u) {
             // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
             let w = LEAF_PRIM_WORDS * (first + i);
