@@ -129,29 +129,40 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
     var t = vec3<f32>(1.0);
     var sum = vec3<f32>(0.0);
     var after_lobe = false;
-    for (var gd = depth + 1u; gd <= params.max_depth && spend(); gd += 1u) {
-        let hit = trace_ray(o, d, 3.0e38, false);
-        if !hit.found {
+    var gd = depth + 1u;
+    loop {
+        // The mirror/glass chain to the next diffuse or glossy hit, in a loop of its own so
+        // that the lanes of a SIMD group look up the cache together (after their chains).
+        var hit: Hit;
+        var m: Material;
+        var shade = false;
+        while gd <= params.max_depth && spend() {
+            hit = trace_ray(o, d, 3.0e38, false);
+            if !hit.found {
+                break;
+            }
+            m = load_material(hit.material);
+            // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+            if after_lobe && (dot(d, hit.normal) < 0.0 || m.two_sided != 0u) {
+                sum += t * m.emission;
+            }
+            if m.kind == MAT_BLACK {
+                break;
+            }
+            if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
+                if gd >= params.max_depth || !specular_bounce(hit, m, &d, &o, &t, rng) {
+                    break;
+                }
+                gd += 1u;
+                continue;
+            }
+            shade = true;
             break;
         }
-        let m = load_material(hit.material);
-        // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
-        if after_lobe && (dot(d, hit.normal) < 0.0 || m.two_sided != 0u) {
-            sum += t * m.emission;
+        if !shade {
+            break;
         }
         let can_continue = gd < params.max_depth;
-        if m.kind == MAT_BLACK {
-            break;
-        }
-        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
-            if !can_continue {
-                break;
-            }
-            if !specular_bounce(hit, m, &d, &o, &t, rng) {
-                break;
-            }
-            continue;
-        }
         let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
         sum += t * m.kd * cache_lookup(hit.position, lf.ng);
         // A glossy surface's lobe is not in the cache (Lambertian radiance): go on along one
@@ -169,6 +180,7 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         after_lobe = true;
         d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
+        gd += 1u;
     }
     return sum;
 }
@@ -197,29 +209,40 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var o = params.eye;
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
-    for (var depth = 0u; depth <= params.max_depth && spend(); depth += 1u) {
-        let hit = trace_ray(o, d, 3.0e38, false);
-        if !hit.found {
+    var depth = 0u;
+    loop {
+        // The mirror/glass chain to the next diffuse or glossy hit, in a loop of its own so
+        // that the lanes of a SIMD group shade together (after their chains).
+        var hit: Hit;
+        var m: Material;
+        var shade = false;
+        while depth <= params.max_depth && spend() {
+            hit = trace_ray(o, d, 3.0e38, false);
+            if !hit.found {
+                break;
+            }
+            m = load_material(hit.material);
+            let front = dot(d, hit.normal) < 0.0;
+            if front || m.two_sided != 0u {
+                radiance += throughput * m.emission;
+            }
+            if m.kind == MAT_BLACK {
+                break;
+            }
+            if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
+                if depth >= params.max_depth || !specular_bounce(hit, m, &d, &o, &throughput, &rng) {
+                    break;
+                }
+                depth += 1u;
+                continue;
+            }
+            shade = true;
             break;
         }
-        let m = load_material(hit.material);
-        let front = dot(d, hit.normal) < 0.0;
-        if front || m.two_sided != 0u {
-            radiance += throughput * m.emission;
+        if !shade {
+            break;
         }
         let can_continue = depth < params.max_depth;
-        if m.kind == MAT_BLACK {
-            break;
-        }
-        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
-            if !can_continue {
-                break;
-            }
-            if !specular_bounce(hit, m, &d, &o, &throughput, &rng) {
-                break;
-            }
-            continue;
-        }
         // Diffuse or glossy: shade.
         let wo = -d;
         let f = facing(hit, dot(wo, hit.normal) >= 0.0);
@@ -265,6 +288,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         throughput *= lr.weight;
         d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
+        depth += 1u;
     }
     return radiance;
 }
