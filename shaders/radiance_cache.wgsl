@@ -51,60 +51,75 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
         if s > max(max(max(-near.x, -near.y), -near.z), max(max(far.x, far.y), far.z)) {
             break;
         }
-        for (var dz = max(-s, near.z); dz <= min(s, far.z) && !truncated && spend(); dz += 1) {
-            for (var dy = max(-s, near.y); dy <= min(s, far.y) && !truncated && spend(); dy += 1) {
-                for (var dx = max(-s, near.x); dx <= min(s, far.x) && !truncated; dx += 1) {
-                    if !spend() {
-                        truncated = true;
-                        break;
+        // The ring's cells within [near, far], in one loop (dx fastest, then dy, then dz).
+        let first = max(vec3<i32>(-s), near);
+        let last = min(vec3<i32>(s), far);
+        var dx = first.x;
+        var dy = first.y;
+        var dz = first.z;
+        let ext = max(last - first + vec3<i32>(1), vec3<i32>(0));
+        let n_box = u32(ext.x * ext.y * ext.z);
+        for (var bi = 0u; bi < n_box && !truncated; bi += 1u) {
+            if bi != 0u {
+                dx += 1;
+                if dx > last.x {
+                    dx = first.x;
+                    dy += 1;
+                    if dy > last.y {
+                        dy = first.y;
+                        dz += 1;
                     }
-                    if max(abs(dx), max(abs(dy), abs(dz))) != s {
-                        continue;
-                    }
-                    // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
-                    cells += 1u;
-                    if cells > MAX_CELLS {
-                        truncated = true;
-                        break;
-                    }
-                    let c = home + vec3<i32>(dx, dy, dz);
-                    let lo = vec3<f32>(c) * mp.cell_size;
-                    let gap = max(max(lo - y, y - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
-                    if dot(gap, gap) > best_d2 {
-                        continue;
-                    }
-                    let range = map_cell(0u, cell_hash(c, mp.table_size));
-                    // A cell lists its cache points first (build_grid.wgsl scatter).
-                    for (var j = range.x; j < range.y; j += 1u) {
-                        visits += 1u;
-                        if visits > MAX_VISITS || !spend() {
-                            truncated = true;
-                            break;
-                        }
-                        // Words (position, flags) and (power, id); (dir, normal) only for
-                        // a point near enough.
-                        let w0 = map_word(0u, j, 0u);
-                        let w1 = map_word(0u, j, 1u);
-                        if !is_cache_point(w0.w, w1.w) {
-                            break;
-                        }
-                        // A photon of a colliding cell is a cache point too, and seeing one
-                        // twice changes no minimum: no cell test.
-                        let dv = bitcast<vec3<f32>>(w0.xyz) - y;
-                        let d2 = dot(dv, dv);
-                        if d2 > best_d2 {
-                            continue;
-                        }
-                        let q = photon_of_words(w0, w1, map_word(0u, j, 2u));
-                        if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
-                            continue;
-                        }
-                        if best == CACHE_NONE || cache_before(d2, q, best_d2, best_p) {
-                            best = j;
-                            best_d2 = d2;
-                            best_p = q;
-                        }
-                    }
+                }
+            }
+            if !spend() {
+                truncated = true;
+                break;
+            }
+            if max(abs(dx), max(abs(dy), abs(dz))) != s {
+                continue;
+            }
+            // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
+            cells += 1u;
+            if cells > MAX_CELLS {
+                truncated = true;
+                break;
+            }
+            let c = home + vec3<i32>(dx, dy, dz);
+            let lo = vec3<f32>(c) * mp.cell_size;
+            let gap = max(max(lo - y, y - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
+            if dot(gap, gap) > best_d2 {
+                continue;
+            }
+            let range = map_cell(0u, cell_hash(c, mp.table_size));
+            // A cell lists its cache points first (build_grid.wgsl scatter).
+            for (var j = range.x; j < range.y; j += 1u) {
+                visits += 1u;
+                if visits > MAX_VISITS || !spend() {
+                    truncated = true;
+                    break;
+                }
+                // Words (position, flags) and (power, id); (dir, normal) only for
+                // a point near enough.
+                let w0 = map_word(0u, j, 0u);
+                let w1 = map_word(0u, j, 1u);
+                if !is_cache_point(w0.w, w1.w) {
+                    break;
+                }
+                // A photon of a colliding cell is a cache point too, and seeing one
+                // twice changes no minimum: no cell test.
+                let dv = bitcast<vec3<f32>>(w0.xyz) - y;
+                let d2 = dot(dv, dv);
+                if d2 > best_d2 {
+                    continue;
+                }
+                let q = photon_of_words(w0, w1, map_word(0u, j, 2u));
+                if dot(unpack_normal(q.normal), n) < CACHE_NORMAL_COS {
+                    continue;
+                }
+                if best == CACHE_NONE || cache_before(d2, q, best_d2, best_p) {
+                    best = j;
+                    best_d2 = d2;
+                    best_p = q;
                 }
             }
         }
