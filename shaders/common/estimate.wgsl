@@ -151,39 +151,56 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
     var visits = 0u;
-    for (var dz = -rings; dz <= rings && spend(); dz += 1) {
-        for (var dy = -rings; dy <= rings && spend(); dy += 1) {
-            for (var dx = -rings; dx <= rings && spend(); dx += 1) {
-                let c = home + vec3<i32>(dx, dy, dz);
-                let range = map_cell(which, cell_hash(c, mp.table_size));
-                for (var j = range.x; j < range.y; j += 1u) {
-                    visits += 1u;
-                    if visits > MAX_VISITS || !spend() {
-                        atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
-                        return out;
-                    }
-                    let w0 = map_word(which, j, 0u);
-                    let pos = bitcast<vec3<f32>>(w0.xyz);
-                    if any(cell_of(pos, mp.cell_size) != c) {
-                        continue;
-                    }
-                    let dv = pos - x;
-                    let d2 = dot(dv, dv);
-                    if d2 > mp.radius2 {
-                        continue;
-                    }
-                    out.n += 1u;
-                    let p = photon_of_words(w0, map_word(which, j, 1u), map_word(which, j, 2u));
-                    if !photon_faces(p, x, ns) {
-                        continue;
-                    }
-                    let t = f * p.power * kernel_weight(d2, mp.radius2);
-                    let q = vec3<u32>(t * scale + 0.5);
-                    let lo = out.lo + q;
-                    out.hi += select(vec3<u32>(0u), vec3<u32>(1u), lo < q);
-                    out.lo = lo;
+    // The (2 rings + 1)^3 cells in one loop, dx fastest, then dy, then dz.
+    let side = u32(2 * rings + 1);
+    var dc = vec3<i32>(-rings);
+    for (var ci = 0u; ci < side * side * side && spend(); ci += 1u) {
+        if ci != 0u {
+            dc.x += 1;
+            if dc.x > rings {
+                dc.x = -rings;
+                dc.y += 1;
+                if dc.y > rings {
+                    dc.y = -rings;
+                    dc.z += 1;
                 }
             }
+        }
+        let c = home + dc;
+        // Skip a cell that lies beyond the radius (with slack for rounding: its photons
+        // would all fail the distance test below).
+        let lo = vec3<f32>(c) * mp.cell_size;
+        let gap = max(max(lo - x, x - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
+        if dot(gap, gap) > mp.radius2 * 1.001 {
+            continue;
+        }
+        let range = map_cell(which, cell_hash(c, mp.table_size));
+        for (var j = range.x; j < range.y; j += 1u) {
+            visits += 1u;
+            if visits > MAX_VISITS || !spend() {
+                atomicAdd(&stats[STAT_GATHER_TRUNCATED], 1u);
+                return out;
+            }
+            let w0 = map_word(which, j, 0u);
+            let pos = bitcast<vec3<f32>>(w0.xyz);
+            if any(cell_of(pos, mp.cell_size) != c) {
+                continue;
+            }
+            let dv = pos - x;
+            let d2 = dot(dv, dv);
+            if d2 > mp.radius2 {
+                continue;
+            }
+            out.n += 1u;
+            let p = photon_of_words(w0, map_word(which, j, 1u), map_word(which, j, 2u));
+            if !photon_faces(p, x, ns) {
+                continue;
+            }
+            let t = f * p.power * kernel_weight(d2, mp.radius2);
+            let q = vec3<u32>(t * scale + 0.5);
+            let sum = out.lo + q;
+            out.hi += select(vec3<u32>(0u), vec3<u32>(1u), sum < q);
+            out.lo = sum;
         }
     }
     return out;
