@@ -19,8 +19,9 @@ pub const CALIBRATION_SCENE: &str = include_str!("../scenes/cornell-box.toml");
 
 /// Bumped whenever the calibration render changes, so times measured for another one are not
 /// reused (2: progressive passes instead of one classic pass; 3: the fixed-radius cache
-/// kernel, which made the GPU's pass faster).
-pub const CALIBRATION_VERSION: u32 = 3;
+/// kernel, which made the GPU's pass faster; 4: the while-while traversal and the shading
+/// after the specular chain, likewise).
+pub const CALIBRATION_VERSION: u32 = 4;
 
 /// The calibration render's settings: the scene's own, in mode `gather`, at 64x64, 8 spp and
 /// 50,000 photon paths, progressive passes 0..2 (the default render's technique: each pass
