@@ -155,9 +155,7 @@ fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound
             continue;
         }
         let c = home + d;
-        let lo = vec3<f32>(c) * mp.cell_size;
-        let gap = max(max(lo - x, x - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
-        if dot(gap, gap) > bound2 {
+        if cell_gap2(c, x, mp.cell_size) > bound2 {
             continue;
         }
         let range = map_cell(0u, cell_hash(c, mp.table_size));

@@ -103,10 +103,50 @@ fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<fu
     return !leaks;
 }
 
-// A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
-// through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
-// per bounce up to max_depth, to its first diffuse or glossy hit y, where it returns
-// throughput * kd(y) * the radiance cache at y (normal facing the ray). Emission is ignored.
+// Where a chain of mirror and glass bounces ends: the hit to shade (diffuse or glossy; none
+// when the path left the scene, met a black surface, leaked or ran out of depth), and the
+// emission met on the way.
+struct ChainEnd {
+    hit: Hit,
+    m: Material,
+    emitted: vec3<f32>,
+    shade: bool,
+}
+
+// Traces from *o along *d through mirrors and glass (specular_bounce, *t the throughput,
+// *depth + 1 per bounce up to max_depth) to the next diffuse or glossy hit, adding *t times
+// the emission of every surface met from its emitting side when `emission`. The camera path
+// and the gather ray call this in a loop of its own and shade after it, so the lanes of a SIMD
+// group shade together, not once per chain length.
+fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>) -> ChainEnd {
+    var end: ChainEnd;
+    while *depth <= params.max_depth && spend() {
+        let hit = trace_ray(*o, *d, 3.0e38, false);
+        if !hit.found {
+            break;
+        }
+        let m = load_material(hit.material);
+        if emission && (dot(*d, hit.normal) < 0.0 || m.two_sided != 0u) {
+            end.emitted += *t * m.emission;
+        }
+        if m.kind == MAT_BLACK {
+            break;
+        }
+        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
+            if *depth >= params.max_depth || !specular_bounce(hit, m, d, o, t, rng) {
+                break;
+            }
+            *depth += 1u;
+            continue;
+        }
+        end.hit = hit;
+        end.m = m;
+        end.shade = true;
+        break;
+    }
+    return end;
+}
+
 // One camera-path ray from a glossy lobe about the mirror direction of d (towards the surface),
 // normals f facing -d (twin of `material::lobe_ray`): its direction and weight
 // ks (n + 2) / (n + 1) cos; not ok below the shading or the geometric surface.
@@ -123,6 +163,12 @@ fn lobe_ray(m: Material, d: vec3<f32>, f: Facing, u1: f32, u2: f32) -> LobeRay {
     return LobeRay(dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c), ok);
 }
 
+// A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
+// through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
+// per bounce up to max_depth, to its first diffuse or glossy hit y, where it adds
+// throughput * kd(y) * the radiance cache at y (normal facing the ray). At a glossy y it goes
+// on along the lobe; emission counts only after such a lobe bounce (the cache, shadow rays and
+// caustic photons carry the rest).
 fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     var d = dir;
     var o = offset_origin(x, n, d);
@@ -131,37 +177,14 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
     var after_lobe = false;
     var gd = depth + 1u;
     loop {
-        // The mirror/glass chain to the next diffuse or glossy hit, in a loop of its own so
-        // that the lanes of a SIMD group look up the cache together (after their chains).
-        var hit: Hit;
-        var m: Material;
-        var shade = false;
-        while gd <= params.max_depth && spend() {
-            hit = trace_ray(o, d, 3.0e38, false);
-            if !hit.found {
-                break;
-            }
-            m = load_material(hit.material);
-            // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
-            if after_lobe && (dot(d, hit.normal) < 0.0 || m.two_sided != 0u) {
-                sum += t * m.emission;
-            }
-            if m.kind == MAT_BLACK {
-                break;
-            }
-            if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
-                if gd >= params.max_depth || !specular_bounce(hit, m, &d, &o, &t, rng) {
-                    break;
-                }
-                gd += 1u;
-                continue;
-            }
-            shade = true;
+        // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+        let end = follow_chain(&o, &d, &t, &gd, after_lobe, rng);
+        sum += end.emitted;
+        if !end.shade {
             break;
         }
-        if !shade {
-            break;
-        }
+        let hit = end.hit;
+        let m = end.m;
         let can_continue = gd < params.max_depth;
         let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
         sum += t * m.kd * cache_lookup(hit.position, lf.ng);
@@ -211,37 +234,13 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var radiance = vec3<f32>(0.0);
     var depth = 0u;
     loop {
-        // The mirror/glass chain to the next diffuse or glossy hit, in a loop of its own so
-        // that the lanes of a SIMD group shade together (after their chains).
-        var hit: Hit;
-        var m: Material;
-        var shade = false;
-        while depth <= params.max_depth && spend() {
-            hit = trace_ray(o, d, 3.0e38, false);
-            if !hit.found {
-                break;
-            }
-            m = load_material(hit.material);
-            let front = dot(d, hit.normal) < 0.0;
-            if front || m.two_sided != 0u {
-                radiance += throughput * m.emission;
-            }
-            if m.kind == MAT_BLACK {
-                break;
-            }
-            if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
-                if depth >= params.max_depth || !specular_bounce(hit, m, &d, &o, &throughput, &rng) {
-                    break;
-                }
-                depth += 1u;
-                continue;
-            }
-            shade = true;
+        let end = follow_chain(&o, &d, &throughput, &depth, true, &rng);
+        radiance += end.emitted;
+        if !end.shade {
             break;
         }
-        if !shade {
-            break;
-        }
+        let hit = end.hit;
+        let m = end.m;
         let can_continue = depth < params.max_depth;
         // Diffuse or glossy: shade.
         let wo = -d;

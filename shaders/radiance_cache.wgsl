@@ -71,23 +71,16 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
                     }
                 }
             }
-            if !spend() {
+            let step = ring_step(vec3<i32>(dx, dy, dz), s, &cells);
+            if step == RING_STOP {
                 truncated = true;
                 break;
             }
-            if max(abs(dx), max(abs(dy), abs(dz))) != s {
+            if step == RING_SKIP {
                 continue;
             }
-            // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
-            cells += 1u;
-            if cells > MAX_CELLS {
-                truncated = true;
-                break;
-            }
             let c = home + vec3<i32>(dx, dy, dz);
-            let lo = vec3<f32>(c) * mp.cell_size;
-            let gap = max(max(lo - y, y - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
-            if dot(gap, gap) > best_d2 {
+            if cell_gap2(c, y, mp.cell_size) > best_d2 {
                 continue;
             }
             let range = map_cell(0u, cell_hash(c, mp.table_size));

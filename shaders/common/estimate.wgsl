@@ -169,9 +169,7 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
         let c = home + dc;
         // Skip a cell that lies beyond the radius (with slack for rounding: its photons
         // would all fail the distance test below).
-        let lo = vec3<f32>(c) * mp.cell_size;
-        let gap = max(max(lo - x, x - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
-        if dot(gap, gap) > mp.radius2 * 1.001 {
+        if cell_gap2(c, x, mp.cell_size) > mp.radius2 * 1.001 {
             continue;
         }
         let range = map_cell(which, cell_hash(c, mp.table_size));
@@ -224,6 +222,29 @@ fn fixed_radius_estimate(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>,
     return sum * (m / 16777216.0) * kernel_norm(mp.radius2);
 }
 
+// What a ring search does with the cell at offset dc from home in ring s.
+const RING_SCAN: u32 = 0u;
+// Not in ring s (inner rings hold it).
+const RING_SKIP: u32 = 1u;
+// The loop budget or MAX_CELLS is spent: the search is cut (truncated).
+const RING_STOP: u32 = 2u;
+
+// Spends one loop step on the cell at offset dc and counts it in *cells when it lies in ring
+// s (only the ring's cells count: rings 0..=MAX_RINGS hold MAX_CELLS).
+fn ring_step(dc: vec3<i32>, s: i32, cells: ptr<function, u32>) -> u32 {
+    if !spend() {
+        return RING_STOP;
+    }
+    if max(abs(dc.x), max(abs(dc.y), abs(dc.z))) != s {
+        return RING_SKIP;
+    }
+    *cells += 1u;
+    if *cells > MAX_CELLS {
+        return RING_STOP;
+    }
+    return RING_SCAN;
+}
+
 // Finds the K nearest photons of map `which` within its radius around x; returns how many
 // are in the heap (then sorted nearest first).
 fn knn(which: u32, x: vec3<f32>) -> u32 {
@@ -250,25 +271,18 @@ fn knn(which: u32, x: vec3<f32>) -> u32 {
         for (var dz = -s; dz <= s && !truncated && spend(); dz += 1) {
             for (var dy = -s; dy <= s && !truncated && spend(); dy += 1) {
                 for (var dx = -s; dx <= s && !truncated; dx += 1) {
-                    if !spend() {
+                    let step = ring_step(vec3<i32>(dx, dy, dz), s, &cells);
+                    if step == RING_STOP {
                         truncated = true;
                         break;
                     }
-                    if max(abs(dx), max(abs(dy), abs(dz))) != s {
+                    if step == RING_SKIP {
                         continue;
-                    }
-                    // Only the ring's cells count (rings 0..=5 hold MAX_CELLS).
-                    cells += 1u;
-                    if cells > MAX_CELLS {
-                        truncated = true;
-                        break;
                     }
                     let c = home + vec3<i32>(dx, dy, dz);
                     // Skip cells entirely farther than the current K-th photon (or the radius).
-                    let lo = vec3<f32>(c) * mp.cell_size;
-                    let gap = max(max(lo - x, x - (lo + vec3<f32>(mp.cell_size))), vec3<f32>(0.0));
                     let bound = select(r2_max, heap_d2(0u), n == k);
-                    if dot(gap, gap) > bound {
+                    if cell_gap2(c, x, mp.cell_size) > bound {
                         continue;
                     }
                     let range = map_cell(which, cell_hash(c, mp.table_size));

@@ -7,6 +7,13 @@ fn cell_of(p: vec3<f32>, cell_size: f32) -> vec3<i32> {
     return vec3<i32>(floor(p / cell_size));
 }
 
+// Squared distance from x to the box of cell c (0 inside it).
+fn cell_gap2(c: vec3<i32>, x: vec3<f32>, cell_size: f32) -> f32 {
+    let lo = vec3<f32>(c) * cell_size;
+    let gap = max(max(lo - x, x - (lo + vec3<f32>(cell_size))), vec3<f32>(0.0));
+    return dot(gap, gap);
+}
+
 fn cell_hash(c: vec3<i32>, table_size: u32) -> u32 {
     let h = pcg_hash(bitcast<u32>(c.x) ^ pcg_hash(bitcast<u32>(c.y) ^ pcg_hash(bitcast<u32>(c.z))));
     return h & (table_size - 1u);
