@@ -178,6 +178,7 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
     var gd = depth + 1u;
     loop {
         // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+        // (Bounded: follow_chain spends a loop step per ray, and shades nothing once refused.)
         let end = follow_chain(&o, &d, &t, &gd, after_lobe, rng);
         sum += end.emitted;
         if !end.shade {
@@ -234,6 +235,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var radiance = vec3<f32>(0.0);
     var depth = 0u;
     loop {
+        // Bounded as in gather_ray: no shading once the loop budget is spent.
         let end = follow_chain(&o, &d, &throughput, &depth, true, &rng);
         radiance += end.emitted;
         if !end.shade {

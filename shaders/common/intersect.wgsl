@@ -206,7 +206,9 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     }
     // While-while: the inner loop walks nodes only, up to the next leaf whose box the ray
     // hits; its primitives are tested after it. A SIMD group's lanes then test their leaves
-    // together, instead of every node step waiting on the lanes that are in a leaf.
+    // together, instead of every node step waiting on the lanes that are in a leaf. The outer
+    // loop is bounded by the budget too: it ends when the inner one finds no leaf, which it
+    // does once spend() refuses.
     loop {
         var first = 0u;
         var count = 0u;
