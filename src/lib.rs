@@ -30,6 +30,7 @@ pub mod rng;
 pub mod sampling;
 pub mod session;
 pub mod slice;
+pub mod shading;
 pub mod sobol;
 
 pub use film::Image;

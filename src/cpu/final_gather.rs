@@ -14,10 +14,9 @@
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
 use crate::geometry::{offset_origin, Facing, Ray};
-use crate::material::{dielectric_shading, lobe_ray, reflect};
 use crate::rng::Rng;
 use crate::sampling::cosine_hemisphere;
-use crate::scene::MaterialKind;
+use crate::shading::{bsdf_at, escape, DeltaEvent, SurfaceClass};
 use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
 
@@ -61,31 +60,35 @@ impl Gatherer<'_> {
         let (mut sum, mut after_lobe) = (Vec3::ZERO, false);
         loop {
             let Some(hit) = self.bvh.intersect(self.scene, &ray, f32::INFINITY) else {
-                return sum;
+                // What the sky gives over a lobe (the shadow rays' lights are elsewhere).
+                return if after_lobe {
+                    sum + throughput * escape(ray.dir)
+                } else {
+                    sum
+                };
             };
-            let m = &self.scene.materials[hit.material as usize];
+            let bsdf = bsdf_at(self.scene, &hit);
             // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
-            if after_lobe && (ray.dir.dot(hit.normal) < 0.0 || m.two_sided_emission) {
-                sum += throughput * m.emission;
+            if after_lobe {
+                sum += throughput * bsdf.emitted(ray.dir.dot(hit.normal) < 0.0);
             }
             let can_recurse = depth < self.settings.max_depth;
-            let dir = match m.kind {
-                MaterialKind::Black => return sum,
-                MaterialKind::Diffuse | MaterialKind::Glossy => {
+            let dir = match bsdf.class() {
+                SurfaceClass::Black => return sum,
+                SurfaceClass::Shaded => {
                     let Some(cache) = self.cache else {
                         return sum;
                     };
                     let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
-                    sum += throughput * m.kd * cache.lookup(hit.position, f.ng);
-                    // A glossy surface's lobe is not in the cache (it holds Lambertian
-                    // radiance): the ray goes on along one direction drawn from the lobe,
-                    // weighted as the camera's lobe ray is.
-                    if m.kind == MaterialKind::Diffuse || !can_recurse || m.ks.max_element() <= 0.0
-                    {
+                    sum += throughput * bsdf.diffuse_albedo() * cache.lookup(hit.position, f.ng);
+                    // A lobe is not in the cache (it holds Lambertian radiance): the ray goes
+                    // on along one direction drawn from the lobe, weighted as the camera's
+                    // lobe ray is.
+                    if !bsdf.has_lobe() || !can_recurse {
                         return sum;
                     }
                     let (u1, u2) = rng.next2();
-                    let Some((dir, w)) = lobe_ray(m, ray.dir, &f, u1, u2) else {
+                    let Some((dir, w)) = bsdf.sample_lobe(ray.dir, &f, u1, u2) else {
                         return sum;
                     };
                     throughput *= w;
@@ -93,29 +96,29 @@ impl Gatherer<'_> {
                     dir
                 }
                 _ if !can_recurse => return sum,
-                MaterialKind::Mirror => {
+                SurfaceClass::Delta => {
                     let f = hit.facing(ray.dir);
-                    throughput *= m.ks;
-                    let dir = reflect(ray.dir, f.ns);
-                    if f.reflection_leaks(dir) {
-                        return sum;
-                    }
-                    dir
-                }
-                MaterialKind::Glass => {
-                    let (ng, ns) = (hit.normal, hit.shading);
-                    let g = dielectric_shading(ray.dir, ng, ns, m.ior, self.settings.fresnel);
-                    let f = hit.facing(ray.dir);
-                    let u = rng.next();
-                    match g.refracted {
-                        Some(t) if u >= g.reflectance => {
-                            if f.refraction_leaks(t) {
+                    match bsdf.delta(ray.dir, &hit, &f, self.settings.fresnel) {
+                        DeltaEvent::Reflect { dir, weight } => {
+                            throughput *= weight;
+                            if f.reflection_leaks(dir) {
                                 return sum;
                             }
-                            t
+                            dir
                         }
-                        _ if f.reflection_leaks(g.reflected) => return sum,
-                        _ => g.reflected,
+                        DeltaEvent::Split(g) => {
+                            let u = rng.next();
+                            match g.refracted {
+                                Some(t) if u >= g.reflectance => {
+                                    if f.refraction_leaks(t) {
+                                        return sum;
+                                    }
+                                    t
+                                }
+                                _ if f.reflection_leaks(g.reflected) => return sum,
+                                _ => g.reflected,
+                            }
+                        }
                     }
                 }
             };

@@ -16,10 +16,10 @@ use crate::cpu::cache::RadianceCache;
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
-use crate::material::{brdf, dielectric_shading, lobe_ray, phong_lobe_value, reflect};
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
-use crate::scene::{Material, MaterialKind, Scene};
+use crate::scene::Scene;
+use crate::shading::{bsdf_at, escape, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::settings::{RenderSettings, Sampler};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
@@ -104,85 +104,64 @@ impl Gatherer<'_> {
         cw: f32,
     ) -> Vec3 {
         let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
-            return Vec3::ZERO;
+            return escape(ray.dir);
         };
-        let m = &self.scene.materials[hit.material as usize];
+        let bsdf = bsdf_at(self.scene, &hit);
         let front = ray.dir.dot(hit.normal) < 0.0;
-        let emitted = if front || m.two_sided_emission {
-            m.emission
-        } else {
-            Vec3::ZERO
-        };
+        let emitted = bsdf.emitted(front);
         let can_recurse = depth < self.settings.max_depth;
-        match m.kind {
-            MaterialKind::Black => emitted,
-            MaterialKind::Mirror => {
+        match bsdf.class() {
+            SurfaceClass::Black => emitted,
+            SurfaceClass::Delta => {
                 if !can_recurse {
                     return emitted;
                 }
                 let f = Facing::new(hit.normal, hit.shading, front);
-                let dir = reflect(ray.dir, f.ns);
-                if f.reflection_leaks(dir) {
-                    return emitted;
-                }
-                emitted
-                    + m.ks
-                        * self.radiance(
-                            &Ray {
-                                origin: offset_origin(hit.position, hit.normal, dir),
-                                dir,
-                            },
-                            depth + 1,
-                            rng,
-                            first,
-                            cw,
-                        )
-            }
-            MaterialKind::Glass => {
-                if !can_recurse {
-                    return emitted;
-                }
-                let (ng, ns) = (hit.normal, hit.shading);
-                let g = dielectric_shading(ray.dir, ng, ns, m.ior, self.settings.fresnel);
-                let f = Facing::new(ng, ns, front);
-                // A branch that ends on the wrong side of the geometric surface carries
-                // nothing (smooth triangles only).
-                let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
-                    let leaks = if Some(dir) == g.refracted {
-                        f.refraction_leaks(dir)
-                    } else {
-                        f.reflection_leaks(dir)
-                    };
-                    if leaks {
-                        return Vec3::ZERO;
+                let next = |dir: Vec3| Ray {
+                    origin: offset_origin(hit.position, hit.normal, dir),
+                    dir,
+                };
+                match bsdf.delta(ray.dir, &hit, &f, self.settings.fresnel) {
+                    DeltaEvent::Reflect { dir, weight } => {
+                        if f.reflection_leaks(dir) {
+                            return emitted;
+                        }
+                        emitted + weight * self.radiance(&next(dir), depth + 1, rng, first, cw)
                     }
-                    self.radiance(
-                        &Ray {
-                            origin: offset_origin(hit.position, hit.normal, dir),
-                            dir,
-                        },
-                        depth + 1,
-                        rng,
-                        first,
-                        cw,
-                    )
-                };
-                let Some(t) = g.refracted else {
-                    return emitted + trace(g.reflected, rng, first);
-                };
-                if depth < GLASS_SPLIT_DEPTH {
-                    // The reflected branch first: it gets the Sobol hit if one is left.
-                    let r = trace(g.reflected, rng, first);
-                    emitted + g.reflectance * r + (1.0 - g.reflectance) * trace(t, rng, first)
-                } else if rng.next() < g.reflectance {
-                    emitted + trace(g.reflected, rng, first)
-                } else {
-                    emitted + trace(t, rng, first)
+                    DeltaEvent::Split(g) => {
+                        // A branch that ends on the wrong side of the geometric surface
+                        // carries nothing (smooth triangles only).
+                        let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
+                            let leaks = if Some(dir) == g.refracted {
+                                f.refraction_leaks(dir)
+                            } else {
+                                f.reflection_leaks(dir)
+                            };
+                            if leaks {
+                                return Vec3::ZERO;
+                            }
+                            self.radiance(&next(dir), depth + 1, rng, first, cw)
+                        };
+                        let Some(t) = g.refracted else {
+                            return emitted + trace(g.reflected, rng, first);
+                        };
+                        if depth < GLASS_SPLIT_DEPTH {
+                            // The reflected branch first: it gets the Sobol hit if one is left.
+                            let r = trace(g.reflected, rng, first);
+                            emitted
+                                + g.reflectance * r
+                                + (1.0 - g.reflectance) * trace(t, rng, first)
+                        } else if rng.next() < g.reflectance {
+                            emitted + trace(g.reflected, rng, first)
+                        } else {
+                            emitted + trace(t, rng, first)
+                        }
+                    }
                 }
             }
-            MaterialKind::Diffuse | MaterialKind::Glossy => {
+            SurfaceClass::Shaded => {
                 let sobol = first.take();
-                emitted + self.shade(&hit, m, -ray.dir, depth, rng, sobol, cw)
+                emitted + self.shade(&hit, &bsdf, -ray.dir, depth, rng, sobol, cw)
             }
         }
     }
@@ -194,7 +173,7 @@ impl Gatherer<'_> {
     fn shade(
         &self,
         hit: &Hit,
-        m: &Material,
+        bsdf: &SurfaceBsdf,
         wo: Vec3,
         depth: u32,
         rng: &mut Rng,
@@ -204,11 +183,11 @@ impl Gatherer<'_> {
         let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
         let s = self.settings;
         let mut l = Vec3::ZERO;
-        if self.terms.direct || (self.terms.point_lobe && m.kind == MaterialKind::Glossy) {
-            l += self.direct(hit, m, &f, wo, rng, sobol);
+        if self.terms.direct || (self.terms.point_lobe && bsdf.lobe_takes_point_lights()) {
+            l += self.direct(hit, bsdf, &f, wo, rng, sobol);
         }
-        // The photon estimate uses the diffuse part; the glossy lobe is traced below.
-        let kd_over_pi = m.kd / std::f32::consts::PI;
+        // The photon estimate uses the diffuse part; the lobe is traced below.
+        let kd_over_pi = bsdf.eval_diffuse();
         // Final gathering replaces the global map's estimate here by the gather ray below.
         let global = if self.terms.final_gather {
             None
@@ -230,16 +209,13 @@ impl Gatherer<'_> {
                 );
             }
         }
-        if self.terms.final_gather && depth < s.max_depth && m.kd.max_element() > 0.0 {
-            l += m.kd * self.final_gather(hit, &f, depth, rng, sobol);
+        let albedo = bsdf.diffuse_albedo();
+        if self.terms.final_gather && depth < s.max_depth && albedo.max_element() > 0.0 {
+            l += albedo * self.final_gather(hit, &f, depth, rng, sobol);
         }
-        if self.terms.lobe_ray
-            && m.kind == MaterialKind::Glossy
-            && depth < s.max_depth
-            && m.ks.max_element() > 0.0
-        {
+        if self.terms.lobe_ray && bsdf.has_lobe() && depth < s.max_depth {
             let (u1, u2) = rng.next2();
-            if let Some((dir, w)) = lobe_ray(m, -wo, &f, u1, u2) {
+            if let Some((dir, w)) = bsdf.sample_lobe(-wo, &f, u1, u2) {
                 l += w * self.radiance(
                     &Ray {
                         origin: offset_origin(hit.position, hit.normal, dir),
@@ -264,7 +240,7 @@ impl Gatherer<'_> {
     fn direct(
         &self,
         hit: &Hit,
-        m: &Material,
+        bsdf: &SurfaceBsdf,
         f: &Facing,
         wo: Vec3,
         rng: &mut Rng,
@@ -303,9 +279,9 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let f = match (is_delta, self.terms.direct) {
-                    (true, true) => brdf(m, wi, wo, ns),
-                    (true, false) => m.ks * phong_lobe_value(wi, wo, ns, m.exponent),
-                    _ => m.kd / std::f32::consts::PI,
+                    (true, true) => bsdf.eval(wi, wo, ns),
+                    (true, false) => bsdf.eval_lobe(wi, wo, ns),
+                    _ => bsdf.eval_diffuse(),
                 };
                 if f == Vec3::ZERO {
                     continue;

@@ -4,11 +4,12 @@
 use crate::bvh::Bvh;
 use crate::geometry::{offset_origin, Ray};
 use crate::light::{aims_at, LightTable};
-use crate::material::{photon_bounce_shading, Bounce};
+use crate::material::Bounce;
 use crate::photon::{Budget, Photon};
 use crate::rng::{Rng, Stream};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
+use crate::shading::bsdf_at;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -100,8 +101,8 @@ fn trace_path(
         let Some(hit) = ctx.bvh.intersect(ctx.scene, &ray, f32::INFINITY) else {
             return;
         };
-        let m = &ctx.scene.materials[hit.material as usize];
-        if m.stores_photons() {
+        let bsdf = bsdf_at(ctx.scene, &hit);
+        if bsdf.stores_photons() {
             let caustic = depth > 0 && all_specular;
             // The caustic map keeps only L S+ D photons, and its paths end at the first
             // diffuse hit.
@@ -119,11 +120,11 @@ fn trace_path(
             if aim.is_some() {
                 return;
             }
-        } else if aim.is_some() && !m.is_specular() {
+        } else if aim.is_some() && !bsdf.is_specular() {
             return;
         }
         let u = [rng.next(), rng.next(), rng.next()];
-        let bounce = photon_bounce_shading(m, ray.dir, hit.normal, hit.shading, s.fresnel, u);
+        let bounce = bsdf.photon_bounce(ray.dir, &hit, s.fresnel, u);
         let (dir, weight) = match bounce {
             Bounce::Absorb => return,
             Bounce::Diffuse { dir, weight } => {
