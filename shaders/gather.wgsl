@@ -45,14 +45,9 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
             if c <= 0.0 || reflection_leaks(f, wi) {
                 continue;
             }
-            var f = m.kd / PI;
+            var f = bsdf_eval_diffuse(m);
             if is_delta {
-                let lobe = m.ks * phong_lobe_value(wi, wo, ns, m.exponent);
-                if m.kind != MAT_GLOSSY {
-                    f = select(vec3<f32>(0.0), f, with_direct);
-                } else {
-                    f = select(lobe, f + lobe, with_direct);
-                }
+                f = select(bsdf_eval_lobe(m, wi, wo, ns), f + bsdf_eval_lobe(m, wi, wo, ns), with_direct);
             }
             if all(f == vec3<f32>(0.0)) {
                 continue;
@@ -80,29 +75,6 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
     return total;
 }
 
-// One mirror or glass bounce at `hit` of a ray along *d: the mirror reflects about the
-// shading normal facing the ray and scales *t by ks; glass takes one rng draw to choose the
-// reflected (u < Fresnel reflectance) or refracted branch. *o becomes the offset origin of
-// the new ray. False when the new direction leaks through the geometric surface (the path
-// carries nothing further).
-fn specular_bounce(hit: Hit, m: Material, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) -> bool {
-    let f = facing(hit, dot(*d, hit.normal) < 0.0);
-    var leaks = false;
-    if m.kind == MAT_MIRROR {
-        *t *= m.ks;
-        *d = reflect_dir(*d, f.ns);
-        leaks = reflection_leaks(f, *d);
-    } else {
-        let g = dielectric(*d, hit.normal, hit.shading, m.ior);
-        let u = rng_next(rng);
-        let reflects = u < g.reflectance;
-        *d = select(g.refracted, g.reflected, reflects);
-        leaks = select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
-    }
-    *o = offset_origin(hit.position, hit.normal, *d);
-    return !leaks;
-}
-
 // Where a chain of mirror and glass bounces ends: the hit to shade (diffuse or glossy; none
 // when the path left the scene, met a black surface, leaked or ran out of depth), and the
 // emission met on the way.
@@ -123,17 +95,21 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
     while *depth <= params.max_depth && spend() {
         let hit = trace_ray(*o, *d, 3.0e38, false);
         if !hit.found {
+            if emission {
+                end.emitted += *t * escape(*d);
+            }
             break;
         }
-        let m = load_material(hit.material);
-        if emission && (dot(*d, hit.normal) < 0.0 || m.two_sided != 0u) {
-            end.emitted += *t * m.emission;
+        let m = bsdf_at(hit);
+        if emission {
+            end.emitted += *t * bsdf_emitted(m, dot(*d, hit.normal) < 0.0);
         }
-        if m.kind == MAT_BLACK {
+        let kind_class = bsdf_class(m);
+        if kind_class == CLASS_BLACK {
             break;
         }
-        if m.kind == MAT_MIRROR || (HAS_GLASS && m.kind == MAT_GLASS) {
-            if *depth >= params.max_depth || !specular_bounce(hit, m, d, o, t, rng) {
+        if kind_class == CLASS_DELTA {
+            if *depth >= params.max_depth || !bsdf_delta(hit, m, d, o, t, rng) {
                 break;
             }
             *depth += 1u;
@@ -145,22 +121,6 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         break;
     }
     return end;
-}
-
-// One camera-path ray from a glossy lobe about the mirror direction of d (towards the surface),
-// normals f facing -d (twin of `material::lobe_ray`): its direction and weight
-// ks (n + 2) / (n + 1) cos; not ok below the shading or the geometric surface.
-struct LobeRay {
-    dir: vec3<f32>,
-    weight: vec3<f32>,
-    ok: bool,
-}
-
-fn lobe_ray(m: Material, d: vec3<f32>, f: Facing, u1: f32, u2: f32) -> LobeRay {
-    let dir = phong_lobe(reflect_dir(d, f.ns), m.exponent, u1, u2);
-    let c = dot(dir, f.ns);
-    let ok = c > 0.0 && !reflection_leaks(f, dir);
-    return LobeRay(dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * c), ok);
 }
 
 // A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
@@ -188,15 +148,15 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         let m = end.m;
         let can_continue = gd < params.max_depth;
         let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
-        sum += t * m.kd * cache_lookup(hit.position, lf.ng);
-        // A glossy surface's lobe is not in the cache (Lambertian radiance): go on along one
-        // direction drawn from the lobe, weighted as the camera's lobe ray is.
-        if m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
+        sum += t * bsdf_diffuse_albedo(m) * cache_lookup(hit.position, lf.ng);
+        // A lobe is not in the cache (Lambertian radiance): go on along one direction drawn
+        // from the lobe, weighted as the camera's lobe ray is.
+        if !bsdf_has_lobe(m) || !can_continue {
             break;
         }
         let u1 = rng_next(rng);
         let u2 = rng_next(rng);
-        let lr = lobe_ray(m, d, lf, u1, u2);
+        let lr = bsdf_sample_lobe(m, d, lf, u1, u2);
         if !lr.ok {
             break;
         }
@@ -251,10 +211,11 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         var l = vec3<f32>(0.0);
         let use_sobol = first_shade;
         first_shade = false;
-        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && m.kind == MAT_GLOSSY) {
+        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && bsdf_lobe_takes_point_lights(m)) {
             l += direct_light(hit.position, f, wo, m, &rng, sob, use_sobol);
         }
-        let kd_pi = m.kd / PI;
+        let kd_pi = bsdf_eval_diffuse(m);
+        let albedo = bsdf_diffuse_albedo(m);
         let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
         // The geometric normal: photons carry their surface's.
         if !final_gather {
@@ -263,7 +224,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         if params.caustic_weight > 0.0 {
             l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
         }
-        if final_gather && max3(m.kd) > 0.0 && can_continue {
+        if final_gather && max3(albedo) > 0.0 && can_continue {
             var gu: vec2<f32>;
             if use_sobol {
                 gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
@@ -273,16 +234,16 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             }
             let dir = cosine_hemisphere(ns, gu.x, gu.y);
             if !reflection_leaks(f, dir) {
-                l += m.kd * gather_ray(hit.position, hit.normal, dir, depth, &rng);
+                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, &rng);
             }
         }
         radiance += throughput * l;
-        if (params.terms & TERM_LOBE_RAY) == 0u || m.kind != MAT_GLOSSY || !can_continue || max3(m.ks) <= 0.0 {
+        if (params.terms & TERM_LOBE_RAY) == 0u || !bsdf_has_lobe(m) || !can_continue {
             break;
         }
         let u1 = rng_next(&rng);
         let u2 = rng_next(&rng);
-        let lr = lobe_ray(m, -wo, f, u1, u2);
+        let lr = bsdf_sample_lobe(m, -wo, f, u1, u2);
         if !lr.ok {
             break;
         }

@@ -53,9 +53,9 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if !hit.found {
             return;
         }
-        let m = load_material(hit.material);
-        let stores = m.kind == MAT_DIFFUSE || m.kind == MAT_GLOSSY;
-        let specular = m.kind == MAT_MIRROR || m.kind == MAT_GLASS;
+        let m = bsdf_at(hit);
+        let stores = bsdf_stores_photons(m);
+        let specular = bsdf_class(m) == CLASS_DELTA;
         if stores {
             let stored_normal = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
             let caustic = depth > 0u && all_specular;

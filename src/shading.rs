@@ -67,15 +67,21 @@ pub fn escape(_dir: Vec3) -> Vec3 {
     Vec3::ZERO
 }
 
+/// How the integrators treat a surface of material kind `kind` (the GPU's `material_class`
+/// is generated from this table: `gpu::codes::wgsl_material_class`).
+pub const fn class_of(kind: MaterialKind) -> SurfaceClass {
+    match kind {
+        MaterialKind::Black => SurfaceClass::Black,
+        MaterialKind::Mirror | MaterialKind::Glass => SurfaceClass::Delta,
+        MaterialKind::Diffuse | MaterialKind::Glossy => SurfaceClass::Shaded,
+    }
+}
+
 impl SurfaceBsdf<'_> {
     /// How the integrators treat the surface.
     #[inline]
     pub fn class(&self) -> SurfaceClass {
-        match self.m.kind {
-            MaterialKind::Black => SurfaceClass::Black,
-            MaterialKind::Mirror | MaterialKind::Glass => SurfaceClass::Delta,
-            MaterialKind::Diffuse | MaterialKind::Glossy => SurfaceClass::Shaded,
-        }
+        class_of(self.m.kind)
     }
 
     /// Radiance emitted towards a ray arriving from the front (`front`) or the back.

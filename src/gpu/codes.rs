@@ -5,6 +5,7 @@
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
 use crate::scene::MaterialKind;
+use crate::shading::{class_of, SurfaceClass};
 use crate::settings::{Filter, FresnelMode, Sampler};
 
 /// `Material.kind` of a diffuse surface.
@@ -17,6 +18,13 @@ pub const MAT_MIRROR: u32 = 2;
 pub const MAT_GLASS: u32 = 3;
 /// `Material.kind` of an absorber.
 pub const MAT_BLACK: u32 = 4;
+
+/// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
+pub const CLASS_BLACK: u32 = 0;
+/// Surface class of a material of delta lobes only (the specular chain).
+pub const CLASS_DELTA: u32 = 1;
+/// Surface class of a material that shades (diffuse part or non-delta lobe).
+pub const CLASS_SHADED: u32 = 2;
 
 /// `Light.kind` of a point light.
 pub const LIGHT_POINT: u32 = 0;
@@ -200,6 +208,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAT_MIRROR", U32(MAT_MIRROR)),
         ("MAT_GLASS", U32(MAT_GLASS)),
         ("MAT_BLACK", U32(MAT_BLACK)),
+        ("CLASS_BLACK", U32(CLASS_BLACK)),
+        ("CLASS_DELTA", U32(CLASS_DELTA)),
+        ("CLASS_SHADED", U32(CLASS_SHADED)),
         ("LIGHT_POINT", U32(LIGHT_POINT)),
         ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
         ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
@@ -272,7 +283,32 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
     ]
 }
 
-/// The WGSL prelude: one `const` declaration per shared constant.
+/// The WGSL code of a surface class (`shading::SurfaceClass`).
+pub fn class_code(class: SurfaceClass) -> u32 {
+    match class {
+        SurfaceClass::Black => CLASS_BLACK,
+        SurfaceClass::Delta => CLASS_DELTA,
+        SurfaceClass::Shaded => CLASS_SHADED,
+    }
+}
+
+/// WGSL `material_class(kind)`, generated from the Rust table `shading::class_of` over
+/// every material kind, so the two dispatches cannot drift.
+pub fn wgsl_material_class() -> String {
+    let mut out = String::from(
+        "// How the integrators treat a material kind (generated from shading::class_of).\n\
+         fn material_class(kind: u32) -> u32 {\n    switch kind {\n",
+    );
+    for kind in MaterialKind::ALL {
+        let (code, class) = (material_code(kind), class_code(class_of(kind)));
+        out.push_str(&format!("        case {code}u: {{ return {class}u; }}\n"));
+    }
+    out.push_str("        default: { return CLASS_BLACK; }\n    }\n}\n");
+    out
+}
+
+/// The WGSL prelude: one `const` declaration per shared constant, then the generated
+/// dispatch tables.
 pub fn wgsl_prelude() -> String {
     let mut out = String::from(
         "// Generated from src/gpu/codes.rs (shared_constants): do not declare these in WGSL.\n",
@@ -280,5 +316,6 @@ pub fn wgsl_prelude() -> String {
     for (name, value) in shared_constants() {
         out.push_str(&format!("const {name}: {};\n", value.declaration()));
     }
+    out.push_str(&wgsl_material_class());
     out
 }

@@ -29,6 +29,7 @@ const SCENE: &str = include_str!("../../shaders/common/scene.wgsl");
 const INTERSECT: &str = include_str!("../../shaders/common/intersect.wgsl");
 const MATERIAL: &str = include_str!("../../shaders/common/material.wgsl");
 const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
+const SHADING: &str = include_str!("../../shaders/common/shading.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
@@ -42,7 +43,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 19] = [
+pub const WGSL_FILES: [(&str, &str); 20] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -51,6 +52,7 @@ pub const WGSL_FILES: [(&str, &str); 19] = [
     ("common/intersect.wgsl", INTERSECT),
     ("common/material.wgsl", MATERIAL),
     ("common/light.wgsl", LIGHT),
+    ("common/shading.wgsl", SHADING),
     ("common/grid.wgsl", GRID),
     ("common/map.wgsl", MAP),
     ("common/estimate.wgsl", ESTIMATE),
@@ -112,7 +114,7 @@ impl Kernel {
     pub fn source(self) -> String {
         let prelude = wgsl_prelude();
         let libs: &[&str] = &[
-            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, GRID,
+            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, SHADING, GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.

@@ -91,6 +91,17 @@ pub enum MaterialKind {
     Black,
 }
 
+impl MaterialKind {
+    /// Every kind, in the order of their GPU codes.
+    pub const ALL: [MaterialKind; 5] = [
+        MaterialKind::Diffuse,
+        MaterialKind::Glossy,
+        MaterialKind::Mirror,
+        MaterialKind::Glass,
+        MaterialKind::Black,
+    ];
+}
+
 /// A material. Unused coefficients are zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
