@@ -31,6 +31,7 @@ pub mod sampling;
 pub mod session;
 pub mod slice;
 pub mod sobol;
+pub mod texture;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};
