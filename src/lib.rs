@@ -32,6 +32,7 @@ pub mod session;
 pub mod slice;
 pub mod shading;
 pub mod sobol;
+pub mod texture;
 
 pub use film::Image;
 pub use report::{Progress, RenderReport};

@@ -29,6 +29,7 @@ pub mod renderer;
 pub mod run;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod textures;
 pub mod types;
 
 pub use context::{list_adapters, preferred_adapter, quiet_headless_vulkan, GpuContext};
