@@ -12,7 +12,7 @@ use crate::geometry::{
 };
 use crate::scene::{Scene, FLAT};
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
@@ -81,6 +81,9 @@ pub struct Hit {
     pub material: u32,
     /// Index of the primitive's light in `Scene::lights`, or `scene::NO_LIGHT`.
     pub light: u32,
+    /// Texture coordinates: a triangle's interpolated corner uvs (`Scene::uvs`), a sphere's
+    /// Mitsuba parameterisation; zero when the scene has no textures.
+    pub uv: Vec2,
 }
 
 impl Hit {
@@ -216,6 +219,10 @@ impl Bvh {
                 FLAT => normal,
                 i => shading_normal(normal, &scene.shading_normals[i as usize], u, v),
             };
+            let uv = match scene.uvs.get(id as usize) {
+                Some(c) => (1.0 - u - v) * c[0] + u * c[1] + v * c[2],
+                None => Vec2::ZERO,
+            };
             Hit {
                 t: best_t,
                 // Barycentric position (closer to the plane than origin + t dir), inset
@@ -225,11 +232,17 @@ impl Bvh {
                 shading,
                 material: tri.material,
                 light: tri.light,
+                uv,
             }
         } else {
             let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
             let p = ray.origin + best_t * ray.dir;
             let n = (p - s.center).normalize_or_zero();
+            let uv = if scene.textures.is_empty() {
+                Vec2::ZERO
+            } else {
+                crate::texture::uv::sphere(n)
+            };
             Hit {
                 t: best_t,
                 position: s.center + n * s.radius,
@@ -237,6 +250,7 @@ impl Bvh {
                 shading: n,
                 material: s.material,
                 light: s.light,
+                uv,
             }
         })
     }

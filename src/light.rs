@@ -302,19 +302,20 @@ impl LightTable {
     }
 }
 
-/// Bounds of the specular (mirror and glass) surfaces that caustic photons are aimed at:
-/// one box per specular material over its triangles, and each specular sphere's box.
+/// Bounds of the surfaces that caustic photons are aimed at, those with a delta or glossy
+/// lobe (`Material::casts_caustics`): one box per such material over its triangles, and
+/// each such sphere's box.
 pub fn specular_bounds(scene: &Scene) -> Vec<Aabb> {
     let mut per_material: Vec<Aabb> = vec![Aabb::EMPTY; scene.materials.len()];
     for t in &scene.triangles {
-        if scene.materials[t.material as usize].is_specular() {
+        if scene.materials[t.material as usize].casts_caustics() {
             per_material[t.material as usize] =
                 per_material[t.material as usize].union(Aabb::of_triangle(t));
         }
     }
     let mut out: Vec<Aabb> = per_material.into_iter().filter(|b| !b.is_empty()).collect();
     for s in &scene.spheres {
-        if scene.materials[s.material as usize].is_specular() {
+        if scene.materials[s.material as usize].casts_caustics() {
             out.push(Aabb::of_sphere(s));
         }
     }

@@ -207,7 +207,14 @@ pub fn photon_bounce_shading(
         }
     };
     match m.kind {
-        MaterialKind::Black => Bounce::Absorb,
+        // crate::bsdf's kinds bounce in `shading::SurfaceBsdf::photon_bounce`.
+        MaterialKind::Black
+        | MaterialKind::Conductor
+        | MaterialKind::RoughConductor
+        | MaterialKind::RoughDielectric
+        | MaterialKind::ThinDielectric
+        | MaterialKind::Plastic
+        | MaterialKind::RoughPlastic => Bounce::Absorb,
         MaterialKind::Diffuse | MaterialKind::Glossy => {
             // Choice probabilities: the larger of each coefficient's channels, scaled so that
             // p_d + p_s <= max(kd + ks) <= 1.

@@ -14,8 +14,10 @@ use crate::material::{
     brdf, dielectric_shading, phong_lobe_value, photon_bounce_shading, reflect, Bounce,
     Dielectric,
 };
-use crate::sampling::phong_lobe;
-use crate::scene::{Material, MaterialKind, Scene};
+use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
+use crate::rng::Rng;
+use crate::sampling::{basis, cosine_hemisphere, phong_lobe, to_world};
+use crate::scene::{Material, MaterialKind, Scene, NO_TEXTURE};
 use crate::settings::FresnelMode;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -51,13 +53,25 @@ pub enum DeltaEvent {
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceBsdf<'a> {
     m: &'a Material,
+    /// `kd` with its texture looked up.
+    kd: Vec3,
+    /// The unflipped shading normal: the local frame's z for [`crate::bsdf`]'s kinds.
+    n: Vec3,
 }
 
-/// The BSDF of the surface `hit` lies on: the one place a material's fields are read.
+/// The BSDF of the surface `hit` lies on: the one place a material's fields (and its
+/// textures) are read.
 #[inline]
 pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
+    let m = &scene.materials[hit.material as usize];
+    let kd = match m.kd_texture {
+        NO_TEXTURE => m.kd,
+        t => scene.textures[t as usize].eval(hit.uv),
+    };
     SurfaceBsdf {
-        m: &scene.materials[hit.material as usize],
+        m,
+        kd,
+        n: hit.shading,
     }
 }
 
@@ -72,9 +86,24 @@ pub fn escape(_dir: Vec3) -> Vec3 {
 pub const fn class_of(kind: MaterialKind) -> SurfaceClass {
     match kind {
         MaterialKind::Black => SurfaceClass::Black,
-        MaterialKind::Mirror | MaterialKind::Glass => SurfaceClass::Delta,
-        MaterialKind::Diffuse | MaterialKind::Glossy => SurfaceClass::Shaded,
+        MaterialKind::Mirror
+        | MaterialKind::Glass
+        | MaterialKind::Conductor
+        | MaterialKind::ThinDielectric => SurfaceClass::Delta,
+        MaterialKind::Diffuse
+        | MaterialKind::Glossy
+        | MaterialKind::RoughConductor
+        | MaterialKind::RoughDielectric
+        | MaterialKind::Plastic
+        | MaterialKind::RoughPlastic => SurfaceClass::Shaded,
     }
+}
+
+/// The probability with which a photon at a plastic takes the coating rather than the base:
+/// the coating's reflectance towards `wo` (`1 - t(wo)`), kept inside [0.05, 0.95] so that
+/// neither part goes unsampled.
+fn coat_probability(b: &Bsdf, wo: Vec3) -> f32 {
+    (1.0 - b.store_weight(wo)).clamp(0.05, 0.95)
 }
 
 impl SurfaceBsdf<'_> {
@@ -94,15 +123,39 @@ impl SurfaceBsdf<'_> {
         }
     }
 
+    /// `w` in the local frame of [`crate::bsdf`] (z the front shading normal).
+    #[inline]
+    fn local(&self, w: Vec3) -> Vec3 {
+        let (t, b) = basis(self.n);
+        Vec3::new(w.dot(t), w.dot(b), w.dot(self.n))
+    }
+
     /// The delta event of a [`SurfaceClass::Delta`] surface for a ray along `d` at `hit`
     /// (normals turned by the caller's `f`).
     #[inline]
     pub fn delta(&self, d: Vec3, hit: &Hit, f: &Facing, fresnel: FresnelMode) -> DeltaEvent {
-        match self.m.kind {
-            MaterialKind::Mirror => DeltaEvent::Reflect {
+        match (self.m.kind, &self.m.bsdf) {
+            (MaterialKind::Mirror, _) => DeltaEvent::Reflect {
                 dir: reflect(d, f.ns),
                 weight: self.m.ks,
             },
+            (MaterialKind::Conductor, Some(b)) => {
+                let weight = b
+                    .sample_lobe(self.local(-d), [0.0; 3], Transport::Radiance)
+                    .map_or(Vec3::ZERO, |s| s.weight);
+                DeltaEvent::Reflect {
+                    dir: reflect(d, f.ns),
+                    weight,
+                }
+            }
+            (MaterialKind::ThinDielectric, Some(Bsdf::ThinDielectric { eta, .. })) => {
+                let r = fresnel_dielectric(d.dot(f.ns).abs(), *eta).0;
+                DeltaEvent::Split(Dielectric {
+                    reflected: reflect(d, f.ns),
+                    refracted: Some(d),
+                    reflectance: if r < 1.0 { 2.0 * r / (1.0 + r) } else { 1.0 },
+                })
+            }
             _ => DeltaEvent::Split(dielectric_shading(
                 d,
                 hit.normal,
@@ -113,57 +166,132 @@ impl SurfaceBsdf<'_> {
         }
     }
 
-    /// The diffuse part's albedo towards the viewer: photon estimates and gather rays weigh
-    /// the incident light by `diffuse_albedo / pi` (Lambertian: `kd`).
+    /// The diffuse part's albedo towards the viewer at `wo`: photon estimates weigh the
+    /// incident light by `diffuse_albedo / pi`, gather rays (cosine-distributed) by it times
+    /// [`store_weight`](Self::store_weight) of their direction (Lambertian: `kd` and 1).
     #[inline]
-    pub fn diffuse_albedo(&self) -> Vec3 {
-        self.m.kd
+    pub fn diffuse_albedo(&self, wo: Vec3) -> Vec3 {
+        match &self.m.bsdf {
+            Some(b) => b.diffuse_out(self.local(wo)),
+            None => self.kd,
+        }
+    }
+
+    /// The diffuse part's factor on the light's side for light arriving from `wi`, by which
+    /// a stored photon's power is multiplied (1 for a Lambertian surface, the coating's
+    /// transmittance for a plastic); `None` when it is exactly 1.
+    #[inline]
+    pub fn store_weight(&self, wi: Vec3) -> Option<f32> {
+        self.m.bsdf.as_ref().map(|b| b.store_weight(self.local(wi)))
     }
 
     /// The diffuse part's BSDF value `f_D(wi, wo)` (Lambertian: `kd / pi`).
     #[inline]
-    pub fn eval_diffuse(&self) -> Vec3 {
-        self.m.kd / PI
+    pub fn eval_diffuse(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        match &self.m.bsdf {
+            Some(b) => {
+                let (wi, wo) = (self.local(wi), self.local(wo));
+                if wi.z * wo.z <= 0.0 {
+                    return Vec3::ZERO;
+                }
+                b.diffuse_out(wo) * (b.store_weight(wi) / PI)
+            }
+            None => self.kd / PI,
+        }
     }
 
-    /// Whether the surface has a non-delta lobe that the camera path and gather rays trace.
+    /// The diffuse part's value for a photon estimate at a point seen from `wo`: the
+    /// constant BRDF the estimate weighs each photon by (photons already carry
+    /// [`store_weight`](Self::store_weight)).
+    #[inline]
+    pub fn estimate_brdf(&self, wo: Vec3) -> Vec3 {
+        match &self.m.bsdf {
+            Some(_) => self.diffuse_albedo(wo) / PI,
+            None => self.kd / PI,
+        }
+    }
+
+    /// Whether the surface has a lobe that the camera path and gather rays trace (delta or
+    /// glossy, besides its diffuse part).
     #[inline]
     pub fn has_lobe(&self) -> bool {
-        self.m.kind == MaterialKind::Glossy && self.m.ks.max_element() > 0.0
+        match self.m.kind {
+            MaterialKind::Glossy => self.m.ks.max_element() > 0.0,
+            MaterialKind::Diffuse | MaterialKind::Black => false,
+            _ => true,
+        }
     }
 
     /// Whether the lobe is lit by delta lights through shadow rays when the mode adds no
-    /// direct light (`Terms::point_lobe`).
+    /// direct light (`Terms::point_lobe`): every non-delta lobe.
     #[inline]
     pub fn lobe_takes_point_lights(&self) -> bool {
-        self.m.kind == MaterialKind::Glossy
+        matches!(
+            self.m.kind,
+            MaterialKind::Glossy
+                | MaterialKind::RoughConductor
+                | MaterialKind::RoughDielectric
+                | MaterialKind::RoughPlastic
+        )
     }
 
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        if self.m.kind != MaterialKind::Glossy {
-            return Vec3::ZERO;
+        match (self.m.kind, &self.m.bsdf) {
+            (MaterialKind::Glossy, _) => self.m.ks * phong_lobe_value(wi, wo, ns, self.m.exponent),
+            (_, Some(b)) => b.eval_lobe(self.local(wi), self.local(wo), Transport::Radiance),
+            _ => Vec3::ZERO,
         }
-        self.m.ks * phong_lobe_value(wi, wo, ns, self.m.exponent)
     }
 
     /// The whole non-delta BSDF `f(wi, wo)` (diffuse part and lobe).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        brdf(self.m, wi, wo, ns)
+        match self.m.bsdf {
+            Some(_) => self.eval_diffuse(wi, wo) + self.eval_lobe(wi, wo, ns),
+            None if self.m.kd_texture != NO_TEXTURE => {
+                let m = Material {
+                    kd: self.kd,
+                    ..*self.m
+                };
+                brdf(&m, wi, wo, ns)
+            }
+            None => brdf(self.m, wi, wo, ns),
+        }
     }
 
     /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), with
-    /// the hit's normals `f` facing `-d`, from the uniforms (u1, u2): the direction and its
-    /// weight `f cos / pdf`, or `None` below the shading or the geometric surface.
+    /// the hit's normals `f` facing `-d`: the direction and its weight `f cos / pdf`, or
+    /// `None` below the shading or the geometric surface (or across it for a reflection).
+    /// The Phong lobe takes two numbers from `rng`, [`crate::bsdf`]'s kinds three.
     #[inline]
-    pub fn sample_lobe(&self, d: Vec3, f: &Facing, u1: f32, u2: f32) -> Option<(Vec3, Vec3)> {
+    pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<(Vec3, Vec3)> {
         let m = self.m;
-        let dir = phong_lobe(reflect(d, f.ns), m.exponent, u1, u2);
-        let cos = dir.dot(f.ns);
-        (cos > 0.0 && !f.reflection_leaks(dir))
-            .then(|| (dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos)))
+        let Some(b) = &m.bsdf else {
+            let (u1, u2) = rng.next2();
+            let dir = phong_lobe(reflect(d, f.ns), m.exponent, u1, u2);
+            let cos = dir.dot(f.ns);
+            return (cos > 0.0 && !f.reflection_leaks(dir))
+                .then(|| (dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos)));
+        };
+        let u = [rng.next(), rng.next(), rng.next()];
+        let s = b.sample_lobe(self.local(-d), u, Transport::Radiance)?;
+        self.world_direction(s.wi, s.weight, f)
+    }
+
+    /// A local sample direction in world space with its weight, or `None` when it leaks
+    /// through the geometric surface (a reflection below it, a transmission above it).
+    #[inline]
+    fn world_direction(&self, wi: Vec3, weight: Vec3, f: &Facing) -> Option<(Vec3, Vec3)> {
+        let dir = to_world(wi, self.n).normalize();
+        let reflects = dir.dot(f.ns) > 0.0;
+        let leaks = if reflects {
+            f.reflection_leaks(dir) || dir.dot(f.ng) <= 0.0
+        } else {
+            f.refraction_leaks(dir) || dir.dot(f.ng) >= 0.0
+        };
+        (!leaks && weight.max_element() > 0.0).then_some((dir, weight))
     }
 
     /// Whether photons are stored here (the surface has a diffuse part).
@@ -172,15 +300,50 @@ impl SurfaceBsdf<'_> {
         self.m.stores_photons()
     }
 
-    /// Whether the surface is only delta lobes (a caustic path passes it).
+    /// Whether the surface is only delta lobes.
     #[inline]
     pub fn is_specular(&self) -> bool {
         self.m.is_specular()
     }
 
-    /// Russian roulette for a photon arriving along `d` at `hit` (three uniforms `u`).
+    /// Russian roulette for a photon arriving along `d` at `hit` (three uniforms `u`). On
+    /// [`crate::bsdf`]'s kinds the photon samples the BSDF without roulette (their lobes
+    /// reflect at most what arrives): a plastic picks its coating with
+    /// [`coat_probability`] (`u[0]`), then the coating's lobe or a cosine-weighted base
+    /// direction (`u[1], u[2]`).
     #[inline]
     pub fn photon_bounce(&self, d: Vec3, hit: &Hit, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
-        photon_bounce_shading(self.m, d, hit.normal, hit.shading, fresnel, u)
+        let Some(b) = &self.m.bsdf else {
+            return photon_bounce_shading(self.m, d, hit.normal, hit.shading, fresnel, u);
+        };
+        let f = hit.facing(d);
+        let wo = self.local(-d);
+        let (wi, weight, delta) = if b.has_diffuse() {
+            let p = coat_probability(b, wo);
+            if u[0] < p {
+                let Some(s) = b.sample_lobe(wo, [u[0] / p, u[1], u[2]], Transport::Importance)
+                else {
+                    return Bounce::Absorb;
+                };
+                (s.wi, s.weight / p, s.delta)
+            } else {
+                let dir = cosine_hemisphere(f.ns, u[1], u[2]);
+                if f.reflection_leaks(dir) {
+                    return Bounce::Absorb;
+                }
+                // f_D cos / (pdf_cos (1 - p)) with pdf_cos = cos / pi.
+                let w = b.diffuse_out(wo) * (b.store_weight(self.local(dir)) / (1.0 - p));
+                return Bounce::Diffuse { dir, weight: w };
+            }
+        } else {
+            let Some(s) = b.sample_lobe(wo, u, Transport::Importance) else {
+                return Bounce::Absorb;
+            };
+            (s.wi, s.weight, s.delta)
+        };
+        match self.world_direction(wi, weight, &f) {
+            Some((dir, weight)) => Bounce::Specular { dir, weight, delta },
+            None => Bounce::Absorb,
+        }
     }
 }

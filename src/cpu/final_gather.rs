@@ -1,22 +1,21 @@
 //! The gather ray of final gathering on the CPU (twin: `gather_ray` in `shaders/gather.wgsl`).
-//! At a diffuse or glossy camera hit x in `gather` mode one cosine-weighted direction about
-//! the facing normal is drawn (`rng.next2()`, after the direct light and before the glossy
-//! lobe ray; at the sample's first shaded hit Sobol pair `sobol::PAIR_GATHER` instead); the ray follows mirrors (times ks) and glass (always one branch: one
-//! `rng.next()` < reflectance reflects, 1 on total internal reflection), depth + 1 per bounce
-//! up to `max_depth`, ignores emission (shadow rays and the caustic map count it), and at
-//! its first diffuse or glossy hit y adds kd(y) times the radiance cache at y (normal facing
-//! the ray). At a glossy y it goes on along one direction from the lobe (`rng.next2()`,
-//! weight as the camera's lobe ray), counting emission it meets from there on (light over a
-//! glossy lobe is in no shadow ray and no caustic photon); without that, light reflected by
-//! glossy surfaces would be missing (the cache holds Lambertian radiance). The caller
-//! multiplies by kd(x): the cosine pdf cancels the cosine and 1/pi.
+//! At a shaded camera hit x in `gather` mode one cosine-weighted direction about the facing
+//! normal is drawn (`rng.next2()`, after the direct light and before the lobe ray; at the
+//! sample's first shaded hit Sobol pair `sobol::PAIR_GATHER` instead); the ray follows
+//! mirrors (times ks) and glass (always one branch: one `rng.next()` < reflectance
+//! reflects), depth + 1 per bounce up to `max_depth`, and at its first shaded hit y adds the
+//! diffuse albedo of y times the radiance cache at y (normal facing the ray). Where y has a
+//! lobe the ray goes on along one direction drawn from it (weight as the camera's lobe ray).
+//! It never counts emission: light from a light directly (shadow rays) or over delta and
+//! glossy lobes (L (S|G)+ D: the caustic map) is counted elsewhere. The caller multiplies by
+//! the diffuse albedo of x: the cosine pdf cancels the cosine and 1/pi.
 
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
 use crate::geometry::{offset_origin, Facing, Ray};
 use crate::rng::Rng;
 use crate::sampling::cosine_hemisphere;
-use crate::shading::{bsdf_at, escape, DeltaEvent, SurfaceClass};
+use crate::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::sobol::{sample_pair, SobolStream, PAIR_GATHER};
 use glam::Vec3;
 
@@ -29,6 +28,7 @@ impl Gatherer<'_> {
     pub fn final_gather(
         &self,
         hit: &Hit,
+        bsdf: &SurfaceBsdf,
         f: &Facing,
         depth: u32,
         rng: &mut Rng,
@@ -42,14 +42,18 @@ impl Gatherer<'_> {
         if f.reflection_leaks(dir) {
             return Vec3::ZERO;
         }
-        self.gather_ray(
+        let l = self.gather_ray(
             &Ray {
                 origin: offset_origin(hit.position, hit.normal, dir),
                 dir,
             },
             depth + 1,
             rng,
-        )
+        );
+        match bsdf.store_weight(dir) {
+            Some(w) => w * l,
+            None => l,
+        }
     }
 
     /// Radiance the cache gives along `ray` (its hit at depth `depth`): the specular chain,
@@ -57,21 +61,14 @@ impl Gatherer<'_> {
     /// lobes; nothing more on a miss, at a black surface or past `max_depth`.
     fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng) -> Vec3 {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
-        let (mut sum, mut after_lobe) = (Vec3::ZERO, false);
+        let mut sum = Vec3::ZERO;
         loop {
+            // Emission is never counted here: light reaching x from a light (direct) or over
+            // delta and glossy lobes (L (S|G)+ D) is in the shadow rays and the caustic map.
             let Some(hit) = self.bvh.intersect(self.scene, &ray, f32::INFINITY) else {
-                // What the sky gives over a lobe (the shadow rays' lights are elsewhere).
-                return if after_lobe {
-                    sum + throughput * escape(ray.dir)
-                } else {
-                    sum
-                };
+                return sum;
             };
             let bsdf = bsdf_at(self.scene, &hit);
-            // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
-            if after_lobe {
-                sum += throughput * bsdf.emitted(ray.dir.dot(hit.normal) < 0.0);
-            }
             let can_recurse = depth < self.settings.max_depth;
             let dir = match bsdf.class() {
                 SurfaceClass::Black => return sum,
@@ -80,19 +77,19 @@ impl Gatherer<'_> {
                         return sum;
                     };
                     let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
-                    sum += throughput * bsdf.diffuse_albedo() * cache.lookup(hit.position, f.ng);
+                    sum += throughput
+                        * bsdf.diffuse_albedo(-ray.dir)
+                        * cache.lookup(hit.position, f.ng);
                     // A lobe is not in the cache (it holds Lambertian radiance): the ray goes
                     // on along one direction drawn from the lobe, weighted as the camera's
                     // lobe ray is.
                     if !bsdf.has_lobe() || !can_recurse {
                         return sum;
                     }
-                    let (u1, u2) = rng.next2();
-                    let Some((dir, w)) = bsdf.sample_lobe(ray.dir, &f, u1, u2) else {
+                    let Some((dir, w)) = bsdf.sample_lobe(ray.dir, &f, rng) else {
                         return sum;
                     };
                     throughput *= w;
-                    after_lobe = true;
                     dir
                 }
                 _ if !can_recurse => return sum,

@@ -187,7 +187,7 @@ impl Gatherer<'_> {
             l += self.direct(hit, bsdf, &f, wo, rng, sobol);
         }
         // The photon estimate uses the diffuse part; the lobe is traced below.
-        let kd_over_pi = bsdf.eval_diffuse();
+        let kd_over_pi = bsdf.estimate_brdf(wo);
         // Final gathering replaces the global map's estimate here by the gather ray below.
         let global = if self.terms.final_gather {
             None
@@ -209,13 +209,12 @@ impl Gatherer<'_> {
                 );
             }
         }
-        let albedo = bsdf.diffuse_albedo();
+        let albedo = bsdf.diffuse_albedo(wo);
         if self.terms.final_gather && depth < s.max_depth && albedo.max_element() > 0.0 {
-            l += albedo * self.final_gather(hit, &f, depth, rng, sobol);
+            l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol);
         }
         if self.terms.lobe_ray && bsdf.has_lobe() && depth < s.max_depth {
-            let (u1, u2) = rng.next2();
-            if let Some((dir, w)) = bsdf.sample_lobe(-wo, &f, u1, u2) {
+            if let Some((dir, w)) = bsdf.sample_lobe(-wo, &f, rng) {
                 l += w * self.radiance(
                     &Ray {
                         origin: offset_origin(hit.position, hit.normal, dir),
@@ -281,7 +280,7 @@ impl Gatherer<'_> {
                 let f = match (is_delta, self.terms.direct) {
                     (true, true) => bsdf.eval(wi, wo, ns),
                     (true, false) => bsdf.eval_lobe(wi, wo, ns),
-                    _ => bsdf.eval_diffuse(),
+                    _ => bsdf.eval_diffuse(wi, wo),
                 };
                 if f == Vec3::ZERO {
                     continue;

@@ -104,12 +104,17 @@ fn trace_path(
         let bsdf = bsdf_at(ctx.scene, &hit);
         if bsdf.stores_photons() {
             let caustic = depth > 0 && all_specular;
-            // The caustic map keeps only L S+ D photons, and its paths end at the first
-            // diffuse hit.
+            // The caustic map keeps only L (S|G)+ D photons: its paths end at the first
+            // diffuse bounce.
             if aim.is_none() || caustic {
+                // A plastic's base sees the light its coating lets through.
+                let stored = match bsdf.store_weight(-ray.dir) {
+                    Some(w) => power * w,
+                    None => power,
+                };
                 out.push(Photon::new(
                     hit.position,
-                    power,
+                    stored,
                     ray.dir,
                     hit.normal,
                     i,
@@ -117,24 +122,19 @@ fn trace_path(
                     caustic,
                 ));
             }
-            if aim.is_some() {
-                return;
-            }
-        } else if aim.is_some() && !bsdf.is_specular() {
-            return;
         }
         let u = [rng.next(), rng.next(), rng.next()];
         let bounce = bsdf.photon_bounce(ray.dir, &hit, s.fresnel, u);
         let (dir, weight) = match bounce {
             Bounce::Absorb => return,
+            Bounce::Diffuse { .. } if aim.is_some() => return,
             Bounce::Diffuse { dir, weight } => {
                 all_specular = false;
                 (dir, weight)
             }
-            Bounce::Specular { dir, weight, delta } => {
-                all_specular &= delta;
-                (dir, weight)
-            }
+            // Delta and glossy lobes alike: the photon-mapping split traces every lobe
+            // from the camera, so light arriving over any of them is a caustic.
+            Bounce::Specular { dir, weight, .. } => (dir, weight),
         };
         power *= weight;
         if !(power.max_element() > 0.0) || !power.is_finite() {

@@ -18,6 +18,18 @@ pub const MAT_MIRROR: u32 = 2;
 pub const MAT_GLASS: u32 = 3;
 /// `Material.kind` of an absorber.
 pub const MAT_BLACK: u32 = 4;
+/// `Material.kind` of a smooth conductor.
+pub const MAT_CONDUCTOR: u32 = 5;
+/// `Material.kind` of a microfacet conductor.
+pub const MAT_ROUGH_CONDUCTOR: u32 = 6;
+/// `Material.kind` of a microfacet dielectric.
+pub const MAT_ROUGH_DIELECTRIC: u32 = 7;
+/// `Material.kind` of a thin dielectric.
+pub const MAT_THIN_DIELECTRIC: u32 = 8;
+/// `Material.kind` of a smooth plastic.
+pub const MAT_PLASTIC: u32 = 9;
+/// `Material.kind` of a rough plastic.
+pub const MAT_ROUGH_PLASTIC: u32 = 10;
 
 /// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
 pub const CLASS_BLACK: u32 = 0;
@@ -150,6 +162,12 @@ pub fn material_code(kind: MaterialKind) -> u32 {
         MaterialKind::Mirror => MAT_MIRROR,
         MaterialKind::Glass => MAT_GLASS,
         MaterialKind::Black => MAT_BLACK,
+        MaterialKind::Conductor => MAT_CONDUCTOR,
+        MaterialKind::RoughConductor => MAT_ROUGH_CONDUCTOR,
+        MaterialKind::RoughDielectric => MAT_ROUGH_DIELECTRIC,
+        MaterialKind::ThinDielectric => MAT_THIN_DIELECTRIC,
+        MaterialKind::Plastic => MAT_PLASTIC,
+        MaterialKind::RoughPlastic => MAT_ROUGH_PLASTIC,
     }
 }
 
@@ -208,6 +226,12 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAT_MIRROR", U32(MAT_MIRROR)),
         ("MAT_GLASS", U32(MAT_GLASS)),
         ("MAT_BLACK", U32(MAT_BLACK)),
+        ("MAT_CONDUCTOR", U32(MAT_CONDUCTOR)),
+        ("MAT_ROUGH_CONDUCTOR", U32(MAT_ROUGH_CONDUCTOR)),
+        ("MAT_ROUGH_DIELECTRIC", U32(MAT_ROUGH_DIELECTRIC)),
+        ("MAT_THIN_DIELECTRIC", U32(MAT_THIN_DIELECTRIC)),
+        ("MAT_PLASTIC", U32(MAT_PLASTIC)),
+        ("MAT_ROUGH_PLASTIC", U32(MAT_ROUGH_PLASTIC)),
         ("CLASS_BLACK", U32(CLASS_BLACK)),
         ("CLASS_DELTA", U32(CLASS_DELTA)),
         ("CLASS_SHADED", U32(CLASS_SHADED)),

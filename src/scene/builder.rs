@@ -33,7 +33,8 @@ use super::{
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::settings::RenderSettings;
-use glam::{Mat3, Vec3};
+use crate::texture::SceneTexture;
+use glam::{Mat3, Vec2, Vec3};
 use std::collections::HashMap;
 use std::f32::consts::PI;
 
@@ -84,6 +85,8 @@ pub struct SceneBuilder {
     names: HashMap<String, MaterialId>,
     triangles: Vec<Triangle>,
     shading_normals: Vec<VertexNormals>,
+    uvs: Vec<[Vec2; 3]>,
+    textures: Vec<SceneTexture>,
     spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
     settings: RenderSettings,
@@ -299,6 +302,33 @@ impl SceneBuilder {
         Ok(())
     }
 
+    /// [`add_smooth_mesh`](Self::add_smooth_mesh) with texture coordinates for each
+    /// triangle's corners (`uvs` parallel to `tris`; non-finite values are an error).
+    pub fn add_uv_mesh(
+        &mut self,
+        tris: Vec<[Vec3; 3]>,
+        normals: Option<Vec<VertexNormals>>,
+        uvs: Vec<[Vec2; 3]>,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if uvs.len() != tris.len() || uvs.iter().flatten().any(|t| !t.is_finite()) {
+            let message = "texture coordinates must be finite, one set per triangle";
+            return Err(at.error(Part::Geometry, message.into()));
+        }
+        let first = self.triangles.len();
+        self.add_smooth_mesh(tris, normals, surface, at)?;
+        self.uvs.resize(first, [Vec2::ZERO; 3]);
+        self.uvs.extend(uvs);
+        Ok(())
+    }
+
+    /// Adds a texture that materials can refer to by the index returned.
+    pub fn add_texture(&mut self, texture: SceneTexture) -> u32 {
+        self.textures.push(texture);
+        self.textures.len() as u32 - 1
+    }
+
     /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
     pub fn add_point_light(
         &mut self,
@@ -324,15 +354,20 @@ impl SceneBuilder {
 
     /// The scene; without a camera, an error on [`Part::Camera`]. Directional lights get
     /// their power here: `irradiance * pi R^2`, R the radius of [`Scene::bounding_sphere`].
-    pub fn finish(self, at: &dyn Locate) -> Result<Scene> {
+    pub fn finish(mut self, at: &dyn Locate) -> Result<Scene> {
         let Some(camera) = self.camera else {
             return Err(at.error(Part::Camera, "the scene has no camera".into()));
         };
+        if !self.uvs.is_empty() {
+            self.uvs.resize(self.triangles.len(), [Vec2::ZERO; 3]);
+        }
         let mut scene = Scene {
             camera,
             materials: self.materials,
             triangles: self.triangles,
             shading_normals: self.shading_normals,
+            uvs: self.uvs,
+            textures: self.textures,
             spheres: self.spheres,
             lights: self.lights,
             settings: self.settings,
@@ -448,6 +483,11 @@ fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
             _ => Err(at.error(param("ior"), "must be positive and finite".into())),
         },
         MaterialKind::Black => Ok(()),
+        // Built by crate::bsdf from checked parameters (importers check their ranges).
+        _ => match m.bsdf {
+            Some(_) => Ok(()),
+            None => Err(at.error(param("bsdf"), "missing BSDF parameters".into())),
+        },
     }
 }
 

@@ -7,7 +7,7 @@ use super::builder::{SceneBuilder, Surface};
 use super::locate::{Locate, Part};
 use super::{obj, ply, VertexNormals};
 use crate::error::Result;
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::path::Path;
 
 /// The format of a mesh file.
@@ -41,6 +41,8 @@ pub(crate) struct MeshData {
     pub tris: Vec<[Vec3; 3]>,
     /// The corners' normals, parallel to `tris`; `None` for a flat mesh.
     pub normals: Option<Vec<VertexNormals>>,
+    /// The corners' texture coordinates, parallel to `tris`; `None` without.
+    pub uvs: Option<Vec<[Vec2; 3]>>,
 }
 
 impl MeshData {
@@ -62,6 +64,12 @@ impl MeshData {
             normals: self
                 .normals
                 .map(|ns| transform_normals(ns, normal_map, swap)),
+            uvs: self.uvs.map(|mut uvs| {
+                if swap {
+                    uvs.iter_mut().for_each(|t| t.swap(1, 2));
+                }
+                uvs
+            }),
         }
     }
 
@@ -92,7 +100,11 @@ pub(crate) fn load_mesh(path: &Path, format: MeshFormat) -> Result<MeshData, Str
     match format {
         MeshFormat::Obj => {
             let (tris, normals) = obj::load_triangles(path)?;
-            Ok(MeshData { tris, normals })
+            Ok(MeshData {
+                tris,
+                normals,
+                uvs: None,
+            })
         }
         MeshFormat::Ply => {
             let mesh = ply::read_ply(path).map_err(|e| e.to_string())?;
@@ -113,6 +125,7 @@ pub(crate) fn load_mesh(path: &Path, format: MeshFormat) -> Result<MeshData, Str
             Ok(MeshData {
                 tris: mesh.triangle_positions(),
                 normals,
+                uvs: None,
             })
         }
     }

@@ -72,7 +72,10 @@ pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
     }
 }
 
+use crate::bsdf::Bsdf;
 use crate::camera::Camera;
+use crate::texture::SceneTexture;
+use glam::Vec2;
 use crate::settings::RenderSettings;
 use glam::Vec3;
 
@@ -89,18 +92,53 @@ pub enum MaterialKind {
     Glass,
     /// Reflects nothing (the surface of an area light, or a black absorber).
     Black,
+    /// Smooth conductor (complex index of refraction): [`Material::bsdf`], a delta lobe.
+    Conductor,
+    /// Microfacet conductor: [`Material::bsdf`].
+    RoughConductor,
+    /// Microfacet dielectric boundary (reflection and transmission): [`Material::bsdf`].
+    RoughDielectric,
+    /// Thin dielectric sheet (delta reflection and straight pass-through): [`Material::bsdf`].
+    ThinDielectric,
+    /// Diffuse base under a smooth dielectric coating: [`Material::bsdf`].
+    Plastic,
+    /// Diffuse base under a microfacet coating: [`Material::bsdf`].
+    RoughPlastic,
 }
 
 impl MaterialKind {
     /// Every kind, in the order of their GPU codes.
-    pub const ALL: [MaterialKind; 5] = [
+    pub const ALL: [MaterialKind; 11] = [
         MaterialKind::Diffuse,
         MaterialKind::Glossy,
         MaterialKind::Mirror,
         MaterialKind::Glass,
         MaterialKind::Black,
+        MaterialKind::Conductor,
+        MaterialKind::RoughConductor,
+        MaterialKind::RoughDielectric,
+        MaterialKind::ThinDielectric,
+        MaterialKind::Plastic,
+        MaterialKind::RoughPlastic,
     ];
+
+    /// The kind a [`Bsdf`] of `crate::bsdf` is rendered as.
+    pub fn of_bsdf(b: &Bsdf) -> MaterialKind {
+        match b {
+            Bsdf::Diffuse { .. } => MaterialKind::Diffuse,
+            Bsdf::Conductor { microfacet: None, .. } => MaterialKind::Conductor,
+            Bsdf::Conductor { .. } => MaterialKind::RoughConductor,
+            Bsdf::Dielectric { microfacet: None, .. } => MaterialKind::Glass,
+            Bsdf::Dielectric { .. } => MaterialKind::RoughDielectric,
+            Bsdf::ThinDielectric { .. } => MaterialKind::ThinDielectric,
+            Bsdf::Plastic(p) if p.microfacet.is_none() => MaterialKind::Plastic,
+            Bsdf::Plastic(_) => MaterialKind::RoughPlastic,
+        }
+    }
 }
+
+/// Marks a material parameter that no texture varies ([`Material::kd_texture`]).
+pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// A material. Unused coefficients are zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,6 +157,12 @@ pub struct Material {
     pub emission: Vec3,
     /// Whether emission leaves both faces.
     pub two_sided_emission: bool,
+    /// The parameters of the kinds after `Black` (conductors, rough dielectrics, plastics);
+    /// `None` for the others.
+    pub bsdf: Option<Bsdf>,
+    /// Index into [`Scene::textures`] of the texture that gives `kd` at a hit (a `diffuse`
+    /// material's albedo), or [`NO_TEXTURE`].
+    pub kd_texture: u32,
 }
 
 impl Material {
@@ -166,6 +210,26 @@ impl Material {
             ior: 1.0,
             emission: Vec3::ZERO,
             two_sided_emission: false,
+            bsdf: None,
+            kd_texture: NO_TEXTURE,
+        }
+    }
+    /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`
+    /// become the `diffuse` and `glass` kinds (exact Fresnel, untinted), the others keep
+    /// their parameters in [`Material::bsdf`].
+    pub fn from_bsdf(b: Bsdf) -> Self {
+        match b {
+            Bsdf::Diffuse { albedo } => Self::diffuse(albedo),
+            Bsdf::Dielectric {
+                eta,
+                microfacet: None,
+                ..
+            } => Self::glass(eta),
+            b => Self {
+                kind: MaterialKind::of_bsdf(&b),
+                bsdf: Some(b),
+                ..Self::black()
+            },
         }
     }
     /// An area-light surface: emits `radiance` from its front face, reflects nothing.
@@ -175,13 +239,36 @@ impl Material {
             ..Self::black()
         }
     }
-    /// Mirror and glass: delta BSDFs, the `S` of Heckbert's path notation.
+    /// Delta BSDFs only (mirror, glass, smooth conductor, thin dielectric): the `S` of
+    /// Heckbert's path notation.
     pub fn is_specular(&self) -> bool {
-        matches!(self.kind, MaterialKind::Mirror | MaterialKind::Glass)
+        matches!(
+            self.kind,
+            MaterialKind::Mirror
+                | MaterialKind::Glass
+                | MaterialKind::Conductor
+                | MaterialKind::ThinDielectric
+        )
     }
-    /// Surfaces where photons are stored and radiance is estimated (diffuse and glossy).
+    /// Surfaces where photons are stored and radiance is estimated: those with a diffuse
+    /// part (diffuse, glossy, plastics).
     pub fn stores_photons(&self) -> bool {
-        matches!(self.kind, MaterialKind::Diffuse | MaterialKind::Glossy)
+        matches!(
+            self.kind,
+            MaterialKind::Diffuse
+                | MaterialKind::Glossy
+                | MaterialKind::Plastic
+                | MaterialKind::RoughPlastic
+        )
+    }
+    /// Surfaces with a lobe that is not Lambertian (delta or glossy): caustic photons are
+    /// aimed at them and pass them (L (S|G)+ D).
+    pub fn casts_caustics(&self) -> bool {
+        match self.kind {
+            MaterialKind::Diffuse | MaterialKind::Black => false,
+            MaterialKind::Glossy => self.ks.max_element() > 0.0,
+            _ => true,
+        }
     }
     /// Whether it emits in some channel.
     pub fn is_emissive(&self) -> bool {
@@ -350,6 +437,11 @@ pub struct Scene {
     /// Vertex normals of the smooth-shaded triangles, indexed by [`Triangle::shading`];
     /// empty when every triangle is flat.
     pub shading_normals: Vec<VertexNormals>,
+    /// Texture coordinates of each triangle's corners, parallel to `triangles`; empty when
+    /// no triangle has any (then every uv is zero).
+    pub uvs: Vec<[Vec2; 3]>,
+    /// The textures materials refer to ([`Material::kd_texture`]).
+    pub textures: Vec<SceneTexture>,
     /// Analytic spheres.
     pub spheres: Vec<Sphere>,
     /// Lights, in the order their shapes (then point lights) were added.
@@ -372,6 +464,8 @@ impl Scene {
             materials: vec![],
             triangles: vec![],
             shading_normals: vec![],
+            uvs: vec![],
+            textures: vec![],
             spheres: vec![],
             lights: vec![],
             settings: RenderSettings::default(),

@@ -1,41 +1,93 @@
-//! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`):
-//! `diffuse`, `twosided`, `conductor`, `dielectric` exactly; `plastic`, `roughplastic`,
-//! `roughconductor` (and named conductors) approximately, with one warning each.
+//! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`), each as
+//! Mitsuba 3 defines it (`crate::bsdf`): `diffuse` (constant or textured reflectance),
+//! `twosided`, `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
+//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`.
 
 use super::plugin::Plugin;
 use super::values::Cx;
 use crate::error::Result;
+use super::texture::texture;
+use crate::bsdf::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, METAL_NAMES};
 use crate::scene::Material;
+use crate::texture::SceneTexture;
 use glam::Vec3;
 use roxmltree::Node;
+use std::path::Path;
 
-/// The Phong exponent of a smooth coating (`plastic`): a sharp but finite lobe.
-pub(super) const SMOOTH_EXPONENT: f32 = 1000.0;
 /// Mitsuba's default `ext_ior` (air).
 const AIR: f32 = 1.000277;
 
-/// The Phong exponent that matches a microfacet roughness `alpha`: `2 / alpha^2 - 2`
-/// (Walter et al. 2007, the Beckmann-Phong correspondence), at least 0.
-pub(super) fn phong_exponent(alpha: f32) -> f32 {
-    (2.0 / (alpha * alpha) - 2.0).max(0.0)
+/// A material read from a `<bsdf>`, with the texture its `kd` takes (the caller adds it to
+/// the scene and sets `kd_texture`).
+pub(super) struct Read {
+    /// The material.
+    pub material: Material,
+    /// A textured diffuse reflectance.
+    pub kd_texture: Option<SceneTexture>,
 }
 
-/// Reads the `<bsdf>` element `node` at `field` as a material; approximations push a
-/// warning naming the bsdf.
+/// The microfacet roughness of a rough plugin: `distribution` (`beckmann` default, `ggx`),
+/// `alpha` (default 0.1) or `alpha_u` and `alpha_v`.
+fn microfacet(cx: &Cx, p: &Plugin) -> Result<Microfacet> {
+    let distribution = match p.string(cx, "distribution")?.as_deref() {
+        None | Some("beckmann") => Distribution::Beckmann,
+        Some("ggx") => Distribution::Ggx,
+        Some(other) => {
+            let message = format!("unknown distribution `{other}` (expected beckmann or ggx)");
+            return Err(cx.err(p.node_of("distribution"), &p.at("distribution"), message));
+        }
+    };
+    p.ignore(&["sample_visible"]);
+    let alpha = p.positive(cx, "alpha", 0.1)?;
+    let u = p.float(cx, "alpha_u")?.unwrap_or(alpha);
+    let v = p.float(cx, "alpha_v")?.unwrap_or(alpha);
+    for (name, a) in [("alpha_u", u), ("alpha_v", v)] {
+        if !(a > 0.0 && a.is_finite()) {
+            return Err(cx.err(p.node_of(name), &p.at(name), "must be positive"));
+        }
+    }
+    Ok(Microfacet::new(distribution, u, v))
+}
+
+/// A conductor's complex index: `material` (a name from Mitsuba's table; default `none`,
+/// a perfect reflector) or `eta` and `k`.
+fn conductor_ior(cx: &Cx, p: &Plugin) -> Result<(Vec3, Vec3)> {
+    let eta = p.color(cx, "eta")?;
+    let k = p.color(cx, "k")?;
+    let material = p.string(cx, "material")?;
+    match (eta, k, material.as_deref()) {
+        (Some(eta), k, None) => Ok((eta, k.unwrap_or(Vec3::ZERO))),
+        (None, Some(_), _) => Err(cx.err(p.node_of("k"), &p.at("k"), "`k` needs `eta`")),
+        (Some(_), _, Some(_)) => {
+            let message = "give either `material` or `eta` and `k`";
+            Err(cx.err(p.node_of("material"), &p.at("material"), message))
+        }
+        // A perfect mirror: Mitsuba's `none` is eta 0, k 1 (reflectance 1).
+        (None, None, None | Some("none")) => Ok((Vec3::ZERO, Vec3::ONE)),
+        (None, None, Some(name)) => named_conductor(name).ok_or_else(|| {
+            let message = format!("unknown conductor material `{name}` (Mitsuba's names: {})", METAL_NAMES.join(", "));
+            cx.err(p.node_of("material"), &p.at("material"), message)
+        }),
+    }
+}
+
+/// Reads the `<bsdf>` element `node` at `field` as a material (textures relative to
+/// `base_dir`); approximations push a warning naming the bsdf.
 pub(super) fn bsdf(
     cx: &Cx,
     node: Node,
     field: &str,
+    base_dir: &Path,
     warnings: &mut Vec<String>,
-) -> Result<Material> {
+) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
-    let mut notes: Vec<String> = Vec::new();
     let kind = p.kind.as_str();
     if let Some(&extra) = p.objects.get(usize::from(kind == "twosided")) {
         let tag = extra.tag_name().name();
         let message = format!("unsupported <{tag}> inside a `{kind}` bsdf");
         return Err(cx.err(extra, field, message));
     }
+    let mut kd_texture = None;
     let material = match kind {
         "twosided" => {
             // Our materials reflect on both sides already: the nested bsdf is the material.
@@ -46,50 +98,78 @@ pub(super) fn bsdf(
                 let message = "`twosided` needs a nested <bsdf>";
                 return Err(cx.err(inner, field, message));
             }
-            bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?
+            p.done(cx)?;
+            return bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings);
         }
-        "diffuse" => {
-            let albedo = p.albedo(cx, "reflectance", 0.5)?;
-            if albedo == Vec3::ZERO {
-                Material::black()
-            } else {
-                Material::diffuse(albedo)
+        "diffuse" => match p.texture_param("reflectance") {
+            Some(t) => {
+                let tex = texture(cx, t, &p.at("reflectance"), base_dir)?;
+                let mut m = Material::diffuse(tex.mean());
+                m.kd_texture = 0;
+                kd_texture = Some(tex);
+                m
             }
-        }
+            None => {
+                let albedo = p.albedo(cx, "reflectance", 0.5)?;
+                if albedo == Vec3::ZERO {
+                    Material::black()
+                } else {
+                    Material::diffuse(albedo)
+                }
+            }
+        },
         "conductor" | "roughconductor" => {
-            let reflectance = conductor_reflectance(cx, &p, &mut notes)?;
-            if kind == "conductor" {
-                Material::mirror(reflectance)
-            } else {
-                p.ignore(&["distribution", "sample_visible"]);
-                let exponent = phong_exponent(roughness(cx, &p)?);
-                notes.push(format!(
-                    "`roughconductor` approximated as glossy (ks {reflectance}, Phong exponent {exponent})"
-                ));
-                Material::glossy(Vec3::ZERO, reflectance, exponent)
-            }
+            let (eta, k) = conductor_ior(cx, &p)?;
+            let specular = p.albedo(cx, "specular_reflectance", 1.0)?;
+            let microfacet = match kind {
+                "conductor" => None,
+                _ => Some(microfacet(cx, &p)?),
+            };
+            Material::from_bsdf(Bsdf::Conductor {
+                eta,
+                k,
+                specular,
+                microfacet,
+            })
         }
-        "dielectric" => {
+        "dielectric" | "roughdielectric" | "thindielectric" => {
             let int_ior = p.ior(cx, "int_ior", 1.5046)?;
             let ext_ior = p.ior(cx, "ext_ior", AIR)?;
+            let specular_reflectance = p.albedo(cx, "specular_reflectance", 1.0)?;
+            let specular_transmittance = p.albedo(cx, "specular_transmittance", 1.0)?;
             // Refraction and Fresnel depend only on the ratio; our outside is exactly 1.
-            Material::glass(int_ior / ext_ior)
+            let eta = int_ior / ext_ior;
+            match kind {
+                "dielectric" if specular_reflectance == Vec3::ONE && specular_transmittance == Vec3::ONE => {
+                    Material::glass(eta)
+                }
+                "dielectric" => {
+                    let message = "a tinted smooth `dielectric` is not supported yet";
+                    return Err(cx.err(node, field, message));
+                }
+                "thindielectric" => Material::from_bsdf(Bsdf::ThinDielectric {
+                    eta,
+                    specular_reflectance,
+                    specular_transmittance,
+                }),
+                _ => Material::from_bsdf(Bsdf::Dielectric {
+                    eta,
+                    specular_reflectance,
+                    specular_transmittance,
+                    microfacet: Some(microfacet(cx, &p)?),
+                }),
+            }
         }
         "plastic" | "roughplastic" => {
             let kd = p.albedo(cx, "diffuse_reflectance", 0.5)?;
             let specular = p.albedo(cx, "specular_reflectance", 1.0)?;
             let eta = p.ior(cx, "int_ior", 1.49)? / p.ior(cx, "ext_ior", AIR)?;
-            let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-            p.ignore(&["nonlinear", "distribution", "sample_visible"]);
-            let exponent = match kind {
-                "plastic" => SMOOTH_EXPONENT,
-                _ => phong_exponent(roughness(cx, &p)?),
+            let nonlinear = p.boolean(cx, "nonlinear")?;
+            let microfacet = match kind {
+                "plastic" => None,
+                _ => Some(microfacet(cx, &p)?),
             };
-            let (kd, ks) = (kd * (1.0 - f0), specular * f0);
-            notes.push(format!(
-                "`{kind}` approximated as glossy (kd {kd}, ks {ks}, Phong exponent {exponent})"
-            ));
-            Material::glossy(kd, ks, exponent)
+            Material::from_bsdf(Bsdf::Plastic(Plastic::new(kd, specular, eta, nonlinear, microfacet)))
         }
         other => {
             let message = format!("unsupported bsdf `{other}`");
@@ -97,54 +177,9 @@ pub(super) fn bsdf(
         }
     };
     p.done(cx)?;
-    let line = node.document().text_pos_at(node.range().start).row;
-    for note in notes {
-        warnings.push(format!("{}:{line}: {field}: {note}", cx.file));
-    }
-    Ok(material)
-}
-
-/// The roughness `alpha` (default 0.1; anisotropic `alpha_u`, `alpha_v`: their geometric mean).
-fn roughness(cx: &Cx, p: &Plugin) -> Result<f32> {
-    let alpha = p.positive(cx, "alpha", 0.1)?;
-    match (p.float(cx, "alpha_u")?, p.float(cx, "alpha_v")?) {
-        (None, None) => Ok(alpha),
-        (u, v) => {
-            let u = u.unwrap_or(alpha);
-            let v = v.unwrap_or(alpha);
-            if u > 0.0 && v > 0.0 {
-                return Ok((u * v).sqrt());
-            }
-            Err(cx.err(p.node, &p.at("alpha_u"), "must be positive"))
-        }
-    }
-}
-
-/// A conductor's reflectance: `specular_reflectance` for `material` `none` (the default);
-/// with `eta` and `k` given, times their normal-incidence Fresnel reflectance, with a warning;
-/// a named material is a mirror of `specular_reflectance`, with a warning.
-fn conductor_reflectance(cx: &Cx, p: &Plugin, notes: &mut Vec<String>) -> Result<Vec3> {
-    let specular = p.albedo(cx, "specular_reflectance", 1.0)?;
-    let material = p.string(cx, "material")?;
-    let eta = p.color(cx, "eta")?;
-    let k = p.color(cx, "k")?;
-    match (material.as_deref(), eta, k) {
-        (None | Some("none"), None, None) => Ok(specular),
-        (_, Some(eta), k) => {
-            let k = k.unwrap_or(Vec3::ZERO);
-            let num = (eta - 1.0) * (eta - 1.0) + k * k;
-            let r0 = num / ((eta + 1.0) * (eta + 1.0) + k * k);
-            notes.push(format!(
-                "conductor with eta/k approximated by its normal-incidence reflectance {r0}"
-            ));
-            Ok(specular * r0)
-        }
-        (None, None, Some(_)) => Err(cx.err(p.node, &p.at("k"), "`k` needs `eta`")),
-        (Some(name), None, _) => {
-            notes.push(format!(
-                "conductor material `{name}` approximated by specular_reflectance {specular}"
-            ));
-            Ok(specular)
-        }
-    }
+    let _ = warnings;
+    Ok(Read {
+        material,
+        kd_texture,
+    })
 }

@@ -12,6 +12,7 @@ mod bsdf;
 mod emitter;
 mod plugin;
 mod shape;
+mod texture;
 mod values;
 
 use super::builder::{MaterialId, SceneBuilder};
@@ -111,10 +112,8 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
             }
             "sensor" => sensor = Some(im.sensor(node, &field)?),
             "bsdf" => {
-                let material = bsdf::bsdf(&im.cx, node, &field, &mut im.warnings)?;
                 let id = im.cx.attr(node, &field, "id")?;
-                let at = im.origin(node, &field);
-                let mid = im.b.add_material(None, material, &at)?;
+                let mid = im.add_bsdf(node, &field)?;
                 if let Some(id) = id {
                     im.bsdfs.insert(id, mid);
                 }
@@ -159,6 +158,17 @@ struct Importer<'f> {
 }
 
 impl Importer<'_> {
+    /// Reads the `<bsdf>` `node` at `field` and adds its material (and texture).
+    fn add_bsdf(&mut self, node: Node, field: &str) -> Result<MaterialId> {
+        let read = bsdf::bsdf(&self.cx, node, field, self.base_dir, &mut self.warnings)?;
+        let mut material = read.material;
+        if let Some(t) = read.kd_texture {
+            material.kd_texture = self.b.add_texture(t);
+        }
+        let at = self.origin(node, field);
+        self.b.add_material(None, material, &at)
+    }
+
     /// A fixed place for the builder's errors: the element's line and field.
     fn origin(&self, node: Node, field: &str) -> Origin {
         Origin {

@@ -98,6 +98,17 @@ impl<'a, 'i> Plugin<'a, 'i> {
         Ok(Some(*node))
     }
 
+    /// The `<texture>` element given for parameter `name`, marked read; `None` when the
+    /// parameter is absent or not a texture.
+    pub fn texture_param(&self, name: &str) -> Option<Node<'a, 'i>> {
+        let (_, node, read) = self.params.iter().find(|(n, _, _)| n == name)?;
+        if node.tag_name().name() != "texture" {
+            return None;
+        }
+        read.set(true);
+        Some(*node)
+    }
+
     /// Marks parameters the importer accepts but does not use.
     pub fn ignore(&self, names: &[&str]) {
         for (name, _, read) in &self.params {

@@ -4,10 +4,11 @@
 //! true), each with its bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use super::plugin::Plugin;
-use super::{bsdf, Importer};
+use super::Importer;
 use crate::error::Result;
 use crate::scene::builder::Surface;
 use crate::scene::mesh_file::{self, MeshData, MeshFormat};
+use crate::texture::uv;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -44,11 +45,7 @@ impl Importer<'_> {
             let tag = child.tag_name().name();
             let sub = format!("{field}.{tag}");
             let found = match tag {
-                "bsdf" => {
-                    let m = bsdf::bsdf(&self.cx, *child, &sub, &mut self.warnings)?;
-                    let at = self.origin(*child, &sub);
-                    Some(self.b.add_material(None, m, &at)?)
-                }
+                "bsdf" => Some(self.add_bsdf(*child, &sub)?),
                 "ref" => Some(self.reference(*child, &sub)?),
                 "emitter" => {
                     let e = Plugin::new(&self.cx, *child, sub.clone())?;
@@ -124,16 +121,22 @@ impl Importer<'_> {
                 let center = m.transform_point3(center);
                 return self.b.add_sphere(center, radius * s, surface, &at);
             }
-            "rectangle" => MeshData {
-                tris: quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec(),
-                normals: None,
-            },
+            "rectangle" => {
+                let tris = quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec();
+                let uvs = tris.iter().map(|t| t.map(uv::rectangle)).collect();
+                MeshData {
+                    tris,
+                    normals: None,
+                    uvs: Some(uvs),
+                }
+            }
             "cube" => MeshData {
                 tris: CUBE_FACES
                     .iter()
                     .flat_map(|&[n, u, v]| quad(n, u, v))
                     .collect(),
                 normals: None,
+                uvs: None,
             },
             "obj" | "ply" => {
                 let Some(file) = p.string(cx, "filename")? else {
@@ -164,7 +167,9 @@ impl Importer<'_> {
         let flip = p.boolean(cx, "flip_normals")?;
         p.done(cx)?;
         let mesh = mesh.transform(m, flip);
-        self.b
-            .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at)
+        match mesh.uvs {
+            Some(uvs) => self.b.add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at),
+            None => self.b.add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
+        }
     }
 }
