@@ -13,6 +13,7 @@ pub use error::{Error, Result};
 pub use scene::Scene;
 pub use settings::RenderSettings;
 pub mod bench;
+pub mod bsdf;
 pub mod bvh;
 pub mod calibration;
 pub mod cpu;
