@@ -1,0 +1,270 @@
+//! Energy and symmetry of the BSDFs: white furnaces (the albedo, the integral of f |cos|, is
+//! at most 1 and, for the lossless cases, close to 1), the albedo by sampling equal to the
+//! albedo by quadrature of `eval`, reciprocity of the reflective kinds, the eta^2 rule of
+//! dielectric transmission, two-sidedness, and the diffuse + lobe split.
+
+use glam::Vec3;
+use gpu_photon::bsdf::{Bsdf, Distribution, Microfacet, Plastic, Transport};
+use std::f32::consts::PI;
+
+/// SplitMix64: a fixed-seed stream of uniforms in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn dir(&mut self) -> Vec3 {
+        let z = 2.0 * self.next() - 1.0;
+        let phi = 2.0 * PI * self.next();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+}
+
+fn wo_at(deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+fn ggx(a: f32) -> Option<Microfacet> {
+    Some(Microfacet::isotropic(Distribution::Ggx, a))
+}
+
+fn beckmann(au: f32, av: f32) -> Option<Microfacet> {
+    Some(Microfacet::new(Distribution::Beckmann, au, av))
+}
+
+/// White versions of every kind.
+fn white() -> Vec<(&'static str, Bsdf)> {
+    let one = Vec3::ONE;
+    let mirror = |microfacet| Bsdf::Conductor { eta: Vec3::ZERO, k: one, specular: one, microfacet };
+    let glass = |microfacet| Bsdf::Dielectric {
+        eta: 1.5,
+        specular_reflectance: one,
+        specular_transmittance: one,
+        microfacet,
+    };
+    vec![
+        ("diffuse", Bsdf::Diffuse { albedo: one }),
+        ("mirror", mirror(None)),
+        ("rough mirror ggx", mirror(ggx(0.4))),
+        ("rough mirror beckmann aniso", mirror(beckmann(0.2, 0.6))),
+        ("glass", glass(None)),
+        ("rough glass ggx", glass(ggx(0.3))),
+        ("rough glass beckmann aniso", glass(beckmann(0.1, 0.4))),
+        ("thin", Bsdf::ThinDielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one }),
+        ("plastic", Bsdf::Plastic(Plastic::new(one, one, 1.5, false, None))),
+        ("plastic nonlinear", Bsdf::Plastic(Plastic::new(one, one, 1.5, true, None))),
+        ("rough plastic", Bsdf::Plastic(Plastic::new(one, one, 1.5, false, ggx(0.3)))),
+    ]
+}
+
+/// Albedo by sampling: mean and standard error of the weight's first channel.
+fn albedo_sampled(b: &Bsdf, wo: Vec3, transport: Transport, n: usize, seed: u64) -> (f32, f32) {
+    let mut rng = Rng(seed);
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let u = [rng.next(), rng.next(), rng.next()];
+        let w = b.sample(wo, u, transport).map_or(0.0, |s| s.weight.x as f64);
+        s += w;
+        s2 += w * w;
+    }
+    let mean = s / n as f64;
+    let var = (s2 / n as f64 - mean * mean).max(0.0);
+    (mean as f32, (var / n as f64).sqrt() as f32)
+}
+
+/// Albedo by quadrature of `eval_cos` over the sphere (midpoint rule in theta, phi).
+fn albedo_quadrature(b: &Bsdf, wo: Vec3, transport: Transport) -> f32 {
+    let (nt, np) = (600, 240);
+    let mut sum = 0.0f64;
+    for i in 0..nt {
+        let t = (i as f32 + 0.5) / nt as f32 * PI;
+        for j in 0..np {
+            let p = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
+            let wi = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+            sum += (b.eval_cos(wi, wo, transport).x * t.sin()) as f64;
+        }
+    }
+    (sum * (PI / nt as f32) as f64 * (2.0 * PI / np as f32) as f64) as f32
+}
+
+#[test]
+fn white_furnace_never_gains() {
+    for (name, b) in white() {
+        for deg in [0.0, 30.0, 60.0, 85.0] {
+            for wo in [wo_at(deg, 20.0), -wo_at(deg, 20.0)] {
+                let (a, err) = albedo_sampled(&b, wo, Transport::Importance, 40_000, 11);
+                assert!(a <= 1.0 + 4.0 * err + 2e-3, "{name} wo {wo}: albedo {a} +- {err}");
+                assert!(a > 0.3, "{name} wo {wo}: albedo {a}");
+            }
+        }
+    }
+}
+
+#[test]
+fn sampled_albedo_matches_quadrature() {
+    for (name, b) in white() {
+        if b.lobe_is_delta() && !b.has_diffuse() {
+            continue;
+        }
+        for wo in [wo_at(20.0, 10.0), wo_at(65.0, 100.0), -wo_at(40.0, 200.0)] {
+            let q = albedo_quadrature(&b, wo, Transport::Importance);
+            // The delta coating of the smooth plastic is no part of the quadrature.
+            let delta = if b.lobe_is_delta() {
+                b.sample_lobe(wo, [0.0; 3], Transport::Importance).unwrap().weight.x
+            } else {
+                0.0
+            };
+            let (a, err) = albedo_sampled(&b, wo, Transport::Importance, 60_000, 5);
+            assert!(
+                (a - (q + delta)).abs() < 4.0 * err + 3e-3,
+                "{name} wo {wo}: sampled {a} +- {err}, quadrature {q} + delta {delta}"
+            );
+        }
+    }
+}
+
+#[test]
+fn lossless_limits() {
+    let one = Vec3::ONE;
+    // A perfect mirror (F = 1) with little roughness loses almost nothing to shadowing;
+    // more roughness loses more.
+    let mut last = 1.0;
+    for a in [0.02, 0.2, 0.5, 1.0] {
+        let b = Bsdf::Conductor { eta: Vec3::ZERO, k: one, specular: one, microfacet: ggx(a) };
+        let (e, err) = albedo_sampled(&b, wo_at(45.0, 0.0), Transport::Radiance, 40_000, 3);
+        if a < 0.05 {
+            assert!(e > 0.995, "alpha {a}: {e}");
+        }
+        assert!(e < last + 3.0 * err, "alpha {a}: {e} after {last}");
+        last = e;
+    }
+    // A slightly rough glass: R + T close to 1 from either side (importance: no eta^2).
+    for mf in [ggx(0.02), beckmann(0.02, 0.03)] {
+        let b = Bsdf::Dielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one, microfacet: mf };
+        for wo in [wo_at(30.0, 0.0), -wo_at(30.0, 0.0), wo_at(70.0, 40.0)] {
+            let (e, _) = albedo_sampled(&b, wo, Transport::Importance, 20_000, 9);
+            assert!(e > 0.99 && e < 1.003, "{mf:?} wo {wo}: {e}");
+        }
+    }
+    // Smooth glass and the thin sheet: every importance sample carries exactly 1; radiance
+    // entering the glass is scaled by 1/eta^2 on transmission.
+    let glass = Bsdf::Dielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one, microfacet: None };
+    let thin = Bsdf::ThinDielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one };
+    for u0 in [0.0, 0.03, 0.5, 0.99] {
+        for b in [glass, thin] {
+            let s = b.sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Importance).unwrap();
+            assert!(s.delta && (s.weight - one).abs().max_element() < 1e-6);
+        }
+        let s = glass.sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Radiance).unwrap();
+        let expect = if s.wi.z > 0.0 { 1.0 } else { 1.0 / 2.25 };
+        assert!((s.weight.x - expect).abs() < 1e-6, "u0 {u0}: {s:?}");
+    }
+}
+
+fn reflective() -> Vec<Bsdf> {
+    let c = |mf| Bsdf::Conductor { eta: Vec3::new(0.2, 0.9, 1.5), k: Vec3::new(3.9, 2.4, 1.6), specular: Vec3::new(0.9, 0.8, 0.7), microfacet: mf };
+    vec![
+        Bsdf::Diffuse { albedo: Vec3::new(0.8, 0.5, 0.2) },
+        c(ggx(0.3)),
+        c(beckmann(0.1, 0.5)),
+        Bsdf::Plastic(Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::splat(0.9), 1.5, true, None)),
+        Bsdf::Plastic(Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::ONE, 1.6, false, beckmann(0.25, 0.25))),
+    ]
+}
+
+fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
+    (a - b).abs().max_element() <= rel * a.abs().max(b.abs()).max_element() + 1e-7
+}
+
+#[test]
+fn reflective_kinds_are_reciprocal_and_two_sided() {
+    let mut rng = Rng(77);
+    let flip = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
+    for b in reflective() {
+        let mut nonzero = 0;
+        for _ in 0..2000 {
+            let (mut wi, mut wo) = (rng.dir(), rng.dir());
+            wi.z = wi.z.abs();
+            wo.z = wo.z.abs();
+            let f = b.eval(wi, wo, Transport::Radiance);
+            nonzero += (f.max_element() > 0.0) as usize;
+            assert!(close3(f, b.eval(wo, wi, Transport::Radiance), 2e-4), "{b:?} {wi} {wo}");
+            assert!(close3(f, b.eval(flip(wi), flip(wo), Transport::Radiance), 1e-6));
+            assert!((b.pdf(wi, wo) - b.pdf(flip(wi), flip(wo))).abs() <= 1e-6 * b.pdf(wi, wo));
+            assert_eq!(b.eval(flip(wi), wo, Transport::Radiance), Vec3::ZERO);
+            assert_eq!(b.pdf(flip(wi), wo), 0.0);
+        }
+        assert!(nonzero > 1000, "{b:?}");
+        if let Some(s) = b.sample(-wo_at(30.0, 10.0), [0.7, 0.3, 0.6], Transport::Radiance) {
+            assert!(s.wi.z < 0.0, "{b:?}: {s:?}");
+        }
+    }
+}
+
+#[test]
+fn dielectric_transmission_follows_the_eta2_rule() {
+    let mut rng = Rng(99);
+    for mf in [ggx(0.3), beckmann(0.2, 0.5)] {
+        let b = Bsdf::Dielectric { eta: 1.5, specular_reflectance: Vec3::ONE, specular_transmittance: Vec3::ONE, microfacet: mf };
+        let n = |w: Vec3| if w.z < 0.0 { 1.5f32 } else { 1.0 };
+        let mut checked = 0;
+        for _ in 0..4000 {
+            let (wi, wo) = (rng.dir(), rng.dir());
+            // Grazing outside is the critical angle inside, where 1 - F is too sensitive to
+            // compare f32 values computed from either end.
+            if wi.z.abs().min(wo.z.abs()) < 0.05 {
+                continue;
+            }
+            let rad = b.eval(wi, wo, Transport::Radiance);
+            let rad_rev = b.eval(wo, wi, Transport::Radiance);
+            // Importance is the adjoint of radiance: f*(wi, wo) = f(wo, wi).
+            let imp = b.eval(wi, wo, Transport::Importance);
+            assert!(close3(imp, rad_rev, 2e-3), "{mf:?} {wi} {wo}: {imp} vs {rad_rev}");
+            // f(wi, wo) / n(wo)^2 = f(wo, wi) / n(wi)^2.
+            assert!(close3(rad / (n(wo) * n(wo)), rad_rev / (n(wi) * n(wi)), 2e-3), "{wi} {wo}");
+            if wi.z * wo.z < 0.0 && rad.x > 1e-3 {
+                checked += 1;
+                let ratio = rad.x / imp.x;
+                assert!((ratio - (n(wo) / n(wi)).powi(2)).abs() < 1e-4, "{wi} {wo} ratio {ratio}");
+            }
+        }
+        assert!(checked > 100, "{checked}");
+    }
+}
+
+#[test]
+fn diffuse_plus_lobe_is_the_whole() {
+    let mut rng = Rng(5);
+    let mut all = reflective();
+    all.extend(white().into_iter().map(|(_, b)| b));
+    for b in all {
+        for _ in 0..500 {
+            let (wi, wo) = (rng.dir(), rng.dir());
+            for t in [Transport::Radiance, Transport::Importance] {
+                let same = wi.z * wo.z > 0.0;
+                let fd = if same { b.diffuse_out(wo) * b.store_weight(wi) / PI } else { Vec3::ZERO };
+                let sum = fd + b.eval_lobe(wi, wo, t);
+                assert!(close3(b.eval(wi, wo, t), sum, 1e-5), "{b:?} {wi} {wo}");
+            }
+        }
+        assert_eq!(b.has_diffuse(), matches!(b, Bsdf::Diffuse { .. } | Bsdf::Plastic(_)));
+        if !b.has_diffuse() {
+            assert_eq!(b.diffuse_out(wo_at(30.0, 0.0)), Vec3::ZERO);
+            assert_eq!(b.store_weight(wo_at(30.0, 0.0)), 0.0);
+        }
+        if !b.has_lobe() {
+            assert!(b.sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance).is_none());
+        } else if b.lobe_is_delta() {
+            let s = b.sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance).unwrap();
+            assert!(s.delta && s.pdf == 0.0);
+            assert_eq!(b.eval_lobe(s.wi, wo_at(30.0, 0.0), Transport::Radiance), Vec3::ZERO);
+        }
+    }
+}
