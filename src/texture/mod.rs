@@ -310,3 +310,6 @@ impl SceneTexture {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
