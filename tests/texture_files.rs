@@ -8,7 +8,9 @@ use gpu_photon::texture::{decode, srgb_to_linear, Encoding, SceneTexture, Texels
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/textures").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/textures")
+        .join(name)
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -23,7 +25,10 @@ fn png_grey_alpha_and_rgba() {
     assert_eq!((ya.width, ya.height), (3, 2));
     assert!(matches!(ya.texels, Texels::Rgba8 { .. }));
     // Texel (1, 0) is grey 90, alpha 128; (0, 1) grey 255, alpha 64.
-    assert_eq!(ya.texel(1, 0), Vec4::new(90.0 / 255.0, 90.0 / 255.0, 90.0 / 255.0, 128.0 / 255.0));
+    assert_eq!(
+        ya.texel(1, 0),
+        Vec4::new(90.0 / 255.0, 90.0 / 255.0, 90.0 / 255.0, 128.0 / 255.0)
+    );
     assert_eq!(ya.texel(0, 1).w, 64.0 / 255.0);
     let rgba = Texture::load(&data("rgba3x3.png"), Encoding::Srgb).unwrap();
     let t = rgba.texel(2, 1); // [185, 180, 85, 165]
@@ -37,7 +42,10 @@ fn float_images_are_linear() {
     for name in ["float4x3.exr", "float4x3.hdr"] {
         // The encoding does not apply to float images.
         let t = Texture::load(&data(name), Encoding::Srgb).unwrap();
-        assert!(matches!(t.texels, Texels::Float { channels: 3, .. }), "{name}");
+        assert!(
+            matches!(t.texels, Texels::Float { channels: 3, .. }),
+            "{name}"
+        );
         assert_eq!(t.texel(1, 2), Vec4::new(1.75, 1.5, 0.75, 1.0), "{name}");
     }
 }
@@ -49,7 +57,15 @@ fn jpeg_bmp_and_16_bit_png() {
     let bmp = scratch("t.bmp");
     image::save_buffer(&bmp, &rgb, w, h, image::ColorType::Rgb8).unwrap();
     let t = Texture::load(&bmp, Encoding::Raw).unwrap();
-    assert_eq!(t.texel(3, 2), Vec4::new(((2 * 8 + 3) * 7) as f32 / 255.0, 128.0 / 255.0, 200.0 / 255.0, 1.0));
+    assert_eq!(
+        t.texel(3, 2),
+        Vec4::new(
+            ((2 * 8 + 3) * 7) as f32 / 255.0,
+            128.0 / 255.0,
+            200.0 / 255.0,
+            1.0
+        )
+    );
     let jpg = scratch("t.jpg");
     let flat = vec![90u8; (w * h * 3) as usize];
     image::save_buffer(&jpg, &flat, w, h, image::ColorType::Rgb8).unwrap();
@@ -57,7 +73,10 @@ fn jpeg_bmp_and_16_bit_png() {
     assert_eq!((t.width, t.height), (w, h));
     assert!((t.texel(5, 1).x - 90.0 / 255.0).abs() < 2.0 / 255.0);
     let png16 = scratch("t16.png");
-    let grey: Vec<u8> = [0u16, 65535, 32768, 1000].iter().flat_map(|v| v.to_ne_bytes()).collect();
+    let grey: Vec<u8> = [0u16, 65535, 32768, 1000]
+        .iter()
+        .flat_map(|v| v.to_ne_bytes())
+        .collect();
     image::save_buffer(&png16, &grey, 2, 2, image::ColorType::L16).unwrap();
     let t = Texture::load(&png16, Encoding::Srgb).unwrap();
     assert!(matches!(t.texels, Texels::Float { channels: 3, .. }));
@@ -66,8 +85,13 @@ fn jpeg_bmp_and_16_bit_png() {
 }
 
 fn assert_error_names(path: &Path, needle: &str) {
-    let e = Texture::load(path, Encoding::Srgb).expect_err("must fail").to_string();
-    assert!(e.contains(&path.display().to_string()), "error does not name the file: {e}");
+    let e = Texture::load(path, Encoding::Srgb)
+        .expect_err("must fail")
+        .to_string();
+    assert!(
+        e.contains(&path.display().to_string()),
+        "error does not name the file: {e}"
+    );
     assert!(e.contains(needle), "expected '{needle}' in: {e}");
 }
 
@@ -94,7 +118,11 @@ fn crc32(bytes: &[u8]) -> u32 {
     for &b in bytes {
         c ^= b as u32;
         for _ in 0..8 {
-            c = if c & 1 == 1 { 0xedb8_8320 ^ (c >> 1) } else { c >> 1 };
+            c = if c & 1 == 1 {
+                0xedb8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
         }
     }
     !c
@@ -120,11 +148,18 @@ fn png_header(w: u32, h: u32) -> Vec<u8> {
 #[test]
 fn oversized_images_are_refused_from_their_header() {
     for (w, h) in [(20_000, 4), (4, 16_385), (16_384, 16_384 + 1)] {
-        let e = decode::decode("huge.png", &png_header(w, h), Encoding::Srgb).unwrap_err().to_string();
-        assert!(e.contains("huge.png") && e.contains("too large"), "{w}x{h}: {e}");
+        let e = decode::decode("huge.png", &png_header(w, h), Encoding::Srgb)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("huge.png") && e.contains("too large"),
+            "{w}x{h}: {e}"
+        );
     }
     // The largest allowed size passes the size check (and fails only for want of data).
-    let e = decode::decode("max.png", &png_header(16_384, 16_384), Encoding::Srgb).unwrap_err().to_string();
+    let e = decode::decode("max.png", &png_header(16_384, 16_384), Encoding::Srgb)
+        .unwrap_err()
+        .to_string();
     assert!(!e.contains("too large"), "{e}");
 }
 

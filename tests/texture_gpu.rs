@@ -43,21 +43,13 @@ fn source() -> String {
     format!("{}\n{PROBE}", wgsl_library())
 }
 
-fn image(name: &str, enc: Encoding, s: Sampler) -> SceneTexture {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/textures").join(name);
-    SceneTexture::Bitmap(Texture::load(&p, enc).expect("test image").with_sampler(s))
+fn data(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/textures")
+        .join(name)
 }
 
-fn sampler(filter: Filter, wrap_u: Wrap, wrap_v: Wrap, to_uv: UvTransform) -> Sampler {
-    Sampler {
-        filter,
-        wrap_u,
-        wrap_v,
-        to_uv,
-    }
-}
-
-/// The textures under test, and whether each is looked up by single fetches (bit exact).
+/// The textures under test, and whether each is looked up by single fetches.
 fn textures() -> Vec<(SceneTexture, bool)> {
     use Filter::*;
     use Wrap::*;
@@ -65,44 +57,57 @@ fn textures() -> Vec<(SceneTexture, bool)> {
     let gltf = UvTransform::from_gltf([0.25, -0.5], 0.7, [1.5, -2.0]);
     let mitsuba = UvTransform::from_mitsuba([[0.5, 1.25, 0.1], [-0.75, 0.3, 0.2], [0.0, 0.0, 1.0]]);
     let mut rng = common::TestRng(11);
-    let raw8: Vec<u32> = (0..37 * 23).map(|_| (rng.f32() * 4294967295.0) as u32).collect();
+    let raw8: Vec<u32> = (0..37 * 23)
+        .map(|_| (rng.f32() * 4294967295.0) as u32)
+        .collect();
     let float4: Vec<f32> = (0..13 * 7 * 4).map(|_| rng.f32() * 8.0).collect();
-    let big = Texture::from_rgba8("random 37x23", 37, 23, raw8, Encoding::Raw).unwrap();
-    let big_srgb = Texture { texels: match &big.texels {
-        gpu_photon::texture::Texels::Rgba8 { texels, .. } => gpu_photon::texture::Texels::Rgba8 { texels: texels.clone(), encoding: Encoding::Srgb },
-        t => t.clone(),
-    }, ..big.clone() };
+    let random8 = |enc| Texture::from_rgba8("random 37x23", 37, 23, raw8.clone(), enc).unwrap();
     let f4 = Texture::from_float("random 13x7 rgba", 13, 7, float4, 4).unwrap();
-    vec![
-        (image("rgb4x3.png", Encoding::Srgb, sampler(Bilinear, Repeat, Repeat, id)), false),
-        (image("rgb4x3.png", Encoding::Raw, sampler(Nearest, Mirror, Clamp, id)), true),
-        (image("rgb4x3.png", Encoding::Srgb, sampler(Nearest, Repeat, Mirror, gltf)), true),
-        (image("rgba3x3.png", Encoding::Srgb, sampler(Bilinear, Clamp, Mirror, gltf)), false),
-        (image("ya3x2.png", Encoding::Srgb, sampler(Nearest, Clamp, Repeat, id)), true),
-        (image("ya3x2.png", Encoding::Raw, sampler(Bilinear, Mirror, Repeat, mitsuba)), false),
-        (image("float4x3.exr", Encoding::Raw, sampler(Bilinear, Mirror, Mirror, id)), false),
-        (image("float4x3.hdr", Encoding::Raw, sampler(Nearest, Clamp, Clamp, mitsuba)), true),
-        (SceneTexture::Bitmap(big.clone().with_sampler(sampler(Bilinear, Mirror, Repeat, id))), false),
-        (SceneTexture::Bitmap(big_srgb.with_sampler(sampler(Bilinear, Clamp, Clamp, mitsuba))), false),
-        (SceneTexture::Bitmap(big.with_sampler(sampler(Nearest, Repeat, Repeat, gltf))), true),
-        (SceneTexture::Bitmap(f4.clone().with_sampler(sampler(Bilinear, Repeat, Clamp, gltf))), false),
-        (SceneTexture::Bitmap(f4.with_sampler(sampler(Nearest, Mirror, Mirror, id))), true),
-        (SceneTexture::Checkerboard(Checkerboard::default()), true),
-        (
-            SceneTexture::Checkerboard(Checkerboard {
-                color0: Vec3::new(0.1, 0.2, 0.3),
-                color1: Vec3::new(0.9, 0.8, 0.7),
-                to_uv: mitsuba,
-            }),
-            true,
-        ),
-    ]
+    let (srgb, raw) = (Encoding::Srgb, Encoding::Raw);
+    let file = |name, enc| Texture::load(&data(name), enc).expect("test image");
+    let images = [
+        (file("rgb4x3.png", srgb), Bilinear, Repeat, Repeat, id),
+        (file("rgb4x3.png", raw), Nearest, Mirror, Clamp, id),
+        (file("rgb4x3.png", srgb), Nearest, Repeat, Mirror, gltf),
+        (file("rgba3x3.png", srgb), Bilinear, Clamp, Mirror, gltf),
+        (file("ya3x2.png", srgb), Nearest, Clamp, Repeat, id),
+        (file("ya3x2.png", raw), Bilinear, Mirror, Repeat, mitsuba),
+        (file("float4x3.exr", raw), Bilinear, Mirror, Mirror, id),
+        (file("float4x3.hdr", raw), Nearest, Clamp, Clamp, mitsuba),
+        (random8(raw), Bilinear, Mirror, Repeat, id),
+        (random8(srgb), Bilinear, Clamp, Clamp, mitsuba),
+        (random8(raw), Nearest, Repeat, Repeat, gltf),
+        (f4.clone(), Bilinear, Repeat, Clamp, gltf),
+        (f4, Nearest, Mirror, Mirror, id),
+    ];
+    let mut out: Vec<(SceneTexture, bool)> = images
+        .into_iter()
+        .map(|(t, filter, wrap_u, wrap_v, to_uv)| {
+            let s = Sampler {
+                filter,
+                wrap_u,
+                wrap_v,
+                to_uv,
+            };
+            (SceneTexture::Bitmap(t.with_sampler(s)), filter == Nearest)
+        })
+        .collect();
+    out.push((SceneTexture::Checkerboard(Checkerboard::default()), true));
+    let c = Checkerboard {
+        color0: Vec3::new(0.1, 0.2, 0.3),
+        color1: Vec3::new(0.9, 0.8, 0.7),
+        to_uv: mitsuba,
+    };
+    out.push((SceneTexture::Checkerboard(c), true));
+    out
 }
 
 /// uv points: uniform over [-3, 4]^2, then the texel-centre lattice of a 4x3 image.
 fn points(n: usize, seed: u64) -> Vec<Vec2> {
     let mut r = common::TestRng(seed);
-    let mut v: Vec<Vec2> = (0..n).map(|_| Vec2::new(r.f32() * 7.0 - 3.0, r.f32() * 7.0 - 3.0)).collect();
+    let mut v: Vec<Vec2> = (0..n)
+        .map(|_| Vec2::new(r.f32() * 7.0 - 3.0, r.f32() * 7.0 - 3.0))
+        .collect();
     for i in -4..12 {
         for j in -3..9 {
             v.push(Vec2::new((i as f32 + 0.5) / 4.0, (j as f32 + 0.5) / 3.0));
@@ -121,7 +126,10 @@ fn texture_library_validates_and_matches_the_rust_record() {
         .iter()
         .find(|(_, t)| t.name.as_deref() == Some("TextureRecord"))
         .expect("TextureRecord");
-    assert_eq!(layouter[handle].size as usize, std::mem::size_of::<GpuTexture>());
+    assert_eq!(
+        layouter[handle].size as usize,
+        std::mem::size_of::<GpuTexture>()
+    );
     assert_eq!(std::mem::size_of::<GpuTexture>(), 96);
 }
 
@@ -153,7 +161,10 @@ fn wgsl_texture_eval_equals_rust() {
                 if g[c].to_bits() == want[c].to_bits() {
                     continue;
                 }
-                let what = format!("texture {id} uv {p} channel {c}: gpu {} cpu {}", g[c], want[c]);
+                let what = format!(
+                    "texture {id} uv {p} channel {c}: gpu {} cpu {}",
+                    g[c], want[c]
+                );
                 assert!(!strict, "{what}: lavapipe must agree bit for bit");
                 differ += 1;
                 worst = worst.max(ulps(g[c], want[c]));
@@ -161,12 +172,17 @@ fn wgsl_texture_eval_equals_rust() {
                     assert!(near, "{what}: a single fetch, not at a texel boundary");
                 } else {
                     let tol = range[c] * dpx + 8.0 * f32::EPSILON * peak[c];
-                    assert!((g[c] - want[c]).abs() <= tol, "{what}: more than {tol} apart");
+                    assert!(
+                        (g[c] - want[c]).abs() <= tol,
+                        "{what}: more than {tol} apart"
+                    );
                 }
             }
         }
         let kind = if *exact { "fetch" } else { "bilinear" };
-        report.push(format!("texture {id} ({kind}): {differ} channels not bit for bit, worst {worst} ulp"));
+        report.push(format!(
+            "texture {id} ({kind}): {differ} channels not bit for bit, worst {worst} ulp"
+        ));
     }
     eprintln!("{}\n{}", ctx.describe(), report.join("\n"));
 }
@@ -219,7 +235,9 @@ fn ulps(a: f32, b: f32) -> u32 {
     if a == b {
         return 0;
     }
-    (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs().min(u32::MAX as u64) as u32
+    (a.to_bits() as i64 - b.to_bits() as i64)
+        .unsigned_abs()
+        .min(u32::MAX as u64) as u32
 }
 
 fn run_probe(
@@ -262,7 +280,12 @@ fn run_probe(
     });
     let bytes = (input.len() * 16) as u64;
     let inb = storage_buffer(dev, "probe in", input, wgpu::BufferUsages::empty());
-    let out = empty_buffer(dev, "probe out", bytes, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+    let out = empty_buffer(
+        dev,
+        "probe out",
+        bytes,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    );
     let [e0, e1] = bufs.entries(0, 1);
     let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("texture probe"),
@@ -270,13 +293,22 @@ fn run_probe(
         entries: &[
             e0,
             e1,
-            wgpu::BindGroupEntry { binding: 2, resource: inb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: out.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: inb.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: out.as_entire_binding(),
+            },
         ],
     });
     let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
     {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: None,
+            timestamp_writes: None,
+        });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups((input.len() as u32).div_ceil(64), 1, 1);

@@ -85,8 +85,14 @@ pub struct TextureBuffers {
 
 fn record(t: &Texture, offset: u32) -> GpuTexture {
     let format = match &t.texels {
-        Texels::Rgba8 { encoding: Encoding::Srgb, .. } => FORMAT_RGBA8_SRGB,
-        Texels::Rgba8 { encoding: Encoding::Raw, .. } => FORMAT_RGBA8_RAW,
+        Texels::Rgba8 {
+            encoding: Encoding::Srgb,
+            ..
+        } => FORMAT_RGBA8_SRGB,
+        Texels::Rgba8 {
+            encoding: Encoding::Raw,
+            ..
+        } => FORMAT_RGBA8_RAW,
         Texels::Float { channels: 3, .. } => FORMAT_RGB32F,
         Texels::Float { .. } => FORMAT_RGBA32F,
     };
@@ -154,7 +160,9 @@ impl PackedTextures {
                     table.push(record(t, words.len() as u32));
                     match &t.texels {
                         Texels::Rgba8 { texels, .. } => words.extend_from_slice(texels),
-                        Texels::Float { data, .. } => words.extend(data.iter().map(|v| v.to_bits())),
+                        Texels::Float { data, .. } => {
+                            words.extend(data.iter().map(|v| v.to_bits()))
+                        }
                     }
                 }
                 SceneTexture::Checkerboard(c) => table.push(checker_record(c)),

@@ -4,7 +4,14 @@
 use super::*;
 
 fn rgba8(w: u32, h: u32, texels: &[[u8; 4]], enc: Encoding) -> Texture {
-    Texture::from_rgba8("test", w, h, texels.iter().map(|c| pack_rgba8(*c)).collect(), enc).unwrap()
+    Texture::from_rgba8(
+        "test",
+        w,
+        h,
+        texels.iter().map(|c| pack_rgba8(*c)).collect(),
+        enc,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -22,11 +29,19 @@ fn tables_decode_the_ends_exactly_and_grow() {
 fn texel_centres_give_the_texel_and_v_runs_down_the_rows() {
     let t: Vec<[u8; 4]> = (0..6).map(|i| [i * 40, 255 - i * 40, 7, 255 - i]).collect();
     for filter in [Filter::Nearest, Filter::Bilinear] {
-        let tex = rgba8(3, 2, &t, Encoding::Raw).with_sampler(Sampler::mitsuba(filter, Wrap::Repeat, UvTransform::IDENTITY));
+        let tex = rgba8(3, 2, &t, Encoding::Raw).with_sampler(Sampler::mitsuba(
+            filter,
+            Wrap::Repeat,
+            UvTransform::IDENTITY,
+        ));
         for y in 0..2 {
             for x in 0..3 {
                 let uv = Vec2::new((x as f32 + 0.5) / 3.0, (y as f32 + 0.5) / 2.0);
-                assert_eq!(tex.eval_rgba(uv), tex.texel(x, y), "{filter:?} texel {x},{y}");
+                assert_eq!(
+                    tex.eval_rgba(uv),
+                    tex.texel(x, y),
+                    "{filter:?} texel {x},{y}"
+                );
             }
         }
         // Row 0 (the file's first, the image's top) is at small v.
@@ -42,7 +57,11 @@ fn bilinear_wraps_each_texel_at_the_border() {
     let t = [[0, 0, 0, 255], [255, 0, 0, 255]];
     let at = |wrap| {
         rgba8(2, 1, &t, Encoding::Raw)
-            .with_sampler(Sampler::mitsuba(Filter::Bilinear, wrap, UvTransform::IDENTITY))
+            .with_sampler(Sampler::mitsuba(
+                Filter::Bilinear,
+                wrap,
+                UvTransform::IDENTITY,
+            ))
             .eval(Vec2::new(0.0, 0.5))
             .x
     };
@@ -54,18 +73,35 @@ fn bilinear_wraps_each_texel_at_the_border() {
 #[test]
 fn wrap_indices() {
     let idx = |w: Wrap| (-5..9).map(|i| w.index(i, 3)).collect::<Vec<_>>();
-    assert_eq!(idx(Wrap::Repeat), [1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2]);
+    assert_eq!(
+        idx(Wrap::Repeat),
+        [1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2]
+    );
     assert_eq!(idx(Wrap::Clamp), [0, 0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2, 2]);
-    assert_eq!(idx(Wrap::Mirror), [1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1, 2]);
+    assert_eq!(
+        idx(Wrap::Mirror),
+        [1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1, 2]
+    );
 }
 
 #[test]
 fn gltf_sampler_codes() {
     let s = Sampler::gltf(Some(9728), Some(33071), Some(33648), UvTransform::IDENTITY).unwrap();
-    assert_eq!((s.filter, s.wrap_u, s.wrap_v), (Filter::Nearest, Wrap::Clamp, Wrap::Mirror));
+    assert_eq!(
+        (s.filter, s.wrap_u, s.wrap_v),
+        (Filter::Nearest, Wrap::Clamp, Wrap::Mirror)
+    );
     let d = Sampler::gltf(None, None, Some(10497), UvTransform::IDENTITY).unwrap();
-    assert_eq!((d.filter, d.wrap_u, d.wrap_v), (Filter::Bilinear, Wrap::Repeat, Wrap::Repeat));
-    for (code, f) in [(9984, Filter::Nearest), (9985, Filter::Bilinear), (9986, Filter::Nearest), (9987, Filter::Bilinear)] {
+    assert_eq!(
+        (d.filter, d.wrap_u, d.wrap_v),
+        (Filter::Bilinear, Wrap::Repeat, Wrap::Repeat)
+    );
+    for (code, f) in [
+        (9984, Filter::Nearest),
+        (9985, Filter::Bilinear),
+        (9986, Filter::Nearest),
+        (9987, Filter::Bilinear),
+    ] {
         assert_eq!(Filter::from_gltf(Some(code)).unwrap(), f);
     }
     assert!(Filter::from_gltf(Some(1)).is_err());
@@ -77,9 +113,17 @@ fn gltf_sampler_codes() {
 fn khr_texture_transform_matches_the_extension_examples() {
     // "The lower left quadrant of the image, rotated clockwise 90 degrees."
     let t = UvTransform::from_gltf([0.0, 1.0], std::f32::consts::FRAC_PI_2, [0.5, 0.5]);
-    for (uv, want) in [((0.0, 0.0), (0.0, 1.0)), ((1.0, 0.0), (0.0, 0.5)), ((1.0, 1.0), (0.5, 0.5)), ((0.0, 1.0), (0.5, 1.0))] {
+    for (uv, want) in [
+        ((0.0, 0.0), (0.0, 1.0)),
+        ((1.0, 0.0), (0.0, 0.5)),
+        ((1.0, 1.0), (0.5, 0.5)),
+        ((0.0, 1.0), (0.5, 1.0)),
+    ] {
         let got = t.apply(Vec2::new(uv.0, uv.1));
-        assert!((got - Vec2::new(want.0, want.1)).length() < 1e-6, "{uv:?}: {got}");
+        assert!(
+            (got - Vec2::new(want.0, want.1)).length() < 1e-6,
+            "{uv:?}: {got}"
+        );
     }
     // "Inverts the T axis."
     let flip = UvTransform::from_gltf([0.0, 1.0], 0.0, [1.0, -1.0]);
@@ -106,7 +150,11 @@ fn alpha_mean_and_float_texels() {
     let tex = rgba8(2, 1, &[[255, 0, 0, 0], [0, 0, 255, 255]], Encoding::Srgb);
     assert_eq!(tex.mean(), Vec3::new(0.5, 0.0, 0.5));
     assert!(tex.has_alpha());
-    let mid = tex.with_sampler(Sampler::mitsuba(Filter::Bilinear, Wrap::Clamp, UvTransform::IDENTITY));
+    let mid = tex.with_sampler(Sampler::mitsuba(
+        Filter::Bilinear,
+        Wrap::Clamp,
+        UvTransform::IDENTITY,
+    ));
     assert_eq!(mid.eval_alpha(Vec2::new(0.5, 0.5)), 0.5);
     let f = Texture::from_float("f", 1, 2, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 3).unwrap();
     assert_eq!(f.texel(0, 1), Vec4::new(4.0, 5.0, 6.0, 1.0));
@@ -127,7 +175,11 @@ fn constructors_refuse_bad_sizes() {
 #[test]
 fn far_and_non_finite_uv_stay_defined() {
     let tex = rgba8(2, 2, &[[10, 20, 30, 255]; 4], Encoding::Raw);
-    for uv in [Vec2::new(1e30, -1e30), Vec2::new(f32::NAN, 0.5), Vec2::new(f32::INFINITY, 0.0)] {
+    for uv in [
+        Vec2::new(1e30, -1e30),
+        Vec2::new(f32::NAN, 0.5),
+        Vec2::new(f32::INFINITY, 0.0),
+    ] {
         assert_eq!(tex.eval(uv), tex.texel(0, 0).truncate(), "{uv}");
     }
 }
