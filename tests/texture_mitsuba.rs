@@ -36,7 +36,7 @@ fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
 #[test]
 fn bitmap_and_checkerboard_equal_mitsuba() {
     let mut images: HashMap<(String, String), Texture> = HashMap::new();
-    let (mut checked, mut failures) = (0, Vec::new());
+    let (mut checked, mut failures, mut worst) = (0, Vec::new(), 0.0f32);
     for r in rows("mitsuba_bitmap.csv") {
         let m: Vec<f32> = r[4..10].iter().map(|s| num(s)).collect();
         let to_uv =
@@ -67,6 +67,7 @@ fn bitmap_and_checkerboard_equal_mitsuba() {
             tex.clone().with_sampler(s).eval(uv)
         };
         checked += 1;
+        worst = worst.max((got - want).abs().max_element());
         if !close(got, want, 1e-5) {
             failures.push(format!(
                 "{} {} {} {} uv {uv}: ours {got}, Mitsuba {want}",
@@ -74,6 +75,7 @@ fn bitmap_and_checkerboard_equal_mitsuba() {
             ));
         }
     }
+    eprintln!("{checked} values, largest difference {worst:e}");
     assert!(checked > 4000, "only {checked} reference values");
     assert!(
         failures.is_empty(),
@@ -85,7 +87,7 @@ fn bitmap_and_checkerboard_equal_mitsuba() {
 
 #[test]
 fn shape_uvs_equal_mitsuba() {
-    let mut failures = Vec::new();
+    let (mut failures, mut worst) = (Vec::new(), 0.0f32);
     let rows = rows("mitsuba_uv.csv");
     for r in &rows {
         let p = Vec3::new(num(&r[1]), num(&r[2]), num(&r[3]));
@@ -98,10 +100,15 @@ fn shape_uvs_equal_mitsuba() {
             s => panic!("unknown shape {s}"),
         };
         // Mitsuba's hit points are f32 and its angles f32: 1e-5 in uv.
+        worst = worst.max((got - want).abs().max_element());
         if (got - want).abs().max_element() > 1e-5 {
             failures.push(format!("{} at {p}: ours {got}, Mitsuba {want}", r[0]));
         }
     }
+    eprintln!(
+        "{} shape points, largest uv difference {worst:e}",
+        rows.len()
+    );
     assert_eq!(rows.len(), 240);
     assert!(
         failures.is_empty(),
