@@ -3,17 +3,25 @@
 //! and a `to_uv` transform, the `checkerboard`, and the uv of Mitsuba's analytic shapes.
 
 use glam::{Vec2, Vec3};
-use gpu_photon::texture::{uv, Checkerboard, Encoding, Filter, Sampler, Texture, UvTransform, Wrap};
+use gpu_photon::texture::{
+    uv, Checkerboard, Encoding, Filter, Sampler, Texture, UvTransform, Wrap,
+};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/textures").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/textures")
+        .join(name)
 }
 
 fn rows(name: &str) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(data(name)).expect("reference csv");
-    text.lines().skip(1).filter(|l| !l.is_empty()).map(|l| l.split(',').map(String::from).collect()).collect()
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect()
 }
 
 fn num(s: &str) -> f32 {
@@ -28,10 +36,11 @@ fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
 #[test]
 fn bitmap_and_checkerboard_equal_mitsuba() {
     let mut images: HashMap<(String, String), Texture> = HashMap::new();
-    let (mut checked, mut failures) = (0, Vec::new());
+    let (mut checked, mut failures, mut worst) = (0, Vec::new(), 0.0f32);
     for r in rows("mitsuba_bitmap.csv") {
         let m: Vec<f32> = r[4..10].iter().map(|s| num(s)).collect();
-        let to_uv = UvTransform::from_mitsuba([[m[0], m[1], m[2]], [m[3], m[4], m[5]], [0.0, 0.0, 1.0]]);
+        let to_uv =
+            UvTransform::from_mitsuba([[m[0], m[1], m[2]], [m[3], m[4], m[5]], [0.0, 0.0, 1.0]]);
         let uv = Vec2::new(num(&r[10]), num(&r[11]));
         let want = Vec3::new(num(&r[12]), num(&r[13]), num(&r[14]));
         let got = if r[0] == "checkerboard" {
@@ -42,7 +51,11 @@ fn bitmap_and_checkerboard_equal_mitsuba() {
             };
             c.eval(uv)
         } else {
-            let enc = if r[1] == "raw" { Encoding::Raw } else { Encoding::Srgb };
+            let enc = if r[1] == "raw" {
+                Encoding::Raw
+            } else {
+                Encoding::Srgb
+            };
             let tex = images
                 .entry((r[0].clone(), r[1].clone()))
                 .or_insert_with(|| Texture::load(&data(&r[0]), enc).expect("test image"));
@@ -54,17 +67,27 @@ fn bitmap_and_checkerboard_equal_mitsuba() {
             tex.clone().with_sampler(s).eval(uv)
         };
         checked += 1;
+        worst = worst.max((got - want).abs().max_element());
         if !close(got, want, 1e-5) {
-            failures.push(format!("{} {} {} {} uv {uv}: ours {got}, Mitsuba {want}", r[0], r[1], r[2], r[3]));
+            failures.push(format!(
+                "{} {} {} {} uv {uv}: ours {got}, Mitsuba {want}",
+                r[0], r[1], r[2], r[3]
+            ));
         }
     }
+    eprintln!("{checked} values, largest difference {worst:e}");
     assert!(checked > 4000, "only {checked} reference values");
-    assert!(failures.is_empty(), "{} of {checked} differ:\n{}", failures.len(), failures[..failures.len().min(30)].join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {checked} differ:\n{}",
+        failures.len(),
+        failures[..failures.len().min(30)].join("\n")
+    );
 }
 
 #[test]
 fn shape_uvs_equal_mitsuba() {
-    let mut failures = Vec::new();
+    let (mut failures, mut worst) = (Vec::new(), 0.0f32);
     let rows = rows("mitsuba_uv.csv");
     for r in &rows {
         let p = Vec3::new(num(&r[1]), num(&r[2]), num(&r[3]));
@@ -77,10 +100,20 @@ fn shape_uvs_equal_mitsuba() {
             s => panic!("unknown shape {s}"),
         };
         // Mitsuba's hit points are f32 and its angles f32: 1e-5 in uv.
+        worst = worst.max((got - want).abs().max_element());
         if (got - want).abs().max_element() > 1e-5 {
             failures.push(format!("{} at {p}: ours {got}, Mitsuba {want}", r[0]));
         }
     }
+    eprintln!(
+        "{} shape points, largest uv difference {worst:e}",
+        rows.len()
+    );
     assert_eq!(rows.len(), 240);
-    assert!(failures.is_empty(), "{} differ:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

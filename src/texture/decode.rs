@@ -3,7 +3,9 @@
 //! [`MAX_SIDE`] and [`MAX_TEXELS`] before any texel is decoded; every failure is an
 //! [`Error::Image`] or [`Error::Io`] naming the file.
 
-use super::{check_size, image_error, pack_rgba8, srgb_to_linear, Encoding, Texture, MAX_SIDE, MAX_TEXELS};
+use super::{
+    check_size, image_error, pack_rgba8, srgb_to_linear, Encoding, Texture, MAX_SIDE, MAX_TEXELS,
+};
 use crate::error::{Error, Result};
 use std::io::Cursor;
 use std::path::Path;
@@ -114,7 +116,10 @@ fn decode_exr(name: &str, bytes: &[u8]) -> Result<Texture> {
         let size = header.layer_size;
         let (w, h) = (size.width(), size.height());
         if w > MAX_SIDE as usize || h > MAX_SIDE as usize {
-            return Err(image_error(name, format!("{w} x {h} is too large for a texture")));
+            return Err(image_error(
+                name,
+                format!("{w} x {h} is too large for a texture"),
+            ));
         }
     }
     use exr::prelude::*;
@@ -124,7 +129,11 @@ fn decode_exr(name: &str, bytes: &[u8]) -> Result<Texture> {
         .rgba_channels(
             |res, channels: &RgbaChannels| {
                 let ok = res.width() as u64 * res.height() as u64 <= MAX_TEXELS;
-                let n = if ok { res.width() * res.height() * 4 } else { 0 };
+                let n = if ok {
+                    res.width() * res.height() * 4
+                } else {
+                    0
+                };
                 ExrPixels {
                     width: res.width(),
                     data: vec![0.0; n],
@@ -149,7 +158,11 @@ fn decode_exr(name: &str, bytes: &[u8]) -> Result<Texture> {
     if px.alpha {
         Texture::from_float(name, w, h, px.data, 4)
     } else {
-        let data = px.data.chunks_exact(4).flat_map(|t| [t[0], t[1], t[2]]).collect();
+        let data = px
+            .data
+            .chunks_exact(4)
+            .flat_map(|t| [t[0], t[1], t[2]])
+            .collect();
         Texture::from_float(name, w, h, data, 3)
     }
 }

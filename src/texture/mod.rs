@@ -62,9 +62,8 @@ impl Encoding {
         static SRGB: OnceLock<[f32; 256]> = OnceLock::new();
         static RAW: OnceLock<[f32; 256]> = OnceLock::new();
         match self {
-            Encoding::Srgb => {
-                SRGB.get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f64 / 255.0) as f32))
-            }
+            Encoding::Srgb => SRGB
+                .get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f64 / 255.0) as f32)),
             Encoding::Raw => RAW.get_or_init(|| std::array::from_fn(|i| (i as f64 / 255.0) as f32)),
         }
     }
@@ -112,7 +111,10 @@ pub fn pack_rgba8(c: [u8; 4]) -> u32 {
 /// Fails unless a `width` x `height` image is within [`MAX_SIDE`] and [`MAX_TEXELS`].
 pub fn check_size(name: &str, width: u32, height: u32) -> Result<()> {
     if width == 0 || height == 0 {
-        return Err(image_error(name, format!("empty image ({width} x {height})")));
+        return Err(image_error(
+            name,
+            format!("empty image ({width} x {height})"),
+        ));
     }
     if width > MAX_SIDE || height > MAX_SIDE || width as u64 * height as u64 > MAX_TEXELS {
         return Err(image_error(
@@ -142,7 +144,10 @@ impl Texture {
     ) -> Result<Self> {
         check_size(name, width, height)?;
         if texels.len() as u64 != width as u64 * height as u64 {
-            return Err(image_error(name, format!("{} texels for {width} x {height}", texels.len())));
+            return Err(image_error(
+                name,
+                format!("{} texels for {width} x {height}", texels.len()),
+            ));
         }
         Ok(Texture {
             name: name.into(),
@@ -154,14 +159,23 @@ impl Texture {
     }
 
     /// A float texture with `channels` (3 or 4) values per texel, with the default sampler.
-    pub fn from_float(name: &str, width: u32, height: u32, data: Vec<f32>, channels: u32) -> Result<Self> {
+    pub fn from_float(
+        name: &str,
+        width: u32,
+        height: u32,
+        data: Vec<f32>,
+        channels: u32,
+    ) -> Result<Self> {
         check_size(name, width, height)?;
         if !(channels == 3 || channels == 4)
             || data.len() as u64 != width as u64 * height as u64 * channels as u64
         {
             return Err(image_error(
                 name,
-                format!("{} values for {width} x {height} x {channels} channels", data.len()),
+                format!(
+                    "{} values for {width} x {height} x {channels} channels",
+                    data.len()
+                ),
             ));
         }
         Ok(Texture {
@@ -211,7 +225,8 @@ impl Texture {
         let uv = self.sampler.to_uv.apply(uv);
         let (w, h) = (self.width as i32, self.height as i32);
         let s = &self.sampler;
-        let fetch = |x: i32, y: i32| self.texel(s.wrap_u.index(x, w) as u32, s.wrap_v.index(y, h) as u32);
+        let fetch =
+            |x: i32, y: i32| self.texel(s.wrap_u.index(x, w) as u32, s.wrap_v.index(y, h) as u32);
         match s.filter {
             Filter::Nearest => {
                 let px = pixel_coord(uv.x * self.width as f32).floor();
@@ -253,7 +268,11 @@ impl Texture {
             }
         }
         let n = self.width as f64 * self.height as f64;
-        Vec3::new((sum[0] / n) as f32, (sum[1] / n) as f32, (sum[2] / n) as f32)
+        Vec3::new(
+            (sum[0] / n) as f32,
+            (sum[1] / n) as f32,
+            (sum[2] / n) as f32,
+        )
     }
 
     /// Whether any texel has alpha below 1.
@@ -310,3 +329,6 @@ impl SceneTexture {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -105,7 +105,8 @@ fn bad(what: &str, value: &str, expected: &str) -> Error {
 }
 
 /// An affine map of uv: `u' = a u + b v + c`, `v' = d u + e v + f` (rows `[a, b, c]` and
-/// `[d, e, f]`), evaluated as `(a*u + b*v) + c` in f32, as the WGSL twin does.
+/// `[d, e, f]`), evaluated as `(a*u + c) + b*v` in f32, as the WGSL twin writes it (Mesa's
+/// compiler reorders `(a*u + b*v) + c` into this, so lavapipe computes the same bits).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvTransform {
     /// The two rows of the 2x3 matrix.
@@ -163,8 +164,8 @@ impl UvTransform {
     pub fn apply(&self, uv: Vec2) -> Vec2 {
         let [r0, r1] = self.rows;
         Vec2::new(
-            (r0[0] * uv.x + r0[1] * uv.y) + r0[2],
-            (r1[0] * uv.x + r1[1] * uv.y) + r1[2],
+            (r0[0] * uv.x + r0[2]) + r0[1] * uv.y,
+            (r1[0] * uv.x + r1[2]) + r1[1] * uv.y,
         )
     }
 }
