@@ -119,7 +119,7 @@ fn chi2(
     pdf: impl Fn(Vec3) -> f32,
     eval_cos: impl Fn(Vec3) -> Vec3,
 ) {
-    let mut rng = Rng(0x5EED ^ name.len() as u64 * 7919);
+    let mut rng = Rng(0x5EED ^ (name.len() as u64 * 7919));
     let mut observed = vec![0.0f64; N_THETA * N_PHI + 1];
     let mut weight_errors = 0;
     let mut worst = String::new();

@@ -58,7 +58,11 @@ pub struct LobeSample {
 }
 
 /// A BSDF with all parameters resolved (textures already looked up by the caller).
+///
+/// Plain `Copy` data (the plastic carries its 64-entry transmittance table inline, so the enum
+/// is about 300 bytes); no allocation anywhere.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // Copy and allocation-free matter more than the size
 pub enum Bsdf {
     /// Lambertian reflection (`diffuse`): f = albedo / pi.
     Diffuse {
