@@ -273,6 +273,35 @@ mod tests {
     }
 
     #[test]
+    fn visible_normals_are_normalised() {
+        // The integral of pdf_visible(wo, m) over m is 1 (Beckmann: up to the 0.35% of
+        // Walter's rational fit of G1).
+        for dist in [Distribution::Ggx, Distribution::Beckmann] {
+            let mf = Microfacet::new(dist, 0.25, 0.6);
+            for wo in [
+                Vec3::new(0.3, 0.2, 0.932_737_9),
+                Vec3::new(0.8, -0.5, 0.331_662_5),
+            ] {
+                let (nt, np) = (1000, 200);
+                let mut sum = 0.0f64;
+                for i in 0..nt {
+                    let t = (i as f32 + 0.5) / nt as f32 * 0.5 * PI;
+                    for j in 0..np {
+                        let phi = 2.0 * PI * (j as f32 + 0.5) / np as f32;
+                        let m = Vec3::new(t.sin() * phi.cos(), t.sin() * phi.sin(), t.cos());
+                        sum += (mf.pdf_visible(wo, m) * t.sin()) as f64;
+                    }
+                }
+                let integral = sum * (0.5 * PI / nt as f32) as f64 * (2.0 * PI / np as f32) as f64;
+                assert!(
+                    (integral - 1.0).abs() < 5e-3,
+                    "{dist:?} wo {wo}: {integral}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn fresnel_limits() {
         let (f, ct, eta_it, eta_ti) = fresnel_dielectric(1.0, 1.5);
         assert!((f - 0.04).abs() < 1e-6 && (ct + 1.0).abs() < 1e-6);
