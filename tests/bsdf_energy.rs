@@ -374,3 +374,47 @@ fn diffuse_plus_lobe_is_the_whole() {
         }
     }
 }
+
+#[test]
+fn samplers_stay_finite() {
+    // Grazing and normal incidence, extreme uniforms: no NaN, no negative weight or pdf.
+    let mut rng = Rng(123);
+    let mut all = reflective();
+    all.extend(white().into_iter().map(|(_, b)| b));
+    let us = [0.0, 1e-7, 0.5, 0.999_999_9];
+    for b in all {
+        for i in 0..3000 {
+            let mut wo = if i < 40 {
+                Vec3::new(0.0, 0.0, 1.0)
+            } else {
+                rng.dir()
+            };
+            if i % 3 == 0 {
+                // Nearly grazing.
+                wo = Vec3::new(wo.x, wo.y, wo.z.signum() * 1e-4).normalize();
+            }
+            let u = if i < 64 {
+                [us[i % 4], us[(i / 4) % 4], us[(i / 16) % 4]]
+            } else {
+                [rng.next(), rng.next(), rng.next()]
+            };
+            for t in [Transport::Radiance, Transport::Importance] {
+                for s in [b.sample(wo, u, t), b.sample_lobe(wo, u, t)]
+                    .into_iter()
+                    .flatten()
+                {
+                    let ok = s.wi.is_finite()
+                        && (s.wi.length() - 1.0).abs() < 1e-3
+                        && s.weight.is_finite()
+                        && s.weight.min_element() >= 0.0
+                        && s.pdf.is_finite()
+                        && s.pdf >= 0.0;
+                    assert!(ok, "{b:?} wo {wo} u {u:?}: {s:?}");
+                }
+                let wi = rng.dir();
+                let (f, p) = (b.eval(wi, wo, t), b.pdf(wi, wo));
+                assert!(f.is_finite() && f.min_element() >= 0.0 && p.is_finite() && p >= 0.0);
+            }
+        }
+    }
+}
