@@ -139,6 +139,8 @@ SAMPLE_CASES = [
     ('type=thindielectric;int_ior=1.5', 'both'),
     ('type=plastic;diffuse_reflectance=0.6 0.3 0.1;int_ior=1.5', 'front'),
     ('type=roughconductor;material=Cu;distribution=ggx;alpha_u=0.2;alpha_v=0.1', 'front'),
+    ('type=roughconductor;material=Ag;distribution=beckmann;alpha_u=0.3;alpha_v=0.15', 'front'),
+    ('type=roughdielectric;int_ior=1.33;distribution=beckmann;alpha=0.25', 'both'),
     ('type=roughdielectric;int_ior=1.5;distribution=ggx;alpha=0.2', 'both'),
     ('type=roughplastic;diffuse_reflectance=0.6 0.3 0.1;int_ior=1.5;distribution=ggx;alpha=0.15', 'front'),
 ]

@@ -42,7 +42,12 @@ fn beckmann(au: f32, av: f32) -> Option<Microfacet> {
 /// White versions of every kind.
 fn white() -> Vec<(&'static str, Bsdf)> {
     let one = Vec3::ONE;
-    let mirror = |microfacet| Bsdf::Conductor { eta: Vec3::ZERO, k: one, specular: one, microfacet };
+    let mirror = |microfacet| Bsdf::Conductor {
+        eta: Vec3::ZERO,
+        k: one,
+        specular: one,
+        microfacet,
+    };
     let glass = |microfacet| Bsdf::Dielectric {
         eta: 1.5,
         specular_reflectance: one,
@@ -57,10 +62,26 @@ fn white() -> Vec<(&'static str, Bsdf)> {
         ("glass", glass(None)),
         ("rough glass ggx", glass(ggx(0.3))),
         ("rough glass beckmann aniso", glass(beckmann(0.1, 0.4))),
-        ("thin", Bsdf::ThinDielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one }),
-        ("plastic", Bsdf::Plastic(Plastic::new(one, one, 1.5, false, None))),
-        ("plastic nonlinear", Bsdf::Plastic(Plastic::new(one, one, 1.5, true, None))),
-        ("rough plastic", Bsdf::Plastic(Plastic::new(one, one, 1.5, false, ggx(0.3)))),
+        (
+            "thin",
+            Bsdf::ThinDielectric {
+                eta: 1.5,
+                specular_reflectance: one,
+                specular_transmittance: one,
+            },
+        ),
+        (
+            "plastic",
+            Bsdf::Plastic(Plastic::new(one, one, 1.5, false, None)),
+        ),
+        (
+            "plastic nonlinear",
+            Bsdf::Plastic(Plastic::new(one, one, 1.5, true, None)),
+        ),
+        (
+            "rough plastic",
+            Bsdf::Plastic(Plastic::new(one, one, 1.5, false, ggx(0.3))),
+        ),
     ]
 }
 
@@ -70,7 +91,9 @@ fn albedo_sampled(b: &Bsdf, wo: Vec3, transport: Transport, n: usize, seed: u64)
     let (mut s, mut s2) = (0.0f64, 0.0f64);
     for _ in 0..n {
         let u = [rng.next(), rng.next(), rng.next()];
-        let w = b.sample(wo, u, transport).map_or(0.0, |s| s.weight.x as f64);
+        let w = b
+            .sample(wo, u, transport)
+            .map_or(0.0, |s| s.weight.x as f64);
         s += w;
         s2 += w * w;
     }
@@ -100,7 +123,10 @@ fn white_furnace_never_gains() {
         for deg in [0.0, 30.0, 60.0, 85.0] {
             for wo in [wo_at(deg, 20.0), -wo_at(deg, 20.0)] {
                 let (a, err) = albedo_sampled(&b, wo, Transport::Importance, 40_000, 11);
-                assert!(a <= 1.0 + 4.0 * err + 2e-3, "{name} wo {wo}: albedo {a} +- {err}");
+                assert!(
+                    a <= 1.0 + 4.0 * err + 2e-3,
+                    "{name} wo {wo}: albedo {a} +- {err}"
+                );
                 assert!(a > 0.3, "{name} wo {wo}: albedo {a}");
             }
         }
@@ -117,7 +143,10 @@ fn sampled_albedo_matches_quadrature() {
             let q = albedo_quadrature(&b, wo, Transport::Importance);
             // The delta coating of the smooth plastic is no part of the quadrature.
             let delta = if b.lobe_is_delta() {
-                b.sample_lobe(wo, [0.0; 3], Transport::Importance).unwrap().weight.x
+                b.sample_lobe(wo, [0.0; 3], Transport::Importance)
+                    .unwrap()
+                    .weight
+                    .x
             } else {
                 0.0
             };
@@ -137,7 +166,12 @@ fn lossless_limits() {
     // more roughness loses more.
     let mut last = 1.0;
     for a in [0.02, 0.2, 0.5, 1.0] {
-        let b = Bsdf::Conductor { eta: Vec3::ZERO, k: one, specular: one, microfacet: ggx(a) };
+        let b = Bsdf::Conductor {
+            eta: Vec3::ZERO,
+            k: one,
+            specular: one,
+            microfacet: ggx(a),
+        };
         let (e, err) = albedo_sampled(&b, wo_at(45.0, 0.0), Transport::Radiance, 40_000, 3);
         if a < 0.05 {
             assert!(e > 0.995, "alpha {a}: {e}");
@@ -147,7 +181,12 @@ fn lossless_limits() {
     }
     // A slightly rough glass: R + T close to 1 from either side (importance: no eta^2).
     for mf in [ggx(0.02), beckmann(0.02, 0.03)] {
-        let b = Bsdf::Dielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one, microfacet: mf };
+        let b = Bsdf::Dielectric {
+            eta: 1.5,
+            specular_reflectance: one,
+            specular_transmittance: one,
+            microfacet: mf,
+        };
         for wo in [wo_at(30.0, 0.0), -wo_at(30.0, 0.0), wo_at(70.0, 40.0)] {
             let (e, _) = albedo_sampled(&b, wo, Transport::Importance, 20_000, 9);
             assert!(e > 0.99 && e < 1.003, "{mf:?} wo {wo}: {e}");
@@ -155,27 +194,59 @@ fn lossless_limits() {
     }
     // Smooth glass and the thin sheet: every importance sample carries exactly 1; radiance
     // entering the glass is scaled by 1/eta^2 on transmission.
-    let glass = Bsdf::Dielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one, microfacet: None };
-    let thin = Bsdf::ThinDielectric { eta: 1.5, specular_reflectance: one, specular_transmittance: one };
+    let glass = Bsdf::Dielectric {
+        eta: 1.5,
+        specular_reflectance: one,
+        specular_transmittance: one,
+        microfacet: None,
+    };
+    let thin = Bsdf::ThinDielectric {
+        eta: 1.5,
+        specular_reflectance: one,
+        specular_transmittance: one,
+    };
     for u0 in [0.0, 0.03, 0.5, 0.99] {
         for b in [glass, thin] {
-            let s = b.sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Importance).unwrap();
+            let s = b
+                .sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Importance)
+                .unwrap();
             assert!(s.delta && (s.weight - one).abs().max_element() < 1e-6);
         }
-        let s = glass.sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Radiance).unwrap();
+        let s = glass
+            .sample(wo_at(30.0, 0.0), [u0, 0.5, 0.5], Transport::Radiance)
+            .unwrap();
         let expect = if s.wi.z > 0.0 { 1.0 } else { 1.0 / 2.25 };
         assert!((s.weight.x - expect).abs() < 1e-6, "u0 {u0}: {s:?}");
     }
 }
 
 fn reflective() -> Vec<Bsdf> {
-    let c = |mf| Bsdf::Conductor { eta: Vec3::new(0.2, 0.9, 1.5), k: Vec3::new(3.9, 2.4, 1.6), specular: Vec3::new(0.9, 0.8, 0.7), microfacet: mf };
+    let c = |mf| Bsdf::Conductor {
+        eta: Vec3::new(0.2, 0.9, 1.5),
+        k: Vec3::new(3.9, 2.4, 1.6),
+        specular: Vec3::new(0.9, 0.8, 0.7),
+        microfacet: mf,
+    };
     vec![
-        Bsdf::Diffuse { albedo: Vec3::new(0.8, 0.5, 0.2) },
+        Bsdf::Diffuse {
+            albedo: Vec3::new(0.8, 0.5, 0.2),
+        },
         c(ggx(0.3)),
         c(beckmann(0.1, 0.5)),
-        Bsdf::Plastic(Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::splat(0.9), 1.5, true, None)),
-        Bsdf::Plastic(Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::ONE, 1.6, false, beckmann(0.25, 0.25))),
+        Bsdf::Plastic(Plastic::new(
+            Vec3::new(0.6, 0.3, 0.1),
+            Vec3::splat(0.9),
+            1.5,
+            true,
+            None,
+        )),
+        Bsdf::Plastic(Plastic::new(
+            Vec3::new(0.6, 0.3, 0.1),
+            Vec3::ONE,
+            1.6,
+            false,
+            beckmann(0.25, 0.25),
+        )),
     ]
 }
 
@@ -195,8 +266,15 @@ fn reflective_kinds_are_reciprocal_and_two_sided() {
             wo.z = wo.z.abs();
             let f = b.eval(wi, wo, Transport::Radiance);
             nonzero += (f.max_element() > 0.0) as usize;
-            assert!(close3(f, b.eval(wo, wi, Transport::Radiance), 2e-4), "{b:?} {wi} {wo}");
-            assert!(close3(f, b.eval(flip(wi), flip(wo), Transport::Radiance), 1e-6));
+            assert!(
+                close3(f, b.eval(wo, wi, Transport::Radiance), 2e-4),
+                "{b:?} {wi} {wo}"
+            );
+            assert!(close3(
+                f,
+                b.eval(flip(wi), flip(wo), Transport::Radiance),
+                1e-6
+            ));
             assert!((b.pdf(wi, wo) - b.pdf(flip(wi), flip(wo))).abs() <= 1e-6 * b.pdf(wi, wo));
             assert_eq!(b.eval(flip(wi), wo, Transport::Radiance), Vec3::ZERO);
             assert_eq!(b.pdf(flip(wi), wo), 0.0);
@@ -212,7 +290,12 @@ fn reflective_kinds_are_reciprocal_and_two_sided() {
 fn dielectric_transmission_follows_the_eta2_rule() {
     let mut rng = Rng(99);
     for mf in [ggx(0.3), beckmann(0.2, 0.5)] {
-        let b = Bsdf::Dielectric { eta: 1.5, specular_reflectance: Vec3::ONE, specular_transmittance: Vec3::ONE, microfacet: mf };
+        let b = Bsdf::Dielectric {
+            eta: 1.5,
+            specular_reflectance: Vec3::ONE,
+            specular_transmittance: Vec3::ONE,
+            microfacet: mf,
+        };
         let n = |w: Vec3| if w.z < 0.0 { 1.5f32 } else { 1.0 };
         let mut checked = 0;
         for _ in 0..4000 {
@@ -226,13 +309,22 @@ fn dielectric_transmission_follows_the_eta2_rule() {
             let rad_rev = b.eval(wo, wi, Transport::Radiance);
             // Importance is the adjoint of radiance: f*(wi, wo) = f(wo, wi).
             let imp = b.eval(wi, wo, Transport::Importance);
-            assert!(close3(imp, rad_rev, 2e-3), "{mf:?} {wi} {wo}: {imp} vs {rad_rev}");
+            assert!(
+                close3(imp, rad_rev, 2e-3),
+                "{mf:?} {wi} {wo}: {imp} vs {rad_rev}"
+            );
             // f(wi, wo) / n(wo)^2 = f(wo, wi) / n(wi)^2.
-            assert!(close3(rad / (n(wo) * n(wo)), rad_rev / (n(wi) * n(wi)), 2e-3), "{wi} {wo}");
+            assert!(
+                close3(rad / (n(wo) * n(wo)), rad_rev / (n(wi) * n(wi)), 2e-3),
+                "{wi} {wo}"
+            );
             if wi.z * wo.z < 0.0 && rad.x > 1e-3 {
                 checked += 1;
                 let ratio = rad.x / imp.x;
-                assert!((ratio - (n(wo) / n(wi)).powi(2)).abs() < 1e-4, "{wi} {wo} ratio {ratio}");
+                assert!(
+                    (ratio - (n(wo) / n(wi)).powi(2)).abs() < 1e-4,
+                    "{wi} {wo} ratio {ratio}"
+                );
             }
         }
         assert!(checked > 100, "{checked}");
@@ -249,22 +341,80 @@ fn diffuse_plus_lobe_is_the_whole() {
             let (wi, wo) = (rng.dir(), rng.dir());
             for t in [Transport::Radiance, Transport::Importance] {
                 let same = wi.z * wo.z > 0.0;
-                let fd = if same { b.diffuse_out(wo) * b.store_weight(wi) / PI } else { Vec3::ZERO };
+                let fd = if same {
+                    b.diffuse_out(wo) * b.store_weight(wi) / PI
+                } else {
+                    Vec3::ZERO
+                };
                 let sum = fd + b.eval_lobe(wi, wo, t);
                 assert!(close3(b.eval(wi, wo, t), sum, 1e-5), "{b:?} {wi} {wo}");
             }
         }
-        assert_eq!(b.has_diffuse(), matches!(b, Bsdf::Diffuse { .. } | Bsdf::Plastic(_)));
+        assert_eq!(
+            b.has_diffuse(),
+            matches!(b, Bsdf::Diffuse { .. } | Bsdf::Plastic(_))
+        );
         if !b.has_diffuse() {
             assert_eq!(b.diffuse_out(wo_at(30.0, 0.0)), Vec3::ZERO);
             assert_eq!(b.store_weight(wo_at(30.0, 0.0)), 0.0);
         }
         if !b.has_lobe() {
-            assert!(b.sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance).is_none());
+            assert!(b
+                .sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance)
+                .is_none());
         } else if b.lobe_is_delta() {
-            let s = b.sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance).unwrap();
+            let s = b
+                .sample_lobe(wo_at(30.0, 0.0), [0.5; 3], Transport::Radiance)
+                .unwrap();
             assert!(s.delta && s.pdf == 0.0);
-            assert_eq!(b.eval_lobe(s.wi, wo_at(30.0, 0.0), Transport::Radiance), Vec3::ZERO);
+            assert_eq!(
+                b.eval_lobe(s.wi, wo_at(30.0, 0.0), Transport::Radiance),
+                Vec3::ZERO
+            );
+        }
+    }
+}
+
+#[test]
+fn samplers_stay_finite() {
+    // Grazing and normal incidence, extreme uniforms: no NaN, no negative weight or pdf.
+    let mut rng = Rng(123);
+    let mut all = reflective();
+    all.extend(white().into_iter().map(|(_, b)| b));
+    let us = [0.0, 1e-7, 0.5, 0.999_999_9];
+    for b in all {
+        for i in 0..3000 {
+            let mut wo = if i < 40 {
+                Vec3::new(0.0, 0.0, 1.0)
+            } else {
+                rng.dir()
+            };
+            if i % 3 == 0 {
+                // Nearly grazing.
+                wo = Vec3::new(wo.x, wo.y, wo.z.signum() * 1e-4).normalize();
+            }
+            let u = if i < 64 {
+                [us[i % 4], us[(i / 4) % 4], us[(i / 16) % 4]]
+            } else {
+                [rng.next(), rng.next(), rng.next()]
+            };
+            for t in [Transport::Radiance, Transport::Importance] {
+                for s in [b.sample(wo, u, t), b.sample_lobe(wo, u, t)]
+                    .into_iter()
+                    .flatten()
+                {
+                    let ok = s.wi.is_finite()
+                        && (s.wi.length() - 1.0).abs() < 1e-3
+                        && s.weight.is_finite()
+                        && s.weight.min_element() >= 0.0
+                        && s.pdf.is_finite()
+                        && s.pdf >= 0.0;
+                    assert!(ok, "{b:?} wo {wo} u {u:?}: {s:?}");
+                }
+                let wi = rng.dir();
+                let (f, p) = (b.eval(wi, wo, t), b.pdf(wi, wo));
+                assert!(f.is_finite() && f.min_element() >= 0.0 && p.is_finite() && p >= 0.0);
+            }
         }
     }
 }

@@ -94,7 +94,11 @@ fn gamma_q(a: f64, x: f64) -> f64 {
 
 fn dir(theta: f64, phi: f64) -> Vec3 {
     let s = theta.sin();
-    Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, theta.cos() as f32)
+    Vec3::new(
+        (s * phi.cos()) as f32,
+        (s * phi.sin()) as f32,
+        theta.cos() as f32,
+    )
 }
 
 fn bin_of(w: Vec3) -> usize {
@@ -115,7 +119,7 @@ fn chi2(
     pdf: impl Fn(Vec3) -> f32,
     eval_cos: impl Fn(Vec3) -> Vec3,
 ) {
-    let mut rng = Rng(0x5EED ^ name.len() as u64 * 7919);
+    let mut rng = Rng(0x5EED ^ (name.len() as u64 * 7919));
     let mut observed = vec![0.0f64; N_THETA * N_PHI + 1];
     let mut weight_errors = 0;
     let mut worst = String::new();
@@ -131,13 +135,19 @@ fn chi2(
                 let bad_p = (s.pdf - p).abs() > 2e-3 * p.max(s.pdf) + 1e-6;
                 if check_weights && (bad_w || bad_p || !s.weight.is_finite()) {
                     weight_errors += 1;
-                    worst = format!("wi {} weight {} vs {expect}, pdf {} vs {p}", s.wi, s.weight, s.pdf);
+                    worst = format!(
+                        "wi {} weight {} vs {expect}, pdf {} vs {p}",
+                        s.wi, s.weight, s.pdf
+                    );
                 }
             }
             _ => observed[N_THETA * N_PHI] += 1.0,
         }
     }
-    assert!(weight_errors <= SAMPLES / 10_000, "{name}: {weight_errors} bad weights, e.g. {worst}");
+    assert!(
+        weight_errors <= SAMPLES / 10_000,
+        "{name}: {weight_errors} bad weights, e.g. {worst}"
+    );
     // Expected counts: midpoint rule with SUB x SUB points per bin.
     let mut expected = vec![0.0f64; N_THETA * N_PHI + 1];
     let (dt, dp) = (PI / N_THETA as f64, 2.0 * PI / N_PHI as f64);
@@ -157,7 +167,11 @@ fn chi2(
             total += e;
         }
     }
-    assert!(total <= SAMPLES as f64 * 1.01, "{name}: the pdf integrates to {}", total / SAMPLES as f64);
+    assert!(
+        total <= SAMPLES as f64 * 1.01,
+        "{name}: the pdf integrates to {}",
+        total / SAMPLES as f64
+    );
     expected[N_THETA * N_PHI] = (SAMPLES as f64 - total).max(0.0);
     // Pool the bins expecting < 5, smallest first, as Mitsuba's chi2 test.
     let mut order: Vec<usize> = (0..expected.len()).collect();
@@ -166,7 +180,11 @@ fn chi2(
     for &k in &order {
         if expected[k] == 0.0 && observed[k] > 0.0 && k != N_THETA * N_PHI {
             // Samples where the pdf says none can be: allow only rounding at bin edges.
-            assert!(observed[k] <= 3.0, "{name}: {} samples in bin {k} of zero density", observed[k]);
+            assert!(
+                observed[k] <= 3.0,
+                "{name}: {} samples in bin {k} of zero density",
+                observed[k]
+            );
         }
         if expected[k] < 5.0 {
             pool_e += expected[k];
@@ -188,9 +206,17 @@ fn chi2(
     }
     let p = gamma_q((dof - 1).max(1) as f64 / 2.0, chi2 / 2.0);
     if std::env::var_os("BSDF_CHI2_VERBOSE").is_some() {
-        eprintln!("{name}: chi2 {chi2:.1}, {} dof, p = {p:.3}, missing mass {:.4}", dof - 1, 1.0 - total / SAMPLES as f64);
+        eprintln!(
+            "{name}: chi2 {chi2:.1}, {} dof, p = {p:.3}, missing mass {:.4}",
+            dof - 1,
+            1.0 - total / SAMPLES as f64
+        );
     }
-    assert!(p > 1e-3, "{name}: chi2 {chi2:.1} with {} dof, p = {p:.2e}", dof - 1);
+    assert!(
+        p > 1e-3,
+        "{name}: chi2 {chi2:.1} with {} dof, p = {p:.2e}",
+        dof - 1
+    );
 }
 
 /// Tests `sample` against `pdf`, and `sample_lobe` against `pdf_lobe` where it differs.
@@ -222,7 +248,10 @@ const ANGLES: [f32; 3] = [10.0, 45.0, 75.0];
 
 fn roughness() -> Vec<(&'static str, Microfacet)> {
     let mut v = Vec::new();
-    for (n, d) in [("ggx", Distribution::Ggx), ("beckmann", Distribution::Beckmann)] {
+    for (n, d) in [
+        ("ggx", Distribution::Ggx),
+        ("beckmann", Distribution::Beckmann),
+    ] {
         v.push((n, Microfacet::isotropic(d, 0.3)));
         v.push((n, Microfacet::new(d, 0.15, 0.5)));
     }
@@ -231,7 +260,9 @@ fn roughness() -> Vec<(&'static str, Microfacet)> {
 
 #[test]
 fn chi2_diffuse() {
-    let b = Bsdf::Diffuse { albedo: Vec3::new(0.8, 0.5, 0.2) };
+    let b = Bsdf::Diffuse {
+        albedo: Vec3::new(0.8, 0.5, 0.2),
+    };
     check("diffuse", &b, wo_at(30.0, 10.0), Transport::Radiance);
     check("diffuse back", &b, -wo_at(30.0, 10.0), Transport::Radiance);
 }
@@ -246,9 +277,19 @@ fn chi2_rough_conductor() {
             microfacet: Some(mf),
         };
         for deg in ANGLES {
-            check(&format!("conductor {name} {mf:?}"), &b, wo_at(deg, 30.0), Transport::Radiance);
+            check(
+                &format!("conductor {name} {mf:?}"),
+                &b,
+                wo_at(deg, 30.0),
+                Transport::Radiance,
+            );
         }
-        check(&format!("conductor back {name}"), &b, -wo_at(40.0, 70.0), Transport::Radiance);
+        check(
+            &format!("conductor back {name}"),
+            &b,
+            -wo_at(40.0, 70.0),
+            Transport::Radiance,
+        );
     }
 }
 
@@ -263,9 +304,19 @@ fn chi2_rough_dielectric() {
         };
         for deg in ANGLES {
             let wo = wo_at(deg, 30.0);
-            check(&format!("dielectric {name} {mf:?} outside"), &b, wo, Transport::Radiance);
+            check(
+                &format!("dielectric {name} {mf:?} outside"),
+                &b,
+                wo,
+                Transport::Radiance,
+            );
             let inside = Vec3::new(wo.x, wo.y, -wo.z);
-            check(&format!("dielectric {name} {mf:?} inside"), &b, inside, Transport::Importance);
+            check(
+                &format!("dielectric {name} {mf:?} inside"),
+                &b,
+                inside,
+                Transport::Importance,
+            );
         }
     }
 }
@@ -273,14 +324,30 @@ fn chi2_rough_dielectric() {
 #[test]
 fn chi2_plastic() {
     for d in [Distribution::Ggx, Distribution::Beckmann] {
-        let p = Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::ONE, 1.5, false, Some(Microfacet::isotropic(d, 0.3)));
+        let p = Plastic::new(
+            Vec3::new(0.6, 0.3, 0.1),
+            Vec3::ONE,
+            1.5,
+            false,
+            Some(Microfacet::isotropic(d, 0.3)),
+        );
         for deg in ANGLES {
-            check(&format!("roughplastic {d:?}"), &Bsdf::Plastic(p), wo_at(deg, 30.0), Transport::Radiance);
+            check(
+                &format!("roughplastic {d:?}"),
+                &Bsdf::Plastic(p),
+                wo_at(deg, 30.0),
+                Transport::Radiance,
+            );
         }
     }
     let p = Plastic::new(Vec3::new(0.6, 0.3, 0.1), Vec3::ONE, 1.5, true, None);
     for deg in ANGLES {
-        check("plastic", &Bsdf::Plastic(p), wo_at(deg, 30.0), Transport::Radiance);
+        check(
+            "plastic",
+            &Bsdf::Plastic(p),
+            wo_at(deg, 30.0),
+            Transport::Radiance,
+        );
     }
 }
 
@@ -311,5 +378,8 @@ fn chi2_catches_a_wrong_pdf() {
     });
     let msg = r.expect_err("the chi-square test accepted a wrong density");
     let msg = msg.downcast_ref::<String>().cloned().unwrap_or_default();
-    assert!(msg.contains("chi2") || msg.contains("zero density"), "{msg}");
+    assert!(
+        msg.contains("chi2") || msg.contains("zero density"),
+        "{msg}"
+    );
 }

@@ -48,11 +48,21 @@ pub fn sample(
     }
     let pdf = pdf_m / (4.0 * wi.dot(m));
     let weight = fresnel_conductor(wo.dot(m), eta, k) * specular * mf.smith_g1(wi, m);
-    (pdf > 0.0).then_some(LobeSample { wi, weight, pdf, delta: false })
+    (pdf > 0.0).then_some(LobeSample {
+        wi,
+        weight,
+        pdf,
+        delta: false,
+    })
 }
 
 /// The mirror direction (no uniforms read); weight = `F(cos_o)` times the tint.
 pub fn sample_smooth(eta: Vec3, k: Vec3, specular: Vec3, wo: Vec3) -> Option<LobeSample> {
     let weight = fresnel_conductor(wo.z, eta, k) * specular;
-    Some(LobeSample { wi: reflect_z(wo), weight, pdf: 0.0, delta: true })
+    Some(LobeSample {
+        wi: reflect_z(wo),
+        weight,
+        pdf: 0.0,
+        delta: true,
+    })
 }

@@ -106,8 +106,17 @@ pub fn sample(
         (wi, transmittance * factor, pdf_m * (1.0 - f) * dwh.abs())
     };
     weight *= mf.smith_g1(wi, m);
-    let right_side = if u[0] <= f { wi.z * wo.z > 0.0 } else { wi.z * wo.z < 0.0 };
-    (right_side && pdf > 0.0).then_some(LobeSample { wi, weight, pdf, delta: false })
+    let right_side = if u[0] <= f {
+        wi.z * wo.z > 0.0
+    } else {
+        wi.z * wo.z < 0.0
+    };
+    (right_side && pdf > 0.0).then_some(LobeSample {
+        wi,
+        weight,
+        pdf,
+        delta: false,
+    })
 }
 
 /// The smooth interface: reflect when `u[0] <= F(cos_o)` (weight: the reflectance tint), else
@@ -128,9 +137,17 @@ pub fn sample_smooth(
             Transport::Radiance => eta_ti * eta_ti,
             Transport::Importance => 1.0,
         };
-        (Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, cos_t), transmittance * factor)
+        (
+            Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, cos_t),
+            transmittance * factor,
+        )
     };
-    Some(LobeSample { wi, weight, pdf: 0.0, delta: true })
+    Some(LobeSample {
+        wi,
+        weight,
+        pdf: 0.0,
+        delta: true,
+    })
 }
 
 /// The thin sheet: reflect when `u[0] <= R'` with `R' = 2R / (1 + R)` the inter-reflected
@@ -145,6 +162,15 @@ pub fn sample_thin(
 ) -> Option<LobeSample> {
     let r = fresnel_dielectric(wo.z.abs(), eta).0;
     let r = r * 2.0 / (1.0 + r);
-    let (wi, weight) = if u[0] <= r { (reflect_z(wo), reflectance) } else { (-wo, transmittance) };
-    Some(LobeSample { wi, weight, pdf: 0.0, delta: true })
+    let (wi, weight) = if u[0] <= r {
+        (reflect_z(wo), reflectance)
+    } else {
+        (-wo, transmittance)
+    };
+    Some(LobeSample {
+        wi,
+        weight,
+        pdf: 0.0,
+        delta: true,
+    })
 }

@@ -18,5 +18,10 @@ pub fn pdf(wi: Vec3, wo: Vec3) -> f32 {
 pub fn sample(albedo: Vec3, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
     let wi = square_to_cosine_hemisphere(Vec2::new(u[1], u[2]));
     let pdf = pdf(wi, wo);
-    (pdf > 0.0).then_some(LobeSample { wi, weight: albedo, pdf, delta: false })
+    (pdf > 0.0).then_some(LobeSample {
+        wi,
+        weight: albedo,
+        pdf,
+        delta: false,
+    })
 }

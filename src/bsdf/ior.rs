@@ -21,11 +21,16 @@ pub const METAL_NAMES: [&str; TABLE.len()] = {
 /// The RGB `(eta, k)` Mitsuba 3.9.1 uses for the conductor `name` (case-sensitive, as in
 /// Mitsuba), or `None` for a name it does not know.
 pub fn named_conductor(name: &str) -> Option<(Vec3, Vec3)> {
-    TABLE.iter().find(|row| row.0 == name).map(|&(_, eta, k)| (Vec3::from(eta), Vec3::from(k)))
+    TABLE
+        .iter()
+        .find(|row| row.0 == name)
+        .map(|&(_, eta, k)| (Vec3::from(eta), Vec3::from(k)))
 }
 
 type Row = (&'static str, [f32; 3], [f32; 3]);
 
+/// One row per name: (name, eta RGB, k RGB), pasted from the script's output.
+#[rustfmt::skip]
 const TABLE: [Row; 72] = [
     ("Ag", [0.1552762, 0.116727956, 0.13838764], [4.8283544, 3.1222224, 2.1469011]),
     ("Al", [1.6575009, 0.8804047, 0.52124447], [9.223811, 6.269502, 4.837004]),

@@ -34,7 +34,11 @@ pub struct Microfacet {
 impl Microfacet {
     /// An anisotropic distribution; each roughness is clamped to at least 1e-4 (as Mitsuba).
     pub fn new(distribution: Distribution, alpha_u: f32, alpha_v: f32) -> Self {
-        Self { distribution, alpha_u: alpha_u.max(1e-4), alpha_v: alpha_v.max(1e-4) }
+        Self {
+            distribution,
+            alpha_u: alpha_u.max(1e-4),
+            alpha_v: alpha_v.max(1e-4),
+        }
     }
 
     /// An isotropic distribution (`alpha_u = alpha_v = alpha`, clamped to at least 1e-4).
@@ -181,7 +185,11 @@ pub(crate) fn ggx_slopes(cos_theta: f32, mut p: Vec2) -> Vec2 {
 pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> (f32, f32, f32, f32) {
     let outside = cos_theta_i >= 0.0;
     let rcp_eta = 1.0 / eta;
-    let (eta_it, eta_ti) = if outside { (eta, rcp_eta) } else { (rcp_eta, eta) };
+    let (eta_it, eta_ti) = if outside {
+        (eta, rcp_eta)
+    } else {
+        (rcp_eta, eta)
+    };
     let cos_t_sqr = 1.0 - (1.0 - cos_theta_i * cos_theta_i) * (eta_ti * eta_ti);
     let ci = cos_theta_i.abs();
     let ct = safe_sqrt(cos_t_sqr);
@@ -228,7 +236,9 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
         0.0636 * inv + (eta * (eta * -1.4399 + 0.7099) + 0.6681)
     } else {
         0.919_317
-            + inv * (-3.4793 + inv * (6.753_35 + inv * (-7.809_89 + inv * (4.985_54 + inv * -1.368_81))))
+            + inv
+                * (-3.4793
+                    + inv * (6.753_35 + inv * (-7.809_89 + inv * (4.985_54 + inv * -1.368_81))))
     }
 }
 
@@ -254,7 +264,39 @@ mod tests {
                     }
                 }
                 let integral = sum * (1.0 / nt as f64) * (2.0 * std::f64::consts::PI / np as f64);
-                assert!((integral - 1.0).abs() < 2e-3, "{dist:?} {au} {av}: {integral}");
+                assert!(
+                    (integral - 1.0).abs() < 2e-3,
+                    "{dist:?} {au} {av}: {integral}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn visible_normals_are_normalised() {
+        // The integral of pdf_visible(wo, m) over m is 1 (Beckmann: up to the 0.35% of
+        // Walter's rational fit of G1).
+        for dist in [Distribution::Ggx, Distribution::Beckmann] {
+            let mf = Microfacet::new(dist, 0.25, 0.6);
+            for wo in [
+                Vec3::new(0.3, 0.2, 0.932_737_9),
+                Vec3::new(0.8, -0.5, 0.331_662_5),
+            ] {
+                let (nt, np) = (1000, 200);
+                let mut sum = 0.0f64;
+                for i in 0..nt {
+                    let t = (i as f32 + 0.5) / nt as f32 * 0.5 * PI;
+                    for j in 0..np {
+                        let phi = 2.0 * PI * (j as f32 + 0.5) / np as f32;
+                        let m = Vec3::new(t.sin() * phi.cos(), t.sin() * phi.sin(), t.cos());
+                        sum += (mf.pdf_visible(wo, m) * t.sin()) as f64;
+                    }
+                }
+                let integral = sum * (0.5 * PI / nt as f32) as f64 * (2.0 * PI / np as f32) as f64;
+                assert!(
+                    (integral - 1.0).abs() < 5e-3,
+                    "{dist:?} wo {wo}: {integral}"
+                );
             }
         }
     }

@@ -58,7 +58,11 @@ pub struct LobeSample {
 }
 
 /// A BSDF with all parameters resolved (textures already looked up by the caller).
+///
+/// Plain `Copy` data (the plastic carries its 64-entry transmittance table inline, so the enum
+/// is about 300 bytes); no allocation anywhere.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // Copy and allocation-free matter more than the size
 pub enum Bsdf {
     /// Lambertian reflection (`diffuse`): f = albedo / pi.
     Diffuse {
@@ -145,7 +149,9 @@ impl Bsdf {
     /// Solid-angle density with which [`sample`](Self::sample) produces a non-delta `wi`.
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         match self {
-            Bsdf::Diffuse { .. } => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| diffuse::pdf(wi, wo)),
+            Bsdf::Diffuse { .. } => {
+                to_front(wi, wo).map_or(0.0, |(wi, wo, _)| diffuse::pdf(wi, wo))
+            }
             Bsdf::Plastic(p) => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| p.pdf(wi, wo)),
             _ => self.pdf_lobe(wi, wo),
         }
@@ -207,24 +213,37 @@ impl Bsdf {
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, transport: Transport) -> Vec3 {
         match *self {
             Bsdf::Diffuse { .. } | Bsdf::ThinDielectric { .. } => Vec3::ZERO,
-            Bsdf::Conductor { eta, k, specular, microfacet: Some(mf) } => to_front(wi, wo)
-                .map_or(Vec3::ZERO, |(wi, wo, _)| conductor::eval(&mf, eta, k, specular, wi, wo)),
-            Bsdf::Conductor { microfacet: None, .. } => Vec3::ZERO,
-            Bsdf::Dielectric { eta, specular_reflectance, specular_transmittance, microfacet } => {
-                match microfacet {
-                    Some(mf) => dielectric::eval(
-                        &mf,
-                        eta,
-                        specular_reflectance,
-                        specular_transmittance,
-                        wi,
-                        wo,
-                        transport,
-                    ),
-                    None => Vec3::ZERO,
-                }
+            Bsdf::Conductor {
+                eta,
+                k,
+                specular,
+                microfacet: Some(mf),
+            } => to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| {
+                conductor::eval(&mf, eta, k, specular, wi, wo)
+            }),
+            Bsdf::Conductor {
+                microfacet: None, ..
+            } => Vec3::ZERO,
+            Bsdf::Dielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+                microfacet,
+            } => match microfacet {
+                Some(mf) => dielectric::eval(
+                    &mf,
+                    eta,
+                    specular_reflectance,
+                    specular_transmittance,
+                    wi,
+                    wo,
+                    transport,
+                ),
+                None => Vec3::ZERO,
+            },
+            Bsdf::Plastic(ref p) => {
+                to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| p.eval_lobe(wi, wo))
             }
-            Bsdf::Plastic(ref p) => to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| p.eval_lobe(wi, wo)),
         }
     }
 
@@ -232,10 +251,15 @@ impl Bsdf {
     /// non-delta `wi` (zero for delta lobes and for Diffuse).
     pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
         match *self {
-            Bsdf::Conductor { microfacet: Some(mf), .. } => {
-                to_front(wi, wo).map_or(0.0, |(wi, wo, _)| conductor::pdf(&mf, wi, wo))
-            }
-            Bsdf::Dielectric { eta, microfacet: Some(mf), .. } => dielectric::pdf(&mf, eta, wi, wo),
+            Bsdf::Conductor {
+                microfacet: Some(mf),
+                ..
+            } => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| conductor::pdf(&mf, wi, wo)),
+            Bsdf::Dielectric {
+                eta,
+                microfacet: Some(mf),
+                ..
+            } => dielectric::pdf(&mf, eta, wi, wo),
             Bsdf::Plastic(ref p) => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| p.pdf_lobe(wi, wo)),
             _ => 0.0,
         }
@@ -247,7 +271,12 @@ impl Bsdf {
     pub fn sample_lobe(&self, wo: Vec3, u: [f32; 3], transport: Transport) -> Option<LobeSample> {
         match *self {
             Bsdf::Diffuse { .. } => None,
-            Bsdf::Conductor { eta, k, specular, microfacet } => {
+            Bsdf::Conductor {
+                eta,
+                k,
+                specular,
+                microfacet,
+            } => {
                 let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
                 let s = match microfacet {
                     Some(mf) => conductor::sample(&mf, eta, k, specular, wo, u),
@@ -255,30 +284,35 @@ impl Bsdf {
                 };
                 back_to_side(s, flipped)
             }
-            Bsdf::Dielectric { eta, specular_reflectance, specular_transmittance, microfacet } => {
-                match microfacet {
-                    Some(mf) => dielectric::sample(
-                        &mf,
-                        eta,
-                        specular_reflectance,
-                        specular_transmittance,
-                        wo,
-                        u,
-                        transport,
-                    ),
-                    None => dielectric::sample_smooth(
-                        eta,
-                        specular_reflectance,
-                        specular_transmittance,
-                        wo,
-                        u,
-                        transport,
-                    ),
-                }
-            }
-            Bsdf::ThinDielectric { eta, specular_reflectance, specular_transmittance } => {
-                dielectric::sample_thin(eta, specular_reflectance, specular_transmittance, wo, u)
-            }
+            Bsdf::Dielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+                microfacet,
+            } => match microfacet {
+                Some(mf) => dielectric::sample(
+                    &mf,
+                    eta,
+                    specular_reflectance,
+                    specular_transmittance,
+                    wo,
+                    u,
+                    transport,
+                ),
+                None => dielectric::sample_smooth(
+                    eta,
+                    specular_reflectance,
+                    specular_transmittance,
+                    wo,
+                    u,
+                    transport,
+                ),
+            },
+            Bsdf::ThinDielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+            } => dielectric::sample_thin(eta, specular_reflectance, specular_transmittance, wo, u),
             Bsdf::Plastic(ref p) => {
                 let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
                 back_to_side(p.sample_lobe(wo, u), flipped)

@@ -10,12 +10,12 @@
 //! Front side only (`wo.z > 0`); [`Bsdf`](super::Bsdf) mirrors a back-side `wo`.
 
 use super::math::{
-    cosine_hemisphere_pdf, gauss_legendre, reflect, reflect_z, refract, square_to_cosine_hemisphere,
-    square_to_disk_concentric,
+    cosine_hemisphere_pdf, gauss_legendre, reflect, reflect_z, refract,
+    square_to_cosine_hemisphere, square_to_disk_concentric,
 };
 use super::microfacet::{
-    beckmann_slope_x, beckmann_slope_y, fresnel_dielectric, fresnel_diffuse_reflectance, ggx_slopes,
-    Distribution, Microfacet,
+    beckmann_slope_x, beckmann_slope_y, fresnel_dielectric, fresnel_diffuse_reflectance,
+    ggx_slopes, Distribution, Microfacet,
 };
 use super::LobeSample;
 use glam::{Vec2, Vec3};
@@ -73,18 +73,28 @@ struct Rule {
 
 impl Rule {
     fn new(n: usize, distribution: Distribution) -> Self {
-        let (u, w): (Vec<f32>, Vec<f64>) =
-            gauss_legendre(n).into_iter().map(|(x, w)| ((x * 0.5 + 0.5) as f32, w)).unzip();
+        let (u, w): (Vec<f32>, Vec<f64>) = gauss_legendre(n)
+            .into_iter()
+            .map(|(x, w)| ((x * 0.5 + 0.5) as f32, w))
+            .unzip();
         let (mut disk, mut slope_y) = (Vec::new(), Vec::new());
         match distribution {
             Distribution::Ggx => {
                 for &uy in &u {
-                    disk.extend(u.iter().map(|&ux| square_to_disk_concentric(Vec2::new(ux, uy))));
+                    disk.extend(
+                        u.iter()
+                            .map(|&ux| square_to_disk_concentric(Vec2::new(ux, uy))),
+                    );
                 }
             }
             Distribution::Beckmann => slope_y = u.iter().map(|&uy| beckmann_slope_y(uy)).collect(),
         }
-        Self { u, w, disk, slope_y }
+        Self {
+            u,
+            w,
+            disk,
+            slope_y,
+        }
     }
 }
 
@@ -193,7 +203,10 @@ impl Plastic {
         }
         let x = cos_theta * (TRANSMITTANCE_RES - 1) as f32;
         let i = (x.max(0.0) as usize).min(TRANSMITTANCE_RES - 2);
-        let (v0, v1) = (self.external_transmittance[i], self.external_transmittance[i + 1]);
+        let (v0, v1) = (
+            self.external_transmittance[i],
+            self.external_transmittance[i + 1],
+        );
         v0 + (v1 - v0) * (x - i as f32)
     }
 
@@ -201,7 +214,11 @@ impl Plastic {
     pub fn diffuse_out(&self, cos_o: f32) -> Vec3 {
         let kd = self.diffuse_reflectance;
         let ri = self.internal_reflectance;
-        let denom = if self.nonlinear { Vec3::ONE - kd * ri } else { Vec3::splat(1.0 - ri) };
+        let denom = if self.nonlinear {
+            Vec3::ONE - kd * ri
+        } else {
+            Vec3::splat(1.0 - ri)
+        };
         kd / denom * (self.transmittance(cos_o) / (self.eta * self.eta))
     }
 
@@ -219,7 +236,9 @@ impl Plastic {
 
     /// The rough coating's value `ks F D G / (4 cos_o cos_i)` (zero when smooth).
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        let Some(mf) = self.microfacet else { return Vec3::ZERO };
+        let Some(mf) = self.microfacet else {
+            return Vec3::ZERO;
+        };
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Vec3::ZERO;
         }
@@ -230,7 +249,9 @@ impl Plastic {
 
     /// Density of [`sample_lobe`](Self::sample_lobe): `D(h) G1(wo, h) / (4 cos_o)`.
     pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
-        let Some(mf) = self.microfacet else { return 0.0 };
+        let Some(mf) = self.microfacet else {
+            return 0.0;
+        };
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
@@ -244,7 +265,12 @@ impl Plastic {
         let ks = self.specular_reflectance;
         let Some(mf) = self.microfacet else {
             let f = fresnel_dielectric(wo.z, self.eta).0;
-            return Some(LobeSample { wi: reflect_z(wo), weight: ks * f, pdf: 0.0, delta: true });
+            return Some(LobeSample {
+                wi: reflect_z(wo),
+                weight: ks * f,
+                pdf: 0.0,
+                delta: true,
+            });
         };
         let (m, pdf_m) = mf.sample_visible(wo, Vec2::new(u[1], u[2]));
         let wi = reflect(wo, m);
@@ -253,7 +279,12 @@ impl Plastic {
         }
         let f = fresnel_dielectric(wo.dot(m), self.eta).0;
         let pdf = pdf_m / (4.0 * wi.dot(m));
-        (pdf > 0.0).then_some(LobeSample { wi, weight: ks * (f * mf.smith_g1(wi, m)), pdf, delta: false })
+        (pdf > 0.0).then_some(LobeSample {
+            wi,
+            weight: ks * (f * mf.smith_g1(wi, m)),
+            pdf,
+            delta: false,
+        })
     }
 
     /// Density of [`sample`](Self::sample) (non-delta part): the coating's density times its
@@ -263,7 +294,11 @@ impl Plastic {
             return 0.0;
         }
         let ps = self.prob_specular(wo.z);
-        let spec = if self.microfacet.is_some() { ps * self.pdf_lobe(wi, wo) } else { 0.0 };
+        let spec = if self.microfacet.is_some() {
+            ps * self.pdf_lobe(wi, wo)
+        } else {
+            0.0
+        };
         spec + (1.0 - ps) * cosine_hemisphere_pdf(wi)
     }
 
@@ -289,7 +324,12 @@ impl Plastic {
         }
         let diffuse = self.diffuse_out(wo.z) * (self.transmittance(wi.z) * FRAC_1_PI);
         let weight = (diffuse + self.eval_lobe(wi, wo)) * wi.z / pdf;
-        Some(LobeSample { wi, weight, pdf, delta: false })
+        Some(LobeSample {
+            wi,
+            weight,
+            pdf,
+            delta: false,
+        })
     }
 }
 
@@ -309,10 +349,18 @@ mod tests {
                 let (f, cos_t, _, eta_ti) = fresnel_dielectric(wi.dot(m), eta);
                 let v = if transmit {
                     let wo = refract(wi, m, cos_t, eta_ti);
-                    if wo.z * wi.z < 0.0 { mf.smith_g1(wo, m) * (1.0 - f) } else { 0.0 }
+                    if wo.z * wi.z < 0.0 {
+                        mf.smith_g1(wo, m) * (1.0 - f)
+                    } else {
+                        0.0
+                    }
                 } else {
                     let wo = reflect(wi, m);
-                    if wo.z > 0.0 { mf.smith_g1(wo, m) * f } else { 0.0 }
+                    if wo.z > 0.0 {
+                        mf.smith_g1(wo, m) * f
+                    } else {
+                        0.0
+                    }
                 };
                 sum += v as f64 * wx * wy * 0.25;
             }
@@ -327,7 +375,10 @@ mod tests {
             for (eta, transmit) in [(1.5, true), (1.0 / 1.5, false)] {
                 let rule = Rule::new(quadrature_res(eta), d);
                 for mu in [1e-6, 0.2, 0.7, 1.0] {
-                    let (a, b) = (coating_integral(&mf, &rule, mu, eta, transmit), direct(&mf, mu, eta, transmit));
+                    let (a, b) = (
+                        coating_integral(&mf, &rule, mu, eta, transmit),
+                        direct(&mf, mu, eta, transmit),
+                    );
                     assert!((a - b).abs() < 1e-6, "{d:?} eta {eta} mu {mu}: {a} vs {b}");
                 }
             }
@@ -337,7 +388,10 @@ mod tests {
     #[test]
     fn smooth_plastic_terms() {
         let p = Plastic::new(Vec3::splat(0.5), Vec3::ONE, 1.5, false, None);
-        assert_eq!(p.internal_reflectance, fresnel_diffuse_reflectance(1.0 / 1.5));
+        assert_eq!(
+            p.internal_reflectance,
+            fresnel_diffuse_reflectance(1.0 / 1.5)
+        );
         assert!((p.transmittance(1.0) - 0.96).abs() < 1e-6);
         assert!((p.specular_sampling_weight - 1.0 / 1.5).abs() < 1e-6);
     }
