@@ -48,6 +48,10 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
             var f = bsdf_eval_diffuse(m);
             if is_delta {
                 f = select(bsdf_eval_lobe(m, wi, wo, ns), f + bsdf_eval_lobe(m, wi, wo, ns), with_direct);
+            } else if bsdf_lobe_is_glossy(m) {
+                // A glossy lobe weighed against its own sampling (power heuristic).
+                let w = power_heuristic(f32(samples) * ls.pdf, bsdf_pdf_lobe(m, wi, wo, ns));
+                f += bsdf_eval_lobe(m, wi, wo, ns) * w;
             }
             if all(f == vec3<f32>(0.0)) {
                 continue;
@@ -90,8 +94,12 @@ struct ChainEnd {
 // the emission of every surface met from its emitting side when `emission`. The camera path
 // and the gather ray call this in a loop of its own and shade after it, so the lanes of a SIMD
 // group shade together, not once per chain length.
-fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>) -> ChainEnd {
+// `mis_pdf` > 0: the ray was drawn from a glossy lobe at mis_from (shading normal mis_ns
+// facing the viewer) with that density, and an area light it meets first is weighed against
+// the shadow rays' sampling (twin of cpu::gather::Mis).
+fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>, mis_pdf: f32, mis_from: vec3<f32>, mis_ns: vec3<f32>) -> ChainEnd {
     var end: ChainEnd;
+    var pdf = mis_pdf;
     while *depth <= params.max_depth && spend() {
         let hit = trace_ray(*o, *d, 3.0e38, false);
         if !hit.found {
@@ -102,8 +110,17 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         }
         let m = bsdf_at(hit);
         if emission {
-            end.emitted += *t * bsdf_emitted(m, dot(*d, hit.normal) < 0.0);
+            var le = bsdf_emitted(m, dot(*d, hit.normal) < 0.0);
+            if pdf > 0.0 && hit.light != NO_LIGHT && any(le != vec3<f32>(0.0)) {
+                var pdf_light = 0.0;
+                if dot(hit.position - mis_from, mis_ns) > 0.0 {
+                    pdf_light = f32(params.shadow_samples) * light_solid_angle_pdf(load_light(hit.light), mis_from, hit.position, hit.normal);
+                }
+                le *= power_heuristic(pdf, pdf_light);
+            }
+            end.emitted += *t * le;
         }
+        pdf = 0.0;
         let kind_class = bsdf_class(m);
         if kind_class == CLASS_BLACK {
             break;
@@ -125,22 +142,20 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
 
 // A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
 // through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
-// per bounce up to max_depth, to its first diffuse or glossy hit y, where it adds
-// throughput * kd(y) * the radiance cache at y (normal facing the ray). At a glossy y it goes
-// on along the lobe; emission counts only after such a lobe bounce (the cache, shadow rays and
-// caustic photons carry the rest).
+// per bounce up to max_depth, to its first shaded hit y, where it adds throughput *
+// the diffuse albedo of y * the radiance cache at y (normal facing the ray). Where y has a lobe
+// it goes on along it. It never counts emission (shadow rays and caustic photons carry it).
 fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     var d = dir;
     var o = offset_origin(x, n, d);
     var t = vec3<f32>(1.0);
     var sum = vec3<f32>(0.0);
-    var after_lobe = false;
     var gd = depth + 1u;
     loop {
-        // Light reaching x over a glossy lobe is in no shadow ray and no caustic photon.
+        // No emission: light from a light directly (shadow rays) or over delta and glossy
+        // lobes (L (S|G)+ D: the caustic map) is counted elsewhere.
         // (Bounded: follow_chain spends a loop step per ray, and shades nothing once refused.)
-        let end = follow_chain(&o, &d, &t, &gd, after_lobe, rng);
-        sum += end.emitted;
+        let end = follow_chain(&o, &d, &t, &gd, false, rng, 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
         if !end.shade {
             break;
         }
@@ -154,14 +169,11 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         if !bsdf_has_lobe(m) || !can_continue {
             break;
         }
-        let u1 = rng_next(rng);
-        let u2 = rng_next(rng);
-        let lr = bsdf_sample_lobe(m, d, lf, u1, u2);
+        let lr = bsdf_sample_lobe(m, d, lf, rng);
         if !lr.ok {
             break;
         }
         t *= lr.weight;
-        after_lobe = true;
         d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
         gd += 1u;
@@ -194,9 +206,13 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var depth = 0u;
+    // The last lobe sample's density, where it was drawn and that point's normal (MIS).
+    var mis_pdf = 0.0;
+    var mis_from = vec3<f32>(0.0);
+    var mis_ns = vec3<f32>(0.0);
     loop {
         // Bounded as in gather_ray: no shading once the loop budget is spent.
-        let end = follow_chain(&o, &d, &throughput, &depth, true, &rng);
+        let end = follow_chain(&o, &d, &throughput, &depth, true, &rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
         if !end.shade {
             break;
@@ -241,13 +257,15 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         if (params.terms & TERM_LOBE_RAY) == 0u || !bsdf_has_lobe(m) || !can_continue {
             break;
         }
-        let u1 = rng_next(&rng);
-        let u2 = rng_next(&rng);
-        let lr = bsdf_sample_lobe(m, -wo, f, u1, u2);
+        let lr = bsdf_sample_lobe(m, -wo, f, &rng);
         if !lr.ok {
             break;
         }
         throughput *= lr.weight;
+        // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
+        mis_pdf = select(0.0, lr.pdf, (params.terms & TERM_DIRECT) != 0u);
+        mis_from = hit.position;
+        mis_ns = ns;
         d = lr.dir;
         o = offset_origin(hit.position, hit.normal, d);
         depth += 1u;

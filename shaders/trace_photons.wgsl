@@ -54,28 +54,24 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             return;
         }
         let m = bsdf_at(hit);
-        let stores = bsdf_stores_photons(m);
-        let specular = bsdf_class(m) == CLASS_DELTA;
-        if stores {
+        if bsdf_stores_photons(m) {
             let stored_normal = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
             let caustic = depth > 0u && all_specular;
             let flags = min(depth, DEPTH_MASK) | select(0u, FLAG_CAUSTIC, caustic);
-            if caustic_map {
-                if caustic {
-                    store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
-                }
-                return;
+            // The caustic map keeps only L (S|G)+ D photons: its paths end at the first
+            // diffuse bounce (below).
+            if !caustic_map || caustic {
+                store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
             }
-            store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
-        } else if caustic_map && !specular {
-            return;
         }
         let u = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
         let b = photon_bounce(m, d, hit, u);
-        if b.kind == BOUNCE_ABSORB {
+        if b.kind == BOUNCE_ABSORB || (caustic_map && b.kind == BOUNCE_DIFFUSE) {
             return;
         }
-        if b.kind != BOUNCE_DELTA {
+        // Delta and glossy lobes alike: every lobe is traced from the camera, so light
+        // arriving over any of them is a caustic.
+        if b.kind == BOUNCE_DIFFUSE {
             all_specular = false;
         }
         power *= b.weight;

@@ -82,6 +82,20 @@ pub struct LightSample {
 }
 
 impl LightTable {
+    /// The solid-angle density with which [`sample`](Self::sample) picks `point` (normal
+    /// `normal`) on area light `l` as seen from `x`: uniform over its area, `d^2 / (|cos_l|
+    /// area)`; 0 for a point seen edge-on.
+    pub fn solid_angle_pdf(&self, l: usize, x: Vec3, point: Vec3, normal: Vec3) -> f32 {
+        let to_x = x - point;
+        let d2 = to_x.length_squared();
+        let cos_l = normal.dot(to_x).abs() / d2.sqrt();
+        if cos_l > 0.0 && self.area[l] > 0.0 {
+            d2 / (cos_l * self.area[l])
+        } else {
+            0.0
+        }
+    }
+
     /// The sampling tables of every light of `scene`.
     pub fn new(scene: &Scene) -> Self {
         let mut t = LightTable {

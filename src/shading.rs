@@ -49,6 +49,28 @@ pub enum DeltaEvent {
     Split(Dielectric),
 }
 
+/// A ray drawn from a lobe.
+#[derive(Clone, Copy, Debug)]
+pub struct LobeRay {
+    /// Its direction.
+    pub dir: Vec3,
+    /// `f cos / pdf`.
+    pub weight: Vec3,
+    /// The solid-angle density it was drawn with; 0 for a delta lobe.
+    pub pdf: f32,
+}
+
+/// The power heuristic's weight of a strategy of density `a` against one of density `b`.
+#[inline]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 {
+        a2 / (a2 + b2)
+    } else {
+        0.0
+    }
+}
+
 /// The BSDF at one surface point, as the integrators see it.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceBsdf<'a> {
@@ -261,23 +283,61 @@ impl SurfaceBsdf<'_> {
         }
     }
 
-    /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), with
-    /// the hit's normals `f` facing `-d`: the direction and its weight `f cos / pdf`, or
-    /// `None` below the shading or the geometric surface (or across it for a reflection).
-    /// The Phong lobe takes two numbers from `rng`, [`crate::bsdf`]'s kinds three.
+    /// The solid-angle density with which [`sample_lobe`](Self::sample_lobe) draws `wi`
+    /// (0 for a delta lobe): the lobe's half of multiple importance sampling with the
+    /// shadow rays.
     #[inline]
-    pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<(Vec3, Vec3)> {
+    pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
+        match (self.m.kind, &self.m.bsdf) {
+            (MaterialKind::Glossy, _) => {
+                let cos_a = reflect(-wo, ns).dot(wi);
+                if cos_a <= 0.0 {
+                    return 0.0;
+                }
+                (self.m.exponent + 1.0) / (2.0 * PI) * cos_a.powf(self.m.exponent)
+            }
+            (_, Some(b)) => b.pdf_lobe(self.local(wi), self.local(wo)),
+            _ => 0.0,
+        }
+    }
+
+    /// Whether the lobe can be reached by shadow rays (a glossy, not a delta, lobe): then
+    /// light sampling and lobe sampling share area lights by multiple importance sampling.
+    #[inline]
+    pub fn lobe_is_glossy(&self) -> bool {
+        match (self.m.kind, &self.m.bsdf) {
+            (MaterialKind::Glossy, _) => self.has_lobe(),
+            (_, Some(b)) => b.has_lobe() && !b.lobe_is_delta(),
+            _ => false,
+        }
+    }
+
+    /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), with
+    /// the hit's normals `f` facing `-d`: the direction, its weight `f cos / pdf` and the pdf
+    /// (0 for a delta lobe), or `None` below the shading or the geometric surface (or across
+    /// it for a reflection). The Phong lobe takes two numbers from `rng`, [`crate::bsdf`]'s
+    /// kinds three.
+    #[inline]
+    pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let m = self.m;
         let Some(b) = &m.bsdf else {
             let (u1, u2) = rng.next2();
             let dir = phong_lobe(reflect(d, f.ns), m.exponent, u1, u2);
             let cos = dir.dot(f.ns);
-            return (cos > 0.0 && !f.reflection_leaks(dir))
-                .then(|| (dir, m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos)));
+            return (cos > 0.0 && !f.reflection_leaks(dir)).then(|| LobeRay {
+                dir,
+                weight: m.ks * ((m.exponent + 2.0) / (m.exponent + 1.0) * cos),
+                pdf: self.pdf_lobe(dir, -d, f.ns),
+            });
         };
         let u = [rng.next(), rng.next(), rng.next()];
         let s = b.sample_lobe(self.local(-d), u, Transport::Radiance)?;
-        self.world_direction(s.wi, s.weight, f)
+        let (dir, weight) = self.world_direction(s.wi, s.weight, f)?;
+        Some(LobeRay {
+            dir,
+            weight,
+            pdf: s.pdf,
+        })
     }
 
     /// A local sample direction in world space with its weight, or `None` when it leaks

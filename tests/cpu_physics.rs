@@ -773,6 +773,8 @@ fn sealed_box(albedo: Vec3) -> Scene {
         materials: vec![Material::diffuse(albedo)],
         triangles: tris,
         shading_normals: vec![],
+        uvs: vec![],
+        textures: vec![],
         spheres: vec![],
         lights: vec![],
         settings: RenderSettings::default(),

@@ -4,6 +4,7 @@
 //! and malformed files give `FILE:LINE: field: message` errors, never a panic.
 
 use glam::{DVec3, Vec3};
+use gpu_photon::bsdf::{named_conductor, Bsdf, Distribution, Microfacet};
 use gpu_photon::error::Error;
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
@@ -362,48 +363,53 @@ fn bsdfs_map_to_our_materials_with_warnings_for_approximations() {
     let m = &im.scene.materials;
     assert_eq!(m[0].kind, MaterialKind::Diffuse);
     assert_eq!(m[0].kd, Vec3::new(0.25, 0.5, 0.25));
+    // A conductor of material `none` reflects everything: a mirror of its tint.
     assert_eq!(
         (m[1].kind, m[1].ks),
         (MaterialKind::Mirror, Vec3::splat(0.9))
     );
     assert_eq!(m[2].kind, MaterialKind::Glass);
     assert!((m[2].ior - 1.333 / 1.25).abs() < 1e-6);
-    // plastic: F0 of ior 1.49 / 1.000277, ks = F0, kd = 0.5 (1 - F0).
+    // The rest as Mitsuba defines them (crate::bsdf), with Mitsuba's defaults.
     let eta = 1.49f32 / 1.000277;
-    let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-    assert_eq!(m[3].kind, MaterialKind::Glossy);
-    assert!(
-        close(m[3].ks, Vec3::splat(f0), 1e-6)
-            && close(m[3].kd, Vec3::splat(0.5 * (1.0 - f0)), 1e-6)
-    );
-    assert_eq!(m[3].exponent, 1000.0);
-    // roughconductor: exponent 2 / alpha^2 - 2.
-    assert_eq!(
-        (m[4].kind, m[4].kd, m[4].ks),
-        (MaterialKind::Glossy, Vec3::ZERO, Vec3::ONE)
-    );
-    assert!((m[4].exponent - 48.0).abs() < 1e-3);
-    assert!((m[5].exponent - 198.0).abs() < 1e-2);
-    assert_eq!(m[6].kind, MaterialKind::Mirror);
-    // One warning per approximated bsdf, naming it and its line.
-    let w = &im.warnings;
-    assert_eq!(w.len(), 4, "{w:?}");
-    assert!(
-        w[0].starts_with("t.xml:8: bsdf[d]: `plastic` approximated as glossy"),
-        "{w:?}"
-    );
-    assert!(
-        w[1].starts_with("t.xml:9: bsdf[e]: `roughconductor` approximated"),
-        "{w:?}"
-    );
-    assert!(
-        w[2].starts_with("t.xml:10: bsdf[f]: `roughplastic` approximated"),
-        "{w:?}"
-    );
-    assert!(
-        w[3].starts_with("t.xml:11: bsdf[g]: conductor material `Au`"),
-        "{w:?}"
-    );
+    match m[3].bsdf {
+        Some(Bsdf::Plastic(p)) => {
+            assert_eq!(m[3].kind, MaterialKind::Plastic);
+            assert_eq!(p.diffuse_reflectance, Vec3::splat(0.5));
+            assert!((p.eta - eta).abs() < 1e-6 && p.microfacet.is_none() && !p.nonlinear);
+        }
+        other => panic!("plastic: {other:?}"),
+    }
+    match m[4].bsdf {
+        Some(Bsdf::Conductor {
+            eta,
+            k,
+            microfacet: Some(mf),
+            ..
+        }) => {
+            assert_eq!(m[4].kind, MaterialKind::RoughConductor);
+            assert_eq!((eta, k), (Vec3::ZERO, Vec3::ONE));
+            assert_eq!(mf, Microfacet::new(Distribution::Beckmann, 0.2, 0.2));
+        }
+        other => panic!("roughconductor: {other:?}"),
+    }
+    match m[5].bsdf {
+        Some(Bsdf::Plastic(p)) => {
+            assert_eq!(m[5].kind, MaterialKind::RoughPlastic);
+            assert_eq!(p.microfacet, Some(Microfacet::new(Distribution::Beckmann, 0.1, 0.1)));
+        }
+        other => panic!("roughplastic: {other:?}"),
+    }
+    let (eta_au, k_au) = named_conductor("Au").unwrap();
+    match m[6].bsdf {
+        Some(Bsdf::Conductor { eta, k, .. }) => {
+            assert_eq!(m[6].kind, MaterialKind::Conductor);
+            assert_eq!((eta, k), (eta_au, k_au));
+        }
+        other => panic!("conductor Au: {other:?}"),
+    }
+    // Nothing is approximated any more.
+    assert!(im.warnings.is_empty(), "{:?}", im.warnings);
 }
 
 #[test]
@@ -455,12 +461,12 @@ fn malformed_files_name_file_line_and_field() {
             "t.xml:4: emitter[0]: unsupported emitter `envmap`",
         ),
         (
-            r#"<bsdf type="roughdielectric"/>"#,
-            "t.xml:4: bsdf[0]: unsupported bsdf `roughdielectric`",
+            r#"<bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf>"#,
+            "t.xml:4: bsdf[0].distribution: unknown distribution `phong` (expected beckmann or ggx)",
         ),
         (
             r#"<shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"/></bsdf></shape>"#,
-            "t.xml:4: shape[0].bsdf.reflectance: unsupported texture `bitmap` (only constant colours)",
+            "t.xml:4: shape[0].bsdf.reflectance.filename: missing",
         ),
         (
             r#"<texture type="checkerboard" id="c"/>"#,

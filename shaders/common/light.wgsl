@@ -130,42 +130,56 @@ fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
 }
 
 // A shadow-ray target: `distant` for a directional light, whose point is one unit from x
-// towards the light and whose shadow ray has no end.
+// towards the light and whose shadow ray has no end; `pdf` the solid-angle density of an area
+// light's point (0 for the delta lights).
 struct LightSample {
     point: vec3<f32>,
     weight: vec3<f32>,
     distant: bool,
+    pdf: f32,
+}
+
+// The solid-angle density with which sample_light picks point p (normal n) of area light l
+// seen from x (twin of LightTable::solid_angle_pdf).
+fn light_solid_angle_pdf(l: Light, x: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let to_x = x - p;
+    let d2 = dot(to_x, to_x);
+    let cos_l = abs(dot(n, to_x)) / sqrt(d2);
+    if cos_l > 0.0 && l.area > 0.0 {
+        return d2 / (cos_l * l.area);
+    }
+    return 0.0;
 }
 
 fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
     if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
         let d = l.position - x;
-        return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20), false);
+        return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20), false, 0.0);
     }
     if HAS_POINT_LIGHTS && l.kind == LIGHT_SPOT {
         let to_x = x - l.position;
         let d2 = max(dot(to_x, to_x), 1e-20);
         let att = spot_falloff(l, dot(l.direction, to_x) / sqrt(d2));
-        return LightSample(l.position, l.intensity * (att / d2), false);
+        return LightSample(l.position, l.intensity * (att / d2), false, 0.0);
     }
     if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
-        return LightSample(x - l.direction, l.intensity, true);
+        return LightSample(x - l.direction, l.intensity, true, 0.0);
     }
     let sp = light_point(l, u);
     let m = load_material(sp.material);
     let to_x = x - sp.p;
     let d2 = dot(to_x, to_x);
     if d2 <= 0.0 {
-        return LightSample(sp.p, vec3<f32>(0.0), false);
+        return LightSample(sp.p, vec3<f32>(0.0), false, 0.0);
     }
     var cos_l = dot(sp.n, to_x) / sqrt(d2);
     if m.two_sided != 0u {
         cos_l = abs(cos_l);
     }
     if cos_l <= 0.0 {
-        return LightSample(sp.p, vec3<f32>(0.0), false);
+        return LightSample(sp.p, vec3<f32>(0.0), false, 0.0);
     }
-    return LightSample(sp.p, m.emission * (cos_l * l.area / d2), false);
+    return LightSample(sp.p, m.emission * (cos_l * l.area / d2), false, light_solid_angle_pdf(l, x, sp.p, sp.n));
 }
 
 fn aims_at(o: vec3<f32>, d: vec3<f32>) -> bool {

@@ -46,19 +46,48 @@ fn bsdf_eval_lobe(b: Material, wi: vec3<f32>, wo: vec3<f32>, ns: vec3<f32>) -> v
     return b.ks * phong_lobe_value(wi, wo, ns, b.exponent);
 }
 
+// The solid-angle density with which bsdf_sample_lobe draws wi (0 for a delta lobe).
+fn bsdf_pdf_lobe(b: Material, wi: vec3<f32>, wo: vec3<f32>, ns: vec3<f32>) -> f32 {
+    if b.kind != MAT_GLOSSY {
+        return 0.0;
+    }
+    let cos_a = dot(reflect_dir(-wo, ns), wi);
+    if cos_a <= 0.0 {
+        return 0.0;
+    }
+    return (b.exponent + 1.0) / (2.0 * PI) * pow(cos_a, b.exponent);
+}
+
+// A glossy (not delta) lobe: light sampling and lobe sampling share area lights by multiple
+// importance sampling.
+fn bsdf_lobe_is_glossy(b: Material) -> bool {
+    return bsdf_has_lobe(b);
+}
+
+// The power heuristic's weight of a strategy of density a against one of density b.
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
+}
+
 // One ray from the lobe about the mirror direction of d (towards the surface), normals f
-// facing -d: direction and weight f cos / pdf; not ok below the shading or geometric surface.
+// facing -d: direction, weight f cos / pdf and pdf; not ok below the shading or geometric
+// surface.
 struct LobeRay {
     dir: vec3<f32>,
     weight: vec3<f32>,
     ok: bool,
+    pdf: f32,
 }
 
-fn bsdf_sample_lobe(b: Material, d: vec3<f32>, f: Facing, u1: f32, u2: f32) -> LobeRay {
+fn bsdf_sample_lobe(b: Material, d: vec3<f32>, f: Facing, rng: ptr<function, Rng>) -> LobeRay {
+    let u1 = rng_next(rng);
+    let u2 = rng_next(rng);
     let dir = phong_lobe(reflect_dir(d, f.ns), b.exponent, u1, u2);
     let c = dot(dir, f.ns);
     let ok = c > 0.0 && !reflection_leaks(f, dir);
-    return LobeRay(dir, b.ks * ((b.exponent + 2.0) / (b.exponent + 1.0) * c), ok);
+    return LobeRay(dir, b.ks * ((b.exponent + 2.0) / (b.exponent + 1.0) * c), ok, bsdf_pdf_lobe(b, dir, -d, f.ns));
 }
 
 // Whether photons are stored here (a diffuse part).

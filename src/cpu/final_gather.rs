@@ -86,11 +86,11 @@ impl Gatherer<'_> {
                     if !bsdf.has_lobe() || !can_recurse {
                         return sum;
                     }
-                    let Some((dir, w)) = bsdf.sample_lobe(ray.dir, &f, rng) else {
+                    let Some(lobe) = bsdf.sample_lobe(ray.dir, &f, rng) else {
                         return sum;
                     };
-                    throughput *= w;
-                    dir
+                    throughput *= lobe.weight;
+                    lobe.dir
                 }
                 _ if !can_recurse => return sum,
                 SurfaceClass::Delta => {

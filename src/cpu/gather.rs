@@ -19,7 +19,8 @@ use crate::light::LightTable;
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::scene::Scene;
-use crate::shading::{bsdf_at, escape, DeltaEvent, SurfaceBsdf, SurfaceClass};
+use crate::scene::NO_LIGHT;
+use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::settings::{RenderSettings, Sampler};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
@@ -29,6 +30,19 @@ use glam::Vec3;
 /// Below this depth a glass hit traces both the reflected and the refracted ray; deeper,
 /// one of them is chosen with the Fresnel probability (unbiased, bounded work).
 pub const GLASS_SPLIT_DEPTH: u32 = 3;
+
+/// A ray drawn from a glossy lobe at `from` with solid-angle density `pdf`: where it meets
+/// an area light, the light's emission is weighed against the shadow rays' sampling.
+#[derive(Clone, Copy, Debug)]
+pub struct Mis {
+    /// The point the lobe was sampled at.
+    pub from: Vec3,
+    /// The lobe's density of the ray's direction.
+    pub pdf: f32,
+    /// The shading normal there on the viewer's side: shadow rays sample lights above it
+    /// only, so a light below it (a transmitted ray) is the lobe's alone.
+    pub ns: Vec3,
+}
 
 /// Everything the camera pass reads.
 pub struct Gatherer<'a> {
@@ -86,6 +100,7 @@ impl Gatherer<'_> {
                 &mut rng,
                 &mut stream,
                 caustic_weight(s.spp, s.caustic_every, i),
+                None,
             );
         }
         sum / s.spp as f32
@@ -102,13 +117,25 @@ impl Gatherer<'_> {
         rng: &mut Rng,
         first: &mut Option<SobolStream>,
         cw: f32,
+        mis: Option<Mis>,
     ) -> Vec3 {
         let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
             return escape(ray.dir);
         };
         let bsdf = bsdf_at(self.scene, &hit);
         let front = ray.dir.dot(hit.normal) < 0.0;
-        let emitted = bsdf.emitted(front);
+        let mut emitted = bsdf.emitted(front);
+        // A lobe sample that meets an area light shares it with the shadow rays.
+        if let Some(mis) = mis.filter(|_| hit.light != NO_LIGHT && emitted != Vec3::ZERO) {
+            let n = self.settings.shadow_samples as f32;
+            let above = (hit.position - mis.from).dot(mis.ns) > 0.0;
+            let pdf_light = if above {
+                n * self.lights.solid_angle_pdf(hit.light as usize, mis.from, hit.position, hit.normal)
+            } else {
+                0.0
+            };
+            emitted *= power_heuristic(mis.pdf, pdf_light);
+        }
         let can_recurse = depth < self.settings.max_depth;
         match bsdf.class() {
             SurfaceClass::Black => emitted,
@@ -126,7 +153,8 @@ impl Gatherer<'_> {
                         if f.reflection_leaks(dir) {
                             return emitted;
                         }
-                        emitted + weight * self.radiance(&next(dir), depth + 1, rng, first, cw)
+                        emitted
+                            + weight * self.radiance(&next(dir), depth + 1, rng, first, cw, None)
                     }
                     DeltaEvent::Split(g) => {
                         // A branch that ends on the wrong side of the geometric surface
@@ -140,7 +168,7 @@ impl Gatherer<'_> {
                             if leaks {
                                 return Vec3::ZERO;
                             }
-                            self.radiance(&next(dir), depth + 1, rng, first, cw)
+                            self.radiance(&next(dir), depth + 1, rng, first, cw, None)
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
@@ -214,17 +242,26 @@ impl Gatherer<'_> {
             l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol);
         }
         if self.terms.lobe_ray && bsdf.has_lobe() && depth < s.max_depth {
-            if let Some((dir, w)) = bsdf.sample_lobe(-wo, &f, rng) {
-                l += w * self.radiance(
-                    &Ray {
-                        origin: offset_origin(hit.position, hit.normal, dir),
-                        dir,
-                    },
-                    depth + 1,
-                    rng,
-                    &mut None,
-                    cw,
-                );
+            if let Some(lobe) = bsdf.sample_lobe(-wo, &f, rng) {
+                let dir = lobe.dir;
+                // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
+                let mis = (self.terms.direct && lobe.pdf > 0.0).then_some(Mis {
+                    from: hit.position,
+                    pdf: lobe.pdf,
+                    ns: f.ns,
+                });
+                l += lobe.weight
+                    * self.radiance(
+                        &Ray {
+                            origin: offset_origin(hit.position, hit.normal, dir),
+                            dir,
+                        },
+                        depth + 1,
+                        rng,
+                        &mut None,
+                        cw,
+                        mis,
+                    );
             }
         }
         l
@@ -280,6 +317,15 @@ impl Gatherer<'_> {
                 let f = match (is_delta, self.terms.direct) {
                     (true, true) => bsdf.eval(wi, wo, ns),
                     (true, false) => bsdf.eval_lobe(wi, wo, ns),
+                    // An area light: the diffuse part, and a glossy lobe weighed against
+                    // the lobe's own sampling (power heuristic).
+                    _ if bsdf.lobe_is_glossy() => {
+                        let n = n_samples as f32;
+                        let pdf_light = n * self.lights.solid_angle_pdf(li, hit.position, ls.point, ls.normal);
+                        let pdf_lobe = bsdf.pdf_lobe(wi, wo, ns);
+                        bsdf.eval_diffuse(wi, wo)
+                            + bsdf.eval_lobe(wi, wo, ns) * power_heuristic(pdf_light, pdf_lobe)
+                    }
                     _ => bsdf.eval_diffuse(wi, wo),
                 };
                 if f == Vec3::ZERO {

@@ -30,6 +30,7 @@ const INTERSECT: &str = include_str!("../../shaders/common/intersect.wgsl");
 const MATERIAL: &str = include_str!("../../shaders/common/material.wgsl");
 const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
 const SHADING: &str = include_str!("../../shaders/common/shading.wgsl");
+const TEXTURE: &str = include_str!("../../shaders/common/texture.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
@@ -43,7 +44,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 20] = [
+pub const WGSL_FILES: [(&str, &str); 21] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -53,6 +54,8 @@ pub const WGSL_FILES: [(&str, &str); 20] = [
     ("common/material.wgsl", MATERIAL),
     ("common/light.wgsl", LIGHT),
     ("common/shading.wgsl", SHADING),
+    // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
+    ("common/texture.wgsl", TEXTURE),
     ("common/grid.wgsl", GRID),
     ("common/map.wgsl", MAP),
     ("common/estimate.wgsl", ESTIMATE),

@@ -3,7 +3,8 @@
 //! [`SpotCone`]'s; a directional light's power needs the finished scene's extent, so
 //! [`SceneBuilder::finish`] sets it.
 
-use super::builder::{check_emission, SceneBuilder};
+use super::builder::SceneBuilder;
+use super::checks::check_emission;
 use super::locate::{Locate, Part};
 use super::{Light, LightShape, SpotCone};
 use crate::error::Result;

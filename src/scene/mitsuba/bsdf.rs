@@ -125,6 +125,14 @@ pub(super) fn bsdf(
                 "conductor" => None,
                 _ => Some(microfacet(cx, &p)?),
             };
+            // A smooth conductor of material `none` (eta 0, k 1) reflects everything.
+            if microfacet.is_none() && eta == Vec3::ZERO && k == Vec3::ONE {
+                p.done(cx)?;
+                return Ok(Read {
+                    material: Material::mirror(specular),
+                    kd_texture,
+                });
+            }
             Material::from_bsdf(Bsdf::Conductor {
                 eta,
                 k,

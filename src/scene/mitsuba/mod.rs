@@ -196,6 +196,10 @@ impl Importer<'_> {
                 "sampler" => {
                     let s = Plugin::new(cx, *child, sub)?;
                     s.setting(cx, "sample_count", "spp", self.b.settings())?;
+                    // `sample_count` is the author's total per pixel: our default render
+                    // spreads it over its progressive passes.
+                    let settings = self.b.settings();
+                    settings.spp = settings.spp.div_ceil(settings.passes.max(1));
                     s.ignore(&["seed"]);
                     s.done(cx)?;
                 }

@@ -1,0 +1,203 @@
+//! The scene's materials: the closed set of kinds and their parameters (`crate::shading`
+//! is the one place the integrators read them).
+
+use crate::bsdf::Bsdf;
+use glam::Vec3;
+
+/// The kind of surface scattering a material performs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialKind {
+    /// Lambertian: BRDF = albedo / pi, two-sided.
+    Diffuse,
+    /// Lambertian `kd` plus a normalised Phong lobe `ks (n+2)/(2 pi) cos^n` around the mirror direction.
+    Glossy,
+    /// Perfect mirror: reflected radiance = reflectance x incident radiance.
+    Mirror,
+    /// Smooth dielectric with index of refraction `ior` inside, 1.0 outside.
+    Glass,
+    /// Reflects nothing (the surface of an area light, or a black absorber).
+    Black,
+    /// Smooth conductor (complex index of refraction): [`Material::bsdf`], a delta lobe.
+    Conductor,
+    /// Microfacet conductor: [`Material::bsdf`].
+    RoughConductor,
+    /// Microfacet dielectric boundary (reflection and transmission): [`Material::bsdf`].
+    RoughDielectric,
+    /// Thin dielectric sheet (delta reflection and straight pass-through): [`Material::bsdf`].
+    ThinDielectric,
+    /// Diffuse base under a smooth dielectric coating: [`Material::bsdf`].
+    Plastic,
+    /// Diffuse base under a microfacet coating: [`Material::bsdf`].
+    RoughPlastic,
+}
+
+impl MaterialKind {
+    /// Every kind, in the order of their GPU codes.
+    pub const ALL: [MaterialKind; 11] = [
+        MaterialKind::Diffuse,
+        MaterialKind::Glossy,
+        MaterialKind::Mirror,
+        MaterialKind::Glass,
+        MaterialKind::Black,
+        MaterialKind::Conductor,
+        MaterialKind::RoughConductor,
+        MaterialKind::RoughDielectric,
+        MaterialKind::ThinDielectric,
+        MaterialKind::Plastic,
+        MaterialKind::RoughPlastic,
+    ];
+
+    /// The kind a [`Bsdf`] of `crate::bsdf` is rendered as.
+    pub fn of_bsdf(b: &Bsdf) -> MaterialKind {
+        match b {
+            Bsdf::Diffuse { .. } => MaterialKind::Diffuse,
+            Bsdf::Conductor { microfacet: None, .. } => MaterialKind::Conductor,
+            Bsdf::Conductor { .. } => MaterialKind::RoughConductor,
+            Bsdf::Dielectric { microfacet: None, .. } => MaterialKind::Glass,
+            Bsdf::Dielectric { .. } => MaterialKind::RoughDielectric,
+            Bsdf::ThinDielectric { .. } => MaterialKind::ThinDielectric,
+            Bsdf::Plastic(p) if p.microfacet.is_none() => MaterialKind::Plastic,
+            Bsdf::Plastic(_) => MaterialKind::RoughPlastic,
+        }
+    }
+}
+
+/// Marks a material parameter that no texture varies ([`Material::kd_texture`]).
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// A material. Unused coefficients are zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// How the surface scatters light.
+    pub kind: MaterialKind,
+    /// Diffuse albedo (`diffuse`) or `kd` (`glossy`).
+    pub kd: Vec3,
+    /// Specular coefficient (`glossy`) or reflectance (`mirror`).
+    pub ks: Vec3,
+    /// Phong exponent of the glossy lobe.
+    pub exponent: f32,
+    /// Index of refraction of a glass interior.
+    pub ior: f32,
+    /// Radiance emitted from the front face (zero for non-emitters).
+    pub emission: Vec3,
+    /// Whether emission leaves both faces.
+    pub two_sided_emission: bool,
+    /// The parameters of the kinds after `Black` (conductors, rough dielectrics, plastics);
+    /// `None` for the others.
+    pub bsdf: Option<Bsdf>,
+    /// Index into [`Scene::textures`] of the texture that gives `kd` at a hit (a `diffuse`
+    /// material's albedo), or [`NO_TEXTURE`].
+    pub kd_texture: u32,
+}
+
+impl Material {
+    /// A Lambertian surface of `albedo`.
+    pub fn diffuse(albedo: Vec3) -> Self {
+        Self {
+            kind: MaterialKind::Diffuse,
+            kd: albedo,
+            ..Self::black()
+        }
+    }
+    /// Lambertian `kd` plus a normalised Phong lobe `ks` of exponent `exponent`.
+    pub fn glossy(kd: Vec3, ks: Vec3, exponent: f32) -> Self {
+        Self {
+            kind: MaterialKind::Glossy,
+            kd,
+            ks,
+            exponent,
+            ..Self::black()
+        }
+    }
+    /// A perfect mirror of `reflectance`.
+    pub fn mirror(reflectance: Vec3) -> Self {
+        Self {
+            kind: MaterialKind::Mirror,
+            ks: reflectance,
+            ..Self::black()
+        }
+    }
+    /// A smooth dielectric of index `ior` inside.
+    pub fn glass(ior: f32) -> Self {
+        Self {
+            kind: MaterialKind::Glass,
+            ior,
+            ..Self::black()
+        }
+    }
+    /// A surface that reflects and emits nothing; the base of the other constructors.
+    pub fn black() -> Self {
+        Self {
+            kind: MaterialKind::Black,
+            kd: Vec3::ZERO,
+            ks: Vec3::ZERO,
+            exponent: 0.0,
+            ior: 1.0,
+            emission: Vec3::ZERO,
+            two_sided_emission: false,
+            bsdf: None,
+            kd_texture: NO_TEXTURE,
+        }
+    }
+    /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`
+    /// become the `diffuse` and `glass` kinds (exact Fresnel, untinted), the others keep
+    /// their parameters in [`Material::bsdf`].
+    pub fn from_bsdf(b: Bsdf) -> Self {
+        match b {
+            Bsdf::Diffuse { albedo } => Self::diffuse(albedo),
+            Bsdf::Dielectric {
+                eta,
+                microfacet: None,
+                ..
+            } => Self::glass(eta),
+            b => Self {
+                kind: MaterialKind::of_bsdf(&b),
+                bsdf: Some(b),
+                ..Self::black()
+            },
+        }
+    }
+    /// An area-light surface: emits `radiance` from its front face, reflects nothing.
+    pub fn emitter(radiance: Vec3) -> Self {
+        Self {
+            emission: radiance,
+            ..Self::black()
+        }
+    }
+    /// Delta BSDFs only (mirror, glass, smooth conductor, thin dielectric): the `S` of
+    /// Heckbert's path notation.
+    pub fn is_specular(&self) -> bool {
+        matches!(
+            self.kind,
+            MaterialKind::Mirror
+                | MaterialKind::Glass
+                | MaterialKind::Conductor
+                | MaterialKind::ThinDielectric
+        )
+    }
+    /// Surfaces where photons are stored and radiance is estimated: those with a diffuse
+    /// part (diffuse, glossy, plastics).
+    pub fn stores_photons(&self) -> bool {
+        matches!(
+            self.kind,
+            MaterialKind::Diffuse
+                | MaterialKind::Glossy
+                | MaterialKind::Plastic
+                | MaterialKind::RoughPlastic
+        )
+    }
+    /// Surfaces with a lobe that is not Lambertian (delta or glossy): caustic photons are
+    /// aimed at them and pass them (L (S|G)+ D).
+    pub fn casts_caustics(&self) -> bool {
+        match self.kind {
+            MaterialKind::Diffuse | MaterialKind::Black => false,
+            MaterialKind::Glossy => self.ks.max_element() > 0.0,
+            _ => true,
+        }
+    }
+    /// Whether it emits in some channel.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+}
+
