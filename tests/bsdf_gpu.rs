@@ -70,7 +70,12 @@ struct ProbeCase {
 fn bsdfs() -> Vec<(&'static str, Bsdf)> {
     let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.45, 2.14));
     let spec = Vec3::new(0.95, 0.9, 1.0);
-    let cond = |mf| Bsdf::Conductor { eta, k, specular: spec, microfacet: mf };
+    let cond = |mf| Bsdf::Conductor {
+        eta,
+        k,
+        specular: spec,
+        microfacet: mf,
+    };
     let diel = |eta, mf| Bsdf::Dielectric {
         eta,
         specular_reflectance: Vec3::new(0.9, 1.0, 0.95),
@@ -81,16 +86,42 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
     let plastic = |nonlinear, mf| Bsdf::Plastic(Plastic::new(kd, ks, 1.5, nonlinear, mf));
     use Distribution::{Beckmann, Ggx};
     vec![
-        ("diffuse", Bsdf::Diffuse { albedo: Vec3::new(0.7, 0.5, 0.3) }),
+        (
+            "diffuse",
+            Bsdf::Diffuse {
+                albedo: Vec3::new(0.7, 0.5, 0.3),
+            },
+        ),
         ("conductor", cond(None)),
-        ("roughconductor ggx iso", cond(Some(Microfacet::isotropic(Ggx, 0.3)))),
-        ("roughconductor ggx aniso", cond(Some(Microfacet::new(Ggx, 0.1, 0.4)))),
-        ("roughconductor beckmann iso", cond(Some(Microfacet::isotropic(Beckmann, 0.25)))),
-        ("roughconductor beckmann aniso", cond(Some(Microfacet::new(Beckmann, 0.5, 0.15)))),
+        (
+            "roughconductor ggx iso",
+            cond(Some(Microfacet::isotropic(Ggx, 0.3))),
+        ),
+        (
+            "roughconductor ggx aniso",
+            cond(Some(Microfacet::new(Ggx, 0.1, 0.4))),
+        ),
+        (
+            "roughconductor beckmann iso",
+            cond(Some(Microfacet::isotropic(Beckmann, 0.25))),
+        ),
+        (
+            "roughconductor beckmann aniso",
+            cond(Some(Microfacet::new(Beckmann, 0.5, 0.15))),
+        ),
         ("dielectric", diel(1.5, None)),
-        ("roughdielectric ggx", diel(1.5, Some(Microfacet::isotropic(Ggx, 0.2)))),
-        ("roughdielectric beckmann aniso", diel(1.33, Some(Microfacet::new(Beckmann, 0.3, 0.1)))),
-        ("roughdielectric ggx eta<1", diel(1.0 / 1.5, Some(Microfacet::isotropic(Ggx, 0.4)))),
+        (
+            "roughdielectric ggx",
+            diel(1.5, Some(Microfacet::isotropic(Ggx, 0.2))),
+        ),
+        (
+            "roughdielectric beckmann aniso",
+            diel(1.33, Some(Microfacet::new(Beckmann, 0.3, 0.1))),
+        ),
+        (
+            "roughdielectric ggx eta<1",
+            diel(1.0 / 1.5, Some(Microfacet::isotropic(Ggx, 0.4))),
+        ),
         (
             "thindielectric",
             Bsdf::ThinDielectric {
@@ -101,8 +132,14 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
         ),
         ("plastic", plastic(false, None)),
         ("plastic nonlinear", plastic(true, None)),
-        ("roughplastic ggx", plastic(false, Some(Microfacet::isotropic(Ggx, 0.1)))),
-        ("roughplastic beckmann nonlinear", plastic(true, Some(Microfacet::isotropic(Beckmann, 0.3)))),
+        (
+            "roughplastic ggx",
+            plastic(false, Some(Microfacet::isotropic(Ggx, 0.1))),
+        ),
+        (
+            "roughplastic beckmann nonlinear",
+            plastic(true, Some(Microfacet::isotropic(Beckmann, 0.3))),
+        ),
     ]
 }
 
@@ -208,10 +245,22 @@ fn run_probe(ctx: &GpuContext, bsdfs: &[Bsdf], cases: &[ProbeCase]) -> Vec<[f32;
         label: Some("probe_bsdf"),
         layout: &pipeline.get_bind_group_layout(0),
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: b0.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: b1.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: b2.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: b3.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: b0.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: b1.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: b2.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: b3.as_entire_binding(),
+            },
         ],
     });
     let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
@@ -235,6 +284,8 @@ struct Checker {
     skipped: usize,
     /// The current case's inputs, for the messages.
     inputs: String,
+    /// Per kind: samples compared (both sides some), and nonzero eval values compared.
+    coverage: BTreeMap<String, (usize, usize)>,
 }
 
 fn rel(a: f32, b: f32) -> f32 {
@@ -258,26 +309,60 @@ fn rel3(a: Vec3, b: Vec3) -> f32 {
 }
 
 impl Checker {
-    fn note(&mut self, kind: &str, what: &'static str, case: usize, err: f32, tol: f32, detail: String) {
+    fn note(
+        &mut self,
+        kind: &str,
+        what: &'static str,
+        case: usize,
+        err: f32,
+        tol: f32,
+        detail: String,
+    ) {
         let w = self.worst.entry((kind.to_string(), what)).or_insert(0.0);
         *w = w.max(err);
         if !(err <= tol) {
-            self.errors.push(format!("{kind} case {case} {what}: rel err {err:e} > {tol:e}: {detail} ({})", self.inputs));
+            self.errors.push(format!(
+                "{kind} case {case} {what}: rel err {err:e} > {tol:e}: {detail} ({})",
+                self.inputs
+            ));
         }
     }
 
     fn f(&mut self, kind: &str, what: &'static str, case: usize, want: f32, got: f32, tol: f32) {
-        self.note(kind, what, case, rel(want, got), tol, format!("rust {want:e} wgsl {got:e}"));
+        self.note(
+            kind,
+            what,
+            case,
+            rel(want, got),
+            tol,
+            format!("rust {want:e} wgsl {got:e}"),
+        );
     }
 
     fn v(&mut self, kind: &str, what: &'static str, case: usize, want: Vec3, got: Vec3, tol: f32) {
-        self.note(kind, what, case, rel3(want, got), tol, format!("rust {want} wgsl {got}"));
+        self.note(
+            kind,
+            what,
+            case,
+            rel3(want, got),
+            tol,
+            format!("rust {want} wgsl {got}"),
+        );
     }
 
     /// A sampled lobe: flags equal (unless `near` a decision boundary, then skipped), and
     /// when it is a sample, the same wi, weight and pdf.
     #[allow(clippy::too_many_arguments)]
-    fn sample(&mut self, kind: &str, what: &'static str, case: usize, want: Option<LobeSample>, got: &[[f32; 4]], tol: f32, near: bool) {
+    fn sample(
+        &mut self,
+        kind: &str,
+        what: &'static str,
+        case: usize,
+        want: Option<LobeSample>,
+        got: &[[f32; 4]],
+        tol: f32,
+        near: bool,
+    ) {
         let flags = got[1][3] as u32;
         let (ok, delta) = (flags & 1 != 0, flags & 2 != 0);
         let same = match want {
@@ -289,10 +374,14 @@ impl Checker {
             return;
         }
         if !same {
-            self.errors.push(format!("{kind} case {case} {what}: flags rust {want:?} wgsl ok {ok} delta {delta} ({})", self.inputs));
+            self.errors.push(format!(
+                "{kind} case {case} {what}: flags rust {want:?} wgsl ok {ok} delta {delta} ({})",
+                self.inputs
+            ));
             return;
         }
         if let Some(s) = want {
+            self.coverage.entry(kind.to_string()).or_default().0 += 1;
             let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
             self.v(kind, what, case, s.wi, v(got[0]), tol);
             self.v(kind, what, case, s.weight, v(got[1]), tol);
@@ -313,8 +402,16 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
     }
     let wof = mulsign(wo, wo.z);
     match b {
-        Bsdf::Dielectric { eta, microfacet: None, .. } => close(u[0] - fresnel_dielectric(wo.z, *eta).0),
-        Bsdf::Dielectric { eta, microfacet: Some(mf), .. } => {
+        Bsdf::Dielectric {
+            eta,
+            microfacet: None,
+            ..
+        } => close(u[0] - fresnel_dielectric(wo.z, *eta).0),
+        Bsdf::Dielectric {
+            eta,
+            microfacet: Some(mf),
+            ..
+        } => {
             let (m, _) = mf.sample_visible(wof, Vec2::new(u[1], u[2]));
             close(u[0] - fresnel_dielectric(wo.dot(m), *eta).0)
         }
@@ -327,12 +424,18 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
             let ssw = p.specular_sampling_weight;
             let (ps, pd) = ((1.0 - t) * ssw, t * (1.0 - ssw));
             let prob = if ps + pd > 0.0 { ps / (ps + pd) } else { 0.0 };
-            let reflected = p
-                .microfacet
-                .map(|mf| gpu_photon::bsdf::math::reflect(wof, mf.sample_visible(wof, Vec2::new(u[1], u[2])).0));
+            let reflected = p.microfacet.map(|mf| {
+                gpu_photon::bsdf::math::reflect(
+                    wof,
+                    mf.sample_visible(wof, Vec2::new(u[1], u[2])).0,
+                )
+            });
             close(u[0] - prob) || reflected.is_some_and(|w| close(w.z))
         }
-        Bsdf::Conductor { microfacet: Some(mf), .. } => {
+        Bsdf::Conductor {
+            microfacet: Some(mf),
+            ..
+        } => {
             let m = mf.sample_visible(wof, Vec2::new(u[1], u[2])).0;
             close(gpu_photon::bsdf::math::reflect(wof, m).z)
         }
@@ -353,7 +456,13 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
         .collect();
     let out = run_probe(&ctx, &list, &cases);
     assert_eq!(out.len(), cases.len() * SLOTS);
-    let mut ck = Checker { errors: Vec::new(), worst: BTreeMap::new(), skipped: 0, inputs: String::new() };
+    let mut ck = Checker {
+        errors: Vec::new(),
+        worst: BTreeMap::new(),
+        skipped: 0,
+        inputs: String::new(),
+        coverage: BTreeMap::new(),
+    };
     let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
     for (ci, c) in cases.iter().enumerate() {
         let (kind, b) = &named[c.bsdf as usize];
@@ -362,15 +471,22 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
         ck.inputs = format!("wi {wi} wo {wo} u {:?} {t:?}", c.u);
         let g = &out[ci * SLOTS..(ci + 1) * SLOTS];
         let tol = tol_z(wi.z.abs().min(wo.z.abs()));
-        let beckmann = matches!(microfacet_of(b), Some(mf) if mf.distribution == Distribution::Beckmann);
+        let beckmann =
+            matches!(microfacet_of(b), Some(mf) if mf.distribution == Distribution::Beckmann);
         let tail = beckmann && c.u[1..].iter().any(|&x| !(1e-3..=1.0 - 1e-3).contains(&x));
         // The samplers warp (u[1], u[2]) to the unit disk and lift it: its height
         // sqrt(1 - r^2) is the cosine-hemisphere z and GGX's hemisphere projection.
         let r_disk = (2.0 * c.u[1] - 1.0).abs().max((2.0 * c.u[2] - 1.0).abs());
         let z = wo.z.abs().min((1.0 - r_disk * r_disk).max(0.0).sqrt());
         let factor = if beckmann { BECKMANN_FACTOR } else { 1.0 };
-        let stol_mf = TOL.max(factor * GRAZING_ABS / (z * z)).max(if tail { TOL_TAIL } else { 0.0 });
-        ck.v(kind, "eval", ci, b.eval(wi, wo, t), v(g[0]), tol);
+        let stol_mf =
+            TOL.max(factor * GRAZING_ABS / (z * z))
+                .max(if tail { TOL_TAIL } else { 0.0 });
+        let value = b.eval(wi, wo, t);
+        if value != Vec3::ZERO {
+            ck.coverage.entry(kind.to_string()).or_default().1 += 1;
+        }
+        ck.v(kind, "eval", ci, value, v(g[0]), tol);
         ck.f(kind, "pdf", ci, b.pdf(wi, wo), g[0][3], tol);
         ck.v(kind, "eval_lobe", ci, b.eval_lobe(wi, wo, t), v(g[1]), tol);
         ck.f(kind, "pdf_lobe", ci, b.pdf_lobe(wi, wo), g[1][3], tol);
@@ -393,7 +509,14 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
                 ck.f(kind, "mf_d", ci, mf.d(h), g[7][0], tol);
                 ck.f(kind, "mf_smith_g1", ci, mf.smith_g1(wi, h), g[7][1], tol);
                 ck.f(kind, "mf_g", ci, mf.g(wi, wo, h), g[7][2], tol);
-                ck.f(kind, "mf_pdf_visible", ci, mf.pdf_visible(wof, h), g[7][3], tol);
+                ck.f(
+                    kind,
+                    "mf_pdf_visible",
+                    ci,
+                    mf.pdf_visible(wof, h),
+                    g[7][3],
+                    tol,
+                );
             }
             let (m, pdf) = mf.sample_visible(wof, Vec2::new(c.u[1], c.u[2]));
             ck.v(kind, "mf_sample_visible", ci, m, v(g[8]), stol_mf);
@@ -407,14 +530,39 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
             ck.f(kind, "fresnel_dielectric eta_ti", ci, eti, g[9][3], 0.0);
         }
         if let Bsdf::Conductor { eta, k, .. } = b {
-            ck.v(kind, "fresnel_conductor", ci, fresnel_conductor(wo.z.abs(), *eta, *k), v(g[10]), tol);
+            ck.v(
+                kind,
+                "fresnel_conductor",
+                ci,
+                fresnel_conductor(wo.z.abs(), *eta, *k),
+                v(g[10]),
+                tol,
+            );
         }
-        ck.f(kind, "erfinv", ci, erfinv(2.0 * c.u[0] - 1.0), g[10][3], TOL);
+        ck.f(
+            kind,
+            "erfinv",
+            ci,
+            erfinv(2.0 * c.u[0] - 1.0),
+            g[10][3],
+            TOL,
+        );
         let (e_want, e_got) = (erf(4.0 * c.u[1] - 2.0), g[11][0]);
-        let e_tol = if (e_want - e_got).abs() <= ERF_ABS { f32::INFINITY } else { TOL };
+        let e_tol = if (e_want - e_got).abs() <= ERF_ABS {
+            f32::INFINITY
+        } else {
+            TOL
+        };
         ck.f(kind, "erf", ci, e_want, e_got, e_tol);
         let w = square_to_cosine_hemisphere(Vec2::new(c.u[1], c.u[2]));
-        ck.v(kind, "square_to_cosine_hemisphere", ci, w, Vec3::new(g[11][1], g[11][2], g[11][3]), TOL);
+        ck.v(
+            kind,
+            "square_to_cosine_hemisphere",
+            ci,
+            w,
+            Vec3::new(g[11][1], g[11][2], g[11][3]),
+            TOL,
+        );
     }
     let mut by_kind: BTreeMap<&str, f32> = BTreeMap::new();
     for ((_, what), e) in &ck.worst {
@@ -422,10 +570,85 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
         *w = w.max(*e);
     }
     eprintln!("largest relative error per quantity: {by_kind:#?}");
-    eprintln!("{} of {} cases' samples skipped (within {BOUNDARY:e} of a decision)", ck.skipped / 2, cases.len());
+    eprintln!(
+        "{} of {} cases' samples skipped (within {BOUNDARY:e} of a decision)",
+        ck.skipped / 2,
+        cases.len()
+    );
+    eprintln!(
+        "per kind (samples compared, nonzero values compared): {:#?}",
+        ck.coverage
+    );
+    for (kind, b) in &named {
+        // Every kind's samplers and (but the delta-only kinds') values were exercised.
+        let (samples, values) = ck.coverage.get(*kind).copied().unwrap_or_default();
+        let want_values = if b.lobe_is_delta() && !b.has_diffuse() {
+            0
+        } else {
+            PER_BSDF / 4
+        };
+        assert!(
+            samples >= PER_BSDF / 2 && values >= want_values,
+            "{kind}: {samples} samples, {values} values"
+        );
+    }
     if !ck.errors.is_empty() {
         let n = ck.errors.len();
         let shown: Vec<&String> = ck.errors.iter().take(40).collect();
         panic!("{n} mismatches between bsdf.wgsl and src/bsdf/:\n{shown:#?}");
     }
+}
+
+/// `GpuBsdf` and `ProbeCase` have the size and the member names and offsets of their WGSL
+/// twins `BsdfParams` and `ProbeCase` (naga's layout of the composed probe; no GPU needed).
+#[test]
+fn bsdf_params_layout_matches_gpu_bsdf() {
+    use gpu_photon::gpu::bsdf_params::GpuBsdf;
+    use naga::TypeInner;
+    use std::mem::{offset_of, size_of};
+    let module = gpu_photon::gpu::shaders::validate(&probe_source()).expect("probe_bsdf validates");
+    let members = |name: &str| -> (u32, Vec<(String, u32)>) {
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap();
+        let TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        (
+            *span,
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap(), m.offset))
+                .collect(),
+        )
+    };
+    macro_rules! rust {
+        ($ty:ty, $($f:ident),*) => {
+            (size_of::<$ty>() as u32, vec![$((stringify!($f).to_string(), offset_of!($ty, $f) as u32)),*])
+        };
+    }
+    let gpu_bsdf = rust!(
+        GpuBsdf,
+        eta_c,
+        kind,
+        k_c,
+        distribution,
+        specular,
+        alpha_u,
+        transmittance,
+        alpha_v,
+        albedo,
+        eta,
+        nonlinear,
+        table,
+        specular_sampling_weight,
+        internal_reflectance
+    );
+    assert_eq!(members("BsdfParams"), gpu_bsdf);
+    assert_eq!(
+        members("ProbeCase"),
+        rust!(ProbeCase, wi, bsdf, wo, radiance, u, pad)
+    );
 }

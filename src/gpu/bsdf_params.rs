@@ -60,7 +60,9 @@ pub fn codes() -> [(&'static str, u32); 11] {
 
 /// The codes as WGSL `const` declarations (to join the prelude later, see the module docs).
 pub fn wgsl_codes() -> String {
-    let mut out = String::from("// BSDF codes, generated from src/gpu/bsdf_params.rs (to move into the prelude).\n");
+    let mut out = String::from(
+        "// BSDF codes, generated from src/gpu/bsdf_params.rs (to move into the prelude).\n",
+    );
     for (name, v) in codes() {
         out.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
@@ -69,7 +71,13 @@ pub fn wgsl_codes() -> String {
 
 /// The oracle probe's module: the prelude, the codes, `bsdf.wgsl`, `probe_bsdf.wgsl`.
 pub fn probe_source() -> String {
-    [wgsl_prelude(), wgsl_codes(), BSDF_WGSL.to_string(), PROBE_BSDF_WGSL.to_string()].join("\n")
+    [
+        wgsl_prelude(),
+        wgsl_codes(),
+        BSDF_WGSL.to_string(),
+        PROBE_BSDF_WGSL.to_string(),
+    ]
+    .join("\n")
 }
 
 /// WGSL `BsdfParams` (96 bytes, 16-aligned): each kind fills the fields its variant has and
@@ -119,14 +127,26 @@ fn microfacet(g: &mut GpuBsdf, mf: &Microfacet) {
 /// The GPU form of `b`; a rough plastic's table is expected at word `table_offset` of
 /// `bsdf_tables` (see [`table_words`]).
 pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
-    let mut g = GpuBsdf { table: table_offset, ..GpuBsdf::default() };
+    let mut g = GpuBsdf {
+        table: table_offset,
+        ..GpuBsdf::default()
+    };
     match b {
         Bsdf::Diffuse { albedo } => {
             g.kind = BSDF_DIFFUSE;
             g.albedo = albedo.to_array();
         }
-        Bsdf::Conductor { eta, k, specular, microfacet: mf } => {
-            g.kind = if mf.is_some() { BSDF_ROUGH_CONDUCTOR } else { BSDF_CONDUCTOR };
+        Bsdf::Conductor {
+            eta,
+            k,
+            specular,
+            microfacet: mf,
+        } => {
+            g.kind = if mf.is_some() {
+                BSDF_ROUGH_CONDUCTOR
+            } else {
+                BSDF_CONDUCTOR
+            };
             g.eta_c = eta.to_array();
             g.k_c = k.to_array();
             g.specular = specular.to_array();
@@ -134,8 +154,17 @@ pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
                 microfacet(&mut g, mf);
             }
         }
-        Bsdf::Dielectric { eta, specular_reflectance, specular_transmittance, microfacet: mf } => {
-            g.kind = if mf.is_some() { BSDF_ROUGH_DIELECTRIC } else { BSDF_DIELECTRIC };
+        Bsdf::Dielectric {
+            eta,
+            specular_reflectance,
+            specular_transmittance,
+            microfacet: mf,
+        } => {
+            g.kind = if mf.is_some() {
+                BSDF_ROUGH_DIELECTRIC
+            } else {
+                BSDF_DIELECTRIC
+            };
             g.eta = *eta;
             g.specular = specular_reflectance.to_array();
             g.transmittance = specular_transmittance.to_array();
@@ -143,14 +172,22 @@ pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
                 microfacet(&mut g, mf);
             }
         }
-        Bsdf::ThinDielectric { eta, specular_reflectance, specular_transmittance } => {
+        Bsdf::ThinDielectric {
+            eta,
+            specular_reflectance,
+            specular_transmittance,
+        } => {
             g.kind = BSDF_THIN_DIELECTRIC;
             g.eta = *eta;
             g.specular = specular_reflectance.to_array();
             g.transmittance = specular_transmittance.to_array();
         }
         Bsdf::Plastic(p) => {
-            g.kind = if p.microfacet.is_some() { BSDF_ROUGH_PLASTIC } else { BSDF_PLASTIC };
+            g.kind = if p.microfacet.is_some() {
+                BSDF_ROUGH_PLASTIC
+            } else {
+                BSDF_PLASTIC
+            };
             g.albedo = p.diffuse_reflectance.to_array();
             g.specular = p.specular_reflectance.to_array();
             g.eta = p.eta;
