@@ -4,7 +4,8 @@
 //!
 //! Layers, each module importing only those above it in this list:
 //! `bvh_layout` (the BVH as the traversal reads it), `codes` (shared constants, the WGSL
-//! prelude), `types` (Gpu* twins of WGSL structs),
+//! prelude), `types` (Gpu* twins of WGSL structs), `bsdf_params` (the BSDF twin `GpuBsdf`
+//! and the BSDF library's codes),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
 //! `buffers`, `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`,
@@ -12,6 +13,7 @@
 //! then `renderer` and `probe` (tests' oracle probes).
 
 pub mod bindings;
+pub mod bsdf_params;
 pub mod buffers;
 pub mod bvh_layout;
 pub mod codes;

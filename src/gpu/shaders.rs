@@ -44,7 +44,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 21] = [
+pub const WGSL_FILES: [(&str, &str); 23] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -68,6 +68,9 @@ pub const WGSL_FILES: [(&str, &str); 21] = [
     ("cache_fixed.wgsl", CACHE_FIXED),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
+    // The BSDF library and its oracle probe, composed by `bsdf_params::probe_source()` only.
+    ("common/bsdf.wgsl", super::bsdf_params::BSDF_WGSL),
+    ("probe_bsdf.wgsl", super::bsdf_params::PROBE_BSDF_WGSL),
 ];
 
 impl Kernel {
@@ -166,5 +169,12 @@ mod tests {
                 panic!("{}: {e}", k.name());
             }
         }
+    }
+
+    #[test]
+    fn bsdf_probe_parses_and_validates() {
+        let src = crate::gpu::bsdf_params::probe_source();
+        let module = validate(&src).unwrap_or_else(|e| panic!("probe_bsdf: {e}"));
+        assert!(module.entry_points.iter().any(|e| e.name == "probe_bsdf"));
     }
 }
