@@ -11,7 +11,7 @@
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 // The BRDF and cosine use the shading normal f.ns; a light below the geometric surface
 // gives nothing.
-fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
+fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
     let n = f.ng;
     let ns = f.ns;
     let with_direct = (params.terms & TERM_DIRECT) != 0u;
@@ -45,13 +45,13 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
             if c <= 0.0 || reflection_leaks(f, wi) {
                 continue;
             }
-            var f = bsdf_eval_diffuse(m);
+            var f = surface_eval_diffuse(m, wi, wo);
             if is_delta {
-                f = select(bsdf_eval_lobe(m, wi, wo, ns), f + bsdf_eval_lobe(m, wi, wo, ns), with_direct);
-            } else if bsdf_lobe_is_glossy(m) {
+                f = select(surface_eval_lobe(m, wi, wo, ns), f + surface_eval_lobe(m, wi, wo, ns), with_direct);
+            } else if surface_lobe_is_glossy(m) {
                 // A glossy lobe weighed against its own sampling (power heuristic).
-                let w = power_heuristic(f32(samples) * ls.pdf, bsdf_pdf_lobe(m, wi, wo, ns));
-                f += bsdf_eval_lobe(m, wi, wo, ns) * w;
+                let w = power_heuristic(f32(samples) * ls.pdf, surface_pdf_lobe(m, wi, wo, ns));
+                f += surface_eval_lobe(m, wi, wo, ns) * w;
             }
             if all(f == vec3<f32>(0.0)) {
                 continue;
@@ -84,7 +84,7 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Material, rng: ptr<fu
 // emission met on the way.
 struct ChainEnd {
     hit: Hit,
-    m: Material,
+    m: Surface,
     emitted: vec3<f32>,
     shade: bool,
 }
@@ -110,7 +110,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         }
         let m = bsdf_at(hit);
         if emission {
-            var le = bsdf_emitted(m, dot(*d, hit.normal) < 0.0);
+            var le = surface_emitted(m, dot(*d, hit.normal) < 0.0);
             if pdf > 0.0 && hit.light != NO_LIGHT && any(le != vec3<f32>(0.0)) {
                 var pdf_light = 0.0;
                 if dot(hit.position - mis_from, mis_ns) > 0.0 {
@@ -121,12 +121,12 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             end.emitted += *t * le;
         }
         pdf = 0.0;
-        let kind_class = bsdf_class(m);
+        let kind_class = surface_class(m);
         if kind_class == CLASS_BLACK {
             break;
         }
         if kind_class == CLASS_DELTA {
-            if *depth >= params.max_depth || !bsdf_delta(hit, m, d, o, t, rng) {
+            if *depth >= params.max_depth || !surface_delta(hit, m, d, o, t, rng) {
                 break;
             }
             *depth += 1u;
@@ -163,13 +163,13 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         let m = end.m;
         let can_continue = gd < params.max_depth;
         let lf = facing(hit, dot(-d, hit.normal) >= 0.0);
-        sum += t * bsdf_diffuse_albedo(m) * cache_lookup(hit.position, lf.ng);
+        sum += t * surface_diffuse_albedo(m, -d) * cache_lookup(hit.position, lf.ng);
         // A lobe is not in the cache (Lambertian radiance): go on along one direction drawn
         // from the lobe, weighted as the camera's lobe ray is.
-        if !bsdf_has_lobe(m) || !can_continue {
+        if !surface_has_lobe(m) || !can_continue {
             break;
         }
-        let lr = bsdf_sample_lobe(m, d, lf, rng);
+        let lr = surface_sample_lobe(m, d, lf, rng);
         if !lr.ok {
             break;
         }
@@ -227,11 +227,11 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         var l = vec3<f32>(0.0);
         let use_sobol = first_shade;
         first_shade = false;
-        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && bsdf_lobe_takes_point_lights(m)) {
+        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
             l += direct_light(hit.position, f, wo, m, &rng, sob, use_sobol);
         }
-        let kd_pi = bsdf_eval_diffuse(m);
-        let albedo = bsdf_diffuse_albedo(m);
+        let kd_pi = surface_estimate_brdf(m, wo);
+        let albedo = surface_diffuse_albedo(m, wo);
         let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
         // The geometric normal: photons carry their surface's.
         if !final_gather {
@@ -250,14 +250,14 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             }
             let dir = cosine_hemisphere(ns, gu.x, gu.y);
             if !reflection_leaks(f, dir) {
-                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, &rng);
+                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, &rng) * surface_store_weight(m, dir);
             }
         }
         radiance += throughput * l;
-        if (params.terms & TERM_LOBE_RAY) == 0u || !bsdf_has_lobe(m) || !can_continue {
+        if (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) || !can_continue {
             break;
         }
-        let lr = bsdf_sample_lobe(m, -wo, f, &rng);
+        let lr = surface_sample_lobe(m, -wo, f, &rng);
         if !lr.ok {
             break;
         }

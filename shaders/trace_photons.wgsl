@@ -54,18 +54,20 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             return;
         }
         let m = bsdf_at(hit);
-        if bsdf_stores_photons(m) {
+        if surface_stores_photons(m) {
             let stored_normal = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
             let caustic = depth > 0u && all_specular;
             let flags = min(depth, DEPTH_MASK) | select(0u, FLAG_CAUSTIC, caustic);
             // The caustic map keeps only L (S|G)+ D photons: its paths end at the first
             // diffuse bounce (below).
             if !caustic_map || caustic {
-                store_photon(Photon(hit.position, flags, power, i, d, stored_normal));
+                // A plastic's base sees the light its coating lets through.
+                let stored = power * surface_store_weight(m, -d);
+                store_photon(Photon(hit.position, flags, stored, i, d, stored_normal));
             }
         }
         let u = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
-        let b = photon_bounce(m, d, hit, u);
+        let b = surface_photon_bounce(m, d, hit, u);
         if b.kind == BOUNCE_ABSORB || (caustic_map && b.kind == BOUNCE_DIFFUSE) {
             return;
         }

@@ -30,8 +30,8 @@ pub mod report;
 pub mod rng;
 pub mod sampling;
 pub mod session;
-pub mod slice;
 pub mod shading;
+pub mod slice;
 pub mod sobol;
 pub mod texture;
 

@@ -8,13 +8,12 @@
 //! material has one), plus a *lobe part* (a delta or glossy lobe), which rays trace: the
 //! camera path and the gather rays go on along it, and caustic photons pass it.
 
+use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
 use crate::bvh::Hit;
 use crate::geometry::Facing;
 use crate::material::{
-    brdf, dielectric_shading, phong_lobe_value, photon_bounce_shading, reflect, Bounce,
-    Dielectric,
+    brdf, dielectric_shading, phong_lobe_value, photon_bounce_shading, reflect, Bounce, Dielectric,
 };
-use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
 use crate::rng::Rng;
 use crate::sampling::{basis, cosine_hemisphere, phong_lobe, to_world};
 use crate::scene::{Material, MaterialKind, Scene, NO_TEXTURE};

@@ -171,7 +171,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Material",
-            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, _pad0, _pad1, _pad2),
+            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, _pad2),
         ),
         (
             "Light",
@@ -417,14 +417,17 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
 
 #[test]
 fn host_tables_are_the_expected_layouts() {
-    // (table, its bindings 0.. in order with their access): the scene is read-only but for
-    // the stats counters, a map's buffers are all written by its kernels (its parameters'
+    // (table, its bindings 0.. in order with their access): the scene (with its BSDF
+    // parameters, uvs and textures) is read-only but for the stats counters, a map's buffers are all written by its kernels (its parameters'
     // cell size by size_grid, max_power by scan_sums), and the gather group reads both maps
     // and writes only the accumulator and the radiance cache with its point list (built by
     // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather).
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
-        (&SCENE_GROUP, &[R, R, R, R, R, R, R, R, R, W, R]),
+        (
+            &SCENE_GROUP,
+            &[R, R, R, R, R, R, R, R, R, W, R, R, R, R, R, R],
+        ),
         (&MAP_GROUP, &[W, W, W, W, W, W, W]),
         (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
     ];

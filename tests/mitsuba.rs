@@ -108,7 +108,12 @@ fn cornell_xml_is_the_toml_scene() {
     let xml = load_path(&data("cornell-diffuse.xml"));
     let toml = load_path(&root().join("scenes/cornell-box.toml"));
     assert_same_scene(&xml, &toml);
-    assert_eq!(xml.settings.spp, 256, "sampler sample_count is the spp");
+    // The sampler's 256 samples per pixel are the total over the default passes.
+    assert_eq!(
+        (xml.settings.spp, xml.settings.passes),
+        (64, 4),
+        "sampler sample_count is the total spp"
+    );
 }
 
 #[test]
@@ -396,7 +401,10 @@ fn bsdfs_map_to_our_materials_with_warnings_for_approximations() {
     match m[5].bsdf {
         Some(Bsdf::Plastic(p)) => {
             assert_eq!(m[5].kind, MaterialKind::RoughPlastic);
-            assert_eq!(p.microfacet, Some(Microfacet::new(Distribution::Beckmann, 0.1, 0.1)));
+            assert_eq!(
+                p.microfacet,
+                Some(Microfacet::new(Distribution::Beckmann, 0.1, 0.1))
+            );
         }
         other => panic!("roughplastic: {other:?}"),
     }

@@ -15,7 +15,8 @@ mod common;
 use glam::{Vec2, Vec3};
 use gpu_photon::gpu::buffers::{empty_buffer, read_back, storage_buffer};
 use gpu_photon::gpu::shaders::validate;
-use gpu_photon::gpu::textures::{layout_entries, wgsl_library, GpuTexture, PackedTextures};
+use gpu_photon::gpu::texture_buffers::layout_entries;
+use gpu_photon::gpu::textures::{wgsl_library, GpuTexture, PackedTextures};
 use gpu_photon::texture::{
     Checkerboard, Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap,
 };
@@ -242,7 +243,7 @@ fn ulps(a: f32, b: f32) -> u32 {
 
 fn run_probe(
     ctx: &gpu_photon::gpu::GpuContext,
-    bufs: &gpu_photon::gpu::textures::TextureBuffers,
+    bufs: &gpu_photon::gpu::texture_buffers::TextureBuffers,
     input: &[[f32; 4]],
 ) -> Vec<[f32; 4]> {
     let dev = &ctx.device;

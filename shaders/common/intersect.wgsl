@@ -12,6 +12,8 @@ struct Hit {
     shading: vec3<f32>,
     material: u32,
     light: u32,
+    // Texture coordinates (zero without textures).
+    uv: vec2<f32>,
     found: bool,
 }
 
@@ -175,9 +177,19 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
     return tmin <= tmax;
 }
 
+// Mitsuba's sphere parameterisation of the unit direction n: u = phi / 2 pi with phi the
+// azimuth from +x towards +y in [0, 2 pi), v = theta / pi from +z (texture::uv::sphere).
+fn sphere_uv(n: vec3<f32>) -> vec2<f32> {
+    var phi = atan2(n.y, n.x);
+    if phi < 0.0 {
+        phi += 2.0 * PI;
+    }
+    return vec2<f32>(phi / (2.0 * PI), atan2(length(n.xy), n.z) / PI);
+}
+
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
-    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, false);
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false);
     var best_id = 0u;
     var best_uv = vec2<f32>(0.0);
     let inv = 1.0 / d;
@@ -273,6 +285,11 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             }
             best.material = tri.material;
             best.light = tri.light;
+            if HAS_TEXTURES {
+                let a = uvs[2u * best_id];
+                let c = uvs[2u * best_id + 1u].xy;
+                best.uv = (1.0 - best_uv.x - best_uv.y) * a.xy + best_uv.x * a.zw + best_uv.y * c;
+            }
         } else {
             let s = load_sphere(best_id & ~SPHERE_BIT);
             let n = normalize(o + best.t * d - s.center);
@@ -281,6 +298,9 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             best.shading = n;
             best.material = s.material;
             best.light = s.light;
+            if HAS_TEXTURES {
+                best.uv = sphere_uv(n);
+            }
         }
     }
     return best;

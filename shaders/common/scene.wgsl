@@ -21,6 +21,14 @@
 @group(0) @binding(9) var<storage, read_write> stats: array<atomic<u32>>;
 // Vertex normals of the smooth-shaded triangles (one placeholder when the scene has none).
 @group(0) @binding(10) var<storage, read> shading_normals: array<ShadingNormals>;
+// crate::bsdf's parameters and the rough plastics' tables (shaders/common/bsdf.wgsl), each
+// triangle's corner uvs as two words, and the textures (shaders/common/texture.wgsl); one
+// placeholder each when the scene has none.
+@group(0) @binding(11) var<storage, read> bsdfs: array<BsdfParams>;
+@group(0) @binding(12) var<storage, read> bsdf_tables: array<f32>;
+@group(0) @binding(13) var<storage, read> uvs: array<vec4<f32>>;
+@group(0) @binding(14) var<storage, read> tex_table: array<TextureRecord>;
+@group(0) @binding(15) var<storage, read> tex_words: array<u32>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.
@@ -29,6 +37,10 @@ override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
 // Some triangle is smooth-shaded: without, the shading normal is the geometric one.
 override HAS_SMOOTH: bool = true;
+// Some material is one of crate::bsdf's kinds (conductors, rough dielectrics, plastics).
+override HAS_BSDFS: bool = true;
+// Some material has a texture: hits carry uvs.
+override HAS_TEXTURES: bool = true;
 // The render's passes may run K-nearest estimates (classic passes, params.k > 0); false for a
 // progressive render, whose passes all use fixed radii: the heap search and the cache build's
 // K-th selection then fold away (on lavapipe the gather kernel compiles 6x faster, and runs

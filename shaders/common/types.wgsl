@@ -68,8 +68,10 @@ struct Material {
     emission: vec3<f32>,
     ior: f32,
     two_sided: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // Index into bsdfs (crate::bsdf's kinds), or NO_BSDF.
+    bsdf: u32,
+    // Index into tex_table of kd's texture, or NO_TEXTURE.
+    kd_texture: u32,
     _pad2: u32,
 }
 

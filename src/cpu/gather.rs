@@ -20,8 +20,8 @@ use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
-use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::settings::{RenderSettings, Sampler};
+use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
 };
@@ -130,7 +130,12 @@ impl Gatherer<'_> {
             let n = self.settings.shadow_samples as f32;
             let above = (hit.position - mis.from).dot(mis.ns) > 0.0;
             let pdf_light = if above {
-                n * self.lights.solid_angle_pdf(hit.light as usize, mis.from, hit.position, hit.normal)
+                n * self.lights.solid_angle_pdf(
+                    hit.light as usize,
+                    mis.from,
+                    hit.position,
+                    hit.normal,
+                )
             } else {
                 0.0
             };
@@ -321,7 +326,10 @@ impl Gatherer<'_> {
                     // the lobe's own sampling (power heuristic).
                     _ if bsdf.lobe_is_glossy() => {
                         let n = n_samples as f32;
-                        let pdf_light = n * self.lights.solid_angle_pdf(li, hit.position, ls.point, ls.normal);
+                        let pdf_light =
+                            n * self
+                                .lights
+                                .solid_angle_pdf(li, hit.position, ls.point, ls.normal);
                         let pdf_lobe = bsdf.pdf_lobe(wi, wo, ns);
                         bsdf.eval_diffuse(wi, wo)
                             + bsdf.eval_lobe(wi, wo, ns) * power_heuristic(pdf_light, pdf_lobe)

@@ -92,6 +92,11 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         },
         rw("stats", 9),
         ro("shading_normals", 10),
+        ro("bsdfs", 11),
+        ro("bsdf_tables", 12),
+        ro("uvs", 13),
+        ro("tex_table", 14),
+        ro("tex_words", 15),
     ],
 };
 

@@ -5,8 +5,8 @@
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
 use crate::scene::MaterialKind;
-use crate::shading::{class_of, SurfaceClass};
 use crate::settings::{Filter, FresnelMode, Sampler};
+use crate::shading::{class_of, SurfaceClass};
 
 /// `Material.kind` of a diffuse surface.
 pub const MAT_DIFFUSE: u32 = 0;
@@ -37,6 +37,9 @@ pub const CLASS_BLACK: u32 = 0;
 pub const CLASS_DELTA: u32 = 1;
 /// Surface class of a material that shades (diffuse part or non-delta lobe).
 pub const CLASS_SHADED: u32 = 2;
+
+/// `Material.bsdf` of a material without `crate::bsdf` parameters.
+pub const NO_BSDF: u32 = u32::MAX;
 
 /// `Light.kind` of a point light.
 pub const LIGHT_POINT: u32 = 0;
@@ -291,6 +294,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),
         ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
+        ("NO_BSDF", U32(NO_BSDF)),
+        ("NO_TEXTURE", U32(crate::scene::NO_TEXTURE)),
         ("FLAT", U32(crate::scene::FLAT)),
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
         ("FLAG_CAUSTIC", U32(crate::photon::FLAG_CAUSTIC)),

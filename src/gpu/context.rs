@@ -151,6 +151,10 @@ impl GpuContext {
             .min(MAX_BINDING);
         let mut required = wgpu::Limits::downlevel_defaults();
         required.max_storage_buffers_per_shader_stage = STORAGE_BUFFERS_NEEDED;
+        // wgpu counts storage and uniform buffers together in this one too.
+        required.max_buffers_and_acceleration_structures_per_shader_stage = STORAGE_BUFFERS_NEEDED
+            .max(required.max_buffers_and_acceleration_structures_per_shader_stage)
+            .min(limits.max_buffers_and_acceleration_structures_per_shader_stage);
         required.max_storage_buffer_binding_size = max_binding as _;
         required.max_buffer_size = max_binding;
         required.max_compute_workgroups_per_dimension = limits.max_compute_workgroups_per_dimension;

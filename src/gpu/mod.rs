@@ -4,10 +4,11 @@
 //!
 //! Layers, each module importing only those above it in this list:
 //! `bvh_layout` (the BVH as the traversal reads it), `codes` (shared constants, the WGSL
-//! prelude), `types` (Gpu* twins of WGSL structs), `bsdf_params` (the BSDF twin `GpuBsdf`
-//! and the BSDF library's codes),
+//! prelude), `bsdf_params` (the BSDF twin `GpuBsdf` and the BSDF library's codes),
+//! `textures` (the scene's textures packed into words, the texture library's constants),
+//! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
-//! `buffers`, `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
+//! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes).
@@ -31,6 +32,7 @@ pub mod renderer;
 pub mod run;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod texture_buffers;
 pub mod textures;
 pub mod types;
 

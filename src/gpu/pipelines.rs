@@ -33,6 +33,11 @@ pub fn feature_constants(
         // The WGSL name covers every delta light: point, spot and directional.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
         ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
+        (
+            "HAS_BSDFS",
+            scene.materials.iter().any(|m| m.bsdf.is_some()) as u32 as f64,
+        ),
+        ("HAS_TEXTURES", !scene.textures.is_empty() as u32 as f64),
         ("KNN", knn as u32 as f64),
     ]
 }

@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::report::PassRenderer;
 use crate::report::{Progress, RenderReport};
-use crate::scene::{Scene, NO_TEXTURE};
+use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use std::time::Instant;
 
@@ -35,28 +35,10 @@ fn check_k(s: &RenderSettings) -> Result<()> {
     Ok(())
 }
 
-/// What of `scene` the kernels do not render yet: the microfacet, plastic and thin kinds
-/// of `crate::bsdf` and image textures (their WGSL twins are not wired into the kernels).
-pub fn unsupported(scene: &Scene) -> Option<String> {
-    if let Some(m) = scene.materials.iter().find(|m| m.bsdf.is_some()) {
-        return Some(format!(
-            "the {:?} material is not on the GPU backend yet",
-            m.kind
-        ));
-    }
-    if scene.materials.iter().any(|m| m.kd_texture != NO_TEXTURE) {
-        return Some("textured materials are not on the GPU backend yet".into());
-    }
-    None
-}
-
 impl<'s> GpuRenderer<'s> {
     /// Opens the device, checks that the image fits one storage binding, uploads `scene` and
     /// creates every pipeline, for a render with `settings`.
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
-        if let Some(why) = unsupported(scene) {
-            return Err(Error::Gpu(format!("{why} (use --backend cpu)")));
-        }
         let s = settings;
         let mut report = RenderReport::default();
         let t = Instant::now();

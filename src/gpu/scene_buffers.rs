@@ -7,6 +7,7 @@ use super::bvh_layout::{leaf_prims, traversal_nodes};
 use super::codes::STATS_LEN;
 use super::context::GpuContext;
 use super::host::PARAMS_STRIDE;
+use super::textures::PackedTextures;
 use super::types::*;
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
@@ -45,7 +46,9 @@ impl SceneBuffers {
         let none = wgpu::BufferUsages::empty();
         let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
         let spheres: Vec<GpuSphere> = scene.spheres.iter().map(GpuSphere::from).collect();
-        let mats: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::from).collect();
+        let (mats, bsdfs, bsdf_tables) = materials(scene);
+        let uvs = triangle_uvs(scene);
+        let textures = PackedTextures::pack(&scene.textures, ctx.max_binding)?;
         // One placeholder when every triangle is flat (a binding cannot be empty).
         let mut normals: Vec<GpuShadingNormals> = scene
             .shading_normals
@@ -69,6 +72,7 @@ impl SceneBuffers {
             ("nodes", node_bytes.len()),
             ("leaf_prims", std::mem::size_of_val(&leaf_prims[..])),
             ("shading_normals", std::mem::size_of_val(&normals[..])),
+            ("uvs", std::mem::size_of_val(&uvs[..])),
         ];
         if let Some((name, bytes)) = sizes.iter().find(|s| s.1 as u64 > ctx.max_binding) {
             return Err(Error::Gpu(format!(
@@ -87,6 +91,10 @@ impl SceneBuffers {
         let light_cdf = storage_buffer(dev, "light cdf", &table.tri_cdf, none);
         let spec_bounds = storage_buffer(dev, "specular bounds", bounds, none);
         let shading_normals = storage_buffer(dev, "shading normals", &normals, none);
+        let bsdfs = storage_buffer(dev, "bsdfs", &bsdfs, none);
+        let bsdf_tables = storage_buffer(dev, "bsdf tables", &bsdf_tables, none);
+        let uvs = storage_buffer(dev, "triangle uvs", &uvs, none);
+        let textures = textures.upload(ctx)?;
         // One PARAMS_STRIDE slot per camera sample: a pass's gathers are all recorded into
         // one submission, each dispatch reading its sample's slot (dynamic offset).
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -125,6 +133,11 @@ impl SceneBuffers {
                 (PARAMS, params_slot),
                 ("stats", stats.as_entire_binding()),
                 ("shading_normals", shading_normals.as_entire_binding()),
+                ("bsdfs", bsdfs.as_entire_binding()),
+                ("bsdf_tables", bsdf_tables.as_entire_binding()),
+                ("uvs", uvs.as_entire_binding()),
+                ("tex_table", textures.table.as_entire_binding()),
+                ("tex_words", textures.words.as_entire_binding()),
             ],
         );
         Ok(SceneBuffers {

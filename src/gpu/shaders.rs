@@ -119,8 +119,25 @@ impl Kernel {
     /// The composed WGSL source of this kernel's module: prelude, libraries, own files.
     pub fn source(self) -> String {
         let prelude = wgsl_prelude();
+        // crate::bsdf's kinds (bsdf.wgsl with its codes) and the textures (texture.wgsl with
+        // its constants): every kernel declares their scene bindings.
+        let bsdf_codes = super::bsdf_params::wgsl_codes();
+        let textures = super::textures::wgsl_library();
         let libs: &[&str] = &[
-            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, SHADING, GRID,
+            &prelude,
+            TYPES,
+            PHOTON,
+            RNG,
+            SAMPLING,
+            SCENE,
+            INTERSECT,
+            MATERIAL,
+            LIGHT,
+            &bsdf_codes,
+            super::bsdf_params::BSDF_WGSL,
+            &textures,
+            SHADING,
+            GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.

@@ -7,8 +7,6 @@
 //! `offset`, row after row from the top: one packed RGBA8 word per 8-bit texel, 3 or 4 f32
 //! bit patterns per float texel. No uniforms, no sampled textures, no optional features.
 
-use super::buffers::storage_buffer;
-use super::context::GpuContext;
 use crate::error::{Error, Result};
 use crate::texture::{Checkerboard, Encoding, SceneTexture, Texels, Texture, COORD_LIMIT};
 
@@ -73,14 +71,6 @@ pub struct PackedTextures {
     pub table: Vec<GpuTexture>,
     /// The tables and the texels.
     pub words: Vec<u32>,
-}
-
-/// The packed textures on the device.
-pub struct TextureBuffers {
-    /// `tex_table`: the records.
-    pub table: wgpu::Buffer,
-    /// `tex_words`: the tables and texels.
-    pub words: wgpu::Buffer,
 }
 
 fn record(t: &Texture, offset: u32) -> GpuTexture {
@@ -170,17 +160,6 @@ impl PackedTextures {
         }
         Ok(PackedTextures { table, words })
     }
-
-    /// Uploads both buffers (read-only storage; an empty table is one zeroed record).
-    pub fn upload(&self, ctx: &GpuContext) -> Result<TextureBuffers> {
-        let usage = wgpu::BufferUsages::empty();
-        let buffers = TextureBuffers {
-            table: storage_buffer(&ctx.device, TABLE_BINDING_NAME, &self.table, usage),
-            words: storage_buffer(&ctx.device, WORDS_BINDING_NAME, &self.words, usage),
-        };
-        ctx.check()?;
-        Ok(buffers)
-    }
 }
 
 /// Words a texture's texels take.
@@ -189,37 +168,6 @@ fn texel_words(t: &Texture) -> usize {
         Texels::Rgba8 { texels, .. } => texels.len(),
         Texels::Float { data, .. } => data.len(),
     }
-}
-
-impl TextureBuffers {
-    /// Bind group entries for the two buffers at bindings `table` and `words`.
-    pub fn entries(&self, table: u32, words: u32) -> [wgpu::BindGroupEntry<'_>; 2] {
-        [
-            wgpu::BindGroupEntry {
-                binding: table,
-                resource: self.table.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: words,
-                resource: self.words.as_entire_binding(),
-            },
-        ]
-    }
-}
-
-/// Layout entries (read-only storage, compute stage) for bindings `table` and `words`.
-pub fn layout_entries(table: u32, words: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
-    let entry = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    [entry(table), entry(words)]
 }
 
 /// The WGSL library: the constants above, generated, then `shaders/common/texture.wgsl`

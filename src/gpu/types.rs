@@ -92,10 +92,10 @@ pub struct GpuMaterial {
     pub ior: f32,
     /// 1 when both sides emit.
     pub two_sided: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
+    /// Index into `bsdfs` of its `crate::bsdf` parameters, or `NO_BSDF`.
+    pub bsdf: u32,
+    /// Index into `tex_table` of kd's texture, or `NO_TEXTURE`.
+    pub kd_texture: u32,
     /// Padding.
     pub _pad2: u32,
 }
@@ -291,9 +291,49 @@ impl From<&Material> for GpuMaterial {
             emission: m.emission.to_array(),
             ior: m.ior,
             two_sided: m.two_sided_emission as u32,
+            bsdf: super::codes::NO_BSDF,
+            kd_texture: m.kd_texture,
             ..Default::default()
         }
     }
+}
+
+/// The materials, each of `crate::bsdf`'s kinds pointing at its entry of the second list,
+/// and the rough plastics' tables (`bsdf_params::pack`); one zeroed entry stands in for an
+/// empty list (a binding cannot be empty).
+pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::GpuBsdf>, Vec<f32>) {
+    let mut list = Vec::new();
+    let mats = scene
+        .materials
+        .iter()
+        .map(|m| {
+            let mut g = GpuMaterial::from(m);
+            if let Some(b) = m.bsdf {
+                g.bsdf = list.len() as u32;
+                list.push(b);
+            }
+            g
+        })
+        .collect();
+    let (mut bsdfs, tables) = super::bsdf_params::pack(&list);
+    if bsdfs.is_empty() {
+        bsdfs.push(Default::default());
+    }
+    (mats, bsdfs, tables)
+}
+
+/// Each triangle's corner uvs as two vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`; one
+/// zeroed pair when the scene has none.
+pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 8]> {
+    let mut out: Vec<[f32; 8]> = scene
+        .uvs
+        .iter()
+        .map(|c| [c[0].x, c[0].y, c[1].x, c[1].y, c[2].x, c[2].y, 0.0, 0.0])
+        .collect();
+    if out.is_empty() {
+        out.push([0.0; 8]);
+    }
+    out
 }
 
 /// The lights with their sampling data; budgets are filled in by the renderer.

@@ -27,10 +27,7 @@
 use super::checks::{check_emission, check_light, check_material};
 use super::locate::{Locate, Part};
 use super::normals::{is_flat, unit_normals};
-use super::{
-    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT,
-    NO_LIGHT,
-};
+use super::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::settings::RenderSettings;

@@ -69,4 +69,3 @@ pub(super) fn check_light(area: f32, power: Vec3, at: &dyn Locate) -> Result<()>
     }
     Ok(())
 }
-

@@ -51,9 +51,13 @@ impl MaterialKind {
     pub fn of_bsdf(b: &Bsdf) -> MaterialKind {
         match b {
             Bsdf::Diffuse { .. } => MaterialKind::Diffuse,
-            Bsdf::Conductor { microfacet: None, .. } => MaterialKind::Conductor,
+            Bsdf::Conductor {
+                microfacet: None, ..
+            } => MaterialKind::Conductor,
             Bsdf::Conductor { .. } => MaterialKind::RoughConductor,
-            Bsdf::Dielectric { microfacet: None, .. } => MaterialKind::Glass,
+            Bsdf::Dielectric {
+                microfacet: None, ..
+            } => MaterialKind::Glass,
             Bsdf::Dielectric { .. } => MaterialKind::RoughDielectric,
             Bsdf::ThinDielectric { .. } => MaterialKind::ThinDielectric,
             Bsdf::Plastic(p) if p.microfacet.is_none() => MaterialKind::Plastic,
@@ -200,4 +204,3 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 }
-

@@ -76,9 +76,9 @@ pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
 }
 
 use crate::camera::Camera;
+use crate::settings::RenderSettings;
 use crate::texture::SceneTexture;
 use glam::Vec2;
-use crate::settings::RenderSettings;
 use glam::Vec3;
 
 /// A world-space triangle `v0, v1, v2`; front normal = normalize(cross(e1, e2)) with

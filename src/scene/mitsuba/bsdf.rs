@@ -4,10 +4,10 @@
 //! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`.
 
 use super::plugin::Plugin;
-use super::values::Cx;
-use crate::error::Result;
 use super::texture::texture;
+use super::values::Cx;
 use crate::bsdf::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, METAL_NAMES};
+use crate::error::Result;
 use crate::scene::Material;
 use crate::texture::SceneTexture;
 use glam::Vec3;
@@ -65,7 +65,10 @@ fn conductor_ior(cx: &Cx, p: &Plugin) -> Result<(Vec3, Vec3)> {
         // A perfect mirror: Mitsuba's `none` is eta 0, k 1 (reflectance 1).
         (None, None, None | Some("none")) => Ok((Vec3::ZERO, Vec3::ONE)),
         (None, None, Some(name)) => named_conductor(name).ok_or_else(|| {
-            let message = format!("unknown conductor material `{name}` (Mitsuba's names: {})", METAL_NAMES.join(", "));
+            let message = format!(
+                "unknown conductor material `{name}` (Mitsuba's names: {})",
+                METAL_NAMES.join(", ")
+            );
             cx.err(p.node_of("material"), &p.at("material"), message)
         }),
     }
@@ -148,7 +151,9 @@ pub(super) fn bsdf(
             // Refraction and Fresnel depend only on the ratio; our outside is exactly 1.
             let eta = int_ior / ext_ior;
             match kind {
-                "dielectric" if specular_reflectance == Vec3::ONE && specular_transmittance == Vec3::ONE => {
+                "dielectric"
+                    if specular_reflectance == Vec3::ONE && specular_transmittance == Vec3::ONE =>
+                {
                     Material::glass(eta)
                 }
                 "dielectric" => {
@@ -177,7 +182,9 @@ pub(super) fn bsdf(
                 "plastic" => None,
                 _ => Some(microfacet(cx, &p)?),
             };
-            Material::from_bsdf(Bsdf::Plastic(Plastic::new(kd, specular, eta, nonlinear, microfacet)))
+            Material::from_bsdf(Bsdf::Plastic(Plastic::new(
+                kd, specular, eta, nonlinear, microfacet,
+            )))
         }
         other => {
             let message = format!("unsupported bsdf `{other}`");

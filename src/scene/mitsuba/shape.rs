@@ -168,8 +168,12 @@ impl Importer<'_> {
         p.done(cx)?;
         let mesh = mesh.transform(m, flip);
         match mesh.uvs {
-            Some(uvs) => self.b.add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at),
-            None => self.b.add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
+            Some(uvs) => self
+                .b
+                .add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at),
+            None => self
+                .b
+                .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
         }
     }
 }

@@ -5,7 +5,9 @@
 use super::plugin::Plugin;
 use super::values::Cx;
 use crate::error::Result;
-use crate::texture::{Checkerboard, Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
+use crate::texture::{
+    Checkerboard, Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap,
+};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 use std::path::Path;
@@ -27,20 +29,28 @@ pub(super) fn texture(cx: &Cx, node: Node, field: &str, base_dir: &Path) -> Resu
         let message = format!("unsupported <{}> inside a texture", extra.tag_name().name());
         return Err(cx.err(extra, field, message));
     }
-    let to_uv = p.transform(cx, "to_uv")?.map_or(UvTransform::IDENTITY, uv_transform);
+    let to_uv = p
+        .transform(cx, "to_uv")?
+        .map_or(UvTransform::IDENTITY, uv_transform);
     let texture = match p.kind.as_str() {
         "bitmap" => {
             let Some(file) = p.string(cx, "filename")? else {
                 return Err(cx.err(node, &p.at("filename"), "missing"));
             };
             let filter = match p.string(cx, "filter_type")? {
-                Some(name) => Filter::from_mitsuba(&name)
-                    .map_err(|e| cx.err(p.node_of("filter_type"), &p.at("filter_type"), e.to_string()))?,
+                Some(name) => Filter::from_mitsuba(&name).map_err(|e| {
+                    cx.err(
+                        p.node_of("filter_type"),
+                        &p.at("filter_type"),
+                        e.to_string(),
+                    )
+                })?,
                 None => Filter::Bilinear,
             };
             let wrap = match p.string(cx, "wrap_mode")? {
-                Some(name) => Wrap::from_mitsuba(&name)
-                    .map_err(|e| cx.err(p.node_of("wrap_mode"), &p.at("wrap_mode"), e.to_string()))?,
+                Some(name) => Wrap::from_mitsuba(&name).map_err(|e| {
+                    cx.err(p.node_of("wrap_mode"), &p.at("wrap_mode"), e.to_string())
+                })?,
                 None => Wrap::Repeat,
             };
             let encoding = if p.boolean(cx, "raw")? {

@@ -1,0 +1,103 @@
+//! The materials scene (`scenes/mitsuba/materials.xml`: the Cornell box with a rough gold
+//! sphere, a rough blue plastic sphere, a rough glass sphere and a bitmap-textured floor)
+//! against its Mitsuba 3.9.1 reference (`tests/data/materials.exr`, 4,096 spp; its own noise
+//! is 0.0032 per pixel and 0.00019 on 16x16 block means, `tests/data/materials.json`), and
+//! the two backends against each other on it.
+
+mod common;
+
+use gpu_photon::film::{diff, Image};
+use gpu_photon::report::Progress;
+use gpu_photon::scene::mitsuba::import;
+use gpu_photon::scene::MaterialKind;
+use gpu_photon::session::{render, Backend};
+use gpu_photon::settings::RenderSettings;
+use std::path::Path;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scene() -> gpu_photon::scene::mitsuba::Imported {
+    let path = root().join("scenes/mitsuba/materials.xml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    import(&text, "materials.xml", path.parent().unwrap()).unwrap()
+}
+
+#[test]
+fn the_materials_file_imports_exactly() {
+    let im = scene();
+    // No "approximated" or "ignored" warning: every bsdf is what Mitsuba defines.
+    assert!(im.warnings.is_empty(), "{:?}", im.warnings);
+    let kinds: Vec<MaterialKind> = im.scene.materials.iter().map(|m| m.kind).collect();
+    for k in [
+        MaterialKind::RoughConductor,
+        MaterialKind::RoughPlastic,
+        MaterialKind::RoughDielectric,
+    ] {
+        assert!(kinds.contains(&k), "{k:?} missing from {kinds:?}");
+    }
+    // The floor's reflectance is the bitmap, looked up through the rectangle's uvs.
+    assert_eq!(im.scene.textures.len(), 1);
+    assert_eq!(im.scene.uvs.len(), im.scene.triangles.len());
+    // The file's 256 samples per pixel are the total, spread over the 4 default passes.
+    assert_eq!(im.scene.settings.spp * im.scene.settings.passes, 256);
+}
+
+#[test]
+fn default_render_matches_the_mitsuba_reference() {
+    let im = scene();
+    let s = im.scene.settings.as_default_render();
+    let (img, _) = render(&im.scene, &s, Backend::Cpu, Progress::default()).unwrap();
+    let reference = Image::read(&root().join("tests/data/materials.exr")).unwrap();
+    let d = diff(&img, &reference, 16).unwrap();
+    eprintln!("materials, default render vs Mitsuba: {d:?}");
+    // The bounds: every channel's mean within 1%, 16x16 block RMSE at most 0.003
+    // (the reference's own block noise is 0.00019; the default render measures ~0.0007).
+    for (c, r) in d.mean_ratio.iter().enumerate() {
+        assert!((r - 1.0).abs() < 0.01, "channel {c}: mean ratio {r}");
+    }
+    assert!(d.block_rmse <= 0.003, "block RMSE {}", d.block_rmse);
+    // Per pixel: the reference's own 0.0032 and our passes' noise (~0.005 measured).
+    assert!(d.rmse <= 0.009, "RMSE {}", d.rmse);
+}
+
+#[test]
+fn gpu_renders_the_materials_scene_as_the_cpu_does() {
+    let Some(_ctx) = common::gpu() else {
+        return;
+    };
+    let im = scene();
+    let s = RenderSettings {
+        width: 64,
+        height: 64,
+        spp: 4,
+        photons: 50_000,
+        caustic_photons: 20_000,
+        ..im.scene.settings.clone()
+    }
+    .as_default_render();
+    let cpu = render(&im.scene, &s, Backend::Cpu, Progress::default())
+        .unwrap()
+        .0;
+    let gpu = render(&im.scene, &s, Backend::Gpu, Progress::default())
+        .unwrap()
+        .0;
+    let other_seed = RenderSettings {
+        seed: s.seed + 1,
+        ..s.clone()
+    };
+    let cpu2 = render(&im.scene, &other_seed, Backend::Cpu, Progress::default())
+        .unwrap()
+        .0;
+    let d = diff(&gpu, &cpu, 8).unwrap();
+    let noise = diff(&cpu2, &cpu, 8).unwrap();
+    eprintln!("gpu vs cpu: {d:?}\ncpu seed noise: {noise:?}");
+    // Same random numbers, same BSDFs: far closer than another seed (measured RMSE ~1e-5
+    // against a seed-to-seed 0.05); a BSDF twin that drifts lands at the seed noise.
+    assert!(d.rmse < 0.05 * noise.rmse, "{d:?} vs {noise:?}");
+    assert!(
+        d.block_rmse < 0.05 * noise.block_rmse + 1e-6,
+        "{d:?} vs {noise:?}"
+    );
+}
