@@ -373,6 +373,13 @@ impl SurfaceBsdf<'_> {
     #[inline]
     pub fn photon_bounce(&self, d: Vec3, hit: &Hit, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
         let Some(b) = &self.m.bsdf else {
+            if self.m.kd_texture != NO_TEXTURE {
+                let m = Material {
+                    kd: self.kd,
+                    ..*self.m
+                };
+                return photon_bounce_shading(&m, d, hit.normal, hit.shading, fresnel, u);
+            }
             return photon_bounce_shading(self.m, d, hit.normal, hit.shading, fresnel, u);
         };
         let f = hit.facing(d);

@@ -227,7 +227,10 @@ fn surface_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<funct
 // clamp(1 - t(wo), 0.05, 0.95) (u.x), then the coating's lobe or a cosine base direction.
 fn surface_photon_bounce(s: Surface, d: vec3<f32>, hit: Hit, u: vec3<f32>) -> Bounce {
     if !surface_is_bsdf(s) {
-        return photon_bounce(s.m, d, hit, u);
+        // The textured albedo at the hit.
+        var m = s.m;
+        m.kd = s.kd;
+        return photon_bounce(m, d, hit, u);
     }
     var out = Bounce(vec3<f32>(0.0), BOUNCE_ABSORB, vec3<f32>(0.0));
     let f = facing(hit, dot(d, hit.normal) < 0.0);
