@@ -7,16 +7,17 @@ use glam::Vec3;
 use gpu_photon::bsdf::{Bsdf, Distribution, Microfacet, Plastic, Transport};
 use std::f32::consts::PI;
 
-/// SplitMix64: a fixed-seed stream of uniforms in [0, 1).
-struct Rng(u64);
+mod common;
+
+/// The tests' fixed-seed uniforms (`common::TestRng`, SplitMix64), and a uniform
+/// direction on the sphere.
+struct Rng(common::TestRng);
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Rng(common::TestRng(seed))
+    }
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
+        self.0.f32()
     }
     fn dir(&mut self) -> Vec3 {
         let z = 2.0 * self.next() - 1.0;
@@ -87,7 +88,7 @@ fn white() -> Vec<(&'static str, Bsdf)> {
 
 /// Albedo by sampling: mean and standard error of the weight's first channel.
 fn albedo_sampled(b: &Bsdf, wo: Vec3, transport: Transport, n: usize, seed: u64) -> (f32, f32) {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let (mut s, mut s2) = (0.0f64, 0.0f64);
     for _ in 0..n {
         let u = [rng.next(), rng.next(), rng.next()];
@@ -256,7 +257,7 @@ fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
 
 #[test]
 fn reflective_kinds_are_reciprocal_and_two_sided() {
-    let mut rng = Rng(77);
+    let mut rng = Rng::new(77);
     let flip = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
     for b in reflective() {
         let mut nonzero = 0;
@@ -288,7 +289,7 @@ fn reflective_kinds_are_reciprocal_and_two_sided() {
 
 #[test]
 fn dielectric_transmission_follows_the_eta2_rule() {
-    let mut rng = Rng(99);
+    let mut rng = Rng::new(99);
     for mf in [ggx(0.3), beckmann(0.2, 0.5)] {
         let b = Bsdf::Dielectric {
             eta: 1.5,
@@ -333,7 +334,7 @@ fn dielectric_transmission_follows_the_eta2_rule() {
 
 #[test]
 fn diffuse_plus_lobe_is_the_whole() {
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let mut all = reflective();
     all.extend(white().into_iter().map(|(_, b)| b));
     for b in all {
@@ -378,7 +379,7 @@ fn diffuse_plus_lobe_is_the_whole() {
 #[test]
 fn samplers_stay_finite() {
     // Grazing and normal incidence, extreme uniforms: no NaN, no negative weight or pdf.
-    let mut rng = Rng(123);
+    let mut rng = Rng::new(123);
     let mut all = reflective();
     all.extend(white().into_iter().map(|(_, b)| b));
     let us = [0.0, 1e-7, 0.5, 0.999_999_9];

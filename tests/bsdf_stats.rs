@@ -15,16 +15,16 @@ const N_PHI: usize = 64;
 const SAMPLES: usize = 200_000;
 const SUB: usize = 8;
 
-/// SplitMix64: a fixed-seed stream of uniforms in [0, 1).
-struct Rng(u64);
+mod common;
+
+/// The tests' fixed-seed uniforms (`common::TestRng`, SplitMix64).
+struct Rng(common::TestRng);
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Rng(common::TestRng(seed))
+    }
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
+        self.0.f32()
     }
 }
 
@@ -119,7 +119,7 @@ fn chi2(
     pdf: impl Fn(Vec3) -> f32,
     eval_cos: impl Fn(Vec3) -> Vec3,
 ) {
-    let mut rng = Rng(0x5EED ^ (name.len() as u64 * 7919));
+    let mut rng = Rng::new(0x5EED ^ (name.len() as u64 * 7919));
     let mut observed = vec![0.0f64; N_THETA * N_PHI + 1];
     let mut weight_errors = 0;
     let mut worst = String::new();
