@@ -76,6 +76,8 @@ pub struct SurfaceBsdf<'a> {
     m: &'a Material,
     /// `kd` with its texture looked up.
     kd: Vec3,
+    /// `m.bsdf` with its textured parameters looked up.
+    b: Option<Bsdf>,
     /// The unflipped shading normal: the local frame's z for [`crate::bsdf`]'s kinds.
     n: Vec3,
 }
@@ -85,13 +87,22 @@ pub struct SurfaceBsdf<'a> {
 #[inline]
 pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
     let m = &scene.materials[hit.material as usize];
-    let kd = match m.kd_texture {
-        NO_TEXTURE => m.kd,
-        t => scene.textures[t as usize].eval(hit.uv),
+    let (kd, b) = match m.kd_texture {
+        NO_TEXTURE => (m.kd, m.bsdf),
+        t => {
+            let kd = scene.textures[t as usize].eval(hit.uv);
+            // A plastic's base reflectance is its `kd`.
+            let b = match m.bsdf {
+                Some(Bsdf::Plastic(p)) => Some(Bsdf::Plastic(p.with_diffuse(kd))),
+                b => b,
+            };
+            (kd, b)
+        }
     };
     SurfaceBsdf {
         m,
         kd,
+        b,
         n: hit.shading,
     }
 }
@@ -155,7 +166,7 @@ impl SurfaceBsdf<'_> {
     /// (normals turned by the caller's `f`).
     #[inline]
     pub fn delta(&self, d: Vec3, hit: &Hit, f: &Facing, fresnel: FresnelMode) -> DeltaEvent {
-        match (self.m.kind, &self.m.bsdf) {
+        match (self.m.kind, &self.b) {
             (MaterialKind::Mirror, _) => DeltaEvent::Reflect {
                 dir: reflect(d, f.ns),
                 weight: self.m.ks,
@@ -192,7 +203,7 @@ impl SurfaceBsdf<'_> {
     /// [`store_weight`](Self::store_weight) of their direction (Lambertian: `kd` and 1).
     #[inline]
     pub fn diffuse_albedo(&self, wo: Vec3) -> Vec3 {
-        match &self.m.bsdf {
+        match &self.b {
             Some(b) => b.diffuse_out(self.local(wo)),
             None => self.kd,
         }
@@ -203,13 +214,13 @@ impl SurfaceBsdf<'_> {
     /// transmittance for a plastic); `None` when it is exactly 1.
     #[inline]
     pub fn store_weight(&self, wi: Vec3) -> Option<f32> {
-        self.m.bsdf.as_ref().map(|b| b.store_weight(self.local(wi)))
+        self.b.as_ref().map(|b| b.store_weight(self.local(wi)))
     }
 
     /// The diffuse part's BSDF value `f_D(wi, wo)` (Lambertian: `kd / pi`).
     #[inline]
     pub fn eval_diffuse(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        match &self.m.bsdf {
+        match &self.b {
             Some(b) => {
                 let (wi, wo) = (self.local(wi), self.local(wo));
                 if wi.z * wo.z <= 0.0 {
@@ -226,7 +237,7 @@ impl SurfaceBsdf<'_> {
     /// [`store_weight`](Self::store_weight)).
     #[inline]
     pub fn estimate_brdf(&self, wo: Vec3) -> Vec3 {
-        match &self.m.bsdf {
+        match &self.b {
             Some(_) => self.diffuse_albedo(wo) / PI,
             None => self.kd / PI,
         }
@@ -259,7 +270,7 @@ impl SurfaceBsdf<'_> {
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        match (self.m.kind, &self.m.bsdf) {
+        match (self.m.kind, &self.b) {
             (MaterialKind::Glossy, _) => self.m.ks * phong_lobe_value(wi, wo, ns, self.m.exponent),
             (_, Some(b)) => b.eval_lobe(self.local(wi), self.local(wo), Transport::Radiance),
             _ => Vec3::ZERO,
@@ -269,7 +280,7 @@ impl SurfaceBsdf<'_> {
     /// The whole non-delta BSDF `f(wi, wo)` (diffuse part and lobe).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        match self.m.bsdf {
+        match self.b {
             Some(_) => self.eval_diffuse(wi, wo) + self.eval_lobe(wi, wo, ns),
             None if self.m.kd_texture != NO_TEXTURE => {
                 let m = Material {
@@ -287,7 +298,7 @@ impl SurfaceBsdf<'_> {
     /// shadow rays.
     #[inline]
     pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
-        match (self.m.kind, &self.m.bsdf) {
+        match (self.m.kind, &self.b) {
             (MaterialKind::Glossy, _) => {
                 let cos_a = reflect(-wo, ns).dot(wi);
                 if cos_a <= 0.0 {
@@ -304,7 +315,7 @@ impl SurfaceBsdf<'_> {
     /// light sampling and lobe sampling share area lights by multiple importance sampling.
     #[inline]
     pub fn lobe_is_glossy(&self) -> bool {
-        match (self.m.kind, &self.m.bsdf) {
+        match (self.m.kind, &self.b) {
             (MaterialKind::Glossy, _) => self.has_lobe(),
             (_, Some(b)) => b.has_lobe() && !b.lobe_is_delta(),
             _ => false,
@@ -319,7 +330,7 @@ impl SurfaceBsdf<'_> {
     #[inline]
     pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let m = self.m;
-        let Some(b) = &m.bsdf else {
+        let Some(b) = &self.b else {
             let (u1, u2) = rng.next2();
             let dir = phong_lobe(reflect(d, f.ns), m.exponent, u1, u2);
             let cos = dir.dot(f.ns);
@@ -372,7 +383,7 @@ impl SurfaceBsdf<'_> {
     /// direction (`u[1], u[2]`).
     #[inline]
     pub fn photon_bounce(&self, d: Vec3, hit: &Hit, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
-        let Some(b) = &self.m.bsdf else {
+        let Some(b) = &self.b else {
             if self.m.kd_texture != NO_TEXTURE {
                 let m = Material {
                     kd: self.kd,

@@ -23,6 +23,13 @@ fn bsdf_at(hit: Hit) -> Surface {
     s.n = hit.shading;
     if HAS_BSDFS && s.m.bsdf != NO_BSDF {
         s.b = bsdfs[s.m.bsdf];
+        // A plastic's base reflectance is its kd (Plastic::with_diffuse).
+        if HAS_TEXTURES && s.m.kd_texture != NO_TEXTURE && bsdf_is_plastic(s.b) {
+            s.b.albedo = s.kd;
+            let d_mean = (s.kd.x + s.kd.y + s.kd.z) / 3.0;
+            let s_mean = (s.b.specular.x + s.b.specular.y + s.b.specular.z) / 3.0;
+            s.b.specular_sampling_weight = s_mean / (d_mean + s_mean);
+        }
     }
     return s;
 }

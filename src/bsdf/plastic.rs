@@ -196,6 +196,18 @@ impl Plastic {
         }
     }
 
+    /// The same plastic with base reflectance `diffuse` (a texture's value at a hit): the
+    /// coating's tables do not depend on it, only the sampling weight does.
+    pub fn with_diffuse(&self, diffuse: Vec3) -> Plastic {
+        let d_mean = diffuse.element_sum() / 3.0;
+        let s_mean = self.specular_reflectance.element_sum() / 3.0;
+        Plastic {
+            diffuse_reflectance: diffuse,
+            specular_sampling_weight: s_mean / (d_mean + s_mean),
+            ..*self
+        }
+    }
+
     /// The coating's transmittance t(cos theta) for `cos_theta` in [0, 1].
     pub fn transmittance(&self, cos_theta: f32) -> f32 {
         if self.microfacet.is_none() {

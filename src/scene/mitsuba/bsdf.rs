@@ -174,7 +174,15 @@ pub(super) fn bsdf(
             }
         }
         "plastic" | "roughplastic" => {
-            let kd = p.albedo(cx, "diffuse_reflectance", 0.5)?;
+            let kd = match p.texture_param("diffuse_reflectance") {
+                Some(t) => {
+                    let tex = texture(cx, t, &p.at("diffuse_reflectance"), base_dir)?;
+                    let mean = tex.mean();
+                    kd_texture = Some(tex);
+                    mean
+                }
+                None => p.albedo(cx, "diffuse_reflectance", 0.5)?,
+            };
             let specular = p.albedo(cx, "specular_reflectance", 1.0)?;
             let eta = p.ior(cx, "int_ior", 1.49)? / p.ior(cx, "ext_ior", AIR)?;
             let nonlinear = p.boolean(cx, "nonlinear")?;
@@ -182,9 +190,13 @@ pub(super) fn bsdf(
                 "plastic" => None,
                 _ => Some(microfacet(cx, &p)?),
             };
-            Material::from_bsdf(Bsdf::Plastic(Plastic::new(
+            let mut m = Material::from_bsdf(Bsdf::Plastic(Plastic::new(
                 kd, specular, eta, nonlinear, microfacet,
-            )))
+            )));
+            if kd_texture.is_some() {
+                m.kd_texture = 0;
+            }
+            m
         }
         other => {
             let message = format!("unsupported bsdf `{other}`");
