@@ -31,7 +31,10 @@ fn write(name: &str, bytes: &[u8]) -> PathBuf {
 const TEXELS: [[u8; 3]; 4] = [[200, 30, 30], [30, 200, 30], [30, 30, 200], [200, 200, 30]];
 
 fn png() -> Vec<u8> {
-    let bytes: Vec<u8> = TEXELS.iter().flat_map(|t| [t[0], t[1], t[2], 255]).collect();
+    let bytes: Vec<u8> = TEXELS
+        .iter()
+        .flat_map(|t| [t[0], t[1], t[2], 255])
+        .collect();
     let img = image::RgbaImage::from_raw(2, 2, bytes).unwrap();
     let mut out = std::io::Cursor::new(Vec::new());
     image::DynamicImage::ImageRgba8(img)
@@ -178,7 +181,9 @@ fn b64(bytes: &[u8]) -> String {
     const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();
     for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
         for k in 0..4 {
             if k <= c.len() {
                 out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
@@ -226,13 +231,19 @@ fn base_colour_texture_loads_from_a_file_a_data_uri_and_a_glb_view() {
     let file = loaded(&File::new(r#"{"uri": "quad1.png"}"#).write("file.gltf"));
     assert_eq!(file.uvs, quad_corner_uvs(&quad().uvs));
     assert_eq!(file.textures.len(), 1);
-    assert_eq!(file.materials[file.triangles[0].material as usize].kd_texture, 0);
+    assert_eq!(
+        file.materials[file.triangles[0].material as usize].kd_texture,
+        0
+    );
     let SceneTexture::Bitmap(t) = &file.textures[0] else {
         panic!("not a bitmap")
     };
     assert_eq!((t.width, t.height), (2, 2));
     assert_eq!(t.sampler.filter, Filter::Nearest);
-    assert_eq!((t.sampler.wrap_u, t.sampler.wrap_v), (Wrap::Clamp, Wrap::Mirror));
+    assert_eq!(
+        (t.sampler.wrap_u, t.sampler.wrap_v),
+        (Wrap::Clamp, Wrap::Mirror)
+    );
     assert_eq!(t.sampler.to_uv, UvTransform::IDENTITY);
     // The factor (1, 0.5, 0.25) is baked into float texels.
     assert!(matches!(t.texels, Texels::Float { channels: 4, .. }));
@@ -240,17 +251,32 @@ fn base_colour_texture_loads_from_a_file_a_data_uri_and_a_glb_view() {
         let got = t.texel(i as u32 % 2, i as u32 / 2).truncate();
         let lin = Vec3::from_array(bytes.map(|b| srgb_to_linear(b as f64 / 255.0) as f32));
         let want = lin * Vec3::new(1.0, 0.5, 0.25);
-        assert!((got - want).abs().max_element() < 1e-6, "texel {i}: {got} vs {want}");
+        assert!(
+            (got - want).abs().max_element() < 1e-6,
+            "texel {i}: {got} vs {want}"
+        );
     }
 
     let uri = format!(r#"{{"uri": "data:image/png;base64,{}"}}"#, b64(&png()));
     let data_uri = loaded(&File::new(&uri).write("data-uri.gltf"));
-    assert_eq!(data_uri.textures, file.textures.iter().map(|t| rename(t, &data_uri)).collect::<Vec<_>>());
+    assert_eq!(
+        data_uri.textures,
+        file.textures
+            .iter()
+            .map(|t| rename(t, &data_uri))
+            .collect::<Vec<_>>()
+    );
     let mut glb = File::new(r#"{"bufferView": 3, "mimeType": "image/png"}"#);
     glb.extra = png();
     glb.glb = true;
     let view = loaded(&glb.write("view.glb"));
-    assert_eq!(view.textures, file.textures.iter().map(|t| rename(t, &view)).collect::<Vec<_>>());
+    assert_eq!(
+        view.textures,
+        file.textures
+            .iter()
+            .map(|t| rename(t, &view))
+            .collect::<Vec<_>>()
+    );
     assert_eq!(view.uvs, file.uvs);
 }
 
@@ -279,7 +305,10 @@ fn texture_transform_tex_coord_and_normalized_accessors() {
     let SceneTexture::Bitmap(t) = &s.textures[0] else {
         panic!("not a bitmap")
     };
-    assert_eq!(t.sampler.to_uv, UvTransform::from_gltf([0.25, -0.5], 0.3, [2.0, 3.0]));
+    assert_eq!(
+        t.sampler.to_uv,
+        UvTransform::from_gltf([0.25, -0.5], 0.3, [2.0, 3.0])
+    );
     assert!(matches!(
         t.texels,
         Texels::Rgba8 {
@@ -372,17 +401,37 @@ fn malformed_uvs_and_images_give_exact_messages() {
         );
     };
     let mut f = File::new(r#"{"uri": "quad4.png"}"#);
-    f.uv_accessor = r#"{"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC3"}"#.into();
-    primitive(&f, "vec3.gltf", "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec3 of F32");
-    f.uv_accessor = r#"{"bufferView": 1, "componentType": 5121, "count": 4, "type": "VEC2"}"#.into();
-    primitive(&f, "u8.gltf", "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec2 of U8");
-    f.uv_accessor = r#"{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}"#.into();
+    f.uv_accessor =
+        r#"{"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC3"}"#.into();
+    primitive(
+        &f,
+        "vec3.gltf",
+        "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec3 of F32",
+    );
+    f.uv_accessor =
+        r#"{"bufferView": 1, "componentType": 5121, "count": 4, "type": "VEC2"}"#.into();
+    primitive(
+        &f,
+        "u8.gltf",
+        "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec2 of U8",
+    );
+    f.uv_accessor =
+        r#"{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}"#.into();
     primitive(&f, "count.gltf", "3 TEXCOORD_0s for 4 POSITIONs");
-    f.uv_accessor = r#"{"bufferView": 1, "componentType": 5126, "count": 5, "type": "VEC2"}"#.into();
-    primitive(&f, "long.gltf", "5 elements run past the end of bufferView 1");
+    f.uv_accessor =
+        r#"{"bufferView": 1, "componentType": 5126, "count": 5, "type": "VEC2"}"#.into();
+    primitive(
+        &f,
+        "long.gltf",
+        "5 elements run past the end of bufferView 1",
+    );
     let mut f = File::new(r#"{"uri": "quad4.png"}"#);
     f.uv_set = 1;
-    primitive(&f, "set.gltf", "has no TEXCOORD_0 attribute, which its material's baseColorTexture reads");
+    primitive(
+        &f,
+        "set.gltf",
+        "has no TEXCOORD_0 attribute, which its material's baseColorTexture reads",
+    );
 
     let image = |f: &File, name: &str, what: String| {
         let path = f.write(name);
@@ -390,14 +439,20 @@ fn malformed_uvs_and_images_give_exact_messages() {
         let line = line_of(&json, "\"images\"");
         assert_eq!(
             error_of(&path),
-            format!("{}:{line}: images[0]: material textured: {what}", path.display())
+            format!(
+                "{}:{line}: images[0]: material textured: {what}",
+                path.display()
+            )
         );
     };
     let missing = dir().join("missing.png");
     image(
         &File::new(r#"{"uri": "missing.png"}"#),
         "missing.gltf",
-        format!("cannot read image {}: No such file or directory (os error 2)", missing.display()),
+        format!(
+            "cannot read image {}: No such file or directory (os error 2)",
+            missing.display()
+        ),
     );
     let garbage = write("garbage.png", b"not an image");
     image(

@@ -95,7 +95,12 @@ fn obj_vt_lands_on_the_scene_with_v_flipped() {
     let d = mitsuba_mesh(&dir, "obj", "square.obj", "");
     check_uvs(&d, 4, flipped, "Mitsuba obj, default");
     let t = r#"<boolean name="flip_tex_coords" value="true"/>"#;
-    check_uvs(&mitsuba_mesh(&dir, "obj", "square.obj", t), 4, flipped, "true");
+    check_uvs(
+        &mitsuba_mesh(&dir, "obj", "square.obj", t),
+        4,
+        flipped,
+        "true",
+    );
     let f = r#"<boolean name="flip_tex_coords" value="false"/>"#;
     let kept = mitsuba_mesh(&dir, "obj", "square.obj", f);
     check_uvs(&kept, 4, |p| file_uv(p.x, p.y), "Mitsuba obj, false");
@@ -110,7 +115,11 @@ fn obj_corners_without_vt_get_zero_and_meshes_without_vt_have_none() {
     // vt 0.5 has v = 0, flipped to 1; the corner without vt is (0, 0), not flipped.
     let want = [Vec2::new(0.25, 0.25), Vec2::ZERO, Vec2::new(0.5, 1.0)];
     assert_eq!(s.uvs, vec![want]);
-    std::fs::write(dir.join("plain.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 1 1\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        dir.join("plain.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 1 1\nf 1 2 3\n",
+    )
+    .unwrap();
     let s = toml_mesh(&dir, "plain.obj", "").unwrap();
     assert!(s.uvs.is_empty(), "{:?}", s.uvs);
 }
@@ -123,9 +132,16 @@ fn square_ply(names: [&str; 2], ty: &str, v1: &str) -> String {
          property list uchar int vertex_indices\nend_header\n",
         names[0], names[1]
     );
-    for (i, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].iter().enumerate() {
+    for (i, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+        .iter()
+        .enumerate()
+    {
         let uv = file_uv(*x, *y);
-        let v = if i == 1 { v1.to_string() } else { uv.y.to_string() };
+        let v = if i == 1 {
+            v1.to_string()
+        } else {
+            uv.y.to_string()
+        };
         s += &format!("{x} {y} 0 {} {v}\n", uv.x);
     }
     s + "3 0 1 2\n3 0 2 3\n"
@@ -147,7 +163,12 @@ fn ply_uvs_land_on_the_scene_unflipped() {
         check_uvs(&s, 2, |p| file_uv(p.x, p.y), &file);
     }
     std::fs::write(dir.join("d.ply"), square_ply(["u", "v"], "double", &v1)).unwrap();
-    check_uvs(&toml_mesh(&dir, "d.ply", "").unwrap(), 2, |p| file_uv(p.x, p.y), "double");
+    check_uvs(
+        &toml_mesh(&dir, "d.ply", "").unwrap(),
+        2,
+        |p| file_uv(p.x, p.y),
+        "double",
+    );
     // Mitsuba's `ply`: flip_tex_coords defaults to false.
     let d = mitsuba_mesh(&dir, "ply", "u.ply", "");
     check_uvs(&d, 2, |p| file_uv(p.x, p.y), "Mitsuba ply, default");
@@ -156,7 +177,12 @@ fn ply_uvs_land_on_the_scene_unflipped() {
         let uv = file_uv(p.x, p.y);
         Vec2::new(uv.x, 1.0 - uv.y)
     };
-    check_uvs(&mitsuba_mesh(&dir, "ply", "u.ply", t), 2, flipped, "Mitsuba ply, true");
+    check_uvs(
+        &mitsuba_mesh(&dir, "ply", "u.ply", t),
+        2,
+        flipped,
+        "Mitsuba ply, true",
+    );
     // Only one of a pair: no texture coordinates.
     let lone = square_ply(["u", "w"], "float", &v1);
     std::fs::write(dir.join("lone.ply"), lone).unwrap();
@@ -219,12 +245,18 @@ fn malformed_texture_coordinates_give_exact_messages() {
         ),
     ];
     for (file, text, want) in cases {
-        assert_eq!(mesh_error(&dir, file, &text), format!("{}: {want}", path(file)));
+        assert_eq!(
+            mesh_error(&dir, file, &text),
+            format!("{}: {want}", path(file))
+        );
     }
     let int = square_ply(["u", "v"], "int", "0");
     assert_eq!(
         mesh_error(&dir, "int.ply", &int),
-        format!("{}: vertex property `u` is int; expected float or double", path("int.ply"))
+        format!(
+            "{}: vertex property `u` is int; expected float or double",
+            path("int.ply")
+        )
     );
     let inf = square_ply(["s", "t"], "float", "1e39");
     assert_eq!(

@@ -152,7 +152,11 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, String> {
         match words.next() {
             Some("vt") if has_uvs => {
                 let uv = parse_vt(line)?;
-                vts.push(if flip_v { Vec2::new(uv.x, 1.0 - uv.y) } else { uv });
+                vts.push(if flip_v {
+                    Vec2::new(uv.x, 1.0 - uv.y)
+                } else {
+                    uv
+                });
                 continue;
             }
             Some("vt") | Some("vp") => continue,
@@ -208,9 +212,9 @@ fn parse_vt(line: &str) -> Result<Vec2, String> {
             None if i == 1 => break,
             None => return Err(format!("OBJ texture coordinate `{line}` has no u")),
             Some(w) => {
-                *x = w
-                    .parse()
-                    .map_err(|_| format!("OBJ texture coordinate `{line}`: `{w}` is not a number"))?
+                *x = w.parse().map_err(|_| {
+                    format!("OBJ texture coordinate `{line}`: `{w}` is not a number")
+                })?
             }
         }
     }

@@ -145,7 +145,9 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         if let Some([a, b]) = uv_names {
             let uv = vec3(v, [a, b, a]).map_err(&fail)?.truncate();
             if !uv.is_finite() {
-                return Err(fail(format!("vertex {i}: the texture coordinate ({a}, {b}) {uv} is not finite")));
+                return Err(fail(format!(
+                    "vertex {i}: the texture coordinate ({a}, {b}) {uv} is not finite"
+                )));
             }
             uvs.push(uv);
         }

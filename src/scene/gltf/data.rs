@@ -209,7 +209,11 @@ pub(super) fn read_uvs(
         (Dimensions::Vec2, DataType::U16, true) => 2,
         (Dimensions::Vec2, DataType::U8, true) => 1,
         _ => {
-            let normalized = if accessor.normalized() { "normalized " } else { "" };
+            let normalized = if accessor.normalized() {
+                "normalized "
+            } else {
+                ""
+            };
             return Err(format!(
                 "{name} must be VEC2 of FLOAT, or of normalized U8 or U16, not {dims:?} of \
                  {normalized}{ty:?}"

@@ -294,7 +294,11 @@ impl Importer<'_> {
             None => None,
         };
         if let Some(uv) = uvs.as_ref().filter(|uv| uv.len() != points.len()) {
-            let message = format!("{} TEXCOORD_{set}s for {} POSITIONs", uv.len(), points.len());
+            let message = format!(
+                "{} TEXCOORD_{set}s for {} POSITIONs",
+                uv.len(),
+                points.len()
+            );
             return Err(fail(message));
         }
         // Normals go through the inverse transpose of the node's matrix.
@@ -387,7 +391,9 @@ impl Importer<'_> {
         if let Some(info) = material::diffuse_texture(m) {
             let [r, g, b, _] = m.pbr_metallic_roughness().base_color_factor();
             let t = texture::base_colour(&info, Vec3::new(r, g, b), &self.buffers, self.base_dir)
-                .map_err(|(field, msg)| self.cx.err(&field, format!("material {name}: {msg}")))?;
+                .map_err(|(field, msg)| {
+                self.cx.err(&field, format!("material {name}: {msg}"))
+            })?;
             material.kd = t.mean();
             material.kd_texture = self.b.add_texture(t);
         }
