@@ -390,10 +390,9 @@ impl Importer<'_> {
         let (mut material, note) = material::map(m);
         if let Some(info) = material::diffuse_texture(m) {
             let [r, g, b, _] = m.pbr_metallic_roughness().base_color_factor();
-            let t = texture::base_colour(&info, Vec3::new(r, g, b), &self.buffers, self.base_dir)
-                .map_err(|(field, msg)| {
-                self.cx.err(&field, format!("material {name}: {msg}"))
-            })?;
+            let factor = Vec3::new(r, g, b);
+            let t = texture::base_colour(&info, factor, &self.buffers, self.base_dir);
+            let t = t.map_err(|(f, msg)| self.cx.err(&f, format!("material {name}: {msg}")))?;
             material.kd = t.mean();
             material.kd_texture = self.b.add_texture(t);
         }
