@@ -251,6 +251,7 @@ fn light_twin_matches_the_obj_and_keeps_normals() {
         let mesh = read_ply(&path).unwrap();
         let expect = PlyMesh {
             normals: None,
+            uvs: None,
             ..ascii.clone()
         };
         assert_eq!(mesh, expect);

@@ -849,6 +849,11 @@ fn broken_obj_files() {
             "is not finite",
         ),
         ("empty-face.obj", "v 0 0 0\nf\n", "OBJ parse error"),
+        (
+            "vt-out-of-range.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/-99999999999 3/1\n",
+            "texture coordinate index out of range",
+        ),
     ];
     for (name, obj, needle) in bad {
         std::fs::write(dir.join(name), obj).unwrap();
@@ -863,10 +868,10 @@ fn broken_obj_files() {
             "{name}: {message}"
         );
     }
-    // Texture and normal indices are ignored, however wild, and so are materials; polygons are
-    // fans.
+    // Normal indices are ignored, however wild, when a corner names none, and so are
+    // materials; polygons are fans. (Texture indices are read: `tests/mesh_uvs.rs`.)
     let odd = "mtllib none.mtl\ng part\nusemtl nothing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
-               vt 0 0\nvn 0 0 1\ns off\nf 1/1/1 2/-99999999999/1 3//99999999999999 4\n";
+               vt 0 0\nvn 0 0 1\ns off\nf 1/1/1 2//1 3//99999999999999 4\n";
     std::fs::write(dir.join("odd.obj"), odd).unwrap();
     let s = parse_in(&mesh("odd.obj"), &dir).unwrap();
     assert_eq!(s.triangles.len(), 2);

@@ -1,7 +1,13 @@
 //! Mesh files named by a scene: OBJ ([`super::obj`]) or PLY ([`super::ply`]), read to
 //! world-space triangles and, when the file has them, vertex normals (OBJ `vn`, PLY `nx`,
-//! `ny`, `nz`) for smooth shading. Every importer that refers to a mesh file (the TOML
-//! `type = "mesh"` shape, Mitsuba's `obj` and `ply` shapes) reads it here.
+//! `ny`, `nz`) for smooth shading and texture coordinates (OBJ `vt`, PLY `u v` and its
+//! synonyms). Every importer that refers to a mesh file (the TOML `type = "mesh"` shape,
+//! Mitsuba's `obj` and `ply` shapes) reads it here.
+//!
+//! Texture coordinates follow Mitsuba 3's `flip_tex_coords` (its `obj.cpp` and `ply.cpp`):
+//! uv (0, 0) is the image's top-left corner, so an OBJ file's v (0 at the bottom, by the
+//! format's convention) is flipped to `1 - v` by default, and a PLY file's is kept. The TOML
+//! `mesh` shape always uses these defaults; Mitsuba's shapes take `flip_tex_coords`.
 
 use super::builder::{SceneBuilder, Surface};
 use super::locate::{Locate, Part};
@@ -30,6 +36,12 @@ impl MeshFormat {
         } else {
             MeshFormat::Obj
         }
+    }
+
+    /// Mitsuba 3's default `flip_tex_coords` for the format: true for OBJ (`obj.cpp`),
+    /// false for PLY (`ply.cpp`).
+    pub(crate) fn flips_tex_coords(self) -> bool {
+        self == MeshFormat::Obj
     }
 }
 
@@ -93,17 +105,19 @@ fn transform_normals(mut ns: Vec<VertexNormals>, map: Mat3, swap: bool) -> Vec<V
     ns
 }
 
-/// The mesh file at `path`, in the file's coordinates. Errors are messages naming the
-/// resolved path (for PLY, the [`ply::PlyError`]); a vertex normal that is zero or not
-/// finite is one, naming its field (`vn`, or `nx, ny, nz` and the vertex).
-pub(crate) fn load_mesh(path: &Path, format: MeshFormat) -> Result<MeshData, String> {
+/// The mesh file at `path`, in the file's coordinates, its texture coordinates' v flipped
+/// to `1 - v` when `flip_v` (Mitsuba's `flip_tex_coords`; an OBJ corner without `vt` keeps
+/// (0, 0) either way). Errors are messages naming the resolved path (for PLY, the
+/// [`ply::PlyError`]); a vertex normal that is zero or not finite is one, naming its field
+/// (`vn`, or `nx, ny, nz` and the vertex).
+pub(crate) fn load_mesh(path: &Path, format: MeshFormat, flip_v: bool) -> Result<MeshData, String> {
     match format {
         MeshFormat::Obj => {
-            let (tris, normals) = obj::load_triangles(path)?;
+            let obj = obj::load_triangles(path, flip_v)?;
             Ok(MeshData {
-                tris,
-                normals,
-                uvs: None,
+                tris: obj.tris,
+                normals: obj.normals,
+                uvs: obj.uvs,
             })
         }
         MeshFormat::Ply => {
@@ -122,10 +136,21 @@ pub(crate) fn load_mesh(path: &Path, format: MeshFormat) -> Result<MeshData, Str
                     Some(mesh.triangles.iter().map(|t| t.map(at)).collect())
                 }
             };
+            let uvs = mesh.uvs.as_ref().map(|uvs| {
+                let at = |i: u32| {
+                    let uv = uvs[i as usize];
+                    if flip_v {
+                        Vec2::new(uv.x, 1.0 - uv.y)
+                    } else {
+                        uv
+                    }
+                };
+                mesh.triangles.iter().map(|t| t.map(at)).collect()
+            });
             Ok(MeshData {
                 tris: mesh.triangle_positions(),
                 normals,
-                uvs: None,
+                uvs,
             })
         }
     }
@@ -145,8 +170,9 @@ pub(crate) fn transform(mut tris: Vec<[Vec3; 3]>, scale: Vec3, translate: Vec3) 
 
 /// Adds the mesh file at `path`, scaled then translated, to `builder` as one shape of
 /// `surface`: smooth-shaded with the file's vertex normals unless `smooth` is `Some(false)`;
-/// `Some(true)` requires the file to have them. A file that cannot be read or used is an
-/// error on [`Part::Geometry`].
+/// `Some(true)` requires the file to have them. Its texture coordinates, if any, are kept
+/// with Mitsuba's default `flip_tex_coords` (v flipped for OBJ, not for PLY). A file that
+/// cannot be read or used is an error on [`Part::Geometry`].
 pub(crate) fn add_mesh_file(
     builder: &mut SceneBuilder,
     path: &Path,
@@ -156,7 +182,8 @@ pub(crate) fn add_mesh_file(
     surface: Surface,
     at: &dyn Locate,
 ) -> Result<()> {
-    let mesh = load_mesh(path, MeshFormat::of_path(path))
+    let format = MeshFormat::of_path(path);
+    let mesh = load_mesh(path, format, format.flips_tex_coords())
         .map_err(|m| at.error(Part::Geometry, m))?
         .flat_if(smooth == Some(false));
     if smooth == Some(true) && mesh.normals.is_none() {
@@ -171,6 +198,15 @@ pub(crate) fn add_mesh_file(
     let normals = mesh
         .normals
         .map(|ns| transform_normals(ns, Mat3::from_diagonal(scale.recip()), mirrored));
+    let uvs = mesh.uvs.map(|mut uvs| {
+        if mirrored {
+            uvs.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        uvs
+    });
     let tris = transform(mesh.tris, scale, translate);
-    builder.add_smooth_mesh(tris, normals, surface, at)
+    match uvs {
+        Some(uvs) => builder.add_uv_mesh(tris, normals, uvs, surface, at),
+        None => builder.add_smooth_mesh(tris, normals, surface, at),
+    }
 }

@@ -1,32 +1,46 @@
 //! Wavefront OBJ meshes (`type = "mesh"`), read with tobj and fed to the [`SceneBuilder`].
 //!
-//! Vertex positions, faces and vertex normals (`vn`, named by face corners `v//vn` or
-//! `v/vt/vn`) are used: texture coordinates, materials, points and lines are ignored. The
-//! mesh has normals (smooth shading) when every face corner names one; otherwise they are
-//! all ignored (flat). Polygons are triangulated as fans `(v0, v1, v2), (v0, v2, v3), ...`,
-//! keeping the file's winding, so a face's front normal is `cross(v1 - v0, v2 - v0)`.
+//! Vertex positions, faces, vertex normals (`vn`, named by face corners `v//vn` or
+//! `v/vt/vn`) and texture coordinates (`vt`, named by corners `v/vt` or `v/vt/vn`) are used:
+//! materials, points and lines are ignored. The mesh has normals (smooth shading) when every
+//! face corner names one; otherwise they are all ignored (flat). It has texture coordinates
+//! when any corner names a `vt`; a corner that names none then gets uv (0, 0). The uvs are
+//! the file's `(u, v)` (a missing `v` is 0), v flipped to `1 - v` when the caller asks
+//! (Mitsuba's `flip_tex_coords`, applied to each `vt` record as its `obj.cpp` does, so a
+//! corner without one stays (0, 0); see `mesh_file.rs`). Polygons are triangulated as fans
+//! `(v0, v1, v2), (v0, v2, v3), ...`, keeping the file's winding, so a face's front normal is
+//! `cross(v1 - v0, v2 - v0)`.
 //!
 //! [`SceneBuilder`]: super::SceneBuilder
 
 use super::VertexNormals;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::io::BufReader;
 use std::path::Path;
 
-/// The triangles of an OBJ file and, when every corner names one, their vertex normals (as
-/// the file gives them, not normalised).
-pub(crate) type ObjTriangles = (Vec<[Vec3; 3]>, Option<Vec<VertexNormals>>);
+/// The triangles of an OBJ file, their vertex normals when every corner names one (as the
+/// file gives them, not normalised) and their texture coordinates when any corner names one
+/// (v flipped when asked).
+pub(crate) struct ObjTriangles {
+    /// The triangles, in the file's winding.
+    pub tris: Vec<[Vec3; 3]>,
+    /// The corners' normals, parallel to `tris`.
+    pub normals: Option<Vec<VertexNormals>>,
+    /// The corners' `vt` coordinates, parallel to `tris`.
+    pub uvs: Option<Vec<[Vec2; 3]>>,
+}
 
 /// Loads the triangles of the OBJ file at `path` (in the file's coordinates).
 ///
 /// Errors are messages naming the resolved path: the file cannot be read, it does not parse,
 /// a face refers to a missing vertex or normal, a vertex is not finite, a normal (`vn`) is
-/// zero or not finite, or there are no triangles.
-pub(crate) fn load_triangles(path: &Path) -> Result<ObjTriangles, String> {
+/// zero or not finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or
+/// there are no triangles.
+pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read mesh {}: {e}", path.display()))?;
-    match parse_triangles(&text) {
-        Ok((tris, _)) if tris.is_empty() => {
+    match parse_triangles(&text, flip_v) {
+        Ok(obj) if obj.tris.is_empty() => {
             Err(format!("{}: the mesh has no triangles", path.display()))
         }
         result => result.map_err(|e| format!("{}: {e}", path.display())),
@@ -34,8 +48,8 @@ pub(crate) fn load_triangles(path: &Path) -> Result<ObjTriangles, String> {
 }
 
 /// Parses OBJ `text` into triangles; see [`load_triangles`].
-fn parse_triangles(text: &str) -> Result<ObjTriangles, String> {
-    let kept = strip_attributes(text)?;
+fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, String> {
+    let kept = strip_attributes(text, flip_v)?;
     let mut reader = BufReader::new(kept.as_bytes());
     // Single index, triangulated (fans), points and lines ignored. Material libraries are
     // never opened: materials come from the scene file.
@@ -78,13 +92,30 @@ fn parse_triangles(text: &str) -> Result<ObjTriangles, String> {
             }
         }
     }
-    Ok((triangles, kept.has_normals.then_some(normals)))
+    let uvs = match kept.uvs {
+        None => None,
+        Some(uvs) if uvs.len() == triangles.len() => Some(uvs),
+        Some(uvs) => {
+            return Err(format!(
+                "OBJ texture coordinates: {} triangles with vt corners, {} triangles read",
+                uvs.len(),
+                triangles.len()
+            ))
+        }
+    };
+    Ok(ObjTriangles {
+        tris: triangles,
+        normals: kept.has_normals.then_some(normals),
+        uvs,
+    })
 }
 
-/// OBJ text reduced to what the mesh needs, and whether it keeps normals.
+/// OBJ text reduced to what the mesh needs, whether it keeps normals, and the texture
+/// coordinates of the triangles its faces make (fans, as tobj makes them), if any.
 struct Kept {
     text: String,
     has_normals: bool,
+    uvs: Option<Vec<[Vec2; 3]>>,
 }
 
 impl Kept {
@@ -96,8 +127,10 @@ impl Kept {
 /// Keeps only positions, faces and (when every face corner names one) normals: drops
 /// `vt`/`vp` records and reduces each face corner `v/vt/vn` to `v//vn` (or `v`), so that tobj
 /// never indexes texture coordinates; a normal index is checked against the `vn` records
-/// first (tobj does not guard an out-of-range index against overflow).
-fn strip_attributes(text: &str) -> Result<Kept, String> {
+/// first (tobj does not guard an out-of-range index against overflow). The `vt` records
+/// named by the corners are read here instead (v flipped when `flip_v`), checked the same
+/// way.
+fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, String> {
     let n_normals = text
         .lines()
         .filter(|l| l.split_whitespace().next() == Some("vn"))
@@ -110,10 +143,22 @@ fn strip_attributes(text: &str) -> Result<Kept, String> {
     let has_normals =
         n_normals > 0 && corners().all(|c| c.split('/').nth(2).is_some_and(|n| !n.is_empty()));
     let mut out = String::with_capacity(text.len());
+    let has_uvs = corners().any(|c| c.split('/').nth(1).is_some_and(|t| !t.is_empty()));
     let mut seen = 0i64; // `vn` records so far: a corner may name only those
+    let mut vts: Vec<Vec2> = Vec::new();
+    let mut uvs = Vec::new();
     for line in text.lines() {
         let mut words = line.split_whitespace();
         match words.next() {
+            Some("vt") if has_uvs => {
+                let uv = parse_vt(line)?;
+                vts.push(if flip_v {
+                    Vec2::new(uv.x, 1.0 - uv.y)
+                } else {
+                    uv
+                });
+                continue;
+            }
             Some("vt") | Some("vp") => continue,
             Some("vn") if !has_normals => continue,
             Some("vn") => {
@@ -122,7 +167,11 @@ fn strip_attributes(text: &str) -> Result<Kept, String> {
             }
             Some("f") => {
                 out.push('f');
+                let mut face_uvs = Vec::new();
                 for corner in words {
+                    if has_uvs {
+                        face_uvs.push(corner_uv(corner, &vts)?);
+                    }
                     out.push(' ');
                     let mut parts = corner.split('/');
                     out.push_str(parts.next().unwrap_or(corner));
@@ -139,6 +188,9 @@ fn strip_attributes(text: &str) -> Result<Kept, String> {
                         out.push_str(n);
                     }
                 }
+                for k in 2..face_uvs.len() {
+                    uvs.push([face_uvs[0], face_uvs[k - 1], face_uvs[k]]);
+                }
             }
             _ => out.push_str(line),
         }
@@ -147,5 +199,53 @@ fn strip_attributes(text: &str) -> Result<Kept, String> {
     Ok(Kept {
         text: out,
         has_normals,
+        uvs: has_uvs.then_some(uvs),
     })
+}
+
+/// The `(u, v)` of a `vt u [v [w]]` record (`v` 0 when absent), finite.
+fn parse_vt(line: &str) -> Result<Vec2, String> {
+    let mut uv = [0.0f32; 2];
+    let mut words = line.split_whitespace().skip(1);
+    for (i, x) in uv.iter_mut().enumerate() {
+        match words.next() {
+            None if i == 1 => break,
+            None => return Err(format!("OBJ texture coordinate `{line}` has no u")),
+            Some(w) => {
+                *x = w.parse().map_err(|_| {
+                    format!("OBJ texture coordinate `{line}`: `{w}` is not a number")
+                })?
+            }
+        }
+    }
+    let uv = Vec2::from_array(uv);
+    if !uv.is_finite() {
+        return Err(format!("OBJ texture coordinate (vt) {uv} is not finite"));
+    }
+    Ok(uv)
+}
+
+/// The uv a face corner names (`v/vt`, `v/vt/vn`; negative indices count back from the last
+/// `vt` so far), or (0, 0) for a corner that names none.
+fn corner_uv(corner: &str, vts: &[Vec2]) -> Result<Vec2, String> {
+    let t = corner.split('/').nth(1).unwrap_or("");
+    if t.is_empty() {
+        return Ok(Vec2::ZERO);
+    }
+    let n = vts.len() as i64;
+    let index = t
+        .parse::<i64>()
+        .ok()
+        .and_then(|i| match i {
+            1.. if i <= n => Some(i - 1),
+            ..=-1 if -i <= n => Some(n + i),
+            _ => None,
+        })
+        .ok_or_else(|| {
+            format!(
+                "OBJ face corner `{corner}`: texture coordinate index out of range \
+                 ({n} vt records before it)"
+            )
+        })?;
+    Ok(vts[index as usize])
 }

@@ -3,13 +3,16 @@
 //!
 //! The `vertex` element gives the positions (`x`, `y`, `z`, float or double) and, when all
 //! three are present, vertex normals (`nx`, `ny`, `nz`), which [`PlyMesh`] keeps as given
-//! (`mesh_file.rs` checks them and makes the mesh smooth-shaded). The `face` element's `vertex_indices` (or
+//! (`mesh_file.rs` checks them and makes the mesh smooth-shaded), and, when a pair is present,
+//! texture coordinates: the first of [`UV_NAMES`] (`u v`, `texture_u texture_v`, `s t`,
+//! `texture_s texture_t`; float or double, finite), as Mitsuba 3's `ply.cpp` names them, kept
+//! as given (Mitsuba's PLY default `flip_tex_coords = false`). The `face` element's `vertex_indices` (or
 //! `vertex_index`) lists, of any integer type, are polygons triangulated as fans
 //! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
 //! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.
 
 use crate::error::Result;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{DefaultElement, ElementDef, Encoding, Property, PropertyType, ScalarType};
 use std::io::BufReader;
@@ -25,7 +28,18 @@ pub struct PlyMesh {
     /// Vertex normals as the file gives them (not normalised), one per position, when the
     /// `vertex` element has `nx`, `ny` and `nz`.
     pub normals: Option<Vec<Vec3>>,
+    /// Texture coordinates as the file gives them, one per position, when the `vertex`
+    /// element has a pair of [`UV_NAMES`].
+    pub uvs: Option<Vec<Vec2>>,
 }
+
+/// The `vertex` property pairs read as texture coordinates, the first present winning.
+pub const UV_NAMES: [[&str; 2]; 4] = [
+    ["u", "v"],
+    ["texture_u", "texture_v"],
+    ["s", "t"],
+    ["texture_s", "texture_t"],
+];
 
 impl PlyMesh {
     /// The triangles' corner positions, in the order of [`PlyMesh::triangles`].
@@ -56,7 +70,7 @@ pub struct PlyError {
 /// Errors: the file cannot be read or is not valid PLY (a bad header, a truncated or
 /// malformed payload), the `vertex` or `face` element or a property is missing or of the
 /// wrong type, a face has fewer than 3 vertices or refers to a missing vertex, a position
-/// is not finite, or there are no faces.
+/// or texture coordinate is not finite, or there are no faces.
 pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     let fail = |message: String| PlyError {
         path: path.to_path_buf(),
@@ -83,6 +97,12 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         for name in ["nx", "ny", "nz"] {
             check_float(vertex_def, name).map_err(&fail)?;
         }
+    }
+    let uv_names = UV_NAMES
+        .into_iter()
+        .find(|pair| pair.iter().all(|n| vertex_def.properties.contains_key(*n)));
+    for name in uv_names.iter().flatten() {
+        check_float(vertex_def, name).map_err(&fail)?;
     }
     let face_def = elements
         .get("face")
@@ -112,6 +132,7 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     let faces = payload.get("face").unwrap_or(&empty);
     let mut positions = Vec::with_capacity(vertices.len());
     let mut normals = Vec::with_capacity(if has_normals { vertices.len() } else { 0 });
+    let mut uvs = Vec::with_capacity(uv_names.map_or(0, |_| vertices.len()));
     for (i, v) in vertices.iter().enumerate() {
         let p = vec3(v, ["x", "y", "z"]).map_err(&fail)?;
         if !p.is_finite() {
@@ -120,6 +141,15 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         positions.push(p);
         if has_normals {
             normals.push(vec3(v, ["nx", "ny", "nz"]).map_err(&fail)?);
+        }
+        if let Some([a, b]) = uv_names {
+            let uv = vec3(v, [a, b, a]).map_err(&fail)?.truncate();
+            if !uv.is_finite() {
+                return Err(fail(format!(
+                    "vertex {i}: the texture coordinate ({a}, {b}) {uv} is not finite"
+                )));
+            }
+            uvs.push(uv);
         }
     }
     let mut triangles = Vec::with_capacity(faces.len());
@@ -154,6 +184,7 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         positions,
         triangles,
         normals: has_normals.then_some(normals),
+        uvs: uv_names.map(|_| uvs),
     })
 }
 

@@ -1,6 +1,7 @@
 //! The binary data of a glTF file: its buffers (the GLB `BIN` chunk, base64 `data:` URIs or
-//! files next to the glTF file) and the accessors the importer reads (positions and indices).
-//! Every problem is a message; the caller names the file and item.
+//! files next to the glTF file), the accessors the importer reads (positions, normals,
+//! texture coordinates and indices) and the encoded bytes of images. Every problem is a
+//! message; the caller names the file and item.
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::buffer::Source;
@@ -21,13 +22,7 @@ pub(super) fn load_buffers(
             Source::Bin => blob
                 .map(<[u8]>::to_vec)
                 .ok_or_else(|| fail("refers to the GLB BIN chunk, which is missing".into()))?,
-            Source::Uri(uri) if uri.starts_with("data:") => {
-                let (head, body) = uri.split_once(',').unwrap_or((uri, ""));
-                if !head.ends_with(";base64") {
-                    return Err(fail("a data URI must be base64".into()));
-                }
-                base64(body).map_err(fail)?
-            }
+            Source::Uri(uri) if uri.starts_with("data:") => data_uri(uri).map_err(fail)?,
             Source::Uri(uri) => {
                 let path = base_dir.join(uri);
                 std::fs::read(&path)
@@ -41,6 +36,49 @@ pub(super) fn load_buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// The bytes of a base64 `data:` URI.
+fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
+    let (head, body) = uri.split_once(',').unwrap_or((uri, ""));
+    if !head.ends_with(";base64") {
+        return Err("a data URI must be base64".into());
+    }
+    base64(body)
+}
+
+/// The encoded bytes of `image` (a PNG or JPEG file, as the caller decodes them): a
+/// `data:` URI, a file relative to `base_dir` (its name returned too, for messages), or a
+/// bufferView, checked against its buffer.
+pub(super) fn image_bytes(
+    image: &gltf::Image,
+    buffers: &[Vec<u8>],
+    base_dir: &Path,
+) -> Result<(Vec<u8>, Option<std::path::PathBuf>), String> {
+    match image.source() {
+        gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+            Ok((data_uri(uri)?, None))
+        }
+        gltf::image::Source::Uri { uri, .. } => {
+            let path = base_dir.join(uri);
+            let bytes = std::fs::read(&path)
+                .map_err(|e| format!("cannot read image {}: {e}", path.display()))?;
+            Ok((bytes, Some(path)))
+        }
+        gltf::image::Source::View { view, .. } => {
+            let data = buffers
+                .get(view.buffer().index())
+                .ok_or("refers to a missing buffer")?;
+            let end = view.offset().checked_add(view.length());
+            match end.and_then(|end| data.get(view.offset()..end)) {
+                Some(bytes) => Ok((bytes.to_vec(), None)),
+                None => Err(format!(
+                    "bufferView {} runs past the end of its buffer",
+                    view.index()
+                )),
+            }
+        }
+    }
 }
 
 /// Decodes standard base64 (padding optional, whitespace not allowed).
@@ -155,6 +193,47 @@ fn read_vec3(
         points.push(p);
     }
     Ok(points)
+}
+
+/// The texture coordinates of a `TEXCOORD_n` accessor (`name`): VEC2 of FLOAT, or of
+/// normalized UNSIGNED_BYTE or UNSIGNED_SHORT (x / 255, x / 65535), as glTF allows; all
+/// finite.
+pub(super) fn read_uvs(
+    accessor: &Accessor,
+    buffers: &[Vec<u8>],
+    name: &str,
+) -> Result<Vec<glam::Vec2>, String> {
+    let (dims, ty) = (accessor.dimensions(), accessor.data_type());
+    let size = match (dims, ty, accessor.normalized()) {
+        (Dimensions::Vec2, DataType::F32, _) => 4,
+        (Dimensions::Vec2, DataType::U16, true) => 2,
+        (Dimensions::Vec2, DataType::U8, true) => 1,
+        _ => {
+            let normalized = if accessor.normalized() {
+                "normalized "
+            } else {
+                ""
+            };
+            return Err(format!(
+                "{name} must be VEC2 of FLOAT, or of normalized U8 or U16, not {dims:?} of \
+                 {normalized}{ty:?}"
+            ));
+        }
+    };
+    let mut uvs = Vec::with_capacity(accessor.count());
+    for e in elements(accessor, buffers, 2 * size)? {
+        let c = |i: usize| match size {
+            4 => f32::from_le_bytes([e[4 * i], e[4 * i + 1], e[4 * i + 2], e[4 * i + 3]]),
+            2 => u16::from_le_bytes([e[2 * i], e[2 * i + 1]]) as f32 / 65535.0,
+            _ => e[i] as f32 / 255.0,
+        };
+        let uv = glam::Vec2::new(c(0), c(1));
+        if !uv.is_finite() {
+            return Err(format!("{name} {} is not finite", uvs.len()));
+        }
+        uvs.push(uv);
+    }
+    Ok(uvs)
 }
 
 /// The indices of an `indices` accessor: SCALAR of UNSIGNED_BYTE, _SHORT or _INT.

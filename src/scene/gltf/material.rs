@@ -9,8 +9,9 @@
 //!   `ks = (1 - metallic) 0.04 specular + metallic base` and
 //!   `kd = (1 - metallic) (1 - 0.04 specular) base`, so kd + ks <= 1.
 //!
-//! Emission is `emissiveFactor x KHR_materials_emissive_strength`, one-sided. Textures are
-//! not read: the factors are used and a warning names each texture.
+//! Emission is `emissiveFactor x KHR_materials_emissive_strength`, one-sided. The base colour
+//! texture of a Lambertian material is read ([`diffuse_texture`], `texture.rs`); other
+//! textures are not: the factors are used and a warning names each texture.
 
 use super::super::Material;
 use glam::Vec3;
@@ -41,7 +42,7 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
         (Material::glass(ior), (!exact).then_some(note))
     } else if metallic == 1.0 && roughness == 0.0 {
         (Material::mirror(base), None)
-    } else if metallic == 0.0 && roughness == 1.0 && specular == 0.0 {
+    } else if is_lambertian(m) {
         match base == Vec3::ZERO {
             true => (Material::black(), None),
             false => (Material::diffuse(base), None),
@@ -66,6 +67,28 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
     )
 }
 
+/// Whether `m` maps to a Lambertian surface: metallic 0, roughness 1,
+/// `KHR_materials_specular` 0, no transmission.
+fn is_lambertian(m: &gltf::Material) -> bool {
+    let pbr = m.pbr_metallic_roughness();
+    let specular = m.specular().map_or(1.0, |s| s.specular_factor());
+    let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
+    transmission <= 0.0
+        && pbr.metallic_factor() == 0.0
+        && pbr.roughness_factor() == 1.0
+        && specular == 0.0
+}
+
+/// The base colour texture of `m` when it gives a diffuse albedo: `m` is Lambertian and its
+/// `baseColorFactor` is not black (a black factor makes every texel black: our `black`).
+pub(super) fn diffuse_texture<'a>(m: &gltf::Material<'a>) -> Option<gltf::texture::Info<'a>> {
+    let [r, g, b, _] = m.pbr_metallic_roughness().base_color_factor();
+    let black = Vec3::new(r, g, b) == Vec3::ZERO;
+    (is_lambertian(m) && !black)
+        .then(|| m.pbr_metallic_roughness().base_color_texture())
+        .flatten()
+}
+
 /// The Phong exponent of roughness `r`: `2 / alpha^2 - 2` with `alpha = r^2`, in
 /// [0, [`MAX_EXPONENT`]].
 pub fn exponent(r: f32) -> f32 {
@@ -76,7 +99,8 @@ pub fn exponent(r: f32) -> f32 {
     (2.0 / (alpha * alpha) - 2.0).clamp(0.0, MAX_EXPONENT)
 }
 
-/// The textures `m` uses, by name (or `textures[i]`), with the slot they fill.
+/// The textures `m` uses that are not read, by name (or `textures[i]`), with the slot they
+/// fill (all but a [`diffuse_texture`]).
 pub(super) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
     let pbr = m.pbr_metallic_roughness();
     let mut out = Vec::new();
@@ -88,7 +112,9 @@ pub(super) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
             out.push((name, slot));
         }
     };
-    add(pbr.base_color_texture().map(|i| i.texture()), "base colour");
+    if diffuse_texture(m).is_none() {
+        add(pbr.base_color_texture().map(|i| i.texture()), "base colour");
+    }
     add(
         pbr.metallic_roughness_texture().map(|i| i.texture()),
         "metallic-roughness",

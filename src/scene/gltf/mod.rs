@@ -7,7 +7,9 @@
 //! per node. Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
 //! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
 //! normals (`NORMAL`, through the inverse transpose of the world matrix) make a primitive
-//! smooth-shaded; without them it is flat. The camera is the first met in the traversal, or
+//! smooth-shaded; without them it is flat. Texture coordinates (`TEXCOORD_n`, n the set the
+//! material's base colour texture reads, else 0) are kept as glTF gives them (uv (0, 0) at
+//! the image's top-left, as ours). The camera is the first met in the traversal, or
 //! the one named; `KHR_lights_punctual` lights are converted from photometric units at
 //! 683 lm/W (point and spot from candela to W/sr, directional from lux to W/m^2), spot and
 //! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`]
@@ -17,6 +19,7 @@
 mod data;
 mod json_line;
 mod material;
+mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
@@ -75,6 +78,7 @@ pub fn load_slice(
     let mut im = Importer {
         cx: &cx,
         buffers,
+        base_dir,
         b: SceneBuilder::new(),
         materials: HashMap::new(),
         camera,
@@ -145,6 +149,8 @@ fn json_text(bytes: &[u8]) -> String {
 struct Importer<'a> {
     cx: &'a Ctx<'a>,
     buffers: Vec<Vec<u8>>,
+    /// Where external images are.
+    base_dir: &'a Path,
     b: SceneBuilder,
     /// glTF material index (None: the default material) to ours.
     materials: HashMap<Option<usize>, MaterialId>,
@@ -271,6 +277,30 @@ impl Importer<'_> {
             let message = format!("{} NORMALs for {} POSITIONs", n.len(), points.len());
             return Err(fail(message));
         }
+        // The uv set the material's texture reads (TEXCOORD_0 without one).
+        let texture = material::diffuse_texture(&primitive.material());
+        let set = texture.as_ref().map_or(0, texture::uv_set);
+        let uvs = match primitive.get(&gltf::Semantic::TexCoords(set)) {
+            Some(a) => {
+                let name = format!("TEXCOORD_{set}");
+                Some(data::read_uvs(&a, &self.buffers, &name).map_err(&fail)?)
+            }
+            None if texture.is_some() => {
+                let message = format!(
+                    "has no TEXCOORD_{set} attribute, which its material's baseColorTexture reads"
+                );
+                return Err(fail(message));
+            }
+            None => None,
+        };
+        if let Some(uv) = uvs.as_ref().filter(|uv| uv.len() != points.len()) {
+            let message = format!(
+                "{} TEXCOORD_{set}s for {} POSITIONs",
+                uv.len(),
+                points.len()
+            );
+            return Err(fail(message));
+        }
         // Normals go through the inverse transpose of the node's matrix.
         let normal_map = glam::Mat3::from_mat4(world).inverse().transpose();
         let indices = match primitive.indices() {
@@ -304,6 +334,7 @@ impl Importer<'_> {
         let mirrored = world.determinant() < 0.0;
         let mut tris = Vec::with_capacity(corners.len());
         let mut shading = Vec::with_capacity(normals.as_ref().map_or(0, |_| corners.len()));
+        let mut corner_uvs = Vec::with_capacity(uvs.as_ref().map_or(0, |_| corners.len()));
         for (t, c) in corners.iter().enumerate() {
             let p = |i: u32| {
                 let p = points.get(i as usize).ok_or_else(|| {
@@ -321,6 +352,11 @@ impl Importer<'_> {
                 let n = corners[t].map(|i| normal_map * normals[i as usize]);
                 shading.push(if mirrored { [n[0], n[2], n[1]] } else { n });
             }
+            if let Some(uvs) = &uvs {
+                // In range: as many as the positions.
+                let uv = corners[t].map(|i| uvs[i as usize]);
+                corner_uvs.push(if mirrored { [uv[0], uv[2], uv[1]] } else { uv });
+            }
         }
         if tris.is_empty() {
             return Ok(());
@@ -328,8 +364,14 @@ impl Importer<'_> {
         let material = self.material(&primitive.material())?;
         let at = |_: Part, m: String| self.cx.err(&field, m);
         let shading = normals.map(|_| shading);
-        self.b
-            .add_smooth_mesh(tris, shading, Surface::of(material), &at)
+        match uvs {
+            Some(_) => self
+                .b
+                .add_uv_mesh(tris, shading, corner_uvs, Surface::of(material), &at),
+            None => self
+                .b
+                .add_smooth_mesh(tris, shading, Surface::of(material), &at),
+        }
     }
 
     /// Our material for `m`, added (and warned about) the first time it is used.
@@ -345,7 +387,15 @@ impl Importer<'_> {
             None => ("materials".to_string(), "(default material)".to_string()),
         };
         let file = self.cx.file;
-        let (material, note) = material::map(m);
+        let (mut material, note) = material::map(m);
+        if let Some(info) = material::diffuse_texture(m) {
+            let [r, g, b, _] = m.pbr_metallic_roughness().base_color_factor();
+            let factor = Vec3::new(r, g, b);
+            let t = texture::base_colour(&info, factor, &self.buffers, self.base_dir);
+            let t = t.map_err(|(f, msg)| self.cx.err(&f, format!("material {name}: {msg}")))?;
+            material.kd = t.mean();
+            material.kd_texture = self.b.add_texture(t);
+        }
         if let Some(note) = note {
             eprintln!("warning: {file}: material {name}: {note}");
         }

@@ -148,8 +148,13 @@ impl<'a, 'i> Plugin<'a, 'i> {
 
     /// A `boolean` parameter, `false` when absent.
     pub fn boolean(&self, cx: &Cx, name: &str) -> Result<bool> {
+        self.boolean_or(cx, name, false)
+    }
+
+    /// A `boolean` parameter, `default` when absent.
+    pub fn boolean_or(&self, cx: &Cx, name: &str, default: bool) -> Result<bool> {
         let Some(node) = self.param(cx, name, &["boolean"])? else {
-            return Ok(false);
+            return Ok(default);
         };
         match cx.need_attr(node, &self.at(name), "value")?.as_str() {
             "true" => Ok(true),

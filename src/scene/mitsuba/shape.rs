@@ -1,7 +1,9 @@
 //! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
 //! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `obj`
 //! and `ply` meshes (smooth-shaded with the file's vertex normals unless `face_normals` is
-//! true), each with its bsdf (nested or `ref`) and optionally an `area` emitter.
+//! true; the file's texture coordinates with v flipped when `flip_tex_coords`, Mitsuba's
+//! default true for `obj` and false for `ply`), each with its bsdf (nested or `ref`) and
+//! optionally an `area` emitter.
 
 use super::plugin::Plugin;
 use super::Importer;
@@ -153,9 +155,10 @@ impl Importer<'_> {
                 } else {
                     MeshFormat::Ply
                 };
-                let mesh = mesh_file::load_mesh(&path, format)
+                // Mitsuba's `flip_tex_coords`: v to 1 - v, by default for OBJ only.
+                let flip_v = p.boolean_or(cx, "flip_tex_coords", format.flips_tex_coords())?;
+                let mesh = mesh_file::load_mesh(&path, format, flip_v)
                     .map_err(|m| cx.err(node, &p.at("filename"), m))?;
-                p.ignore(&["flip_tex_coords"]);
                 // Mitsuba's `face_normals`: flat shading even where the file has normals.
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
