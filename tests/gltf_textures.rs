@@ -5,6 +5,8 @@
 //! image quadrant (the texture's orientation); malformed accessors and images give exact
 //! `FILE:LINE: FIELD: what` messages.
 
+mod common;
+
 use glam::{Vec2, Vec3};
 use gpu_photon::report::Progress;
 use gpu_photon::scene::{load, Scene};
@@ -373,6 +375,14 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
         let err = ((mean - want) / want).abs().max_element();
         assert!(err < 1e-3, "quadrant {q}: {mean} vs {want}");
     }
+    // The GPU renders the textured glTF scene as the CPU does: same random numbers, the
+    // same texels bit for bit (tests/texture_gpu.rs), so only f32 rounding apart.
+    if common::gpu().is_none() {
+        return;
+    }
+    let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
+    let d = gpu_photon::film::diff(&gpu, &img, 8).unwrap();
+    assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
 }
 
 /// The `FILE:LINE: ` prefix and the rest of the message of a file that must fail to load.

@@ -323,8 +323,12 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::Gp
 }
 
 /// Each triangle's corner uvs as two vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`; one
-/// zeroed pair when the scene has none.
+/// zeroed pair when the scene has none or no texture reads them.
 pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 8]> {
+    // Without textures no kernel reads them (HAS_TEXTURES is false).
+    if scene.textures.is_empty() {
+        return vec![[0.0; 8]];
+    }
     let mut out: Vec<[f32; 8]> = scene
         .uvs
         .iter()
