@@ -150,16 +150,14 @@ pub(super) fn bsdf(
             let specular_transmittance = p.albedo(cx, "specular_transmittance", 1.0)?;
             // Refraction and Fresnel depend only on the ratio; our outside is exactly 1.
             let eta = int_ior / ext_ior;
+            // The smooth kinds' delta events carry no tint (yet).
+            let untinted = specular_reflectance == Vec3::ONE && specular_transmittance == Vec3::ONE;
             match kind {
-                "dielectric"
-                    if specular_reflectance == Vec3::ONE && specular_transmittance == Vec3::ONE =>
-                {
-                    Material::glass(eta)
-                }
-                "dielectric" => {
-                    let message = "a tinted smooth `dielectric` is not supported yet";
+                "dielectric" | "thindielectric" if !untinted => {
+                    let message = format!("a tinted `{kind}` is not supported yet");
                     return Err(cx.err(node, field, message));
                 }
+                "dielectric" => Material::glass(eta),
                 "thindielectric" => Material::from_bsdf(Bsdf::ThinDielectric {
                     eta,
                     specular_reflectance,
