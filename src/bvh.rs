@@ -8,9 +8,10 @@
 //! `shaders/common/intersect.wgsl`).
 
 use crate::geometry::{
-    inset, intersect_sphere, intersect_triangle, shading_normal, Aabb, Facing, Ray, Shear,
+    inset, intersect_sphere, intersect_triangle, normal_mapped, shading_normal, sphere_tangent,
+    triangle_tangent, Aabb, Facing, Ray, Shear,
 };
-use crate::scene::{Scene, FLAT};
+use crate::scene::{Scene, FLAT, NO_TEXTURE};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
@@ -75,7 +76,8 @@ pub struct Hit {
     /// Unit geometric front normal of the primitive (not flipped towards the ray).
     pub normal: Vec3,
     /// Unit shading normal, on the side of `normal`: the interpolated vertex normals of a
-    /// smooth triangle, else `normal` itself.
+    /// smooth triangle, else `normal` itself; then perturbed by the material's normal map
+    /// when it has one (`crate::geometry::normal_mapped`).
     pub shading: Vec3,
     /// Index of the primitive's material in `Scene::materials`.
     pub material: u32,
@@ -212,7 +214,7 @@ impl Bvh {
             t_max,
         );
         let (id, u, v) = best?;
-        Some(if id & SPHERE_BIT == 0 {
+        let mut hit = if id & SPHERE_BIT == 0 {
             let tri = &scene.triangles[id as usize];
             let normal = tri.normal();
             let shading = match tri.shading {
@@ -252,7 +254,25 @@ impl Bvh {
                 light: s.light,
                 uv,
             }
-        })
+        };
+        let normal_texture = scene.materials[hit.material as usize].normal_texture;
+        if normal_texture != NO_TEXTURE {
+            // The uv tangent: a triangle's from its corner uvs (none without uvs), a
+            // sphere's from Mitsuba's parameterisation (the uv of `hit.uv`).
+            let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
+                let tri = &scene.triangles[id as usize];
+                scene
+                    .uvs
+                    .get(id as usize)
+                    .and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c))
+                    .unwrap_or((Vec3::ZERO, false))
+            } else {
+                (sphere_tangent(hit.normal), false)
+            };
+            let c = scene.textures[normal_texture as usize].eval(hit.uv);
+            hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, ray.dir);
+        }
+        Some(hit)
     }
 
     /// Whether anything blocks `ray` before `t_max`.

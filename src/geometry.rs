@@ -67,6 +67,70 @@ pub fn shading_normal(ng: Vec3, n: &VertexNormals, u: f32, v: f32) -> Vec3 {
     }
 }
 
+/// The tangent of a triangle's uv parameterisation (Mitsuba's `dp_du` up to its positive
+/// scale `1 / |det|`, the sign included) and whether the parameterisation is flipped
+/// (`det < 0` for the corner uvs' determinant, Mitsuba's `FaceUVFlipped`); `None` for a
+/// degenerate mapping (`det == 0`). `e1`, `e2`: the edges from corner 0 to corners 1 and 2.
+/// Twin: `triangle_tangent` in `shaders/common/intersect.wgsl`.
+#[inline]
+pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, bool)> {
+    let (d0, d1) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let det = d0.x * d1.y - d0.y * d1.x;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let dp_du = (d1.y * e1 - d0.y * e2) * det.signum();
+    Some((dp_du, det < 0.0))
+}
+
+/// The tangent of Mitsuba's sphere parameterisation at outward unit normal `n` (`dp_du` up
+/// to its positive scale, `(-y, x, 0)`: towards increasing azimuth); zero at the poles.
+#[inline]
+pub fn sphere_tangent(n: Vec3) -> Vec3 {
+    Vec3::new(-n.y, n.x, 0.0)
+}
+
+/// Mitsuba 3's `normalmap` (src/bsdfs/normalmap.cpp, with `flip_invalid_normals`): the
+/// shading normal that texel `c` (linear rgb) gives at a hit with front normal `ng`, unit
+/// shading normal `ns` (on the side of `ng`), uv tangent `dp_du` (zero when the hit has no
+/// usable parameterisation), `flipped` parameterisation, for a ray along unit `d`.
+///
+/// The frame is Mitsuba's `sh_frame` after `finalize_surface_interaction`: `s` is `dp_du`
+/// made orthogonal to `ns` and normalised, `t = ns x s`, negated when `flipped`; where `s`
+/// vanishes (degenerate uvs, a mesh without uvs, a sphere's poles) `(s, t)` is the
+/// orthonormal basis `crate::sampling::basis(ns)` (Mitsuba's `coordinate_system`, the same
+/// construction). The texel's normal is `m = 2 c - 1` in that frame; when the incident
+/// direction `wi = -d` has `(wi . ns) (wi . m) <= 0`, `m` becomes `(-m.x, -m.y, m.z)`. The
+/// result is normalised and, like [`shading_normal`], turned to the side of `ng` (and `ns`
+/// itself where it vanishes). Twin: `normal_mapped` in `shaders/common/intersect.wgsl`.
+#[inline]
+pub fn normal_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, flipped: bool, c: Vec3, d: Vec3) -> Vec3 {
+    let s = dp_du - ns * ns.dot(dp_du);
+    let (s, t) = if s.length_squared() > 0.0 && s.is_finite() {
+        let s = s.normalize();
+        let t = ns.cross(s);
+        (s, if flipped { -t } else { t })
+    } else {
+        crate::sampling::basis(ns)
+    };
+    let m = 2.0 * c - Vec3::ONE;
+    let wi = -d;
+    let world = |m: Vec3| s * m.x + t * m.y + ns * m.z;
+    let m = if wi.dot(ns) * wi.dot(world(m)) <= 0.0 {
+        Vec3::new(-m.x, -m.y, m.z)
+    } else {
+        m
+    };
+    let n = world(m).normalize_or_zero();
+    if n == Vec3::ZERO {
+        ns
+    } else if n.dot(ng) < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
 /// The facing frame of a hit for a ray travelling along `d`: the geometric normal `ng` and
 /// the shading normal `ns` turned to the side the ray arrives from (`d . ng < 0` keeps them),
 /// and whether the shading normal differs from the geometric one (a smooth triangle).

@@ -171,7 +171,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Material",
-            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, _pad2),
+            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, normal_texture),
         ),
         (
             "Light",

@@ -54,6 +54,49 @@ fn shading_normal(ng: vec3<f32>, i: u32, uv: vec2<f32>) -> vec3<f32> {
     return select(ns, -ns, dot(ns, ng) < 0.0);
 }
 
+// A triangle's uv tangent (Mitsuba's dp_du up to its positive scale) in xyz and w = 1 when the
+// parameterisation is flipped (det < 0); w = -1 for a degenerate mapping (twin of
+// triangle_tangent in src/geometry.rs).
+fn triangle_tangent(e1: vec3<f32>, e2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>) -> vec4<f32> {
+    let d0 = uv1 - uv0;
+    let d1 = uv2 - uv0;
+    let det = d0.x * d1.y - d0.y * d1.x;
+    if det == 0.0 || !(abs(det) <= 3.4028235e38) {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    let dp_du = (d1.y * e1 - d0.y * e2) * sign(det);
+    return vec4<f32>(dp_du, select(0.0, 1.0, det < 0.0));
+}
+
+// Mitsuba's normalmap: the shading normal that linear texel c gives at a hit with front normal
+// ng, shading normal ns (side of ng), uv tangent dp_du (zero: none), flipped parameterisation,
+// for a ray along d (twin of normal_mapped in src/geometry.rs, which documents the frame).
+fn normal_mapped(ng: vec3<f32>, ns: vec3<f32>, dp_du: vec3<f32>, flipped: bool, c: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let s0 = dp_du - ns * dot(ns, dp_du);
+    let len2 = dot(s0, s0);
+    var s = basis_t(ns);
+    var t = basis_b(ns);
+    if len2 > 0.0 && len2 <= 3.4028235e38 {
+        s = normalize(s0);
+        t = cross(ns, s);
+        if flipped {
+            t = -t;
+        }
+    }
+    var m = 2.0 * c - vec3<f32>(1.0);
+    let wi = -d;
+    if dot(wi, ns) * dot(wi, s * m.x + t * m.y + ns * m.z) <= 0.0 {
+        m = vec3<f32>(-m.x, -m.y, m.z);
+    }
+    let w = s * m.x + t * m.y + ns * m.z;
+    let len = length(w);
+    if !(len > 0.0) {
+        return ns;
+    }
+    let n = w / len;
+    return select(n, -n, dot(n, ng) < 0.0);
+}
+
 // The hit's normals turned to the side a ray arrives from (`front`), twin of Facing in
 // src/geometry.rs: ng for sidedness, offsets and leaks, ns for the BSDF.
 struct Facing {
@@ -64,7 +107,8 @@ struct Facing {
 
 fn facing(hit: Hit, front: bool) -> Facing {
     let s = select(-1.0, 1.0, front);
-    return Facing(s * hit.normal, s * hit.shading, HAS_SMOOTH && any(hit.shading != hit.normal));
+    return Facing(s * hit.normal, s * hit.shading,
+        (HAS_SMOOTH || HAS_NORMAL_MAPS) && any(hit.shading != hit.normal));
 }
 
 // A reflected direction below the geometric surface carries nothing (smooth triangles only).
@@ -289,6 +333,15 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                 let a = uvs[2u * best_id];
                 let c = uvs[2u * best_id + 1u].xy;
                 best.uv = (1.0 - best_uv.x - best_uv.y) * a.xy + best_uv.x * a.zw + best_uv.y * c;
+                if HAS_NORMAL_MAPS {
+                    let nt = materials[MATERIAL_WORDS * tri.material + 3u].w;
+                    if nt != NO_TEXTURE {
+                        // A mesh without uvs has the placeholder's zeros: degenerate, the basis.
+                        let tg = triangle_tangent(e1, e2, a.xy, a.zw, c);
+                        best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
+                            tg.w > 0.5, texture_eval(nt, best.uv), d);
+                    }
+                }
             }
         } else {
             let s = load_sphere(best_id & ~SPHERE_BIT);
@@ -300,6 +353,13 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             best.light = s.light;
             if HAS_TEXTURES {
                 best.uv = sphere_uv(n);
+                if HAS_NORMAL_MAPS {
+                    let nt = materials[MATERIAL_WORDS * s.material + 3u].w;
+                    if nt != NO_TEXTURE {
+                        best.shading = normal_mapped(n, n, vec3<f32>(-n.y, n.x, 0.0), false,
+                            texture_eval(nt, best.uv), d);
+                    }
+                }
             }
         }
     }

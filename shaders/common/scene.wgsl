@@ -41,6 +41,9 @@ override HAS_SMOOTH: bool = true;
 override HAS_BSDFS: bool = true;
 // Some material has a texture: hits carry uvs.
 override HAS_TEXTURES: bool = true;
+// Some material has a normal map (Mitsuba's normalmap): the nearest hit perturbs its shading
+// normal (intersect.wgsl's normal_mapped). Implies HAS_TEXTURES.
+override HAS_NORMAL_MAPS: bool = true;
 // The render's passes may run K-nearest estimates (classic passes, params.k > 0); false for a
 // progressive render, whose passes all use fixed radii: the heap search and the cache build's
 // K-th selection then fold away (on lavapipe the gather kernel compiles 6x faster, and runs

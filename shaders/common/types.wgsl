@@ -72,7 +72,8 @@ struct Material {
     bsdf: u32,
     // Index into tex_table of kd's texture, or NO_TEXTURE.
     kd_texture: u32,
-    _pad2: u32,
+    // Index into tex_table of the tangent-space normal map, or NO_TEXTURE.
+    normal_texture: u32,
 }
 
 struct Light {

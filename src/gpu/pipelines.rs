@@ -38,6 +38,13 @@ pub fn feature_constants(
             scene.materials.iter().any(|m| m.bsdf.is_some()) as u32 as f64,
         ),
         ("HAS_TEXTURES", !scene.textures.is_empty() as u32 as f64),
+        (
+            "HAS_NORMAL_MAPS",
+            scene
+                .materials
+                .iter()
+                .any(|m| m.normal_texture != crate::scene::NO_TEXTURE) as u32 as f64,
+        ),
         ("KNN", knn as u32 as f64),
     ]
 }

@@ -96,8 +96,8 @@ pub struct GpuMaterial {
     pub bsdf: u32,
     /// Index into `tex_table` of kd's texture, or `NO_TEXTURE`.
     pub kd_texture: u32,
-    /// Padding.
-    pub _pad2: u32,
+    /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE`.
+    pub normal_texture: u32,
 }
 
 /// Twin of WGSL `Light`: a light's sampling data (`kind` a LIGHT_* code) and its photon budgets.
@@ -293,6 +293,7 @@ impl From<&Material> for GpuMaterial {
             two_sided: m.two_sided_emission as u32,
             bsdf: super::codes::NO_BSDF,
             kd_texture: m.kd_texture,
+            normal_texture: m.normal_texture,
             ..Default::default()
         }
     }

@@ -92,6 +92,10 @@ pub struct Material {
     /// Index into [`Scene::textures`] of the texture that gives `kd` at a hit (a `diffuse`
     /// material's albedo), or [`NO_TEXTURE`].
     pub kd_texture: u32,
+    /// Index into [`Scene::textures`] of a tangent-space normal map (Mitsuba's `normalmap`
+    /// bsdf: the texture's rgb `c` is the normal `2 c - 1` in the hit's shading frame, see
+    /// `crate::bvh::perturb`), or [`NO_TEXTURE`].
+    pub normal_texture: u32,
 }
 
 impl Material {
@@ -141,6 +145,7 @@ impl Material {
             two_sided_emission: false,
             bsdf: None,
             kd_texture: NO_TEXTURE,
+            normal_texture: NO_TEXTURE,
         }
     }
     /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`

@@ -1,7 +1,8 @@
 //! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`), each as
 //! Mitsuba 3 defines it (`crate::bsdf`): `diffuse` (constant or textured reflectance),
 //! `twosided`, `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
-//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`.
+//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, and `normalmap` around
+//! any of them.
 
 use super::plugin::Plugin;
 use super::texture::texture;
@@ -17,13 +18,15 @@ use std::path::Path;
 /// Mitsuba's default `ext_ior` (air).
 const AIR: f32 = 1.000277;
 
-/// A material read from a `<bsdf>`, with the texture its `kd` takes (the caller adds it to
-/// the scene and sets `kd_texture`).
+/// A material read from a `<bsdf>`, with the textures its `kd` and its normal take (the
+/// caller adds them to the scene and sets `kd_texture` and `normal_texture`).
 pub(super) struct Read {
     /// The material.
     pub material: Material,
     /// A textured diffuse reflectance.
     pub kd_texture: Option<SceneTexture>,
+    /// The tangent-space normal map of a `normalmap` bsdf.
+    pub normal_texture: Option<SceneTexture>,
 }
 
 /// The microfacet roughness of a rough plugin: `distribution` (`beckmann` default, `ggx`),
@@ -85,7 +88,8 @@ pub(super) fn bsdf(
 ) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
     let kind = p.kind.as_str();
-    if let Some(&extra) = p.objects.get(usize::from(kind == "twosided")) {
+    let wrapper = kind == "twosided" || kind == "normalmap";
+    if let Some(&extra) = p.objects.get(usize::from(wrapper)) {
         let tag = extra.tag_name().name();
         let message = format!("unsupported <{tag}> inside a `{kind}` bsdf");
         return Err(cx.err(extra, field, message));
@@ -103,6 +107,42 @@ pub(super) fn bsdf(
             }
             p.done(cx)?;
             return bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings);
+        }
+        "normalmap" => {
+            // Mitsuba 3's `normalmap`: the nested bsdf in the shading frame that the texture's
+            // rgb `c` gives as the normal `2 c - 1` relative to the hit's frame. The texture
+            // is read as Mitsuba reads any bitmap: sRGB-decoded unless `raw` (Mitsuba's
+            // documentation sets `raw`, normal maps being linear data).
+            let Some(&inner) = p.objects.first() else {
+                return Err(cx.err(node, field, "`normalmap` needs a nested <bsdf>"));
+            };
+            if inner.tag_name().name() != "bsdf" {
+                return Err(cx.err(inner, field, "`normalmap` needs a nested <bsdf>"));
+            }
+            let Some(t) = p.texture_param("normalmap") else {
+                let message = "`normalmap` needs a <texture name=\"normalmap\">";
+                return Err(cx.err(p.node_of("normalmap"), field, message));
+            };
+            let tex = texture(cx, t, &p.at("normalmap"), base_dir)?;
+            if !p.boolean_or(cx, "flip_invalid_normals", true)? {
+                let message = "only Mitsuba's default `true` is supported";
+                let name = "flip_invalid_normals";
+                return Err(cx.err(p.node_of(name), &p.at(name), message));
+            }
+            if p.boolean_or(cx, "use_shadowing_function", true)? {
+                warnings.push(format!(
+                    "{field}: `normalmap` without Mitsuba's shadowing function \
+                     (use_shadowing_function: the shadow-terminator factor is not applied)"
+                ));
+            }
+            p.done(cx)?;
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings)?;
+            if read.normal_texture.is_some() {
+                let message = "a `normalmap` inside a `normalmap` is not supported";
+                return Err(cx.err(inner, field, message));
+            }
+            read.normal_texture = Some(tex);
+            return Ok(read);
         }
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
@@ -134,6 +174,7 @@ pub(super) fn bsdf(
                 return Ok(Read {
                     material: Material::mirror(specular),
                     kd_texture,
+                    normal_texture: None,
                 });
             }
             Material::from_bsdf(Bsdf::Conductor {
@@ -206,5 +247,6 @@ pub(super) fn bsdf(
     Ok(Read {
         material,
         kd_texture,
+        normal_texture: None,
     })
 }
