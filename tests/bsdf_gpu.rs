@@ -323,7 +323,7 @@ impl Checker {
     ) {
         let w = self.worst.entry((kind.to_string(), what)).or_insert(0.0);
         *w = w.max(err);
-        if !(err <= tol) {
+        if err.is_nan() || err > tol {
             self.errors.push(format!(
                 "{kind} case {case} {what}: rel err {err:e} > {tol:e}: {detail} ({})",
                 self.inputs

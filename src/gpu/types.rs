@@ -294,7 +294,6 @@ impl From<&Material> for GpuMaterial {
             bsdf: super::codes::NO_BSDF,
             kd_texture: m.kd_texture,
             normal_texture: m.normal_texture,
-            ..Default::default()
         }
     }
 }
