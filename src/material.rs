@@ -214,7 +214,8 @@ pub fn photon_bounce_shading(
         | MaterialKind::RoughDielectric
         | MaterialKind::ThinDielectric
         | MaterialKind::Plastic
-        | MaterialKind::RoughPlastic => Bounce::Absorb,
+        | MaterialKind::RoughPlastic
+        | MaterialKind::MetallicRoughness => Bounce::Absorb,
         MaterialKind::Diffuse | MaterialKind::Glossy => {
             // Choice probabilities: the larger of each coefficient's channels, scaled so that
             // p_d + p_s <= max(kd + ks) <= 1.

@@ -8,7 +8,7 @@
 //! material has one), plus a *lobe part* (a delta or glossy lobe), which rays trace: the
 //! camera path and the gather rays go on along it, and caustic photons pass it.
 
-use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
+use crate::bsdf::{fresnel_dielectric, Bsdf, MetallicRoughness, Transport};
 use crate::bvh::Hit;
 use crate::geometry::Facing;
 use crate::material::{
@@ -87,18 +87,30 @@ pub struct SurfaceBsdf<'a> {
 #[inline]
 pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
     let m = &scene.materials[hit.material as usize];
-    let (kd, b) = match m.kd_texture {
+    let (kd, mut b) = match m.kd_texture {
         NO_TEXTURE => (m.kd, m.bsdf),
         t => {
             let kd = scene.textures[t as usize].eval(hit.uv);
-            // A plastic's base reflectance is its `kd`.
+            // A plastic's base reflectance is its `kd`, a metallic-roughness material's
+            // base colour too.
             let b = match m.bsdf {
                 Some(Bsdf::Plastic(p)) => Some(Bsdf::Plastic(p.with_diffuse(kd))),
+                Some(Bsdf::MetallicRoughness(g)) => {
+                    Some(Bsdf::MetallicRoughness(MetallicRoughness { base: kd, ..g }))
+                }
                 b => b,
             };
             (kd, b)
         }
     };
+    // glTF's metallic-roughness texture: blue scales the metalness, green the roughness.
+    if let (Some(Bsdf::MetallicRoughness(g)), t) = (&mut b, m.mr_texture) {
+        if t != NO_TEXTURE {
+            let c = scene.textures[t as usize].eval(hit.uv);
+            g.metallic *= c.z;
+            g.roughness *= c.y;
+        }
+    }
     SurfaceBsdf {
         m,
         kd,
@@ -127,15 +139,9 @@ pub const fn class_of(kind: MaterialKind) -> SurfaceClass {
         | MaterialKind::RoughConductor
         | MaterialKind::RoughDielectric
         | MaterialKind::Plastic
-        | MaterialKind::RoughPlastic => SurfaceClass::Shaded,
+        | MaterialKind::RoughPlastic
+        | MaterialKind::MetallicRoughness => SurfaceClass::Shaded,
     }
-}
-
-/// The probability with which a photon at a plastic takes the coating rather than the base:
-/// the coating's reflectance towards `wo` (`1 - t(wo)`), kept inside [0.05, 0.95] so that
-/// neither part goes unsampled.
-fn coat_probability(b: &Bsdf, wo: Vec3) -> f32 {
-    (1.0 - b.store_weight(wo)).clamp(0.05, 0.95)
 }
 
 impl SurfaceBsdf<'_> {
@@ -264,6 +270,7 @@ impl SurfaceBsdf<'_> {
                 | MaterialKind::RoughConductor
                 | MaterialKind::RoughDielectric
                 | MaterialKind::RoughPlastic
+                | MaterialKind::MetallicRoughness
         )
     }
 
@@ -378,8 +385,8 @@ impl SurfaceBsdf<'_> {
 
     /// Russian roulette for a photon arriving along `d` at `hit` (three uniforms `u`). On
     /// [`crate::bsdf`]'s kinds the photon samples the BSDF without roulette (their lobes
-    /// reflect at most what arrives): a plastic picks its coating with
-    /// [`coat_probability`] (`u[0]`), then the coating's lobe or a cosine-weighted base
+    /// reflect at most what arrives): a kind with both parts picks its lobe with
+    /// [`Bsdf::lobe_probability`] (`u[0]`), then the coating's lobe or a cosine-weighted base
     /// direction (`u[1], u[2]`).
     #[inline]
     pub fn photon_bounce(&self, d: Vec3, hit: &Hit, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
@@ -396,7 +403,7 @@ impl SurfaceBsdf<'_> {
         let f = hit.facing(d);
         let wo = self.local(-d);
         let (wi, weight, delta) = if b.has_diffuse() {
-            let p = coat_probability(b, wo);
+            let p = b.lobe_probability(wo);
             if u[0] < p {
                 let Some(s) = b.sample_lobe(wo, [u[0] / p, u[1], u[2]], Transport::Importance)
                 else {

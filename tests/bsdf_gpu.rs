@@ -16,8 +16,8 @@ use common::{gpu, TestRng};
 use glam::{Vec2, Vec3};
 use gpu_photon::bsdf::math::{erf, erfinv, mulsign, square_to_cosine_hemisphere};
 use gpu_photon::bsdf::{
-    fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, Microfacet, Plastic,
-    Transport,
+    fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, MetallicRoughness,
+    Microfacet, Plastic, Transport,
 };
 use gpu_photon::gpu::bsdf_params::{pack, probe_source};
 use gpu_photon::gpu::buffers::{read_back, storage_buffer};
@@ -87,6 +87,16 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
     };
     let (kd, ks) = (Vec3::new(0.5, 0.3, 0.2), Vec3::new(1.0, 0.9, 0.8));
     let plastic = |nonlinear, mf| Bsdf::Plastic(Plastic::new(kd, ks, 1.5, nonlinear, mf));
+    let gltf = |metallic, roughness, transmission| {
+        Bsdf::MetallicRoughness(MetallicRoughness {
+            base: Vec3::new(0.8, 0.45, 0.2),
+            metallic,
+            roughness,
+            f0: Vec3::new(0.04, 0.06, 0.03),
+            f90: 0.9,
+            transmission,
+        })
+    };
     use Distribution::{Beckmann, Ggx};
     vec![
         (
@@ -143,6 +153,9 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
             "roughplastic beckmann nonlinear",
             plastic(true, Some(Microfacet::isotropic(Beckmann, 0.3))),
         ),
+        ("gltf dielectric", gltf(0.0, 0.5, 0.0)),
+        ("gltf metal", gltf(1.0, 0.3, 0.0)),
+        ("gltf mixed thin", gltf(0.4, 0.6, 0.7)),
     ]
 }
 
@@ -150,6 +163,7 @@ fn microfacet_of(b: &Bsdf) -> Option<Microfacet> {
     match b {
         Bsdf::Conductor { microfacet, .. } | Bsdf::Dielectric { microfacet, .. } => *microfacet,
         Bsdf::Plastic(p) => p.microfacet,
+        Bsdf::MetallicRoughness(g) => Some(g.microfacet()),
         _ => None,
     }
 }
@@ -441,6 +455,17 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
         } => {
             let m = mf.sample_visible(wof, Vec2::new(u[1], u[2])).0;
             close(gpu_photon::bsdf::math::reflect(wof, m).z)
+        }
+        Bsdf::MetallicRoughness(g) => {
+            // sample: u[0] against the lobe probability, then (rescaled) against the
+            // reflection probability at the visible normal; sample_lobe: u[0] against it.
+            let p = g.lobe_probability(wof.z);
+            let m = g.microfacet().sample_visible(wof, Vec2::new(u[1], u[2])).0;
+            let r = g.reflect_probability(wof.dot(m));
+            close(u[0] - p)
+                || close(u[0] / p - r)
+                || close(u[0] - r)
+                || close(gpu_photon::bsdf::math::reflect(wof, m).z)
         }
         _ => false,
     }

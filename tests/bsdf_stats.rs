@@ -7,7 +7,9 @@
 //! non-delta sample also checks `weight == eval |cos| / pdf` and `pdf == pdf(wi)`.
 
 use glam::Vec3;
-use gpu_photon::bsdf::{Bsdf, Distribution, LobeSample, Microfacet, Plastic, Transport};
+use gpu_photon::bsdf::{
+    Bsdf, Distribution, LobeSample, MetallicRoughness, Microfacet, Plastic, Transport,
+};
 use std::f64::consts::PI;
 
 const N_THETA: usize = 48;
@@ -348,6 +350,32 @@ fn chi2_plastic() {
             wo_at(deg, 30.0),
             Transport::Radiance,
         );
+    }
+}
+
+/// glTF metallic-roughness materials: a dielectric, a metal, a mix with thin transmission
+/// (both lobes and the diffuse base), and a viewer below the surface.
+#[test]
+fn chi2_metallic_roughness() {
+    let g = |metallic, roughness, transmission| {
+        Bsdf::MetallicRoughness(MetallicRoughness {
+            base: Vec3::new(0.8, 0.5, 0.2),
+            metallic,
+            roughness,
+            f0: Vec3::new(0.04, 0.05, 0.03),
+            f90: 1.0,
+            transmission,
+        })
+    };
+    for (name, b) in [
+        ("dielectric", g(0.0, 0.5, 0.0)),
+        ("metal", g(1.0, 0.4, 0.0)),
+        ("mixed thin", g(0.3, 0.6, 0.5)),
+    ] {
+        for deg in ANGLES {
+            check(name, &b, wo_at(deg, 30.0), Transport::Radiance);
+        }
+        check(name, &b, -wo_at(40.0, 70.0), Transport::Importance);
     }
 }
 

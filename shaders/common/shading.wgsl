@@ -30,6 +30,18 @@ fn bsdf_at(hit: Hit) -> Surface {
             let s_mean = (s.b.specular.x + s.b.specular.y + s.b.specular.z) / 3.0;
             s.b.specular_sampling_weight = s_mean / (d_mean + s_mean);
         }
+        // glTF: the base colour is kd; the metallic-roughness texture's blue scales the
+        // metalness, its green the roughness.
+        if s.b.kind == BSDF_GLTF {
+            if HAS_TEXTURES && s.m.kd_texture != NO_TEXTURE {
+                s.b.albedo = s.kd;
+            }
+            if HAS_TEXTURES && s.b.table != NO_TEXTURE {
+                let c = texture_eval(s.b.table, hit.uv);
+                s.b.eta_c.x *= c.z;
+                s.b.eta_c.y *= c.y;
+            }
+        }
     }
     return s;
 }
@@ -102,7 +114,8 @@ fn surface_has_lobe(s: Surface) -> bool {
 // Whether delta lights light the lobe through shadow rays without TERM_DIRECT.
 fn surface_lobe_takes_point_lights(s: Surface) -> bool {
     let k = s.m.kind;
-    return k == MAT_GLOSSY || k == MAT_ROUGH_CONDUCTOR || k == MAT_ROUGH_DIELECTRIC || k == MAT_ROUGH_PLASTIC;
+    return k == MAT_GLOSSY || k == MAT_ROUGH_CONDUCTOR || k == MAT_ROUGH_DIELECTRIC || k == MAT_ROUGH_PLASTIC
+        || k == MAT_METALLIC_ROUGHNESS;
 }
 
 // The lobe part's value about the shading normal ns.
@@ -189,6 +202,11 @@ fn surface_sample_lobe(s: Surface, d: vec3<f32>, f: Facing, rng: ptr<function, R
 // Whether photons are stored here (a diffuse part).
 fn surface_stores_photons(s: Surface) -> bool {
     let k = s.m.kind;
+    if HAS_BSDFS && k == MAT_METALLIC_ROUGHNESS {
+        // Material::stores_photons: a texture may leave some base diffuse, else the factors.
+        let b = bsdfs[s.m.bsdf];
+        return b.table != NO_TEXTURE || gltf_has_diffuse(b);
+    }
     return k == MAT_DIFFUSE || k == MAT_GLOSSY || k == MAT_PLASTIC || k == MAT_ROUGH_PLASTIC;
 }
 
@@ -230,8 +248,8 @@ fn surface_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<funct
 
 // Russian roulette for a photon along d at `hit` (three uniforms u), twin of
 // SurfaceBsdf::photon_bounce: the Phong, mirror and glass kinds in material.wgsl; crate::bsdf's
-// kinds sample their BSDF without roulette, a plastic picking its coating with probability
-// clamp(1 - t(wo), 0.05, 0.95) (u.x), then the coating's lobe or a cosine base direction.
+// kinds sample their BSDF without roulette, a kind with both parts picking its lobe with
+// bsdf_lobe_probability (u.x), then the lobe or a cosine diffuse direction.
 fn surface_photon_bounce(s: Surface, d: vec3<f32>, hit: Hit, u: vec3<f32>) -> Bounce {
     if !surface_is_bsdf(s) {
         // The textured albedo at the hit.
@@ -244,7 +262,7 @@ fn surface_photon_bounce(s: Surface, d: vec3<f32>, hit: Hit, u: vec3<f32>) -> Bo
     let wo = surface_local(s, -d);
     var ls: LobeSampleW;
     if bsdf_has_diffuse(s.b) {
-        let p = clamp(1.0 - bsdf_store_weight(s.b, wo), 0.05, 0.95);
+        let p = bsdf_lobe_probability(s.b, wo);
         if u.x >= p {
             let dir = cosine_hemisphere(f.ns, u.y, u.z);
             if reflection_leaks(f, dir) {

@@ -21,11 +21,13 @@
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod gltf;
 mod ior;
 pub mod math;
 pub mod microfacet;
 mod plastic;
 
+pub use gltf::{schlick_mean, schlick_mean_table, MetallicRoughness, SCHLICK_MEAN_RES};
 pub use microfacet::{
     fresnel_conductor, fresnel_dielectric, fresnel_diffuse_reflectance, named_conductor,
     Distribution, Microfacet, METAL_NAMES,
@@ -104,6 +106,8 @@ pub enum Bsdf {
     },
     /// A diffuse base under a dielectric coating (`plastic` and `roughplastic`).
     Plastic(Plastic),
+    /// glTF 2.0's metallic-roughness material (Appendix B, thin-walled transmission).
+    MetallicRoughness(MetallicRoughness),
 }
 
 /// Two-sided kinds: both directions' z mirrored to the front when `wo` is below, or `None`
@@ -153,6 +157,7 @@ impl Bsdf {
                 to_front(wi, wo).map_or(0.0, |(wi, wo, _)| diffuse::pdf(wi, wo))
             }
             Bsdf::Plastic(p) => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| p.pdf(wi, wo)),
+            Bsdf::MetallicRoughness(g) => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| g.pdf(wi, wo)),
             _ => self.pdf_lobe(wi, wo),
         }
     }
@@ -173,6 +178,10 @@ impl Bsdf {
                 let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
                 back_to_side(p.sample(wo, u), flipped)
             }
+            Bsdf::MetallicRoughness(g) => {
+                let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+                back_to_side(g.sample(wo, u), flipped)
+            }
             _ => self.sample_lobe(wo, u, transport),
         }
     }
@@ -186,6 +195,7 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse { albedo } if wo.z != 0.0 => *albedo,
             Bsdf::Plastic(p) if wo.z != 0.0 => p.diffuse_out(wo.z.abs()),
+            Bsdf::MetallicRoughness(g) if wo.z != 0.0 => g.diffuse_out(wo.z.abs()),
             _ => Vec3::ZERO,
         }
     }
@@ -196,6 +206,7 @@ impl Bsdf {
         match self {
             Bsdf::Diffuse { .. } if wi.z != 0.0 => 1.0,
             Bsdf::Plastic(p) if wi.z != 0.0 => p.transmittance(wi.z.abs()),
+            Bsdf::MetallicRoughness(g) if wi.z != 0.0 && g.has_diffuse() => 1.0,
             _ => 0.0,
         }
     }
@@ -244,6 +255,9 @@ impl Bsdf {
             Bsdf::Plastic(ref p) => {
                 to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| p.eval_lobe(wi, wo))
             }
+            Bsdf::MetallicRoughness(ref g) => {
+                to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| g.eval_lobe(wi, wo))
+            }
         }
     }
 
@@ -261,6 +275,9 @@ impl Bsdf {
                 ..
             } => dielectric::pdf(&mf, eta, wi, wo),
             Bsdf::Plastic(ref p) => to_front(wi, wo).map_or(0.0, |(wi, wo, _)| p.pdf_lobe(wi, wo)),
+            Bsdf::MetallicRoughness(ref g) => {
+                to_front(wi, wo).map_or(0.0, |(wi, wo, _)| g.pdf_lobe(wi, wo))
+            }
             _ => 0.0,
         }
     }
@@ -317,12 +334,31 @@ impl Bsdf {
                 let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
                 back_to_side(p.sample_lobe(wo, u), flipped)
             }
+            Bsdf::MetallicRoughness(ref g) => {
+                let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+                back_to_side(g.sample_lobe(wo, u), flipped)
+            }
         }
     }
 
-    /// Whether the BSDF has a diffuse part (Diffuse and Plastic).
+    /// The probability with which a photon seen from `wo` follows the lobe part rather than
+    /// the diffuse part (kinds with both): a plastic's coating reflectance `1 - t(wo)`, a
+    /// metallic-roughness material's lobe albedo against its base's; both kept inside
+    /// [0.05, 0.95] so that neither part goes unsampled.
+    pub fn lobe_probability(&self, wo: Vec3) -> f32 {
+        match self {
+            Bsdf::MetallicRoughness(g) => g.lobe_probability(wo.z.abs()),
+            _ => (1.0 - self.store_weight(wo)).clamp(0.05, 0.95),
+        }
+    }
+
+    /// Whether the BSDF has a diffuse part (Diffuse, Plastic, a metallic-roughness
+    /// material that is not all metal or transmission).
     pub fn has_diffuse(&self) -> bool {
-        matches!(self, Bsdf::Diffuse { .. } | Bsdf::Plastic(_))
+        match self {
+            Bsdf::MetallicRoughness(g) => g.has_diffuse(),
+            b => matches!(b, Bsdf::Diffuse { .. } | Bsdf::Plastic(_)),
+        }
     }
 
     /// Whether the BSDF has a lobe part (every kind but Diffuse).
@@ -340,6 +376,7 @@ impl Bsdf {
             }
             Bsdf::ThinDielectric { .. } => true,
             Bsdf::Plastic(p) => p.microfacet.is_none(),
+            Bsdf::MetallicRoughness(_) => false,
         }
     }
 }

@@ -10,11 +10,17 @@
 //! [`probe_source`]) uses the library.
 
 use super::codes::wgsl_prelude;
-use crate::bsdf::{Bsdf, Distribution, Microfacet, TRANSMITTANCE_RES};
+use crate::bsdf::{
+    schlick_mean_table, Bsdf, Distribution, Microfacet, SCHLICK_MEAN_RES, TRANSMITTANCE_RES,
+};
 use bytemuck::{Pod, Zeroable};
 
-/// `shaders/common/bsdf.wgsl`: the BSDF library (no entry point).
+/// `shaders/common/bsdf.wgsl`: the BSDF library's kinds (no entry point).
 pub const BSDF_WGSL: &str = include_str!("../../shaders/common/bsdf.wgsl");
+/// `shaders/common/bsdf_gltf.wgsl`: glTF's metallic-roughness kind.
+pub const BSDF_GLTF_WGSL: &str = include_str!("../../shaders/common/bsdf_gltf.wgsl");
+/// `shaders/common/bsdf_dispatch.wgsl`: the Bsdf methods, dispatching to the kinds.
+pub const BSDF_DISPATCH_WGSL: &str = include_str!("../../shaders/common/bsdf_dispatch.wgsl");
 /// `shaders/probe_bsdf.wgsl`: the oracle probe's entry point `probe_bsdf`.
 pub const PROBE_BSDF_WGSL: &str = include_str!("../../shaders/probe_bsdf.wgsl");
 
@@ -34,6 +40,10 @@ pub const BSDF_THIN_DIELECTRIC: u32 = 5;
 pub const BSDF_PLASTIC: u32 = 6;
 /// `Bsdf::Plastic` with a rough coating (`roughplastic`): reads its table.
 pub const BSDF_ROUGH_PLASTIC: u32 = 7;
+/// `Bsdf::MetallicRoughness` (glTF): `albedo` the base colour, `eta_c` (metallic,
+/// roughness, transmission), `specular` the dielectric's f0, `eta` its f90, `table` the
+/// material's metallic-roughness texture (`NO_TEXTURE`: none).
+pub const BSDF_GLTF: u32 = 8;
 /// `Distribution::Ggx`.
 pub const MF_GGX: u32 = 0;
 /// `Distribution::Beckmann`.
@@ -42,7 +52,7 @@ pub const MF_BECKMANN: u32 = 1;
 pub const BSDF_TABLE_RES: u32 = TRANSMITTANCE_RES as u32;
 
 /// Every code `bsdf.wgsl` reads: (WGSL name, value).
-pub fn codes() -> [(&'static str, u32); 11] {
+pub fn codes() -> [(&'static str, u32); 13] {
     [
         ("BSDF_DIFFUSE", BSDF_DIFFUSE),
         ("BSDF_CONDUCTOR", BSDF_CONDUCTOR),
@@ -52,9 +62,11 @@ pub fn codes() -> [(&'static str, u32); 11] {
         ("BSDF_THIN_DIELECTRIC", BSDF_THIN_DIELECTRIC),
         ("BSDF_PLASTIC", BSDF_PLASTIC),
         ("BSDF_ROUGH_PLASTIC", BSDF_ROUGH_PLASTIC),
+        ("BSDF_GLTF", BSDF_GLTF),
         ("MF_GGX", MF_GGX),
         ("MF_BECKMANN", MF_BECKMANN),
         ("BSDF_TABLE_RES", BSDF_TABLE_RES),
+        ("GLTF_MEAN_RES", SCHLICK_MEAN_RES as u32),
     ]
 }
 
@@ -66,18 +78,34 @@ pub fn wgsl_codes() -> String {
     for (name, v) in codes() {
         out.push_str(&format!("const {name}: u32 = {v}u;\n"));
     }
+    // S(mu) of the glTF material's diffuse part, as Rust computed it (Debug prints the
+    // shortest decimal that reads back to the same f32).
+    let table: Vec<String> = schlick_mean_table()
+        .iter()
+        .map(|v| format!("{v:?}f"))
+        .collect();
+    out.push_str(&format!(
+        "const BSDF_GLTF_MEAN = array<f32, {}>({});\n",
+        SCHLICK_MEAN_RES + 1,
+        table.join(", ")
+    ));
     out
 }
 
-/// The oracle probe's module: the prelude, the codes, `bsdf.wgsl`, `probe_bsdf.wgsl`.
-pub fn probe_source() -> String {
+/// The BSDF library as the kernels compose it: its codes, the kinds and the dispatch.
+pub fn bsdf_library() -> String {
     [
-        wgsl_prelude(),
-        wgsl_codes(),
-        BSDF_WGSL.to_string(),
-        PROBE_BSDF_WGSL.to_string(),
+        wgsl_codes().as_str(),
+        BSDF_WGSL,
+        BSDF_GLTF_WGSL,
+        BSDF_DISPATCH_WGSL,
     ]
     .join("\n")
+}
+
+/// The oracle probe's module: the prelude, the BSDF library, `probe_bsdf.wgsl`.
+pub fn probe_source() -> String {
+    [wgsl_prelude(), bsdf_library(), PROBE_BSDF_WGSL.to_string()].join("\n")
 }
 
 /// WGSL `BsdfParams` (96 bytes, 16-aligned): each kind fills the fields its variant has and
@@ -125,7 +153,8 @@ fn microfacet(g: &mut GpuBsdf, mf: &Microfacet) {
 }
 
 /// The GPU form of `b`; a rough plastic's table is expected at word `table_offset` of
-/// `bsdf_tables` (see [`table_words`]).
+/// `bsdf_tables` (see [`table_words`]); a metallic-roughness material's `table` is
+/// `NO_TEXTURE` here (the material's texture is set by `types::materials`).
 pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
     let mut g = GpuBsdf {
         table: table_offset,
@@ -197,6 +226,15 @@ pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
             if let Some(mf) = &p.microfacet {
                 microfacet(&mut g, mf);
             }
+        }
+        Bsdf::MetallicRoughness(m) => {
+            g.kind = BSDF_GLTF;
+            g.albedo = m.base.to_array();
+            g.eta_c = [m.metallic, m.roughness, m.transmission];
+            g.specular = m.f0.to_array();
+            g.eta = m.f90;
+            g.table = crate::scene::NO_TEXTURE;
+            microfacet(&mut g, &m.microfacet());
         }
     }
     g

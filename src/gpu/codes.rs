@@ -30,6 +30,8 @@ pub const MAT_THIN_DIELECTRIC: u32 = 8;
 pub const MAT_PLASTIC: u32 = 9;
 /// `Material.kind` of a rough plastic.
 pub const MAT_ROUGH_PLASTIC: u32 = 10;
+/// glTF's metallic-roughness material (`crate::bsdf::MetallicRoughness`).
+pub const MAT_METALLIC_ROUGHNESS: u32 = 11;
 
 /// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
 pub const CLASS_BLACK: u32 = 0;
@@ -171,6 +173,7 @@ pub fn material_code(kind: MaterialKind) -> u32 {
         MaterialKind::ThinDielectric => MAT_THIN_DIELECTRIC,
         MaterialKind::Plastic => MAT_PLASTIC,
         MaterialKind::RoughPlastic => MAT_ROUGH_PLASTIC,
+        MaterialKind::MetallicRoughness => MAT_METALLIC_ROUGHNESS,
     }
 }
 
@@ -235,6 +238,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAT_THIN_DIELECTRIC", U32(MAT_THIN_DIELECTRIC)),
         ("MAT_PLASTIC", U32(MAT_PLASTIC)),
         ("MAT_ROUGH_PLASTIC", U32(MAT_ROUGH_PLASTIC)),
+        ("MAT_METALLIC_ROUGHNESS", U32(MAT_METALLIC_ROUGHNESS)),
         ("CLASS_BLACK", U32(CLASS_BLACK)),
         ("CLASS_DELTA", U32(CLASS_DELTA)),
         ("CLASS_SHADED", U32(CLASS_SHADED)),

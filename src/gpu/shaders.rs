@@ -44,7 +44,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 23] = [
+pub const WGSL_FILES: [(&str, &str); 25] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -70,6 +70,11 @@ pub const WGSL_FILES: [(&str, &str); 23] = [
     ("probes.wgsl", PROBES),
     // The BSDF library and its oracle probe, composed by `bsdf_params::probe_source()` only.
     ("common/bsdf.wgsl", super::bsdf_params::BSDF_WGSL),
+    ("common/bsdf_gltf.wgsl", super::bsdf_params::BSDF_GLTF_WGSL),
+    (
+        "common/bsdf_dispatch.wgsl",
+        super::bsdf_params::BSDF_DISPATCH_WGSL,
+    ),
     ("probe_bsdf.wgsl", super::bsdf_params::PROBE_BSDF_WGSL),
 ];
 
@@ -121,23 +126,11 @@ impl Kernel {
         let prelude = wgsl_prelude();
         // crate::bsdf's kinds (bsdf.wgsl with its codes) and the textures (texture.wgsl with
         // its constants): every kernel declares their scene bindings.
-        let bsdf_codes = super::bsdf_params::wgsl_codes();
+        let bsdf = super::bsdf_params::bsdf_library();
         let textures = super::textures::wgsl_library();
         let libs: &[&str] = &[
-            &prelude,
-            TYPES,
-            PHOTON,
-            RNG,
-            SAMPLING,
-            SCENE,
-            INTERSECT,
-            MATERIAL,
-            LIGHT,
-            &bsdf_codes,
-            super::bsdf_params::BSDF_WGSL,
-            &textures,
-            SHADING,
-            GRID,
+            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, &bsdf,
+            &textures, SHADING, GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.

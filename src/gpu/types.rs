@@ -303,6 +303,7 @@ impl From<&Material> for GpuMaterial {
 /// empty list (a binding cannot be empty).
 pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::GpuBsdf>, Vec<f32>) {
     let mut list = Vec::new();
+    let mut mr_textures = Vec::new();
     let mats = scene
         .materials
         .iter()
@@ -311,11 +312,18 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::Gp
             if let Some(b) = m.bsdf {
                 g.bsdf = list.len() as u32;
                 list.push(b);
+                mr_textures.push(m.mr_texture);
             }
             g
         })
         .collect();
     let (mut bsdfs, tables) = super::bsdf_params::pack(&list);
+    // A metallic-roughness material's texture rides in its BsdfParams (`table`).
+    for (b, t) in bsdfs.iter_mut().zip(mr_textures) {
+        if b.kind == super::bsdf_params::BSDF_GLTF {
+            b.table = t;
+        }
+    }
     if bsdfs.is_empty() {
         bsdfs.push(Default::default());
     }

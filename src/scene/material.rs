@@ -29,11 +29,15 @@ pub enum MaterialKind {
     Plastic,
     /// Diffuse base under a microfacet coating: [`Material::bsdf`].
     RoughPlastic,
+    /// glTF 2.0's metallic-roughness material: [`Material::bsdf`], with
+    /// [`Material::kd_texture`] its base colour and [`Material::mr_texture`] its metalness
+    /// and roughness.
+    MetallicRoughness,
 }
 
 impl MaterialKind {
     /// Every kind, in the order of their GPU codes.
-    pub const ALL: [MaterialKind; 11] = [
+    pub const ALL: [MaterialKind; 12] = [
         MaterialKind::Diffuse,
         MaterialKind::Glossy,
         MaterialKind::Mirror,
@@ -45,6 +49,7 @@ impl MaterialKind {
         MaterialKind::ThinDielectric,
         MaterialKind::Plastic,
         MaterialKind::RoughPlastic,
+        MaterialKind::MetallicRoughness,
     ];
 
     /// The kind a [`Bsdf`] of `crate::bsdf` is rendered as.
@@ -62,6 +67,7 @@ impl MaterialKind {
             Bsdf::ThinDielectric { .. } => MaterialKind::ThinDielectric,
             Bsdf::Plastic(p) if p.microfacet.is_none() => MaterialKind::Plastic,
             Bsdf::Plastic(_) => MaterialKind::RoughPlastic,
+            Bsdf::MetallicRoughness(_) => MaterialKind::MetallicRoughness,
         }
     }
 }
@@ -96,6 +102,9 @@ pub struct Material {
     /// bsdf: the texture's rgb `c` is the normal `2 c - 1` in the hit's shading frame, see
     /// `crate::bvh::perturb`), or [`NO_TEXTURE`].
     pub normal_texture: u32,
+    /// Index into [`Scene::textures`] of a metallic-roughness material's metalness (blue)
+    /// and roughness (green) texture, multiplying its factors, or [`NO_TEXTURE`].
+    pub mr_texture: u32,
 }
 
 impl Material {
@@ -146,6 +155,7 @@ impl Material {
             bsdf: None,
             kd_texture: NO_TEXTURE,
             normal_texture: NO_TEXTURE,
+            mr_texture: NO_TEXTURE,
         }
     }
     /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`
@@ -185,15 +195,21 @@ impl Material {
         )
     }
     /// Surfaces where photons are stored and radiance is estimated: those with a diffuse
-    /// part (diffuse, glossy, plastics).
+    /// part (diffuse, glossy, plastics, a metallic-roughness material whose factors or
+    /// texture leave some base colour diffuse).
     pub fn stores_photons(&self) -> bool {
-        matches!(
-            self.kind,
-            MaterialKind::Diffuse
-                | MaterialKind::Glossy
-                | MaterialKind::Plastic
-                | MaterialKind::RoughPlastic
-        )
+        match self.kind {
+            MaterialKind::MetallicRoughness => {
+                self.mr_texture != NO_TEXTURE || self.bsdf.is_some_and(|b| b.has_diffuse())
+            }
+            k => matches!(
+                k,
+                MaterialKind::Diffuse
+                    | MaterialKind::Glossy
+                    | MaterialKind::Plastic
+                    | MaterialKind::RoughPlastic
+            ),
+        }
     }
     /// Surfaces with a lobe that is not Lambertian (delta or glossy): caustic photons are
     /// aimed at them and pass them (L (S|G)+ D).
