@@ -578,29 +578,66 @@ fn materials_map_by_the_documented_rules() {
             r#""pbrMetallicRoughness": {{"baseColorFactor": [{c}, 1], "metallicFactor": {m}, "roughnessFactor": {r}}}"#
         )
     };
-    let mirror = with(&format!("{{{}}}", pbr("0.9, 0.8, 0.7", 1.0, 0.0)));
-    assert_eq!(mirror.kind, MaterialKind::Mirror);
-    assert!((mirror.ks - Vec3::new(0.9, 0.8, 0.7)).length() < 1e-6);
+    use gpu_photon::bsdf::{Bsdf, MetallicRoughness};
+    let gltf_of = |m: &gpu_photon::scene::Material| match m.bsdf {
+        Some(Bsdf::MetallicRoughness(g)) if m.kind == MaterialKind::MetallicRoughness => g,
+        _ => panic!("not a metallic-roughness material: {m:?}"),
+    };
+    // A smooth metal: Appendix B's metal lobe (F0 = base colour), no longer a plain mirror.
+    let metal = gltf_of(&with(&format!("{{{}}}", pbr("0.9, 0.8, 0.7", 1.0, 0.0))));
+    assert_eq!(
+        (metal.base, metal.metallic, metal.roughness),
+        (Vec3::new(0.9, 0.8, 0.7), 1.0, 0.0)
+    );
+    // Transmission with a volume of some thickness: a refracting dielectric of the ior.
     let glass = with(&format!(
-        r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}, "KHR_materials_ior": {{"ior": 1.33}}}}}}"#,
+        r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}, "KHR_materials_ior": {{"ior": 1.33}}, "KHR_materials_volume": {{"thicknessFactor": 0.1}}}}}}"#,
         pbr("1, 1, 1", 0.0, 0.0)
     ));
     assert_eq!((glass.kind, glass.ior), (MaterialKind::Glass, 1.33));
-    // roughness 0.5: alpha 0.25, n = 2 / 0.0625 - 2 = 30; specular 1: ks 0.04, kd 0.96 base.
-    let glossy = with(&format!("{{{}}}", pbr("0.5, 0.5, 0.5", 0.0, 0.5)));
-    assert_eq!(glossy.kind, MaterialKind::Glossy);
-    assert!((glossy.exponent - 30.0).abs() < 1e-3);
-    assert!((glossy.ks - Vec3::splat(0.04)).length() < 1e-6);
-    assert!((glossy.kd - Vec3::splat(0.48)).length() < 1e-6);
-    // Half metal: kd + ks stays <= 1.
-    let metal = with(&format!("{{{}}}", pbr("1, 1, 1", 0.5, 0.3)));
-    assert!((metal.kd + metal.ks).max_element() <= 1.0 + 1e-6);
-    // The default material (none given) is glTF's: white metal, roughness 1 -> glossy.
-    let s = load(&write("default.gltf", base.as_bytes())).unwrap();
-    assert_eq!(
-        s.materials[s.triangles[0].material as usize].kind,
-        MaterialKind::Glossy
+    // Without a volume the transmission is thin-walled, as the extension defines it.
+    let thin = gltf_of(&with(&format!(
+        r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}}}}}"#,
+        pbr("1, 1, 1", 0.0, 0.0)
+    )));
+    assert_eq!(thin.transmission, 1.0);
+    // A dielectric: f0 from ior 1.5 (0.04), f90 1.
+    let plastic = gltf_of(&with(&format!("{{{}}}", pbr("0.5, 0.5, 0.5", 0.0, 0.5))));
+    let want = MetallicRoughness {
+        base: Vec3::splat(0.5),
+        metallic: 0.0,
+        roughness: 0.5,
+        f0: Vec3::splat(0.04),
+        f90: 1.0,
+        transmission: 0.0,
+    };
+    assert!(
+        (plastic.f0 - want.f0).length() < 1e-6 && plastic.f90 == 1.0,
+        "{plastic:?}"
     );
+    // KHR_materials_specular: f0 = min(F0(ior) colour, 1) specular, f90 = specular.
+    let tinted = gltf_of(&with(&format!(
+        r#"{{{}, "extensions": {{"KHR_materials_specular": {{"specularFactor": 0.8, "specularColorFactor": [0.5, 1, 30]}}}}}}"#,
+        pbr("0.5, 0.5, 0.5", 0.0, 0.5)
+    )));
+    assert!(
+        (tinted.f0 - Vec3::new(0.016, 0.032, 0.8)).length() < 1e-6,
+        "{tinted:?}"
+    );
+    assert_eq!(tinted.f90, 0.8);
+    // No dielectric reflection and no metal: exactly Lambertian.
+    let matte = with(&format!(
+        r#"{{{}, "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}}}}"#,
+        pbr("0.5, 0.4, 0.3", 0.0, 0.7)
+    ));
+    assert_eq!(
+        (matte.kind, matte.kd),
+        (MaterialKind::Diffuse, Vec3::new(0.5, 0.4, 0.3))
+    );
+    // The default material (none given) is glTF's: white metal, roughness 1.
+    let s = load(&write("default.gltf", base.as_bytes())).unwrap();
+    let d = gltf_of(&s.materials[s.triangles[0].material as usize]);
+    assert_eq!((d.base, d.metallic, d.roughness), (Vec3::ONE, 1.0, 1.0));
 }
 
 #[test]

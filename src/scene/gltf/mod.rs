@@ -23,7 +23,7 @@ mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
-use super::{Scene, SpotLight};
+use super::{Material, MaterialKind, Scene, SpotLight};
 use crate::error::{Error, Result};
 use crate::scene::file;
 use glam::{Mat4, Vec3};
@@ -277,18 +277,18 @@ impl Importer<'_> {
             let message = format!("{} NORMALs for {} POSITIONs", n.len(), points.len());
             return Err(fail(message));
         }
-        // The uv set the material's texture reads (TEXCOORD_0 without one).
-        let texture = material::diffuse_texture(&primitive.material());
-        let set = texture.as_ref().map_or(0, texture::uv_set);
+        // The uv set the material's textures read (TEXCOORD_0 without one).
+        let texture = material::uv_texture(&primitive.material());
+        let set = texture.map_or(0, |(set, _)| set);
         let uvs = match primitive.get(&gltf::Semantic::TexCoords(set)) {
             Some(a) => {
                 let name = format!("TEXCOORD_{set}");
                 Some(data::read_uvs(&a, &self.buffers, &name).map_err(&fail)?)
             }
             None if texture.is_some() => {
-                let message = format!(
-                    "has no TEXCOORD_{set} attribute, which its material's baseColorTexture reads"
-                );
+                let slot = texture.map_or("", |(_, slot)| slot);
+                let message =
+                    format!("has no TEXCOORD_{set} attribute, which its material's {slot} reads");
                 return Err(fail(message));
             }
             None => None,
@@ -374,6 +374,65 @@ impl Importer<'_> {
         }
     }
 
+    /// Reads the textures of `m` that `material` uses (base colour, metallic-roughness,
+    /// normal) into the scene and points `material` at them. A texture on another uv set
+    /// than the primitive's (the first of those three) is read on that one, with a warning.
+    fn textures(&mut self, m: &gltf::Material, name: &str, material: &mut Material) -> Result<()> {
+        let pbr = m.pbr_metallic_roughness();
+        let set = material::uv_texture(m).map_or(0, |(set, _)| set);
+        let err = |(f, msg): (String, String)| self.cx.err(&f, format!("material {name}: {msg}"));
+        let warn_set = |r: &texture::TexRef| {
+            if r.set() != set {
+                eprintln!(
+                    "warning: {}: material {name}: texture {} reads TEXCOORD_{}, rendered with \
+                     TEXCOORD_{set} (one uv set per primitive)",
+                    self.cx.file,
+                    r.name(),
+                    r.set()
+                );
+            }
+        };
+        let (buffers, dir) = (&self.buffers, self.base_dir);
+        let mut read = Vec::new();
+        if let Some(info) = pbr.base_color_texture() {
+            if material::reads_base_colour(material) {
+                let [r, g, b, _] = pbr.base_color_factor();
+                let r_ = texture::TexRef::info(&info);
+                warn_set(&r_);
+                let t = texture::base_colour(&r_, Vec3::new(r, g, b), buffers, dir).map_err(err)?;
+                material.kd = t.mean();
+                read.push((0, t));
+            }
+        }
+        if let Some(info) = pbr.metallic_roughness_texture() {
+            if material.kind == MaterialKind::MetallicRoughness {
+                let r = texture::TexRef::info(&info);
+                warn_set(&r);
+                read.push((
+                    1,
+                    texture::metallic_roughness(&r, buffers, dir).map_err(err)?,
+                ));
+            }
+        }
+        if let Some(n) = m.normal_texture() {
+            let r = texture::TexRef::normal(&n);
+            warn_set(&r);
+            read.push((
+                2,
+                texture::normal(&r, n.scale(), buffers, dir).map_err(err)?,
+            ));
+        }
+        for (slot, t) in read {
+            let id = self.b.add_texture(t);
+            match slot {
+                0 => material.kd_texture = id,
+                1 => material.mr_texture = id,
+                _ => material.normal_texture = id,
+            }
+        }
+        Ok(())
+    }
+
     /// Our material for `m`, added (and warned about) the first time it is used.
     fn material(&mut self, m: &gltf::Material) -> Result<MaterialId> {
         if let Some(&id) = self.materials.get(&m.index()) {
@@ -388,14 +447,7 @@ impl Importer<'_> {
         };
         let file = self.cx.file;
         let (mut material, note) = material::map(m);
-        if let Some(info) = material::diffuse_texture(m) {
-            let [r, g, b, _] = m.pbr_metallic_roughness().base_color_factor();
-            let factor = Vec3::new(r, g, b);
-            let t = texture::base_colour(&info, factor, &self.buffers, self.base_dir);
-            let t = t.map_err(|(f, msg)| self.cx.err(&f, format!("material {name}: {msg}")))?;
-            material.kd = t.mean();
-            material.kd_texture = self.b.add_texture(t);
-        }
+        self.textures(m, &name, &mut material)?;
         if let Some(note) = note {
             eprintln!("warning: {file}: material {name}: {note}");
         }

@@ -1,18 +1,84 @@
-//! glTF textures read for a material: the base colour texture of a material mapped to a
-//! Lambertian albedo ([`super::material::diffuse_texture`]). The image (a file relative to
-//! the glTF file, a `data:` URI or a bufferView, PNG or JPEG) is decoded as sRGB and looked up
-//! with its sampler (`magFilter`, `wrapS`, `wrapT`) after `KHR_texture_transform`.
+//! glTF textures read for a material: the base colour (sRGB, times `baseColorFactor`), the
+//! metallic-roughness texture (linear; blue metalness, green roughness, multiplying the
+//! factors at each hit) and the normal texture (linear, with its `scale`). The image (a file
+//! relative to the glTF file, a `data:` URI or a bufferView, PNG or JPEG) is looked up with
+//! its sampler (`magFilter`, `wrapS`, `wrapT`) after `KHR_texture_transform`.
 //!
-//! glTF multiplies the texel by `baseColorFactor`. The factor is baked into the texels: a
-//! factor of 1 keeps the 8-bit texels as they are; any other makes float texels, each the
-//! decoded texel times the factor (alpha kept). Filtering is linear in the texels, so the
-//! lookup equals the factor times the unscaled lookup up to f32 rounding.
+//! Factors are baked into the texels where a texel's use is affine in it, so that filtering
+//! (linear in the texels) commutes with it: the base colour times its factor (alpha kept);
+//! the normal map's `2c - 1` scaled by `(scale, scale, 1)` and its green negated (glTF's
+//! bitangent points to the image's top, `-dp/dv`; the shading frame of
+//! `crate::geometry::normal_mapped` takes `+dp/dv`). A texel map of the identity keeps the
+//! 8-bit texels; any other makes float texels.
 
 use super::data;
 use crate::error::Error;
 use crate::texture::{decode, Encoding, Sampler, SceneTexture, Texture, UvTransform};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use std::path::Path;
+
+/// A texture reference of a material: the texture, its uv set and uv transform.
+pub(super) struct TexRef<'a> {
+    texture: gltf::Texture<'a>,
+    set: u32,
+    to_uv: UvTransform,
+}
+
+impl<'a> TexRef<'a> {
+    /// A `textureInfo` (base colour, metallic-roughness, ...).
+    pub(super) fn info(info: &gltf::texture::Info<'a>) -> Self {
+        let t = info.texture_transform();
+        Self {
+            texture: info.texture(),
+            set: uv_set(info),
+            to_uv: t.map_or(UvTransform::IDENTITY, |t| {
+                UvTransform::from_gltf(t.offset(), t.rotation(), t.scale())
+            }),
+        }
+    }
+
+    /// A `normalTextureInfo`: its `KHR_texture_transform` is read from the extension's JSON.
+    pub(super) fn normal(n: &gltf::material::NormalTexture<'a>) -> Self {
+        let ext = n.extension_value("KHR_texture_transform");
+        let pair = |key: &str, default: [f32; 2]| {
+            ext.and_then(|e| e.get(key))
+                .and_then(|v| v.as_array())
+                .filter(|a| a.len() == 2)
+                .and_then(|a| Some([a[0].as_f64()? as f32, a[1].as_f64()? as f32]))
+                .unwrap_or(default)
+        };
+        let rotation = ext
+            .and_then(|e| e.get("rotation"))
+            .and_then(|v| v.as_f64())
+            .unwrap_or(0.0) as f32;
+        let set = ext
+            .and_then(|e| e.get("texCoord"))
+            .and_then(|v| v.as_u64())
+            .map_or(n.tex_coord(), |s| s.min(u32::MAX as u64) as u32);
+        Self {
+            texture: n.texture(),
+            set,
+            to_uv: UvTransform::from_gltf(
+                pair("offset", [0.0; 2]),
+                rotation,
+                pair("scale", [1.0; 2]),
+            ),
+        }
+    }
+
+    /// The texture coordinate set it reads.
+    pub(super) fn set(&self) -> u32 {
+        self.set
+    }
+
+    /// The texture's name (or `textures[i]`), for messages.
+    pub(super) fn name(&self) -> String {
+        self.texture.name().map_or(
+            format!("textures[{}]", self.texture.index()),
+            str::to_string,
+        )
+    }
+}
 
 /// The texture coordinate set `info` reads: its `texCoord`, or the `KHR_texture_transform`
 /// override.
@@ -22,16 +88,62 @@ pub(super) fn uv_set(info: &gltf::texture::Info) -> u32 {
         .unwrap_or(info.tex_coord())
 }
 
-/// The texture `info` names, its texels times `factor`. Errors are `(field, message)`: the
-/// image that cannot be read or decoded (`images[i]`), the sampler whose codes are not
-/// glTF's (`samplers[i]`).
+/// The base colour texture, its texels times `factor`.
 pub(super) fn base_colour(
-    info: &gltf::texture::Info,
+    r: &TexRef,
     factor: Vec3,
     buffers: &[Vec<u8>],
     base_dir: &Path,
 ) -> Result<SceneTexture, (String, String)> {
-    let texture = info.texture();
+    let map = (factor != Vec3::ONE).then_some(move |c: Vec4| (c.truncate() * factor).extend(c.w));
+    load(r, Encoding::Srgb, map, buffers, base_dir)
+}
+
+/// The metallic-roughness texture, linear (its factors multiply it at each hit).
+pub(super) fn metallic_roughness(
+    r: &TexRef,
+    buffers: &[Vec<u8>],
+    base_dir: &Path,
+) -> Result<SceneTexture, (String, String)> {
+    load(
+        r,
+        Encoding::Raw,
+        None::<fn(Vec4) -> Vec4>,
+        buffers,
+        base_dir,
+    )
+}
+
+/// The normal texture with its `scale`, as texels of `crate::geometry::normal_mapped` (see
+/// the module documentation).
+pub(super) fn normal(
+    r: &TexRef,
+    scale: f32,
+    buffers: &[Vec<u8>],
+    base_dir: &Path,
+) -> Result<SceneTexture, (String, String)> {
+    let map = move |c: Vec4| {
+        Vec4::new(
+            0.5 + (c.x - 0.5) * scale,
+            0.5 - (c.y - 0.5) * scale,
+            c.z,
+            c.w,
+        )
+    };
+    load(r, Encoding::Raw, Some(map), buffers, base_dir)
+}
+
+/// The texture `r` names, decoded with `encoding`, each texel through `map` (if any). Errors
+/// are `(field, message)`: the image that cannot be read or decoded (`images[i]`), the
+/// sampler whose codes are not glTF's (`samplers[i]`).
+fn load(
+    r: &TexRef,
+    encoding: Encoding,
+    map: Option<impl Fn(Vec4) -> Vec4>,
+    buffers: &[Vec<u8>],
+    base_dir: &Path,
+) -> Result<SceneTexture, (String, String)> {
+    let texture = &r.texture;
     let image = texture.source();
     let image_field = format!("images[{}]", image.index());
     let (bytes, path) =
@@ -41,22 +153,19 @@ pub(super) fn base_colour(
         (None, Some(n)) => n.to_string(),
         (None, None) => image_field.clone(),
     };
-    let decoded = decode::decode(&name, &bytes, Encoding::Srgb).map_err(|e| {
+    let decoded = decode::decode(&name, &bytes, encoding).map_err(|e| {
         let message = match e {
             Error::Image { message, .. } => format!("image {name}: {message}"),
             e => e.to_string(),
         };
         (image_field.clone(), message)
     })?;
-    let to_uv = info.texture_transform().map_or(UvTransform::IDENTITY, |t| {
-        UvTransform::from_gltf(t.offset(), t.rotation(), t.scale())
-    });
     let s = texture.sampler();
     let sampler = Sampler::gltf(
         s.mag_filter().map(|f| f.as_gl_enum()),
         Some(s.wrap_s().as_gl_enum()),
         Some(s.wrap_t().as_gl_enum()),
-        to_uv,
+        r.to_uv,
     )
     .map_err(|e| {
         let field = s
@@ -66,21 +175,19 @@ pub(super) fn base_colour(
             });
         (field, e.to_string())
     })?;
-    let scaled = scale(decoded, factor).map_err(|e| (image_field, e.to_string()))?;
-    Ok(SceneTexture::Bitmap(scaled.with_sampler(sampler)))
+    let mapped = match map {
+        Some(f) => map_texels(decoded, f).map_err(|e| (image_field, e.to_string()))?,
+        None => decoded,
+    };
+    Ok(SceneTexture::Bitmap(mapped.with_sampler(sampler)))
 }
 
-/// `t` with its colour times `factor` (see the module documentation).
-fn scale(t: Texture, factor: Vec3) -> crate::error::Result<Texture> {
-    if factor == Vec3::ONE {
-        return Ok(t);
-    }
+/// `t` with every texel through `f`, as float texels.
+fn map_texels(t: Texture, f: impl Fn(Vec4) -> Vec4) -> crate::error::Result<Texture> {
     let mut data = Vec::with_capacity(4 * t.width as usize * t.height as usize);
     for y in 0..t.height {
         for x in 0..t.width {
-            let c = t.texel(x, y);
-            data.extend((c.truncate() * factor).to_array());
-            data.push(c.w);
+            data.extend(f(t.texel(x, y)).to_array());
         }
     }
     Texture::from_float(&t.name, t.width, t.height, data, 4)
