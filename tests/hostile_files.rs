@@ -285,16 +285,54 @@ fn ply_element_counts_fit_the_bytes_that_follow() {
         )
     );
     // A vertex count far past the payload is refused before any row is read.
-    let text = "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n\
-                end_header\n0\n1\n";
+    let path = ply(&d, "");
+    let bytes = std::fs::read(&path).unwrap();
+    let at = bytes.windows(8).position(|w| w == b"vertex 3").unwrap();
+    let huge = [&bytes[..at], b"vertex 4000000000", &bytes[at + 8..]].concat();
+    std::fs::write(&path, huge).unwrap();
+    let e = read_ply(&path).unwrap_err();
+    assert!(
+        e.to_string().ends_with(
+            ":3: element `vertex` has 4000000000 rows: with the elements before it they need \
+             at least 48000000000 bytes, but only 49 bytes follow the header"
+        ),
+        "{e}"
+    );
+    // In ASCII a row is a line, so the parser stops where the file ends.
+    let text = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n\
+                property float z\nelement face 0\nproperty list uchar int vertex_indices\n\
+                element material 4294967295\nend_header\n\n\n";
     std::fs::write(d.join("a.ply"), text).unwrap();
     let e = read_ply(&d.join("a.ply")).unwrap_err();
     assert_eq!(
         e.to_string(),
         format!(
-            "{}:3: element `vertex` has 4000000000 rows: with the elements before it they \
-             need 4000000000 lines, but only 2 lines follow the header",
+            "{}:13: not a valid PLY file: Unexpected end of file while reading element \
+             'material' (expected 4294967295, got 2)",
             d.join("a.ply").display()
         )
+    );
+}
+
+#[test]
+fn gltf_image_needs_a_source() {
+    // `Option::unwrap()` on None in the gltf crate's `Image::source`.
+    let no_mime = gltf_mesh("0", "").replace(
+        "\"accessors\"",
+        "\"images\": [{\"bufferView\": 0}],\n\"accessors\"",
+    );
+    let shown = load_error("image-mime", "t.gltf", no_mime.as_bytes());
+    assert_eq!(
+        shown,
+        "t.gltf:11: images[0].bufferView: an image in a bufferView needs a `mimeType`"
+    );
+    let nothing = gltf_mesh("0", "").replace(
+        "\"accessors\"",
+        "\"images\": [{\"name\": \"x\"}],\n\"accessors\"",
+    );
+    let shown = load_error("image-none", "t.gltf", nothing.as_bytes());
+    assert_eq!(
+        shown,
+        "t.gltf:11: images[0]: an image needs a `uri` or a `bufferView`"
     );
 }

@@ -222,32 +222,25 @@ fn invalid(path: &Path, e: &ParseError, has_lines: bool) -> PlyError {
     }
 }
 
-/// Checks every element's row count against what follows the header (`rest`), before the
-/// parser reads (and allocates) rows: in ASCII each row is a line, in binary at least the
-/// size of its scalars and list counts (and at least a byte, so that a row of nothing cannot
-/// be repeated 2^32 times). Problems are the (line in `head`, the header) of the element.
+/// Checks every binary element's row count against the bytes that follow the header
+/// (`rest`), before the parser reads (and allocates) rows: a row takes at least the size of
+/// its scalars and list counts, and is counted as at least a byte, so that a row of nothing
+/// cannot be read 2^32 times. (An ASCII row is a line: the parser stops at the end of the
+/// file, naming its line.) Problems are the (line in `head`, the header) of the element.
 fn check_counts(header: &Header, head: &[u8], rest: &[u8]) -> Result<(), (usize, String)> {
-    let ascii = matches!(header.encoding, Encoding::Ascii);
-    let lines = rest.iter().filter(|&&b| b == b'\n').count()
-        + usize::from(rest.last().is_some_and(|&b| b != b'\n'));
-    let (mut rows, mut bytes) = (0usize, 0usize);
+    if matches!(header.encoding, Encoding::Ascii) {
+        return Ok(());
+    }
+    let mut bytes = 0usize;
     for e in header.elements.values() {
-        let line = element_line(head, &e.name);
-        rows = rows.saturating_add(e.count);
         let row = e.properties.values().map(|p| match &p.data_type {
             PropertyType::Scalar(s) | PropertyType::List(s, _) => scalar_size(s),
         });
         let row = row.sum::<usize>().max(1);
         bytes = bytes.saturating_add(e.count.saturating_mul(row));
         let (name, count) = (&e.name, e.count);
-        if ascii && rows > lines {
-            let message = format!(
-                "element `{name}` has {count} rows: with the elements before it they need \
-                 {rows} lines, but only {lines} lines follow the header"
-            );
-            return Err((line, message));
-        }
-        if !ascii && bytes > rest.len() {
+        if bytes > rest.len() {
+            let line = element_line(head, name);
             let message = format!(
                 "element `{name}` has {count} rows: with the elements before it they need at \
                  least {bytes} bytes, but only {} bytes follow the header",

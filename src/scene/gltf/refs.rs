@@ -1,10 +1,10 @@
 //! Checks a glTF file's raw JSON before the `gltf` crate reads it. The crate panics in its own
 //! validation on a `POSITION` accessor that does not exist, unwraps a camera's parameters
-//! for its `type`, and takes an index modulo 2^32 (`4294967297` would mean 1). So every
-//! index (of scenes, nodes, cameras, meshes, skins, accessors, bufferViews, buffers, images,
-//! textures, samplers, materials and punctual lights) is checked here against the length of
-//! the array it points into, and each camera against its type. Problems are (field path,
-//! message) for the caller to locate.
+//! for its `type` and an image's source, and takes an index modulo 2^32 (`4294967297` would
+//! mean 1). So every index (of scenes, nodes, cameras, meshes, skins, accessors, bufferViews,
+//! buffers, images, textures, samplers, materials and punctual lights) is checked here
+//! against the length of the array it points into, each camera against its type and each
+//! image for its source. Problems are (field path, message) for the caller to locate.
 
 use serde_json::{Map, Value};
 
@@ -69,6 +69,7 @@ pub(super) fn check(json: &Value) -> Result<(), Problem> {
     for (i, image) in c.items("images") {
         let field = format!("images[{i}].bufferView");
         c.one(&field, image.get("bufferView"), "bufferViews")?;
+        image_source(i, image)?;
     }
     for (i, texture) in c.items("textures") {
         c.one(
@@ -119,6 +120,23 @@ fn animation_refs(c: &Refs, i: usize, animation: &Map<String, Value>) -> Result<
         }
     }
     Ok(())
+}
+
+/// An image needs a `uri` or a `bufferView`, and with a `bufferView` a `mimeType` (the crate
+/// unwraps them).
+fn image_source(i: usize, image: &Map<String, Value>) -> Result<(), Problem> {
+    let has = |key: &str| image.contains_key(key);
+    match (has("bufferView"), has("uri"), has("mimeType")) {
+        (true, _, false) => Err((
+            format!("images[{i}].bufferView"),
+            "an image in a bufferView needs a `mimeType`".into(),
+        )),
+        (false, false, _) => Err((
+            format!("images[{i}]"),
+            "an image needs a `uri` or a `bufferView`".into(),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A camera's `type` must come with its parameters object (the crate unwraps it); other
