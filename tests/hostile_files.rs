@@ -336,3 +336,22 @@ fn gltf_image_needs_a_source() {
         "t.gltf:11: images[0]: an image needs a `uri` or a `bufferView`"
     );
 }
+
+#[test]
+fn mitsuba_defaults_expand_to_a_bounded_total() {
+    // Each value under 1 MiB, but a thousand of them: 1 GiB kept from a 40 kB file.
+    let mut xml = String::from("<scene version=\"3.0.0\">\n");
+    xml += &format!("<default name=\"d0\" value=\"{}\"/>\n", "x".repeat(1 << 10));
+    xml += "<default name=\"d1\" value=\"$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0$d0\"/>\n";
+    let big = "$d1".repeat(63);
+    for k in 2..1000 {
+        xml += &format!("<default name=\"d{k}\" value=\"{big}\"/>\n");
+    }
+    xml += "</scene>\n";
+    // d{k} (k >= 2) is 1008 KiB; d1 16 KiB and d0 1 KiB: d18 passes 16 MiB, on line 20.
+    let shown = load_error("defaults-total", "t.xml", xml.as_bytes());
+    assert_eq!(
+        shown,
+        "t.xml:20: default.d18: the defaults expand to more than 16777216 bytes"
+    );
+}

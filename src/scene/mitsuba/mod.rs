@@ -31,6 +31,10 @@ use values::Cx;
 /// readers recurse through nested elements such as `twosided` bsdfs).
 pub const MAX_NESTING: usize = 64;
 
+/// Most bytes all `<default>` values may expand to together (each is also bounded by
+/// [`values::MAX_VALUE_BYTES`]).
+pub const MAX_DEFAULTS_BYTES: usize = 16 << 20;
+
 /// A scene read from Mitsuba XML, with the warnings about what was approximated.
 #[derive(Debug)]
 pub struct Imported {
@@ -87,9 +91,17 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
         );
         return Err(cx.err(root, "scene", message));
     }
+    let mut kept = 0;
     for node in elements(root).filter(|n| n.tag_name().name() == "default") {
         let name = cx.need_attr(node, "default", "name")?;
-        let value = cx.need_attr(node, &format!("default.{name}"), "value")?;
+        let field = format!("default.{name}");
+        let value = cx.need_attr(node, &field, "value")?;
+        // Each value is bounded, but many of them (each `$big`) would not be.
+        kept += value.len();
+        if kept > MAX_DEFAULTS_BYTES {
+            let message = format!("the defaults expand to more than {MAX_DEFAULTS_BYTES} bytes");
+            return Err(cx.err(node, &field, message));
+        }
         cx.defaults.insert(name, value);
     }
     let mut im = Importer {
