@@ -26,6 +26,11 @@ fn load_error(test: &str, name: &str, bytes: &[u8]) -> String {
     shown.strip_prefix(&prefix).unwrap_or(&shown).to_string()
 }
 
+/// Checks that `bytes`, loaded as `name` (see [`load_error`]), fail with `want` as shown.
+fn expect_error(test: &str, name: &str, bytes: &[u8], want: &str) {
+    assert_eq!(load_error(test, name, bytes), want, "{test}");
+}
+
 /// A glTF file with one triangle mesh (POSITION `position`, `indices` if given) under node
 /// 0, and three accessors (the first the triangle's positions). Line 7 holds the primitive.
 fn gltf_mesh(position: &str, indices: &str) -> String {
@@ -68,37 +73,42 @@ fn base64(bytes: &[u8]) -> String {
 #[test]
 fn gltf_indices_name_items_that_exist() {
     // A POSITION accessor past the end panicked inside the gltf crate's validation.
-    let shown = load_error("accessor", "t.gltf", gltf_mesh("7", "").as_bytes());
-    assert_eq!(
-        shown,
+    expect_error(
+        "accessor",
+        "t.gltf",
+        gltf_mesh("7", "").as_bytes(),
         "t.gltf:7: meshes[0].primitives[0].attributes.POSITION: accessor 7 does not exist \
-         (3 accessors)"
+         (3 accessors)",
     );
     // 2^32 + 1 was read modulo 2^32: silently accessor 1.
     let indices = r#", "indices": 4294967297"#;
-    let shown = load_error("wrap", "t.gltf", gltf_mesh("0", indices).as_bytes());
-    assert_eq!(
-        shown,
+    expect_error(
+        "wrap",
+        "t.gltf",
+        gltf_mesh("0", indices).as_bytes(),
         "t.gltf:7: meshes[0].primitives[0].indices: accessor 4294967297 does not exist \
-         (3 accessors)"
+         (3 accessors)",
     );
     let negative = gltf_mesh("0", "").replace(r#""nodes": [0]"#, r#""nodes": [-1]"#);
-    let shown = load_error("negative", "t.gltf", negative.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:4: scenes[0].nodes[0]: must be an index (an integer >= 0), not -1"
+    expect_error(
+        "negative",
+        "t.gltf",
+        negative.as_bytes(),
+        "t.gltf:4: scenes[0].nodes[0]: must be an index (an integer >= 0), not -1",
     );
     let child = gltf_mesh("0", "").replace(r#"{"mesh": 0}"#, r#"{"mesh": 0, "children": [1]}"#);
-    let shown = load_error("child", "t.gltf", child.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:5: nodes[0].children[0]: node 1 does not exist (1 node)"
+    expect_error(
+        "child",
+        "t.gltf",
+        child.as_bytes(),
+        "t.gltf:5: nodes[0].children[0]: node 1 does not exist (1 node)",
     );
     let view = gltf_mesh("0", "").replace(r#"{"buffer": 0,"#, r#"{"buffer": 2,"#);
-    let shown = load_error("view", "t.gltf", view.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:10: bufferViews[0].buffer: buffer 2 does not exist (1 buffer)"
+    expect_error(
+        "view",
+        "t.gltf",
+        view.as_bytes(),
+        "t.gltf:10: bufferViews[0].buffer: buffer 2 does not exist (1 buffer)",
     );
 }
 
@@ -110,10 +120,11 @@ fn gltf_camera_type_needs_its_parameters() {
         "\"nodes\": [{\"mesh\": 0, \"camera\": 0}],\n\"cameras\": [{\"type\": \"orthographic\",\
          \n\"perspective\": {\"yfov\": 0.8, \"znear\": 0.1}}],",
     );
-    let shown = load_error("camera", "t.gltf", text.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:6: cameras[0].type: type `orthographic` has no `orthographic` object"
+    expect_error(
+        "camera",
+        "t.gltf",
+        text.as_bytes(),
+        "t.gltf:6: cameras[0].type: type `orthographic` has no `orthographic` object",
     );
 }
 
@@ -121,11 +132,12 @@ fn gltf_camera_type_needs_its_parameters() {
 fn gltf_accessor_count_is_checked_before_allocating() {
     // 2^31 VEC3 floats (24 GiB) were reserved before the count met its 36-byte view.
     let text = gltf_mesh("1", "").replacen(r#""count": 3"#, r#""count": 2147483648"#, 2);
-    let shown = load_error("count", "t.gltf", text.as_bytes());
-    assert_eq!(
-        shown,
+    expect_error(
+        "count",
+        "t.gltf",
+        text.as_bytes(),
         "t.gltf:7: meshes[0].primitives[0]: 2147483648 elements run past the end of \
-         bufferView 0"
+         bufferView 0",
     );
 }
 
@@ -142,12 +154,13 @@ fn gltf_node_dag_unfolds_to_a_bounded_number_of_instances() {
         nodes.join(",\n")
     );
     let start = std::time::Instant::now();
-    let shown = load_error("dag", "t.gltf", text.as_bytes());
     // The one-million-and-first instance, in depth-first order, is of the deepest node.
-    assert_eq!(
-        shown,
+    expect_error(
+        "dag",
+        "t.gltf",
+        text.as_bytes(),
         "t.gltf:25: nodes[21]: the scene unfolds to more than 1000000 node instances (nodes \
-         shared by several parents are instanced once per path)"
+         shared by several parents are instanced once per path)",
     );
     assert!(start.elapsed().as_secs() < 20, "took {:?}", start.elapsed());
 }
@@ -161,10 +174,11 @@ fn mitsuba_nesting_is_bounded() {
     xml += &"</bsdf>\n".repeat(depth);
     xml += "</scene>\n";
     // Element 65 below <scene> is on line 66.
-    let shown = load_error("nesting", "t.xml", xml.as_bytes());
-    assert_eq!(
-        shown,
-        "t.xml:66: bsdf: elements nested deeper than 64 are not supported"
+    expect_error(
+        "nesting",
+        "t.xml",
+        xml.as_bytes(),
+        "t.xml:66: bsdf: elements nested deeper than 64 are not supported",
     );
 }
 
@@ -182,21 +196,30 @@ fn mitsuba_defaults_expand_to_a_bounded_size() {
     }
     xml += "</scene>\n";
     // d17 would be 2 MiB: the first over 1 MiB, on line 19.
-    let shown = load_error("defaults", "t.xml", xml.as_bytes());
-    assert_eq!(
-        shown,
-        "t.xml:19: default.d17: the value expands to more than 1048576 bytes (through `$d16`)"
+    expect_error(
+        "defaults",
+        "t.xml",
+        xml.as_bytes(),
+        "t.xml:19: default.d17: the value expands to more than 1048576 bytes (through `$d16`)",
     );
 }
 
 #[test]
 fn invalid_utf8_is_located() {
     let toml = b"[camera]\neye = [0, 0, 3]\ntarget = [0, 0, \xff]\nfov = 40\n";
-    let shown = load_error("utf8-toml", "t.toml", toml);
-    assert_eq!(shown, "t.toml:3: text: invalid UTF-8 at byte 41");
+    expect_error(
+        "utf8-toml",
+        "t.toml",
+        toml,
+        "t.toml:3: text: invalid UTF-8 at byte 41",
+    );
     let xml = b"<scene version=\"3.0.0\">\n<!-- \xc3( -->\n</scene>\n";
-    let shown = load_error("utf8-xml", "t.xml", xml);
-    assert_eq!(shown, "t.xml:2: text: invalid UTF-8 at byte 29");
+    expect_error(
+        "utf8-xml",
+        "t.xml",
+        xml,
+        "t.xml:2: text: invalid UTF-8 at byte 29",
+    );
 }
 
 /// A TOML scene with a camera, a material and one mesh shape of file `mesh` (line 10).
@@ -212,40 +235,45 @@ fn toml_mesh(mesh: &str) -> String {
 fn referenced_files_must_be_regular_files() {
     // `/dev/zero` never ends: OBJ text grew and the PLY header reader allocated without
     // bound. A directory is refused the same way.
-    let shown = load_error("zero-toml", "t.toml", toml_mesh("/dev/zero").as_bytes());
-    assert_eq!(
-        shown,
-        "t.toml:10: shapes[0].file: cannot read mesh /dev/zero: not a regular file"
+    expect_error(
+        "zero-toml",
+        "t.toml",
+        toml_mesh("/dev/zero").as_bytes(),
+        "t.toml:10: shapes[0].file: cannot read mesh /dev/zero: not a regular file",
     );
-    let shown = load_error("dir-toml", "t.toml", toml_mesh("/tmp").as_bytes());
-    assert_eq!(
-        shown,
-        "t.toml:10: shapes[0].file: cannot read mesh /tmp: not a regular file"
+    expect_error(
+        "dir-toml",
+        "t.toml",
+        toml_mesh("/tmp").as_bytes(),
+        "t.toml:10: shapes[0].file: cannot read mesh /tmp: not a regular file",
     );
     let xml = "<scene version=\"3.0.0\">\n<shape type=\"ply\">\n\
                <string name=\"filename\" value=\"/dev/zero\"/>\n</shape>\n</scene>\n";
-    let shown = load_error("zero-ply", "t.xml", xml.as_bytes());
-    assert_eq!(
-        shown,
-        "t.xml:3: shape[0].filename: /dev/zero: cannot read: not a regular file"
+    expect_error(
+        "zero-ply",
+        "t.xml",
+        xml.as_bytes(),
+        "t.xml:3: shape[0].filename: /dev/zero: cannot read: not a regular file",
     );
     let texture = "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\">\n\
                    <texture type=\"bitmap\" name=\"reflectance\">\n\
                    <string name=\"filename\" value=\"/dev/zero\"/>\n</texture>\n</bsdf>\n\
                    </scene>\n";
-    let shown = load_error("zero-texture", "t.xml", texture.as_bytes());
-    assert_eq!(
-        shown,
-        "t.xml:4: bsdf[0].reflectance.filename: /dev/zero: not a regular file"
+    expect_error(
+        "zero-texture",
+        "t.xml",
+        texture.as_bytes(),
+        "t.xml:4: bsdf[0].reflectance.filename: /dev/zero: not a regular file",
     );
     let buffer = gltf_mesh("0", "").replace(
         "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA",
         "/dev/zero",
     );
-    let shown = load_error("zero-gltf", "t.gltf", buffer.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:9: buffers[0]: cannot read buffer /dev/zero: not a regular file"
+    expect_error(
+        "zero-gltf",
+        "t.gltf",
+        buffer.as_bytes(),
+        "t.gltf:9: buffers[0]: cannot read buffer /dev/zero: not a regular file",
     );
 }
 
@@ -321,19 +349,21 @@ fn gltf_image_needs_a_source() {
         "\"accessors\"",
         "\"images\": [{\"bufferView\": 0}],\n\"accessors\"",
     );
-    let shown = load_error("image-mime", "t.gltf", no_mime.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:11: images[0].bufferView: an image in a bufferView needs a `mimeType`"
+    expect_error(
+        "image-mime",
+        "t.gltf",
+        no_mime.as_bytes(),
+        "t.gltf:11: images[0].bufferView: an image in a bufferView needs a `mimeType`",
     );
     let nothing = gltf_mesh("0", "").replace(
         "\"accessors\"",
         "\"images\": [{\"name\": \"x\"}],\n\"accessors\"",
     );
-    let shown = load_error("image-none", "t.gltf", nothing.as_bytes());
-    assert_eq!(
-        shown,
-        "t.gltf:11: images[0]: an image needs a `uri` or a `bufferView`"
+    expect_error(
+        "image-none",
+        "t.gltf",
+        nothing.as_bytes(),
+        "t.gltf:11: images[0]: an image needs a `uri` or a `bufferView`",
     );
 }
 
@@ -349,9 +379,10 @@ fn mitsuba_defaults_expand_to_a_bounded_total() {
     }
     xml += "</scene>\n";
     // d{k} (k >= 2) is 1008 KiB; d1 16 KiB and d0 1 KiB: d18 passes 16 MiB, on line 20.
-    let shown = load_error("defaults-total", "t.xml", xml.as_bytes());
-    assert_eq!(
-        shown,
-        "t.xml:20: default.d18: the defaults expand to more than 16777216 bytes"
+    expect_error(
+        "defaults-total",
+        "t.xml",
+        xml.as_bytes(),
+        "t.xml:20: default.d18: the defaults expand to more than 16777216 bytes",
     );
 }
