@@ -26,6 +26,7 @@ pub mod merge;
 pub mod photon;
 pub mod plan;
 pub mod progressive;
+pub mod read;
 pub mod report;
 pub mod rng;
 pub mod sampling;

@@ -528,7 +528,7 @@ fn malformed_gltf_files_give_file_line_field_messages() {
         (
             "bad-index.gltf",
             good.replacen("\"indices\": ", "\"indices\": 9", 1).into_bytes(),
-            "22: meshes[1].primitives[0].indices: Index out of bounds".into(),
+            "22: meshes[1].primitives[0].indices: accessor 94 does not exist (6 accessors)".into(),
         ),
         (
             "huge-number.gltf",

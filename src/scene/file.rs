@@ -1,6 +1,7 @@
-//! Reading a scene file from disk, shared by every importer: the whole file, with an
-//! unreadable one reported as [`Error::Io`] naming it, and the directory its relative
-//! references (meshes, buffers) resolve against.
+//! Reading a scene file from disk, shared by every importer: the whole file (a regular file,
+//! read up to its size by [`crate::read`]), with an unreadable one reported as [`Error::Io`]
+//! naming it and text that is not UTF-8 as [`Error::Scene`] at its first bad byte, and the
+//! directory its relative references (meshes, buffers) resolve against.
 
 use crate::error::{Error, Result};
 use std::path::Path;
@@ -14,14 +15,20 @@ pub(crate) fn base_dir(path: &Path) -> &Path {
     }
 }
 
-/// The text of `path` (UTF-8); failure is [`Error::Io`] naming the file.
+/// The text of `path`; failure to read is [`Error::Io`] naming the file, invalid UTF-8 an
+/// [`Error::Scene`] at the line of the first bad byte (field `text`).
 pub(crate) fn read_text(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|source| io_error(path, source))
+    crate::read::utf8(read_bytes(path)?).map_err(|bad| Error::Scene {
+        file: path.display().to_string(),
+        line: bad.line,
+        field: "text".into(),
+        message: bad.to_string(),
+    })
 }
 
 /// The bytes of `path`; failure is [`Error::Io`] naming the file.
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(|source| io_error(path, source))
+    crate::read::regular_file(path).map_err(|source| io_error(path, source))
 }
 
 fn io_error(path: &Path, source: std::io::Error) -> Error {

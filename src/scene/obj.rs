@@ -37,8 +37,10 @@ pub(crate) struct ObjTriangles {
 /// zero or not finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or
 /// there are no triangles.
 pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, String> {
-    let text = std::fs::read_to_string(path)
+    let bytes = crate::read::regular_file(path)
         .map_err(|e| format!("cannot read mesh {}: {e}", path.display()))?;
+    let text = crate::read::utf8(bytes)
+        .map_err(|bad| format!("{}:{}: {bad}", path.display(), bad.line))?;
     match parse_triangles(&text, flip_v) {
         Ok(obj) if obj.tris.is_empty() => {
             Err(format!("{}: the mesh has no triangles", path.display()))

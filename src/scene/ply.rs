@@ -14,8 +14,10 @@
 use crate::error::Result;
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
-use ply_rs_bw::ply::{DefaultElement, ElementDef, Encoding, Property, PropertyType, ScalarType};
-use std::io::BufReader;
+use ply_rs_bw::ply::{
+    DefaultElement, ElementDef, Encoding, Header, Property, PropertyType, ScalarType,
+};
+use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 /// A triangle mesh read from a PLY file, in the file's coordinates.
@@ -77,12 +79,18 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         line: None,
         message,
     };
-    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot read: {e}")))?;
-    let mut reader = Reader::new(BufReader::new(file));
+    let bytes = crate::read::regular_file(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let mut reader = Reader::new(Cursor::new(&bytes[..]));
     let parser = Parser::<DefaultElement>::new();
     let header = parser
         .read_header(&mut reader)
         .map_err(|e| invalid(path, &e, true))?;
+    let (head, rest) = bytes.split_at(reader.get_ref().position() as usize);
+    check_counts(&header, head, rest).map_err(|(line, message)| PlyError {
+        path: path.to_path_buf(),
+        line: Some(line),
+        message,
+    })?;
     let elements = &header.elements;
     let vertex_def = elements
         .get("vertex")
@@ -211,6 +219,57 @@ fn invalid(path: &Path, e: &ParseError, has_lines: bool) -> PlyError {
         path: path.to_path_buf(),
         line: e.line().filter(|_| has_lines),
         message: format!("not a valid PLY file: {what}"),
+    }
+}
+
+/// Checks every binary element's row count against the bytes that follow the header
+/// (`rest`), before the parser reads (and allocates) rows: a row takes at least the size of
+/// its scalars and list counts, and is counted as at least a byte, so that a row of nothing
+/// cannot be read 2^32 times. (An ASCII row is a line: the parser stops at the end of the
+/// file, naming its line.) Problems are the (line in `head`, the header) of the element.
+fn check_counts(header: &Header, head: &[u8], rest: &[u8]) -> Result<(), (usize, String)> {
+    if matches!(header.encoding, Encoding::Ascii) {
+        return Ok(());
+    }
+    let mut bytes = 0usize;
+    for e in header.elements.values() {
+        let row = e.properties.values().map(|p| match &p.data_type {
+            PropertyType::Scalar(s) | PropertyType::List(s, _) => scalar_size(s),
+        });
+        let row = row.sum::<usize>().max(1);
+        bytes = bytes.saturating_add(e.count.saturating_mul(row));
+        let (name, count) = (&e.name, e.count);
+        if bytes > rest.len() {
+            let line = element_line(head, name);
+            let message = format!(
+                "element `{name}` has {count} rows: with the elements before it they need at \
+                 least {bytes} bytes, but only {} bytes follow the header",
+                rest.len()
+            );
+            return Err((line, message));
+        }
+    }
+    Ok(())
+}
+
+/// The 1-based line of `element NAME` in the header text `head` (0 if absent).
+fn element_line(head: &[u8], name: &str) -> usize {
+    let text = String::from_utf8_lossy(head);
+    text.lines()
+        .position(|l| {
+            let mut words = l.split_whitespace();
+            words.next() == Some("element") && words.next() == Some(name)
+        })
+        .map_or(0, |i| i + 1)
+}
+
+/// The bytes of a binary scalar.
+fn scalar_size(s: &ScalarType) -> usize {
+    match s {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
     }
 }
 

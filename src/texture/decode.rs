@@ -29,7 +29,7 @@ pub fn load(path: &Path, encoding: Encoding) -> Result<Texture> {
             format!("{len} bytes is too large for a texture file"),
         ));
     }
-    let bytes = std::fs::read(path).map_err(io)?;
+    let bytes = crate::read::regular_file(path).map_err(io)?;
     decode(&path.display().to_string(), &bytes, encoding)
 }
 

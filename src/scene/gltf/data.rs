@@ -25,7 +25,7 @@ pub(super) fn load_buffers(
             Source::Uri(uri) if uri.starts_with("data:") => data_uri(uri).map_err(fail)?,
             Source::Uri(uri) => {
                 let path = base_dir.join(uri);
-                std::fs::read(&path)
+                crate::read::regular_file(&path)
                     .map_err(|e| fail(format!("cannot read buffer {}: {e}", path.display())))?
             }
         };
@@ -61,7 +61,7 @@ pub(super) fn image_bytes(
         }
         gltf::image::Source::Uri { uri, .. } => {
             let path = base_dir.join(uri);
-            let bytes = std::fs::read(&path)
+            let bytes = crate::read::regular_file(&path)
                 .map_err(|e| format!("cannot read image {}: {e}", path.display()))?;
             Ok((bytes, Some(path)))
         }
@@ -180,8 +180,10 @@ fn read_vec3(
             accessor.data_type()
         ));
     }
-    let mut points = Vec::with_capacity(accessor.count());
-    for e in elements(accessor, buffers, 12)? {
+    // Sized from the elements, which are checked against the view: never the bare count.
+    let elements = elements(accessor, buffers, 12)?;
+    let mut points = Vec::with_capacity(elements.len());
+    for e in elements {
         let f = |i: usize| f32::from_le_bytes([e[i], e[i + 1], e[i + 2], e[i + 3]]);
         let p = glam::Vec3::new(f(0), f(4), f(8));
         if !p.is_finite() {
@@ -220,8 +222,9 @@ pub(super) fn read_uvs(
             ));
         }
     };
-    let mut uvs = Vec::with_capacity(accessor.count());
-    for e in elements(accessor, buffers, 2 * size)? {
+    let elements = elements(accessor, buffers, 2 * size)?;
+    let mut uvs = Vec::with_capacity(elements.len());
+    for e in elements {
         let c = |i: usize| match size {
             4 => f32::from_le_bytes([e[4 * i], e[4 * i + 1], e[4 * i + 2], e[4 * i + 3]]),
             2 => u16::from_le_bytes([e[2 * i], e[2 * i + 1]]) as f32 / 65535.0,

@@ -19,6 +19,7 @@
 mod data;
 mod json_line;
 mod material;
+mod refs;
 mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
@@ -40,6 +41,10 @@ pub const DEFAULT_HEIGHT: u32 = 256;
 
 /// Deepest node nesting accepted (deeper is taken for a cycle).
 const MAX_DEPTH: usize = 256;
+
+/// Most node instances unfolded from the scene's roots: nodes shared by several parents
+/// (a DAG) are visited once per path, which doubles with every level of `[n, n]` children.
+pub const MAX_NODE_INSTANCES: usize = 1_000_000;
 
 /// Loads the glTF or GLB file at `path`; `camera` picks a camera by name (else the first in
 /// the scene's node traversal). External buffers are relative to the file's directory.
@@ -67,6 +72,11 @@ pub fn load_slice(
         file,
         json: json_text(bytes),
     };
+    // Indices and camera types are checked on the raw JSON first: the crate panics on some
+    // and wraps others. Text that is not JSON is left to the crate to report.
+    if let Ok(json) = serde_json::from_str(&cx.json) {
+        refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?;
+    }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| cx.parse_error(e))?;
     let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir)
         .map_err(|(field, m)| cx.err(&field, m))?;
@@ -84,6 +94,7 @@ pub fn load_slice(
         camera,
         has_camera: false,
         warned: Vec::new(),
+        instances: 0,
     };
     for node in scene.nodes() {
         im.node(&node, Mat4::IDENTITY, 0)?;
@@ -158,6 +169,8 @@ struct Importer<'a> {
     has_camera: bool,
     /// Textures already warned about.
     warned: Vec<String>,
+    /// Node instances visited so far (bounded by [`MAX_NODE_INSTANCES`]).
+    instances: usize,
 }
 
 impl Importer<'_> {
@@ -165,6 +178,14 @@ impl Importer<'_> {
         let field = format!("nodes[{}]", node.index());
         if depth > MAX_DEPTH {
             let message = format!("nodes nested deeper than {MAX_DEPTH} (a cycle?)");
+            return Err(self.cx.err(&field, message));
+        }
+        self.instances += 1;
+        if self.instances > MAX_NODE_INSTANCES {
+            let message = format!(
+                "the scene unfolds to more than {MAX_NODE_INSTANCES} node instances \
+                 (nodes shared by several parents are instanced once per path)"
+            );
             return Err(self.cx.err(&field, message));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());

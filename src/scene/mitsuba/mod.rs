@@ -27,6 +27,14 @@ use std::collections::HashMap;
 use std::path::Path;
 use values::Cx;
 
+/// Deepest element nesting accepted below `<scene>` (real scenes nest a few levels; the
+/// readers recurse through nested elements such as `twosided` bsdfs).
+pub const MAX_NESTING: usize = 64;
+
+/// Most bytes all `<default>` values may expand to together (each is also bounded by
+/// [`values::MAX_VALUE_BYTES`]).
+pub const MAX_DEFAULTS_BYTES: usize = 16 << 20;
+
 /// A scene read from Mitsuba XML, with the warnings about what was approximated.
 #[derive(Debug)]
 pub struct Imported {
@@ -71,6 +79,7 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
         }
     })?;
     let root = doc.root_element();
+    check_nesting(file, &doc)?;
     let mut cx = Cx {
         file,
         defaults: HashMap::new(),
@@ -82,9 +91,17 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
         );
         return Err(cx.err(root, "scene", message));
     }
+    let mut kept = 0;
     for node in elements(root).filter(|n| n.tag_name().name() == "default") {
         let name = cx.need_attr(node, "default", "name")?;
-        let value = cx.need_attr(node, &format!("default.{name}"), "value")?;
+        let field = format!("default.{name}");
+        let value = cx.need_attr(node, &field, "value")?;
+        // Each value is bounded, but many of them (each `$big`) would not be.
+        kept += value.len();
+        if kept > MAX_DEFAULTS_BYTES {
+            let message = format!("the defaults expand to more than {MAX_DEFAULTS_BYTES} bytes");
+            return Err(cx.err(node, &field, message));
+        }
         cx.defaults.insert(name, value);
     }
     let mut im = Importer {
@@ -138,6 +155,25 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
         scene: im.b.finish(&at)?,
         warnings: im.warnings,
     })
+}
+
+/// Refuses elements nested deeper than [`MAX_NESTING`] below the root, at the first such
+/// element, before any reader recurses into them.
+fn check_nesting(file: &str, doc: &Document) -> Result<()> {
+    // Ancestors are counted only up to the limit, so the check is linear in the elements.
+    let too_deep = doc.descendants().filter(Node::is_element).find(|n| {
+        // The root element and the document node above it are not nesting.
+        n.ancestors().take(MAX_NESTING + 3).count() > MAX_NESTING + 2
+    });
+    match too_deep {
+        None => Ok(()),
+        Some(node) => Err(Error::Scene {
+            file: file.to_string(),
+            line: doc.text_pos_at(node.range().start).row as usize,
+            field: node.tag_name().name().to_string(),
+            message: format!("elements nested deeper than {MAX_NESTING} are not supported"),
+        }),
+    }
 }
 
 /// The element children of `node`.

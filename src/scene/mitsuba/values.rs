@@ -10,6 +10,10 @@ use glam::{Mat4, Vec3, Vec4};
 use roxmltree::Node;
 use std::collections::HashMap;
 
+/// Longest attribute value accepted after `$name` substitution: defaults may refer to earlier
+/// defaults, so each level can double the text (`$d0$d0`).
+pub const MAX_VALUE_BYTES: usize = 1 << 20;
+
 /// What every reader needs: the file's name for errors and the `default` parameters.
 pub(super) struct Cx<'f> {
     /// The file, as errors show it.
@@ -48,6 +52,12 @@ impl Cx<'_> {
                 let message = format!("`${key}` has no <default name=\"{key}\" .../>");
                 return Err(self.err(node, field, message));
             };
+            if out.len() + value.len() > MAX_VALUE_BYTES {
+                let message = format!(
+                    "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
+                );
+                return Err(self.err(node, field, message));
+            }
             out.push_str(value);
             rest = &tail[len..];
         }
