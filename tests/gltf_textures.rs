@@ -77,6 +77,8 @@ fn quad() -> Quad {
 struct File {
     image: String,
     material_extra: String,
+    /// The whole `materials` array, replacing the default textured Lambertian one.
+    materials: Option<String>,
     uv_accessor: String,
     uv_data: Vec<u8>,
     uv_set: u32,
@@ -98,6 +100,7 @@ impl File {
         File {
             image: image.to_string(),
             material_extra: String::new(),
+            materials: None,
             uv_accessor: r#"{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}"#
                 .into(),
             uv_data: float_uvs(&quad().uvs),
@@ -149,7 +152,7 @@ impl File {
 "cameras": [{{"type": "perspective", "perspective": {{"yfov": {yfov}, "aspectRatio": 1, "znear": 0.1}}}}],
 "extensions": {{"KHR_lights_punctual": {{"lights": [{{"type": "directional", "intensity": {lux}}}]}}}},
 "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_{set}": 1}}, "indices": 2, "material": 0}}]}}],
-"materials": [{{"name": "textured", "pbrMetallicRoughness": {{"baseColorFactor": [1, 0.5, 0.25, 1], "baseColorTexture": {{"index": 0{extra}}}, "metallicFactor": 0, "roughnessFactor": 1}}, "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}}}}],
+"materials": {materials},
 "textures": [{{"source": 0, "sampler": 0}}],
 "samplers": [{{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}}],
 "images": [{image}],
@@ -159,7 +162,10 @@ impl File {
             yfov = 2.0 * t.atan(),
             lux = 683.0 * E,
             set = self.uv_set,
-            extra = self.material_extra,
+            materials = self.materials.clone().unwrap_or(format!(
+                r#"[{{"name": "textured", "pbrMetallicRoughness": {{"baseColorFactor": [1, 0.5, 0.25, 1], "baseColorTexture": {{"index": 0{extra}}}, "metallicFactor": 0, "roughnessFactor": 1}}, "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}}}}]"#,
+                extra = self.material_extra
+            )),
             image = self.image,
             uv = self.uv_accessor,
             uv_len = self.uv_data.len().max(1),
@@ -383,6 +389,42 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
     let d = gpu_photon::film::diff(&gpu, &img, 8).unwrap();
     assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
+}
+
+/// A metallic-roughness material with all three textures it reads (the 2x2 image as base
+/// colour, metalness in blue and roughness in green, and a normal map) loads them, and the
+/// GPU renders it as the CPU does: the same texels and the same random numbers, so the
+/// images differ by f32 rounding in the BSDF and the perturbed normals only.
+#[test]
+fn metallic_roughness_textures_render_alike_on_both_backends() {
+    write("quad5.png", &png());
+    let mut f = File::new(r#"{"uri": "quad5.png"}"#);
+    f.materials = Some(
+        r#"[{"name": "mr", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.6, 1], "baseColorTexture": {"index": 0}, "metallicFactor": 1, "roughnessFactor": 0.9, "metallicRoughnessTexture": {"index": 0}}, "normalTexture": {"index": 0, "scale": 0.5}}]"#
+            .into(),
+    );
+    let s = loaded(&f.write("mr.gltf"));
+    let m = s.materials[s.triangles[0].material as usize];
+    assert_eq!(m.kind, gpu_photon::scene::MaterialKind::MetallicRoughness);
+    let none = gpu_photon::scene::NO_TEXTURE;
+    assert!(m.kd_texture != none && m.mr_texture != none && m.normal_texture != none);
+    let side = 24;
+    let settings = RenderSettings {
+        width: side,
+        height: side,
+        spp: 4,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
+    assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");
+    if common::gpu().is_none() {
+        return;
+    }
+    let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
+    let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+    assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
 }
 
 /// The `FILE:LINE: ` prefix and the rest of the message of a file that must fail to load.
