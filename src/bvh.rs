@@ -11,6 +11,7 @@ use crate::geometry::{
     inset, intersect_sphere, intersect_triangle, normal_mapped, shading_normal, sphere_tangent,
     triangle_tangent, Aabb, Facing, Ray, Shear,
 };
+use crate::rng::{pcg_hash, to_unit};
 use crate::scene::{Scene, FLAT, NO_TEXTURE};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
@@ -64,6 +65,9 @@ pub struct Bvh {
     pub nodes: Vec<BvhNode>,
     /// Primitive indices referenced by the leaves (triangles first, then spheres).
     pub prim_ids: Vec<u32>,
+    /// Whether some material is alpha-tested ([`crate::scene::Alpha`]): hits are then
+    /// checked against its opacity.
+    pub alpha: bool,
 }
 
 /// A ray-surface intersection.
@@ -128,7 +132,10 @@ impl Bvh {
                 id: i as u32 | SPHERE_BIT,
             });
         }
-        let mut bvh = Bvh::default();
+        let mut bvh = Bvh {
+            alpha: scene.materials.iter().any(|m| m.alpha.is_some()),
+            ..Bvh::default()
+        };
         if items.is_empty() {
             // One empty leaf whose box no ray enters.
             bvh.nodes.push(BvhNode {
@@ -198,6 +205,9 @@ impl Bvh {
                     if let Some((t, u, v)) =
                         intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
                     {
+                        if self.alpha && passes(scene, id, ray, t, u, v) {
+                            return None;
+                        }
                         best_t = t;
                         best = Some((id, u, v));
                         return Some(t);
@@ -205,6 +215,9 @@ impl Bvh {
                 } else if let Some(t) =
                     intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
                 {
+                    if self.alpha && passes(scene, id, ray, t, 0.0, 0.0) {
+                        return None;
+                    }
                     best_t = t;
                     best = Some((id, 0.0, 0.0));
                     return Some(t);
@@ -284,10 +297,10 @@ impl Bvh {
             |id, t_limit| {
                 let h = if id & SPHERE_BIT == 0 {
                     intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
-                        .is_some()
+                        .is_some_and(|(t, u, v)| !(self.alpha && passes(scene, id, ray, t, u, v)))
                 } else {
                     intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
-                        .is_some()
+                        .is_some_and(|t| !(self.alpha && passes(scene, id, ray, t, 0.0, 0.0)))
                 };
                 if h {
                     hit = true;
@@ -375,6 +388,33 @@ impl Bvh {
 }
 
 /// Binned SAH: the split position in `items` (reordered) or `None` when a leaf is cheaper.
+/// Whether `ray` passes primitive `id`, hit at `t` (a triangle's barycentrics `u`, `v`):
+/// its material is alpha-tested, not emissive, and its opacity there does not stop the ray.
+/// A blended surface's choice uses a uniform hashed from the primitive, `t` and the ray's
+/// direction, so the same ray always makes the same choice (renders stay deterministic).
+fn passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -> bool {
+    let (material, uv) = if id & SPHERE_BIT == 0 {
+        let uv = match scene.uvs.get(id as usize) {
+            Some(c) => (1.0 - u - v) * c[0] + u * c[1] + v * c[2],
+            None => Vec2::ZERO,
+        };
+        (scene.triangles[id as usize].material, uv)
+    } else {
+        let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
+        let n = (ray.origin + t * ray.dir - s.center).normalize_or_zero();
+        (s.material, crate::texture::uv::sphere(n))
+    };
+    let m = &scene.materials[material as usize];
+    let Some(alpha) = m.alpha.filter(|_| !m.is_emissive()) else {
+        return false;
+    };
+    let mut key = pcg_hash(id ^ t.to_bits());
+    for c in ray.dir.to_array() {
+        key = pcg_hash(key ^ c.to_bits());
+    }
+    !alpha.stops(alpha.opacity(&scene.textures, uv), to_unit(key))
+}
+
 fn sah_split(items: &mut [Item], parent_half_area: f32, costs: BuildCosts) -> Option<usize> {
     let cb = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let extent = cb.max - cb.min;

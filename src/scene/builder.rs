@@ -327,6 +327,11 @@ impl SceneBuilder {
         self.textures.len() as u32 - 1
     }
 
+    /// The texture added as `id` by [`add_texture`](Self::add_texture).
+    pub fn texture(&self, id: u32) -> &SceneTexture {
+        &self.textures[id as usize]
+    }
+
     /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
     pub fn add_point_light(
         &mut self,

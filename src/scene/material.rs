@@ -105,6 +105,60 @@ pub struct Material {
     /// Index into [`Scene::textures`] of a metallic-roughness material's metalness (blue)
     /// and roughness (green) texture, multiplying its factors, or [`NO_TEXTURE`].
     pub mr_texture: u32,
+    /// Cut-outs and partial coverage (glTF `alphaMode` MASK and BLEND, Mitsuba's `mask`);
+    /// `None` for an opaque surface.
+    pub alpha: Option<Alpha>,
+}
+
+/// Whether a ray passes a surface of a material with an [`Alpha`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Opaque where the opacity is at least the cutoff, else fully transparent (glTF MASK).
+    Mask(f32),
+    /// Opaque with probability equal to the opacity (glTF BLEND, Mitsuba's `mask`): a
+    /// stochastic choice per ray and hit, unbiased for the coverage.
+    Blend,
+}
+
+/// The opacity of a surface: `factor` times the texture's alpha (or luminance) at the hit.
+/// Emitters ignore it: a light's surface is opaque.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Alpha {
+    /// Mask or blend.
+    pub mode: AlphaMode,
+    /// Constant opacity (glTF `baseColorFactor`'s alpha, Mitsuba's float `opacity`).
+    pub factor: f32,
+    /// Index into [`Scene::textures`] of the texture that varies it, or [`NO_TEXTURE`].
+    pub texture: u32,
+    /// Read the texture's luminance (Mitsuba's textured `opacity`) instead of its alpha
+    /// (glTF's base colour alpha).
+    pub luminance: bool,
+}
+
+impl Alpha {
+    /// The opacity at `uv`, in [0, 1].
+    pub fn opacity(&self, textures: &[crate::texture::SceneTexture], uv: glam::Vec2) -> f32 {
+        let t = match self.texture {
+            NO_TEXTURE => 1.0,
+            i if self.luminance => {
+                // Rec. 709 luminance of linear RGB, as Mitsuba's `luminance()`.
+                textures[i as usize]
+                    .eval(uv)
+                    .dot(Vec3::new(0.212_671, 0.715_160, 0.072_169))
+            }
+            i => textures[i as usize].eval_alpha(uv),
+        };
+        (self.factor * t).clamp(0.0, 1.0)
+    }
+
+    /// Whether a ray is stopped at a point of opacity `opacity`; `u` in [0, 1) is the ray's
+    /// own uniform for this hit (used by [`AlphaMode::Blend`]).
+    pub fn stops(&self, opacity: f32, u: f32) -> bool {
+        match self.mode {
+            AlphaMode::Mask(cutoff) => opacity >= cutoff,
+            AlphaMode::Blend => u < opacity,
+        }
+    }
 }
 
 impl Material {
@@ -156,6 +210,7 @@ impl Material {
             kd_texture: NO_TEXTURE,
             normal_texture: NO_TEXTURE,
             mr_texture: NO_TEXTURE,
+            alpha: None,
         }
     }
     /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`

@@ -26,7 +26,7 @@ mod toml_table;
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
-pub use material::{Material, MaterialKind, NO_TEXTURE};
+pub use material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
 pub use ply::{read_ply, PlyError, PlyMesh};
 pub use punctual::SpotLight;
 pub use spot::SpotCone;

@@ -321,6 +321,14 @@ impl SceneTexture {
         }
     }
 
+    /// Whether some texel has alpha below 1 (never for a checkerboard).
+    pub fn has_alpha(&self) -> bool {
+        match self {
+            SceneTexture::Bitmap(t) => t.has_alpha(),
+            SceneTexture::Checkerboard(_) => false,
+        }
+    }
+
     /// The average linear RGB.
     pub fn mean(&self) -> Vec3 {
         match self {

@@ -24,7 +24,7 @@ mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
-use super::{Material, MaterialKind, Scene, SpotLight};
+use super::{Alpha, AlphaMode, Material, MaterialKind, Scene, SpotLight, NO_TEXTURE};
 use crate::error::{Error, Result};
 use crate::scene::file;
 use glam::{Mat4, Vec3};
@@ -454,6 +454,31 @@ impl Importer<'_> {
         Ok(())
     }
 
+    /// The alpha test of `m` (`alphaMode` MASK with its `alphaCutoff`, BLEND as a stochastic
+    /// coverage): the opacity is `baseColorFactor`'s alpha times the base colour texture's
+    /// (when `material` reads it); `None` when opaque or when nothing can be transparent.
+    fn alpha(&self, m: &gltf::Material, material: &Material) -> Option<Alpha> {
+        let mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => return None,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let factor = m.pbr_metallic_roughness().base_color_factor()[3].clamp(0.0, 1.0);
+        let texture = match material.kd_texture {
+            NO_TEXTURE => NO_TEXTURE,
+            t if self.b.texture(t).has_alpha() => t,
+            _ => NO_TEXTURE,
+        };
+        let alpha = Alpha {
+            mode,
+            factor,
+            texture,
+            luminance: false,
+        };
+        let opaque = texture == NO_TEXTURE && alpha.stops(factor, 1.0 - f32::EPSILON / 2.0);
+        (!opaque).then_some(alpha)
+    }
+
     /// Our material for `m`, added (and warned about) the first time it is used.
     fn material(&mut self, m: &gltf::Material) -> Result<MaterialId> {
         if let Some(&id) = self.materials.get(&m.index()) {
@@ -469,6 +494,7 @@ impl Importer<'_> {
         let file = self.cx.file;
         let (mut material, note) = material::map(m);
         self.textures(m, &name, &mut material)?;
+        material.alpha = self.alpha(m, &material);
         if let Some(note) = note {
             eprintln!("warning: {file}: material {name}: {note}");
         }

@@ -9,7 +9,7 @@ use super::texture::texture;
 use super::values::Cx;
 use crate::bsdf::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, METAL_NAMES};
 use crate::error::Result;
-use crate::scene::Material;
+use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use crate::texture::SceneTexture;
 use glam::Vec3;
 use roxmltree::Node;
@@ -27,6 +27,8 @@ pub(super) struct Read {
     pub kd_texture: Option<SceneTexture>,
     /// The tangent-space normal map of a `normalmap` bsdf.
     pub normal_texture: Option<SceneTexture>,
+    /// The textured opacity of a `mask` bsdf (its luminance; `material.alpha` set).
+    pub alpha_texture: Option<SceneTexture>,
 }
 
 /// The microfacet roughness of a rough plugin: `distribution` (`beckmann` default, `ggx`),
@@ -88,7 +90,7 @@ pub(super) fn bsdf(
 ) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
     let kind = p.kind.as_str();
-    let wrapper = kind == "twosided" || kind == "normalmap";
+    let wrapper = kind == "twosided" || kind == "normalmap" || kind == "mask";
     if let Some(&extra) = p.objects.get(usize::from(wrapper)) {
         let tag = extra.tag_name().name();
         let message = format!("unsupported <{tag}> inside a `{kind}` bsdf");
@@ -144,6 +146,43 @@ pub(super) fn bsdf(
             read.normal_texture = Some(tex);
             return Ok(read);
         }
+        "mask" => {
+            // Mitsuba 3's `mask`: the nested bsdf where a stochastic choice of probability
+            // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on
+            // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is the texture's
+            // luminance, as Mitsuba evaluates a colour texture as a float.
+            let Some(&inner) = p.objects.first() else {
+                return Err(cx.err(node, field, "`mask` needs a nested <bsdf>"));
+            };
+            if inner.tag_name().name() != "bsdf" {
+                return Err(cx.err(inner, field, "`mask` needs a nested <bsdf>"));
+            }
+            let (factor, tex) = match p.texture_param("opacity") {
+                Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"), base_dir)?)),
+                None => {
+                    let v = p.float(cx, "opacity")?.unwrap_or(0.5);
+                    if !(0.0..=1.0).contains(&v) {
+                        let message = format!("must be in [0, 1] (got {v})");
+                        return Err(cx.err(p.node_of("opacity"), &p.at("opacity"), message));
+                    }
+                    (v, None)
+                }
+            };
+            p.done(cx)?;
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings)?;
+            if read.material.alpha.is_some() {
+                let message = "a `mask` inside a `mask` is not supported";
+                return Err(cx.err(inner, field, message));
+            }
+            read.material.alpha = Some(Alpha {
+                mode: AlphaMode::Blend,
+                factor,
+                texture: NO_TEXTURE,
+                luminance: true,
+            });
+            read.alpha_texture = tex;
+            return Ok(read);
+        }
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
                 let tex = texture(cx, t, &p.at("reflectance"), base_dir)?;
@@ -175,6 +214,7 @@ pub(super) fn bsdf(
                     material: Material::mirror(specular),
                     kd_texture,
                     normal_texture: None,
+                    alpha_texture: None,
                 });
             }
             Material::from_bsdf(Bsdf::Conductor {
@@ -248,5 +288,6 @@ pub(super) fn bsdf(
         material,
         kd_texture,
         normal_texture: None,
+        alpha_texture: None,
     })
 }

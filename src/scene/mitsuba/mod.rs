@@ -204,6 +204,9 @@ impl Importer<'_> {
         if let Some(t) = read.normal_texture {
             material.normal_texture = self.b.add_texture(t);
         }
+        if let (Some(t), Some(alpha)) = (read.alpha_texture, material.alpha.as_mut()) {
+            alpha.texture = self.b.add_texture(t);
+        }
         let at = self.origin(node, field);
         self.b.add_material(None, material, &at)
     }
