@@ -427,6 +427,54 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
 }
 
+/// glTF's `alphaMode`: MASK below the cutoff hides the quad, at or above it keeps it opaque
+/// (no alpha test at all), BLEND shows it with probability alpha (CPU; the GPU refuses).
+#[test]
+fn alpha_modes_cut_out_and_blend() {
+    write("quad6.png", &png());
+    let render_mean = |mode: &str, alpha: f32| {
+        let mut f = File::new(r#"{"uri": "quad6.png"}"#);
+        f.materials = Some(format!(
+            r#"[{{"pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, {alpha}], "baseColorTexture": {{"index": 0}}, "metallicFactor": 0}}, "alphaMode": "{mode}", "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}}}}]"#
+        ));
+        let s = loaded(&f.write(&format!("alpha-{mode}-{alpha}.gltf")));
+        let a = s.materials[s.triangles[0].material as usize].alpha;
+        let settings = RenderSettings {
+            width: 16,
+            height: 16,
+            spp: 32,
+            mode: Mode::DirectOnly,
+            ..s.settings.clone()
+        };
+        let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+        let sum: f32 = img.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum();
+        (a, sum / img.pixels.len() as f32)
+    };
+    let (none, opaque) = render_mean("OPAQUE", 0.2);
+    assert!(none.is_none() && opaque > 0.0);
+    let (a, hidden) = render_mean("MASK", 0.3);
+    assert_eq!(
+        a.map(|a| a.mode),
+        Some(gpu_photon::scene::AlphaMode::Mask(0.5))
+    );
+    assert_eq!(hidden, 0.0, "alpha 0.3 is below the default cutoff 0.5");
+    let (a, kept) = render_mean("MASK", 0.7);
+    assert!(
+        a.is_none() && kept == opaque,
+        "alpha 0.7 keeps the quad opaque"
+    );
+    let (a, half) = render_mean("BLEND", 0.5);
+    assert_eq!(
+        a.map(|a| (a.mode, a.factor)),
+        Some((gpu_photon::scene::AlphaMode::Blend, 0.5))
+    );
+    // 16 x 16 x 32 camera rays, each stopped with probability 1/2: 0.6% relative error.
+    assert!(
+        (half / opaque - 0.5).abs() < 0.03,
+        "blend: {half} vs {opaque}"
+    );
+}
+
 /// The `FILE:LINE: ` prefix and the rest of the message of a file that must fail to load.
 fn error_of(path: &Path) -> String {
     match load(path) {
