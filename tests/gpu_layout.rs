@@ -171,7 +171,8 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Material",
-            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, normal_texture),
+            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, normal_texture,
+                alpha_mode, alpha_texture, alpha_factor, alpha_cutoff),
         ),
         (
             "Light",

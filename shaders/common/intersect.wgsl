@@ -232,6 +232,50 @@ fn sphere_uv(n: vec3<f32>) -> vec2<f32> {
 }
 
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
+// Whether the ray o + t d passes primitive id hit at t (a triangle's barycentrics bc): its
+// material is alpha-tested, not emissive, and its opacity there does not stop the ray; a
+// blend's uniform hashes the primitive, t and d. Twin of bvh.rs's passes.
+fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> bool {
+    var mat = 0u;
+    var uv = vec2<f32>(0.0);
+    if (id & SPHERE_BIT) == 0u {
+        mat = triangles[TRIANGLE_WORDS * id].w;
+        if HAS_TEXTURES {
+            let a = uvs[2u * id];
+            let c = uvs[2u * id + 1u].xy;
+            uv = (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+        }
+    } else {
+        let s = load_sphere(id & ~SPHERE_BIT);
+        mat = s.material;
+        if HAS_TEXTURES {
+            uv = sphere_uv(normalize(o + t * d - s.center));
+        }
+    }
+    let w = materials[MATERIAL_WORDS * mat + 4u];
+    let mode = w.x & 3u;
+    if mode == ALPHA_NONE {
+        return false;
+    }
+    var tex = 1.0;
+    if HAS_TEXTURES && w.y != NO_TEXTURE {
+        if (w.x & ALPHA_LUMINANCE) != 0u {
+            tex = dot(texture_eval(w.y, uv), vec3<f32>(0.212671, 0.715160, 0.072169));
+        } else {
+            tex = texture_alpha(w.y, uv);
+        }
+    }
+    let opacity = clamp(bitcast<f32>(w.z) * tex, 0.0, 1.0);
+    if mode == ALPHA_MASK {
+        return opacity < bitcast<f32>(w.w);
+    }
+    var key = pcg_hash(id ^ bitcast<u32>(t));
+    key = pcg_hash(key ^ bitcast<u32>(d.x));
+    key = pcg_hash(key ^ bitcast<u32>(d.y));
+    key = pcg_hash(key ^ bitcast<u32>(d.z));
+    return !(to_unit(key) < opacity);
+}
+
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false);
     var best_id = 0u;
@@ -297,7 +341,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                 let v1 = bitcast<vec3<f32>>(leaf_prims[w + 1u].xyz);
                 let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
                 let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
-                if h.x > 0.0 {
+                if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
                     best.t = h.x;
                     best.found = true;
                     best_id = id;
@@ -305,7 +349,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                 }
             } else if HAS_SPHERES {
                 let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
-                if t > 0.0 {
+                if t > 0.0 && !(HAS_ALPHA && alpha_passes(id, t, vec2<f32>(0.0), o, d)) {
                     best.t = t;
                     best.found = true;
                     best_id = id;

@@ -44,6 +44,9 @@ override HAS_TEXTURES: bool = true;
 // Some material has a normal map (Mitsuba's normalmap): the nearest hit perturbs its shading
 // normal (intersect.wgsl's normal_mapped). Implies HAS_TEXTURES.
 override HAS_NORMAL_MAPS: bool = true;
+// Some material is alpha-tested (glTF alphaMode, Mitsuba's mask): every candidate hit in
+// trace_ray checks its opacity (intersect.wgsl's alpha_passes).
+override HAS_ALPHA: bool = true;
 // The render's passes may run K-nearest estimates (classic passes, params.k > 0); false for a
 // progressive render, whose passes all use fixed radii: the heap search and the cache build's
 // K-th selection then fold away (on lavapipe the gather kernel compiles 6x faster, and runs
@@ -83,14 +86,16 @@ fn load_sphere(i: u32) -> Sphere {
     return Sphere(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), b.x, b.y, b.z, b.w);
 }
 
-// Material i from its four words.
+// Material i from its five words.
 fn load_material(i: u32) -> Material {
     let a = materials[MATERIAL_WORDS * i];
     let b = materials[MATERIAL_WORDS * i + 1u];
     let c = materials[MATERIAL_WORDS * i + 2u];
     let d = materials[MATERIAL_WORDS * i + 3u];
+    let e = materials[MATERIAL_WORDS * i + 4u];
     return Material(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), bitcast<f32>(b.w),
-        bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), d.x, d.y, d.z, d.w);
+        bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), d.x, d.y, d.z, d.w,
+        e.x, e.y, bitcast<f32>(e.z), bitcast<f32>(e.w));
 }
 
 // Light i from its seven words.

@@ -74,6 +74,12 @@ struct Material {
     kd_texture: u32,
     // Index into tex_table of the tangent-space normal map, or NO_TEXTURE.
     normal_texture: u32,
+    // ALPHA_NONE, ALPHA_MASK or ALPHA_BLEND, plus ALPHA_LUMINANCE (crate::scene::Alpha).
+    alpha_mode: u32,
+    // Index into tex_table of the opacity's texture, or NO_TEXTURE.
+    alpha_texture: u32,
+    alpha_factor: f32,
+    alpha_cutoff: f32,
 }
 
 struct Light {

@@ -42,6 +42,14 @@ pub const CLASS_SHADED: u32 = 2;
 
 /// `Material.bsdf` of a material without `crate::bsdf` parameters.
 pub const NO_BSDF: u32 = u32::MAX;
+/// `Material.alpha_mode` of an opaque surface.
+pub const ALPHA_NONE: u32 = 0;
+/// `Material.alpha_mode` of a mask: opaque where the opacity reaches the cutoff.
+pub const ALPHA_MASK: u32 = 1;
+/// `Material.alpha_mode` of a blend: opaque with probability the opacity.
+pub const ALPHA_BLEND: u32 = 2;
+/// Flag of `Material.alpha_mode`: the texture's luminance is the opacity (else its alpha).
+pub const ALPHA_LUMINANCE: u32 = 4;
 
 /// `Light.kind` of a point light.
 pub const LIGHT_POINT: u32 = 0;
@@ -147,7 +155,7 @@ pub const TRIANGLE_WORDS: u32 = 3;
 /// Words per `Sphere`.
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
-pub const MATERIAL_WORDS: u32 = 4;
+pub const MATERIAL_WORDS: u32 = 5;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 7;
 /// Words per `Photon` (every map buffer: traced, sorted, and the gather group's).
@@ -299,6 +307,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),
         ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
         ("NO_BSDF", U32(NO_BSDF)),
+        ("ALPHA_NONE", U32(ALPHA_NONE)),
+        ("ALPHA_MASK", U32(ALPHA_MASK)),
+        ("ALPHA_BLEND", U32(ALPHA_BLEND)),
+        ("ALPHA_LUMINANCE", U32(ALPHA_LUMINANCE)),
         ("NO_TEXTURE", U32(crate::scene::NO_TEXTURE)),
         ("FLAT", U32(crate::scene::FLAT)),
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),

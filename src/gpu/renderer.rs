@@ -40,13 +40,6 @@ impl<'s> GpuRenderer<'s> {
     /// creates every pipeline, for a render with `settings`.
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
         let s = settings;
-        if scene.materials.iter().any(|m| m.alpha.is_some()) {
-            return Err(Error::Gpu(
-                "alpha-tested materials (glTF alphaMode MASK or BLEND, Mitsuba's mask) are \
-                 rendered by the CPU backend only (use --backend cpu or auto)"
-                    .into(),
-            ));
-        }
         let mut report = RenderReport::default();
         let t = Instant::now();
         let ctx = GpuContext::new()?;

@@ -98,6 +98,15 @@ pub struct GpuMaterial {
     pub kd_texture: u32,
     /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE`.
     pub normal_texture: u32,
+    /// `ALPHA_NONE`, `ALPHA_MASK` or `ALPHA_BLEND`, plus `ALPHA_LUMINANCE` when the
+    /// texture's luminance (not its alpha) is the opacity (`crate::scene::Alpha`).
+    pub alpha_mode: u32,
+    /// Index into `tex_table` of the opacity's texture, or `NO_TEXTURE`.
+    pub alpha_texture: u32,
+    /// The opacity's constant factor.
+    pub alpha_factor: f32,
+    /// A mask's cutoff.
+    pub alpha_cutoff: f32,
 }
 
 /// Twin of WGSL `Light`: a light's sampling data (`kind` a LIGHT_* code) and its photon budgets.
@@ -294,6 +303,28 @@ impl From<&Material> for GpuMaterial {
             bsdf: super::codes::NO_BSDF,
             kd_texture: m.kd_texture,
             normal_texture: m.normal_texture,
+            alpha_mode: alpha_code(m),
+            alpha_texture: m.alpha.map_or(crate::scene::NO_TEXTURE, |a| a.texture),
+            alpha_factor: m.alpha.map_or(1.0, |a| a.factor),
+            alpha_cutoff: match m.alpha.map(|a| a.mode) {
+                Some(crate::scene::AlphaMode::Mask(c)) => c,
+                _ => 0.0,
+            },
+        }
+    }
+}
+
+/// The `ALPHA_*` code of `m`'s alpha test; emitters are opaque (as on the CPU).
+fn alpha_code(m: &Material) -> u32 {
+    use super::codes::{ALPHA_BLEND, ALPHA_LUMINANCE, ALPHA_MASK, ALPHA_NONE};
+    match m.alpha.filter(|_| !m.is_emissive()) {
+        None => ALPHA_NONE,
+        Some(a) => {
+            let mode = match a.mode {
+                crate::scene::AlphaMode::Mask(_) => ALPHA_MASK,
+                crate::scene::AlphaMode::Blend => ALPHA_BLEND,
+            };
+            mode | if a.luminance { ALPHA_LUMINANCE } else { 0 }
         }
     }
 }
