@@ -103,19 +103,40 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
             (kd, b)
         }
     };
-    // glTF's metallic-roughness texture: blue scales the metalness, green the roughness.
-    if let (Some(Bsdf::MetallicRoughness(g)), t) = (&mut b, m.mr_texture) {
-        if t != NO_TEXTURE {
-            let c = scene.textures[t as usize].eval(hit.uv);
-            g.metallic *= c.z;
-            g.roughness *= c.y;
-        }
+    if let Some(Bsdf::MetallicRoughness(g)) = &mut b {
+        gltf_textures(scene, m, hit, g);
     }
     SurfaceBsdf {
         m,
         kd,
         b,
         n: hit.shading,
+    }
+}
+
+/// glTF's parameter textures at `hit`: the metallic-roughness texture's blue scales the
+/// metalness and its green the roughness; the transmission texture's red the transmission;
+/// the specular colour texture's rgb the F0 colour (`f0 = min(f0 c, f90)`, exact while
+/// `F0(ior)` times the colour factor is at most 1); the specular texture's alpha both F0
+/// and F90.
+fn gltf_textures(scene: &Scene, m: &Material, hit: &Hit, g: &mut MetallicRoughness) {
+    let tex = |t: u32| (t != NO_TEXTURE).then(|| &scene.textures[t as usize]);
+    if let Some(t) = tex(m.mr_texture) {
+        let c = t.eval(hit.uv);
+        g.metallic *= c.z;
+        g.roughness *= c.y;
+    }
+    let [transmission, specular, colour] = m.gltf_textures;
+    if let Some(t) = tex(transmission) {
+        g.transmission *= t.eval(hit.uv).x;
+    }
+    if let Some(t) = tex(colour) {
+        g.f0 = (g.f0 * t.eval(hit.uv)).min(Vec3::splat(g.f90));
+    }
+    if let Some(t) = tex(specular) {
+        let a = t.eval_alpha(hit.uv);
+        g.f0 *= a;
+        g.f90 *= a;
     }
 }
 

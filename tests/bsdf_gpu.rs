@@ -672,7 +672,8 @@ fn bsdf_params_layout_matches_gpu_bsdf() {
         nonlinear,
         table,
         specular_sampling_weight,
-        internal_reflectance
+        internal_reflectance,
+        textures
     );
     assert_eq!(members("BsdfParams"), gpu_bsdf);
     assert_eq!(

@@ -391,8 +391,9 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
 }
 
-/// A metallic-roughness material with all three textures it reads (the 2x2 image as base
-/// colour, metalness in blue and roughness in green, and a normal map) loads them, and the
+/// A metallic-roughness material with every texture it reads (the 2x2 image as base colour,
+/// metalness in blue and roughness in green, normal map, transmission, specular and specular
+/// colour) loads them, and the
 /// GPU renders it as the CPU does: the same texels and the same random numbers, so the
 /// images differ by f32 rounding in the BSDF and the perturbed normals only.
 #[test]
@@ -400,7 +401,8 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     write("quad5.png", &png());
     let mut f = File::new(r#"{"uri": "quad5.png"}"#);
     f.materials = Some(
-        r#"[{"name": "mr", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.6, 1], "baseColorTexture": {"index": 0}, "metallicFactor": 1, "roughnessFactor": 0.9, "metallicRoughnessTexture": {"index": 0}}, "normalTexture": {"index": 0, "scale": 0.5}}]"#
+        r#"[{"name": "mr", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.6, 1], "baseColorTexture": {"index": 0}, "metallicFactor": 1, "roughnessFactor": 0.9, "metallicRoughnessTexture": {"index": 0}}, "normalTexture": {"index": 0, "scale": 0.5},
+"extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.5, "transmissionTexture": {"index": 0}}, "KHR_materials_specular": {"specularFactor": 0.7, "specularTexture": {"index": 0}, "specularColorTexture": {"index": 0}}}}]"#
             .into(),
     );
     let s = loaded(&f.write("mr.gltf"));
@@ -408,6 +410,11 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     assert_eq!(m.kind, gpu_photon::scene::MaterialKind::MetallicRoughness);
     let none = gpu_photon::scene::NO_TEXTURE;
     assert!(m.kd_texture != none && m.mr_texture != none && m.normal_texture != none);
+    assert!(
+        m.gltf_textures.iter().all(|&t| t != none),
+        "{:?}",
+        m.gltf_textures
+    );
     let side = 24;
     let settings = RenderSettings {
         width: side,

@@ -3,7 +3,7 @@
 // Library, no entry point; writes nothing. Needs the prelude's PI, the BSDF_*/MF_* codes (src/gpu/bsdf_params.rs), bsdf_gltf.wgsl and a
 // module-scope read-only storage `bsdf_tables: array<f32>` holding the rough plastics' tables (BsdfParams.table: offset).
 
-// A resolved BSDF (Rust twin: gpu::bsdf_params::GpuBsdf, 96 bytes); each kind reads the fields its Rust variant has.
+// A resolved BSDF (Rust twin: gpu::bsdf_params::GpuBsdf, 112 bytes); each kind reads the fields its Rust variant has.
 struct BsdfParams {
     eta_c: vec3<f32>,           // conductor: real part of the complex index
     kind: u32,                  // BSDF_* code
@@ -19,6 +19,7 @@ struct BsdfParams {
     table: u32,                 // rough plastic: offset of its BSDF_TABLE_RES words in bsdf_tables
     specular_sampling_weight: f32,
     internal_reflectance: f32,
+    textures: vec4<u32>,        // metallic-roughness: its textures (mr, transmission, specular, specular colour)
 }
 
 // Rust's Option<LobeSample>: ok false for None.

@@ -2,7 +2,7 @@
 // src/bsdf/gltf.rs, function for function, same operation order; front side only (wo.z > 0), wi.z < 0 transmits.
 // Library, no entry point; writes nothing. Composed with bsdf.wgsl (its dispatch calls these), needs BSDF_GLTF_MEAN
 // (S(mu), generated from Rust's table). BsdfParams fields: albedo = base colour, eta_c = (metallic, roughness,
-// transmission), specular = the dielectric's f0, eta = its f90; table = the metallic-roughness texture (bsdf_at reads it).
+// transmission), specular = the dielectric's f0, eta = its f90; textures = its parameter textures (bsdf_at reads them).
 
 fn gltf_schlick_weight(c: f32) -> f32 {
     let m = clamp(1.0 - c, 0.0, 1.0);

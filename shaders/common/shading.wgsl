@@ -36,14 +36,35 @@ fn bsdf_at(hit: Hit) -> Surface {
             if HAS_TEXTURES && s.m.kd_texture != NO_TEXTURE {
                 s.b.albedo = s.kd;
             }
-            if HAS_TEXTURES && s.b.table != NO_TEXTURE {
-                let c = texture_eval(s.b.table, hit.uv);
-                s.b.eta_c.x *= c.z;
-                s.b.eta_c.y *= c.y;
+            if HAS_TEXTURES {
+                s.b = gltf_textures(s.b, hit.uv);
             }
         }
     }
     return s;
+}
+
+// glTF's parameter textures at uv (twin of shading.rs's gltf_textures): metalness and
+// roughness, transmission, the F0 colour, then the specular factor.
+fn gltf_textures(b_in: BsdfParams, uv: vec2<f32>) -> BsdfParams {
+    var b = b_in;
+    if b.textures.x != NO_TEXTURE {
+        let c = texture_eval(b.textures.x, uv);
+        b.eta_c.x *= c.z;
+        b.eta_c.y *= c.y;
+    }
+    if b.textures.y != NO_TEXTURE {
+        b.eta_c.z *= texture_eval(b.textures.y, uv).x;
+    }
+    if b.textures.w != NO_TEXTURE {
+        b.specular = min(b.specular * texture_eval(b.textures.w, uv), vec3<f32>(b.eta));
+    }
+    if b.textures.z != NO_TEXTURE {
+        let a = texture_alpha(b.textures.z, uv);
+        b.specular *= a;
+        b.eta *= a;
+    }
+    return b;
 }
 
 // Whether the surface is one of crate::bsdf's kinds (Material.bsdf set).
@@ -205,7 +226,7 @@ fn surface_stores_photons(s: Surface) -> bool {
     if HAS_BSDFS && k == MAT_METALLIC_ROUGHNESS {
         // Material::stores_photons: a texture may leave some base diffuse, else the factors.
         let b = bsdfs[s.m.bsdf];
-        return b.table != NO_TEXTURE || gltf_has_diffuse(b);
+        return b.textures.x != NO_TEXTURE || b.textures.y != NO_TEXTURE || gltf_has_diffuse(b);
     }
     return k == MAT_DIFFUSE || k == MAT_GLOSSY || k == MAT_PLASTIC || k == MAT_ROUGH_PLASTIC;
 }

@@ -41,8 +41,8 @@ pub const BSDF_PLASTIC: u32 = 6;
 /// `Bsdf::Plastic` with a rough coating (`roughplastic`): reads its table.
 pub const BSDF_ROUGH_PLASTIC: u32 = 7;
 /// `Bsdf::MetallicRoughness` (glTF): `albedo` the base colour, `eta_c` (metallic,
-/// roughness, transmission), `specular` the dielectric's f0, `eta` its f90, `table` the
-/// material's metallic-roughness texture (`NO_TEXTURE`: none).
+/// roughness, transmission), `specular` the dielectric's f0, `eta` its f90, `textures` the
+/// material's parameter textures.
 pub const BSDF_GLTF: u32 = 8;
 /// `Distribution::Ggx`.
 pub const MF_GGX: u32 = 0;
@@ -108,7 +108,7 @@ pub fn probe_source() -> String {
     [wgsl_prelude(), bsdf_library(), PROBE_BSDF_WGSL.to_string()].join("\n")
 }
 
-/// WGSL `BsdfParams` (96 bytes, 16-aligned): each kind fills the fields its variant has and
+/// WGSL `BsdfParams` (112 bytes, 16-aligned): each kind fills the fields its variant has and
 /// leaves the others zero.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -141,6 +141,9 @@ pub struct GpuBsdf {
     pub specular_sampling_weight: f32,
     /// Plastic: Fdr, the coating's internal reflectance.
     pub internal_reflectance: f32,
+    /// Metallic-roughness: its textures in `tex_table` (metallic-roughness, transmission,
+    /// specular, specular colour; `NO_TEXTURE` when absent), set by `types::materials`.
+    pub textures: [u32; 4],
 }
 
 fn microfacet(g: &mut GpuBsdf, mf: &Microfacet) {
@@ -153,11 +156,12 @@ fn microfacet(g: &mut GpuBsdf, mf: &Microfacet) {
 }
 
 /// The GPU form of `b`; a rough plastic's table is expected at word `table_offset` of
-/// `bsdf_tables` (see [`table_words`]); a metallic-roughness material's `table` is
-/// `NO_TEXTURE` here (the material's texture is set by `types::materials`).
+/// `bsdf_tables` (see [`table_words`]); `textures` are `NO_TEXTURE` here (a
+/// metallic-roughness material's are set by `types::materials`).
 pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
     let mut g = GpuBsdf {
         table: table_offset,
+        textures: [crate::scene::NO_TEXTURE; 4],
         ..GpuBsdf::default()
     };
     match b {
@@ -233,7 +237,6 @@ pub fn gpu_bsdf(b: &Bsdf, table_offset: u32) -> GpuBsdf {
             g.eta_c = [m.metallic, m.roughness, m.transmission];
             g.specular = m.f0.to_array();
             g.eta = m.f90;
-            g.table = crate::scene::NO_TEXTURE;
             microfacet(&mut g, &m.microfacet());
         }
     }

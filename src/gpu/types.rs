@@ -334,7 +334,7 @@ fn alpha_code(m: &Material) -> u32 {
 /// empty list (a binding cannot be empty).
 pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::GpuBsdf>, Vec<f32>) {
     let mut list = Vec::new();
-    let mut mr_textures = Vec::new();
+    let mut textures = Vec::new();
     let mats = scene
         .materials
         .iter()
@@ -343,16 +343,17 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::Gp
             if let Some(b) = m.bsdf {
                 g.bsdf = list.len() as u32;
                 list.push(b);
-                mr_textures.push(m.mr_texture);
+                let [t, s, c] = m.gltf_textures;
+                textures.push([m.mr_texture, t, s, c]);
             }
             g
         })
         .collect();
     let (mut bsdfs, tables) = super::bsdf_params::pack(&list);
-    // A metallic-roughness material's texture rides in its BsdfParams (`table`).
-    for (b, t) in bsdfs.iter_mut().zip(mr_textures) {
+    // A metallic-roughness material's textures ride in its BsdfParams.
+    for (b, t) in bsdfs.iter_mut().zip(textures) {
         if b.kind == super::bsdf_params::BSDF_GLTF {
-            b.table = t;
+            b.textures = t;
         }
     }
     if bsdfs.is_empty() {

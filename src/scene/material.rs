@@ -105,6 +105,11 @@ pub struct Material {
     /// Index into [`Scene::textures`] of a metallic-roughness material's metalness (blue)
     /// and roughness (green) texture, multiplying its factors, or [`NO_TEXTURE`].
     pub mr_texture: u32,
+    /// glTF's other parameter textures of a metallic-roughness material, each
+    /// [`NO_TEXTURE`] when absent: `KHR_materials_transmission`'s (red scales the
+    /// transmission), `KHR_materials_specular`'s specular (alpha scales the specular factor)
+    /// and specular colour (rgb scales the F0 colour).
+    pub gltf_textures: [u32; 3],
     /// Cut-outs and partial coverage (glTF `alphaMode` MASK and BLEND, Mitsuba's `mask`);
     /// `None` for an opaque surface.
     pub alpha: Option<Alpha>,
@@ -210,6 +215,7 @@ impl Material {
             kd_texture: NO_TEXTURE,
             normal_texture: NO_TEXTURE,
             mr_texture: NO_TEXTURE,
+            gltf_textures: [NO_TEXTURE; 3],
             alpha: None,
         }
     }
@@ -255,7 +261,9 @@ impl Material {
     pub fn stores_photons(&self) -> bool {
         match self.kind {
             MaterialKind::MetallicRoughness => {
-                self.mr_texture != NO_TEXTURE || self.bsdf.is_some_and(|b| b.has_diffuse())
+                self.mr_texture != NO_TEXTURE
+                    || self.gltf_textures[0] != NO_TEXTURE
+                    || self.bsdf.is_some_and(|b| b.has_diffuse())
             }
             k => matches!(
                 k,

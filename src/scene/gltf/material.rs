@@ -12,9 +12,10 @@
 //!
 //! Emission is `emissiveFactor x KHR_materials_emissive_strength`, one-sided. The base colour,
 //! metallic-roughness and normal textures are read (`texture.rs`); the occlusion texture is
-//! baked ambient occlusion, which global illumination computes itself, so it is not used;
-//! other textures (emissive, transmission, specular) are not read: their factors are used
-//! and a warning names each texture.
+//! baked ambient occlusion, which global illumination computes itself, so it is not used.
+//! The metallic-roughness BSDF also reads the transmission, specular and specular colour
+//! textures; the emissive texture is not read yet (its factor is used and a warning names
+//! it).
 
 use super::super::Material;
 use crate::bsdf::{Bsdf, Distribution, MetallicRoughness, Microfacet};
@@ -123,8 +124,9 @@ pub(super) fn uv_texture<'a>(m: &gltf::Material<'a>) -> Option<(u32, &'static st
 }
 
 /// The textures `m` uses that are not read, by name (or `textures[i]`), with the slot they
-/// fill: a base colour texture of a kind that has none (a dielectric), the emissive,
-/// transmission and specular textures.
+/// fill: a base colour texture of a kind that has none (a dielectric), the emissive texture,
+/// and the transmission and specular textures of a material that is not rendered as the
+/// metallic-roughness BSDF.
 pub(super) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
     let pbr = m.pbr_metallic_roughness();
     let (material, _) = map(m);
@@ -141,6 +143,9 @@ pub(super) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
         add(pbr.base_color_texture().map(|i| i.texture()), "base colour");
     }
     add(m.emissive_texture().map(|i| i.texture()), "emissive");
+    if material.kind == crate::scene::MaterialKind::MetallicRoughness {
+        return out;
+    }
     if let Some(t) = m.transmission() {
         add(
             t.transmission_texture().map(|i| i.texture()),

@@ -20,11 +20,12 @@ mod data;
 mod json_line;
 mod material;
 mod refs;
+mod surface;
 mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
-use super::{Alpha, AlphaMode, Material, MaterialKind, Scene, SpotLight, NO_TEXTURE};
+use super::{Scene, SpotLight};
 use crate::error::{Error, Result};
 use crate::scene::file;
 use glam::{Mat4, Vec3};
@@ -393,123 +394,5 @@ impl Importer<'_> {
                 .b
                 .add_smooth_mesh(tris, shading, Surface::of(material), &at),
         }
-    }
-
-    /// Reads the textures of `m` that `material` uses (base colour, metallic-roughness,
-    /// normal) into the scene and points `material` at them. A texture on another uv set
-    /// than the primitive's (the first of those three) is read on that one, with a warning.
-    fn textures(&mut self, m: &gltf::Material, name: &str, material: &mut Material) -> Result<()> {
-        let pbr = m.pbr_metallic_roughness();
-        let set = material::uv_texture(m).map_or(0, |(set, _)| set);
-        let err = |(f, msg): (String, String)| self.cx.err(&f, format!("material {name}: {msg}"));
-        let warn_set = |r: &texture::TexRef| {
-            if r.set() != set {
-                eprintln!(
-                    "warning: {}: material {name}: texture {} reads TEXCOORD_{}, rendered with \
-                     TEXCOORD_{set} (one uv set per primitive)",
-                    self.cx.file,
-                    r.name(),
-                    r.set()
-                );
-            }
-        };
-        let (buffers, dir) = (&self.buffers, self.base_dir);
-        let mut read = Vec::new();
-        if let Some(info) = pbr.base_color_texture() {
-            if material::reads_base_colour(material) {
-                let [r, g, b, _] = pbr.base_color_factor();
-                let r_ = texture::TexRef::info(&info);
-                warn_set(&r_);
-                let t = texture::base_colour(&r_, Vec3::new(r, g, b), buffers, dir).map_err(err)?;
-                material.kd = t.mean();
-                read.push((0, t));
-            }
-        }
-        if let Some(info) = pbr.metallic_roughness_texture() {
-            if material.kind == MaterialKind::MetallicRoughness {
-                let r = texture::TexRef::info(&info);
-                warn_set(&r);
-                read.push((
-                    1,
-                    texture::metallic_roughness(&r, buffers, dir).map_err(err)?,
-                ));
-            }
-        }
-        if let Some(n) = m.normal_texture() {
-            let r = texture::TexRef::normal(&n);
-            warn_set(&r);
-            read.push((
-                2,
-                texture::normal(&r, n.scale(), buffers, dir).map_err(err)?,
-            ));
-        }
-        for (slot, t) in read {
-            let id = self.b.add_texture(t);
-            match slot {
-                0 => material.kd_texture = id,
-                1 => material.mr_texture = id,
-                _ => material.normal_texture = id,
-            }
-        }
-        Ok(())
-    }
-
-    /// The alpha test of `m` (`alphaMode` MASK with its `alphaCutoff`, BLEND as a stochastic
-    /// coverage): the opacity is `baseColorFactor`'s alpha times the base colour texture's
-    /// (when `material` reads it); `None` when opaque or when nothing can be transparent.
-    fn alpha(&self, m: &gltf::Material, material: &Material) -> Option<Alpha> {
-        let mode = match m.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => return None,
-            gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
-            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
-        };
-        let factor = m.pbr_metallic_roughness().base_color_factor()[3].clamp(0.0, 1.0);
-        let texture = match material.kd_texture {
-            NO_TEXTURE => NO_TEXTURE,
-            t if self.b.texture(t).has_alpha() => t,
-            _ => NO_TEXTURE,
-        };
-        let alpha = Alpha {
-            mode,
-            factor,
-            texture,
-            luminance: false,
-        };
-        let opaque = texture == NO_TEXTURE && alpha.stops(factor, 1.0 - f32::EPSILON / 2.0);
-        (!opaque).then_some(alpha)
-    }
-
-    /// Our material for `m`, added (and warned about) the first time it is used.
-    fn material(&mut self, m: &gltf::Material) -> Result<MaterialId> {
-        if let Some(&id) = self.materials.get(&m.index()) {
-            return Ok(id);
-        }
-        let (field, name) = match m.index() {
-            Some(i) => {
-                let field = format!("materials[{i}]");
-                (field.clone(), m.name().map_or(field, str::to_string))
-            }
-            None => ("materials".to_string(), "(default material)".to_string()),
-        };
-        let file = self.cx.file;
-        let (mut material, note) = material::map(m);
-        self.textures(m, &name, &mut material)?;
-        material.alpha = self.alpha(m, &material);
-        if let Some(note) = note {
-            eprintln!("warning: {file}: material {name}: {note}");
-        }
-        for (texture, slot) in material::textures(m) {
-            if !self.warned.contains(&texture) {
-                eprintln!(
-                    "warning: {file}: material {name}: {slot} texture {texture} ignored \
-                     (its factor is used)"
-                );
-                self.warned.push(texture);
-            }
-        }
-        let at = |_: Part, msg: String| self.cx.err(&field, format!("material {name}: {msg}"));
-        let id = self.b.add_material(None, material, &at)?;
-        self.materials.insert(m.index(), id);
-        Ok(id)
     }
 }

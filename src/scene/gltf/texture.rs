@@ -1,6 +1,7 @@
 //! glTF textures read for a material: the base colour (sRGB, times `baseColorFactor`), the
-//! metallic-roughness texture (linear; blue metalness, green roughness, multiplying the
-//! factors at each hit) and the normal texture (linear, with its `scale`). The image (a file
+//! data textures (linear: metallic-roughness, transmission, specular; their factors multiply
+//! them at each hit), the specular colour (sRGB) and the normal texture (linear, with its
+//! `scale`). The image (a file
 //! relative to the glTF file, a `data:` URI or a bufferView, PNG or JPEG) is looked up with
 //! its sampler (`magFilter`, `wrapS`, `wrapT`) after `KHR_texture_transform`.
 //!
@@ -99,8 +100,9 @@ pub(super) fn base_colour(
     load(r, Encoding::Srgb, map, buffers, base_dir)
 }
 
-/// The metallic-roughness texture, linear (its factors multiply it at each hit).
-pub(super) fn metallic_roughness(
+/// A data texture, linear (metallic-roughness, transmission, specular: their factors
+/// multiply it at each hit).
+pub(super) fn linear(
     r: &TexRef,
     buffers: &[Vec<u8>],
     base_dir: &Path,
