@@ -25,7 +25,7 @@ use glam::Vec3;
 pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
-    let base = Vec3::new(r, g, b);
+    let base = Vec3::new(r, g, b).clamp(Vec3::ZERO, Vec3::ONE);
     let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
     let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
     let transmission = m
@@ -33,7 +33,8 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
         .map_or(0.0, |t| t.transmission_factor())
         .clamp(0.0, 1.0);
     let emission = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
-    let ior = m.ior().unwrap_or(1.5);
+    // glTF's ior is 1 or more, or 0 (F0 = 1, for specular-glossiness conversions).
+    let ior = m.ior().filter(|i| *i == 0.0 || (*i >= 1.0 && i.is_finite())).unwrap_or(1.5);
     let volume = m.volume().is_some_and(|v| v.thickness_factor() > 0.0);
     let mut note = None;
     let material = if transmission > 0.0 && volume && transmission == 1.0 && metallic == 0.0 {
@@ -51,7 +52,8 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
             ));
         }
         let (specular, colour) = m.specular().map_or((1.0, Vec3::ONE), |s| {
-            (s.specular_factor(), Vec3::from(s.specular_color_factor()))
+            let c = Vec3::from(s.specular_color_factor());
+            (s.specular_factor().clamp(0.0, 1.0), c.max(Vec3::ZERO))
         });
         let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
         let g = MetallicRoughness {
