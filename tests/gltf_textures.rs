@@ -352,14 +352,7 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     write("quad3.png", &png());
     let s = loaded(&File::new(r#"{"uri": "quad3.png"}"#).write("render.gltf"));
     let side = 32;
-    let settings = RenderSettings {
-        width: side,
-        height: side,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
-    let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let (img, gpu) = direct_renders(&s, side);
     let factor = Vec3::new(1.0, 0.5, 0.25);
     // Image quadrants (top-left, top-right, bottom-left, bottom-right) against texels in
     // file order: the image's top row is the texture's first, its left column the first.
@@ -383,19 +376,39 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     }
     // The GPU renders the textured glTF scene as the CPU does: same random numbers, the
     // same texels bit for bit (tests/texture_gpu.rs), so only f32 rounding apart.
-    if common::gpu().is_none() {
-        return;
+    if let Some(gpu) = gpu {
+        let d = gpu_photon::film::diff(&gpu, &img, 8).unwrap();
+        assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
     }
-    let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
-    let d = gpu_photon::film::diff(&gpu, &img, 8).unwrap();
-    assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
+}
+
+/// Direct-light renders of `s` at `side` x `side`, 4 spp, on the CPU and (where there is a
+/// device) on the GPU, with the same random numbers.
+fn direct_renders(
+    s: &Scene,
+    side: u32,
+) -> (gpu_photon::film::Image, Option<gpu_photon::film::Image>) {
+    let settings = RenderSettings {
+        width: side,
+        height: side,
+        spp: 4,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (cpu, _) = render(s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let gpu = common::gpu().map(|_| {
+        render(s, &settings, Backend::Gpu, Progress::default())
+            .unwrap()
+            .0
+    });
+    (cpu, gpu)
 }
 
 /// A metallic-roughness material with every texture it reads (the 2x2 image as base colour,
 /// metalness in blue and roughness in green, normal map, transmission, specular and specular
-/// colour) loads them, and the
-/// GPU renders it as the CPU does: the same texels and the same random numbers, so the
-/// images differ by f32 rounding in the BSDF and the perturbed normals only.
+/// colour) loads them, and the GPU renders it as the CPU does: the same texels and the same
+/// random numbers, so the images differ by f32 rounding in the BSDF and the perturbed
+/// normals only.
 #[test]
 fn metallic_roughness_textures_render_alike_on_both_backends() {
     write("quad5.png", &png());
@@ -415,27 +428,18 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
         "{:?}",
         m.gltf_textures
     );
-    let side = 24;
-    let settings = RenderSettings {
-        width: side,
-        height: side,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
-    let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let (cpu, gpu) = direct_renders(&s, 24);
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
     assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");
-    if common::gpu().is_none() {
-        return;
+    if let Some(gpu) = gpu {
+        let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+        assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
     }
-    let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
-    let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
-    assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
 }
 
 /// glTF's `alphaMode`: MASK below the cutoff hides the quad, at or above it keeps it opaque
-/// (no alpha test at all), BLEND shows it with probability alpha (CPU; the GPU refuses).
+/// (no alpha test at all), BLEND shows it with probability alpha (CPU; tests/alpha.rs
+/// compares the GPU).
 #[test]
 fn alpha_modes_cut_out_and_blend() {
     write("quad6.png", &png());

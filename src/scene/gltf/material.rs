@@ -34,7 +34,10 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
         .clamp(0.0, 1.0);
     let emission = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
     // glTF's ior is 1 or more, or 0 (F0 = 1, for specular-glossiness conversions).
-    let ior = m.ior().filter(|i| *i == 0.0 || (*i >= 1.0 && i.is_finite())).unwrap_or(1.5);
+    let ior = m
+        .ior()
+        .filter(|i| *i == 0.0 || (*i >= 1.0 && i.is_finite()))
+        .unwrap_or(1.5);
     let volume = m.volume().is_some_and(|v| v.thickness_factor() > 0.0);
     let mut note = None;
     let material = if transmission > 0.0 && volume && transmission == 1.0 && metallic == 0.0 {
