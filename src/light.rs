@@ -9,7 +9,7 @@
 
 use crate::geometry::Aabb;
 use crate::sampling::{basis, cosine_hemisphere, to_world, uniform_sphere, uniform_triangle};
-use crate::scene::{LightShape, Scene};
+use crate::scene::{emission, LightShape, Scene, NO_TEXTURE};
 use glam::Vec3;
 
 /// Scalar power used to split budgets: the mean of the three channels.
@@ -51,6 +51,9 @@ pub struct LightTable {
     /// The scene's bounding sphere (centre, radius): where directional lights' photons
     /// start ([`Scene::bounding_sphere`]).
     pub bounds: (Vec3, f32),
+    /// Per light: its emission texture's mean over its surface (one without one), which its
+    /// power includes (`crate::scene::emission`).
+    pub texture_mean: Vec<Vec3>,
 }
 
 /// A photon leaving a light.
@@ -63,6 +66,9 @@ pub struct Emission {
     /// Normal of the emitting surface (zero for point, spot and directional lights), for the
     /// ray offset.
     pub normal: Vec3,
+    /// Factor on the photon's power: a textured emitter's texel at the origin over the
+    /// texture's mean (one for every other light).
+    pub scale: Vec3,
 }
 
 /// A point on a light seen from a shading point, for a shadow ray.
@@ -103,6 +109,9 @@ impl LightTable {
             tri_cdf: vec![],
             area: vec![],
             bounds: scene.bounding_sphere(),
+            texture_mean: (0..scene.lights.len())
+                .map(|l| emission::texture_mean(scene, l))
+                .collect(),
         };
         for l in &scene.lights {
             t.cdf_start.push(t.tri_cdf.len() as u32);
@@ -148,22 +157,31 @@ impl LightTable {
     }
 
     /// A uniform point on light `l`'s surface with its front normal (an area light's, or a
-    /// point or spot light's position with a zero normal).
-    fn surface_point(&self, scene: &Scene, l: usize, u: [f32; 3]) -> (Vec3, Vec3) {
+    /// point or spot light's position with a zero normal), and the emission texture's value
+    /// there (one without a texture).
+    fn surface_point(&self, scene: &Scene, l: usize, u: [f32; 3]) -> (Vec3, Vec3, Vec3) {
+        let texture = emission::texture_of(scene, l);
+        let texel = |uv| match texture {
+            NO_TEXTURE => Vec3::ONE,
+            t => scene.textures[t as usize].eval(uv),
+        };
         match scene.lights[l].shape {
             LightShape::Point { position, .. } | LightShape::Spot { position, .. } => {
-                (position, Vec3::ZERO)
+                (position, Vec3::ZERO, Vec3::ONE)
             }
             LightShape::Directional { .. } => unreachable!("a directional light has no point"),
             LightShape::Sphere { index } => {
                 let s = &scene.spheres[index as usize];
                 let n = uniform_sphere(u[1], u[2]);
-                (s.center + s.radius * n, n)
+                let c = texel(crate::texture::uv::sphere(n));
+                (s.center + s.radius * n, n, c)
             }
             LightShape::Triangles { .. } => {
-                let tri = &scene.triangles[self.pick_triangle(scene, l, u[0])];
+                let t = self.pick_triangle(scene, l, u[0]);
+                let tri = &scene.triangles[t];
                 let (b1, b2) = uniform_triangle(u[1], u[2]);
-                (tri.point(b1, b2), tri.normal())
+                let c = texel(emission::triangle_uv(scene, t, b1, b2));
+                (tri.point(b1, b2), tri.normal(), c)
             }
         }
     }
@@ -189,6 +207,7 @@ impl LightTable {
                     origin: position,
                     dir: to_world(local, direction),
                     normal: Vec3::ZERO,
+                    scale: Vec3::ONE,
                 };
             }
             LightShape::Directional { direction, .. } => {
@@ -201,18 +220,22 @@ impl LightTable {
                     origin: centre - 2.0 * r * direction + across,
                     dir: direction,
                     normal: Vec3::ZERO,
+                    scale: Vec3::ONE,
                 };
             }
             _ => {}
         }
-        let (p, mut n) = self.surface_point(scene, l, [u[0], u[1], u[2]]);
+        let (p, mut n, texel) = self.surface_point(scene, l, [u[0], u[1], u[2]]);
         if n == Vec3::ZERO {
             return Emission {
                 origin: p,
                 dir: uniform_sphere(u[3], u[4]),
                 normal: n,
+                scale: Vec3::ONE,
             };
         }
+        let mean = self.texture_mean[l];
+        let scale = Vec3::select(mean.cmpgt(Vec3::ZERO), texel / mean, Vec3::ZERO);
         let mut u3 = u[3];
         if self.two_sided(scene, l) {
             // Reuse u3: its lower half picks the front face, upper half the back.
@@ -227,6 +250,7 @@ impl LightTable {
             origin: p,
             dir: cosine_hemisphere(n, u3, u[4]),
             normal: n,
+            scale,
         }
     }
 
@@ -276,7 +300,7 @@ impl LightTable {
             } => return delta(x - direction, irradiance, true),
             _ => {}
         }
-        let (p, n) = self.surface_point(scene, l, u);
+        let (p, n, texel) = self.surface_point(scene, l, u);
         let mat = match light.shape {
             LightShape::Sphere { index } => scene.spheres[index as usize].material,
             LightShape::Triangles { .. } => {
@@ -309,7 +333,7 @@ impl LightTable {
         }
         LightSample {
             point: p,
-            weight: m.emission * (cos_l * self.area[l] / d2),
+            weight: m.emission * texel * (cos_l * self.area[l] / d2),
             normal: n,
             distant: false,
         }

@@ -80,6 +80,8 @@ pub struct SurfaceBsdf<'a> {
     b: Option<Bsdf>,
     /// The unflipped shading normal: the local frame's z for [`crate::bsdf`]'s kinds.
     n: Vec3,
+    /// The emitted radiance, with its texture looked up.
+    emission: Vec3,
 }
 
 /// The BSDF of the surface `hit` lies on: the one place a material's fields (and its
@@ -106,11 +108,16 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
     if let Some(Bsdf::MetallicRoughness(g)) = &mut b {
         gltf_textures(scene, m, hit, g);
     }
+    let emission = match m.emission_texture {
+        NO_TEXTURE => m.emission,
+        t => m.emission * scene.textures[t as usize].eval(hit.uv),
+    };
     SurfaceBsdf {
         m,
         kd,
         b,
         n: hit.shading,
+        emission,
     }
 }
 
@@ -176,7 +183,7 @@ impl SurfaceBsdf<'_> {
     #[inline]
     pub fn emitted(&self, front: bool) -> Vec3 {
         if front || self.m.two_sided_emission {
-            self.m.emission
+            self.emission
         } else {
             Vec3::ZERO
         }

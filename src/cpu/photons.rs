@@ -87,7 +87,7 @@ fn trace_path(
             return;
         }
     }
-    let mut power = budget.path_power[l];
+    let mut power = budget.path_power[l] * e.scale;
     let mut ray = Ray {
         origin: if e.normal == Vec3::ZERO {
             e.origin

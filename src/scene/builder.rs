@@ -375,6 +375,11 @@ impl SceneBuilder {
             lights: self.lights,
             settings: self.settings,
         };
+        // A textured emitter's power includes its texture's mean (crate::scene::emission).
+        for l in 0..scene.lights.len() {
+            let mean = super::emission::texture_mean(&scene, l);
+            scene.lights[l].power *= mean;
+        }
         let (_, radius) = scene.bounding_sphere();
         for l in &mut scene.lights {
             if let LightShape::Directional { irradiance, .. } = l.shape {

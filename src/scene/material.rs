@@ -110,6 +110,10 @@ pub struct Material {
     /// transmission), `KHR_materials_specular`'s specular (alpha scales the specular factor)
     /// and specular colour (rgb scales the F0 colour).
     pub gltf_textures: [u32; 3],
+    /// Index into [`Scene::textures`] of a texture multiplying `emission` at each point (glTF
+    /// `emissiveTexture`, Mitsuba's textured `radiance`; `crate::scene::emission`), or
+    /// [`NO_TEXTURE`].
+    pub emission_texture: u32,
     /// Cut-outs and partial coverage (glTF `alphaMode` MASK and BLEND, Mitsuba's `mask`);
     /// `None` for an opaque surface.
     pub alpha: Option<Alpha>,
@@ -216,6 +220,7 @@ impl Material {
             normal_texture: NO_TEXTURE,
             mr_texture: NO_TEXTURE,
             gltf_textures: [NO_TEXTURE; 3],
+            emission_texture: NO_TEXTURE,
             alpha: None,
         }
     }

@@ -9,6 +9,7 @@
 
 mod builder;
 mod checks;
+pub mod emission;
 mod file;
 mod gltf;
 mod locate;

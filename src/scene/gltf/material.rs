@@ -14,8 +14,7 @@
 //! metallic-roughness and normal textures are read (`texture.rs`); the occlusion texture is
 //! baked ambient occlusion, which global illumination computes itself, so it is not used.
 //! The metallic-roughness BSDF also reads the transmission, specular and specular colour
-//! textures; the emissive texture is not read yet (its factor is used and a warning names
-//! it).
+//! textures, and an emissive material its emissive texture (`crate::scene::emission`).
 
 use super::super::Material;
 use crate::bsdf::{Bsdf, Distribution, MetallicRoughness, Microfacet};
@@ -112,7 +111,8 @@ pub(super) fn reads_base_colour(material: &Material) -> bool {
 }
 
 /// The texture whose uv set a primitive of `m` reads: the base colour's, else the
-/// metallic-roughness', else the normal map's (one set per primitive).
+/// metallic-roughness', else the normal map's, else the emissive one's (one set per
+/// primitive).
 pub(super) fn uv_texture<'a>(m: &gltf::Material<'a>) -> Option<(u32, &'static str)> {
     let pbr = m.pbr_metallic_roughness();
     let (material, _) = map(m);
@@ -125,7 +125,11 @@ pub(super) fn uv_texture<'a>(m: &gltf::Material<'a>) -> Option<(u32, &'static st
         .filter(|_| material.kind == crate::scene::MaterialKind::MetallicRoughness)
         .map(|i| (super::texture::uv_set(&i), "metallicRoughnessTexture"));
     let normal = m.normal_texture().map(|n| (n.tex_coord(), "normalTexture"));
-    base.or(mr).or(normal)
+    let emissive = m
+        .emissive_texture()
+        .filter(|_| material.is_emissive())
+        .map(|i| (super::texture::uv_set(&i), "emissiveTexture"));
+    base.or(mr).or(normal).or(emissive)
 }
 
 /// The textures `m` uses that are not read, by name (or `textures[i]`), with the slot they
@@ -147,7 +151,13 @@ pub(super) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
     if !reads_base_colour(&material) {
         add(pbr.base_color_texture().map(|i| i.texture()), "base colour");
     }
-    add(m.emissive_texture().map(|i| i.texture()), "emissive");
+    if !material.is_emissive() {
+        // An emissive texture under a black emissiveFactor changes nothing: say so.
+        add(
+            m.emissive_texture().map(|i| i.texture()),
+            "emissive (emissiveFactor is black)",
+        );
+    }
     if material.kind == crate::scene::MaterialKind::MetallicRoughness {
         return out;
     }

@@ -11,6 +11,7 @@ use glam::Vec3;
 /// Which field of a material a texture read for it fills.
 enum Slot {
     BaseColour,
+    Emission,
     MetallicRoughness,
     Normal,
     /// `Material::gltf_textures[i]`.
@@ -19,7 +20,8 @@ enum Slot {
 
 impl Importer<'_> {
     /// Reads the textures of `m` that `material` uses (base colour, metallic-roughness,
-    /// normal; a metallic-roughness material's transmission, specular and specular colour)
+    /// emissive, normal; a metallic-roughness material's transmission, specular and specular
+    /// colour)
     /// into the scene and points `material` at them. A texture on another uv set than the
     /// primitive's (`material::uv_texture`) is read on that one, with a warning.
     fn textures(&mut self, m: &gltf::Material, name: &str, material: &mut Material) -> Result<()> {
@@ -76,6 +78,12 @@ impl Importer<'_> {
             };
             read.push((slot, t.map_err(err)?));
         }
+        if let Some(info) = m.emissive_texture().filter(|_| material.is_emissive()) {
+            let t = texture::TexRef::info(&info);
+            warn_set(&t);
+            let t = texture::base_colour(&t, Vec3::ONE, buffers, dir).map_err(err)?;
+            read.push((Slot::Emission, t));
+        }
         if let Some(n) = m.normal_texture() {
             let r = texture::TexRef::normal(&n);
             warn_set(&r);
@@ -86,6 +94,7 @@ impl Importer<'_> {
             let id = self.b.add_texture(t);
             match slot {
                 Slot::BaseColour => material.kd_texture = id,
+                Slot::Emission => material.emission_texture = id,
                 Slot::MetallicRoughness => material.mr_texture = id,
                 Slot::Normal => material.normal_texture = id,
                 Slot::Param(i) => material.gltf_textures[i] = id,

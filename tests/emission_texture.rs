@@ -1,0 +1,185 @@
+//! Textured emission (`Material::emission_texture`, glTF's `emissiveTexture`): the camera
+//! sees the emitter's radiance times the texel, the light's power includes the texture's
+//! mean, and a floor lit by it receives the same light from shadow rays (which weigh each
+//! sampled point by its texel) as from photons (which carry texel / mean): two estimators
+//! of one integral. The GPU backend refuses such scenes with a clear error for now.
+
+use glam::{Vec2, Vec3};
+use gpu_photon::report::Progress;
+use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
+use gpu_photon::session::{render, Backend};
+use gpu_photon::settings::{Mode, RenderSettings};
+use gpu_photon::texture::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
+use std::f32::consts::PI;
+
+/// Texels of the 2 x 2 emission texture (raw 8-bit: a channel reads byte / 255).
+const TEXELS: [[u8; 4]; 4] = [
+    [255, 51, 0, 255],
+    [0, 255, 102, 255],
+    [51, 0, 255, 255],
+    [255, 255, 255, 255],
+];
+
+fn at() -> Origin {
+    Origin {
+        file: "test".into(),
+        line: 1,
+        field: "scene".into(),
+    }
+}
+
+/// A 0.5 x 0.5 emitter of radiance `L x texel` facing down at height 1 over a 6 x 6 grey floor
+/// (albedo 0.5); the camera at height 0.5 looks down at the floor (`up`: false) or up at the
+/// emitter's centre.
+fn scene(l: f32, up: bool) -> Scene {
+    let mut b = SceneBuilder::new();
+    let (eye, target) = match up {
+        true => (Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0)),
+        // Off centre, nearer one quadrant: the floor there is not lit in the mean colour.
+        false => (Vec3::new(0.4, 0.5, 0.4), Vec3::new(0.4, 0.0, 0.4)),
+    };
+    b.camera(eye, target, Vec3::Z, 20.0, &at()).unwrap();
+    let texels = TEXELS
+        .iter()
+        .map(|t| gpu_photon::texture::pack_rgba8(*t))
+        .collect();
+    let tex = Texture::from_rgba8("emission", 2, 2, texels, Encoding::Raw)
+        .unwrap()
+        .with_sampler(Sampler::mitsuba(
+            Filter::Nearest,
+            Wrap::Clamp,
+            UvTransform::IDENTITY,
+        ));
+    let tex = b.add_texture(SceneTexture::Bitmap(tex));
+    let mut m = Material::emitter(Vec3::splat(l));
+    m.emission_texture = tex;
+    let light = b.add_material(None, m, &at()).unwrap();
+    let h = 0.25;
+    // Facing down (-y): the winding below gives cross(v1 - v0, v2 - v0) along -y. uv (x, z)
+    // over [-h, h]^2.
+    let c = [
+        Vec3::new(-h, 1.0, -h),
+        Vec3::new(-h, 1.0, h),
+        Vec3::new(h, 1.0, h),
+        Vec3::new(h, 1.0, -h),
+    ];
+    let uv = |p: Vec3| Vec2::new((p.x + h) / (2.0 * h), (p.z + h) / (2.0 * h));
+    let tris = vec![[c[0], c[2], c[1]], [c[0], c[3], c[2]]];
+    let uvs = tris.iter().map(|t| t.map(uv)).collect();
+    b.add_uv_mesh(tris, None, uvs, Surface::of(light), &at())
+        .unwrap();
+    let grey = b
+        .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at())
+        .unwrap();
+    let f = 3.0;
+    let floor = [
+        Vec3::new(-f, 0.0, -f),
+        Vec3::new(-f, 0.0, f),
+        Vec3::new(f, 0.0, f),
+        Vec3::new(f, 0.0, -f),
+    ];
+    // Facing up (+y), as cross(v1 - v0, v2 - v0) says.
+    b.add_mesh(
+        vec![
+            [floor[0], floor[1], floor[2]],
+            [floor[0], floor[2], floor[3]],
+        ],
+        Surface::of(grey),
+        &at(),
+    )
+    .unwrap();
+    b.finish(&at()).unwrap()
+}
+
+fn mean_texel() -> Vec3 {
+    TEXELS
+        .iter()
+        .map(|t| Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32) / 255.0)
+        .sum::<Vec3>()
+        / 4.0
+}
+
+fn image_mean(s: &Scene, settings: &RenderSettings) -> Vec3 {
+    let (img, _) = render(s, settings, Backend::Cpu, Progress::default()).unwrap();
+    let sum: Vec3 = img.pixels.iter().map(|p| Vec3::new(p[0], p[1], p[2])).sum();
+    sum / img.pixels.len() as f32
+}
+
+#[test]
+fn the_camera_sees_radiance_times_texel_and_the_power_includes_the_mean() {
+    let s = scene(2.0, true);
+    // Power: pi A L x the texture's mean (one-sided).
+    let want = PI * 0.25 * 2.0 * mean_texel();
+    let got = s.lights[0].power;
+    assert!(
+        (got - want).abs().max_element() < 1e-3 * want.max_element(),
+        "{got} vs {want}"
+    );
+    // Looking straight up from below the emitter's centre, each image quadrant is a texel.
+    let settings = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 4,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let mut seen: Vec<Vec3> = Vec::new();
+    for (px, py) in [(3, 3), (12, 3), (3, 12), (12, 12)] {
+        let p = img.pixels[py * 16 + px];
+        seen.push(Vec3::new(p[0], p[1], p[2]));
+    }
+    for t in TEXELS {
+        let want = 2.0 * Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32) / 255.0;
+        assert!(
+            seen.iter().any(|v| (*v - want).abs().max_element() < 1e-4),
+            "texel {t:?}: radiance {want} not among the quadrants {seen:?}"
+        );
+    }
+}
+
+#[test]
+fn shadow_rays_and_photons_agree_on_a_textured_light() {
+    let s = scene(4.0, false);
+    let direct = image_mean(
+        &s,
+        &RenderSettings {
+            width: 24,
+            height: 24,
+            spp: 16,
+            mode: Mode::DirectOnly,
+            ..s.settings.clone()
+        },
+    );
+    let photons = image_mean(
+        &s,
+        &RenderSettings {
+            width: 24,
+            height: 24,
+            spp: 4,
+            mode: Mode::Photon,
+            photons: 400_000,
+            ..s.settings.clone()
+        },
+    );
+    // The floor only: no other surface reflects back to it (photon mode adds nothing else).
+    let err = ((photons - direct) / direct).abs().max_element();
+    assert!(err < 0.03, "direct {direct} vs photons {photons}");
+    // The view is lit off the mean colour, so photons carrying the mean would not match.
+    let tint = direct / direct.element_sum() - mean_texel() / mean_texel().element_sum();
+    assert!(tint.abs().max_element() > 0.01, "{direct} is lit in the mean colour");
+    assert!(direct.min_element() > 0.0);
+}
+
+#[test]
+fn the_gpu_refuses_textured_emission_for_now() {
+    let s = scene(1.0, true);
+    let e = render(&s, &s.settings, Backend::Gpu, Progress::default())
+        .err()
+        .expect("the GPU refuses");
+    assert_eq!(
+        e.to_string(),
+        "GPU backend: textured emission (a glTF emissiveTexture) is rendered by the CPU backend \
+         only (use --backend cpu or auto)"
+    );
+}
