@@ -7,31 +7,102 @@
 
 use crate::error::{Error, Result};
 use glam::{Mat4, Vec3, Vec4};
-use roxmltree::Node;
+use roxmltree::{Document, Node};
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// Longest attribute value accepted after `$name` substitution: defaults may refer to earlier
 /// defaults, so each level can double the text (`$d0$d0`).
 pub const MAX_VALUE_BYTES: usize = 1 << 20;
 
-/// What every reader needs: the file's name for errors and the `default` parameters.
+/// What every reader needs: the files (for errors), the `default` parameters, where file
+/// names are looked up and the top-level objects with an `id`.
 pub(super) struct Cx<'f> {
-    /// The file, as errors show it.
+    /// The scene file, as errors show it.
     pub file: &'f str,
+    /// Every parsed file (the scene and the files it includes) with its name, for errors.
+    pub docs: Vec<(&'f Document<'f>, &'f str)>,
     /// `<default name="..." value="..."/>` of the scene, for `$name` substitution.
     pub defaults: HashMap<String, String>,
+    /// Mitsuba's file resolver: the `<path>` directories, the latest first, then the scene
+    /// file's directory.
+    pub search: Vec<PathBuf>,
+    /// The top-level objects with an `id`, for `<ref>`.
+    pub ids: HashMap<String, Node<'f, 'f>>,
 }
 
-impl Cx<'_> {
-    /// An error about `node` (its line) and `field`.
+/// `raw` with every `$name` replaced by its `defaults` value; the error names the first
+/// unknown `$name` or says the value grew over [`MAX_VALUE_BYTES`].
+pub(super) fn substitute(
+    raw: &str,
+    defaults: &HashMap<String, String>,
+) -> std::result::Result<String, String> {
+    let mut out = String::with_capacity(raw.len());
+    let mut rest = raw;
+    while let Some(i) = rest.find('$') {
+        out.push_str(&rest[..i]);
+        let tail = &rest[i + 1..];
+        let len = tail
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(tail.len());
+        let key = &tail[..len];
+        let Some(value) = defaults.get(key).filter(|_| !key.is_empty()) else {
+            return Err(format!("`${key}` has no <default name=\"{key}\" .../>"));
+        };
+        if out.len() + value.len() > MAX_VALUE_BYTES {
+            return Err(format!(
+                "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
+            ));
+        }
+        out.push_str(value);
+        rest = &tail[len..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+impl<'f> Cx<'f> {
+    /// The top-level object `<ref id>` `node` names (`node` itself when it is no `ref`).
+    pub fn deref(&self, node: Node<'f, 'f>, field: &str) -> Result<Node<'f, 'f>> {
+        if node.tag_name().name() != "ref" {
+            return Ok(node);
+        }
+        let id = self.need_attr(node, field, "id")?;
+        let message = || format!("unknown id `{id}`");
+        self.ids
+            .get(&id)
+            .copied()
+            .ok_or_else(|| self.err(node, field, message()))
+    }
+
+    /// The name of the file `node` is in.
+    pub fn file_of(&self, node: Node) -> &str {
+        let doc = node.document();
+        let found = self.docs.iter().find(|(d, _)| std::ptr::eq(*d, doc));
+        found.map_or(self.file, |(_, name)| name)
+    }
+
+    /// `FILE:LINE` of `node`, for warnings.
+    pub fn loc(&self, node: Node) -> String {
+        let line = node.document().text_pos_at(node.range().start).row;
+        format!("{}:{line}", self.file_of(node))
+    }
+
+    /// An error about `node` (its file and line) and `field`.
     pub fn err(&self, node: Node, field: &str, message: impl Into<String>) -> Error {
         let line = node.document().text_pos_at(node.range().start).row as usize;
         Error::Scene {
-            file: self.file.to_string(),
+            file: self.file_of(node).to_string(),
             line,
             field: field.to_string(),
             message: message.into(),
         }
+    }
+
+    /// The file a scene names: absolute as given, else the first `search` directory that
+    /// has it (Mitsuba's `FileResolver::resolve`), else in the scene's directory.
+    pub fn resolve(&self, name: &str) -> PathBuf {
+        resolve(&self.search, name)
     }
 
     /// The attribute `name` of `node` after `$name` substitution, if present.
@@ -39,30 +110,9 @@ impl Cx<'_> {
         let Some(raw) = node.attribute(name) else {
             return Ok(None);
         };
-        let mut out = String::with_capacity(raw.len());
-        let mut rest = raw;
-        while let Some(i) = rest.find('$') {
-            out.push_str(&rest[..i]);
-            let tail = &rest[i + 1..];
-            let len = tail
-                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                .unwrap_or(tail.len());
-            let key = &tail[..len];
-            let Some(value) = self.defaults.get(key).filter(|_| !key.is_empty()) else {
-                let message = format!("`${key}` has no <default name=\"{key}\" .../>");
-                return Err(self.err(node, field, message));
-            };
-            if out.len() + value.len() > MAX_VALUE_BYTES {
-                let message = format!(
-                    "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
-                );
-                return Err(self.err(node, field, message));
-            }
-            out.push_str(value);
-            rest = &tail[len..];
-        }
-        out.push_str(rest);
-        Ok(Some(out))
+        substitute(raw, &self.defaults)
+            .map(Some)
+            .map_err(|m| self.err(node, field, m))
     }
 
     /// The attribute `name` of `node`, which must be present.
@@ -208,6 +258,16 @@ impl Cx<'_> {
             origin.extend(1.0),
         ))
     }
+}
+
+/// `name` looked up in the `search` directories (the last is the scene's directory).
+pub(super) fn resolve(search: &[PathBuf], name: &str) -> PathBuf {
+    let path = Path::new(name);
+    if path.is_absolute() {
+        return path.to_path_buf();
+    }
+    let found = search.iter().map(|d| d.join(path)).find(|p| p.exists());
+    found.unwrap_or_else(|| search.last().map_or(path.to_path_buf(), |d| d.join(path)))
 }
 
 /// Refractive indices Mitsuba 3 accepts by name (its `ior` table).
