@@ -334,6 +334,15 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
         reflectance(curve)
     );
     assert_eq!(reflectance("0.5"), Vec3::splat(0.5));
+    // The same pairs from a file (Mitsuba's spectrum file: a pair per line, # comments).
+    let d = Dir::new("spd");
+    d.write(
+        "c.spd",
+        "# nm value\n400 0.343\n404 0.445\n450 0.3\n500 0.15\n560 0.6\n610 0.7\n700 0.8\n",
+    );
+    let body = r#"<shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" filename="c.spd"/></bsdf></shape>"#;
+    let from_file = albedo(&load_in(&d.0, &scene(body), &[]).unwrap().scene);
+    assert_eq!(from_file, reflectance(curve));
     assert!(close(
         reflectance("360:1, 830:1"),
         Vec3::new(0.998985, 0.998874, 0.998802),

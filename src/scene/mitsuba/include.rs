@@ -7,7 +7,8 @@
 //!   first, then the scene file's directory; not the including file's own directory); its
 //!   `<scene>`'s elements (or its root element, when that is not a `<scene>`) are spliced in
 //!   its place. At most [`MAX_INCLUDE_DEPTH`] nested includes (Mitsuba's
-//!   `MI_XML_INCLUDE_MAX_RECURSION`), [`MAX_INCLUDED_FILES`] in all; a cycle is an error.
+//!   `MI_XML_INCLUDE_MAX_RECURSION`), [`MAX_INCLUDED_FILES`] and [`MAX_INCLUDED_BYTES`]
+//!   in all; a cycle is an error.
 //!
 //! Attributes are substituted (`$name`) with the parameters known when they are met.
 
@@ -24,6 +25,9 @@ pub const MAX_INCLUDE_DEPTH: usize = 15;
 
 /// Most files included in all (a file included twice counts twice).
 pub const MAX_INCLUDED_FILES: usize = 1024;
+
+/// Most bytes of the included files together (each read is bounded by its file's size).
+pub const MAX_INCLUDED_BYTES: usize = 256 << 20;
 
 /// One file of the scene.
 pub(super) struct Source {
@@ -85,6 +89,7 @@ pub(super) fn gather(
         },
         stack: vec![base_dir.join(file_name(file)).canonicalize().ok()],
         kept: 0,
+        read: 0,
     };
     w.walk(0, base_dir, 0)?;
     Ok(w.g)
@@ -104,6 +109,8 @@ struct Walk {
     stack: Vec<Option<PathBuf>>,
     /// Bytes of `<default>` values kept.
     kept: usize,
+    /// Bytes of the included files read.
+    read: usize,
 }
 
 /// A located error in the file `name`.
@@ -227,6 +234,11 @@ impl Walk {
         }
         let text = file::read_text(&path)
             .map_err(|e| err(name, node, field, format!("cannot read it: {e}")))?;
+        self.read += text.len();
+        if self.read > MAX_INCLUDED_BYTES {
+            let message = format!("the included files exceed {MAX_INCLUDED_BYTES} bytes in all");
+            return Err(err(name, node, field, message));
+        }
         let new = self.g.sources.len();
         self.g.sources.push(Source {
             name: path.display().to_string(),

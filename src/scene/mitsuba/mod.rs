@@ -22,7 +22,7 @@ mod spectrum;
 mod texture;
 mod values;
 
-pub use include::{MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
+pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 
 use super::builder::{MaterialId, SceneBuilder};
 use super::locate::Origin;

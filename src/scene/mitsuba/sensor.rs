@@ -100,7 +100,7 @@ impl Importer<'_> {
     /// `max_depth` and `rr_depth` (path lengths, which our settings do not have: our
     /// `max_depth` counts specular bounces of camera rays) are read and named in it.
     pub(super) fn integrator(&mut self, node: Node, field: &str) -> Result<()> {
-        let kind = node.attribute("type").unwrap_or("?");
+        let kind = self.cx.attr(node, field, "type")?.unwrap_or_default();
         let mut hints = Vec::new();
         for child in node.children().filter(Node::is_element) {
             let name = child.attribute("name").unwrap_or_default();
