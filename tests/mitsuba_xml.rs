@@ -47,6 +47,11 @@ fn scene(body: &str) -> String {
     format!("<scene version=\"3.0.0\">\n{SENSOR}\n{body}\n</scene>\n")
 }
 
+/// An included file: line 1 `<scene>`, `body` from line 2.
+fn frag(body: &str) -> String {
+    format!("<scene version=\"3.0.0\">\n{body}\n</scene>\n")
+}
+
 fn load_in(dir: &Path, text: &str, defines: &[(&str, &str)]) -> Result<Imported, Error> {
     let owned = |(n, v): &(&str, &str)| (n.to_string(), v.to_string());
     let defines: Vec<(String, String)> = defines.iter().map(owned).collect();
@@ -75,10 +80,8 @@ const RECT: &str = r#"<shape type="rectangle"><ref id="white"/></shape>"#;
 #[test]
 fn include_splices_a_fragment_and_locates_its_errors() {
     let d = Dir::new("include");
-    d.write(
-        "fragments/base.xml",
-        "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\" id=\"white\"><rgb name=\"reflectance\" value=\"0.25\"/></bsdf>\n</scene>\n",
-    );
+    let white = r#"<bsdf type="diffuse" id="white"><rgb name="reflectance" value="0.25"/></bsdf>"#;
+    d.write("fragments/base.xml", &frag(white));
     let text = scene(&format!(
         "<include filename=\"fragments/base.xml\"/>\n{RECT}"
     ));
@@ -87,10 +90,7 @@ fn include_splices_a_fragment_and_locates_its_errors() {
     assert_eq!(im.scene.triangles.len(), 2);
 
     // An error inside the included file names it and its line.
-    d.write(
-        "bad.xml",
-        "<scene version=\"3.0.0\">\n\n<shape type=\"cone\"/>\n</scene>\n",
-    );
+    d.write("bad.xml", &frag("\n<shape type=\"cone\"/>"));
     let text = scene("<include filename=\"bad.xml\"/>");
     let want = format!(
         "{}:3: shape[0]: unsupported shape `cone`",
@@ -98,10 +98,7 @@ fn include_splices_a_fragment_and_locates_its_errors() {
     );
     assert_eq!(error(load_in(&d.0, &text, &[])), want);
     // So does a syntax error in it.
-    d.write(
-        "broken.xml",
-        "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\">\n</scene>\n",
-    );
+    d.write("broken.xml", &frag("<bsdf type=\"diffuse\">"));
     let text = scene("<include filename=\"broken.xml\"/>");
     let got = error(load_in(&d.0, &text, &[]));
     assert!(
@@ -120,14 +117,8 @@ fn include_splices_a_fragment_and_locates_its_errors() {
 #[test]
 fn include_cycles_and_depth_are_located_errors() {
     let d = Dir::new("cycle");
-    d.write(
-        "a.xml",
-        "<scene version=\"3.0.0\">\n<include filename=\"b.xml\"/>\n</scene>\n",
-    );
-    d.write(
-        "b.xml",
-        "<scene version=\"3.0.0\">\n\n<include filename=\"a.xml\"/>\n</scene>\n",
-    );
+    d.write("a.xml", &frag("<include filename=\"b.xml\"/>"));
+    d.write("b.xml", &frag("\n<include filename=\"a.xml\"/>"));
     let text = scene("<include filename=\"a.xml\"/>");
     let want = format!(
         "{}:3: include: include cycle: `{}` includes itself",
@@ -143,10 +134,7 @@ fn include_cycles_and_depth_are_located_errors() {
                 true => format!("<include filename=\"c{}.xml\"/>", i + 1),
                 false => r#"<bsdf type="diffuse" id="white"/>"#.to_string(),
             };
-            d.write(
-                &format!("c{i}.xml"),
-                &format!("<scene version=\"3.0.0\">\n{next}\n</scene>\n"),
-            );
+            d.write(&format!("c{i}.xml"), &frag(&next));
         }
         load_in(
             &d.0,
@@ -165,13 +153,15 @@ fn include_cycles_and_depth_are_located_errors() {
 #[test]
 fn path_directories_are_searched_first_latest_first() {
     let d = Dir::new("path");
-    let frag = |v: &str| {
-        format!("<scene version=\"3.0.0\"><bsdf type=\"diffuse\" id=\"white\"><rgb name=\"reflectance\" value=\"{v}\"/></bsdf></scene>")
+    let white = |v: &str| {
+        frag(&format!(
+            "<bsdf type=\"diffuse\" id=\"white\"><rgb name=\"reflectance\" value=\"{v}\"/></bsdf>"
+        ))
     };
     // The same name in the scene's directory and in two <path> directories.
-    d.write("scene/frag.xml", &frag("0.1"));
-    d.write("common/frag.xml", &frag("0.2"));
-    d.write("other/frag.xml", &frag("0.3"));
+    d.write("scene/frag.xml", &white("0.1"));
+    d.write("common/frag.xml", &white("0.2"));
+    d.write("other/frag.xml", &white("0.3"));
     d.write("common/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let dir = d.0.join("scene");
     let load = |paths: &str| {
@@ -208,11 +198,18 @@ fn defaults_and_defines() {
     );
     let defined = load_in(&d.0, &text, &[("r", "0.75")]).unwrap();
     assert_eq!(albedo(&defined.scene), Vec3::splat(0.75));
-    // Defines reach included file names too.
-    d.write(
-        "v2.xml",
-        "<scene version=\"3.0.0\"><bsdf type=\"diffuse\" id=\"white\"/></scene>",
+    // The longest defined name matches (`$r5` is `$r` then 5, as in Mitsuba); `\$` is `$`.
+    d.write("a$b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let text = scene(&format!(
+        "<default name=\"r\" value=\"0.2\"/>\n<bsdf type=\"diffuse\" id=\"white\"><rgb name=\"reflectance\" value=\"$r5\"/></bsdf>\n{RECT}<shape type=\"obj\"><string name=\"filename\" value=\"a\\$b.obj\"/></shape>"
+    ));
+    let im = load_in(&d.0, &text, &[]).unwrap();
+    assert_eq!(
+        (albedo(&im.scene), im.scene.triangles.len()),
+        (Vec3::splat(0.25), 3)
     );
+    // Defines reach included file names too.
+    d.write("v2.xml", &frag("<bsdf type=\"diffuse\" id=\"white\"/>"));
     let text = scene(&format!("<include filename=\"$part.xml\"/>\n{RECT}"));
     assert!(load_in(&d.0, &text, &[("part", "v2")]).is_ok());
     let got = error(load_in(&d.0, &text, &[]));

@@ -12,7 +12,7 @@
 //!
 //! Attributes are substituted (`$name`) with the parameters known when they are met.
 
-use super::values::{resolve, substitute, MAX_VALUE_BYTES};
+use super::values::{resolve, substitute, Params};
 use super::{check_nesting, elements, MAX_DEFAULTS_BYTES};
 use crate::error::{Error, Result};
 use crate::scene::file;
@@ -44,7 +44,7 @@ pub(super) struct Gathered {
     /// (source, byte offset of an `<include>` element) -> the source it includes.
     pub includes: HashMap<(usize, usize), usize>,
     /// The parameters for `$name`.
-    pub defaults: HashMap<String, String>,
+    pub defaults: Params,
     /// The file resolver: `<path>` directories, the latest first, then the scene's directory.
     pub search: Vec<PathBuf>,
 }
@@ -84,7 +84,7 @@ pub(super) fn gather(
                 text,
             }],
             includes: HashMap::new(),
-            defaults: defines.iter().cloned().collect(),
+            defaults: Params::new(defines),
             search: vec![base_dir.to_path_buf()],
         },
         stack: vec![base_dir.join(file_name(file)).canonicalize().ok()],
@@ -171,13 +171,13 @@ impl Walk {
                         return Err(err(name, node, "default", "the name is empty"));
                     }
                     // Each value is bounded, but many of them (each `$big`) would not be.
-                    self.kept += value.len().min(MAX_VALUE_BYTES);
+                    self.kept += value.len();
                     if self.kept > MAX_DEFAULTS_BYTES {
                         let message =
                             format!("the defaults expand to more than {MAX_DEFAULTS_BYTES} bytes");
                         return Err(err(name, node, &field, message));
                     }
-                    self.g.defaults.entry(key).or_insert(value);
+                    self.g.defaults.add(key, value);
                 }
                 "path" => {
                     let value = self.attr(name, node, "path", "value")?;

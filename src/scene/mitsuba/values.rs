@@ -22,8 +22,8 @@ pub(super) struct Cx<'f> {
     pub file: &'f str,
     /// Every parsed file (the scene and the files it includes) with its name, for errors.
     pub docs: Vec<(&'f Document<'f>, &'f str)>,
-    /// `<default name="..." value="..."/>` of the scene, for `$name` substitution.
-    pub defaults: HashMap<String, String>,
+    /// The defines and `<default name="..." value="..."/>`s, for `$name` substitution.
+    pub defaults: Params,
     /// Mitsuba's file resolver: the `<path>` directories, the latest first, then the scene
     /// file's directory.
     pub search: Vec<PathBuf>,
@@ -31,25 +31,66 @@ pub(super) struct Cx<'f> {
     pub ids: HashMap<String, Node<'f, 'f>>,
 }
 
-/// `raw` with every `$name` replaced by its `defaults` value; the error names the first
-/// unknown `$name` or says the value grew over [`MAX_VALUE_BYTES`].
-pub(super) fn substitute(
-    raw: &str,
-    defaults: &HashMap<String, String>,
-) -> std::result::Result<String, String> {
+/// The parameters for `$name`: the command line's defines and the `<default>`s.
+#[derive(Default)]
+pub(super) struct Params {
+    values: HashMap<String, String>,
+    /// The lengths of the names, longest first (to match the longest name first).
+    lengths: Vec<usize>,
+}
+
+impl Params {
+    /// Parameters `(NAME, VALUE)`.
+    pub fn new(defines: &[(String, String)]) -> Self {
+        let mut p = Params::default();
+        for (name, value) in defines {
+            p.add(name.clone(), value.clone());
+        }
+        p
+    }
+
+    /// Adds `name` unless it exists (Mitsuba keeps the first).
+    pub fn add(&mut self, name: String, value: String) {
+        if let Err(i) = self.lengths.binary_search_by(|l| name.len().cmp(l)) {
+            self.lengths.insert(i, name.len());
+        }
+        self.values.entry(name).or_insert(value);
+    }
+
+    /// The longest parameter whose name starts `text`: its name's length and its value.
+    fn longest_at(&self, text: &str) -> Option<(usize, &str)> {
+        self.lengths.iter().find_map(|&n| {
+            let value = self.values.get(text.get(..n)?)?;
+            Some((n, value.as_str()))
+        })
+    }
+}
+
+/// `raw` with every `$name` replaced by its value, as Mitsuba substitutes: the longest name
+/// that follows the `$` (so `$spp_x` is `$spp` then `_x` when only `spp` is defined), `\$` a
+/// literal `$`; values are not substituted again. The error names the first unknown
+/// `$name` or says the value grew over [`MAX_VALUE_BYTES`].
+pub(super) fn substitute(raw: &str, params: &Params) -> std::result::Result<String, String> {
     let mut out = String::with_capacity(raw.len());
     let mut rest = raw;
     while let Some(i) = rest.find('$') {
-        out.push_str(&rest[..i]);
         let tail = &rest[i + 1..];
-        let len = tail
-            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-            .unwrap_or(tail.len());
-        let key = &tail[..len];
-        let Some(value) = defaults.get(key).filter(|_| !key.is_empty()) else {
+        if rest[..i].ends_with('\\') {
+            out.push_str(&rest[..i - 1]);
+            out.push('$');
+            rest = tail;
+            continue;
+        }
+        out.push_str(&rest[..i]);
+        let Some((len, value)) = params.longest_at(tail) else {
+            let len = tail
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(tail.len());
+            let key = &tail[..len];
             return Err(format!("`${key}` has no <default name=\"{key}\" .../>"));
         };
         if out.len() + value.len() > MAX_VALUE_BYTES {
+            let key = &tail[..len];
             return Err(format!(
                 "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
             ));
