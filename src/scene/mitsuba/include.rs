@@ -12,7 +12,7 @@
 //!
 //! Attributes are substituted (`$name`) with the parameters known when they are met.
 
-use super::values::{resolve, substitute, Params};
+use super::values::{check_name, resolve, substitute, Params};
 use super::{check_nesting, elements, MAX_DEFAULTS_BYTES};
 use crate::error::{Error, Result};
 use crate::scene::file;
@@ -165,11 +165,9 @@ impl Walk {
             match node.tag_name().name() {
                 "default" => {
                     let key = self.attr(name, node, "default", "name")?;
+                    check_name(&key).map_err(|m| err(name, node, "default", m))?;
                     let field = format!("default.{key}");
                     let value = self.attr(name, node, &field, "value")?;
-                    if key.is_empty() {
-                        return Err(err(name, node, "default", "the name is empty"));
-                    }
                     // Each value is bounded, but many of them (each `$big`) would not be.
                     self.kept += value.len();
                     if self.kept > MAX_DEFAULTS_BYTES {

@@ -86,17 +86,13 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
     import_with(text.to_string(), file, base_dir, &[])
 }
 
-/// Parses a command-line `NAME=VALUE` parameter (`--define`): NAME is letters, digits, `_`.
+/// Parses a command-line `NAME=VALUE` parameter (`--define`): NAME is 1 to 256 letters,
+/// digits or `_`.
 pub fn parse_define(arg: &str) -> std::result::Result<(String, String), String> {
     let Some((name, value)) = arg.split_once('=') else {
         return Err(format!("`{arg}` is not NAME=VALUE"));
     };
-    let valid = |c: char| c.is_ascii_alphanumeric() || c == '_';
-    if name.is_empty() || !name.chars().all(valid) {
-        return Err(format!(
-            "`{name}` is not a parameter name (letters, digits, _)"
-        ));
-    }
+    values::check_name(name)?;
     Ok((name.to_string(), value.to_string()))
 }
 

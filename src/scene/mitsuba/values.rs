@@ -58,11 +58,30 @@ impl Params {
     }
 
     /// The longest parameter whose name starts `text`: its name's length and its value.
+    /// Names are words (checked by [`check_name`]), so only the word `text` starts with is
+    /// tried, at the lengths names have: at most [`MAX_NAME_BYTES`] lookups of as many bytes.
     fn longest_at(&self, text: &str) -> Option<(usize, &str)> {
-        self.lengths.iter().find_map(|&n| {
-            let value = self.values.get(text.get(..n)?)?;
-            Some((n, value.as_str()))
-        })
+        let word = text.find(|c| !is_name_char(c)).unwrap_or(text.len());
+        let mut lengths = self.lengths.iter().filter(|&&n| n <= word);
+        lengths.find_map(|&n| Some((n, self.values.get(&text[..n])?.as_str())))
+    }
+}
+
+/// Longest parameter name accepted (real names are a few words).
+pub const MAX_NAME_BYTES: usize = 256;
+
+fn is_name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// Refuses a parameter name that is not 1 to [`MAX_NAME_BYTES`] letters, digits or `_`
+/// (Mitsuba takes any text, but matches it textually).
+pub fn check_name(name: &str) -> std::result::Result<(), String> {
+    match !name.is_empty() && name.len() <= MAX_NAME_BYTES && name.chars().all(is_name_char) {
+        true => Ok(()),
+        false => Err(format!(
+            "`{name}` is not a parameter name (1 to {MAX_NAME_BYTES} letters, digits, _)"
+        )),
     }
 }
 
@@ -83,9 +102,7 @@ pub(super) fn substitute(raw: &str, params: &Params) -> std::result::Result<Stri
         }
         out.push_str(&rest[..i]);
         let Some((len, value)) = params.longest_at(tail) else {
-            let len = tail
-                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                .unwrap_or(tail.len());
+            let len = tail.find(|c| !is_name_char(c)).unwrap_or(tail.len());
             let key = &tail[..len];
             return Err(format!("`${key}` has no <default name=\"{key}\" .../>"));
         };
