@@ -66,8 +66,12 @@ fn error(r: Result<Imported, Error>) -> String {
     r.map(|_| ()).expect_err("accepted").to_string()
 }
 
-fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
-    (a - b).abs().max_element() <= tol
+#[track_caller]
+fn assert_close(a: Vec3, b: [f32; 3], tol: f32) {
+    assert!(
+        (a - Vec3::from(b)).abs().max_element() <= tol,
+        "{a} vs {b:?}"
+    );
 }
 
 /// The diffuse albedo of the first triangle's material.
@@ -107,10 +111,10 @@ fn include_splices_a_fragment_and_locates_its_errors() {
     );
     // A missing file is an error at the include.
     let text = scene("<include filename=\"nowhere.xml\"/>");
-    let got = error(load_in(&d.0, &text, &[]));
-    assert!(
-        got.starts_with("t.xml:3: include: included file `nowhere.xml` not found"),
-        "{got}"
+    let want = "t.xml:3: include: included file `nowhere.xml` not found (searched: ";
+    assert_eq!(
+        error(load_in(&d.0, &text, &[])),
+        format!("{want}{})", d.0.display())
     );
 }
 
@@ -324,12 +328,7 @@ fn intensity(element: &str) -> Vec3 {
 fn spectra_convert_as_in_mitsuba_rgb_variants() {
     // Mitsuba 3.9.1's scalar_rgb values (scripts/mitsuba_spectra.py).
     let curve = "400:0.343, 404:0.445, 450:0.3, 500:0.15, 560:0.6, 610:0.7, 700:0.8";
-    let want = Vec3::new(0.855588, 0.428645, 0.259356);
-    assert!(
-        close(reflectance(curve), want, 2e-5),
-        "{}",
-        reflectance(curve)
-    );
+    assert_close(reflectance(curve), [0.855588, 0.428645, 0.259356], 2e-5);
     assert_eq!(reflectance("0.5"), Vec3::splat(0.5));
     // The same pairs from a file (Mitsuba's spectrum file: a pair per line, # comments).
     let d = Dir::new("spd");
@@ -340,24 +339,18 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
     let body = r#"<shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" filename="c.spd"/></bsdf></shape>"#;
     let from_file = albedo(&load_in(&d.0, &scene(body), &[]).unwrap().scene);
     assert_eq!(from_file, reflectance(curve));
-    assert!(close(
+    assert_close(
         reflectance("360:1, 830:1"),
-        Vec3::new(0.998985, 0.998874, 0.998802),
-        2e-5
-    ));
+        [0.998985, 0.998874, 0.998802],
+        2e-5,
+    );
 
     let e = |v: &str| intensity(&format!(r#"<spectrum name="intensity" value="{v}"/>"#));
     let got = e("400:1.5, 500:3, 600:2, 700:0.5");
-    assert!(
-        close(got, Vec3::new(1.77618, 2.54095, 2.05345), 1e-4),
-        "{got}"
-    );
+    assert_close(got, [1.77618, 2.54095, 2.05345], 1e-4);
     // A constant emission is the equal-energy spectrum, not sRGB white.
     let got = e("7");
-    assert!(
-        close(got, Vec3::new(8.43356, 6.63804, 6.36241), 1e-4),
-        "{got}"
-    );
+    assert_close(got, [8.43356, 6.63804, 6.36241], 1e-4);
 
     let im = ok(
         r#"<shape type="rectangle"><bsdf type="conductor"><spectrum name="eta" value="400:1.5, 700:1.8"/><spectrum name="k" value="0"/></bsdf></shape>"#,
@@ -365,10 +358,7 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
     let Some(Bsdf::Conductor { eta, k, .. }) = im.scene.materials[0].bsdf else {
         panic!("not a conductor");
     };
-    assert!(
-        close(eta, Vec3::new(1.73426, 1.64257, 1.53318), 2e-5),
-        "{eta}"
-    );
+    assert_close(eta, [1.73426, 1.64257, 1.53318], 2e-5);
     assert_eq!(k, Vec3::ZERO);
 
     // A blackbody (refused by Mitsuba's RGB variants) as its spectral variants record it.
@@ -416,15 +406,23 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
     );
 }
 
-/// The vertical fov (degrees) of a `fov` on `axis` with a `w` x `h` film.
-fn fov_y(fov: f32, axis: &str, w: u32, h: u32) -> f32 {
+/// The vertical fov (degrees) of a sensor with `params` and a `w` x `h` film.
+fn fov_of(params: &str, w: u32, h: u32) -> f32 {
     let text = format!(
-        r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="{fov}"/><string name="fov_axis" value="{axis}"/>
-<float name="near_clip" value="0.1"/><float name="far_clip" value="50"/><float name="focus_distance" value="3"/>
+        r#"<scene version="3.0.0"><sensor type="perspective">{params}
 <film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="{h}"/><rfilter type="box"/></film></sensor></scene>"#
     );
     let cam = import(&text, "t.xml", Path::new(".")).unwrap().scene.camera;
     2.0 * cam.up.length().atan().to_degrees()
+}
+
+/// The vertical fov of a `fov` on `axis` (with clip planes and a focus distance).
+fn fov_y(fov: f32, axis: &str, w: u32, h: u32) -> f32 {
+    let params = format!(
+        r#"<float name="fov" value="{fov}"/><string name="fov_axis" value="{axis}"/>
+<float name="near_clip" value="0.1"/><float name="far_clip" value="50"/><float name="focus_distance" value="3"/>"#
+    );
+    fov_of(&params, w, h)
 }
 
 #[test]
@@ -437,14 +435,17 @@ fn sensor_fov_axes_and_clip_planes() {
         ("smaller", deg(t * 2.0)),
         ("y", 60.0),
         ("larger", 60.0),
-        (
-            "diagonal",
-            deg(t * 64.0 / (32f32 * 32.0 + 64.0 * 64.0).sqrt()),
-        ),
+        ("diagonal", deg(t * 64.0 / 5120f32.sqrt())), // sqrt(32^2 + 64^2)
     ] {
         let got = fov_y(60.0, axis, 32, 64);
         assert!((got - want).abs() < 1e-3, "{axis}: {got} vs {want}");
     }
+    // Without a fov, a focal length (default 50mm) on the 36 x 24 mm diagonal.
+    let focal = |f: &str| fov_of(f, 30, 40);
+    let diag = |mm: f32| deg(1872f32.sqrt() / (2.0 * mm) * 40.0 / 50.0);
+    assert!((focal("") - diag(50.0)).abs() < 1e-3, "{}", focal(""));
+    let f35 = focal(r#"<string name="focal_length" value="35mm"/>"#);
+    assert!((f35 - diag(35.0)).abs() < 1e-3, "{f35}");
     // A wide one: larger is the width.
     assert!((fov_y(60.0, "larger", 64, 32) - deg(t / 2.0)).abs() < 1e-3);
     let text = |near: &str, far: &str| {

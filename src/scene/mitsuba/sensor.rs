@@ -46,14 +46,40 @@ impl Importer<'_> {
                 }
             }
         }
-        let fov_node = p.float(cx, "fov")?;
-        let Some(fov) = fov_node else {
-            return Err(cx.err(node, &p.at("fov"), "missing (focal_length is unsupported)"));
+        // Mitsuba's `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length`
+        // (default 50mm) on the 36 x 24 mm frame's diagonal.
+        let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
+        let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
+            (Some(_), Some(_)) => {
+                let message = "give `fov` or `focal_length`, not both";
+                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+            }
+            (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
+            (None, focal) => {
+                let focal = focal.unwrap_or_else(|| "50mm".into());
+                let mm = focal
+                    .strip_suffix("mm")
+                    .unwrap_or(&focal)
+                    .trim()
+                    .parse::<f32>();
+                let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
+                    let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
+                    return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+                };
+                let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
+                (fov, "diagonal".into())
+            }
         };
         if !(fov > 0.0 && fov < 180.0) {
             return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
         }
-        let axis = p.string(cx, "fov_axis")?.unwrap_or_else(|| "x".into());
+        // Our pinhole's principal point is the film's centre.
+        for name in ["principal_point_offset_x", "principal_point_offset_y"] {
+            if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
+                let message = "unsupported unless 0 (the principal point is the film's centre)";
+                return Err(cx.err(p.node_of(name), &p.at(name), message));
+            }
+        }
         let (w, h) = (
             self.b.settings().width as f32,
             self.b.settings().height as f32,
