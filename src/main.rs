@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
+use gpu_photon::scene::mitsuba;
 use gpu_photon::session::{render, render_slice, BackendChoice, SliceJob};
 use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, MAX_PASSES};
 use std::io::IsTerminal;
@@ -111,6 +112,9 @@ struct RenderArgs {
     /// The glTF camera to render from, by name (default: the first in the scene).
     #[arg(long)]
     camera: Option<String>,
+    /// A Mitsuba scene's parameter `$NAME` (overrides its <default>; Mitsuba's -D).
+    #[arg(short = 'D', long, value_name = "NAME=VALUE", value_parser = mitsuba::parse_define)]
+    define: Vec<(String, String)>,
     /// Photon paths for the global map.
     #[arg(long)]
     photons: Option<u32>,
@@ -193,21 +197,9 @@ impl RenderArgs {
         macro_rules! set {
             ($($f:ident),*) => { $(if let Some(v) = self.$f { s.$f = v; })* };
         }
-        set!(
-            photons,
-            caustic_photons,
-            k,
-            radius,
-            caustic_radius,
-            spp,
-            shadow_samples,
-            caustic_every,
-            seed,
-            width,
-            height,
-            exposure,
-            alpha
-        );
+        set!(photons, caustic_photons, k, radius, caustic_radius);
+        set!(spp, shadow_samples, caustic_every, seed, width);
+        set!(height, exposure, alpha);
         if self.initial_radius.is_some() {
             s.initial_radius = self.initial_radius;
         }
@@ -262,7 +254,8 @@ impl BackendArg {
 
 fn run_render(args: &RenderArgs) -> Result<()> {
     gpu_photon::film::check_output_path(&args.output)?;
-    let scene = gpu_photon::scene::load_with_camera(&args.scene, args.camera.as_deref())?;
+    let (camera, defines) = (args.camera.as_deref(), &args.define);
+    let scene = gpu_photon::scene::load_with_options(&args.scene, camera, defines)?;
     let mut settings = scene.settings.clone();
     args.apply(&mut settings)?;
     let show = !args.quiet && std::io::stderr().is_terminal();

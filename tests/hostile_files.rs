@@ -205,6 +205,25 @@ fn mitsuba_defaults_expand_to_a_bounded_size() {
 }
 
 #[test]
+fn mitsuba_includes_fan_out_to_a_bounded_count() {
+    // f{k} includes f{k+1} twice: 2^13 - 1 inclusions without a cycle, each chain well
+    // under the depth limit; the 1025th included file is refused at its include.
+    let d = dir("include-fan");
+    for k in 0..12 {
+        let inc = format!("<include filename=\"f{}.xml\"/>\n", k + 1);
+        let text = format!("<scene version=\"3.0.0\">\n{inc}{inc}</scene>\n");
+        std::fs::write(d.join(format!("f{k}.xml")), text).unwrap();
+    }
+    std::fs::write(d.join("f12.xml"), "<scene version=\"3.0.0\"/>\n").unwrap();
+    let xml = b"<scene version=\"3.0.0\">\n<include filename=\"f0.xml\"/>\n</scene>\n";
+    let shown = load_error("include-fan", "t.xml", xml);
+    assert!(
+        shown.ends_with(": include: more than 1024 included files"),
+        "{shown}"
+    );
+}
+
+#[test]
 fn invalid_utf8_is_located() {
     let toml = b"[camera]\neye = [0, 0, 3]\ntarget = [0, 0, \xff]\nfov = 40\n";
     expect_error(

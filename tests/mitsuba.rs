@@ -477,12 +477,12 @@ fn malformed_files_name_file_line_and_field() {
             "t.xml:4: shape[0].bsdf.reflectance.filename: missing",
         ),
         (
-            r#"<texture type="checkerboard" id="c"/>"#,
-            "t.xml:4: texture[c]: unsupported element <texture>",
+            r#"<texture type="checkerboard"/>"#,
+            "t.xml:4: texture[0]: a top-level <texture> needs an `id` (for <ref>)",
         ),
         (
             "<bsdf type=\"diffuse\" id=\"white\"/>\n<shape type=\"rectangle\"><ref id=\"whit\"/></shape>",
-            "t.xml:5: shape[0].ref: unknown bsdf id `whit` (defined before this line: `white`)",
+            "t.xml:5: shape[0].ref: unknown id `whit` (the scene's ids: `white`)",
         ),
         (
             r#"<shape type="obj"><string name="filename" value="missing.obj"/></shape>"#,

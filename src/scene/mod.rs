@@ -48,6 +48,17 @@ pub fn load(path: &Path) -> Result<Scene> {
 /// `--camera`); a name for a scene of another format, which has one camera, is an
 /// [`Error::Setting`].
 pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
+    load_with_options(path, camera, &[])
+}
+
+/// [`load_with_camera`], with Mitsuba parameters `(NAME, VALUE)` for `$NAME` that override
+/// the file's `<default>`s (the command line's `--define`); defines for a scene of another
+/// format, which has no parameters, are an [`Error::Setting`].
+pub fn load_with_options(
+    path: &Path,
+    camera: Option<&str>,
+    defines: &[(String, String)],
+) -> Result<Scene> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -62,9 +73,18 @@ pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
             ),
         });
     }
+    if let (Some((name, _)), false) = (defines.first(), ext.as_deref() == Some("xml")) {
+        return Err(Error::Setting {
+            field: "define",
+            message: format!(
+                "{} has no parameters: --define {name}=... sets a Mitsuba .xml scene's $name",
+                path.display()
+            ),
+        });
+    }
     match ext.as_deref() {
         Some("toml") => toml::load(path),
-        Some("xml") => mitsuba::load(path),
+        Some("xml") => mitsuba::load_with_defines(path, defines),
         Some("gltf" | "glb") => gltf::load_gltf(path, camera),
         _ => Err(Error::Io {
             path: path.to_path_buf(),

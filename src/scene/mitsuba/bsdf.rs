@@ -13,7 +13,6 @@ use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use crate::texture::SceneTexture;
 use glam::Vec3;
 use roxmltree::Node;
-use std::path::Path;
 
 /// Mitsuba's default `ext_ior` (air).
 const AIR: f32 = 1.000277;
@@ -79,15 +78,9 @@ fn conductor_ior(cx: &Cx, p: &Plugin) -> Result<(Vec3, Vec3)> {
     }
 }
 
-/// Reads the `<bsdf>` element `node` at `field` as a material (textures relative to
-/// `base_dir`); approximations push a warning naming the bsdf.
-pub(super) fn bsdf(
-    cx: &Cx,
-    node: Node,
-    field: &str,
-    base_dir: &Path,
-    warnings: &mut Vec<String>,
-) -> Result<Read> {
+/// Reads the `<bsdf>` element `node` at `field` as a material; approximations push a warning
+/// naming the bsdf.
+pub(super) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
     let kind = p.kind.as_str();
     let wrapper = kind == "twosided" || kind == "normalmap" || kind == "mask";
@@ -103,12 +96,13 @@ pub(super) fn bsdf(
             let Some(&inner) = p.objects.first() else {
                 return Err(cx.err(node, field, "`twosided` needs a nested <bsdf>"));
             };
+            let inner = cx.deref(inner, field)?;
             if inner.tag_name().name() != "bsdf" {
                 let message = "`twosided` needs a nested <bsdf>";
                 return Err(cx.err(inner, field, message));
             }
             p.done(cx)?;
-            return bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings);
+            return bsdf(cx, inner, &format!("{field}.bsdf"), warnings);
         }
         "normalmap" => {
             // Mitsuba 3's `normalmap`: the nested bsdf in the shading frame that the texture's
@@ -118,6 +112,7 @@ pub(super) fn bsdf(
             let Some(&inner) = p.objects.first() else {
                 return Err(cx.err(node, field, "`normalmap` needs a nested <bsdf>"));
             };
+            let inner = cx.deref(inner, field)?;
             if inner.tag_name().name() != "bsdf" {
                 return Err(cx.err(inner, field, "`normalmap` needs a nested <bsdf>"));
             }
@@ -125,7 +120,7 @@ pub(super) fn bsdf(
                 let message = "`normalmap` needs a <texture name=\"normalmap\">";
                 return Err(cx.err(p.node_of("normalmap"), field, message));
             };
-            let tex = texture(cx, t, &p.at("normalmap"), base_dir)?;
+            let tex = texture(cx, t, &p.at("normalmap"))?;
             if !p.boolean_or(cx, "flip_invalid_normals", true)? {
                 let message = "only Mitsuba's default `true` is supported";
                 let name = "flip_invalid_normals";
@@ -138,7 +133,7 @@ pub(super) fn bsdf(
                 ));
             }
             p.done(cx)?;
-            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings)?;
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
             if read.normal_texture.is_some() {
                 let message = "a `normalmap` inside a `normalmap` is not supported";
                 return Err(cx.err(inner, field, message));
@@ -154,11 +149,12 @@ pub(super) fn bsdf(
             let Some(&inner) = p.objects.first() else {
                 return Err(cx.err(node, field, "`mask` needs a nested <bsdf>"));
             };
+            let inner = cx.deref(inner, field)?;
             if inner.tag_name().name() != "bsdf" {
                 return Err(cx.err(inner, field, "`mask` needs a nested <bsdf>"));
             }
             let (factor, tex) = match p.texture_param("opacity") {
-                Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"), base_dir)?)),
+                Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"))?)),
                 None => {
                     let v = p.float(cx, "opacity")?.unwrap_or(0.5);
                     if !(0.0..=1.0).contains(&v) {
@@ -169,7 +165,7 @@ pub(super) fn bsdf(
                 }
             };
             p.done(cx)?;
-            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), base_dir, warnings)?;
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
             if read.material.alpha.is_some() {
                 let message = "a `mask` inside a `mask` is not supported";
                 return Err(cx.err(inner, field, message));
@@ -185,7 +181,7 @@ pub(super) fn bsdf(
         }
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
-                let tex = texture(cx, t, &p.at("reflectance"), base_dir)?;
+                let tex = texture(cx, t, &p.at("reflectance"))?;
                 let mut m = Material::diffuse(tex.mean());
                 m.kd_texture = 0;
                 kd_texture = Some(tex);
@@ -255,7 +251,7 @@ pub(super) fn bsdf(
         "plastic" | "roughplastic" => {
             let kd = match p.texture_param("diffuse_reflectance") {
                 Some(t) => {
-                    let tex = texture(cx, t, &p.at("diffuse_reflectance"), base_dir)?;
+                    let tex = texture(cx, t, &p.at("diffuse_reflectance"))?;
                     let mean = tex.mean();
                     kd_texture = Some(tex);
                     mean

@@ -39,7 +39,7 @@ impl Importer<'_> {
         } else {
             "intensity"
         };
-        let Some(color) = p.color(cx, emission)? else {
+        let Some(color) = p.emission(cx, emission)? else {
             return Err(cx.err(node, &p.at(emission), "missing"));
         };
         // Builder errors point at the parameter they are about.
@@ -84,13 +84,12 @@ impl Importer<'_> {
                 };
                 self.b.add_spot_light(spot, &at)?;
                 if beam < outer {
-                    let line = node.document().text_pos_at(node.range().start).row;
                     self.warnings.push(format!(
-                        "{}:{line}: {field}: spot falloff approximated: Mitsuba's ramp, linear \
+                        "{}: {field}: spot falloff approximated: Mitsuba's ramp, linear \
                          in angle from beam_width {beam} to cutoff_angle {outer} degrees, \
                          becomes a ramp quadratic in the cosine between the same angles \
                          (glTF's form)",
-                        cx.file
+                        cx.loc(node)
                     ));
                 }
                 Ok(())

@@ -1,27 +1,35 @@
 //! Mitsuba 3 XML scenes (a subset; the mapping is documented in `scenes/README.md`), parsed
 //! with roxmltree and fed to the [`SceneBuilder`].
 //!
-//! Read: one `perspective` sensor (with its `hdrfilm` size and `sampler` count as spp),
-//! `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `obj`, `area` emitters on
-//! shapes, `point`, `spot` and `directional` emitters (see `emitter.rs`), `ref` ids, `default` parameters and `$name` substitution. The
-//! `integrator` is ignored (the render mode is ours). Anything else (other plugins, textures,
-//! environment maps, parameters we do not read) is an `unsupported` error: nothing is skipped
-//! silently. Every error is `FILE:LINE: field: message`; approximations are warnings.
+//! Read: `<include>`, `<path>`, `<default>` and `$name` (see `include.rs`); one `perspective`
+//! sensor (with its `hdrfilm` size and `sampler` count as spp) and any `integrator` as a hint
+//! (see `sensor.rs`); `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `obj`,
+//! `ply`, `area` emitters on shapes, `point`, `spot` and `directional` emitters (see
+//! `emitter.rs`); `ref` to any top-level object with an `id`, before or after it; spectra as
+//! Mitsuba's RGB variants convert them (see `spectrum.rs`). Anything else (other plugins,
+//! environment maps, parameters we do not read) is an `unsupported` error: nothing is
+//! skipped silently. Every error is `FILE:LINE: field: message` (the file an element is in,
+//! included or not); approximations are warnings.
 
 mod bsdf;
+mod cie;
 mod emitter;
+mod include;
 mod plugin;
+mod sensor;
 mod shape;
+mod spectrum;
 mod texture;
 mod values;
+
+pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 
 use super::builder::{MaterialId, SceneBuilder};
 use super::locate::Origin;
 use super::{Material, Scene};
 use crate::error::{Error, Result};
 use crate::scene::file;
-use glam::{Mat4, Vec3};
-use plugin::Plugin;
+use glam::Vec3;
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
 use std::path::Path;
@@ -48,8 +56,19 @@ pub struct Imported {
 /// printing its warnings to stderr. An unreadable file is [`Error::Io`]; everything wrong
 /// inside it is [`Error::Scene`].
 pub fn load(path: &Path) -> Result<Scene> {
+    load_with_defines(path, &[])
+}
+
+/// [`load()`] with parameters `(NAME, VALUE)` for `$NAME`, which override the file's
+/// `<default>`s (Mitsuba's `-D NAME=VALUE`, our `--define`).
+pub fn load_with_defines(path: &Path, defines: &[(String, String)]) -> Result<Scene> {
     let text = file::read_text(path)?;
-    load_str(&text, &path.display().to_string(), file::base_dir(path))
+    let file = path.display().to_string();
+    let imported = import_with(text, &file, file::base_dir(path), defines)?;
+    for warning in &imported.warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(imported.scene)
 }
 
 /// Loads Mitsuba XML `text` (`file` names it in errors, meshes are relative to `base_dir`),
@@ -64,26 +83,44 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
 
 /// Loads Mitsuba XML `text` like [`load_str`], returning the warnings instead of printing them.
 pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
-    let doc = Document::parse(text).map_err(|e| {
-        // A truncated file is reported where it ends (roxmltree says line 1).
-        let truncated = matches!(
-            e,
-            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode
-        );
-        let end = text.trim_end().lines().count().max(1);
-        Error::Scene {
-            file: file.to_string(),
-            line: if truncated { end } else { e.pos().row as usize },
-            field: "xml".into(),
-            message: e.to_string(),
-        }
-    })?;
-    let root = doc.root_element();
-    check_nesting(file, &doc)?;
+    import_with(text.to_string(), file, base_dir, &[])
+}
+
+/// Parses a command-line `NAME=VALUE` parameter (`--define`): NAME is 1 to 256 letters,
+/// digits or `_`.
+pub fn parse_define(arg: &str) -> std::result::Result<(String, String), String> {
+    let Some((name, value)) = arg.split_once('=') else {
+        return Err(format!("`{arg}` is not NAME=VALUE"));
+    };
+    values::check_name(name)?;
+    Ok((name.to_string(), value.to_string()))
+}
+
+/// [`import`] with parameters `(NAME, VALUE)` that override the file's `<default>`s.
+pub fn import_with(
+    text: String,
+    file: &str,
+    base_dir: &Path,
+    defines: &[(String, String)],
+) -> Result<Imported> {
+    let g = include::gather(text, file, base_dir, defines)?;
+    let docs = g
+        .sources
+        .iter()
+        .map(|s| include::parse(&s.text, &s.name))
+        .collect::<Result<Vec<Document>>>()?;
     let mut cx = Cx {
         file,
-        defaults: HashMap::new(),
+        docs: docs
+            .iter()
+            .zip(&g.sources)
+            .map(|(d, s)| (d, s.name.as_str()))
+            .collect(),
+        defaults: g.defaults,
+        search: g.search,
+        ids: HashMap::new(),
     };
+    let root = docs[0].root_element();
     if root.tag_name().name() != "scene" {
         let message = format!(
             "the root element must be <scene>, found <{}>",
@@ -91,22 +128,19 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
         );
         return Err(cx.err(root, "scene", message));
     }
-    let mut kept = 0;
-    for node in elements(root).filter(|n| n.tag_name().name() == "default") {
-        let name = cx.need_attr(node, "default", "name")?;
-        let field = format!("default.{name}");
-        let value = cx.need_attr(node, &field, "value")?;
-        // Each value is bounded, but many of them (each `$big`) would not be.
-        kept += value.len();
-        if kept > MAX_DEFAULTS_BYTES {
-            let message = format!("the defaults expand to more than {MAX_DEFAULTS_BYTES} bytes");
-            return Err(cx.err(node, &field, message));
+    let top = include::flatten(&docs, &g.includes);
+    // Every top-level object with an id, for references before or after it.
+    for &node in &top {
+        let tag = node.tag_name().name();
+        if let Some(id) = cx.attr(node, tag, "id")? {
+            if let Some(first) = cx.ids.insert(id.clone(), node) {
+                let message = format!("duplicate id `{id}` (first at {})", cx.loc(first));
+                return Err(cx.err(node, &format!("{tag}[{id}]"), message));
+            }
         }
-        cx.defaults.insert(name, value);
     }
     let mut im = Importer {
         cx,
-        base_dir,
         b: SceneBuilder::new(),
         bsdfs: HashMap::new(),
         default_material: None,
@@ -114,38 +148,46 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
     };
     let mut counts: HashMap<&str, usize> = HashMap::new();
     let mut sensor = None;
-    for node in elements(root) {
+    for node in top {
         let tag = node.tag_name().name();
         let count = counts.entry(tag).or_default();
-        let field = match node.attribute("id") {
+        let id = im.cx.attr(node, tag, "id")?;
+        let field = match &id {
             Some(id) => format!("{tag}[{id}]"),
             None => format!("{tag}[{count}]"),
         };
         *count += 1;
-        match tag {
-            "default" | "integrator" => {}
-            "sensor" if sensor.is_some() => {
+        let kind = node.attribute("type");
+        match (tag, id) {
+            ("default" | "path", _) => {}
+            ("integrator", _) => im.integrator(node, &field)?,
+            ("sensor", _) if sensor.is_some() => {
                 return Err(im.cx.err(node, &field, "only one <sensor> is supported"));
             }
-            "sensor" => sensor = Some(im.sensor(node, &field)?),
-            "bsdf" => {
-                let id = im.cx.attr(node, &field, "id")?;
-                let mid = im.add_bsdf(node, &field)?;
-                if let Some(id) = id {
-                    im.bsdfs.insert(id, mid);
-                }
+            ("sensor", _) => sensor = Some(im.sensor(node, &field)?),
+            ("bsdf", Some(id)) => {
+                im.bsdf_by_id(&id, node)?;
             }
-            "shape" => im.shape(node, &field)?,
-            "emitter" => im.emitter(node, &field)?,
-            other => {
-                let message = format!("unsupported element <{other}>");
+            ("bsdf", None) => {
+                im.add_bsdf(node, &field)?;
+            }
+            // Read where a <ref> names them.
+            ("texture", Some(_)) => {}
+            ("emitter", Some(_)) if kind == Some("area") => {}
+            ("shape", _) => im.shape(node, &field)?,
+            ("emitter", _) => im.emitter(node, &field)?,
+            (other, _) => {
+                let message = match other {
+                    "texture" => "a top-level <texture> needs an `id` (for <ref>)".to_string(),
+                    _ => format!("unsupported element <{other}>"),
+                };
                 return Err(im.cx.err(node, &field, message));
             }
         }
     }
     let at = Origin {
         file: file.to_string(),
-        line: doc.text_pos_at(root.range().start).row as usize,
+        line: docs[0].text_pos_at(root.range().start).row as usize,
         field: "scene".into(),
     };
     if sensor.is_none() {
@@ -159,7 +201,7 @@ pub fn import(text: &str, file: &str, base_dir: &Path) -> Result<Imported> {
 
 /// Refuses elements nested deeper than [`MAX_NESTING`] below the root, at the first such
 /// element, before any reader recurses into them.
-fn check_nesting(file: &str, doc: &Document) -> Result<()> {
+pub(super) fn check_nesting(file: &str, doc: &Document) -> Result<()> {
     // Ancestors are counted only up to the limit, so the check is linear in the elements.
     let too_deep = doc.descendants().filter(Node::is_element).find(|n| {
         // The root element and the document node above it are not nesting.
@@ -177,14 +219,13 @@ fn check_nesting(file: &str, doc: &Document) -> Result<()> {
 }
 
 /// The element children of `node`.
-fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
+pub(super) fn elements<'a, 'i>(node: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
     node.children().filter(Node::is_element)
 }
 
 /// The state of one import.
 struct Importer<'f> {
     cx: Cx<'f>,
-    base_dir: &'f Path,
     b: SceneBuilder,
     /// Materials of the `bsdf`s with an `id`, for `ref`.
     bsdfs: HashMap<String, MaterialId>,
@@ -193,10 +234,10 @@ struct Importer<'f> {
     warnings: Vec<String>,
 }
 
-impl Importer<'_> {
+impl<'f> Importer<'f> {
     /// Reads the `<bsdf>` `node` at `field` and adds its material (and texture).
     fn add_bsdf(&mut self, node: Node, field: &str) -> Result<MaterialId> {
-        let read = bsdf::bsdf(&self.cx, node, field, self.base_dir, &mut self.warnings)?;
+        let read = bsdf::bsdf(&self.cx, node, field, &mut self.warnings)?;
         let mut material = read.material;
         if let Some(t) = read.kd_texture {
             material.kd_texture = self.b.add_texture(t);
@@ -214,100 +255,36 @@ impl Importer<'_> {
     /// A fixed place for the builder's errors: the element's line and field.
     fn origin(&self, node: Node, field: &str) -> Origin {
         Origin {
-            file: self.cx.file.to_string(),
+            file: self.cx.file_of(node).to_string(),
             line: node.document().text_pos_at(node.range().start).row as usize,
             field: field.to_string(),
         }
     }
 
-    /// `<sensor type="perspective">` with its film and sampler: the camera, image size, spp.
-    fn sensor(&mut self, node: Node, field: &str) -> Result<()> {
-        let cx = &self.cx;
-        let p = Plugin::new(cx, node, field.to_string())?;
-        if p.kind != "perspective" {
-            let message = format!("unsupported sensor `{}` (only `perspective`)", p.kind);
-            return Err(cx.err(node, field, message));
+    /// The top-level object a `<ref id>` names, with its id (before or after the ref).
+    fn referenced(&self, node: Node, field: &str) -> Result<(String, Node<'f, 'f>)> {
+        let id = self.cx.need_attr(node, field, "id")?;
+        if let Some(&target) = self.cx.ids.get(&id) {
+            return Ok((id, target));
         }
-        // Mitsuba's film size when the file gives none.
-        self.b.settings().width = 768;
-        self.b.settings().height = 576;
-        for child in &p.objects {
-            let sub = format!("{field}.{}", child.tag_name().name());
-            match child.tag_name().name() {
-                "film" => film(cx, *child, sub, &mut self.warnings, &mut self.b)?,
-                "sampler" => {
-                    let s = Plugin::new(cx, *child, sub)?;
-                    s.setting(cx, "sample_count", "spp", self.b.settings())?;
-                    // `sample_count` is the author's total per pixel: our default render
-                    // spreads it over its progressive passes.
-                    let settings = self.b.settings();
-                    settings.spp = settings.spp.div_ceil(settings.passes.max(1));
-                    s.ignore(&["seed"]);
-                    s.done(cx)?;
-                }
-                other => {
-                    let message = format!("unsupported <{other}> in a sensor");
-                    return Err(cx.err(*child, field, message));
-                }
-            }
-        }
-        let fov_node = p.float(cx, "fov")?;
-        let Some(fov) = fov_node else {
-            return Err(cx.err(node, &p.at("fov"), "missing (focal_length is unsupported)"));
+        let mut known: Vec<String> = self.cx.ids.keys().map(|k| format!("`{k}`")).collect();
+        known.sort();
+        let known = match known.is_empty() {
+            true => "none".to_string(),
+            false => known.join(", "),
         };
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
-        }
-        let axis = p.string(cx, "fov_axis")?.unwrap_or_else(|| "x".into());
-        let (w, h) = (
-            self.b.settings().width as f32,
-            self.b.settings().height as f32,
-        );
-        let t = (fov.to_radians() / 2.0).tan();
-        let ty = match axis.as_str() {
-            "x" => t * h / w,
-            "y" => t,
-            "diagonal" => t * h / (w * w + h * h).sqrt(),
-            "smaller" if w < h => t * h / w,
-            "larger" if w > h => t * h / w,
-            "smaller" | "larger" => t,
-            other => {
-                let message =
-                    format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
-                return Err(cx.err(node, &p.at("fov_axis"), message));
-            }
-        };
-        let fov_y = 2.0 * ty.atan().to_degrees();
-        let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
-        p.ignore(&["near_clip", "far_clip"]);
-        p.done(cx)?;
-        let eye = m.transform_point3(Vec3::ZERO);
-        let forward = m.transform_vector3(Vec3::Z);
-        let up = m.transform_vector3(Vec3::Y);
-        let left = m.transform_vector3(Vec3::X).normalize_or_zero();
-        if left.dot(up.cross(forward).normalize_or_zero()) < 0.999 {
-            let message = "unsupported camera to_world (only rotation, translation, uniform scale)";
-            return Err(cx.err(node, &p.at("to_world"), message));
-        }
-        let at = self.origin(node, field);
-        self.b.camera(eye, eye + forward, up, fov_y, &at)
+        let message = format!("unknown id `{id}` (the scene's ids: {known})");
+        Err(self.cx.err(node, field, message))
     }
 
-    /// The material of a `<ref id>` to a bsdf defined earlier.
-    fn reference(&self, node: Node, field: &str) -> Result<MaterialId> {
-        let id = self.cx.need_attr(node, field, "id")?;
-        if let Some(&mid) = self.bsdfs.get(&id) {
+    /// The material of the top-level `<bsdf id>` `node`, added the first time it is asked for.
+    fn bsdf_by_id(&mut self, id: &str, node: Node) -> Result<MaterialId> {
+        if let Some(&mid) = self.bsdfs.get(id) {
             return Ok(mid);
         }
-        let mut known: Vec<String> = self.bsdfs.keys().map(|k| format!("`{k}`")).collect();
-        known.sort();
-        let known = if known.is_empty() {
-            "none".to_string()
-        } else {
-            known.join(", ")
-        };
-        let message = format!("unknown bsdf id `{id}` (defined before this line: {known})");
-        Err(self.cx.err(node, field, message))
+        let mid = self.add_bsdf(node, &format!("bsdf[{id}]"))?;
+        self.bsdfs.insert(id.to_string(), mid);
+        Ok(mid)
     }
 
     /// Mitsuba's bsdf for shapes without one: diffuse, reflectance 0.5.
@@ -321,44 +298,4 @@ impl Importer<'_> {
         self.default_material = Some(id);
         Ok(id)
     }
-}
-
-/// `<film type="hdrfilm">`: the image size; a non-box `rfilter` is approximated by our box.
-fn film(
-    cx: &Cx,
-    node: Node,
-    field: String,
-    warnings: &mut Vec<String>,
-    b: &mut SceneBuilder,
-) -> Result<()> {
-    let f = Plugin::new(cx, node, field)?;
-    if f.kind != "hdrfilm" {
-        let message = format!("unsupported film `{}` (only `hdrfilm`)", f.kind);
-        return Err(cx.err(node, &f.field, message));
-    }
-    f.setting(cx, "width", "width", b.settings())?;
-    f.setting(cx, "height", "height", b.settings())?;
-    f.ignore(&["pixel_format", "file_format", "component_format"]);
-    f.done(cx)?;
-    if f.objects.is_empty() {
-        let line = node.document().text_pos_at(node.range().start).row;
-        let what = "no rfilter: Mitsuba's default `gaussian` approximated by a one-pixel box";
-        warnings.push(format!("{}:{line}: {}: {what}", cx.file, f.field));
-    }
-    for child in &f.objects {
-        let sub = format!("{}.{}", f.field, child.tag_name().name());
-        if child.tag_name().name() != "rfilter" {
-            let message = format!("unsupported <{}> in a film", child.tag_name().name());
-            return Err(cx.err(*child, &f.field, message));
-        }
-        let r = Plugin::new(cx, *child, sub.clone())?;
-        r.ignore(&["radius", "stddev", "B", "C", "lobes"]);
-        r.done(cx)?;
-        if r.kind != "box" {
-            let line = child.document().text_pos_at(child.range().start).row;
-            let what = format!("pixel filter `{}` approximated by a one-pixel box", r.kind);
-            warnings.push(format!("{}:{line}: {sub}: {what}", cx.file));
-        }
-    }
-    Ok(())
 }

@@ -3,8 +3,10 @@
 //! as ignored): [`Plugin::done`] reports the first one nobody read as unsupported, so that
 //! nothing in a file is skipped silently.
 
+use super::spectrum::{self, Use, UNBOUNDED};
 use super::values::{Cx, IOR_NAMES};
 use crate::error::Result;
+use crate::scene::file;
 use crate::settings::{setting, RenderSettings, Slot};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
@@ -22,30 +24,42 @@ const PARAM_TAGS: &[&str] = &[
     "vector",
     "transform",
     "texture",
+    "blackbody",
 ];
 
+/// The elements a colour may be given as.
+const COLOR_TAGS: &[&str] = &["rgb", "spectrum", "float", "blackbody"];
+
 /// A plugin element, read.
-pub(super) struct Plugin<'a, 'i> {
+pub(super) struct Plugin<'a> {
     /// The element.
-    pub node: Node<'a, 'i>,
+    pub node: Node<'a, 'a>,
     /// Its `type` attribute.
     pub kind: String,
     /// Its field path, for errors.
     pub field: String,
     /// Parameters: name, element, whether read.
-    params: Vec<(String, Node<'a, 'i>, Cell<bool>)>,
+    params: Vec<(String, Node<'a, 'a>, Cell<bool>)>,
     /// Nested objects (`bsdf`, `emitter`, `film`, `ref`, ...), in order.
-    pub objects: Vec<Node<'a, 'i>>,
+    pub objects: Vec<Node<'a, 'a>>,
 }
 
-impl<'a, 'i> Plugin<'a, 'i> {
+impl<'a> Plugin<'a> {
     /// Reads `node` (which must have a `type`) as the plugin at `field`.
-    pub fn new(cx: &Cx, node: Node<'a, 'i>, field: String) -> Result<Self> {
+    pub fn new(cx: &Cx<'a>, node: Node<'a, 'a>, field: String) -> Result<Self> {
         let kind = cx.need_attr(node, &field, "type")?;
         let mut params: Vec<(String, Node, Cell<bool>)> = Vec::new();
         let mut objects = Vec::new();
         for child in node.children().filter(Node::is_element) {
             let tag = child.tag_name().name();
+            // A named `<ref>` to a top-level texture is that texture as a parameter.
+            if let (true, Some(name)) = (tag == "ref", child.attribute("name")) {
+                let target = cx.deref(child, &format!("{field}.{name}"))?;
+                if target.tag_name().name() == "texture" {
+                    params.push((name.to_string(), target, Cell::new(false)));
+                    continue;
+                }
+            }
             if !PARAM_TAGS.contains(&tag) {
                 objects.push(child);
                 continue;
@@ -73,13 +87,13 @@ impl<'a, 'i> Plugin<'a, 'i> {
 
     /// The element of parameter `name` when present (else the plugin's own), for pointing
     /// an error at its line; does not mark it read.
-    pub fn node_of(&self, name: &str) -> Node<'a, 'i> {
+    pub fn node_of(&self, name: &str) -> Node<'a, 'a> {
         let found = self.params.iter().find(|(n, _, _)| n == name);
         found.map_or(self.node, |(_, node, _)| *node)
     }
 
     /// The element of parameter `name`, marked read; its tag must be one of `tags`.
-    fn param(&self, cx: &Cx, name: &str, tags: &[&str]) -> Result<Option<Node<'a, 'i>>> {
+    fn param(&self, cx: &Cx, name: &str, tags: &[&str]) -> Result<Option<Node<'a, 'a>>> {
         let Some((_, node, read)) = self.params.iter().find(|(n, _, _)| n == name) else {
             return Ok(None);
         };
@@ -100,7 +114,7 @@ impl<'a, 'i> Plugin<'a, 'i> {
 
     /// The `<texture>` element given for parameter `name`, marked read; `None` when the
     /// parameter is absent or not a texture.
-    pub fn texture_param(&self, name: &str) -> Option<Node<'a, 'i>> {
+    pub fn texture_param(&self, name: &str) -> Option<Node<'a, 'a>> {
         let (_, node, read) = self.params.iter().find(|(n, _, _)| n == name)?;
         if node.tag_name().name() != "texture" {
             return None;
@@ -166,23 +180,30 @@ impl<'a, 'i> Plugin<'a, 'i> {
         }
     }
 
-    /// A colour: `rgb` (1 or 3 numbers), or a constant `spectrum` or `float`.
+    /// A colour: `rgb` (1 or 3 numbers), `float`, or a spectrum converted as Mitsuba's RGB
+    /// variants convert a bsdf's parameter `name` (see `spectrum.rs`).
     pub fn color(&self, cx: &Cx, name: &str) -> Result<Option<Vec3>> {
-        let tags = ["rgb", "spectrum", "float"];
-        let Some(node) = self.param(cx, name, &tags)? else {
+        let usage = match UNBOUNDED.contains(&name) {
+            true => Use::Unbounded,
+            false => Use::Bounded,
+        };
+        self.color_as(cx, name, usage)
+    }
+
+    /// An emitter's colour (`radiance`, `intensity`, `irradiance`), as [`Plugin::color`].
+    pub fn emission(&self, cx: &Cx, name: &str) -> Result<Option<Vec3>> {
+        self.color_as(cx, name, Use::Emission)
+    }
+
+    fn color_as(&self, cx: &Cx, name: &str, usage: Use) -> Result<Option<Vec3>> {
+        let Some(node) = self.param(cx, name, COLOR_TAGS)? else {
             return Ok(None);
         };
         let field = self.at(name);
         let c = match node.tag_name().name() {
             "rgb" => cx.triple(node, &field, 0.0)?,
-            _ => {
-                let text = cx.need_attr(node, &field, "value")?;
-                if text.contains(':') || node.attribute("filename").is_some() {
-                    let message = "only constant spectra (one number) are supported";
-                    return Err(cx.err(node, &field, message));
-                }
-                Vec3::splat(cx.number(node, &field, "value")?)
-            }
+            "float" => Vec3::splat(cx.number(node, &field, "value")?),
+            _ => spectrum_element(cx, node, &field, usage)?,
         };
         if c.min_element() < 0.0 {
             return Err(cx.err(node, &field, "components must be >= 0"));
@@ -194,7 +215,7 @@ impl<'a, 'i> Plugin<'a, 'i> {
     pub fn albedo(&self, cx: &Cx, name: &str, default: f32) -> Result<Vec3> {
         let c = self.color(cx, name)?.unwrap_or(Vec3::splat(default));
         if c.max_element() > 1.0 {
-            let node = self.param(cx, name, &["rgb", "spectrum", "float"])?;
+            let node = self.param(cx, name, COLOR_TAGS)?;
             let message = "components must be in [0, 1]";
             return Err(cx.err(node.unwrap_or(self.node), &self.at(name), message));
         }
@@ -266,4 +287,84 @@ impl<'a, 'i> Plugin<'a, 'i> {
             }
         }
     }
+}
+
+/// A `<spectrum>`: a constant `value`, `wavelength:value` pairs in `value` or in a file
+/// (`filename`: a pair per line, `#` comments), or `type="blackbody"` with a `temperature`
+/// (also Mitsuba 0.6's `<blackbody temperature>`), as sRGB for `usage`.
+fn spectrum_element(cx: &Cx, node: Node, field: &str, usage: Use) -> Result<Vec3> {
+    if node.tag_name().name() == "blackbody" || node.attribute("type").is_some() {
+        let kelvin = match node.tag_name().name() {
+            "blackbody" => cx.number(node, field, "temperature")?,
+            _ => {
+                let p = Plugin::new(cx, node, field.to_string())?;
+                if p.kind != "blackbody" {
+                    let message = format!("unsupported spectrum `{}` (only blackbody)", p.kind);
+                    return Err(cx.err(node, field, message));
+                }
+                let t = p.float(cx, "temperature")?;
+                p.done(cx)?;
+                t.ok_or_else(|| cx.err(node, &p.at("temperature"), "missing"))?
+            }
+        };
+        if usage != Use::Emission {
+            let message = "a blackbody is an emission spectrum (only in an <emitter>)";
+            return Err(cx.err(node, field, message));
+        }
+        if kelvin <= 0.0 {
+            return Err(cx.err(node, field, "the temperature must be positive"));
+        }
+        return Ok(spectrum::blackbody(kelvin as f64));
+    }
+    let text = match (
+        cx.attr(node, field, "value")?,
+        cx.attr(node, field, "filename")?,
+    ) {
+        (Some(text), None) => text,
+        (None, Some(name)) => file::read_text(&cx.resolve(&name))
+            .map_err(|e| cx.err(node, field, e.to_string()))?
+            .lines()
+            .filter(|l| !l.trim_start().starts_with('#'))
+            .flat_map(|l| {
+                let mut words = l.split_whitespace();
+                words
+                    .next()
+                    .zip(words.next())
+                    .map(|(w, v)| format!("{w}:{v} "))
+            })
+            .collect(),
+        _ => {
+            let message = "a spectrum needs one of `value` or `filename`";
+            return Err(cx.err(node, field, message));
+        }
+    };
+    let words: Vec<&str> = text
+        .split([',', ' ', '\t', '\n', '\r'])
+        .filter(|w| !w.is_empty())
+        .collect();
+    if let [word] = words[..] {
+        if !word.contains(':') {
+            return Ok(spectrum::constant(cx.number(node, field, "value")?, usage));
+        }
+    }
+    let mut pairs: Vec<(f64, f64)> = Vec::with_capacity(words.len());
+    for word in words {
+        let pair = word
+            .split_once(':')
+            .and_then(|(w, v)| Some((w.parse().ok()?, v.parse().ok()?)));
+        let Some((w, v)) = pair.filter(|&(w, v): &(f64, f64)| w.is_finite() && v.is_finite())
+        else {
+            let message = format!("`{word}` is not a finite wavelength:value pair");
+            return Err(cx.err(node, field, message));
+        };
+        if pairs.last().is_some_and(|&(last, _)| w <= last) {
+            return Err(cx.err(node, field, "the wavelengths must increase"));
+        }
+        pairs.push((w, v));
+    }
+    if pairs.len() < 2 {
+        let message = "a spectrum needs one value or at least two wavelength:value pairs";
+        return Err(cx.err(node, field, message));
+    }
+    Ok(spectrum::list_to_srgb(&pairs, usage))
 }

@@ -37,7 +37,7 @@ fn quad(normal: Vec3, u: Vec3, v: Vec3) -> [[Vec3; 3]; 2] {
     [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
 }
 
-impl Importer<'_> {
+impl<'f> Importer<'f> {
     /// A `<shape>` element: its surface, then its geometry.
     pub(super) fn shape(&mut self, node: Node, field: &str) -> Result<()> {
         let p = Plugin::new(&self.cx, node, field.to_string())?;
@@ -48,22 +48,25 @@ impl Importer<'_> {
             let sub = format!("{field}.{tag}");
             let found = match tag {
                 "bsdf" => Some(self.add_bsdf(*child, &sub)?),
-                "ref" => Some(self.reference(*child, &sub)?),
+                "ref" => {
+                    let (id, target) = self.referenced(*child, &sub)?;
+                    match target.tag_name().name() {
+                        "bsdf" => Some(self.bsdf_by_id(&id, target)?),
+                        "emitter" => {
+                            let radiance = self.area(target, &format!("emitter[{id}]"))?;
+                            if emission.replace(radiance).is_some() {
+                                return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
+                            }
+                            None
+                        }
+                        other => {
+                            let message = format!("`{id}` is a <{other}>, not a bsdf or emitter");
+                            return Err(self.cx.err(*child, &sub, message));
+                        }
+                    }
+                }
                 "emitter" => {
-                    let e = Plugin::new(&self.cx, *child, sub.clone())?;
-                    if e.kind != "area" {
-                        let message = format!("unsupported emitter `{}` on a shape", e.kind);
-                        return Err(self.cx.err(*child, &sub, message));
-                    }
-                    if let Some(extra) = e.objects.first() {
-                        let message =
-                            format!("unsupported <{}> in an emitter", extra.tag_name().name());
-                        return Err(self.cx.err(*extra, &sub, message));
-                    }
-                    let Some(radiance) = e.color(&self.cx, "radiance")? else {
-                        return Err(self.cx.err(*child, &e.at("radiance"), "missing"));
-                    };
-                    e.done(&self.cx)?;
+                    let radiance = self.area(*child, &sub)?;
                     if emission.replace(radiance).is_some() {
                         return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
                     }
@@ -93,6 +96,24 @@ impl Importer<'_> {
             two_sided: None,
         };
         self.geometry(&p, surface)
+    }
+
+    /// An `area` emitter's radiance.
+    fn area(&self, node: Node, field: &str) -> Result<Vec3> {
+        let e = Plugin::new(&self.cx, node, field.to_string())?;
+        if e.kind != "area" {
+            let message = format!("unsupported emitter `{}` on a shape", e.kind);
+            return Err(self.cx.err(node, field, message));
+        }
+        if let Some(extra) = e.objects.first() {
+            let message = format!("unsupported <{}> in an emitter", extra.tag_name().name());
+            return Err(self.cx.err(*extra, field, message));
+        }
+        let Some(radiance) = e.emission(&self.cx, "radiance")? else {
+            return Err(self.cx.err(node, &e.at("radiance"), "missing"));
+        };
+        e.done(&self.cx)?;
+        Ok(radiance)
     }
 
     /// Adds the shape `p` is, of `surface`.
@@ -144,7 +165,7 @@ impl Importer<'_> {
                 let Some(file) = p.string(cx, "filename")? else {
                     return Err(cx.err(p.node, &p.at("filename"), "missing"));
                 };
-                let path = self.base_dir.join(&file);
+                let path = self.cx.resolve(&file);
                 let node = p
                     .node
                     .children()

@@ -10,7 +10,6 @@ use crate::texture::{
 };
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
-use std::path::Path;
 
 /// The 2D affine part of a `to_uv` transform (Mitsuba's `extract()` of the 4x4 matrix).
 fn uv_transform(m: Mat4) -> UvTransform {
@@ -22,8 +21,9 @@ fn uv_transform(m: Mat4) -> UvTransform {
     ])
 }
 
-/// Reads the `<texture>` element `node` at `field`; image files are relative to `base_dir`.
-pub(super) fn texture(cx: &Cx, node: Node, field: &str, base_dir: &Path) -> Result<SceneTexture> {
+/// Reads the `<texture>` element `node` at `field`; image files are looked up as Mitsuba's
+/// file resolver does ([`Cx::resolve`]).
+pub(super) fn texture(cx: &Cx, node: Node, field: &str) -> Result<SceneTexture> {
     let p = Plugin::new(cx, node, field.to_string())?;
     if let Some(&extra) = p.objects.first() {
         let message = format!("unsupported <{}> inside a texture", extra.tag_name().name());
@@ -59,7 +59,7 @@ pub(super) fn texture(cx: &Cx, node: Node, field: &str, base_dir: &Path) -> Resu
                 Encoding::Srgb
             };
             p.ignore(&["format"]);
-            let image = Texture::load(&base_dir.join(&file), encoding)
+            let image = Texture::load(&cx.resolve(&file), encoding)
                 .map_err(|e| cx.err(p.node_of("filename"), &p.at("filename"), e.to_string()))?;
             SceneTexture::Bitmap(image.with_sampler(Sampler::mitsuba(filter, wrap, to_uv)))
         }

@@ -7,31 +7,160 @@
 
 use crate::error::{Error, Result};
 use glam::{Mat4, Vec3, Vec4};
-use roxmltree::Node;
+use roxmltree::{Document, Node};
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// Longest attribute value accepted after `$name` substitution: defaults may refer to earlier
 /// defaults, so each level can double the text (`$d0$d0`).
 pub const MAX_VALUE_BYTES: usize = 1 << 20;
 
-/// What every reader needs: the file's name for errors and the `default` parameters.
+/// What every reader needs: the files (for errors), the `default` parameters, where file
+/// names are looked up and the top-level objects with an `id`.
 pub(super) struct Cx<'f> {
-    /// The file, as errors show it.
+    /// The scene file, as errors show it.
     pub file: &'f str,
-    /// `<default name="..." value="..."/>` of the scene, for `$name` substitution.
-    pub defaults: HashMap<String, String>,
+    /// Every parsed file (the scene and the files it includes) with its name, for errors.
+    pub docs: Vec<(&'f Document<'f>, &'f str)>,
+    /// The defines and `<default name="..." value="..."/>`s, for `$name` substitution.
+    pub defaults: Params,
+    /// Mitsuba's file resolver: the `<path>` directories, the latest first, then the scene
+    /// file's directory.
+    pub search: Vec<PathBuf>,
+    /// The top-level objects with an `id`, for `<ref>`.
+    pub ids: HashMap<String, Node<'f, 'f>>,
 }
 
-impl Cx<'_> {
-    /// An error about `node` (its line) and `field`.
+/// The parameters for `$name`: the command line's defines and the `<default>`s.
+#[derive(Default)]
+pub(super) struct Params {
+    values: HashMap<String, String>,
+    /// The lengths of the names, longest first (to match the longest name first).
+    lengths: Vec<usize>,
+}
+
+impl Params {
+    /// Parameters `(NAME, VALUE)`.
+    pub fn new(defines: &[(String, String)]) -> Self {
+        let mut p = Params::default();
+        for (name, value) in defines {
+            p.add(name.clone(), value.clone());
+        }
+        p
+    }
+
+    /// Adds `name` unless it exists (Mitsuba keeps the first).
+    pub fn add(&mut self, name: String, value: String) {
+        if let Err(i) = self.lengths.binary_search_by(|l| name.len().cmp(l)) {
+            self.lengths.insert(i, name.len());
+        }
+        self.values.entry(name).or_insert(value);
+    }
+
+    /// The longest parameter whose name starts `text`: its name's length and its value.
+    /// Names are words (checked by [`check_name`]), so only the word `text` starts with is
+    /// tried, at the lengths names have: at most [`MAX_NAME_BYTES`] lookups of as many bytes.
+    fn longest_at(&self, text: &str) -> Option<(usize, &str)> {
+        let word = text.find(|c| !is_name_char(c)).unwrap_or(text.len());
+        let mut lengths = self.lengths.iter().filter(|&&n| n <= word);
+        lengths.find_map(|&n| Some((n, self.values.get(&text[..n])?.as_str())))
+    }
+}
+
+/// Longest parameter name accepted (real names are a few words).
+pub const MAX_NAME_BYTES: usize = 256;
+
+fn is_name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// Refuses a parameter name that is not 1 to [`MAX_NAME_BYTES`] letters, digits or `_`
+/// (Mitsuba takes any text, but matches it textually).
+pub fn check_name(name: &str) -> std::result::Result<(), String> {
+    match !name.is_empty() && name.len() <= MAX_NAME_BYTES && name.chars().all(is_name_char) {
+        true => Ok(()),
+        false => Err(format!(
+            "`{name}` is not a parameter name (1 to {MAX_NAME_BYTES} letters, digits, _)"
+        )),
+    }
+}
+
+/// `raw` with every `$name` replaced by its value, as Mitsuba substitutes: the longest name
+/// that follows the `$` (so `$spp_x` is `$spp` then `_x` when only `spp` is defined), `\$` a
+/// literal `$`; values are not substituted again. The error names the first unknown
+/// `$name` or says the value grew over [`MAX_VALUE_BYTES`].
+pub(super) fn substitute(raw: &str, params: &Params) -> std::result::Result<String, String> {
+    let mut out = String::with_capacity(raw.len());
+    let mut rest = raw;
+    while let Some(i) = rest.find('$') {
+        let tail = &rest[i + 1..];
+        if rest[..i].ends_with('\\') {
+            out.push_str(&rest[..i - 1]);
+            out.push('$');
+            rest = tail;
+            continue;
+        }
+        out.push_str(&rest[..i]);
+        let Some((len, value)) = params.longest_at(tail) else {
+            let len = tail.find(|c| !is_name_char(c)).unwrap_or(tail.len());
+            let key = &tail[..len];
+            return Err(format!("`${key}` has no <default name=\"{key}\" .../>"));
+        };
+        if out.len() + value.len() > MAX_VALUE_BYTES {
+            let key = &tail[..len];
+            return Err(format!(
+                "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
+            ));
+        }
+        out.push_str(value);
+        rest = &tail[len..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+impl<'f> Cx<'f> {
+    /// The top-level object `<ref id>` `node` names (`node` itself when it is no `ref`).
+    pub fn deref(&self, node: Node<'f, 'f>, field: &str) -> Result<Node<'f, 'f>> {
+        if node.tag_name().name() != "ref" {
+            return Ok(node);
+        }
+        let id = self.need_attr(node, field, "id")?;
+        let message = || format!("unknown id `{id}`");
+        self.ids
+            .get(&id)
+            .copied()
+            .ok_or_else(|| self.err(node, field, message()))
+    }
+
+    /// The name of the file `node` is in.
+    pub fn file_of(&self, node: Node) -> &str {
+        let doc = node.document();
+        let found = self.docs.iter().find(|(d, _)| std::ptr::eq(*d, doc));
+        found.map_or(self.file, |(_, name)| name)
+    }
+
+    /// `FILE:LINE` of `node`, for warnings.
+    pub fn loc(&self, node: Node) -> String {
+        let line = node.document().text_pos_at(node.range().start).row;
+        format!("{}:{line}", self.file_of(node))
+    }
+
+    /// An error about `node` (its file and line) and `field`.
     pub fn err(&self, node: Node, field: &str, message: impl Into<String>) -> Error {
         let line = node.document().text_pos_at(node.range().start).row as usize;
         Error::Scene {
-            file: self.file.to_string(),
+            file: self.file_of(node).to_string(),
             line,
             field: field.to_string(),
             message: message.into(),
         }
+    }
+
+    /// The file a scene names: absolute as given, else the first `search` directory that
+    /// has it (Mitsuba's `FileResolver::resolve`), else in the scene's directory.
+    pub fn resolve(&self, name: &str) -> PathBuf {
+        resolve(&self.search, name)
     }
 
     /// The attribute `name` of `node` after `$name` substitution, if present.
@@ -39,30 +168,9 @@ impl Cx<'_> {
         let Some(raw) = node.attribute(name) else {
             return Ok(None);
         };
-        let mut out = String::with_capacity(raw.len());
-        let mut rest = raw;
-        while let Some(i) = rest.find('$') {
-            out.push_str(&rest[..i]);
-            let tail = &rest[i + 1..];
-            let len = tail
-                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                .unwrap_or(tail.len());
-            let key = &tail[..len];
-            let Some(value) = self.defaults.get(key).filter(|_| !key.is_empty()) else {
-                let message = format!("`${key}` has no <default name=\"{key}\" .../>");
-                return Err(self.err(node, field, message));
-            };
-            if out.len() + value.len() > MAX_VALUE_BYTES {
-                let message = format!(
-                    "the value expands to more than {MAX_VALUE_BYTES} bytes (through `${key}`)"
-                );
-                return Err(self.err(node, field, message));
-            }
-            out.push_str(value);
-            rest = &tail[len..];
-        }
-        out.push_str(rest);
-        Ok(Some(out))
+        substitute(raw, &self.defaults)
+            .map(Some)
+            .map_err(|m| self.err(node, field, m))
     }
 
     /// The attribute `name` of `node`, which must be present.
@@ -208,6 +316,16 @@ impl Cx<'_> {
             origin.extend(1.0),
         ))
     }
+}
+
+/// `name` looked up in the `search` directories (the last is the scene's directory).
+pub(super) fn resolve(search: &[PathBuf], name: &str) -> PathBuf {
+    let path = Path::new(name);
+    if path.is_absolute() {
+        return path.to_path_buf();
+    }
+    let found = search.iter().map(|d| d.join(path)).find(|p| p.exists());
+    found.unwrap_or_else(|| search.last().map_or(path.to_path_buf(), |d| d.join(path)))
 }
 
 /// Refractive indices Mitsuba 3 accepts by name (its `ior` table).

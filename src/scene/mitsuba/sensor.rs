@@ -1,0 +1,189 @@
+//! Mitsuba's `sensor` (a `perspective` camera with its `hdrfilm` and `sampler`) and the
+//! `integrator`, which only gives hints: any type renders with our technique.
+//!
+//! The field of view is converted exactly: Mitsuba's `fov` spans the `fov_axis` (`x`, `y`,
+//! `diagonal`, `smaller` or `larger` of the film) and ours is vertical, so
+//! `tan(fov_y / 2) = tan(fov / 2) * h / s`, `s` the film's extent along that axis (`w`, `h`
+//! or `sqrt(w^2 + h^2)`).
+
+use super::plugin::Plugin;
+use super::values::Cx;
+use super::Importer;
+use crate::error::Result;
+use crate::scene::builder::SceneBuilder;
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+
+impl Importer<'_> {
+    /// `<sensor type="perspective">` with its film and sampler: the camera, image size, spp.
+    pub(super) fn sensor(&mut self, node: Node, field: &str) -> Result<()> {
+        let cx = &self.cx;
+        let p = Plugin::new(cx, node, field.to_string())?;
+        if p.kind != "perspective" {
+            let message = format!("unsupported sensor `{}` (only `perspective`)", p.kind);
+            return Err(cx.err(node, field, message));
+        }
+        // Mitsuba's film size when the file gives none.
+        self.b.settings().width = 768;
+        self.b.settings().height = 576;
+        for child in &p.objects {
+            let sub = format!("{field}.{}", child.tag_name().name());
+            match child.tag_name().name() {
+                "film" => film(cx, *child, sub, &mut self.warnings, &mut self.b)?,
+                "sampler" => {
+                    let s = Plugin::new(cx, *child, sub)?;
+                    s.setting(cx, "sample_count", "spp", self.b.settings())?;
+                    // `sample_count` is the author's total per pixel: our default render
+                    // spreads it over its progressive passes.
+                    let settings = self.b.settings();
+                    settings.spp = settings.spp.div_ceil(settings.passes.max(1));
+                    s.ignore(&["seed"]);
+                    s.done(cx)?;
+                }
+                other => {
+                    let message = format!("unsupported <{other}> in a sensor");
+                    return Err(cx.err(*child, field, message));
+                }
+            }
+        }
+        // Mitsuba's `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length`
+        // (default 50mm) on the 36 x 24 mm frame's diagonal.
+        let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
+        let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
+            (Some(_), Some(_)) => {
+                let message = "give `fov` or `focal_length`, not both";
+                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+            }
+            (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
+            (None, focal) => {
+                let focal = focal.unwrap_or_else(|| "50mm".into());
+                let mm = focal
+                    .strip_suffix("mm")
+                    .unwrap_or(&focal)
+                    .trim()
+                    .parse::<f32>();
+                let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
+                    let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
+                    return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+                };
+                let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
+                (fov, "diagonal".into())
+            }
+        };
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
+        }
+        // Our pinhole's principal point is the film's centre.
+        for name in ["principal_point_offset_x", "principal_point_offset_y"] {
+            if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
+                let message = "unsupported unless 0 (the principal point is the film's centre)";
+                return Err(cx.err(p.node_of(name), &p.at(name), message));
+            }
+        }
+        let (w, h) = (
+            self.b.settings().width as f32,
+            self.b.settings().height as f32,
+        );
+        let t = (fov.to_radians() / 2.0).tan();
+        let ty = match axis.as_str() {
+            "x" => t * h / w,
+            "y" => t,
+            "diagonal" => t * h / (w * w + h * h).sqrt(),
+            "smaller" if w < h => t * h / w,
+            "larger" if w > h => t * h / w,
+            "smaller" | "larger" => t,
+            other => {
+                let message =
+                    format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
+                return Err(cx.err(node, &p.at("fov_axis"), message));
+            }
+        };
+        let fov_y = 2.0 * ty.atan().to_degrees();
+        let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        // Clipping planes and a focus distance change nothing for our pinhole; Mitsuba's
+        // checks on them are kept.
+        let near = p.positive(cx, "near_clip", 1e-2)?;
+        let far = p.float(cx, "far_clip")?.unwrap_or(1e4);
+        if far <= near {
+            let message = format!("must be greater than near_clip ({near})");
+            return Err(cx.err(p.node_of("far_clip"), &p.at("far_clip"), message));
+        }
+        p.float(cx, "focus_distance")?;
+        p.done(cx)?;
+        let eye = m.transform_point3(Vec3::ZERO);
+        let forward = m.transform_vector3(Vec3::Z);
+        let up = m.transform_vector3(Vec3::Y);
+        let left = m.transform_vector3(Vec3::X).normalize_or_zero();
+        if left.dot(up.cross(forward).normalize_or_zero()) < 0.999 {
+            let message = "unsupported camera to_world (only rotation, translation, uniform scale)";
+            return Err(cx.err(node, &p.at("to_world"), message));
+        }
+        let at = self.origin(node, field);
+        self.b.camera(eye, eye + forward, up, fov_y, &at)
+    }
+
+    /// `<integrator>` of any type: one warning saying that our technique renders it; Mitsuba's
+    /// `max_depth` and `rr_depth` (path lengths, which our settings do not have: our
+    /// `max_depth` counts specular bounces of camera rays) are read and named in it.
+    pub(super) fn integrator(&mut self, node: Node, field: &str) -> Result<()> {
+        let kind = self.cx.attr(node, field, "type")?.unwrap_or_default();
+        let mut hints = Vec::new();
+        for child in node.children().filter(Node::is_element) {
+            let name = child.attribute("name").unwrap_or_default();
+            if matches!(name, "max_depth" | "rr_depth") {
+                let value = self
+                    .cx
+                    .need_attr(child, &format!("{field}.{name}"), "value")?;
+                hints.push(format!("{name} {value}"));
+            }
+        }
+        let hints = match hints.is_empty() {
+            true => String::new(),
+            false => format!("; {} not honoured (path lengths)", hints.join(", ")),
+        };
+        self.warnings.push(format!(
+            "{}: {field}: integrator `{kind}` rendered with our photon mapping (the render \
+             mode: [render] mode, --mode){hints}",
+            self.cx.loc(node)
+        ));
+        Ok(())
+    }
+}
+
+/// `<film type="hdrfilm">`: the image size; a non-box `rfilter` is approximated by our box.
+fn film(
+    cx: &Cx,
+    node: Node,
+    field: String,
+    warnings: &mut Vec<String>,
+    b: &mut SceneBuilder,
+) -> Result<()> {
+    let f = Plugin::new(cx, node, field)?;
+    if f.kind != "hdrfilm" {
+        let message = format!("unsupported film `{}` (only `hdrfilm`)", f.kind);
+        return Err(cx.err(node, &f.field, message));
+    }
+    f.setting(cx, "width", "width", b.settings())?;
+    f.setting(cx, "height", "height", b.settings())?;
+    f.ignore(&["pixel_format", "file_format", "component_format"]);
+    f.done(cx)?;
+    if f.objects.is_empty() {
+        let what = "no rfilter: Mitsuba's default `gaussian` approximated by a one-pixel box";
+        warnings.push(format!("{}: {}: {what}", cx.loc(node), f.field));
+    }
+    for child in &f.objects {
+        let sub = format!("{}.{}", f.field, child.tag_name().name());
+        if child.tag_name().name() != "rfilter" {
+            let message = format!("unsupported <{}> in a film", child.tag_name().name());
+            return Err(cx.err(*child, &f.field, message));
+        }
+        let r = Plugin::new(cx, *child, sub.clone())?;
+        r.ignore(&["radius", "stddev", "B", "C", "lobes"]);
+        r.done(cx)?;
+        if r.kind != "box" {
+            let what = format!("pixel filter `{}` approximated by a one-pixel box", r.kind);
+            warnings.push(format!("{}: {sub}: {what}", cx.loc(*child)));
+        }
+    }
+    Ok(())
+}
