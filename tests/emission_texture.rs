@@ -167,7 +167,10 @@ fn shadow_rays_and_photons_agree_on_a_textured_light() {
     assert!(err < 0.03, "direct {direct} vs photons {photons}");
     // The view is lit off the mean colour, so photons carrying the mean would not match.
     let tint = direct / direct.element_sum() - mean_texel() / mean_texel().element_sum();
-    assert!(tint.abs().max_element() > 0.01, "{direct} is lit in the mean colour");
+    assert!(
+        tint.abs().max_element() > 0.01,
+        "{direct} is lit in the mean colour"
+    );
     assert!(direct.min_element() > 0.0);
 }
 
