@@ -41,7 +41,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     if caustic_map && !aims_at(e.origin, e.dir) {
         return;
     }
-    var power = select(light.global_power, light.caustic_power, caustic_map);
+    var power = select(light.global_power, light.caustic_power, caustic_map) * e.scale;
     var o = e.origin;
     if any(e.normal != vec3<f32>(0.0)) {
         o = offset_origin(e.origin, e.normal, e.dir);

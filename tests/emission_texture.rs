@@ -2,7 +2,7 @@
 //! sees the emitter's radiance times the texel, the light's power includes the texture's
 //! mean, and a floor lit by it receives the same light from shadow rays (which weigh each
 //! sampled point by its texel) as from photons (which carry texel / mean): two estimators
-//! of one integral. The GPU backend refuses such scenes with a clear error for now.
+//! of one integral; the GPU renders it as the CPU does.
 
 use glam::{Vec2, Vec3};
 use gpu_photon::report::Progress;
@@ -11,6 +11,8 @@ use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use gpu_photon::texture::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use std::f32::consts::PI;
+
+mod common;
 
 /// Texels of the 2 x 2 emission texture (raw 8-bit: a channel reads byte / 255).
 const TEXELS: [[u8; 4]; 4] = [
@@ -174,15 +176,48 @@ fn shadow_rays_and_photons_agree_on_a_textured_light() {
     assert!(direct.min_element() > 0.0);
 }
 
+/// The GPU looks up the same texels: the emitter seen directly (same random numbers, the
+/// same texels) to f32 rounding, and the floor's photon estimate within seed noise.
 #[test]
-fn the_gpu_refuses_textured_emission_for_now() {
-    let s = scene(1.0, true);
-    let e = render(&s, &s.settings, Backend::Gpu, Progress::default())
-        .err()
-        .expect("the GPU refuses");
-    assert_eq!(
-        e.to_string(),
-        "GPU backend: textured emission (a glTF emissiveTexture) is rendered by the CPU backend \
-         only (use --backend cpu or auto)"
+fn the_gpu_renders_textured_emission_as_the_cpu_does() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = scene(2.0, true);
+    let settings = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 4,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
+    let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+    assert!(
+        d.max_error < 1e-4,
+        "emitter seen directly, gpu vs cpu: {d:?}"
+    );
+    let s = scene(4.0, false);
+    let settings = RenderSettings {
+        width: 24,
+        height: 24,
+        spp: 4,
+        mode: Mode::Photon,
+        photons: 400_000,
+        ..s.settings.clone()
+    };
+    let mean = |backend| {
+        let (img, _) = render(&s, &settings, backend, Progress::default()).unwrap();
+        img.pixels
+            .iter()
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .sum::<Vec3>()
+            / img.pixels.len() as f32
+    };
+    let (c, g) = (mean(Backend::Cpu), mean(Backend::Gpu));
+    assert!(
+        ((g - c) / c).abs().max_element() < 0.03,
+        "photons: cpu {c} vs gpu {g}"
     );
 }

@@ -37,6 +37,8 @@ struct SurfacePoint {
     p: vec3<f32>,
     n: vec3<f32>,
     material: u32,
+    // The emission texture's value at p (one without a texture; crate::scene::emission).
+    texel: vec3<f32>,
 }
 
 // Triangle of light l by area: binary search of its CDF (bounded by 32 steps).
@@ -56,6 +58,8 @@ fn pick_triangle(l: Light, u: f32) -> u32 {
 
 fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
     var sp: SurfacePoint;
+    sp.texel = vec3<f32>(1.0);
+    let textured = HAS_TEXTURES && l.emission_texture != NO_TEXTURE;
     if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
         sp.p = l.position;
         sp.n = vec3<f32>(0.0);
@@ -66,8 +70,12 @@ fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
         sp.p = s.center + s.radius * n;
         sp.n = n;
         sp.material = s.material;
+        if textured {
+            sp.texel = texture_eval(l.emission_texture, sphere_uv(n));
+        }
     } else {
-        let tri = load_triangle(pick_triangle(l, u.x));
+        let t = pick_triangle(l, u.x);
+        let tri = load_triangle(t);
         let s = sqrt(u.y);
         let b1 = 1.0 - s;
         let b2 = u.z * s;
@@ -76,6 +84,11 @@ fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
         sp.p = tri.v0 + b1 * e1 + b2 * e2;
         sp.n = normalize(cross(e1, e2));
         sp.material = tri.material;
+        if textured {
+            let a = uvs[2u * t];
+            let c = uvs[2u * t + 1u].xy;
+            sp.texel = texture_eval(l.emission_texture, (1.0 - b1 - b2) * a.xy + b1 * a.zw + b2 * c);
+        }
     }
     return sp;
 }
@@ -84,10 +97,13 @@ struct Emission {
     origin: vec3<f32>,
     dir: vec3<f32>,
     normal: vec3<f32>,
+    // Factor on the photon's power: a textured emitter's texel over its mean (else one).
+    scale: vec3<f32>,
 }
 
 fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     var e: Emission;
+    e.scale = vec3<f32>(1.0);
     if HAS_POINT_LIGHTS && l.kind == LIGHT_SPOT {
         let c = spot_cos(l, u3);
         let s = sqrt(max(1.0 - c * c, 0.0));
@@ -126,6 +142,7 @@ fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     }
     e.normal = n;
     e.dir = cosine_hemisphere(n, v, u4);
+    e.scale = select(vec3<f32>(0.0), sp.texel / l.texture_mean, l.texture_mean > vec3<f32>(0.0));
     return e;
 }
 
@@ -179,7 +196,7 @@ fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
     if cos_l <= 0.0 {
         return LightSample(sp.p, vec3<f32>(0.0), false, 0.0);
     }
-    return LightSample(sp.p, m.emission * (cos_l * l.area / d2), false, light_solid_angle_pdf(l, x, sp.p, sp.n));
+    return LightSample(sp.p, m.emission * sp.texel * (cos_l * l.area / d2), false, light_solid_angle_pdf(l, x, sp.p, sp.n));
 }
 
 fn aims_at(o: vec3<f32>, d: vec3<f32>) -> bool {

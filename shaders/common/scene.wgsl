@@ -98,7 +98,7 @@ fn load_material(i: u32) -> Material {
         e.x, e.y, bitcast<f32>(e.z), bitcast<f32>(e.w));
 }
 
-// Light i from its seven words.
+// Light i from its eight words.
 fn load_light(i: u32) -> Light {
     let a = lights[LIGHT_WORDS * i];
     let b = lights[LIGHT_WORDS * i + 1u];
@@ -107,8 +107,9 @@ fn load_light(i: u32) -> Light {
     let e = lights[LIGHT_WORDS * i + 4u];
     let f = lights[LIGHT_WORDS * i + 5u];
     let g = lights[LIGHT_WORDS * i + 6u];
+    let h = lights[LIGHT_WORDS * i + 7u];
     return Light(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
         bitcast<vec3<f32>>(c.xyz), c.w, bitcast<vec3<f32>>(d.xyz), d.w,
         bitcast<f32>(e.x), e.y, e.z, e.w, f.x, bitcast<f32>(f.y), bitcast<f32>(f.z), bitcast<f32>(f.w),
-        bitcast<vec3<f32>>(g.xyz), g.w);
+        bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz), h.w);
 }

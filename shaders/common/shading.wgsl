@@ -11,6 +11,8 @@ struct Surface {
     kd: vec3<f32>,
     n: vec3<f32>,
     b: BsdfParams,
+    // The emitted radiance, with the emitter's texture looked up.
+    emission: vec3<f32>,
 }
 
 fn bsdf_at(hit: Hit) -> Surface {
@@ -21,6 +23,14 @@ fn bsdf_at(hit: Hit) -> Surface {
         s.kd = texture_eval(s.m.kd_texture, hit.uv);
     }
     s.n = hit.shading;
+    s.emission = s.m.emission;
+    if HAS_TEXTURES && hit.light != NO_LIGHT {
+        // An emitter's texture is its light's (one material per light).
+        let t = lights[LIGHT_WORDS * hit.light + 6u].w;
+        if t != NO_TEXTURE {
+            s.emission *= texture_eval(t, hit.uv);
+        }
+    }
     if HAS_BSDFS && s.m.bsdf != NO_BSDF {
         s.b = bsdfs[s.m.bsdf];
         // A plastic's base reflectance is its kd (Plastic::with_diffuse).
@@ -83,7 +93,7 @@ fn surface_class(s: Surface) -> u32 {
 
 // Radiance emitted towards a ray arriving from the front (or the back).
 fn surface_emitted(s: Surface, front: bool) -> vec3<f32> {
-    return select(vec3<f32>(0.0), s.m.emission, front || s.m.two_sided != 0u);
+    return select(vec3<f32>(0.0), s.emission, front || s.m.two_sided != 0u);
 }
 
 // The diffuse part's albedo towards wo: photon estimates weigh light by it / pi, gather rays

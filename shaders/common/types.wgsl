@@ -100,6 +100,9 @@ struct Light {
     cos_outer: f32,
     radius: f32,
     direction: vec3<f32>,
+    // Area light: its emission texture (NO_TEXTURE: none) and that texture's mean.
+    emission_texture: u32,
+    texture_mean: vec3<f32>,
     _pad0: u32,
 }
 

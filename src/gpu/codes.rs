@@ -157,7 +157,7 @@ pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
 pub const MATERIAL_WORDS: u32 = 5;
 /// Words per `Light`.
-pub const LIGHT_WORDS: u32 = 7;
+pub const LIGHT_WORDS: u32 = 8;
 /// Words per `Photon` (every map buffer: traced, sorted, and the gather group's).
 pub const PHOTON_WORDS: u32 = 3;
 

@@ -40,17 +40,6 @@ impl<'s> GpuRenderer<'s> {
     /// creates every pipeline, for a render with `settings`.
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
         let s = settings;
-        if scene
-            .materials
-            .iter()
-            .any(|m| m.emission_texture != crate::scene::NO_TEXTURE)
-        {
-            return Err(Error::Gpu(
-                "textured emission (a glTF emissiveTexture) is rendered by the CPU backend \
-                 only (use --backend cpu or auto)"
-                    .into(),
-            ));
-        }
         let mut report = RenderReport::default();
         let t = Instant::now();
         let ctx = GpuContext::new()?;

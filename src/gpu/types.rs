@@ -149,6 +149,10 @@ pub struct GpuLight {
     pub radius: f32,
     /// Spot light: unit axis; directional light: unit direction of travel.
     pub direction: [f32; 3],
+    /// Area light: index into `tex_table` of its emission texture, or `NO_TEXTURE`.
+    pub emission_texture: u32,
+    /// Area light: the emission texture's mean over its surface (`LightTable::texture_mean`).
+    pub texture_mean: [f32; 3],
     /// Padding.
     pub _pad0: u32,
 }
@@ -390,6 +394,8 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
             let mut g = GpuLight {
                 cdf_start: table.cdf_start[i],
                 area: table.area[i],
+                emission_texture: crate::scene::emission::texture_of(scene, i),
+                texture_mean: table.texture_mean[i].to_array(),
                 ..Default::default()
             };
             match l.shape {
