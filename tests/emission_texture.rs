@@ -221,3 +221,40 @@ fn the_gpu_renders_textured_emission_as_the_cpu_does() {
         "photons: cpu {c} vs gpu {g}"
     );
 }
+
+/// Mitsuba's area emitter with a textured `radiance`: the texture gives the radiance, and
+/// the light's power is pi A x the texture's mean.
+#[test]
+fn mitsuba_area_emitters_take_a_textured_radiance() {
+    let text = r#"<scene version="3.0.0">
+<sensor type="perspective"><float name="fov" value="40"/>
+<transform name="to_world"><lookat origin="0, 0, 3" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+<shape type="rectangle"><emitter type="area"><texture name="radiance" type="checkerboard">
+<rgb name="color0" value="1, 0, 0"/><rgb name="color1" value="0, 0, 1"/></texture></emitter></shape>
+</scene>
+"#;
+    let s = gpu_photon::scene::mitsuba::import(text, "t.xml", std::path::Path::new("."))
+        .unwrap()
+        .scene;
+    let m = s.materials[s.triangles[0].material as usize];
+    assert!(m.emission_texture != gpu_photon::scene::NO_TEXTURE);
+    assert_eq!(m.emission, Vec3::ONE);
+    // The checkerboard's mean is (color0 + color1) / 2; the rectangle's area 4.
+    let want = PI * 4.0 * Vec3::new(0.5, 0.0, 0.5);
+    let got = s.lights[0].power;
+    assert!(
+        (got - want).abs().max_element() < 1e-3 * want.max_element(),
+        "{got} vs {want}"
+    );
+    let settings = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 1,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    // Every pixel sees one cell or an edge between two: red and blue only, never green.
+    assert!(img.pixels.iter().all(|p| p[1] == 0.0 && p[0] + p[2] > 0.0));
+    assert!(img.pixels.iter().any(|p| p[0] == 1.0) && img.pixels.iter().any(|p| p[2] == 1.0));
+}

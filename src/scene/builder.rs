@@ -56,6 +56,9 @@ pub struct Surface {
     pub emission: Option<Vec3>,
     /// Emission from both faces, replacing the material's setting; only for emissive surfaces.
     pub two_sided: Option<bool>,
+    /// A texture (from [`SceneBuilder::add_texture`]) multiplying the emission at each point
+    /// (`Material::emission_texture`); only for emissive surfaces.
+    pub emission_texture: Option<u32>,
 }
 
 impl Surface {
@@ -403,6 +406,13 @@ impl SceneBuilder {
         };
         let mut material = base;
         material.emission = surface.emission.unwrap_or(base.emission);
+        if let Some(t) = surface.emission_texture {
+            if !material.is_emissive() || t as usize >= self.textures.len() {
+                let message = "an emission texture needs an emissive shape and a texture";
+                return Err(at.error(Part::Emission, message.into()));
+            }
+            material.emission_texture = t;
+        }
         if let Some(two_sided) = surface.two_sided {
             if !material.is_emissive() {
                 let message = "only applies to emissive shapes";

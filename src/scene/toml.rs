@@ -266,6 +266,7 @@ fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
         material,
         emission,
         two_sided,
+        emission_texture: None,
     };
     match kind {
         "sphere" => {

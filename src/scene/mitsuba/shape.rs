@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::scene::builder::Surface;
 use crate::scene::mesh_file::{self, MeshData, MeshFormat};
 use crate::texture::uv;
+use crate::texture::SceneTexture;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -43,6 +44,7 @@ impl<'f> Importer<'f> {
         let p = Plugin::new(&self.cx, node, field.to_string())?;
         let mut material = None;
         let mut emission = None;
+        let mut emission_texture = None;
         for child in &p.objects {
             let tag = child.tag_name().name();
             let sub = format!("{field}.{tag}");
@@ -53,7 +55,8 @@ impl<'f> Importer<'f> {
                     match target.tag_name().name() {
                         "bsdf" => Some(self.bsdf_by_id(&id, target)?),
                         "emitter" => {
-                            let radiance = self.area(target, &format!("emitter[{id}]"))?;
+                            let (radiance, t) = self.area(target, &format!("emitter[{id}]"))?;
+                            emission_texture = t;
                             if emission.replace(radiance).is_some() {
                                 return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
                             }
@@ -66,7 +69,8 @@ impl<'f> Importer<'f> {
                     }
                 }
                 "emitter" => {
-                    let radiance = self.area(*child, &sub)?;
+                    let (radiance, t) = self.area(*child, &sub)?;
+                    emission_texture = t;
                     if emission.replace(radiance).is_some() {
                         return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
                     }
@@ -94,12 +98,14 @@ impl<'f> Importer<'f> {
             material: Some(material),
             emission,
             two_sided: None,
+            emission_texture: emission_texture.map(|t| self.b.add_texture(t)),
         };
         self.geometry(&p, surface)
     }
 
-    /// An `area` emitter's radiance.
-    fn area(&self, node: Node, field: &str) -> Result<Vec3> {
+    /// An `area` emitter's radiance, and its texture when `radiance` is a `<texture>` (the
+    /// radiance is then one and the texture's colour gives it, as Mitsuba evaluates it).
+    fn area(&self, node: Node, field: &str) -> Result<(Vec3, Option<SceneTexture>)> {
         let e = Plugin::new(&self.cx, node, field.to_string())?;
         if e.kind != "area" {
             let message = format!("unsupported emitter `{}` on a shape", e.kind);
@@ -109,11 +115,16 @@ impl<'f> Importer<'f> {
             let message = format!("unsupported <{}> in an emitter", extra.tag_name().name());
             return Err(self.cx.err(*extra, field, message));
         }
+        if let Some(t) = e.texture_param("radiance") {
+            let texture = super::texture::texture(&self.cx, t, &e.at("radiance"))?;
+            e.done(&self.cx)?;
+            return Ok((Vec3::ONE, Some(texture)));
+        }
         let Some(radiance) = e.emission(&self.cx, "radiance")? else {
             return Err(self.cx.err(node, &e.at("radiance"), "missing"));
         };
         e.done(&self.cx)?;
-        Ok(radiance)
+        Ok((radiance, None))
     }
 
     /// Adds the shape `p` is, of `surface`.
