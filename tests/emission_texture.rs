@@ -59,12 +59,7 @@ fn scene(l: f32, up: bool) -> Scene {
     let h = 0.25;
     // Facing down (-y): the winding below gives cross(v1 - v0, v2 - v0) along -y. uv (x, z)
     // over [-h, h]^2.
-    let c = [
-        Vec3::new(-h, 1.0, -h),
-        Vec3::new(-h, 1.0, h),
-        Vec3::new(h, 1.0, h),
-        Vec3::new(h, 1.0, -h),
-    ];
+    let c = square(h, 1.0);
     let uv = |p: Vec3| Vec2::new((p.x + h) / (2.0 * h), (p.z + h) / (2.0 * h));
     let tris = vec![[c[0], c[2], c[1]], [c[0], c[3], c[2]]];
     let uvs = tris.iter().map(|t| t.map(uv)).collect();
@@ -74,12 +69,7 @@ fn scene(l: f32, up: bool) -> Scene {
         .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at())
         .unwrap();
     let f = 3.0;
-    let floor = [
-        Vec3::new(-f, 0.0, -f),
-        Vec3::new(-f, 0.0, f),
-        Vec3::new(f, 0.0, f),
-        Vec3::new(f, 0.0, -f),
-    ];
+    let floor = square(f, 0.0);
     // Facing up (+y), as cross(v1 - v0, v2 - v0) says.
     b.add_mesh(
         vec![
@@ -91,6 +81,34 @@ fn scene(l: f32, up: bool) -> Scene {
     )
     .unwrap();
     b.finish(&at()).unwrap()
+}
+
+/// The corners of the square `[-h, h]^2` in the plane at height `y`, in order around it.
+fn square(h: f32, y: f32) -> [Vec3; 4] {
+    [
+        Vec3::new(-h, y, -h),
+        Vec3::new(-h, y, h),
+        Vec3::new(h, y, h),
+        Vec3::new(h, y, -h),
+    ]
+}
+
+/// The first light's power is `want` (to 0.1%).
+fn assert_power(s: &Scene, want: Vec3) {
+    let got = s.lights[0].power;
+    let close = (got - want).abs().max_element() < 1e-3 * want.max_element();
+    assert!(close, "power {got} vs {want}");
+}
+
+/// Direct-light settings of a 16 x 16 render of `s` at `spp`.
+fn direct(s: &Scene, spp: u32) -> RenderSettings {
+    RenderSettings {
+        width: 16,
+        height: 16,
+        spp,
+        mode: Mode::DirectOnly,
+        ..s.settings.clone()
+    }
 }
 
 fn mean_texel() -> Vec3 {
@@ -111,20 +129,9 @@ fn image_mean(s: &Scene, settings: &RenderSettings) -> Vec3 {
 fn the_camera_sees_radiance_times_texel_and_the_power_includes_the_mean() {
     let s = scene(2.0, true);
     // Power: pi A L x the texture's mean (one-sided).
-    let want = PI * 0.25 * 2.0 * mean_texel();
-    let got = s.lights[0].power;
-    assert!(
-        (got - want).abs().max_element() < 1e-3 * want.max_element(),
-        "{got} vs {want}"
-    );
+    assert_power(&s, PI * 0.25 * 2.0 * mean_texel());
     // Looking straight up from below the emitter's centre, each image quadrant is a texel.
-    let settings = RenderSettings {
-        width: 16,
-        height: 16,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
+    let settings = direct(&s, 4);
     let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     let mut seen: Vec<Vec3> = Vec::new();
     for (px, py) in [(3, 3), (12, 3), (3, 12), (12, 12)] {
@@ -184,13 +191,7 @@ fn the_gpu_renders_textured_emission_as_the_cpu_does() {
         return;
     }
     let s = scene(2.0, true);
-    let settings = RenderSettings {
-        width: 16,
-        height: 16,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
+    let settings = direct(&s, 4);
     let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
     let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
@@ -240,19 +241,8 @@ fn mitsuba_area_emitters_take_a_textured_radiance() {
     assert!(m.emission_texture != gpu_photon::scene::NO_TEXTURE);
     assert_eq!(m.emission, Vec3::ONE);
     // The checkerboard's mean is (color0 + color1) / 2; the rectangle's area 4.
-    let want = PI * 4.0 * Vec3::new(0.5, 0.0, 0.5);
-    let got = s.lights[0].power;
-    assert!(
-        (got - want).abs().max_element() < 1e-3 * want.max_element(),
-        "{got} vs {want}"
-    );
-    let settings = RenderSettings {
-        width: 16,
-        height: 16,
-        spp: 1,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
+    assert_power(&s, PI * 4.0 * Vec3::new(0.5, 0.0, 0.5));
+    let settings = direct(&s, 1);
     let (img, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     // Every pixel sees one cell or an edge between two: red and blue only, never green.
     assert!(img.pixels.iter().all(|p| p[1] == 0.0 && p[0] + p[2] > 0.0));

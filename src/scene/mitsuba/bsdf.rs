@@ -30,6 +30,25 @@ pub(super) struct Read {
     pub alpha_texture: Option<SceneTexture>,
 }
 
+/// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
+/// `normalmap`, `mask`) at `node`.
+fn nested_bsdf<'f>(
+    cx: &Cx<'f>,
+    p: &Plugin<'f>,
+    node: Node<'f, 'f>,
+    field: &str,
+) -> Result<Node<'f, 'f>> {
+    let message = format!("`{}` needs a nested <bsdf>", p.kind);
+    let Some(&inner) = p.objects.first() else {
+        return Err(cx.err(node, field, message));
+    };
+    let inner = cx.deref(inner, field)?;
+    if inner.tag_name().name() != "bsdf" {
+        return Err(cx.err(inner, field, message));
+    }
+    Ok(inner)
+}
+
 /// The microfacet roughness of a rough plugin: `distribution` (`beckmann` default, `ggx`),
 /// `alpha` (default 0.1) or `alpha_u` and `alpha_v`.
 fn microfacet(cx: &Cx, p: &Plugin) -> Result<Microfacet> {
@@ -93,14 +112,7 @@ pub(super) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     let material = match kind {
         "twosided" => {
             // Our materials reflect on both sides already: the nested bsdf is the material.
-            let Some(&inner) = p.objects.first() else {
-                return Err(cx.err(node, field, "`twosided` needs a nested <bsdf>"));
-            };
-            let inner = cx.deref(inner, field)?;
-            if inner.tag_name().name() != "bsdf" {
-                let message = "`twosided` needs a nested <bsdf>";
-                return Err(cx.err(inner, field, message));
-            }
+            let inner = nested_bsdf(cx, &p, node, field)?;
             p.done(cx)?;
             return bsdf(cx, inner, &format!("{field}.bsdf"), warnings);
         }
@@ -109,13 +121,7 @@ pub(super) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             // rgb `c` gives as the normal `2 c - 1` relative to the hit's frame. The texture
             // is read as Mitsuba reads any bitmap: sRGB-decoded unless `raw` (Mitsuba's
             // documentation sets `raw`, normal maps being linear data).
-            let Some(&inner) = p.objects.first() else {
-                return Err(cx.err(node, field, "`normalmap` needs a nested <bsdf>"));
-            };
-            let inner = cx.deref(inner, field)?;
-            if inner.tag_name().name() != "bsdf" {
-                return Err(cx.err(inner, field, "`normalmap` needs a nested <bsdf>"));
-            }
+            let inner = nested_bsdf(cx, &p, node, field)?;
             let Some(t) = p.texture_param("normalmap") else {
                 let message = "`normalmap` needs a <texture name=\"normalmap\">";
                 return Err(cx.err(p.node_of("normalmap"), field, message));
@@ -146,13 +152,7 @@ pub(super) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on
             // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is the texture's
             // luminance, as Mitsuba evaluates a colour texture as a float.
-            let Some(&inner) = p.objects.first() else {
-                return Err(cx.err(node, field, "`mask` needs a nested <bsdf>"));
-            };
-            let inner = cx.deref(inner, field)?;
-            if inner.tag_name().name() != "bsdf" {
-                return Err(cx.err(inner, field, "`mask` needs a nested <bsdf>"));
-            }
+            let inner = nested_bsdf(cx, &p, node, field)?;
             let (factor, tex) = match p.texture_param("opacity") {
                 Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"))?)),
                 None => {
