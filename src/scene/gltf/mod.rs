@@ -8,13 +8,15 @@
 //! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
 //! normals (`NORMAL`, through the inverse transpose of the world matrix) make a primitive
 //! smooth-shaded; without them it is flat. Texture coordinates (`TEXCOORD_n`, n the set the
-//! material's base colour texture reads, else 0) are kept as glTF gives them (uv (0, 0) at
-//! the image's top-left, as ours). The camera is the first met in the traversal, or
+//! material's textures read, `material::uv_texture`, else 0) are kept as glTF gives them
+//! (uv (0, 0) at the image's top-left, as ours). Materials and their textures are added by
+//! `surface.rs`. The camera is the first met in the traversal, or
 //! the one named; `KHR_lights_punctual` lights are converted from photometric units at
 //! 683 lm/W (point and spot from candela to W/sr, directional from lux to W/m^2), spot and
 //! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`]
 //! naming the file, the JSON line of the item (0 where
-//! unknown) and its field path; warnings (approximated materials, textures) go to stderr.
+//! unknown) and its field path; warnings (a volume rendered thin-walled, textures not read,
+//! uv sets) go to stderr.
 
 mod data;
 mod json_line;
