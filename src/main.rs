@@ -25,7 +25,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to an EXR (linear float) or PNG (sRGB) image.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// List the Vulkan adapters with their type and the limits that matter.
     Adapters,
     /// Combine progressive slices (`render --pass-range`) into the image of all their passes.
