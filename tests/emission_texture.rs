@@ -100,6 +100,18 @@ fn assert_power(s: &Scene, want: Vec3) {
     assert!(close, "power {got} vs {want}");
 }
 
+/// Photon-mode settings of a 24 x 24 render of `s` (400,000 photons, 4 spp).
+fn photon_settings(s: &Scene) -> RenderSettings {
+    RenderSettings {
+        width: 24,
+        height: 24,
+        spp: 4,
+        mode: Mode::Photon,
+        photons: 400_000,
+        ..s.settings.clone()
+    }
+}
+
 /// Direct-light settings of a 16 x 16 render of `s` at `spp`.
 fn direct(s: &Scene, spp: u32) -> RenderSettings {
     RenderSettings {
@@ -119,8 +131,9 @@ fn mean_texel() -> Vec3 {
         / 4.0
 }
 
-fn image_mean(s: &Scene, settings: &RenderSettings) -> Vec3 {
-    let (img, _) = render(s, settings, Backend::Cpu, Progress::default()).unwrap();
+/// The mean radiance of a render of `s` on `backend`.
+fn image_mean(s: &Scene, settings: &RenderSettings, backend: Backend) -> Vec3 {
+    let (img, _) = render(s, settings, backend, Progress::default()).unwrap();
     let sum: Vec3 = img.pixels.iter().map(|p| Vec3::new(p[0], p[1], p[2])).sum();
     sum / img.pixels.len() as f32
 }
@@ -159,18 +172,9 @@ fn shadow_rays_and_photons_agree_on_a_textured_light() {
             mode: Mode::DirectOnly,
             ..s.settings.clone()
         },
+        Backend::Cpu,
     );
-    let photons = image_mean(
-        &s,
-        &RenderSettings {
-            width: 24,
-            height: 24,
-            spp: 4,
-            mode: Mode::Photon,
-            photons: 400_000,
-            ..s.settings.clone()
-        },
-    );
+    let photons = image_mean(&s, &photon_settings(&s), Backend::Cpu);
     // The floor only: no other surface reflects back to it (photon mode adds nothing else).
     let err = ((photons - direct) / direct).abs().max_element();
     assert!(err < 0.03, "direct {direct} vs photons {photons}");
@@ -200,23 +204,11 @@ fn the_gpu_renders_textured_emission_as_the_cpu_does() {
         "emitter seen directly, gpu vs cpu: {d:?}"
     );
     let s = scene(4.0, false);
-    let settings = RenderSettings {
-        width: 24,
-        height: 24,
-        spp: 4,
-        mode: Mode::Photon,
-        photons: 400_000,
-        ..s.settings.clone()
-    };
-    let mean = |backend| {
-        let (img, _) = render(&s, &settings, backend, Progress::default()).unwrap();
-        img.pixels
-            .iter()
-            .map(|p| Vec3::new(p[0], p[1], p[2]))
-            .sum::<Vec3>()
-            / img.pixels.len() as f32
-    };
-    let (c, g) = (mean(Backend::Cpu), mean(Backend::Gpu));
+    let settings = photon_settings(&s);
+    let (c, g) = (
+        image_mean(&s, &settings, Backend::Cpu),
+        image_mean(&s, &settings, Backend::Gpu),
+    );
     assert!(
         ((g - c) / c).abs().max_element() < 0.03,
         "photons: cpu {c} vs gpu {g}"

@@ -239,31 +239,6 @@ fn cornell_parts(point: Option<(Vec3, Vec3)>, embed: bool) -> (String, Vec<u8>) 
     (json, bin.data)
 }
 
-/// A GLB file of `json` and `bin` (chunks padded to 4 bytes).
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    while !j.len().is_multiple_of(4) {
-        j.push(b' ');
-    }
-    let mut b = bin.to_vec();
-    while !b.len().is_multiple_of(4) {
-        b.push(0);
-    }
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = b"glTF".to_vec();
-    for n in [2, total as u32, j.len() as u32, 0x4E4F534A] {
-        out.extend(u32::to_le_bytes(n));
-    }
-    out.extend(j);
-    out.extend(
-        [b.len() as u32, 0x004E4942]
-            .iter()
-            .flat_map(|n| n.to_le_bytes()),
-    );
-    out.extend(b);
-    out
-}
-
 /// Writes `text` as `target/test-output/gltf/NAME` and returns the path (each test writes
 /// names of its own: tests run in parallel).
 fn write(name: &str, text: &[u8]) -> PathBuf {
@@ -417,7 +392,7 @@ fn error_of(name: &str, bytes: &[u8]) -> String {
 #[test]
 fn glb_form_loads_as_the_gltf_form() {
     let (json, bin) = cornell_parts(None, false);
-    let path = write("cornell-box.glb", &glb(&json, &bin));
+    let path = write("cornell-box.glb", &common::glb(&json, &bin));
     let g = load(&path).unwrap_or_else(|e| panic!("{e}"));
     let t = load(&write(
         "cornell-box-twin.gltf",
@@ -454,7 +429,7 @@ fn malformed_gltf_files_give_file_line_field_messages() {
     let missing = format!("{}nowhere.bin{}", &good[..uri], &good[end..]);
     let dir = root().join("target/test-output/gltf");
     let (json, bin) = cornell_parts(None, false);
-    let full = glb(&json, &bin);
+    let full = common::glb(&json, &bin);
     assert!(load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
     let cases: Vec<(&str, Vec<u8>, String)> =
         vec![

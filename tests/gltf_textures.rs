@@ -140,7 +140,7 @@ impl File {
             true => String::new(),
             false => format!(
                 r#", "uri": "data:application/octet-stream;base64,{}""#,
-                b64(&data)
+                common::b64(&data)
             ),
         };
         let t = 0.5f32; // tan(yfov / 2): the camera sees [-1.5, 1.5]^2 at z = 0
@@ -180,48 +180,9 @@ impl File {
         let (json, data) = self.parts();
         match self.glb {
             false => write(name, json.as_bytes()),
-            true => write(name, &glb(&json, &data)),
+            true => write(name, &common::glb(&json, &data)),
         }
     }
-}
-
-fn b64(bytes: &[u8]) -> String {
-    const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    while !j.len().is_multiple_of(4) {
-        j.push(b' ');
-    }
-    let mut b = bin.to_vec();
-    while !b.len().is_multiple_of(4) {
-        b.push(0);
-    }
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = b"glTF".to_vec();
-    for n in [2, total as u32, j.len() as u32, 0x4E4F534A] {
-        out.extend(n.to_le_bytes());
-    }
-    out.extend(j);
-    out.extend((b.len() as u32).to_le_bytes());
-    out.extend(0x004E4942u32.to_le_bytes());
-    out.extend(b);
-    out
 }
 
 fn loaded(path: &Path) -> Scene {
@@ -265,7 +226,10 @@ fn base_colour_texture_loads_from_a_file_a_data_uri_and_a_glb_view() {
         );
     }
 
-    let uri = format!(r#"{{"uri": "data:image/png;base64,{}"}}"#, b64(&png()));
+    let uri = format!(
+        r#"{{"uri": "data:image/png;base64,{}"}}"#,
+        common::b64(&png())
+    );
     let data_uri = loaded(&File::new(&uri).write("data-uri.gltf"));
     assert_eq!(
         data_uri.textures,

@@ -187,6 +187,31 @@ pub fn b64(bytes: &[u8]) -> String {
     s
 }
 
+/// A GLB file of `json` and `bin` (chunks padded to 4 bytes).
+pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut j = json.as_bytes().to_vec();
+    while !j.len().is_multiple_of(4) {
+        j.push(b' ');
+    }
+    let mut b = bin.to_vec();
+    while !b.len().is_multiple_of(4) {
+        b.push(0);
+    }
+    let total = 12 + 8 + j.len() + 8 + b.len();
+    let mut out = b"glTF".to_vec();
+    for n in [2, total as u32, j.len() as u32, 0x4E4F534A] {
+        out.extend(u32::to_le_bytes(n));
+    }
+    out.extend(j);
+    out.extend(
+        [b.len() as u32, 0x004E4942]
+            .iter()
+            .flat_map(|n| n.to_le_bytes()),
+    );
+    out.extend(b);
+    out
+}
+
 /// An image (e.g. a reference) averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
 /// times smaller (pixels are box-filtered mean radiance).
 pub fn downsample(img: &gpu_photon::film::Image, f: u32) -> gpu_photon::film::Image {
