@@ -9,7 +9,7 @@
 
 use crate::geometry::{
     inset, intersect_sphere, intersect_triangle, normal_mapped, shading_normal, sphere_tangent,
-    triangle_tangent, Aabb, Facing, Ray, Shear,
+    triangle_tangent, vertex_tangent, Aabb, Facing, Ray, Shear,
 };
 use crate::rng::{pcg_hash, to_unit};
 use crate::scene::{Scene, FLAT, NO_TEXTURE};
@@ -270,14 +270,16 @@ impl Bvh {
         };
         let normal_texture = scene.materials[hit.material as usize].normal_texture;
         if normal_texture != NO_TEXTURE {
-            // The uv tangent: a triangle's from its corner uvs (none without uvs), a
-            // sphere's from Mitsuba's parameterisation (the uv of `hit.uv`).
+            // The uv tangent: a triangle's vertex tangents where it has them, else its
+            // corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
             let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
                 let tri = &scene.triangles[id as usize];
-                scene
-                    .uvs
-                    .get(id as usize)
-                    .and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c))
+                (scene.tangents.get(id as usize))
+                    .and_then(|t| vertex_tangent(t, u, v))
+                    .or_else(|| {
+                        let uvs = scene.uvs.get(id as usize);
+                        uvs.and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c))
+                    })
                     .unwrap_or((Vec3::ZERO, false))
             } else {
                 (sphere_tangent(hit.normal), false)

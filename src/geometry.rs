@@ -83,6 +83,18 @@ pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, boo
     Some((dp_du, det < 0.0))
 }
 
+/// The uv tangent at barycentric `(1 - u - v, u, v)` of a triangle with vertex tangents
+/// ([`crate::scene::VertexTangents`]): the interpolated tangent and whether the frame is
+/// flipped (the interpolated `w` is negative), as [`triangle_tangent`] gives them; `None`
+/// where the interpolated tangent vanishes. Twin: `vertex_tangent` in
+/// `shaders/common/intersect.wgsl`.
+#[inline]
+pub fn vertex_tangent(t: &crate::scene::VertexTangents, u: f32, v: f32) -> Option<(Vec3, bool)> {
+    let m = (1.0 - u - v) * t[0] + u * t[1] + v * t[2];
+    let dir = m.truncate();
+    (dir != Vec3::ZERO && dir.is_finite()).then_some((dir, m.w < 0.0))
+}
+
 /// The tangent of Mitsuba's sphere parameterisation at outward unit normal `n` (`dp_du` up
 /// to its positive scale, `(-y, x, 0)`: towards increasing azimuth); zero at the poles.
 #[inline]

@@ -774,6 +774,7 @@ fn sealed_box(albedo: Vec3) -> Scene {
         triangles: tris,
         shading_normals: vec![],
         uvs: vec![],
+        tangents: vec![],
         textures: vec![],
         spheres: vec![],
         lights: vec![],

@@ -68,6 +68,29 @@ fn triangle_tangent(e1: vec3<f32>, e2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>
     return vec4<f32>(dp_du, select(0.0, 1.0, det < 0.0));
 }
 
+// The interpolated vertex tangent at barycentrics bc of the tangents from word r on, as
+// triangle_tangent gives it (xyz, w = 1 when flipped); zero xyz where it vanishes (twin of
+// vertex_tangent in src/geometry.rs).
+fn vertex_tangent(r: u32, bc: vec2<f32>) -> vec4<f32> {
+    let m = (1.0 - bc.x - bc.y) * uvs[r] + bc.x * uvs[r + 1u] + bc.y * uvs[r + 2u];
+    return vec4<f32>(m.xyz, select(0.0, 1.0, m.w < 0.0));
+}
+
+// Triangle id's uv tangent at barycentrics bc: its vertex tangents' where it has them, else
+// its corner uvs' (twin of Bvh::intersect's choice). A mesh without uvs reads the
+// placeholder's zeros: degenerate, so normal_mapped takes the basis.
+fn uv_tangent(id: u32, e1: vec3<f32>, e2: vec3<f32>, bc: vec2<f32>) -> vec4<f32> {
+    let r = uv_record(id);
+    if HAS_TANGENTS {
+        let t = vertex_tangent(r + UV_WORDS, bc);
+        if any(t.xyz != vec3<f32>(0.0)) {
+            return t;
+        }
+    }
+    let a = uvs[r];
+    return triangle_tangent(e1, e2, a.xy, a.zw, uvs[r + 1u].xy);
+}
+
 // Mitsuba's normalmap: the shading normal that linear texel c gives at a hit with front normal
 // ng, shading normal ns (side of ng), uv tangent dp_du (zero: none), flipped parameterisation,
 // for a ray along d (twin of normal_mapped in src/geometry.rs, which documents the frame).
@@ -241,9 +264,7 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
     if (id & SPHERE_BIT) == 0u {
         mat = triangles[TRIANGLE_WORDS * id].w;
         if HAS_TEXTURES {
-            let a = uvs[2u * id];
-            let c = uvs[2u * id + 1u].xy;
-            uv = (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+            uv = triangle_uv(id, bc);
         }
     } else {
         let s = load_sphere(id & ~SPHERE_BIT);
@@ -374,14 +395,11 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             best.material = tri.material;
             best.light = tri.light;
             if HAS_TEXTURES {
-                let a = uvs[2u * best_id];
-                let c = uvs[2u * best_id + 1u].xy;
-                best.uv = (1.0 - best_uv.x - best_uv.y) * a.xy + best_uv.x * a.zw + best_uv.y * c;
+                best.uv = triangle_uv(best_id, best_uv);
                 if HAS_NORMAL_MAPS {
                     let nt = materials[MATERIAL_WORDS * tri.material + 3u].w;
                     if nt != NO_TEXTURE {
-                        // A mesh without uvs has the placeholder's zeros: degenerate, the basis.
-                        let tg = triangle_tangent(e1, e2, a.xy, a.zw, c);
+                        let tg = uv_tangent(best_id, e1, e2, best_uv);
                         best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
                             tg.w > 0.5, texture_eval(nt, best.uv), d);
                     }

@@ -85,9 +85,7 @@ fn light_point(l: Light, u: vec3<f32>) -> SurfacePoint {
         sp.n = normalize(cross(e1, e2));
         sp.material = tri.material;
         if textured {
-            let a = uvs[2u * t];
-            let c = uvs[2u * t + 1u].xy;
-            sp.texel = texture_eval(l.emission_texture, (1.0 - b1 - b2) * a.xy + b1 * a.zw + b2 * c);
+            sp.texel = texture_eval(l.emission_texture, triangle_uv(t, vec2<f32>(b1, b2)));
         }
     }
     return sp;

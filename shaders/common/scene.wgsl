@@ -44,6 +44,9 @@ override HAS_TEXTURES: bool = true;
 // Some material has a normal map (Mitsuba's normalmap): the nearest hit perturbs its shading
 // normal (intersect.wgsl's normal_mapped). Implies HAS_TEXTURES.
 override HAS_NORMAL_MAPS: bool = true;
+// Some triangle has vertex tangents (glTF's TANGENT or MikkTSpace's): its uv record carries
+// them after its uvs (UV_TANGENT_WORDS words a triangle instead of UV_WORDS).
+override HAS_TANGENTS: bool = true;
 // Some material is alpha-tested (glTF alphaMode, Mitsuba's mask): every candidate hit in
 // trace_ray checks its opacity (intersect.wgsl's alpha_passes).
 override HAS_ALPHA: bool = true;
@@ -112,4 +115,17 @@ fn load_light(i: u32) -> Light {
         bitcast<vec3<f32>>(c.xyz), c.w, bitcast<vec3<f32>>(d.xyz), d.w,
         bitcast<f32>(e.x), e.y, e.z, e.w, f.x, bitcast<f32>(f.y), bitcast<f32>(f.z), bitcast<f32>(f.w),
         bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz), h.w);
+}
+
+// The first word of triangle id's uv record (gpu::types::triangle_uvs).
+fn uv_record(id: u32) -> u32 {
+    return select(UV_WORDS, UV_TANGENT_WORDS, HAS_TANGENTS) * id;
+}
+
+// The uv at barycentrics bc of triangle id.
+fn triangle_uv(id: u32, bc: vec2<f32>) -> vec2<f32> {
+    let r = uv_record(id);
+    let a = uvs[r];
+    let c = uvs[r + 1u].xy;
+    return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
 }

@@ -158,6 +158,11 @@ pub const SPHERE_WORDS: u32 = 2;
 pub const MATERIAL_WORDS: u32 = 5;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 8;
+/// Words per triangle of the `uvs` buffer: its corner uvs (`gpu::types::triangle_uvs`).
+pub const UV_WORDS: u32 = 2;
+/// Words per triangle of the `uvs` buffer when the scene has vertex tangents: the uvs, then
+/// a tangent per corner.
+pub const UV_TANGENT_WORDS: u32 = UV_WORDS + 3;
 /// Words per `Photon` (every map buffer: traced, sorted, and the gather group's).
 pub const PHOTON_WORDS: u32 = 3;
 
@@ -302,6 +307,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
         ("LIGHT_WORDS", U32(LIGHT_WORDS)),
         ("PHOTON_WORDS", U32(PHOTON_WORDS)),
+        ("UV_WORDS", U32(UV_WORDS)),
+        ("UV_TANGENT_WORDS", U32(UV_TANGENT_WORDS)),
         ("STREAM_PHOTON", U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),

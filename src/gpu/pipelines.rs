@@ -45,6 +45,7 @@ pub fn feature_constants(
                 .iter()
                 .any(|m| m.normal_texture != crate::scene::NO_TEXTURE) as u32 as f64,
         ),
+        ("HAS_TANGENTS", !scene.tangents.is_empty() as u32 as f64),
         (
             "HAS_ALPHA",
             scene.materials.iter().any(|m| m.alpha.is_some()) as u32 as f64,

@@ -366,20 +366,27 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::Gp
     (mats, bsdfs, tables)
 }
 
-/// Each triangle's corner uvs as two vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`; one
-/// zeroed pair when the scene has none or no texture reads them.
-pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 8]> {
+/// Each triangle's uv record: its corner uvs as two vec4 words `(u0, v0, u1, v1), (u2, v2,
+/// 0, 0)` (`UV_WORDS`), then, when the scene has vertex tangents, its three corners'
+/// tangents `(x, y, z, w)` (`UV_TANGENT_WORDS` in all); one zeroed record when the scene has
+/// none or no texture reads them.
+pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 4]> {
+    let words = if scene.tangents.is_empty() {
+        super::codes::UV_WORDS
+    } else {
+        super::codes::UV_TANGENT_WORDS
+    } as usize;
     // Without textures no kernel reads them (HAS_TEXTURES is false).
-    if scene.textures.is_empty() {
-        return vec![[0.0; 8]];
+    if scene.textures.is_empty() || scene.uvs.is_empty() {
+        return vec![[0.0; 4]; words];
     }
-    let mut out: Vec<[f32; 8]> = scene
-        .uvs
-        .iter()
-        .map(|c| [c[0].x, c[0].y, c[1].x, c[1].y, c[2].x, c[2].y, 0.0, 0.0])
-        .collect();
-    if out.is_empty() {
-        out.push([0.0; 8]);
+    let mut out = Vec::with_capacity(words * scene.uvs.len());
+    for (i, c) in scene.uvs.iter().enumerate() {
+        out.push([c[0].x, c[0].y, c[1].x, c[1].y]);
+        out.push([c[2].x, c[2].y, 0.0, 0.0]);
+        if let Some(t) = scene.tangents.get(i) {
+            out.extend(t.map(|t| t.to_array()));
+        }
     }
     out
 }

@@ -84,9 +84,10 @@ pub struct SceneBuilder {
     camera: Option<Camera>,
     materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
-    triangles: Vec<Triangle>,
+    pub(super) triangles: Vec<Triangle>,
     shading_normals: Vec<VertexNormals>,
     uvs: Vec<[Vec2; 3]>,
+    pub(super) tangents: Vec<super::VertexTangents>,
     textures: Vec<SceneTexture>,
     spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
@@ -367,12 +368,17 @@ impl SceneBuilder {
         if !self.uvs.is_empty() {
             self.uvs.resize(self.triangles.len(), [Vec2::ZERO; 3]);
         }
+        if !self.tangents.is_empty() {
+            self.tangents
+                .resize(self.triangles.len(), Default::default());
+        }
         let mut scene = Scene {
             camera,
             materials: self.materials,
             triangles: self.triangles,
             shading_normals: self.shading_normals,
             uvs: self.uvs,
+            tangents: self.tangents,
             textures: self.textures,
             spheres: self.spheres,
             lights: self.lights,

@@ -21,6 +21,7 @@ mod obj;
 mod ply;
 mod punctual;
 mod spot;
+mod tangents;
 mod toml;
 mod toml_table;
 
@@ -182,6 +183,14 @@ pub const FLAT: u32 = u32::MAX;
 /// (see `geometry::shading_normal`).
 pub type VertexNormals = [Vec3; 3];
 
+/// The vertex tangents of one normal-mapped triangle, world space, at `v0, v1, v2` (glTF's
+/// `TANGENT` or MikkTSpace's, `scene::tangents`). `xyz`: the tangent, along increasing u
+/// (any length; zero: none, the triangle's own uv tangent is used). `w`: -1 where the
+/// frame's second axis `n x t` is negated to point along increasing v (Mitsuba's
+/// `FaceUVFlipped`), +1 otherwise: the axis along which a normal map's green is read. At
+/// barycentric `(1 - u - v, u, v)` the frame interpolates them (`geometry::vertex_tangent`).
+pub type VertexTangents = [glam::Vec4; 3];
+
 /// What a light is made of.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightShape {
@@ -266,6 +275,9 @@ pub struct Scene {
     /// Texture coordinates of each triangle's corners, parallel to `triangles`; empty when
     /// no triangle has any (then every uv is zero).
     pub uvs: Vec<[Vec2; 3]>,
+    /// Vertex tangents of each triangle, parallel to `triangles`; empty when no triangle has
+    /// any (normal maps then use each triangle's uv tangent).
+    pub tangents: Vec<VertexTangents>,
     /// The textures materials refer to ([`Material::kd_texture`]).
     pub textures: Vec<SceneTexture>,
     /// Analytic spheres.
@@ -291,6 +303,7 @@ impl Scene {
             triangles: vec![],
             shading_normals: vec![],
             uvs: vec![],
+            tangents: vec![],
             textures: vec![],
             spheres: vec![],
             lights: vec![],

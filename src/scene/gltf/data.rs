@@ -197,6 +197,32 @@ fn read_vec3(
     Ok(points)
 }
 
+/// The `TANGENT` accessor's tangents: VEC4 of FLOAT, all finite (`w`, the bitangent's
+/// sign, is read by its sign).
+pub(super) fn read_tangents(
+    accessor: &Accessor,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<glam::Vec4>, String> {
+    if accessor.dimensions() != Dimensions::Vec4 || accessor.data_type() != DataType::F32 {
+        return Err(format!(
+            "TANGENT must be VEC4 of FLOAT, not {:?} of {:?}",
+            accessor.dimensions(),
+            accessor.data_type()
+        ));
+    }
+    let elements = elements(accessor, buffers, 16)?;
+    let mut tangents = Vec::with_capacity(elements.len());
+    for e in elements {
+        let f = |i: usize| f32::from_le_bytes([e[i], e[i + 1], e[i + 2], e[i + 3]]);
+        let t = glam::Vec4::new(f(0), f(4), f(8), f(12));
+        if !t.is_finite() {
+            return Err(format!("TANGENT {} is not finite", tangents.len()));
+        }
+        tangents.push(t);
+    }
+    Ok(tangents)
+}
+
 /// The texture coordinates of a `TEXCOORD_n` accessor (`name`): VEC2 of FLOAT, or of
 /// normalized UNSIGNED_BYTE or UNSIGNED_SHORT (x / 255, x / 65535), as glTF allows; all
 /// finite.

@@ -23,6 +23,7 @@ mod json_line;
 mod material;
 mod refs;
 mod surface;
+mod tangents;
 mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
@@ -385,16 +386,29 @@ impl Importer<'_> {
         if tris.is_empty() {
             return Ok(());
         }
+        // Vertex tangents where a normal texture needs them (uvs and normals present).
+        let tangents = match (&normals, &uvs) {
+            (Some(normals), Some(uvs)) if primitive.material().normal_texture().is_some() => {
+                let v = tangents::Vertices {
+                    points: &points,
+                    normals,
+                    uvs,
+                    corners: &corners,
+                };
+                tangents::primitive_tangents(&primitive, &self.buffers, &v, world).map_err(&fail)?
+            }
+            _ => vec![],
+        };
         let material = self.material(&primitive.material())?;
         let at = |_: Part, m: String| self.cx.err(&field, m);
         let shading = normals.map(|_| shading);
+        let surface = Surface::of(material);
         match uvs {
-            Some(_) => self
-                .b
-                .add_uv_mesh(tris, shading, corner_uvs, Surface::of(material), &at),
-            None => self
-                .b
-                .add_smooth_mesh(tris, shading, Surface::of(material), &at),
+            Some(_) if !tangents.is_empty() => {
+                (self.b).add_tangent_mesh(tris, shading, corner_uvs, tangents, surface, &at)
+            }
+            Some(_) => self.b.add_uv_mesh(tris, shading, corner_uvs, surface, &at),
+            None => self.b.add_smooth_mesh(tris, shading, surface, &at),
         }
     }
 }
