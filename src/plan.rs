@@ -5,6 +5,7 @@
 use crate::geometry::Aabb;
 use crate::light::{scalar_power, specular_bounds, split_budget};
 use crate::photon::{Budget, Photon};
+use crate::rng::Stream;
 use crate::scene::Scene;
 use crate::settings::{Mode, RenderSettings};
 
@@ -13,20 +14,94 @@ pub const PILOT_PHOTONS: u32 = 4096;
 /// Caustic attempts per light are capped at this multiple of its caustic photon count.
 pub const MAX_AIM_FACTOR: f64 = 256.0;
 
+/// The photon maps a render can build, in slot order: each backend keeps one slot per kind
+/// (the GPU binds slot `i`'s buffers to the gather's `i`-th map bindings), so a new kind of
+/// map is one more entry here, its rule in [`MapPlan::new`] and a slot in each backend.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapKind {
+    /// Photons stored at every hit with a diffuse part along paths traced from the lights
+    /// (Russian roulette with the materials' coefficients): indirect light.
+    Global = 0,
+    /// L (S|G)+ D: photons emitted towards the bounds of the surfaces with a delta or glossy
+    /// lobe, stored at the first diffuse hit after one or more such bounces.
+    Caustic = 1,
+}
+
+impl MapKind {
+    /// Every kind, in slot order.
+    pub const ALL: [MapKind; 2] = [MapKind::Global, MapKind::Caustic];
+
+    /// The random stream its paths draw from.
+    pub fn stream(self) -> Stream {
+        match self {
+            MapKind::Global => Stream::Photon,
+            MapKind::Caustic => Stream::Caustic,
+        }
+    }
+
+    /// Its name in reports and device labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            MapKind::Global => "global",
+            MapKind::Caustic => "caustic",
+        }
+    }
+
+    /// Its search radius in a pass with settings `s` (`--radius`, `--caustic-radius`; a
+    /// progressive render shrinks both per pass: `progressive::pass_settings`).
+    pub fn radius(self, s: &RenderSettings) -> f32 {
+        match self {
+            MapKind::Global => s.radius,
+            MapKind::Caustic => s.caustic_radius,
+        }
+    }
+
+    /// Fraction of the storing area its photons are expected to cover: it sizes the map's
+    /// first searches (the progressive first radius, the GPU grid's cells).
+    pub fn area_fraction(self) -> f64 {
+        match self {
+            MapKind::Global => 1.0,
+            MapKind::Caustic => CAUSTIC_AREA_FRACTION,
+        }
+    }
+}
+
+/// One photon map of a render: the paths it traces, which of their photons it keeps.
+#[derive(Clone, Debug)]
+pub struct MapSpec {
+    /// What the map holds.
+    pub kind: MapKind,
+    /// Paths per light and their power.
+    pub budget: Budget,
+    /// The bounds its emissions aim at (emissions that miss them are not traced, and the
+    /// budget's path power divides by every attempt); empty: no aim.
+    pub aim: Vec<Aabb>,
+    /// Which stored photons the map leaves out in this mode.
+    pub filter: StoreFilter,
+}
+
 /// The photon maps a render needs: only what the scene and mode use.
 #[derive(Clone, Debug)]
 pub struct MapPlan {
     /// The render mode the plan serves.
     pub mode: Mode,
-    /// Global paths per light (`None`: no global map in this mode).
-    pub global: Option<Budget>,
-    /// Caustic attempts per light and the bounds they aim at (`None`: no specular surface,
-    /// no caustic photons asked for, or a mode that does not use them).
-    pub caustic: Option<(Budget, Vec<Aabb>)>,
+    /// The maps, in [`MapKind`] slot order, at most one of each kind.
+    pub maps: Vec<MapSpec>,
 }
 
 impl MapPlan {
     /// Plans the maps of a render of `scene` with `s` (pilot photons included).
+    ///
+    /// - The global map: in every mode that estimates indirect light from photons, when the
+    ///   scene has a light.
+    /// - The caustic map: in the modes that estimate caustics, when caustic photons are
+    ///   asked for and some surface has a delta or glossy lobe; its attempts per light are
+    ///   the wanted photons divided by the fraction of pilot emissions that hit those
+    ///   surfaces' bounds.
+    /// - Which photons the global map drops ([`StoreFilter`]): `direct` drops direct
+    ///   photons (shadow rays do that light); `photon` and `direct` drop L S+ D photons when
+    ///   the caustic map carries them. `gather` keeps every photon: its radiance cache is the
+    ///   whole outgoing light where gather rays land.
     pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
         let uses_global = matches!(
             s.mode,
@@ -36,8 +111,6 @@ impl MapPlan {
             s.mode,
             Mode::Photon | Mode::Direct | Mode::Gather | Mode::CausticOnly
         );
-        let global =
-            (uses_global && !scene.lights.is_empty()).then(|| Budget::split(scene, s.photons));
         let bounds = specular_bounds(scene);
         let caustic = (uses_caustic
             && s.caustic_photons > 0
@@ -59,50 +132,54 @@ impl MapPlan {
                     ((n as f64 / frac).ceil()).min(u32::MAX as f64 / 4.0) as u32
                 })
                 .collect();
-            (Budget::from_counts(scene, attempts), bounds)
+            MapSpec {
+                kind: MapKind::Caustic,
+                budget: Budget::from_counts(scene, attempts),
+                aim: bounds,
+                filter: StoreFilter::default(),
+            }
+        });
+        let global = (uses_global && !scene.lights.is_empty()).then(|| {
+            let caustic_elsewhere = caustic.is_some();
+            MapSpec {
+                kind: MapKind::Global,
+                budget: Budget::split(scene, s.photons),
+                aim: vec![],
+                filter: StoreFilter {
+                    drop_direct: s.mode == Mode::Direct,
+                    drop_caustic: caustic_elsewhere
+                        && matches!(s.mode, Mode::Photon | Mode::Direct),
+                },
+            }
         });
         MapPlan {
             mode: s.mode,
-            global,
-            caustic,
+            maps: global.into_iter().chain(caustic).collect(),
         }
     }
 
-    /// Which photons of the global paths the global map drops in this mode: `direct` drops
-    /// direct photons (shadow rays do that light); `photon` and `direct` drop L S+ D photons
-    /// when the caustic map carries them. `gather` keeps every photon: its radiance cache is
-    /// the whole outgoing light where gather rays land. Both backends read this rule (the GPU as drop flags).
-    pub fn global_filter(&self) -> GlobalFilter {
-        let caustic_elsewhere = self.caustic.is_some();
-        match self.mode {
-            Mode::Photon => GlobalFilter {
-                drop_direct: false,
-                drop_caustic: caustic_elsewhere,
-            },
-            Mode::Direct => GlobalFilter {
-                drop_direct: true,
-                drop_caustic: caustic_elsewhere,
-            },
-            _ => GlobalFilter::default(),
-        }
+    /// The map of kind `kind`, if the render builds one.
+    pub fn map(&self, kind: MapKind) -> Option<&MapSpec> {
+        self.maps.iter().find(|m| m.kind == kind)
     }
 
-    /// Whether a photon of the global paths belongs in the global map of this mode.
-    pub fn keep_in_global(&self, p: &Photon) -> bool {
-        self.global_filter().keeps(p)
+    /// Photon paths (or caustic attempts) of every map together.
+    pub fn total_paths(&self) -> u64 {
+        self.maps.iter().map(|m| m.budget.total() as u64).sum()
     }
 }
 
-/// Which photons of the global paths the global map leaves out.
+/// Which photons of its paths a map leaves out. Both backends read this rule (the GPU as
+/// drop flags).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GlobalFilter {
+pub struct StoreFilter {
     /// Drop photons stored at the first diffuse hit (depth 0).
     pub drop_direct: bool,
     /// Drop photons whose path was L S+ D (the caustic map carries those).
     pub drop_caustic: bool,
 }
 
-impl GlobalFilter {
+impl StoreFilter {
     /// Whether photon `p` stays in the map.
     pub fn keeps(self, p: &Photon) -> bool {
         !(self.drop_direct && p.depth() == 0) && !(self.drop_caustic && p.is_caustic())
@@ -118,7 +195,7 @@ fn aim_fraction(
     bounds: &[Aabb],
     seed: u32,
 ) -> f64 {
-    use crate::rng::{Rng, Stream};
+    use crate::rng::Rng;
     let hits = (0..PILOT_PHOTONS)
         .filter(|&i| {
             let mut rng = Rng::new(seed, Stream::Pilot, l as u32, i);
@@ -213,8 +290,8 @@ pub fn caustic_weight(spp: u32, every: u32, sample: u32) -> f32 {
     }
 }
 
-/// Fraction of the storing area the caustic photons are expected to cover: it sizes the
-/// caustic map's searches (the progressive first radius, the GPU grid's cells).
+/// Fraction of the storing area the caustic photons are expected to cover
+/// ([`MapKind::area_fraction`]).
 pub const CAUSTIC_AREA_FRACTION: f64 = 0.05;
 
 #[cfg(test)]

@@ -34,7 +34,7 @@ pub fn initial_radii(scene: &Scene, s: &RenderSettings) -> (f32, f32) {
     let caustic = radius_for(
         s.k,
         s.caustic_photons as f64,
-        area * crate::plan::CAUSTIC_AREA_FRACTION,
+        area * crate::plan::MapKind::Caustic.area_fraction(),
     )
     .min(s.caustic_radius as f64) as f32;
     let caustic = if s.initial_radius.is_some() {

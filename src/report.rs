@@ -30,10 +30,9 @@ pub struct RenderReport {
     /// ran: only where a `bench` render (`RenderSettings::timed_phases`) ran on a device with
     /// timestamp queries; each lies within its phase.
     pub kernels: Vec<(&'static str, Duration)>,
-    /// Photons stored by the global paths (before filtering by mode).
-    pub global_stored: usize,
-    /// Photons stored in the caustic map.
-    pub caustic_stored: usize,
+    /// Photons each map's paths stored (before the map's filter), by
+    /// [`MapKind`](crate::plan::MapKind) slot; the last pass's.
+    pub stored: [usize; 2],
     /// Which backend ran, in words.
     pub backend: String,
     /// GPU bound counters (photon overflow, loop budget, gather truncation), if on the GPU.
@@ -43,6 +42,11 @@ pub struct RenderReport {
 }
 
 impl RenderReport {
+    /// The count of photons map `kind`'s paths stored.
+    pub fn stored_mut(&mut self, kind: crate::plan::MapKind) -> &mut usize {
+        &mut self.stored[kind as usize]
+    }
+
     /// Records a phase that started at `since`.
     pub fn phase(&mut self, name: &'static str, since: Instant) {
         self.phases.push((name, since.elapsed()));
@@ -79,8 +83,7 @@ impl RenderReport {
         for &(name, d) in &other.kernels {
             self.kernel_took(name, d);
         }
-        self.global_stored = other.global_stored;
-        self.caustic_stored = other.caustic_stored;
+        self.stored = other.stored;
         self.batches = self.batches.max(other.batches);
         if self.backend.is_empty() {
             self.backend = other.backend.clone();
@@ -122,8 +125,10 @@ impl RenderReport {
                 self.backend
             ),
             format!(
-                "  photons stored: {} global, {} caustic",
-                self.global_stored, self.caustic_stored
+                "  photons stored: {}",
+                crate::plan::MapKind::ALL
+                    .map(|k| format!("{} {}", self.stored[k as usize], k.name()))
+                    .join(", ")
             ),
         ];
         if self.batches > 1 {

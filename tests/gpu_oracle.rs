@@ -254,7 +254,7 @@ fn device_sizes_grid_cells_as_the_host_rule() {
         .expect("the pass's global map");
     let bytes = std::mem::size_of::<GpuMapParams>() as u64;
     let device: Vec<GpuMapParams> = read_back(&run.ctx, &global.params_buf, bytes).unwrap();
-    let stored = (report.global_stored as u32).min(global.params.capacity);
+    let stored = (report.stored[0] as u32).min(global.params.capacity);
     let want = cell_size_for(s.radius, s.k, stored, scene.storing_area(), 1.0);
     let got = device[0].cell_size;
     eprintln!(

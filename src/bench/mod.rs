@@ -315,9 +315,7 @@ pub fn throughputs(
     let plan = crate::plan::MapPlan::new(scene, s);
     // Every pass traces the first pass's paths (the radius shrinks, the count stays).
     let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
-    let paths = passes
-        * (plan.global.as_ref().map_or(0, |b| b.total()) as f64
-            + plan.caustic.as_ref().map_or(0, |c| c.0.total()) as f64);
+    let paths = passes * plan.total_paths() as f64;
     let msamples = passes * s.width as f64 * s.height as f64 * s.spp as f64 / 1e6;
     // Each GPU phase its own submission, so the phases can be timed apart.
     let s = &RenderSettings {

@@ -45,6 +45,12 @@ pub fn trace_caustic_photons(
     trace_paths(ctx, budget, Stream::Caustic, Some(bounds))
 }
 
+/// Traces the paths of map `spec` (`trace_photons` or, aimed, `trace_caustic_photons`).
+pub fn trace_map(ctx: &TraceContext, spec: &crate::plan::MapSpec) -> Vec<Photon> {
+    let aim = (!spec.aim.is_empty()).then_some(&spec.aim[..]);
+    trace_paths(ctx, &spec.budget, spec.kind.stream(), aim)
+}
+
 /// Every path of `budget` in parallel; the photons in path-index order (rayon's fold and
 /// reduce keep the order of an indexed range).
 fn trace_paths(

@@ -7,7 +7,7 @@ use crate::bvh::Bvh;
 use crate::cpu::cache::RadianceCache;
 use crate::cpu::gather::Gatherer;
 use crate::cpu::photon_map::PhotonMap;
-use crate::cpu::photons::{trace_caustic_photons, trace_photons, TraceContext};
+use crate::cpu::photons::{trace_map, TraceContext};
 use crate::error::Result;
 use crate::film::Image;
 use crate::light::LightTable;
@@ -65,26 +65,19 @@ impl PassRenderer for CpuRenderer<'_> {
             settings,
             pass,
         };
+        // One slot per map kind (crate::plan::MapKind), built as the plan lists them.
         let t = Instant::now();
-        let global = plan.global.as_ref().map(|budget| {
-            let photons = trace_photons(&ctx, budget);
-            report.global_stored = photons.len();
-            let kept: Vec<Photon> = photons
-                .into_iter()
-                .filter(|p| plan.keep_in_global(p))
-                .collect();
-            kept
-        });
-        let caustic = plan.caustic.as_ref().map(|(budget, bounds)| {
-            let photons = trace_caustic_photons(&ctx, budget, bounds);
-            report.caustic_stored = photons.len();
-            photons
-        });
+        let mut traced: [Option<Vec<Photon>>; 2] = Default::default();
+        for spec in &plan.maps {
+            let photons = trace_map(&ctx, spec);
+            *report.stored_mut(spec.kind) = photons.len();
+            let kept = photons.into_iter().filter(|p| spec.filter.keeps(p));
+            traced[spec.kind as usize] = Some(kept.collect());
+        }
         report.phase("trace photons", t);
 
         let t = Instant::now();
-        let global = global.map(PhotonMap::build);
-        let caustic = caustic.map(PhotonMap::build);
+        let [global, caustic] = traced.map(|p| p.map(PhotonMap::build));
         report.phase("build kd-trees", t);
 
         let terms = Terms::of(plan.mode);

@@ -115,6 +115,14 @@ pub const MAP_GROUP: GroupTable = GroupTable {
     ],
 };
 
+/// The gather group's bindings of each photon map slot ([`crate::plan::MapKind`] order):
+/// its sorted photons, cell starts and parameters (WGSL names them statically, so a new
+/// kind of map is one more row here and in `shaders/common/estimate.wgsl`).
+pub const MAP_SLOTS: [[&str; 3]; 2] = [
+    ["g_photons", "g_cells", "g_map"],
+    ["c_photons", "c_cells", "c_map"],
+];
+
 /// Group 1 of the gather and the probes (shaders/common/estimate.wgsl, gather.wgsl): both
 /// maps' sorted photons, cell starts and parameters, the image accumulator, and the radiance
 /// cache (parallel to the global map's sorted photons: written by the cache build, read by the

@@ -99,9 +99,9 @@ pub const TERM_LOBE_RAY: u32 = 4;
 /// map's estimate (`plan::Terms::final_gather`).
 pub const TERM_FINAL_GATHER: u32 = 8;
 
-/// `MapParams.drop_flags` bit: drop direct photons (`plan::GlobalFilter::drop_direct`).
+/// `MapParams.drop_flags` bit: drop direct photons (`plan::StoreFilter::drop_direct`).
 pub const DROP_DIRECT: u32 = 1;
-/// `MapParams.drop_flags` bit: drop L S+ D photons (`plan::GlobalFilter::drop_caustic`).
+/// `MapParams.drop_flags` bit: drop L S+ D photons (`plan::StoreFilter::drop_caustic`).
 pub const DROP_CAUSTIC: u32 = 2;
 
 /// Index of the stats buffer: photons dropped because a map was full.

@@ -8,8 +8,7 @@ use super::codes::{
 };
 use super::types::{lights, GpuLight, GpuParams};
 use crate::light::LightTable;
-use crate::photon::Budget;
-use crate::plan::{GlobalFilter, MapPlan, Terms};
+use crate::plan::{MapKind, MapPlan, StoreFilter, Terms};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
@@ -32,8 +31,8 @@ pub fn terms_bits(terms: Terms) -> u32 {
         })
 }
 
-/// `MapParams.drop_flags`: the plan's global filter as DROP_* bits.
-pub fn drop_flags(filter: GlobalFilter) -> u32 {
+/// `MapParams.drop_flags`: a map's filter as DROP_* bits.
+pub fn drop_flags(filter: StoreFilter) -> u32 {
     (if filter.drop_direct { DROP_DIRECT } else { 0 })
         | (if filter.drop_caustic { DROP_CAUSTIC } else { 0 })
 }
@@ -68,28 +67,29 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
     }
 }
 
-/// The lights with the plan's global and caustic photon budgets filled in.
+/// The lights with the plan's photon budgets filled in: each map's in its kind's fields.
 pub fn budgeted_lights(scene: &Scene, table: &LightTable, plan: &MapPlan) -> Vec<GpuLight> {
     let mut lights = lights(scene, table);
-    if let Some(b) = &plan.global {
-        fill_budget(&mut lights, b, false);
-    }
-    if let Some((b, _)) = &plan.caustic {
-        fill_budget(&mut lights, b, true);
-    }
-    lights
-}
-
-fn fill_budget(lights: &mut [GpuLight], b: &Budget, caustic: bool) {
-    for (l, g) in lights.iter_mut().enumerate() {
-        if caustic {
-            (g.caustic_offset, g.caustic_count, g.caustic_power) =
-                (b.offsets[l], b.counts[l], b.path_power[l].to_array());
-        } else {
-            (g.global_offset, g.global_count, g.global_power) =
+    for spec in &plan.maps {
+        let b = &spec.budget;
+        for (l, g) in lights.iter_mut().enumerate() {
+            let fields = match spec.kind {
+                MapKind::Global => (
+                    &mut g.global_offset,
+                    &mut g.global_count,
+                    &mut g.global_power,
+                ),
+                MapKind::Caustic => (
+                    &mut g.caustic_offset,
+                    &mut g.caustic_count,
+                    &mut g.caustic_power,
+                ),
+            };
+            (*fields.0, *fields.1, *fields.2) =
                 (b.offsets[l], b.counts[l], b.path_power[l].to_array());
         }
     }
+    lights
 }
 
 /// The RNG pass of batch `b` of pass `pass`: batch 0 is the pass itself (as on the CPU).

@@ -13,7 +13,7 @@ use super::run::GpuRun;
 use super::types::GpuParams;
 use crate::error::Result;
 use crate::film::Image;
-use crate::plan::caustic_weight;
+use crate::plan::{caustic_weight, MapKind};
 use crate::report::{Progress, RenderReport};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -44,11 +44,12 @@ impl GpuRun {
         let accum_bytes = accum.size();
         let (phases_before, kernels_before) = (report.phases.len(), report.kernels.len());
         let mut batches = 1u32;
-        // Photons each batch's maps stored: (global, caustic) per batch.
+        // Photons each batch's maps stored: one count per map slot per batch.
+        let slots = MapKind::ALL.len();
         let counts = empty_buffer(
             &self.ctx.device,
             "photon counts",
-            8 * MAX_BATCHES as u64,
+            4 * (slots * MAX_BATCHES as usize) as u64,
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
         );
         loop {
@@ -56,40 +57,40 @@ impl GpuRun {
             self.ctx
                 .queue
                 .write_buffer(accum, 0, &vec![0u8; accum_bytes as usize]);
-            let mut capacity = [1u32; 2];
+            let mut capacity = vec![1u32; slots];
             let mut recorders = Vec::new();
             let bar = progress.bar(batches as u64 * s.spp as u64, "gather");
             for b in 0..batches {
                 let sb = batch_settings(s, b, batches);
                 self.configure_pass(scene, &sb, batch_pass(pass, b));
                 let mut rec = Recorder::new(self.ctx.clone(), s.timed_phases);
-                let (global, caustic) = self.record_maps(scene, &sb, &mut rec, report)?;
-                for (i, m) in [&global, &caustic].into_iter().enumerate() {
-                    let at = 8 * b as u64 + 4 * i as u64;
+                let maps = self.record_maps(scene, &sb, &mut rec, report)?;
+                for (i, m) in maps.iter().enumerate() {
+                    let at = 4 * (slots * b as usize + i) as u64;
                     rec.enc()
                         .copy_buffer_to_buffer(&m.counters, 0, &counts, at, 4);
                     if b == 0 {
                         capacity[i] = m.params.capacity.max(1);
                     }
                 }
+                let global = &maps[MapKind::Global as usize];
                 if self.plan_final_gather() && global.params.paths > 0 {
-                    self.record_cache(&mut rec, &global, &caustic, accum)?;
+                    self.record_cache(&mut rec, maps.each_ref(), accum)?;
                     rec.phase("build cache", report)?;
                 }
-                self.record_gather(rec.enc(), s, &global, &caustic, accum);
+                self.record_gather(rec.enc(), s, maps.each_ref(), accum);
                 rec.kernel("gather");
                 rec.phase("gather", report)?;
                 rec.submit();
                 recorders.push(rec);
-                self.map_cache.push(global);
-                self.map_cache.push(caustic);
+                self.map_cache.extend(maps);
             }
             wait(&self.ctx)?;
             self.ctx.check()?;
             bar.inc(batches as u64 * s.spp as u64);
             bar.finish_and_clear();
-            let n: Vec<u32> = read_back(&self.ctx, &counts, 8 * batches as u64)?;
-            let overflow = (0..2)
+            let n: Vec<u32> = read_back(&self.ctx, &counts, 4 * (slots * batches as usize) as u64)?;
+            let overflow = (0..slots)
                 .map(|i| n[i].div_ceil(capacity[i]))
                 .max()
                 .unwrap_or(1);
@@ -101,9 +102,10 @@ impl GpuRun {
                 self.ctx.queue.write_buffer(stats, 0, &[0u8; STATS_LEN * 4]);
                 continue;
             }
-            let last = 2 * (batches as usize - 1);
-            report.global_stored = n[last] as usize;
-            report.caustic_stored = n[last + 1] as usize;
+            let last = slots * (batches as usize - 1);
+            for (i, stored) in report.stored.iter_mut().enumerate() {
+                *stored = n[last + i] as usize;
+            }
             for rec in &recorders {
                 rec.times(report)?;
             }
@@ -127,19 +129,18 @@ impl GpuRun {
         crate::plan::Terms::of(self.plan.mode).final_gather
     }
 
-    /// Records gathering every camera sample of `s` over the two maps into `accum` in
+    /// Records gathering every camera sample of `s` over the maps into `accum` in
     /// `enc`: each sample's parameters in its slot (written before the submission), then one
     /// dispatch per sample layer.
     fn record_gather(
         &self,
         enc: &mut wgpu::CommandEncoder,
         s: &RenderSettings,
-        global: &MapBuffers,
-        caustic: &MapBuffers,
+        maps: [&MapBuffers; 2],
         accum: &wgpu::Buffer,
     ) {
         let ctx = &self.ctx;
-        let gather_bg = self.gather_bind_group(global, caustic, accum);
+        let gather_bg = self.gather_bind_group(maps, accum);
         let (wx, wy) = (
             s.width.div_ceil(GATHER_TILE),
             s.height.div_ceil(GATHER_TILE),

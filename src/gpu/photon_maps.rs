@@ -10,14 +10,11 @@ use super::run::GpuRun;
 use super::types::GpuMapParams;
 use crate::error::Result;
 use crate::photon::Photon;
+use crate::plan::MapKind;
 use crate::report::RenderReport;
-use crate::rng::Stream;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
-/// The caustic map's photons are expected on this fraction of the storing area (its grid's
-/// cells are sized for that concentration).
-const CAUSTIC_CONCENTRATION: f32 = crate::plan::CAUSTIC_AREA_FRACTION as f32;
 /// Photons a global path is expected to store, for the first sizing of the grid.
 const GLOBAL_STORES_PER_PATH: u32 = 3;
 
@@ -40,67 +37,52 @@ impl GpuRun {
         }
     }
 
-    /// The global and caustic maps the current plan asks for (absent ones with `paths == 0`).
-    fn plan_maps(&mut self, scene: &Scene, s: &RenderSettings) -> (MapBuffers, MapBuffers) {
+    /// The maps the current plan asks for, one per [`MapKind`] slot (absent kinds with
+    /// `paths == 0`).
+    fn plan_maps(&mut self, scene: &Scene, s: &RenderSettings) -> PassMaps {
         let max_binding = self.ctx.max_binding;
         let max_photons = (max_binding / std::mem::size_of::<Photon>() as u64) as u32;
         let area = scene.storing_area();
-        // A map's grid parameters; fixed-radius passes (k = 0) use cells of the radius.
-        let params = |caustic: bool,
-                      paths: u32,
-                      capacity: u32,
-                      expected: u32,
-                      radius: f32,
-                      concentration: f32,
-                      drop_flags: u32| GpuMapParams {
-            stream: if caustic {
-                Stream::Caustic
-            } else {
-                Stream::Photon
-            } as u32,
-            paths,
-            capacity,
-            table_size: table_size_for(expected, max_binding),
-            cell_size: cell_size_for(radius, s.k, expected, area, concentration),
-            is_caustic: caustic as u32,
-            drop_flags,
-            radius2: radius * radius,
-            k: s.k,
-            storing_area: area * concentration,
-            // Written by the grid build.
-            max_power: 0.0,
-        };
-        let (gp, glabel) = match &self.plan.global {
-            Some(b) => {
-                let paths = b.total();
-                let capacity =
-                    (paths as u64 * s.max_photon_bounces as u64).min(max_photons as u64) as u32;
-                let drop = drop_flags(self.plan.global_filter());
-                let expected = paths.saturating_mul(GLOBAL_STORES_PER_PATH);
-                let p = params(false, paths, capacity, expected, s.radius, 1.0, drop);
-                (p, "global")
-            }
-            None => (EMPTY_MAP, "global (absent)"),
-        };
-        let (cp, clabel) = match &self.plan.caustic {
-            Some((b, _)) => {
-                let paths = b.total();
-                let capacity = paths.min(max_photons);
-                let (expected, r) = (s.caustic_photons, s.caustic_radius);
-                let p = params(true, paths, capacity, expected, r, CAUSTIC_CONCENTRATION, 0);
-                (p, "caustic")
-            }
-            None => {
+        MapKind::ALL.map(|kind| {
+            let is_caustic = (kind == MapKind::Caustic) as u32;
+            let Some(spec) = self.plan.map(kind) else {
                 let absent = GpuMapParams {
-                    is_caustic: 1,
+                    is_caustic,
                     ..EMPTY_MAP
                 };
-                (absent, "caustic (absent)")
-            }
-        };
-        let global = self.take_map(gp, glabel);
-        let caustic = self.take_map(cp, clabel);
-        (global, caustic)
+                return self.take_map(absent, &format!("{} (absent)", kind.name()));
+            };
+            let paths = spec.budget.total();
+            // Photons a path may store (the capacity) and are expected in all (the grid's
+            // first sizing): a global path one per bounce, about GLOBAL_STORES_PER_PATH; a
+            // caustic path at most one, the wanted caustic photons in all.
+            let (per_path, expected) = match kind {
+                MapKind::Global => (
+                    s.max_photon_bounces,
+                    paths.saturating_mul(GLOBAL_STORES_PER_PATH),
+                ),
+                MapKind::Caustic => (1, s.caustic_photons),
+            };
+            let capacity = (paths as u64 * per_path as u64).min(max_photons as u64) as u32;
+            let radius = kind.radius(s);
+            let concentration = kind.area_fraction() as f32;
+            let p = GpuMapParams {
+                stream: kind.stream() as u32,
+                paths,
+                capacity,
+                table_size: table_size_for(expected, max_binding),
+                // Fixed-radius passes (k = 0) use cells of the radius.
+                cell_size: cell_size_for(radius, s.k, expected, area, concentration),
+                is_caustic,
+                drop_flags: drop_flags(spec.filter),
+                radius2: radius * radius,
+                k: s.k,
+                storing_area: area * concentration,
+                // Written by the grid build.
+                max_power: 0.0,
+            };
+            self.take_map(p, kind.name())
+        })
     }
 
     /// Records tracing the photon maps the plan asks for and building their grids (the
@@ -111,29 +93,20 @@ impl GpuRun {
         s: &RenderSettings,
         rec: &mut Recorder,
         report: &mut RenderReport,
-    ) -> Result<(MapBuffers, MapBuffers)> {
-        let (global, caustic) = self.plan_maps(scene, s);
+    ) -> Result<PassMaps> {
+        let maps = self.plan_maps(scene, s);
         let scene_bg = &self.scene_buffers.bind_group;
-        for m in [&global, &caustic] {
-            if m.params.paths > 0 {
-                m.record_trace(rec, &self.pipelines, scene_bg);
-            }
+        for m in maps.iter().filter(|m| m.params.paths > 0) {
+            m.record_trace(rec, &self.pipelines, scene_bg);
         }
         rec.phase("trace photons", report)?;
-        for m in [&global, &caustic] {
-            if m.params.paths > 0 {
-                m.record_grid(rec, &self.pipelines, scene_bg);
-            }
+        for m in maps.iter().filter(|m| m.params.paths > 0) {
+            m.record_grid(rec, &self.pipelines, scene_bg);
         }
         rec.phase("build grids", report)?;
-        Ok((global, caustic))
+        Ok(maps)
     }
 }
 
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn caustic_concentration_is_the_plans_fraction() {
-        assert_eq!(super::CAUSTIC_CONCENTRATION.to_bits(), 0.05f32.to_bits());
-    }
-}
+/// A pass's photon maps, one per [`MapKind`] slot.
+pub type PassMaps = [MapBuffers; 2];

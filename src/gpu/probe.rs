@@ -82,7 +82,7 @@ pub fn estimate(
     ctx.queue
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
-    let bg = run.gather_bind_group(&map, &empty, &accum);
+    let bg = run.gather_bind_group([&map, &empty], &accum);
     let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg))?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     Ok((
@@ -169,7 +169,7 @@ pub fn radiance_cache(
         .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
     let empty = run.empty_map(true);
     let mut rec = Recorder::new(ctx.clone(), false);
-    run.record_cache(&mut rec, &map, &empty, &accum)?;
+    run.record_cache(&mut rec, [&map, &empty], &accum)?;
     rec.submit();
     let count = photons.len();
     let sorted: Vec<Photon> = read_back(
@@ -178,7 +178,7 @@ pub fn radiance_cache(
         (count.max(1) * std::mem::size_of::<Photon>()) as u64,
     )?;
     let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache[0], run.cache[0].size())?;
-    let bg = run.gather_bind_group(&map, &empty, &accum);
+    let bg = run.gather_bind_group([&map, &empty], &accum);
     let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg))?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     let lookups = out[2 * n as usize..2 * n as usize + queries.len()]
@@ -229,7 +229,7 @@ fn dispatch_probe(
         Some(b) => b,
         None => {
             let (g, c) = (run.empty_map(false), run.empty_map(true));
-            owned = run.gather_bind_group(&g, &c, accum);
+            owned = run.gather_bind_group([&g, &c], accum);
             &owned
         }
     };

@@ -21,19 +21,20 @@ impl GpuRun {
         }
     }
 
-    /// Records building the radiance cache of `global` into `enc`: lists the cache points
-    /// (one invocation per stored photon, the grid's indirect dispatch), sizes the build's
+    /// Records building the radiance cache of the global map (`maps`' global slot) into
+    /// `enc`: lists the cache points (one invocation per stored photon, the grid's indirect
+    /// dispatch), sizes the build's
     /// dispatch from their count, then computes their values (K-nearest: one workgroup per
     /// point; a fixed radius, the current parameters' `k == 0`: one invocation per point);
     /// nothing is read back; one compute pass per kernel, so that a `bench` recording times
-    /// each. `caustic` and `accum` complete the gather group, untouched.
+    /// each. The other maps and `accum` complete the gather group, untouched.
     pub fn record_cache(
         &mut self,
         rec: &mut Recorder,
-        global: &MapBuffers,
-        caustic: &MapBuffers,
+        maps: [&MapBuffers; 2],
         accum: &wgpu::Buffer,
     ) -> Result<()> {
+        let global = maps[crate::plan::MapKind::Global as usize];
         self.ensure_cache(global);
         let Some(pipelines) = &self.pipelines.radiance_cache else {
             return Err(Error::Gpu(
@@ -41,7 +42,7 @@ impl GpuRun {
                     .into(),
             ));
         };
-        let bg = self.gather_bind_group(global, caustic, accum);
+        let bg = self.gather_bind_group(maps, accum);
         // The values' dispatch and the count of cache points.
         rec.enc()
             .clear_buffer(&self.cache[1], 0, Some(4 * CACHE_LIST_FIRST as u64));

@@ -2,7 +2,7 @@
 //! the pipelines, and the current pass's parameters and plan; plus the buffers a pass binds
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
-use super::bindings::{bind_group, Layouts, GATHER_GROUP};
+use super::bindings::{bind_group, Layouts, GATHER_GROUP, MAP_SLOTS};
 use super::buffers::{cache_buffers, empty_buffer};
 use super::codes::SCAN_BLOCK;
 use super::context::GpuContext;
@@ -129,10 +129,10 @@ impl GpuRun {
         let plan = MapPlan::new(scene, s);
         let lights = budgeted_lights(scene, &table, &plan);
         let bounds: Vec<GpuAabb> = plan
-            .caustic
-            .as_ref()
-            .map(|(_, b)| {
-                b.iter()
+            .map(crate::plan::MapKind::Caustic)
+            .map(|spec| {
+                spec.aim
+                    .iter()
                     .map(|a| GpuAabb {
                         bmin: a.min.to_array(),
                         bmax: a.max.to_array(),
@@ -191,29 +191,30 @@ impl GpuRun {
         Ok(map)
     }
 
-    /// The gather kernel's group 1 over two maps, the accumulator and the radiance cache.
+    /// The gather kernel's group 1 over the maps (by [`crate::plan::MapKind`] slot), the
+    /// accumulator and the radiance cache.
     pub fn gather_bind_group(
         &self,
-        global: &MapBuffers,
-        caustic: &MapBuffers,
+        maps: [&MapBuffers; 2],
         accum: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
+        let mut entries = Vec::new();
+        for (m, [photons, cells, params]) in maps.into_iter().zip(MAP_SLOTS) {
+            entries.push((photons, m.sorted.as_entire_binding()));
+            entries.push((cells, m.cell_start.as_entire_binding()));
+            entries.push((params, m.params_buf.as_entire_binding()));
+        }
+        entries.extend([
+            ("accum", accum.as_entire_binding()),
+            ("cache", self.cache[0].as_entire_binding()),
+            ("cache_list", self.cache[1].as_entire_binding()),
+        ]);
         bind_group(
             &self.ctx.device,
             "gather bind group",
             &self.layouts.gather,
             &GATHER_GROUP,
-            vec![
-                ("g_photons", global.sorted.as_entire_binding()),
-                ("g_cells", global.cell_start.as_entire_binding()),
-                ("g_map", global.params_buf.as_entire_binding()),
-                ("c_photons", caustic.sorted.as_entire_binding()),
-                ("c_cells", caustic.cell_start.as_entire_binding()),
-                ("c_map", caustic.params_buf.as_entire_binding()),
-                ("accum", accum.as_entire_binding()),
-                ("cache", self.cache[0].as_entire_binding()),
-                ("cache_list", self.cache[1].as_entire_binding()),
-            ],
+            entries,
         )
     }
 }
