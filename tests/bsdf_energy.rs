@@ -9,23 +9,7 @@ use std::f32::consts::PI;
 
 mod common;
 
-/// The tests' fixed-seed uniforms (`common::TestRng`, SplitMix64), and a uniform
-/// direction on the sphere.
-struct Rng(common::TestRng);
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(common::TestRng(seed))
-    }
-    fn next(&mut self) -> f32 {
-        self.0.f32()
-    }
-    fn dir(&mut self) -> Vec3 {
-        let z = 2.0 * self.next() - 1.0;
-        let phi = 2.0 * PI * self.next();
-        let s = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(s * phi.cos(), s * phi.sin(), z)
-    }
-}
+use common::TestRng;
 
 fn wo_at(deg: f32, phi_deg: f32) -> Vec3 {
     let (t, p) = (deg.to_radians(), phi_deg.to_radians());
@@ -88,10 +72,10 @@ fn white() -> Vec<(&'static str, Bsdf)> {
 
 /// Albedo by sampling: mean and standard error of the weight's first channel.
 fn albedo_sampled(b: &Bsdf, wo: Vec3, transport: Transport, n: usize, seed: u64) -> (f32, f32) {
-    let mut rng = Rng::new(seed);
+    let mut rng = TestRng(seed);
     let (mut s, mut s2) = (0.0f64, 0.0f64);
     for _ in 0..n {
-        let u = [rng.next(), rng.next(), rng.next()];
+        let u = [rng.f32(), rng.f32(), rng.f32()];
         let w = b
             .sample(wo, u, transport)
             .map_or(0.0, |s| s.weight.x as f64);
@@ -257,7 +241,7 @@ fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
 
 #[test]
 fn reflective_kinds_are_reciprocal_and_two_sided() {
-    let mut rng = Rng::new(77);
+    let mut rng = TestRng(77);
     let flip = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
     for b in reflective() {
         let mut nonzero = 0;
@@ -289,7 +273,7 @@ fn reflective_kinds_are_reciprocal_and_two_sided() {
 
 #[test]
 fn dielectric_transmission_follows_the_eta2_rule() {
-    let mut rng = Rng::new(99);
+    let mut rng = TestRng(99);
     for mf in [ggx(0.3), beckmann(0.2, 0.5)] {
         let b = Bsdf::Dielectric {
             eta: 1.5,
@@ -334,7 +318,7 @@ fn dielectric_transmission_follows_the_eta2_rule() {
 
 #[test]
 fn diffuse_plus_lobe_is_the_whole() {
-    let mut rng = Rng::new(5);
+    let mut rng = TestRng(5);
     let mut all = reflective();
     all.extend(white().into_iter().map(|(_, b)| b));
     for b in all {
@@ -379,7 +363,7 @@ fn diffuse_plus_lobe_is_the_whole() {
 #[test]
 fn samplers_stay_finite() {
     // Grazing and normal incidence, extreme uniforms: no NaN, no negative weight or pdf.
-    let mut rng = Rng::new(123);
+    let mut rng = TestRng(123);
     let mut all = reflective();
     all.extend(white().into_iter().map(|(_, b)| b));
     let us = [0.0, 1e-7, 0.5, 0.999_999_9];
@@ -397,7 +381,7 @@ fn samplers_stay_finite() {
             let u = if i < 64 {
                 [us[i % 4], us[(i / 4) % 4], us[(i / 16) % 4]]
             } else {
-                [rng.next(), rng.next(), rng.next()]
+                [rng.f32(), rng.f32(), rng.f32()]
             };
             for t in [Transport::Radiance, Transport::Importance] {
                 for s in [b.sample(wo, u, t), b.sample_lobe(wo, u, t)]

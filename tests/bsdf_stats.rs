@@ -19,16 +19,7 @@ const SUB: usize = 8;
 
 mod common;
 
-/// The tests' fixed-seed uniforms (`common::TestRng`, SplitMix64).
-struct Rng(common::TestRng);
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(common::TestRng(seed))
-    }
-    fn next(&mut self) -> f32 {
-        self.0.f32()
-    }
-}
+use common::TestRng;
 
 fn ln_gamma(x: f64) -> f64 {
     // Lanczos approximation (g = 7, n = 9).
@@ -121,12 +112,12 @@ fn chi2(
     pdf: impl Fn(Vec3) -> f32,
     eval_cos: impl Fn(Vec3) -> Vec3,
 ) {
-    let mut rng = Rng::new(0x5EED ^ (name.len() as u64 * 7919));
+    let mut rng = TestRng(0x5EED ^ (name.len() as u64 * 7919));
     let mut observed = vec![0.0f64; N_THETA * N_PHI + 1];
     let mut weight_errors = 0;
     let mut worst = String::new();
     for _ in 0..SAMPLES {
-        let u = [rng.next(), rng.next(), rng.next()];
+        let u = [rng.f32(), rng.f32(), rng.f32()];
         match sample(u) {
             Some(s) if !s.delta => {
                 observed[bin_of(s.wi)] += 1.0;

@@ -78,6 +78,14 @@ impl TestRng {
     pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.f32()
     }
+
+    /// A direction uniform on the unit sphere.
+    pub fn dir(&mut self) -> glam::Vec3 {
+        let z = 2.0 * self.f32() - 1.0;
+        let phi = 2.0 * std::f32::consts::PI * self.f32();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        glam::Vec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
 }
 
 /// Traces the global photon paths of `settings` (pass 0) in `scene` on the CPU, with the
