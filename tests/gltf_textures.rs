@@ -475,31 +475,36 @@ fn malformed_uvs_and_images_give_exact_messages() {
             format!("{}:{line}: meshes[0].primitives[0]: {what}", path.display())
         );
     };
-    let mut f = File::new(r#"{"uri": "quad4.png"}"#);
-    f.uv_accessor =
-        r#"{"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC3"}"#.into();
-    primitive(
-        &f,
-        "vec3.gltf",
-        "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec3 of F32",
-    );
-    f.uv_accessor =
-        r#"{"bufferView": 1, "componentType": 5121, "count": 4, "type": "VEC2"}"#.into();
-    primitive(
-        &f,
-        "u8.gltf",
-        "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec2 of U8",
-    );
-    f.uv_accessor =
-        r#"{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}"#.into();
-    primitive(&f, "count.gltf", "3 TEXCOORD_0s for 4 POSITIONs");
-    f.uv_accessor =
-        r#"{"bufferView": 1, "componentType": 5126, "count": 5, "type": "VEC2"}"#.into();
-    primitive(
-        &f,
-        "long.gltf",
-        "5 elements run past the end of bufferView 1",
-    );
+    // (uv accessor's component type, count and type; file; message)
+    let cases = [
+        (
+            (5126, 2, "VEC3"),
+            "vec3.gltf",
+            "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec3 of F32",
+        ),
+        (
+            (5121, 4, "VEC2"),
+            "u8.gltf",
+            "TEXCOORD_0 must be VEC2 of FLOAT, or of normalized U8 or U16, not Vec2 of U8",
+        ),
+        (
+            (5126, 3, "VEC2"),
+            "count.gltf",
+            "3 TEXCOORD_0s for 4 POSITIONs",
+        ),
+        (
+            (5126, 5, "VEC2"),
+            "long.gltf",
+            "5 elements run past the end of bufferView 1",
+        ),
+    ];
+    for ((component, count, ty), name, what) in cases {
+        let mut f = File::new(r#"{"uri": "quad4.png"}"#);
+        f.uv_accessor = format!(
+            r#"{{"bufferView": 1, "componentType": {component}, "count": {count}, "type": "{ty}"}}"#
+        );
+        primitive(&f, name, what);
+    }
     let mut f = File::new(r#"{"uri": "quad4.png"}"#);
     f.uv_set = 1;
     primitive(
