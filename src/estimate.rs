@@ -38,13 +38,18 @@ pub fn photon_faces(p: &Photon, x: Vec3, ns: Vec3) -> bool {
 
 /// Jensen's cone-filter constant k (weights fall to 0 at distance k r).
 pub const CONE_K: f32 = 1.0;
+/// `1 / CONE_K`: the cone's weight is `1 - (d / r) / k`.
+pub const INV_CONE_K: f32 = 1.0 / CONE_K;
+/// The cone's area normalisation factor `1 - 2 / (3 k)` (its kernel integrates to that times
+/// pi r^2), computed once in f32 for both backends.
+pub const CONE_NORM: f32 = 1.0 - 2.0 / (3.0 * CONE_K);
 
 /// Kernel weight of a photon at squared distance `d2` inside radius^2 `r2`.
 #[inline]
 pub fn kernel_weight(filter: Filter, d2: f32, r2: f32) -> f32 {
     match filter {
         Filter::Disc => 1.0,
-        Filter::Cone => (1.0 - (d2 / r2).sqrt() / CONE_K).max(0.0),
+        Filter::Cone => (1.0 - (d2 / r2).sqrt() * INV_CONE_K).max(0.0),
         Filter::Epanechnikov => (1.0 - d2 / r2).max(0.0),
     }
 }
@@ -54,7 +59,7 @@ pub fn kernel_weight(filter: Filter, d2: f32, r2: f32) -> f32 {
 pub fn kernel_norm(filter: Filter, r2: f32) -> f32 {
     match filter {
         Filter::Disc => 1.0 / (PI * r2),
-        Filter::Cone => 1.0 / ((1.0 - 2.0 / (3.0 * CONE_K)) * PI * r2),
+        Filter::Cone => 1.0 / (CONE_NORM * PI * r2),
         Filter::Epanechnikov => 2.0 / (PI * r2),
     }
 }

@@ -108,9 +108,11 @@ fn sift_up(which: u32, start: u32) {
     }
 }
 
+// The density estimate's kernel at squared distance d2 within r2, and its normalisation
+// (twins of crate::estimate's; the cone's constants come from there).
 fn kernel_weight(d2: f32, r2: f32) -> f32 {
     if params.filter_kind == FILTER_CONE {
-        return max(1.0 - sqrt(d2 / r2), 0.0);
+        return max(1.0 - sqrt(d2 / r2) * INV_CONE_K, 0.0);
     }
     if params.filter_kind == FILTER_EPANECHNIKOV {
         return max(1.0 - d2 / r2, 0.0);
@@ -120,7 +122,7 @@ fn kernel_weight(d2: f32, r2: f32) -> f32 {
 
 fn kernel_norm(r2: f32) -> f32 {
     if params.filter_kind == FILTER_CONE {
-        return 1.0 / ((1.0 - 2.0 / 3.0) * PI * r2);
+        return 1.0 / (CONE_NORM * PI * r2);
     }
     if params.filter_kind == FILTER_EPANECHNIKOV {
         return 2.0 / (PI * r2);

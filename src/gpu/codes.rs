@@ -328,6 +328,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("BOX_SLACK", F32(crate::geometry::BOX_SLACK)),
         ("FACING_COS", F32(crate::estimate::FACING_COS)),
         ("PI", F32(std::f32::consts::PI)),
+        ("INV_CONE_K", F32(crate::estimate::INV_CONE_K)),
+        ("CONE_NORM", F32(crate::estimate::CONE_NORM)),
         ("SOBOL_PAIR_JITTER", U32(crate::sobol::PAIR_JITTER)),
         ("SOBOL_PAIR_LIGHT", U32(crate::sobol::PAIR_LIGHT)),
         ("SOBOL_DIM_LIGHT_THIRD", U32(crate::sobol::DIM_LIGHT_THIRD)),
