@@ -77,7 +77,9 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             all_specular = false;
         }
         power *= b.weight;
-        if !(max3(power) > 0.0) {
+        // As on the CPU, a path whose power is no longer positive and finite ends (the
+        // abs test is false for NaN as for infinity).
+        if !(max3(power) > 0.0) || any(!(abs(power) <= vec3<f32>(3.4028235e38))) {
             return;
         }
         d = b.dir;
