@@ -336,29 +336,6 @@ impl SceneBuilder {
         &self.textures[id as usize]
     }
 
-    /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
-    pub fn add_point_light(
-        &mut self,
-        position: Vec3,
-        intensity: Vec3,
-        at: &dyn Locate,
-    ) -> Result<()> {
-        if !position.is_finite() {
-            return Err(at.error(Part::Geometry, "must be finite".into()));
-        }
-        check_emission(intensity, at)?;
-        let power = 4.0 * PI * intensity;
-        if !power.is_finite() {
-            return Err(at.error(Part::Emission, "light power is not finite".into()));
-        }
-        let shape = LightShape::Point {
-            position,
-            intensity,
-        };
-        self.lights.push(Light { shape, power });
-        Ok(())
-    }
-
     /// The scene; without a camera, an error on [`Part::Camera`]. Directional lights get
     /// their power here: `irradiance * pi R^2`, R the radius of [`Scene::bounding_sphere`].
     pub fn finish(mut self, at: &dyn Locate) -> Result<Scene> {

@@ -1,4 +1,4 @@
-//! The spot and directional lights of a [`SceneBuilder`] (the rules of the
+//! The point, spot and directional lights of a [`SceneBuilder`] (the rules of the
 //! builder's module documentation): their checks and power. A spot's falloff is
 //! [`SpotCone`]'s; a directional light's power needs the finished scene's extent, so
 //! [`SceneBuilder::finish`] sets it.
@@ -9,6 +9,7 @@ use super::locate::{Locate, Part};
 use super::{Light, LightShape, SpotCone};
 use crate::error::Result;
 use glam::Vec3;
+use std::f32::consts::PI;
 
 /// A spot light as [`SceneBuilder::add_spot_light`] takes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +27,29 @@ pub struct SpotLight {
 }
 
 impl SceneBuilder {
+    /// Adds an isotropic point light at `position`, `intensity` in W/sr per channel (>= 0).
+    pub fn add_point_light(
+        &mut self,
+        position: Vec3,
+        intensity: Vec3,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !position.is_finite() {
+            return Err(at.error(Part::Geometry, "must be finite".into()));
+        }
+        check_emission(intensity, at)?;
+        let power = 4.0 * PI * intensity;
+        if !power.is_finite() {
+            return Err(at.error(Part::Emission, "light power is not finite".into()));
+        }
+        let shape = LightShape::Point {
+            position,
+            intensity,
+        };
+        self.lights.push(Light { shape, power });
+        Ok(())
+    }
+
     /// Adds a spot light at `position` shining along `direction` (any length but zero),
     /// `intensity` in W/sr per channel on its axis (>= 0), full inside the half-angle `inner`
     /// and dark outside `outer` (degrees, `0 <= inner <= outer`, `0 < outer <= 90`), with the
