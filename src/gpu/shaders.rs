@@ -119,7 +119,13 @@ impl Kernel {
                 "build_cache",
                 "build_cache_fixed",
             ],
-            Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
+            Kernel::Probes => &[
+                "probe_rng",
+                "probe_knn",
+                "probe_cache",
+                "probe_cosine",
+                "probe_env",
+            ],
         }
     }
 
