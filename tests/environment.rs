@@ -604,6 +604,52 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
     let img = Image::read(&out).unwrap();
     // The corner pixel sees the environment.
     assert_eq!(Vec3::from(img.pixels[0]), Vec3::new(1.0, 2.0, 4.0));
+    // An image: the same rays see twice the radiance with --env-scale 2.
+    let sky =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/envlight-sky.exr");
+    let corner = |scale: &str| {
+        let run = bin()
+            .args([
+                "render",
+                "--backend",
+                "cpu",
+                "--spp",
+                "1",
+                "--env-scale",
+                scale,
+                "--env",
+            ])
+            .arg(&sky)
+            .arg("-o")
+            .arg(&out)
+            .arg(&scene)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        Vec3::from(Image::read(&out).unwrap().pixels[0])
+    };
+    let (one, two) = (corner("1"), corner("2"));
+    assert!(
+        one.min_element() > 0.0 && (two - 2.0 * one).abs().max_element() < 1e-6 * two.max_element(),
+        "{one} {two}"
+    );
+    // A malformed value names the flag.
+    let run = bin()
+        .args(["render", "--env", "1,2", "-o"])
+        .arg(&out)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr
+            .contains("invalid setting env: 1,2: expected R,G,B (three numbers) or an image file"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -634,6 +680,18 @@ fn toml_and_mitsuba_constant_environments() {
         e,
         "env.toml:8: environment.filename: give `radiance` or `filename`, not both"
     );
+    let missing = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
+                   [environment]\nfilename = \"no-such-sky.exr\"\nscale = 2\n";
+    let e = gpu_photon::scene::load_str(missing, "env.toml", std::path::Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("env.toml:7: environment.filename: "), "{e}");
+    let negative = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
+                    [environment]\nradiance = [1, -1, 1]\n";
+    let e = gpu_photon::scene::load_str(negative, "env.toml", std::path::Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("env.toml:7: environment.radiance: "), "{e}");
 }
 
 /// `scenes/mitsuba/envlight.xml` (a diffuse and a glass sphere on a plane under a sky with a
