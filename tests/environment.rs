@@ -759,3 +759,36 @@ fn a_ground_plane_under_the_sky_on_both_backends() {
         assert_eq!(gpu, &counts[0], "the GPU sees the ground at other pixels");
     }
 }
+
+/// Mitsuba's environments: a missing or unreadable `filename` and a second environment are
+/// errors located at their line and parameter.
+#[test]
+fn mitsuba_environment_errors_are_located() {
+    let dir = std::env::temp_dir().join(format!("gpu-photon-envbad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        (
+            r#"<emitter type="envmap"><float name="scale" value="2"/></emitter>"#,
+            ":3: emitter[0].filename: missing",
+        ),
+        (
+            r#"<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>"#,
+            ":3: emitter[0].filename: ",
+        ),
+        (
+            r#"<emitter type="constant"/>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>"#,
+            ":4: emitter[1].radiance: the scene has one environment",
+        ),
+    ];
+    for (i, (emitter, want)) in cases.iter().enumerate() {
+        let path = dir.join(format!("bad{i}.xml"));
+        let xml = format!(
+            "<scene version=\"3.0.0\">\n  <sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n  {emitter}\n</scene>\n"
+        );
+        std::fs::write(&path, xml).unwrap();
+        let e = gpu_photon::scene::load(&path).unwrap_err().to_string();
+        assert!(e.contains(want), "case {i}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
