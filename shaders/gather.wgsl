@@ -34,7 +34,7 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<fun
             } else {
                 u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
             }
-            let ls = sample_light(light, x, u);
+            let ls = sample_light(light, x, ns, u);
             if all(ls.weight == vec3<f32>(0.0)) {
                 continue;
             }
@@ -104,7 +104,16 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         let hit = trace_ray(*o, *d, 3.0e38, false);
         if !hit.found {
             if emission {
-                end.emitted += *t * escape(*d);
+                var le = escape(*d);
+                // A glossy lobe's ray shares the environment with the shadow rays.
+                if HAS_ENVIRONMENT && pdf > 0.0 {
+                    var pdf_light = 0.0;
+                    if dot(*d, mis_ns) > 0.0 {
+                        pdf_light = f32(params.shadow_samples) * env_pdf(load_light(params.n_lights - 1u), mis_ns, *d);
+                    }
+                    le *= power_heuristic(pdf, pdf_light);
+                }
+                end.emitted += *t * le;
             }
             break;
         }

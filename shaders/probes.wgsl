@@ -63,3 +63,22 @@ fn probe_cosine(@builtin(global_invocation_id) gid: vec3<u32>) {
     let u = accum[params.width + i].xy;
     accum[2u * params.width + i] = vec4<f32>(cosine_hemisphere(accum[i].xyz, u.x, u.y), 0.0);
 }
+
+// probe_env: the scene's environment (its last light) for case i < width: direction
+// accum[i].xyz, shading normal accum[width + i].xyz, uniforms accum[2 width + i].xyz; writes
+// (env_radiance(dir), env_pdf(ns, dir)) to accum[3 width + i] and the shadow-ray sample
+// env_sample(ns, u) (direction, pdf) to accum[4 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let l = load_light(params.n_lights - 1u);
+    let d = accum[i].xyz;
+    let ns = accum[w + i].xyz;
+    accum[3u * w + i] = vec4<f32>(env_radiance(l, d), env_pdf(l, ns, d));
+    let s = env_sample(l, ns, accum[2u * w + i].xyz);
+    accum[4u * w + i] = vec4<f32>(s.dir, s.pdf);
+}

@@ -41,6 +41,12 @@ pub enum Error {
         /// What is wrong (for a value out of range, the range of `settings::SETTINGS`).
         message: String,
     },
+    /// A scene with no light and no environment (it would render black).
+    #[error("{}: the scene has no light (add one, or give --env)", file.display())]
+    NoLight {
+        /// The scene file.
+        file: PathBuf,
+    },
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),

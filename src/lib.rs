@@ -17,6 +17,7 @@ pub mod bsdf;
 pub mod bvh;
 pub mod calibration;
 pub mod cpu;
+pub mod environment;
 pub mod estimate;
 pub mod film;
 pub mod geometry;

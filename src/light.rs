@@ -5,8 +5,10 @@
 //! ([`SpotCone::sample_cos`](crate::scene::SpotCone::sample_cos)), so every photon of a light
 //! carries the same power. Directional lights emit parallel photons from a disc of the radius
 //! of the scene's bounding sphere, perpendicular to the light and two radii back from the
-//! sphere's centre, so that every photon starts outside the scene.
+//! sphere's centre, so that every photon starts outside the scene. The environment's photons
+//! start the same way, with their directions and weights from `crate::environment`.
 
+use crate::environment::{self as env, EnvDistribution};
 use crate::geometry::Aabb;
 use crate::sampling::{basis, cosine_hemisphere, to_world, uniform_sphere, uniform_triangle};
 use crate::scene::{emission, LightShape, Scene, NO_TEXTURE};
@@ -54,6 +56,8 @@ pub struct LightTable {
     /// Per light: its emission texture's mean over its surface (one without one), which its
     /// power includes (`crate::scene::emission`).
     pub texture_mean: Vec<Vec3>,
+    /// An image environment's sampling distribution (`None` without one).
+    pub env: Option<EnvDistribution>,
 }
 
 /// A photon leaving a light.
@@ -112,13 +116,17 @@ impl LightTable {
             texture_mean: (0..scene.lights.len())
                 .map(|l| emission::texture_mean(scene, l))
                 .collect(),
+            env: scene
+                .environment()
+                .and_then(|e| env::distribution(e, &scene.textures)),
         };
         for l in &scene.lights {
             t.cdf_start.push(t.tri_cdf.len() as u32);
             match l.shape {
                 LightShape::Point { .. }
                 | LightShape::Spot { .. }
-                | LightShape::Directional { .. } => t.area.push(0.0),
+                | LightShape::Directional { .. }
+                | LightShape::Environment(_) => t.area.push(0.0),
                 LightShape::Sphere { index } => {
                     let r = scene.spheres[index as usize].radius;
                     t.area.push(4.0 * std::f32::consts::PI * r * r);
@@ -169,7 +177,9 @@ impl LightTable {
             LightShape::Point { position, .. } | LightShape::Spot { position, .. } => {
                 (position, Vec3::ZERO, Vec3::ONE)
             }
-            LightShape::Directional { .. } => unreachable!("a directional light has no point"),
+            LightShape::Directional { .. } | LightShape::Environment(_) => {
+                unreachable!("a distant light has no point")
+            }
             LightShape::Sphere { index } => {
                 let s = &scene.spheres[index as usize];
                 let n = uniform_sphere(u[1], u[2]);
@@ -190,9 +200,32 @@ impl LightTable {
     /// by area and a uniform point on it, then a cosine-weighted direction around the front
     /// normal (or a random face when two-sided); point lights emit uniformly over the sphere;
     /// spot lights by their falloff (`u[3]` the cosine to the axis, `u[4]` the azimuth);
-    /// directional lights from a uniform point of their disc (`u[1]`, `u[2]`).
+    /// directional lights from a uniform point of their disc (`u[1]`, `u[2]`); the environment
+    /// like a directional light, its direction from `u[0], u[3], u[4]`
+    /// ([`env::emit_direction`]), its power scaled by `L pi R^2 / (pdf power)`.
     pub fn emit(&self, scene: &Scene, l: usize, u: [f32; 5]) -> Emission {
         match scene.lights[l].shape {
+            LightShape::Environment(e) => {
+                let dist = self.env.as_ref();
+                let (w, pdf) = env::emit_direction(&e, dist, [u[0], u[3], u[4]]);
+                let (centre, r) = self.bounds;
+                let scale = match dist {
+                    None => Vec3::ONE,
+                    Some(_) if pdf <= 0.0 => Vec3::ZERO,
+                    Some(_) => {
+                        let flux =
+                            e.eval(&scene.textures, w) * (std::f32::consts::PI * r * r / pdf);
+                        let power = scene.lights[l].power;
+                        Vec3::select(power.cmpgt(Vec3::ZERO), flux / power, Vec3::ZERO)
+                    }
+                };
+                return Emission {
+                    origin: centre + 2.0 * r * w + self.disc(-w, [u[1], u[2]]),
+                    dir: -w,
+                    normal: Vec3::ZERO,
+                    scale,
+                };
+            }
             LightShape::Spot {
                 position,
                 direction,
@@ -212,12 +245,8 @@ impl LightTable {
             }
             LightShape::Directional { direction, .. } => {
                 let (centre, r) = self.bounds;
-                let (t, b) = basis(direction);
-                let rho = r * u[1].sqrt();
-                let phi = 2.0 * std::f32::consts::PI * u[2];
-                let across = rho * (phi.cos() * t + phi.sin() * b);
                 return Emission {
-                    origin: centre - 2.0 * r * direction + across,
+                    origin: centre - 2.0 * r * direction + self.disc(direction, [u[1], u[2]]),
                     dir: direction,
                     normal: Vec3::ZERO,
                     scale: Vec3::ONE,
@@ -254,20 +283,40 @@ impl LightTable {
         }
     }
 
+    /// A uniform point of the disc of the bounding sphere's radius across `direction`,
+    /// relative to its centre.
+    fn disc(&self, direction: Vec3, u: [f32; 2]) -> Vec3 {
+        let (t, b) = basis(direction);
+        let rho = self.bounds.1 * u[0].sqrt();
+        let phi = 2.0 * std::f32::consts::PI * u[1];
+        rho * (phi.cos() * t + phi.sin() * b)
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) picks direction `dir`
+    /// towards environment light `l` from a point of shading normal `ns`.
+    pub fn direction_pdf(&self, scene: &Scene, l: usize, ns: Vec3, dir: Vec3) -> f32 {
+        match &scene.lights[l].shape {
+            LightShape::Environment(e) => env::direction_pdf(e, self.env.as_ref(), ns, dir),
+            _ => 0.0,
+        }
+    }
+
     fn two_sided(&self, scene: &Scene, l: usize) -> bool {
         let mat = match scene.lights[l].shape {
-            LightShape::Point { .. } | LightShape::Spot { .. } | LightShape::Directional { .. } => {
-                return false
-            }
+            LightShape::Point { .. }
+            | LightShape::Spot { .. }
+            | LightShape::Directional { .. }
+            | LightShape::Environment(_) => return false,
             LightShape::Sphere { index } => scene.spheres[index as usize].material,
             LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
         };
         scene.materials[mat as usize].two_sided_emission
     }
 
-    /// A shadow-ray target on light `l` for shading point `x`, from three uniform numbers.
-    /// Area lights are sampled uniformly by area; the others are one point or direction.
-    pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, u: [f32; 3]) -> LightSample {
+    /// A shadow-ray target on light `l` for shading point `x` (shading normal `ns`), from
+    /// three uniform numbers. Area lights are sampled uniformly by area, the environment by
+    /// [`env::sample_direction`] (a distant target); the others are one point or direction.
+    pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, ns: Vec3, u: [f32; 3]) -> LightSample {
         let light = &scene.lights[l];
         let delta = |point, weight, distant| LightSample {
             point,
@@ -298,6 +347,15 @@ impl LightTable {
                 direction,
                 irradiance,
             } => return delta(x - direction, irradiance, true),
+            LightShape::Environment(e) => {
+                let (dir, pdf) = env::sample_direction(&e, self.env.as_ref(), ns, u);
+                let weight = if pdf > 0.0 {
+                    e.eval(&scene.textures, dir) / pdf
+                } else {
+                    Vec3::ZERO
+                };
+                return delta(x + dir, weight, true);
+            }
             _ => {}
         }
         let (p, n, texel) = self.surface_point(scene, l, u);

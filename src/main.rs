@@ -112,6 +112,12 @@ struct RenderArgs {
     /// The glTF camera to render from, by name (default: the first in the scene).
     #[arg(long)]
     camera: Option<String>,
+    /// The environment light, supplied or replaced: `R,G,B` or a lat-long image (Mitsuba's).
+    #[arg(long, value_name = "FILE|R,G,B")]
+    env: Option<String>,
+    /// Factor on --env's radiance or image.
+    #[arg(long, value_name = "S", requires = "env")]
+    env_scale: Option<f32>,
     /// A Mitsuba scene's parameter `$NAME` (overrides its <default>; Mitsuba's -D).
     #[arg(short = 'D', long, value_name = "NAME=VALUE", value_parser = mitsuba::parse_define)]
     define: Vec<(String, String)>,
@@ -254,8 +260,9 @@ impl BackendArg {
 
 fn run_render(args: &RenderArgs) -> Result<()> {
     gpu_photon::film::check_output_path(&args.output)?;
-    let (camera, defines) = (args.camera.as_deref(), &args.define);
-    let scene = gpu_photon::scene::load_with_options(&args.scene, camera, defines)?;
+    let (camera, defines, env) = (args.camera.as_deref(), &args.define, args.env.as_deref());
+    let mut scene = gpu_photon::scene::load_with_options(&args.scene, camera, defines)?;
+    gpu_photon::scene::apply_env_arg(&mut scene, env, args.env_scale, &args.scene)?;
     let mut settings = scene.settings.clone();
     args.apply(&mut settings)?;
     let show = !args.quiet && std::io::stderr().is_terminal();

@@ -147,10 +147,14 @@ fn gltf_textures(scene: &Scene, m: &Material, hit: &Hit, g: &mut MetallicRoughne
     }
 }
 
-/// Radiance reaching the camera along a ray that leaves the scene: none (no environment).
+/// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's
+/// (`crate::scene::Environment`), or none without one.
 #[inline]
-pub fn escape(_dir: Vec3) -> Vec3 {
-    Vec3::ZERO
+pub fn escape(scene: &Scene, dir: Vec3) -> Vec3 {
+    match scene.environment() {
+        Some(env) => env.eval(&scene.textures, dir),
+        None => Vec3::ZERO,
+    }
 }
 
 /// How the integrators treat a surface of material kind `kind` (the GPU's `material_class`

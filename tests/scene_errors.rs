@@ -452,6 +452,21 @@ eye = [0, 0, 3]
 target = [0, 0, 0]
 fov = 40
 ---
+[environment]
+radiance = [1, 1, 1]
+rotate_y = 10
+scale = 2  #! environment.scale | only with `filename`
+---
+[environment]
+filename = "no-such-sky.exr"  #! environment.filename | no-such-sky.exr
+---
+[environment]  #! environment.radiance | missing field `radiance` (or `filename`)
+rotate_y = 10
+---
+[environment]
+radiance = [1, 1, 1]
+sun = 2  #! environment.sun | unknown field `sun`
+---
 shapes = 3  #! shapes | invalid type
 [camera]
 eye = [0, 0, 3]

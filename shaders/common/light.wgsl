@@ -1,6 +1,6 @@
 // Light emission (photon origins and directions) and shadow-ray targets on point, spot,
-// directional, triangle and sphere lights; twin of src/light.rs (spot falloff: twin of
-// src/scene/spot.rs). LIGHT_* kinds and SPOT_MIN_RAMP come from the generated prelude.
+// directional, triangle and sphere lights and the environment (environment.wgsl); twin of
+// src/light.rs (spot falloff: twin of src/scene/spot.rs). LIGHT_* kinds and SPOT_MIN_RAMP come from the generated prelude.
 // Library, no entry point; writes nothing.
 
 // Point, spot and directional lights: no surface, one shadow ray each, every BRDF lobe.
@@ -99,9 +99,29 @@ struct Emission {
     scale: vec3<f32>,
 }
 
+// A uniform point of the disc of radius l.radius across unit direction d (LightTable::disc).
+fn light_disc(l: Light, d: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let rho = l.radius * sqrt(u1);
+    let phi = 2.0 * PI * u2;
+    return rho * (cos(phi) * basis_t(d) + sin(phi) * basis_b(d));
+}
+
 fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     var e: Emission;
     e.scale = vec3<f32>(1.0);
+    if HAS_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
+        // From the disc two radii out towards w; an image's photon carries
+        // L pi R^2 / (pdf power), texture_mean holding power / (pi R^2).
+        let s = env_emit_dir(l, vec3<f32>(u0.x, u3, u4));
+        e.origin = l.position + 2.0 * l.radius * s.dir + light_disc(l, -s.dir, u0.y, u0.z);
+        e.normal = vec3<f32>(0.0);
+        e.dir = -s.dir;
+        if env_is_map(l) {
+            let tm = l.texture_mean * s.pdf;
+            e.scale = select(vec3<f32>(0.0), env_radiance(l, s.dir) / tm, tm > vec3<f32>(0.0));
+        }
+        return e;
+    }
     if HAS_POINT_LIGHTS && l.kind == LIGHT_SPOT {
         let c = spot_cos(l, u3);
         let s = sqrt(max(1.0 - c * c, 0.0));
@@ -113,10 +133,7 @@ fn emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     }
     if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
         // A uniform point of the disc of radius l.radius, two radii back from the centre.
-        let rho = l.radius * sqrt(u0.y);
-        let phi = 2.0 * PI * u0.z;
-        let across = rho * (cos(phi) * basis_t(l.direction) + sin(phi) * basis_b(l.direction));
-        e.origin = l.position - 2.0 * l.radius * l.direction + across;
+        e.origin = l.position - 2.0 * l.radius * l.direction + light_disc(l, l.direction, u0.y, u0.z);
         e.normal = vec3<f32>(0.0);
         e.dir = l.direction;
         return e;
@@ -166,7 +183,15 @@ fn light_solid_angle_pdf(l: Light, x: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> 
     return 0.0;
 }
 
-fn sample_light(l: Light, x: vec3<f32>, u: vec3<f32>) -> LightSample {
+// ns: the shading normal at x (the constant environment samples a cosine about it).
+fn sample_light(l: Light, x: vec3<f32>, ns: vec3<f32>, u: vec3<f32>) -> LightSample {
+    if HAS_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
+        let s = env_sample(l, ns, u);
+        if s.pdf <= 0.0 {
+            return LightSample(x + s.dir, vec3<f32>(0.0), true, 0.0);
+        }
+        return LightSample(x + s.dir, env_radiance(l, s.dir) / s.pdf, true, s.pdf);
+    }
     if HAS_POINT_LIGHTS && l.kind == LIGHT_POINT {
         let d = l.position - x;
         return LightSample(l.position, l.intensity / max(dot(d, d), 1e-20), false, 0.0);

@@ -35,6 +35,8 @@
 override HAS_GLASS: bool = true;
 override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
+// The scene has an environment light (its last light).
+override HAS_ENVIRONMENT: bool = true;
 // Some triangle is smooth-shaded: without, the shading normal is the geometric one.
 override HAS_SMOOTH: bool = true;
 // Some material is one of crate::bsdf's kinds (conductors, rough dielectrics, plastics).

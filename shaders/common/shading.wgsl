@@ -318,7 +318,11 @@ fn surface_photon_bounce(s: Surface, d: vec3<f32>, hit: Hit, u: vec3<f32>) -> Bo
     return out;
 }
 
-// Radiance along a ray that leaves the scene: none (no environment light).
+// Radiance along a ray that leaves the scene: the environment's, the last light (none
+// without one).
 fn escape(d: vec3<f32>) -> vec3<f32> {
+    if HAS_ENVIRONMENT {
+        return env_radiance(load_light(params.n_lights - 1u), d);
+    }
     return vec3<f32>(0.0);
 }

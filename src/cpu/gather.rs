@@ -120,7 +120,7 @@ impl Gatherer<'_> {
         mis: Option<Mis>,
     ) -> Vec3 {
         let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
-            return escape(ray.dir);
+            return self.escape(ray.dir, mis);
         };
         let bsdf = bsdf_at(self.scene, &hit);
         let front = ray.dir.dot(hit.normal) < 0.0;
@@ -197,6 +197,24 @@ impl Gatherer<'_> {
                 emitted + self.shade(&hit, &bsdf, -ray.dir, depth, rng, sobol, cw)
             }
         }
+    }
+
+    /// Radiance of the environment along a ray that left the scene in direction `dir`; drawn
+    /// from a glossy lobe (`mis`), it shares the environment with the shadow rays as an area
+    /// light does.
+    fn escape(&self, dir: Vec3, mis: Option<Mis>) -> Vec3 {
+        let le = escape(self.scene, dir);
+        let Some(mis) = mis.filter(|_| le != Vec3::ZERO) else {
+            return le;
+        };
+        let l = self.scene.lights.len() - 1;
+        let pdf_light = if dir.dot(mis.ns) > 0.0 {
+            let n = self.settings.shadow_samples as f32;
+            n * self.lights.direction_pdf(self.scene, l, mis.ns, dir)
+        } else {
+            0.0
+        };
+        le * power_heuristic(mis.pdf, pdf_light)
     }
 
     /// Radiance leaving a diffuse or glossy hit towards `wo`; `sobol` is the sample's Sobol
@@ -308,7 +326,7 @@ impl Gatherer<'_> {
                     }
                     None => [rng.next(), rng.next(), rng.next()],
                 };
-                let ls = self.lights.sample(self.scene, li, hit.position, u);
+                let ls = self.lights.sample(self.scene, li, hit.position, f.ns, u);
                 if ls.weight == Vec3::ZERO {
                     continue;
                 }
@@ -326,10 +344,13 @@ impl Gatherer<'_> {
                     // the lobe's own sampling (power heuristic).
                     _ if bsdf.lobe_is_glossy() => {
                         let n = n_samples as f32;
-                        let pdf_light =
-                            n * self
-                                .lights
-                                .solid_angle_pdf(li, hit.position, ls.point, ls.normal);
+                        // Only the environment is a distant light with a density.
+                        let pdf_light = n * if ls.distant {
+                            self.lights.direction_pdf(self.scene, li, f.ns, wi)
+                        } else {
+                            self.lights
+                                .solid_angle_pdf(li, hit.position, ls.point, ls.normal)
+                        };
                         let pdf_lobe = bsdf.pdf_lobe(wi, wo, ns);
                         bsdf.eval_diffuse(wi, wo)
                             + bsdf.eval_lobe(wi, wo, ns) * power_heuristic(pdf_light, pdf_lobe)

@@ -139,12 +139,19 @@ fn axis_grid(lo: f32, hi: f32) -> Option<(i64, i32)> {
         return Some((0, 0));
     }
     // Normal steps only (lavapipe may flush subnormal results to zero).
+    // The bounds are checked in f64 before the casts: a flat negative range at a tiny step
+    // (`lo = hi = -1`, step 2^-100) saturated both to i64::MIN, whose abs() wrapped, and the
+    // grid decoded every bound as 0 (a ground plane's box moved to y = 0).
+    let exact = EXACT_INT as f64;
     for e in -100..=100 {
         let step = 2f64.powi(e);
-        let base = (lo / step).floor() as i64;
-        let top = (hi / step).ceil() as i64;
-        if top - base <= GRID_MAX && base.abs() < EXACT_INT - GRID_MAX && top.abs() < EXACT_INT {
-            return Some((base, e));
+        let base = (lo / step).floor();
+        let top = (hi / step).ceil();
+        if top - base <= GRID_MAX as f64
+            && base.abs() < exact - GRID_MAX as f64
+            && top.abs() < exact
+        {
+            return Some((base as i64, e));
         }
     }
     None
@@ -286,6 +293,8 @@ mod tests {
             (-3.0e7, 5.0),
             (0.0, 0.0),
             (2.5e-3, 2.5e-3),
+            (-1.0, -1.0),
+            (-2.5e-3, -2.5e-3),
         ] {
             let (base, e) = axis_grid(lo, hi).expect("a grid");
             let step = 2f64.powi(e);

@@ -61,6 +61,8 @@ pub const LIGHT_SPHERE: u32 = 2;
 pub const LIGHT_SPOT: u32 = 3;
 /// `Light.kind` of a directional light.
 pub const LIGHT_DIRECTIONAL: u32 = 4;
+/// `Light.kind` of the environment.
+pub const LIGHT_ENVIRONMENT: u32 = 5;
 
 /// `Params.filter_kind` of the disc (constant) kernel.
 pub const FILTER_DISC: u32 = 0;
@@ -260,6 +262,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
         ("LIGHT_SPOT", U32(LIGHT_SPOT)),
         ("LIGHT_DIRECTIONAL", U32(LIGHT_DIRECTIONAL)),
+        ("LIGHT_ENVIRONMENT", U32(LIGHT_ENVIRONMENT)),
+        (
+            "ENV_HEADER_WORDS",
+            U32(crate::environment::ENV_HEADER_WORDS),
+        ),
         ("SPOT_MIN_RAMP", F32(crate::scene::SpotCone::MIN_RAMP)),
         ("FILTER_DISC", U32(FILTER_DISC)),
         ("FILTER_CONE", U32(FILTER_CONE)),

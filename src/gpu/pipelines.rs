@@ -34,6 +34,10 @@ pub fn feature_constants(
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
         ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
         (
+            "HAS_ENVIRONMENT",
+            scene.environment().is_some() as u32 as f64,
+        ),
+        (
             "HAS_BSDFS",
             scene.materials.iter().any(|m| m.bsdf.is_some()) as u32 as f64,
         ),

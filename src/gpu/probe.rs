@@ -1,6 +1,6 @@
 //! Oracle probes: run single kernels on chosen inputs so tests can compare them with the
 //! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate, the radiance
-//! cache's build and lookup). The probe
+//! cache's build and lookup, the environment's lookup and sampling). The probe
 //! entry points live in shaders/probes.wgsl; the set-up is the render's own (`GpuRun`).
 
 use super::bindings::GATHER_GROUP;
@@ -120,6 +120,36 @@ pub fn cosine_hemisphere(
     Ok(out[2 * n..2 * n + cases.len()]
         .iter()
         .map(|v| [v[0], v[1], v[2]])
+        .collect())
+}
+
+/// The device's environment functions (shaders/common/environment.wgsl) on `scene`'s
+/// environment (its last light) for each `(direction, shading normal, uniforms)`: per case
+/// `(radiance along the direction, env_pdf)` and the shadow-ray sample `(direction, pdf)`.
+pub fn environment(
+    ctx: &GpuContext,
+    scene: &Scene,
+    cases: &[([f32; 3], [f32; 3], [f32; 3])],
+) -> Result<Vec<([f32; 4], [f32; 4])>> {
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 5 * n];
+    for (i, (d, ns, u)) in cases.iter().enumerate() {
+        init[i] = [d[0], d[1], d[2], 0.0];
+        init[n + i] = [ns[0], ns[1], ns[2], 0.0];
+        init[2 * n + i] = [u[0], u[1], u[2], 0.0];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_env", &accum, n as u32, None)?;
+    Ok((0..cases.len())
+        .map(|i| (out[3 * n + i], out[4 * n + i]))
         .collect())
 }
 

@@ -88,7 +88,12 @@ impl SceneBuffers {
         let leaf_prims = storage_buffer(dev, "bvh leaf primitives", &leaf_prims, none);
         let materials = storage_buffer(dev, "materials", &mats, none);
         let lights = storage_buffer(dev, "lights", lights, wgpu::BufferUsages::COPY_DST);
-        let light_cdf = storage_buffer(dev, "light cdf", &table.tri_cdf, none);
+        // An image environment's distribution follows the triangle CDFs.
+        let mut cdf = table.tri_cdf.clone();
+        if let (Some(env), Some(d)) = (scene.environment(), &table.env) {
+            cdf.extend(d.gpu_words(env));
+        }
+        let light_cdf = storage_buffer(dev, "light cdf", &cdf, none);
         let spec_bounds = storage_buffer(dev, "specular bounds", bounds, none);
         let shading_normals = storage_buffer(dev, "shading normals", &normals, none);
         let bsdfs = storage_buffer(dev, "bsdfs", &bsdfs, none);

@@ -29,6 +29,7 @@ const SCENE: &str = include_str!("../../shaders/common/scene.wgsl");
 const INTERSECT: &str = include_str!("../../shaders/common/intersect.wgsl");
 const MATERIAL: &str = include_str!("../../shaders/common/material.wgsl");
 const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
+const ENVIRONMENT: &str = include_str!("../../shaders/common/environment.wgsl");
 const SHADING: &str = include_str!("../../shaders/common/shading.wgsl");
 const TEXTURE: &str = include_str!("../../shaders/common/texture.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
@@ -44,7 +45,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 25] = [
+pub const WGSL_FILES: [(&str, &str); 26] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -53,6 +54,7 @@ pub const WGSL_FILES: [(&str, &str); 25] = [
     ("common/intersect.wgsl", INTERSECT),
     ("common/material.wgsl", MATERIAL),
     ("common/light.wgsl", LIGHT),
+    ("common/environment.wgsl", ENVIRONMENT),
     ("common/shading.wgsl", SHADING),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("common/texture.wgsl", TEXTURE),
@@ -117,7 +119,13 @@ impl Kernel {
                 "build_cache",
                 "build_cache_fixed",
             ],
-            Kernel::Probes => &["probe_rng", "probe_knn", "probe_cache", "probe_cosine"],
+            Kernel::Probes => &[
+                "probe_rng",
+                "probe_knn",
+                "probe_cache",
+                "probe_cosine",
+                "probe_env",
+            ],
         }
     }
 
@@ -129,8 +137,20 @@ impl Kernel {
         let bsdf = super::bsdf_params::bsdf_library();
         let textures = super::textures::wgsl_library();
         let libs: &[&str] = &[
-            &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, MATERIAL, LIGHT, &bsdf,
-            &textures, SHADING, GRID,
+            &prelude,
+            TYPES,
+            PHOTON,
+            RNG,
+            SAMPLING,
+            SCENE,
+            INTERSECT,
+            MATERIAL,
+            LIGHT,
+            ENVIRONMENT,
+            &bsdf,
+            &textures,
+            SHADING,
+            GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.

@@ -3,7 +3,8 @@
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
 use super::codes::{
-    material_code, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_TRIANGLES,
+    material_code, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT,
+    LIGHT_TRIANGLES,
 };
 use crate::scene::{LightShape, Material, Scene, Sphere, Triangle, VertexNormals};
 use bytemuck::{Pod, Zeroable};
@@ -445,6 +446,18 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
                     g.radius = table.bounds.1;
                     g.direction = direction.to_array();
                     g.intensity = irradiance.to_array();
+                }
+                LightShape::Environment(e) => {
+                    // Its distribution follows the triangle CDFs in light_cdf; texture_mean
+                    // holds power / (pi R^2) (a photon's scale is L / (pdf texture_mean)).
+                    g.kind = LIGHT_ENVIRONMENT;
+                    g.position = table.bounds.0.to_array();
+                    g.radius = table.bounds.1;
+                    g.intensity = e.radiance.to_array();
+                    g.emission_texture = e.texture;
+                    g.cdf_start = table.tri_cdf.len() as u32;
+                    let disc = std::f32::consts::PI * table.bounds.1 * table.bounds.1;
+                    g.texture_mean = (l.power / disc).to_array();
                 }
             }
             g

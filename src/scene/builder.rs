@@ -91,6 +91,7 @@ pub struct SceneBuilder {
     textures: Vec<SceneTexture>,
     spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
+    pub(super) environment: Option<super::Environment>,
     settings: RenderSettings,
 }
 
@@ -371,6 +372,9 @@ impl SceneBuilder {
             if let LightShape::Directional { irradiance, .. } = l.shape {
                 l.power = irradiance * (PI * radius * radius);
             }
+        }
+        if let Some(env) = self.environment {
+            scene.set_environment(env);
         }
         Ok(scene)
     }

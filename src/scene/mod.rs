@@ -10,6 +10,7 @@
 mod builder;
 mod checks;
 pub mod emission;
+mod environment;
 mod file;
 mod gltf;
 mod locate;
@@ -26,6 +27,9 @@ mod toml;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use environment::{
+    apply_env_arg, latlong_dir, latlong_lookup, latlong_uv, luminance, require_light, Environment,
+};
 pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
 pub use material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
@@ -235,6 +239,9 @@ pub enum LightShape {
         /// Irradiance on a surface facing the light, W/m^2 per channel.
         irradiance: Vec3,
     },
+    /// The environment ([`Environment`]): radiance from every direction a ray leaves the
+    /// scene in; the scene's last light. Its photons start as a directional light's do.
+    Environment(Environment),
 }
 
 impl LightShape {
@@ -256,7 +263,8 @@ pub struct Light {
     pub shape: LightShape,
     /// Emitted power per channel (W): 4 pi I for a point light, pi A L for a one-sided
     /// emitter, I [`SpotCone::solid_angle`] for a spot light, E pi R^2 for a directional light
-    /// (R the radius of [`Scene::bounding_sphere`]).
+    /// (R the radius of [`Scene::bounding_sphere`]), pi R^2 times the radiance's integral
+    /// over directions for the environment.
     pub power: Vec3,
 }
 

@@ -32,6 +32,7 @@ struct RawScene {
     shapes: Vec<Spanned<RawTable>>,
     #[serde(default)]
     lights: Vec<Spanned<RawTable>>,
+    environment: Option<Spanned<RawTable>>,
 }
 
 /// `[camera]` keys besides the settings whose table is `camera` (width, height).
@@ -118,7 +119,48 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     for (i, l) in raw.lights.iter().enumerate() {
         light(&Tab::new(&cx, format!("lights[{i}]"), l), &mut b)?;
     }
+    if let Some(e) = &raw.environment {
+        environment(&Tab::new(&cx, "environment".into(), e), base_dir, &mut b)?;
+    }
     b.finish(&no_camera)
+}
+
+/// `[environment]`: `radiance = [r, g, b]` (constant), or `filename` (a lat-long image,
+/// relative to the scene's directory) with an optional `scale` and `rotate_y` (degrees).
+fn environment(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
+    t.only(
+        &["radiance", "filename", "scale", "rotate_y"],
+        |_| false,
+        "",
+    )?;
+    let radiance = t.color("radiance", None)?;
+    let file = t.string("filename")?;
+    let (radiance, image, name) = match (radiance, file) {
+        (Some(_), Some(_)) => {
+            return Err(t.fail("filename", "give `radiance` or `filename`, not both"))
+        }
+        (None, None) => return Err(t.fail("radiance", "missing field `radiance` (or `filename`)")),
+        (Some(r), None) => {
+            if t.get("scale").is_some() {
+                return Err(t.fail("scale", "only with `filename`"));
+            }
+            (r, None, "radiance")
+        }
+        (None, Some(file)) => {
+            let image =
+                crate::texture::Texture::load(&base_dir.join(file), crate::texture::Encoding::Srgb)
+                    .map_err(|e| t.fail("filename", e.to_string()))?;
+            let scale = t.num("scale")?.unwrap_or(1.0);
+            (Vec3::splat(scale), Some(image), "scale")
+        }
+    };
+    let angle = t.num("rotate_y")?.unwrap_or(0.0);
+    let at = |part: Part, message: String| match part {
+        Part::Geometry => t.fail("rotate_y", message),
+        _ => t.fail(name, message),
+    };
+    let to_world = glam::Mat3::from_rotation_y(angle.to_radians());
+    b.set_environment(radiance, image, to_world, &at)
 }
 
 /// A `[[lights]]` table: a point, spot or directional light.

@@ -3,14 +3,17 @@
 //! channel, as in Mitsuba. A `spot` (cone along its `to_world`'s +Z) keeps its angles:
 //! `beam_width` becomes the inner and `cutoff_angle` the outer half-angle of our glTF-style
 //! falloff, which is quadratic in the cosine between them where Mitsuba's is linear in the
-//! angle, so a spot with a transition band is approximated (a warning says so).
+//! angle, so a spot with a transition band is approximated (a warning says so). `constant`
+//! (`radiance`, default 1) and `envmap` (`filename` of a lat-long image, `scale`, `to_world`'s
+//! rotation) are the environment (`crate::scene::Environment`).
 
 use super::plugin::Plugin;
 use super::Importer;
 use crate::error::Result;
 use crate::scene::locate::{Locate, Part};
 use crate::scene::SpotLight;
-use glam::{Mat4, Vec3};
+use crate::texture::{Encoding, Texture};
+use glam::{Mat3, Mat4, Vec3};
 use roxmltree::Node;
 
 /// Mitsuba's default `cutoff_angle` of a spot, degrees.
@@ -22,6 +25,9 @@ impl Importer<'_> {
         let cx = &self.cx;
         let p = Plugin::new(cx, node, field.to_string())?;
         let kind = p.kind.as_str();
+        if matches!(kind, "constant" | "envmap") {
+            return self.environment(node, field, p);
+        }
         if !matches!(kind, "point" | "spot" | "directional") {
             let message = match kind {
                 "area" => "an `area` emitter must be inside a <shape>".to_string(),
@@ -107,5 +113,41 @@ impl Importer<'_> {
                 self.b.add_directional_light(direction, color, &at)
             }
         }
+    }
+}
+
+impl Importer<'_> {
+    /// `<emitter type="constant|envmap">`: the environment.
+    fn environment(&mut self, node: Node, field: &str, p: Plugin) -> Result<()> {
+        let cx = &self.cx;
+        if let Some(extra) = p.objects.first() {
+            let tag = extra.tag_name().name();
+            let message = format!("unsupported <{tag}> in a {} emitter", p.kind);
+            return Err(cx.err(*extra, field, message));
+        }
+        let (radiance, image, name) = if p.kind == "constant" {
+            let radiance = p.emission(cx, "radiance")?.unwrap_or(Vec3::ONE);
+            (radiance, None, "radiance")
+        } else {
+            let Some(file) = p.string(cx, "filename")? else {
+                return Err(cx.err(node, &p.at("filename"), "missing"));
+            };
+            let image = Texture::load(&cx.resolve(&file), Encoding::Srgb)
+                .map_err(|e| cx.err(p.node_of("filename"), &p.at("filename"), e.to_string()))?;
+            let scale = p.float(cx, "scale")?.unwrap_or(1.0);
+            (Vec3::splat(scale), Some(image), "scale")
+        };
+        let to_world = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        p.done(cx)?;
+        let at = |part: Part, message: String| {
+            let name = if part == Part::Geometry {
+                "to_world"
+            } else {
+                name
+            };
+            cx.err(p.node_of(name), &p.at(name), message)
+        };
+        let to_world = Mat3::from_mat4(to_world);
+        self.b.set_environment(radiance, image, to_world, &at)
     }
 }
