@@ -3,7 +3,7 @@
 //! diffuse or glossy hit. Both backends read this plan; neither re-derives it.
 
 use crate::geometry::Aabb;
-use crate::light::{scalar_power, specular_bounds, split_budget};
+use crate::light::{scalar_power, specular_bounds, split_budget, LightTable};
 use crate::photon::{Budget, Photon};
 use crate::rng::Stream;
 use crate::scene::Scene;
@@ -90,7 +90,8 @@ pub struct MapPlan {
 }
 
 impl MapPlan {
-    /// Plans the maps of a render of `scene` with `s` (pilot photons included).
+    /// Plans the maps of a render of `scene` (its light tables `table`) with `s` (pilot
+    /// photons included).
     ///
     /// - The global map: in every mode that estimates indirect light from photons, when the
     ///   scene has a light.
@@ -102,7 +103,7 @@ impl MapPlan {
     ///   photons (shadow rays do that light); `photon` and `direct` drop L S+ D photons when
     ///   the caustic map carries them. `gather` keeps every photon: its radiance cache is the
     ///   whole outgoing light where gather rays land.
-    pub fn new(scene: &Scene, s: &RenderSettings) -> Self {
+    pub fn new(scene: &Scene, table: &LightTable, s: &RenderSettings) -> Self {
         let uses_global = matches!(
             s.mode,
             Mode::Photon | Mode::Direct | Mode::Gather | Mode::GlobalOnly
@@ -119,7 +120,6 @@ impl MapPlan {
         .then(|| {
             let powers: Vec<f64> = scene.lights.iter().map(|l| scalar_power(l.power)).collect();
             let wanted = split_budget(&powers, s.caustic_photons);
-            let table = crate::light::LightTable::new(scene);
             let attempts = wanted
                 .iter()
                 .enumerate()
@@ -128,7 +128,7 @@ impl MapPlan {
                         return 0;
                     }
                     let frac =
-                        aim_fraction(scene, &table, l, &bounds, s.seed).max(1.0 / MAX_AIM_FACTOR);
+                        aim_fraction(scene, table, l, &bounds, s.seed).max(1.0 / MAX_AIM_FACTOR);
                     ((n as f64 / frac).ceil()).min(u32::MAX as f64 / 4.0) as u32
                 })
                 .collect();
@@ -188,13 +188,7 @@ impl StoreFilter {
 
 /// Fraction of light `l`'s emissions that enter `bounds`, from pilot photons (a
 /// deterministic function of the scene and seed).
-fn aim_fraction(
-    scene: &Scene,
-    table: &crate::light::LightTable,
-    l: usize,
-    bounds: &[Aabb],
-    seed: u32,
-) -> f64 {
+fn aim_fraction(scene: &Scene, table: &LightTable, l: usize, bounds: &[Aabb], seed: u32) -> f64 {
     use crate::rng::Rng;
     let hits = (0..PILOT_PHOTONS)
         .filter(|&i| {

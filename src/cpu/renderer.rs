@@ -43,7 +43,7 @@ impl<'s> CpuRenderer<'s> {
         let bvh = Bvh::build(scene);
         let lights = LightTable::new(scene);
         report.phase("build BVH", t);
-        let plan = MapPlan::new(scene, settings);
+        let plan = MapPlan::new(scene, &lights, settings);
         Ok(CpuRenderer {
             scene,
             bvh,

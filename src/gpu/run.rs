@@ -34,6 +34,8 @@ pub struct GpuRun {
     pub params: GpuParams,
     /// The current pass's plan.
     pub plan: MapPlan,
+    /// The scene's light sampling tables, built once (each pass re-plans from them).
+    pub table: LightTable,
     /// Maps of earlier passes, reused when a pass needs buffers of the same sizes (so
     /// memory stays flat over passes).
     pub map_cache: Vec<MapBuffers>,
@@ -66,7 +68,7 @@ impl GpuRun {
             (pipelines, scene_side)
         });
         let pipelines = pipelines?;
-        let (plan, params, scene_buffers) = scene_side?;
+        let (plan, table, params, scene_buffers) = scene_side?;
         let cache = cache_buffers(&ctx.device, 1);
         Ok(GpuRun {
             ctx,
@@ -75,6 +77,7 @@ impl GpuRun {
             pipelines,
             params,
             plan,
+            table,
             map_cache: Vec::new(),
             cache,
             knn,
@@ -84,9 +87,8 @@ impl GpuRun {
     /// Re-plans the photon budgets for settings `s` and pass index `pass` (the RNG's pass),
     /// rewriting the lights and parameters on the device; pipelines and geometry stay.
     pub fn configure_pass(&mut self, scene: &Scene, s: &RenderSettings, pass: u32) {
-        let table = LightTable::new(scene);
-        let plan = MapPlan::new(scene, s);
-        let lights = budgeted_lights(scene, &table, &plan);
+        let plan = MapPlan::new(scene, &self.table, s);
+        let lights = budgeted_lights(scene, &self.table, &plan);
         self.params = gpu_params(scene, s, pass, self.params.n_bounds);
         if !lights.is_empty() {
             self.ctx.queue.write_buffer(
@@ -123,10 +125,10 @@ impl GpuRun {
         scene: &Scene,
         s: &RenderSettings,
         pass: u32,
-    ) -> Result<(MapPlan, GpuParams, SceneBuffers)> {
+    ) -> Result<(MapPlan, LightTable, GpuParams, SceneBuffers)> {
         let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
         let table = LightTable::new(scene);
-        let plan = MapPlan::new(scene, s);
+        let plan = MapPlan::new(scene, &table, s);
         let lights = budgeted_lights(scene, &table, &plan);
         let bounds: Vec<GpuAabb> = plan
             .map(crate::plan::MapKind::Caustic)
@@ -145,7 +147,7 @@ impl GpuRun {
         let buffers = SceneBuffers::new(
             ctx, layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
         )?;
-        Ok((plan, params, buffers))
+        Ok((plan, table, params, buffers))
     }
 
     /// An absent map (`paths == 0`), bound where a mode or scene has none.
