@@ -395,7 +395,7 @@ impl Importer<'_> {
                     uvs,
                     corners: &corners,
                 };
-                tangents::primitive_tangents(&primitive, &self.buffers, &v, world).map_err(&fail)?
+                tangents::primitive_tangents(primitive, &self.buffers, &v, world).map_err(&fail)?
             }
             _ => vec![],
         };
