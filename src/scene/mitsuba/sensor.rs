@@ -11,6 +11,7 @@ use super::values::Cx;
 use super::Importer;
 use crate::error::Result;
 use crate::scene::builder::SceneBuilder;
+use crate::settings::split_samples;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -33,10 +34,10 @@ impl Importer<'_> {
                 "sampler" => {
                     let s = Plugin::new(cx, *child, sub)?;
                     s.setting(cx, "sample_count", "spp", self.b.settings())?;
-                    // `sample_count` is the author's total per pixel: our default render
-                    // spreads it over its progressive passes.
+                    // `sample_count` is the author's total per pixel: passes x spp equals
+                    // it exactly (`settings::split_samples`).
                     let settings = self.b.settings();
-                    settings.spp = settings.spp.div_ceil(settings.passes.max(1));
+                    (settings.passes, settings.spp) = split_samples(settings.spp, settings.passes);
                     s.ignore(&["seed"]);
                     s.done(cx)?;
                 }
