@@ -286,6 +286,9 @@ impl Scene {
                 forward: -Vec3::Z,
                 right: Vec3::X,
                 up: Vec3::Y,
+                aperture_radius: 0.0,
+                focus_distance: 1.0,
+                filter: crate::pixel_filter::PixelFilter::Box,
             },
             materials: vec![],
             triangles: vec![],
@@ -336,18 +339,9 @@ impl Scene {
     /// the diagonal of their bounding box, the radius grown by 0.1% (and 1e-4) so that a
     /// directional light's photons start clear of the scene. `(0, 0)` for an empty scene.
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for t in &self.triangles {
-            lo = lo.min(t.v0).min(t.v1).min(t.v2);
-            hi = hi.max(t.v0).max(t.v1).max(t.v2);
-        }
-        for s in &self.spheres {
-            lo = lo.min(s.center - s.radius);
-            hi = hi.max(s.center + s.radius);
-        }
-        if lo.x > hi.x {
+        let Some((lo, hi)) = bounds_of(&self.triangles, &self.spheres) else {
             return (Vec3::ZERO, 0.0);
-        }
+        };
         let centre = 0.5 * (lo + hi);
         (centre, 0.5 * (hi - lo).length() * 1.001 + 1e-4)
     }
@@ -355,4 +349,15 @@ impl Scene {
     pub fn total_power(&self) -> Vec3 {
         self.lights.iter().map(|l| l.power).sum()
     }
+}
+
+/// The bounding box `(min, max)` of `triangles` and `spheres`; `None` when both are empty.
+pub(crate) fn bounds_of(triangles: &[Triangle], spheres: &[Sphere]) -> Option<(Vec3, Vec3)> {
+    let corners = triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2]);
+    let balls = spheres
+        .iter()
+        .flat_map(|s| [s.center - s.radius, s.center + s.radius]);
+    corners.chain(balls).fold(None, |b, p| {
+        Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
+    })
 }
