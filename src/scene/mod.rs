@@ -345,6 +345,31 @@ impl Scene {
         let centre = 0.5 * (lo + hi);
         (centre, 0.5 * (hi - lo).length() * 1.001 + 1e-4)
     }
+    /// The scene's size class: the power of two at or below the half-diagonal of its bounding
+    /// box (1 when it is empty or a point). Scenes of half-diagonal 1 to 2, such as the Cornell
+    /// box's [-1, 1]^3, have 1; the same scene in millimetres has 1024.
+    pub fn size_unit(&self) -> f32 {
+        let half = bounds_of(&self.triangles, &self.spheres)
+            .map_or(0.0, |(lo, hi)| 0.5 * (hi - lo).length());
+        if !(half > 0.0 && half.is_finite()) {
+            return 1.0;
+        }
+        2f32.powi(half.log2().floor() as i32)
+    }
+    /// Multiplies the search radii the scene file left at their defaults (`radius`,
+    /// `caustic_radius`; `given`: which the file set) by [`Scene::size_unit`] when it is above
+    /// 1, so that a larger scene renders as it would in smaller units. Never down: the radii
+    /// are caps on searches the photon density sizes, harmless when large. A power of two, so
+    /// scenes of size class 1 or below keep them exactly.
+    pub fn scale_default_radii(&mut self, given: [bool; 2]) {
+        let unit = self.size_unit().max(1.0);
+        if !given[0] {
+            self.settings.radius *= unit;
+        }
+        if !given[1] {
+            self.settings.caustic_radius *= unit;
+        }
+    }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.lights.iter().map(|l| l.power).sum()

@@ -129,7 +129,14 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     for (i, l) in raw.lights.iter().enumerate() {
         light(&Tab::new(&cx, format!("lights[{i}]"), l), &mut b)?;
     }
-    b.finish(&no_camera)
+    let mut scene = b.finish(&no_camera)?;
+    let given = |key| {
+        raw.render
+            .as_ref()
+            .is_some_and(|r| r.get_ref().contains_key(key))
+    };
+    scene.scale_default_radii([given("radius"), given("caustic_radius")]);
+    Ok(scene)
 }
 
 /// A `[[lights]]` table: a point, spot or directional light.

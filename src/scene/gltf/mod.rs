@@ -117,7 +117,9 @@ pub fn load_slice(
         let (eye, target) = fit_view(min, max, s.width as f32 / s.height as f32);
         im.b.camera(eye, target, Vec3::Y, DEFAULT_FOV_Y, &at)?;
     }
-    im.b.finish(&at)
+    let mut scene = im.b.finish(&at)?;
+    scene.scale_default_radii([false, false]);
+    Ok(scene)
 }
 
 /// The file's name and JSON text (for the line of an item).
