@@ -406,7 +406,9 @@ fn profile(img: &Image) -> Vec<f64> {
 #[test]
 fn an_edge_through_a_gaussian_filter_has_the_filters_cdf_as_its_profile() {
     // Column i's samples fall at i + 0.5 + offset; the emitter is left of W / 2, so the column
-    // sees F(W / 2 - i - 0.5), F the CDF of the filter's density.
+    // sees F(W / 2 - i - 0.5), F the CDF of the filter's density. The 256 samples' x values
+    // are stratified in 256 intervals, so the profile is within ~1/256 of F (measured: 0.0018
+    // for both gaussians on both backends, 0 for the tent and the box).
     let (w, h, spp) = (16, 2, 256);
     for (camera, f) in [
         (
@@ -428,11 +430,15 @@ fn an_edge_through_a_gaussian_filter_has_the_filters_cdf_as_its_profile() {
         let s = edge_settings(&scene, spp);
         for backend in backends() {
             let got = profile(&run(&scene, &s, backend));
+            let worst = (0..w as usize)
+                .map(|i| (got[i] - mitsuba_cdf(f, w as f64 / 2.0 - i as f64 - 0.5)).abs())
+                .fold(0.0, f64::max);
+            eprintln!("{f:?} {backend:?}: largest |profile - CDF| {worst:.5}");
             for (i, g) in got.iter().enumerate() {
                 let t = w as f64 / 2.0 - i as f64 - 0.5;
                 let want = mitsuba_cdf(f, t);
                 assert!(
-                    (g - want).abs() < 0.01,
+                    (g - want).abs() < 0.006,
                     "{f:?} {backend:?} column {i}: {g:.4}, the CDF gives {want:.4}\n{got:.4?}"
                 );
             }
@@ -465,6 +471,7 @@ fn a_thin_lens_keeps_the_focus_plane_sharp_and_blurs_by_the_circle_of_confusion(
         for backend in backends() {
             let img = run(&scene, &s, backend);
             let got = profile(&img);
+            let mut worst = 0f64;
             for (i, g) in got.iter().enumerate() {
                 // Box jitter u in [0, 1) and the lens's offset, uniform on a disc of radius
                 // `coc`: the column's value is the mean over u of disc_cdf(W/2 - i - u).
@@ -480,13 +487,18 @@ fn a_thin_lens_keeps_the_focus_plane_sharp_and_blurs_by_the_circle_of_confusion(
                     })
                     .sum::<f64>()
                     / n as f64;
-                let tol = if coc == 0.0 { 1e-3 } else { 0.02 };
+                let tol = if coc == 0.0 { 1e-3 } else { 0.01 };
+                worst = worst.max((g - want).abs());
                 assert!(
                     (g - want).abs() < tol,
                     "focus {focus} {backend:?} column {i}: {g:.4}, expected {want:.4} \
                      (circle of confusion {coc:.3} px)\n{got:.4?}"
                 );
             }
+            eprintln!(
+                "focus {focus} {backend:?}: circle of confusion {coc:.3} px, largest |profile - \
+                 analytic| {worst:.5}"
+            );
             per_backend.push(img);
         }
         images.push(per_backend);
@@ -502,6 +514,7 @@ fn a_thin_lens_keeps_the_focus_plane_sharp_and_blurs_by_the_circle_of_confusion(
             .collect();
         let max = diff.iter().copied().fold(0.0, f32::max);
         let mean = diff.iter().sum::<f32>() / diff.len() as f32;
+        eprintln!("thin lens CPU vs GPU: largest pixel difference {max}, mean {mean:.2e}");
         assert!(
             max <= 2.0 / spp as f32 + 1e-5 && mean < 1e-3,
             "CPU vs GPU: max {max}, mean {mean}"
