@@ -204,14 +204,20 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         jitter.x = rng_next(&rng);
         jitter.y = rng_next(&rng);
     }
-    let fx = jitter.x;
-    let fy = jitter.y;
-    let w = f32(params.width);
-    let h = f32(params.height);
-    let sx = (2.0 * (f32(px) + fx) / w - 1.0) * (w / h);
-    let sy = 1.0 - 2.0 * (f32(py) + fy) / h;
-    var d = normalize(params.forward + sx * params.right + sy * params.up);
-    var o = params.eye;
+    // The pixel filter warps the jitter; a thin lens draws its aperture sample next.
+    let j = filter_jitter(params.pixel_filter, params.filter_param, jitter);
+    var lens = vec2<f32>(0.0);
+    if params.aperture_radius > 0.0 {
+        if first_shade {
+            lens = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_LENS);
+        } else {
+            lens.x = rng_next(&rng);
+            lens.y = rng_next(&rng);
+        }
+    }
+    let cam = camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
+    var d = cam.dir;
+    var o = cam.origin;
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var depth = 0u;

@@ -25,6 +25,7 @@ pub mod light;
 pub mod material;
 pub mod merge;
 pub mod photon;
+pub mod pixel_filter;
 pub mod plan;
 pub mod progressive;
 pub mod read;

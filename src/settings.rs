@@ -108,6 +108,26 @@ impl RenderSettings {
     }
 }
 
+/// Fewest samples per pixel a pass gets when a total sample count is split over passes
+/// ([`split_samples`]).
+pub const MIN_PASS_SPP: u32 = 16;
+
+/// A total of `total` samples per pixel (Mitsuba's `sample_count`) as `(passes, spp)` with
+/// `passes * spp == total` exactly: the most passes `p <= max_passes` that divide `total`
+/// with `total / p >= MIN_PASS_SPP`, else one pass of `total` (so 256 -> 4 x 64, 100 -> 4 x
+/// 25, 48 -> 3 x 16, 40 -> 2 x 20, 8 -> 1 x 8, 257 -> 1 x 257). `max_passes` 0 (one classic
+/// pass) gives `(0, total)`.
+pub fn split_samples(total: u32, max_passes: u32) -> (u32, u32) {
+    if max_passes == 0 {
+        return (0, total);
+    }
+    let p = (2..=max_passes.min(total / MIN_PASS_SPP))
+        .rev()
+        .find(|&p| total.is_multiple_of(p))
+        .unwrap_or(1);
+    (p, total / p)
+}
+
 /// Largest accepted progressive pass count (pass indices leave the RNG's top 8 bits free).
 pub const MAX_PASSES: u32 = u32::MAX >> 8;
 /// Largest accepted image side, in pixels.

@@ -48,6 +48,9 @@ pub const DIM_LIGHT_THIRD: u32 = 4;
 /// Camera pass: the pair of the gather ray's direction `(u1, u2)` at that first hit.
 pub const PAIR_GATHER: u32 = 3;
 
+/// Camera pass: the pair of a thin lens's aperture sample (pinhole cameras draw none).
+pub const PAIR_LENS: u32 = 4;
+
 /// The key of one pixel's sequence: a hash of (seed, pixel).
 #[inline]
 pub fn pixel_key(seed: u32, pixel: u32) -> u32 {

@@ -189,7 +189,8 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Params",
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
-                n_triangles, terms, caustic_weight, sampler, _pad2),
+                n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
+                aperture_radius, focus_distance, _pad2),
         ),
         (
             "MapParams",
@@ -622,6 +623,11 @@ fn shared_constants_agree() {
         "SOBOL_PAIR_LIGHT",
         "SOBOL_DIM_LIGHT_THIRD",
         "SOBOL_PAIR_GATHER",
+        "SOBOL_PAIR_LENS",
+        "PIXEL_FILTER_BOX",
+        "PIXEL_FILTER_TENT",
+        "PIXEL_FILTER_GAUSSIAN",
+        "ERF_2_SQRT_2",
         "LIGHT_SPOT",
         "LIGHT_DIRECTIONAL",
         "SPOT_MIN_RAMP",
@@ -688,6 +694,14 @@ fn shared_constants_agree() {
         (
             "SOBOL_PAIR_GATHER",
             Literal::U32(gpu_photon::sobol::PAIR_GATHER),
+        ),
+        (
+            "SOBOL_PAIR_LENS",
+            Literal::U32(gpu_photon::sobol::PAIR_LENS),
+        ),
+        (
+            "ERF_2_SQRT_2",
+            Literal::F32(gpu_photon::pixel_filter::ERF_2_SQRT_2),
         ),
     ];
     let mut check = |kernel: Kernel, name: &str, rust: Literal| match constant(module(kernel), name)

@@ -251,9 +251,10 @@ fn fov_axis_converts_to_the_vertical_fov() {
         // Identity to_world: at the origin, looking down +z, +y up.
         assert!(close(s.scene.camera.forward, Vec3::Z, 1e-6));
         assert!(close(s.scene.camera.right.normalize(), Vec3::NEG_X, 1e-6));
-        // No rfilter: Mitsuba's default gaussian, approximated by our box, with a warning.
-        assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
-        assert!(s.warnings[0].starts_with("t.xml:2: sensor[0].film: no rfilter"));
+        // No rfilter: Mitsuba's default gaussian (stddev 0.5), no warning.
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let gaussian = gpu_photon::pixel_filter::PixelFilter::Gaussian { stddev: 0.5 };
+        assert_eq!(s.scene.camera.filter, gaussian);
     }
 }
 
@@ -545,7 +546,7 @@ fn malformed_documents_and_sensors() {
         ("<scen/>", "t.xml:1: scene: the root element must be <scene>, found <scen>"),
         (
             "<scene>\n<sensor type=\"orthographic\"/></scene>",
-            "t.xml:2: sensor[0]: unsupported sensor `orthographic` (only `perspective`)",
+            "t.xml:2: sensor[0]: unsupported sensor `orthographic` (`perspective`, `thinlens`)",
         ),
         (
             "<scene>\n<sensor type=\"perspective\"><float name=\"fov\" value=\"180\"/></sensor></scene>",

@@ -488,3 +488,35 @@ fn any_integrator_is_one_warning() {
         assert_eq!(im.warnings, vec![want]);
     }
 }
+
+/// `sample_count` is the total per pixel: the planned passes x spp equals it exactly
+/// (`settings::split_samples`: the most passes up to 4 that divide it with at least 16 spp
+/// each, else one pass).
+#[test]
+fn sample_count_is_the_total_over_the_planned_passes() {
+    for (count, passes, spp) in [
+        (256, 4, 64),
+        (64, 4, 16),
+        (100, 4, 25),
+        (48, 3, 16),
+        (40, 2, 20),
+        (16, 1, 16),
+        (8, 1, 8),
+        (1, 1, 1),
+        (257, 1, 257),
+    ] {
+        let text = format!(
+            r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/>
+<sampler type="independent"><integer name="sample_count" value="{count}"/></sampler>
+<film type="hdrfilm"><rfilter type="box"/></film></sensor></scene>"#
+        );
+        let s = import(&text, "t.xml", Path::new("."))
+            .unwrap()
+            .scene
+            .settings;
+        assert_eq!((s.passes, s.spp), (passes, spp), "sample_count {count}");
+        assert_eq!(s.passes * s.spp, count);
+        // What `gpu-photon render` runs: passes 0..passes at spp each.
+        assert_eq!(s.as_default_render().pass_range, Some((0, passes)));
+    }
+}

@@ -211,6 +211,39 @@ height = 0  #! camera.height | 1..=16384
 eye = [0, 0, 3]
 target = [0, 0, 0]
 fov = 40
+filter = "mitchell"  #! camera.filter | must be one of "box", "tent", "gaussian"
+---
+[camera]
+eye = [0, 0, 3]
+target = [0, 0, 0]
+fov = 40
+filter = "gaussian"
+filter_radius = 2  #! camera.filter_radius | only with filter = "tent"
+---
+[camera]
+eye = [0, 0, 3]
+target = [0, 0, 0]
+fov = 40
+filter = "gaussian"
+filter_stddev = 0  #! camera.filter_stddev | must be positive
+---
+[camera]
+eye = [0, 0, 3]
+target = [0, 0, 0]
+fov = 40
+aperture_radius = -0.1  #! camera.aperture_radius | must be 0 (a pinhole) or positive
+---
+[camera]
+eye = [0, 0, 3]
+target = [0, 0, 0]
+fov = 40
+aperture_radius = 0.1
+focus_distance = -2  #! camera.focus_distance | must be positive
+---
+[camera]
+eye = [0, 0, 3]
+target = [0, 0, 0]
+fov = 40
 height = 256.0  #! camera.height | must be an integer
 ---
 [render]

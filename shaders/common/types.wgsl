@@ -147,6 +147,10 @@ struct Params {
     terms: u32,
     caustic_weight: f32,
     sampler: u32,
+    pixel_filter: u32,
+    filter_param: f32,
+    aperture_radius: f32,
+    focus_distance: f32,
     _pad2: u32,
 }
 

@@ -23,7 +23,8 @@ use crate::scene::NO_LIGHT;
 use crate::settings::{RenderSettings, Sampler};
 use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::sobol::{
-    sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LIGHT,
+    sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LENS,
+    PAIR_LIGHT,
 };
 use glam::Vec3;
 
@@ -78,24 +79,23 @@ impl Gatherer<'_> {
                 pass,
                 pixel_index.wrapping_mul(s.spp).wrapping_add(i),
             );
-            let stream = sobol.stream(i);
+            let st = sobol.stream(i);
             // `sampler = "independent"`: the jitter, light and gather numbers from the RNG.
-            let (mut stream, (fx, fy)) = match s.sampler {
-                Sampler::Sobol => (
-                    Some(stream),
-                    sample_pair(stream.key, stream.index, PAIR_JITTER),
-                ),
+            let (mut stream, (u1, u2)) = match s.sampler {
+                Sampler::Sobol => (Some(st), sample_pair(st.key, st.index, PAIR_JITTER)),
                 Sampler::Independent => (None, rng.next2()),
             };
-            let dir = self
-                .scene
-                .camera
-                .direction(x as f32 + fx, y as f32 + fy, s.width, s.height);
+            // The pixel filter warps the jitter; a thin lens draws its aperture sample next.
+            let cam = &self.scene.camera;
+            let (fx, fy) = cam.filter.jitter(u1, u2);
+            let lens = match (cam.is_thin_lens(), s.sampler) {
+                (false, _) => (0.0, 0.0),
+                (true, Sampler::Sobol) => sample_pair(st.key, st.index, PAIR_LENS),
+                (true, Sampler::Independent) => rng.next2(),
+            };
+            let (origin, dir) = cam.ray(x as f32 + fx, y as f32 + fy, s.width, s.height, lens);
             sum += self.radiance(
-                &Ray {
-                    origin: self.scene.camera.eye,
-                    dir,
-                },
+                &Ray { origin, dir },
                 0,
                 &mut rng,
                 &mut stream,

@@ -4,6 +4,7 @@
 //! declarations that `shaders.rs` puts before every kernel, so no WGSL file types one by hand
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
+use crate::pixel_filter::PixelFilter;
 use crate::scene::MaterialKind;
 use crate::settings::{Filter, FresnelMode, Sampler};
 use crate::shading::{class_of, SurfaceClass};
@@ -337,10 +338,22 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("PI", F32(std::f32::consts::PI)),
         ("INV_CONE_K", F32(crate::estimate::INV_CONE_K)),
         ("CONE_NORM", F32(crate::estimate::CONE_NORM)),
+        ("SQRT_2", F32(std::f32::consts::SQRT_2)),
         ("SOBOL_PAIR_JITTER", U32(crate::sobol::PAIR_JITTER)),
         ("SOBOL_PAIR_LIGHT", U32(crate::sobol::PAIR_LIGHT)),
         ("SOBOL_DIM_LIGHT_THIRD", U32(crate::sobol::DIM_LIGHT_THIRD)),
         ("SOBOL_PAIR_GATHER", U32(crate::sobol::PAIR_GATHER)),
+        ("SOBOL_PAIR_LENS", U32(crate::sobol::PAIR_LENS)),
+        ("PIXEL_FILTER_BOX", U32(PixelFilter::Box.code())),
+        (
+            "PIXEL_FILTER_TENT",
+            U32(PixelFilter::Tent { radius: 1.0 }.code()),
+        ),
+        (
+            "PIXEL_FILTER_GAUSSIAN",
+            U32(PixelFilter::Gaussian { stddev: 1.0 }.code()),
+        ),
+        ("ERF_2_SQRT_2", F32(crate::pixel_filter::ERF_2_SQRT_2)),
     ]
 }
 

@@ -63,6 +63,10 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
         n_bounds,
         n_triangles: scene.triangles.len() as u32,
         terms: terms_bits(Terms::of(s.mode)),
+        pixel_filter: c.filter.code(),
+        filter_param: c.filter.param(),
+        aperture_radius: c.aperture_radius,
+        focus_distance: c.focus_distance,
         ..Default::default()
     }
 }

@@ -36,6 +36,7 @@ const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
 const SOBOL: &str = include_str!("../../shaders/common/sobol.wgsl");
+const CAMERA: &str = include_str!("../../shaders/common/camera.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
@@ -45,7 +46,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 26] = [
+pub const WGSL_FILES: [(&str, &str); 27] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -63,6 +64,8 @@ pub const WGSL_FILES: [(&str, &str); 26] = [
     ("common/estimate.wgsl", ESTIMATE),
     // Composed by `crate::sobol::wgsl_library()` (behind its generated direction table).
     ("common/sobol.wgsl", SOBOL),
+    // Composed by `crate::pixel_filter::wgsl_library()` (behind its generated polynomials).
+    ("common/camera.wgsl", CAMERA),
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
     ("radiance_cache.wgsl", RADIANCE_CACHE),
@@ -155,11 +158,14 @@ impl Kernel {
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.
         let sobol = crate::sobol::wgsl_library();
+        // The camera ray: the pixel filter's jitter and the thin lens.
+        let camera = crate::pixel_filter::wgsl_library();
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
             Kernel::BuildGrid => &[MAP, BUILD_GRID],
             Kernel::Gather => &[
                 &sobol,
+                &camera,
                 ESTIMATE,
                 RADIANCE_CACHE,
                 CACHE_BUILD,

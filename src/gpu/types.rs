@@ -223,6 +223,14 @@ pub struct GpuParams {
     pub caustic_weight: f32,
     /// A SAMPLER_* code.
     pub sampler: u32,
+    /// The camera's pixel filter (`PixelFilter::code`).
+    pub pixel_filter: u32,
+    /// Its parameter (`PixelFilter::param`).
+    pub filter_param: f32,
+    /// The camera's aperture radius (0: a pinhole).
+    pub aperture_radius: f32,
+    /// The camera's focus distance.
+    pub focus_distance: f32,
     /// Padding.
     pub _pad2: u32,
 }

@@ -30,6 +30,7 @@ use super::normals::{is_flat, unit_normals};
 use super::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
 use crate::camera::Camera;
 use crate::error::Result;
+use crate::pixel_filter::PixelFilter;
 use crate::settings::RenderSettings;
 use crate::texture::SceneTexture;
 use glam::{Mat3, Vec2, Vec3};
@@ -89,10 +90,11 @@ pub struct SceneBuilder {
     uvs: Vec<[Vec2; 3]>,
     pub(super) tangents: Vec<super::VertexTangents>,
     textures: Vec<SceneTexture>,
-    spheres: Vec<Sphere>,
+    pub(super) spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
     pub(super) environment: Option<super::Environment>,
     settings: RenderSettings,
+    optics: Option<(PixelFilter, f32, f32)>,
 }
 
 impl SceneBuilder {
@@ -134,6 +136,12 @@ impl SceneBuilder {
         })?;
         self.camera = Some(camera);
         Ok(())
+    }
+
+    /// The camera's pixel filter, aperture radius (0: a pinhole) and focus distance, which
+    /// `finish` gives the camera (checked by the importer that read them).
+    pub fn optics(&mut self, filter: PixelFilter, aperture_radius: f32, focus_distance: f32) {
+        self.optics = Some((filter, aperture_radius, focus_distance));
     }
 
     /// Adds `material` (materials get indices in the order they are added); with a `name`,
@@ -340,9 +348,13 @@ impl SceneBuilder {
     /// The scene; without a camera, an error on [`Part::Camera`]. Directional lights get
     /// their power here: `irradiance * pi R^2`, R the radius of [`Scene::bounding_sphere`].
     pub fn finish(mut self, at: &dyn Locate) -> Result<Scene> {
-        let Some(camera) = self.camera else {
+        let Some(mut camera) = self.camera else {
             return Err(at.error(Part::Camera, "the scene has no camera".into()));
         };
+        if let Some((filter, aperture, focus)) = self.optics {
+            (camera.filter, camera.aperture_radius, camera.focus_distance) =
+                (filter, aperture, focus);
+        }
         if !self.uvs.is_empty() {
             self.uvs.resize(self.triangles.len(), [Vec2::ZERO; 3]);
         }

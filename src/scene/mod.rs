@@ -306,6 +306,9 @@ impl Scene {
                 forward: -Vec3::Z,
                 right: Vec3::X,
                 up: Vec3::Y,
+                aperture_radius: 0.0,
+                focus_distance: 1.0,
+                filter: crate::pixel_filter::PixelFilter::Box,
             },
             materials: vec![],
             triangles: vec![],
@@ -357,23 +360,50 @@ impl Scene {
     /// the diagonal of their bounding box, the radius grown by 0.1% (and 1e-4) so that a
     /// directional light's photons start clear of the scene. `(0, 0)` for an empty scene.
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for t in &self.triangles {
-            lo = lo.min(t.v0).min(t.v1).min(t.v2);
-            hi = hi.max(t.v0).max(t.v1).max(t.v2);
-        }
-        for s in &self.spheres {
-            lo = lo.min(s.center - s.radius);
-            hi = hi.max(s.center + s.radius);
-        }
-        if lo.x > hi.x {
+        let Some((lo, hi)) = bounds_of(&self.triangles, &self.spheres) else {
             return (Vec3::ZERO, 0.0);
-        }
+        };
         let centre = 0.5 * (lo + hi);
         (centre, 0.5 * (hi - lo).length() * 1.001 + 1e-4)
+    }
+    /// The scene's size class: the power of two at or below the half-diagonal of its bounding
+    /// box (1 when it is empty or a point). Scenes of half-diagonal 1 to 2, such as the Cornell
+    /// box's [-1, 1]^3, have 1; the same scene in millimetres has 1024.
+    pub fn size_unit(&self) -> f32 {
+        let half = bounds_of(&self.triangles, &self.spheres)
+            .map_or(0.0, |(lo, hi)| 0.5 * (hi - lo).length());
+        if !(half > 0.0 && half.is_finite()) {
+            return 1.0;
+        }
+        2f32.powi(half.log2().floor() as i32)
+    }
+    /// Multiplies the search radii the scene file left at their defaults (`radius`,
+    /// `caustic_radius`; `given`: which the file set) by [`Scene::size_unit`] when it is above
+    /// 1, so that a larger scene renders as it would in smaller units. Never down: the radii
+    /// are caps on searches the photon density sizes, harmless when large. A power of two, so
+    /// scenes of size class 1 or below keep them exactly.
+    pub fn scale_default_radii(&mut self, given: [bool; 2]) {
+        let unit = self.size_unit().max(1.0);
+        if !given[0] {
+            self.settings.radius *= unit;
+        }
+        if !given[1] {
+            self.settings.caustic_radius *= unit;
+        }
     }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.lights.iter().map(|l| l.power).sum()
     }
+}
+
+/// The bounding box `(min, max)` of `triangles` and `spheres`; `None` when both are empty.
+pub(crate) fn bounds_of(triangles: &[Triangle], spheres: &[Sphere]) -> Option<(Vec3, Vec3)> {
+    let corners = triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2]);
+    let balls = spheres
+        .iter()
+        .flat_map(|s| [s.center - s.radius, s.center + s.radius]);
+    corners.chain(balls).fold(None, |b, p| {
+        Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
+    })
 }

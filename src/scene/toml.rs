@@ -13,6 +13,7 @@ use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
 use super::{mesh_file, Material, Scene, SpotLight};
 use crate::error::Result;
+use crate::pixel_filter::{PixelFilter, FILTER_NAMES};
 use crate::scene::file;
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, SETTINGS};
 use glam::Vec3;
@@ -36,7 +37,17 @@ struct RawScene {
 }
 
 /// `[camera]` keys besides the settings whose table is `camera` (width, height).
-const CAMERA_KEYS: &[&str] = &["eye", "target", "up", "fov"];
+const CAMERA_KEYS: &[&str] = &[
+    "eye",
+    "target",
+    "up",
+    "fov",
+    "filter",
+    "filter_radius",
+    "filter_stddev",
+    "aperture_radius",
+    "focus_distance",
+];
 /// `[render]` keys besides the settings whose table is `render`.
 const RENDER_NAMES: &[&str] = &["mode", "filter", "fresnel", "sampler"];
 const MATERIAL_TYPES: &Types = &[
@@ -122,7 +133,14 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     if let Some(e) = &raw.environment {
         environment(&Tab::new(&cx, "environment".into(), e), base_dir, &mut b)?;
     }
-    b.finish(&no_camera)
+    let mut scene = b.finish(&no_camera)?;
+    let given = |key| {
+        raw.render
+            .as_ref()
+            .is_some_and(|r| r.get_ref().contains_key(key))
+    };
+    scene.scale_default_radii([given("radius"), given("caustic_radius")]);
+    Ok(scene)
 }
 
 /// `[environment]`: `radiance = [r, g, b]` (constant), or `filename` (a lat-long image,
@@ -233,7 +251,38 @@ fn camera(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         geometry: "eye",
         emission: "eye",
     };
-    b.camera(eye, target, up, fov, &at)
+    b.camera(eye, target, up, fov, &at)?;
+    let filter = pixel_filter(t)?;
+    let aperture = t.num("aperture_radius")?.unwrap_or(0.0);
+    if aperture < 0.0 {
+        return Err(t.fail("aperture_radius", "must be 0 (a pinhole) or positive"));
+    }
+    let focus = t
+        .positive("focus_distance")?
+        .unwrap_or((target - eye).length());
+    b.optics(filter, aperture, focus);
+    Ok(())
+}
+
+/// `filter` (`"box"`, `"tent"` with `filter_radius`, `"gaussian"` with `filter_stddev`;
+/// Mitsuba's defaults 1 and 0.5).
+fn pixel_filter(t: &Tab) -> Result<PixelFilter> {
+    let known = |f: &str| FILTER_NAMES.iter().copied().find(|n| *n == f);
+    let kind = t.parse("filter", &FILTER_NAMES, known)?;
+    for (key, owner) in [("filter_radius", "tent"), ("filter_stddev", "gaussian")] {
+        if t.get(key).is_some() && kind != Some(owner) {
+            return Err(t.fail(key, format!("only with filter = \"{owner}\"")));
+        }
+    }
+    Ok(match kind.unwrap_or("box") {
+        "tent" => PixelFilter::Tent {
+            radius: t.positive("filter_radius")?.unwrap_or(1.0),
+        },
+        "gaussian" => PixelFilter::Gaussian {
+            stddev: t.positive("filter_stddev")?.unwrap_or(0.5),
+        },
+        _ => PixelFilter::Box,
+    })
 }
 
 fn render(t: &Tab, s: &mut RenderSettings) -> Result<()> {

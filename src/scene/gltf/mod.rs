@@ -10,8 +10,9 @@
 //! smooth-shaded; without them it is flat. Texture coordinates (`TEXCOORD_n`, n the set the
 //! material's textures read, `material::uv_texture`, else 0) are kept as glTF gives them
 //! (uv (0, 0) at the image's top-left, as ours). Materials and their textures are added by
-//! `surface.rs`. The camera is the first met in the traversal, or
-//! the one named; `KHR_lights_punctual` lights are converted from photometric units at
+//! `surface.rs`. The camera is the first met in the traversal, or the one named; without
+//! one, the Khronos glTF-Sample-Viewer's default view of the scene's bounds
+//! ([`crate::camera::fit_view`]); `KHR_lights_punctual` lights are converted from photometric units at
 //! 683 lm/W (point and spot from candela to W/sr, directional from lux to W/m^2), spot and
 //! directional lights shining along their node's -Z axis. Errors are [`Error::Scene`]
 //! naming the file, the JSON line of the item (0 where
@@ -29,6 +30,7 @@ mod texture;
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
 use super::{Scene, SpotLight};
+use crate::camera::{fit_view, DEFAULT_FOV_Y};
 use crate::error::{Error, Result};
 use crate::scene::file;
 use glam::{Mat4, Vec3};
@@ -106,7 +108,19 @@ pub fn load_slice(
     if let (Some(name), false) = (camera, im.has_camera) {
         return Err(cx.err("cameras", format!("no camera named `{name}` in the scene")));
     }
-    im.b.finish(&|_: Part, m: String| cx.err("cameras", m))
+    let at = |_: Part, m: String| cx.err("cameras", m);
+    // No camera: the glTF-Sample-Viewer's default view of the scene's bounds.
+    if let (false, Some((min, max))) = (
+        im.has_camera,
+        super::bounds_of(&im.b.triangles, &im.b.spheres),
+    ) {
+        let s = im.b.settings();
+        let (eye, target) = fit_view(min, max, s.width as f32 / s.height as f32);
+        im.b.camera(eye, target, Vec3::Y, DEFAULT_FOV_Y, &at)?;
+    }
+    let mut scene = im.b.finish(&at)?;
+    scene.scale_default_radii([false, false]);
+    Ok(scene)
 }
 
 /// The file's name and JSON text (for the line of an item).

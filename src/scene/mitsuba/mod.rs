@@ -193,8 +193,10 @@ pub fn import_with(
     if sensor.is_none() {
         return Err(im.cx.err(root, "scene", "the scene has no <sensor>"));
     }
+    let mut scene = im.b.finish(&at)?;
+    scene.scale_default_radii([false, false]);
     Ok(Imported {
-        scene: im.b.finish(&at)?,
+        scene,
         warnings: im.warnings,
     })
 }

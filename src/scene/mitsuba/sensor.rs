@@ -1,5 +1,6 @@
-//! Mitsuba's `sensor` (a `perspective` camera with its `hdrfilm` and `sampler`) and the
-//! `integrator`, which only gives hints: any type renders with our technique.
+//! Mitsuba's `sensor` (a `perspective` or `thinlens` camera with its `hdrfilm`, `rfilter`
+//! and `sampler`) and the `integrator`, which only gives hints: any type renders with our
+//! technique.
 //!
 //! The field of view is converted exactly: Mitsuba's `fov` spans the `fov_axis` (`x`, `y`,
 //! `diagonal`, `smaller` or `larger` of the film) and ours is vertical, so
@@ -10,7 +11,9 @@ use super::plugin::Plugin;
 use super::values::Cx;
 use super::Importer;
 use crate::error::Result;
+use crate::pixel_filter::PixelFilter;
 use crate::scene::builder::SceneBuilder;
+use crate::settings::split_samples;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -19,24 +22,29 @@ impl Importer<'_> {
     pub(super) fn sensor(&mut self, node: Node, field: &str) -> Result<()> {
         let cx = &self.cx;
         let p = Plugin::new(cx, node, field.to_string())?;
-        if p.kind != "perspective" {
-            let message = format!("unsupported sensor `{}` (only `perspective`)", p.kind);
+        if p.kind != "perspective" && p.kind != "thinlens" {
+            let message = format!(
+                "unsupported sensor `{}` (`perspective`, `thinlens`)",
+                p.kind
+            );
             return Err(cx.err(node, field, message));
         }
+        // Mitsuba's film when the file gives none: its default rfilter is a gaussian.
+        let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
         // Mitsuba's film size when the file gives none.
         self.b.settings().width = 768;
         self.b.settings().height = 576;
         for child in &p.objects {
             let sub = format!("{field}.{}", child.tag_name().name());
             match child.tag_name().name() {
-                "film" => film(cx, *child, sub, &mut self.warnings, &mut self.b)?,
+                "film" => filter = film(cx, *child, sub, &mut self.warnings, &mut self.b)?,
                 "sampler" => {
                     let s = Plugin::new(cx, *child, sub)?;
                     s.setting(cx, "sample_count", "spp", self.b.settings())?;
-                    // `sample_count` is the author's total per pixel: our default render
-                    // spreads it over its progressive passes.
+                    // `sample_count` is the author's total per pixel: passes x spp equals
+                    // it exactly (`settings::split_samples`).
                     let settings = self.b.settings();
-                    settings.spp = settings.spp.div_ceil(settings.passes.max(1));
+                    (settings.passes, settings.spp) = split_samples(settings.spp, settings.passes);
                     s.ignore(&["seed"]);
                     s.done(cx)?;
                 }
@@ -100,16 +108,29 @@ impl Importer<'_> {
         };
         let fov_y = 2.0 * ty.atan().to_degrees();
         let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
-        // Clipping planes and a focus distance change nothing for our pinhole; Mitsuba's
-        // checks on them are kept.
+        // Clipping planes change nothing for us; Mitsuba's checks on them are kept. A
+        // perspective camera's focus distance is read and ignored; a thin lens's defaults to
+        // far_clip (Mitsuba's), its aperture radius is required.
         let near = p.positive(cx, "near_clip", 1e-2)?;
         let far = p.float(cx, "far_clip")?.unwrap_or(1e4);
         if far <= near {
             let message = format!("must be greater than near_clip ({near})");
             return Err(cx.err(p.node_of("far_clip"), &p.at("far_clip"), message));
         }
-        p.float(cx, "focus_distance")?;
+        let focus = p.positive(cx, "focus_distance", far)?;
+        let aperture = match p.kind.as_str() {
+            "thinlens" => {
+                let Some(a) = p.float(cx, "aperture_radius")?.filter(|a| *a >= 0.0) else {
+                    let message = "a thinlens needs an aperture_radius >= 0";
+                    let at = p.node_of("aperture_radius");
+                    return Err(cx.err(at, &p.at("aperture_radius"), message));
+                };
+                a
+            }
+            _ => 0.0,
+        };
         p.done(cx)?;
+        self.b.optics(filter, aperture, focus);
         let eye = m.transform_point3(Vec3::ZERO);
         let forward = m.transform_vector3(Vec3::Z);
         let up = m.transform_vector3(Vec3::Y);
@@ -150,14 +171,16 @@ impl Importer<'_> {
     }
 }
 
-/// `<film type="hdrfilm">`: the image size; a non-box `rfilter` is approximated by our box.
+/// `<film type="hdrfilm">`: the image size and the pixel filter: `box`, `tent` (`radius`,
+/// default 1), `gaussian` (`stddev`, default 0.5, also without an `rfilter`); another
+/// `rfilter` is approximated by our box, with a warning.
 fn film(
     cx: &Cx,
     node: Node,
     field: String,
     warnings: &mut Vec<String>,
     b: &mut SceneBuilder,
-) -> Result<()> {
+) -> Result<PixelFilter> {
     let f = Plugin::new(cx, node, field)?;
     if f.kind != "hdrfilm" {
         let message = format!("unsupported film `{}` (only `hdrfilm`)", f.kind);
@@ -167,10 +190,7 @@ fn film(
     f.setting(cx, "height", "height", b.settings())?;
     f.ignore(&["pixel_format", "file_format", "component_format"]);
     f.done(cx)?;
-    if f.objects.is_empty() {
-        let what = "no rfilter: Mitsuba's default `gaussian` approximated by a one-pixel box";
-        warnings.push(format!("{}: {}: {what}", cx.loc(node), f.field));
-    }
+    let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
     for child in &f.objects {
         let sub = format!("{}.{}", f.field, child.tag_name().name());
         if child.tag_name().name() != "rfilter" {
@@ -178,12 +198,22 @@ fn film(
             return Err(cx.err(*child, &f.field, message));
         }
         let r = Plugin::new(cx, *child, sub.clone())?;
-        r.ignore(&["radius", "stddev", "B", "C", "lobes"]);
+        filter = match r.kind.as_str() {
+            "box" => PixelFilter::Box,
+            "tent" => PixelFilter::Tent {
+                radius: r.positive(cx, "radius", 1.0)?,
+            },
+            "gaussian" => PixelFilter::Gaussian {
+                stddev: r.positive(cx, "stddev", 0.5)?,
+            },
+            other => {
+                r.ignore(&["radius", "B", "C", "lobes"]);
+                let what = format!("pixel filter `{other}` approximated by a one-pixel box");
+                warnings.push(format!("{}: {sub}: {what}", cx.loc(*child)));
+                PixelFilter::Box
+            }
+        };
         r.done(cx)?;
-        if r.kind != "box" {
-            let what = format!("pixel filter `{}` approximated by a one-pixel box", r.kind);
-            warnings.push(format!("{}: {sub}: {what}", cx.loc(*child)));
-        }
     }
-    Ok(())
+    Ok(filter)
 }
