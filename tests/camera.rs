@@ -20,7 +20,6 @@ use gpu_photon::scene::{load, load_str, Scene};
 use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::Path;
-use wgpu::util::DeviceExt;
 
 /// Mitsuba 3's filter (`src/rfilters/*.cpp`) at `x`, unnormalised: box 1 on [-0.5, 0.5),
 /// tent `max(0, 1 - |x| / r)`, gaussian `max(0, exp(-x^2 / (2 s^2)) - exp(-(4 s)^2 / (2 s^2)))`.
@@ -179,81 +178,21 @@ fn cpu(q: &Query) -> [f32; 8] {
 }
 
 fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[f32; 8]> {
-    let dev = &ctx.device;
     let source = [
         gpu_photon::gpu::codes::wgsl_prelude(),
         gpu_photon::pixel_filter::wgsl_library(),
         PROBE.to_string(),
     ]
     .join("\n");
-    let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("camera probe"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("probe_camera"),
-        layout: None,
-        module: &module,
-        entry_point: Some("probe_camera"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    if let Some(e) = pollster::block_on(scope.pop()) {
-        panic!("camera probe pipeline: {e}");
-    }
-    let inputs = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("camera queries"),
-        contents: bytemuck::cast_slice(queries),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let bytes = (queries.len() * 32) as u64;
-    let results = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("camera results"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("camera readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("camera probe bind group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: inputs.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: results.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("camera probe"),
-    });
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("camera probe"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&results, 0, &staging, 0, bytes);
-    ctx.queue.submit([enc.finish()]);
-    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping the results"));
-    dev.poll(wgpu::PollType::wait_indefinitely())
-        .expect("waiting for the device");
-    ctx.check().expect("device error");
-    let view = staging.get_mapped_range(..).expect("mapped results");
-    bytemuck::cast_slice(&view).to_vec()
+    let bytes = common::run_probe(
+        ctx,
+        &source,
+        "probe_camera",
+        bytemuck::cast_slice(queries),
+        queries.len() as u32,
+        (queries.len() * 32) as u64,
+    );
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 #[test]

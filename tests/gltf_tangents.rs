@@ -10,10 +10,7 @@ mod common;
 use glam::{Quat, Vec2, Vec3, Vec4};
 use gpu_photon::bvh::Bvh;
 use gpu_photon::geometry::Ray;
-use gpu_photon::report::Progress;
 use gpu_photon::scene::{load, Scene};
-use gpu_photon::session::{render, Backend};
-use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 
 fn dir() -> PathBuf {
@@ -222,24 +219,6 @@ fn a_mirroring_node_mirrors_the_frame() {
     }
 }
 
-/// Direct light on the quad, 4 spp at 24 x 24, CPU and (with a device) GPU.
-fn direct(s: &Scene) -> (gpu_photon::film::Image, Option<gpu_photon::film::Image>) {
-    let settings = RenderSettings {
-        width: 24,
-        height: 24,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
-    let (cpu, _) = render(s, &settings, Backend::Cpu, Progress::default()).unwrap();
-    let gpu = common::gpu().map(|_| {
-        render(s, &settings, Backend::Gpu, Progress::default())
-            .unwrap()
-            .0
-    });
-    (cpu, gpu)
-}
-
 fn mean(img: &gpu_photon::film::Image) -> f32 {
     img.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / img.pixels.len() as f32
 }
@@ -248,13 +227,10 @@ fn mean(img: &gpu_photon::film::Image) -> f32 {
 /// image) and generated ones render as on the CPU, up to f32 rounding.
 #[test]
 fn tangents_render_alike_on_both_backends() {
-    let along_x = direct(&loaded(
-        &File::new(Some(Vec4::new(1.0, 0.0, 0.0, 1.0))).write("gx.gltf"),
-    ));
-    let along_y = direct(&loaded(
-        &File::new(Some(Vec4::new(0.0, 1.0, 0.0, 1.0))).write("gy.gltf"),
-    ));
-    let mikk = direct(&loaded(&File::new(None).write("gm.gltf")));
+    let direct = |f: File, name: &str| common::direct_renders(&loaded(&f.write(name)), 24);
+    let along_x = direct(File::new(Some(Vec4::new(1.0, 0.0, 0.0, 1.0))), "gx.gltf");
+    let along_y = direct(File::new(Some(Vec4::new(0.0, 1.0, 0.0, 1.0))), "gy.gltf");
+    let mikk = direct(File::new(None), "gm.gltf");
     // Lit from +x, a normal tilted to +x is brighter than one tilted to -x.
     let (a, b) = (mean(&along_x.0), mean(&along_y.0));
     assert!(a > 1.1 * b, "the tangent turns the normal: {a} vs {b}");

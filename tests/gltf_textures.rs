@@ -316,7 +316,7 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     write("quad3.png", &png());
     let s = loaded(&File::new(r#"{"uri": "quad3.png"}"#).write("render.gltf"));
     let side = 32;
-    let (img, gpu) = direct_renders(&s, side);
+    let (img, gpu) = common::direct_renders(&s, side);
     let factor = Vec3::new(1.0, 0.5, 0.25);
     // Image quadrants (top-left, top-right, bottom-left, bottom-right) against texels in
     // file order: the image's top row is the texture's first, its left column the first.
@@ -346,28 +346,6 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     }
 }
 
-/// Direct-light renders of `s` at `side` x `side`, 4 spp, on the CPU and (where there is a
-/// device) on the GPU, with the same random numbers.
-fn direct_renders(
-    s: &Scene,
-    side: u32,
-) -> (gpu_photon::film::Image, Option<gpu_photon::film::Image>) {
-    let settings = RenderSettings {
-        width: side,
-        height: side,
-        spp: 4,
-        mode: Mode::DirectOnly,
-        ..s.settings.clone()
-    };
-    let (cpu, _) = render(s, &settings, Backend::Cpu, Progress::default()).unwrap();
-    let gpu = common::gpu().map(|_| {
-        render(s, &settings, Backend::Gpu, Progress::default())
-            .unwrap()
-            .0
-    });
-    (cpu, gpu)
-}
-
 /// A metallic-roughness material with every texture it reads (the 2x2 image as base colour,
 /// metalness in blue and roughness in green, normal map, transmission, specular and specular
 /// colour) loads them, and the GPU renders it as the CPU does: the same texels and the same
@@ -392,7 +370,7 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
         "{:?}",
         m.gltf_textures
     );
-    let (cpu, gpu) = direct_renders(&s, 24);
+    let (cpu, gpu) = common::direct_renders(&s, 24);
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
     assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");
     if let Some(gpu) = gpu {

@@ -9,7 +9,6 @@ use bytemuck::{Pod, Zeroable};
 use common::{gpu, TestRng};
 use gpu_photon::gpu::GpuContext;
 use gpu_photon::sobol::{wgsl_library, SobolSampler, INDEX_BITS};
-use wgpu::util::DeviceExt;
 
 /// One probe input; the twin of `Query` in [`PROBE`].
 #[repr(C)]
@@ -77,84 +76,21 @@ fn cpu(q: &Query) -> [u32; 7] {
 
 /// Runs the probe kernel over `queries` on the device.
 fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 7]> {
-    let dev = &ctx.device;
     let source = [
         include_str!("../shaders/common/rng.wgsl"),
         &wgsl_library(),
         PROBE,
     ]
     .join("\n");
-    let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("sobol probe"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("probe_sobol"),
-        layout: None,
-        module: &module,
-        entry_point: Some("probe_sobol"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    if let Some(e) = pollster::block_on(scope.pop()) {
-        panic!("sobol probe pipeline: {e}");
-    }
-    let storage = |label: &str, bytes: &[u8]| {
-        dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytes,
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-    };
-    let inputs = storage("sobol queries", bytemuck::cast_slice(queries));
-    let bytes = (queries.len() * 28) as u64;
-    let results = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sobol results"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sobol readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sobol probe bind group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: inputs.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: results.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("sobol probe"),
-    });
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sobol probe"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&results, 0, &staging, 0, bytes);
-    ctx.queue.submit([enc.finish()]);
-    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping the results"));
-    dev.poll(wgpu::PollType::wait_indefinitely())
-        .expect("waiting for the device");
-    ctx.check().expect("device error");
-    let view = staging.get_mapped_range(..).expect("mapped results");
-    bytemuck::cast_slice(&view).to_vec()
+    let bytes = common::run_probe(
+        ctx,
+        &source,
+        "probe_sobol",
+        bytemuck::cast_slice(queries),
+        queries.len() as u32,
+        (queries.len() * 28) as u64,
+    );
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 /// Edge tuples (block and dimension-copy boundaries, wrapping passes, extreme keys) and random

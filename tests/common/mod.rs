@@ -241,3 +241,112 @@ pub fn downsample(img: &gpu_photon::film::Image, f: u32) -> gpu_photon::film::Im
     }
     out
 }
+
+/// Runs WGSL compute entry point `entry` of `source` (bindings 0: the read-only `inputs`,
+/// 1: the read-write results, `result_bytes` long) over `n` queries in workgroups of 64, and
+/// returns the results' bytes: the device half of a device = Rust oracle test.
+pub fn run_probe(
+    ctx: &GpuContext,
+    source: &str,
+    entry: &str,
+    inputs: &[u8],
+    n: u32,
+    result_bytes: u64,
+) -> Vec<u8> {
+    use wgpu::util::DeviceExt;
+    let dev = &ctx.device;
+    let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(entry),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        panic!("{entry} pipeline: {e}");
+    }
+    let inputs = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe queries"),
+        contents: inputs,
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let buffer = |label: &str, usage| {
+        dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: result_bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let results = buffer(
+        "probe results",
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    );
+    let staging = buffer(
+        "probe readback",
+        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+    );
+    let bind_group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe bind group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: inputs.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: results.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc =
+        dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(entry) });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(entry),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&results, 0, &staging, 0, result_bytes);
+    ctx.queue.submit([enc.finish()]);
+    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("mapping the results"));
+    dev.poll(wgpu::PollType::wait_indefinitely())
+        .expect("waiting for the device");
+    ctx.check().expect("device error");
+    let view = staging.get_mapped_range(..).expect("mapped results");
+    view.to_vec()
+}
+
+/// Direct-light renders of `s` at `side` x `side`, 4 spp, on the CPU and (where there is a
+/// device) on the GPU, with the same random numbers.
+pub fn direct_renders(
+    s: &Scene,
+    side: u32,
+) -> (gpu_photon::film::Image, Option<gpu_photon::film::Image>) {
+    use gpu_photon::report::Progress;
+    use gpu_photon::session::{render, Backend};
+    let settings = RenderSettings {
+        width: side,
+        height: side,
+        spp: 4,
+        mode: gpu_photon::settings::Mode::DirectOnly,
+        ..s.settings.clone()
+    };
+    let (cpu, _) = render(s, &settings, Backend::Cpu, Progress::default()).unwrap();
+    let gpu = gpu().map(|_| {
+        render(s, &settings, Backend::Gpu, Progress::default())
+            .unwrap()
+            .0
+    });
+    (cpu, gpu)
+}
