@@ -466,8 +466,8 @@ fn malformed_files_name_file_line_and_field() {
             "",
         ),
         (
-            r#"<emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#,
-            "t.xml:4: emitter[0]: unsupported emitter `envmap`",
+            r#"<emitter type="projector"><string name="filename" value="slide.png"/></emitter>"#,
+            "t.xml:4: emitter[0]: unsupported emitter `projector`",
         ),
         (
             r#"<bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf>"#,
