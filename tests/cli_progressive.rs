@@ -14,7 +14,8 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-fn render(out: &Path, extra: &[&str]) -> std::process::Output {
+/// The small caustics render every test here runs, with `extra` flags, writing `out`.
+fn render_command(out: &Path, extra: &[&str]) -> Command {
     let mut c = bin();
     c.args(["render", "scenes/cornell-caustics.toml", "-o"])
         .arg(out);
@@ -33,7 +34,12 @@ fn render(out: &Path, extra: &[&str]) -> std::process::Output {
         "2000",
         "-q",
     ]);
-    c.args(extra).output().unwrap()
+    c.args(extra);
+    c
+}
+
+fn render(out: &Path, extra: &[&str]) -> std::process::Output {
+    render_command(out, extra).output().unwrap()
 }
 
 fn tag(path: &Path, key: &str) -> Option<String> {
@@ -178,20 +184,7 @@ fn interrupt_writes_the_passes_done() {
 fn time_budget_stops_passes() {
     let d = tmp("time");
     let out = d.join("t.exr");
-    let mut c = bin();
-    c.args(["render", "scenes/cornell-caustics.toml", "-o"])
-        .arg(&out)
-        .args(["--backend", "cpu", "--width", "24", "--height", "24"])
-        .args([
-            "--spp",
-            "1",
-            "--photons",
-            "5000",
-            "--caustic-photons",
-            "2000",
-        ])
-        .args(["--time", "1", "-q"]);
-    let mut child = c.spawn().unwrap();
+    let mut child = render_command(&out, &["--time", "1"]).spawn().unwrap();
     let start = std::time::Instant::now();
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {

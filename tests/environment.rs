@@ -808,17 +808,7 @@ fn gpu_renders_the_envlight_scene_as_the_cpu_does() {
         caustic_photons: 50_000,
         ..settings(&scene, 32, 16, Mode::Gather)
     };
-    let at = |seed: u32, backend: Backend| {
-        let s = RenderSettings { seed, ..s.clone() };
-        render(&scene, &s, backend, Progress::default()).unwrap().0
-    };
-    let (cpu, cpu2, gpu) = (
-        at(1, Backend::Cpu),
-        at(2, Backend::Cpu),
-        at(1, Backend::Gpu),
-    );
-    let noise = gpu_photon::film::diff(&cpu2, &cpu, 8).unwrap();
-    let d = gpu_photon::film::diff(&gpu, &cpu2, 8).unwrap();
+    let (d, noise) = common::gpu_and_seed_diffs(&scene, &s);
     eprintln!("envlight 32x32: gpu vs cpu seed 2 {d:?}, cpu seeds {noise:?}");
     let (pixels, blocks) = common::within_seed_noise(&d, &noise, 1e-4);
     assert!(pixels && blocks, "gpu {d:?} vs seeds {noise:?}");

@@ -234,17 +234,7 @@ fn smooth_and_anisotropic_kinds_agree_across_backends() {
             ..scene.settings.clone()
         }
         .as_default_render();
-        let at = |seed: u32, backend: Backend| {
-            let s = RenderSettings { seed, ..s.clone() };
-            render(&scene, &s, backend, Progress::default()).unwrap().0
-        };
-        let (cpu, cpu2, gpu) = (
-            at(1, Backend::Cpu),
-            at(2, Backend::Cpu),
-            at(1, Backend::Gpu),
-        );
-        let noise = diff(&cpu2, &cpu, 8).unwrap();
-        let d = diff(&gpu, &cpu2, 8).unwrap();
+        let (d, noise) = common::gpu_and_seed_diffs(&scene, &s);
         // The CPU splits delta branches near the camera where the GPU picks one, so the two
         // are independent estimates of the same image: no farther apart than two seeds.
         let (pixels, blocks) = common::within_seed_noise(&d, &noise, 1e-4);

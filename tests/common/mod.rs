@@ -350,3 +350,23 @@ pub fn direct_renders(
     });
     (cpu, gpu)
 }
+
+/// The GPU's render of `s` (seed 1) against the CPU's with seed 2, and the two CPU seeds'
+/// own difference: the yardstick of [`within_seed_noise`] (`(gpu vs cpu seed 2, cpu seed 2
+/// vs seed 1)`, 8 x 8 blocks).
+pub fn gpu_and_seed_diffs(scene: &Scene, s: &RenderSettings) -> (DiffStats, DiffStats) {
+    use gpu_photon::report::Progress;
+    use gpu_photon::session::{render, Backend};
+    let at = |seed: u32, backend: Backend| {
+        let s = RenderSettings { seed, ..s.clone() };
+        render(scene, &s, backend, Progress::default()).unwrap().0
+    };
+    let (cpu, cpu2, gpu) = (
+        at(1, Backend::Cpu),
+        at(2, Backend::Cpu),
+        at(1, Backend::Gpu),
+    );
+    let noise = gpu_photon::film::diff(&cpu2, &cpu, 8).unwrap();
+    let d = gpu_photon::film::diff(&gpu, &cpu2, 8).unwrap();
+    (d, noise)
+}
