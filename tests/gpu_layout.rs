@@ -178,7 +178,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Light",
             fields!(GpuLight: position, kind, intensity, first, global_power, count, caustic_power, cdf_start,
                 area, global_offset, global_count, caustic_offset, caustic_count, cos_inner, cos_outer,
-                radius, direction, emission_texture, texture_mean, _pad0),
+                radius, direction, emission_texture, texture_mean, spot_profile),
         ),
         ("Aabb", fields!(GpuAabb: bmin, _pad0, bmax, _pad1)),
         (

@@ -11,7 +11,7 @@ use gpu_photon::camera::Camera;
 use gpu_photon::film::{diff, Image};
 use gpu_photon::report::Progress;
 use gpu_photon::scene::mitsuba::import;
-use gpu_photon::scene::{load, load_str, LightShape, Scene, SpotCone};
+use gpu_photon::scene::{load, load_str, LightShape, Scene, SpotCone, SpotFalloff};
 use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
@@ -201,9 +201,18 @@ const SPOT_H: f64 = 1.0;
 const INNER: f32 = 20.0;
 const OUTER: f32 = 30.0;
 
+/// The TOML name of a spot falloff.
+fn falloff_name(f: SpotFalloff) -> &'static str {
+    match f {
+        SpotFalloff::Gltf => "gltf",
+        SpotFalloff::LinearAngle => "linear-angle",
+    }
+}
+
 /// A 2.4 x 2.4 white plane at y = 0 under a spot at height 1 pointing straight down, seen
 /// from straight above (so each pixel is a square of the plane; the view is 2 x 2).
-fn spot_plane() -> Scene {
+fn spot_plane(falloff: SpotFalloff) -> Scene {
+    let falloff = falloff_name(falloff);
     scene(&format!(
         r#"[camera]
 eye = [0.0, 3.0, 0.0]
@@ -224,6 +233,7 @@ target = [0.0, 0.0, 0.0]
 intensity = [12.0, 10.0, 8.0]
 inner_angle = {INNER}
 outer_angle = {OUTER}
+falloff = "{falloff}"
 "#
     ))
 }
@@ -237,16 +247,41 @@ fn gltf_att(cd: f64, inner: f64, outer: f64) -> f64 {
     (cd * scale + offset).clamp(0.0, 1.0).powi(2)
 }
 
+/// The falloff of Mitsuba 3's `spot` (`falloff_curve` in its spot.cpp), written out in f64:
+/// 1 inside `inner`, `(outer - theta) / (outer - inner)` between, 0 outside `outer`.
+fn linear_att(cd: f64, inner: f64, outer: f64) -> f64 {
+    let theta = cd.clamp(-1.0, 1.0).acos().to_degrees();
+    match theta {
+        t if t <= inner => 1.0,
+        t if t < outer => (outer - t) / (outer - inner),
+        _ => 0.0,
+    }
+}
+
+/// The falloff `f` at cosine `cd` (degrees `inner`, `outer`).
+fn att(f: SpotFalloff, cd: f64, inner: f64, outer: f64) -> f64 {
+    match f {
+        SpotFalloff::Gltf => gltf_att(cd, inner, outer),
+        SpotFalloff::LinearAngle => linear_att(cd, inner, outer),
+    }
+}
+
 /// Radiance at x on the plane under the spot, per W/sr: rho/pi att(h/d) h/d^3.
-fn spot_radiance(x: DVec3) -> f64 {
+fn spot_radiance(f: SpotFalloff, x: DVec3) -> f64 {
     let d = (DVec3::new(0.0, SPOT_H, 0.0) - x).length();
-    let att = gltf_att(SPOT_H / d, INNER as f64, OUTER as f64);
+    let att = att(f, SPOT_H / d, INNER as f64, OUTER as f64);
     ALBEDO / PI * att * SPOT_H / d.powi(3)
 }
 
 #[test]
 fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
-    let s = spot_plane();
+    for f in [SpotFalloff::Gltf, SpotFalloff::LinearAngle] {
+        spot_on_a_plane(f);
+    }
+}
+
+fn spot_on_a_plane(f: SpotFalloff) {
+    let s = spot_plane(f);
     let LightShape::Spot { intensity, .. } = s.lights[0].shape else {
         panic!("a spot")
     };
@@ -264,7 +299,7 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
                     let x = px as f64 + (i as f64 + 0.5) / n as f64;
                     let y = py as f64 + (j as f64 + 0.5) / n as f64;
                     let p = on_plane(&s.camera, size, size, x, y).unwrap();
-                    want += spot_radiance(p) / (n * n) as f64;
+                    want += spot_radiance(f, p) / (n * n) as f64;
                     nearest = nearest.min(DVec3::new(p.x, 0.0, p.z).length());
                 }
             }
@@ -272,7 +307,7 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
         }
     }
     let scale = intensity.to_array().map(|i| i as f64);
-    let peak = spot_radiance(DVec3::ZERO);
+    let peak = spot_radiance(f, DVec3::ZERO);
     let mean_want = exact.iter().map(|e| e.0).sum::<f64>() / exact.len() as f64;
     for backend in backends() {
         let img = run(&s, &small(Mode::Direct, 10_000, size, 64), backend);
@@ -295,7 +330,7 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
             }
         }
         eprintln!(
-            "spot {backend:?}: {black} black pixels; worst error / on-axis radiance: inside \
+            "spot {f:?} {backend:?}: {black} black pixels; worst error / on-axis radiance: inside \
              {axis:.2e}, across the edge {edge:.2e}"
         );
         assert!(
@@ -325,7 +360,7 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
         let rel = (0..3)
             .map(|c| (m[c] / scale[c] - mean_want).abs() / mean_want)
             .fold(0.0, f64::max);
-        eprintln!("spot photon {backend:?}: mean rel. error {rel:.4}");
+        eprintln!("spot photon {f:?} {backend:?}: mean rel. error {rel:.4}");
         assert!(rel < 0.016, "{backend:?}: photon-mode mean off by {rel}");
     }
 }
@@ -334,20 +369,33 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
 // The power photons carry
 // ---------------------------------------------------------------------------------------------
 
-/// `2 pi ∫ att(c) dc` over cosines `lo..hi` by the midpoint rule (f64).
-fn falloff_integral(inner: f64, outer: f64, lo: f64, hi: f64) -> f64 {
+/// `2 pi ∫ att(c) dc` of falloff `f` over cosines `lo..hi` by the midpoint rule (f64).
+fn falloff_integral(f: SpotFalloff, inner: f64, outer: f64, lo: f64, hi: f64) -> f64 {
     let n = 1_000_000;
     let sum: f64 = (0..n)
-        .map(|i| gltf_att(lo + (hi - lo) * (i as f64 + 0.5) / n as f64, inner, outer))
+        .map(|i| {
+            att(
+                f,
+                lo + (hi - lo) * (i as f64 + 0.5) / n as f64,
+                inner,
+                outer,
+            )
+        })
         .sum();
     2.0 * PI * sum * (hi - lo) / n as f64
 }
 
 #[test]
 fn spot_photons_carry_its_power_and_follow_its_falloff() {
+    for f in [SpotFalloff::Gltf, SpotFalloff::LinearAngle] {
+        spot_photons(f);
+    }
+}
+
+fn spot_photons(f: SpotFalloff) {
     // A spot inside a closed box: every photon's first hit is a wall, so the depth-0 photons
     // carry the emitted power, which must be I times the falloff's integral over the sphere.
-    let s = scene(
+    let s = scene(&format!(
         r#"[camera]
 eye = [0.0, 0.0, 0.5]
 target = [0.0, 0.0, 0.0]
@@ -367,9 +415,11 @@ direction = [1.0, -2.0, 0.5]
 intensity = [3.0, 2.0, 1.0]
 inner_angle = 15
 outer_angle = 40
+falloff = "{}"
 "#,
-    );
-    let omega = falloff_integral(15.0, 40.0, -1.0, 1.0);
+        falloff_name(f)
+    ));
+    let omega = falloff_integral(f, 15.0, 40.0, -1.0, 1.0);
     let LightShape::Spot {
         position,
         direction,
@@ -427,7 +477,7 @@ outer_angle = 40
     for (b, h) in hist.iter().enumerate() {
         let lo = co + (1.0 - co) * b as f64 / bins as f64;
         let hi = co + (1.0 - co) * (b + 1) as f64 / bins as f64;
-        let p = falloff_integral(15.0, 40.0, lo, hi) / omega;
+        let p = falloff_integral(f, 15.0, 40.0, lo, hi) / omega;
         let sigma = (p * (1.0 - p) / first.len() as f64).sqrt();
         eprintln!("bin {b}: {h:.5} of the photons, {p:.5} of the falloff (sigma {sigma:.1e})");
         assert!((h - p).abs() < 5.0 * sigma + 1e-5, "bin {b}: {h} vs {p}");
@@ -631,7 +681,8 @@ fn mitsuba_spot_and_directional_emitters_load() {
     assert!((position - Vec3::new(0.0, 2.0, 0.0)).length() < 1e-6);
     assert!((direction - Vec3::NEG_Y).length() < 1e-6, "{direction}");
     assert_eq!(intensity, Vec3::new(4.0, 3.0, 2.0));
-    assert_eq!(cone, SpotCone::from_degrees(10.0, 30.0));
+    let linear = SpotFalloff::LinearAngle;
+    assert_eq!(cone, SpotCone::with_profile(10.0, 30.0, linear));
     let LightShape::Directional {
         direction,
         irradiance,
@@ -649,16 +700,9 @@ fn mitsuba_spot_and_directional_emitters_load() {
     };
     assert_eq!(
         (direction, cone),
-        (Vec3::Z, SpotCone::from_degrees(15.0, 20.0))
+        (Vec3::Z, SpotCone::with_profile(15.0, 20.0, linear))
     );
-    // Both spots have a transition band: one warning each, naming the emitter.
-    assert_eq!(im.warnings.len(), 2, "{:?}", im.warnings);
-    assert!(im.warnings[0].starts_with("t.xml:4: emitter[0]: spot falloff approximated"));
-    // A hard-edged spot (beam width >= cutoff) is exact: no warning.
-    let im = mitsuba(
-        r#"<emitter type="spot"><rgb name="intensity" value="1"/><float name="cutoff_angle" value="30"/><float name="beam_width" value="30"/></emitter>"#,
-    )
-    .unwrap();
+    // Mitsuba's falloff is ours: nothing approximated, no warning.
     assert!(im.warnings.is_empty(), "{:?}", im.warnings);
 }
 

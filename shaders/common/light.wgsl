@@ -9,28 +9,60 @@ fn is_delta_light(l: Light) -> bool {
     return HAS_POINT_LIGHTS && (l.kind == LIGHT_POINT || l.kind == LIGHT_SPOT || l.kind == LIGHT_DIRECTIONAL);
 }
 
-// The spot falloff at cosine cd to the axis: glTF's reference form (SpotCone::falloff).
+// The spot falloff at cosine cd to the axis (SpotCone::falloff): glTF's reference form,
+// quadratic in the cosine, or Mitsuba's, linear in the angle.
 fn spot_falloff(l: Light, cd: f32) -> f32 {
+    if l.spot_profile == SPOT_LINEAR_ANGLE {
+        let inner = acos(l.cos_inner);
+        let outer = acos(l.cos_outer);
+        let ramp = clamp((outer - acos(clamp(cd, -1.0, 1.0))) / max(outer - inner, 1e-30), 0.0, 1.0);
+        return select(select(0.0, ramp, cd > l.cos_outer), 1.0, cd >= l.cos_inner);
+    }
     let scale = 1.0 / max(l.cos_inner - l.cos_outer, SPOT_MIN_RAMP);
     let offset = -l.cos_outer * scale;
     let a = clamp(cd * scale + offset, 0.0, 1.0);
     return a * a;
 }
 
+// The linear ramp's mass from the outer edge to x = outer - theta (spot::linear_ramp_mass).
+fn spot_linear_mass(outer: f32, x: f32) -> f32 {
+    return x * cos(outer - x) - 2.0 * cos(outer - 0.5 * x) * sin(0.5 * x);
+}
+
 // A cosine to the spot's axis drawn in proportion to the falloff (SpotCone::sample_cos):
-// the ramp holds (a - co)^3 / (3 w^2) of the falloff's integral over the cosine, the flat
-// top 1 - a.
+// glTF's ramp holds (a - co)^3 / (3 w^2) of the falloff's integral over the cosine, the flat
+// top 1 - a; the linear ramp's mass is bisected SPOT_BISECTIONS times.
 fn spot_cos(l: Light, u: f32) -> f32 {
     let co = l.cos_outer;
+    let linear = l.spot_profile == SPOT_LINEAR_ANGLE;
+    let inner = acos(l.cos_inner);
+    let outer = acos(co);
     let w = max(l.cos_inner - co, SPOT_MIN_RAMP);
-    let a = min(co + w, 1.0);
-    let ramp = (a - co) * (a - co) * (a - co) / (3.0 * w * w);
-    let t = u * (ramp + (1.0 - a));
-    var c = a + (t - ramp);
-    if t < ramp {
-        c = co + select(0.0, pow(3.0 * w * w * t, 1.0 / 3.0), t > 0.0);
+    var a = min(co + w, 1.0);
+    var ramp = (a - co) * (a - co) * (a - co) / (3.0 * w * w);
+    if linear {
+        a = l.cos_inner;
+        ramp = select(0.0, spot_linear_mass(outer, outer - inner) / (outer - inner), outer > inner);
     }
-    return min(c, 1.0);
+    let t = u * (ramp + (1.0 - a));
+    if t >= ramp {
+        return min(a + (t - ramp), 1.0);
+    }
+    if linear {
+        let want = t * (outer - inner);
+        var lo = 0.0;
+        var hi = outer - inner;
+        for (var i = 0u; i < SPOT_BISECTIONS; i++) {
+            let mid = 0.5 * (lo + hi);
+            if spot_linear_mass(outer, mid) < want {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        return min(cos(outer - 0.5 * (lo + hi)), 1.0);
+    }
+    return min(co + select(0.0, pow(3.0 * w * w * t, 1.0 / 3.0), t > 0.0), 1.0);
 }
 
 struct SurfacePoint {

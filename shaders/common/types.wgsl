@@ -103,7 +103,7 @@ struct Light {
     // Area light: its emission texture (NO_TEXTURE: none) and that texture's mean.
     emission_texture: u32,
     texture_mean: vec3<f32>,
-    _pad0: u32,
+    spot_profile: u32,
 }
 
 struct Aabb {

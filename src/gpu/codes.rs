@@ -269,6 +269,12 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
             U32(crate::environment::ENV_HEADER_WORDS),
         ),
         ("SPOT_MIN_RAMP", F32(crate::scene::SpotCone::MIN_RAMP)),
+        ("SPOT_BISECTIONS", U32(crate::scene::SpotCone::BISECTIONS)),
+        ("SPOT_GLTF", U32(crate::scene::SpotFalloff::Gltf.code())),
+        (
+            "SPOT_LINEAR_ANGLE",
+            U32(crate::scene::SpotFalloff::LinearAngle.code()),
+        ),
         ("FILTER_DISC", U32(FILTER_DISC)),
         ("FILTER_CONE", U32(FILTER_CONE)),
         ("FILTER_EPANECHNIKOV", U32(FILTER_EPANECHNIKOV)),

@@ -154,8 +154,8 @@ pub struct GpuLight {
     pub emission_texture: u32,
     /// Area light: the emission texture's mean over its surface (`LightTable::texture_mean`).
     pub texture_mean: [f32; 3],
-    /// Padding.
-    pub _pad0: u32,
+    /// Spot light: its falloff (`SpotFalloff::code`).
+    pub spot_profile: u32,
 }
 
 /// Twin of WGSL `Aabb`: a specular surface's bounds that caustic photons aim at.
@@ -444,6 +444,7 @@ pub fn lights(scene: &Scene, table: &crate::light::LightTable) -> Vec<GpuLight> 
                     g.intensity = intensity.to_array();
                     g.cos_inner = cone.cos_inner;
                     g.cos_outer = cone.cos_outer;
+                    g.spot_profile = cone.profile.code();
                 }
                 LightShape::Directional {
                     direction,

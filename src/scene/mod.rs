@@ -35,7 +35,7 @@ pub use locate::{Locate, Origin, Part};
 pub use material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
 pub use ply::{read_ply, PlyError, PlyMesh};
 pub use punctual::SpotLight;
-pub use spot::SpotCone;
+pub use spot::{SpotCone, SpotFalloff};
 pub use toml::load_str;
 
 use crate::error::{Error, Result};

@@ -6,7 +6,7 @@
 use super::builder::SceneBuilder;
 use super::checks::check_emission;
 use super::locate::{Locate, Part};
-use super::{Light, LightShape, SpotCone};
+use super::{Light, LightShape, SpotCone, SpotFalloff};
 use crate::error::Result;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -24,6 +24,8 @@ pub struct SpotLight {
     pub inner: f32,
     /// Outer half-angle in degrees: no light outside.
     pub outer: f32,
+    /// The ramp between the two (glTF's form by default).
+    pub falloff: SpotFalloff,
 }
 
 impl SceneBuilder {
@@ -73,7 +75,7 @@ impl SceneBuilder {
             );
             return Err(at.error(Part::Parameter("inner_angle"), message));
         }
-        let cone = SpotCone::from_degrees(spot.inner, spot.outer);
+        let cone = SpotCone::with_profile(spot.inner, spot.outer, spot.falloff);
         let power = spot.intensity * cone.solid_angle() as f32;
         if !power.is_finite() {
             return Err(at.error(Part::Emission, "light power is not finite".into()));

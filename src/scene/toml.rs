@@ -11,7 +11,7 @@ use super::builder::{SceneBuilder, Surface};
 use super::locate::Locate;
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use super::{mesh_file, Material, Scene, SpotLight};
+use super::{mesh_file, Material, Scene, SpotFalloff, SpotLight};
 use crate::error::Result;
 use crate::pixel_filter::{PixelFilter, FILTER_NAMES};
 use crate::scene::file;
@@ -76,6 +76,7 @@ const LIGHT_TYPES: &Types = &[
             "intensity",
             "inner_angle",
             "outer_angle",
+            "falloff",
         ],
     ),
     ("directional", &["direction", "irradiance"]),
@@ -219,6 +220,13 @@ fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         intensity: color,
         inner: t.num("inner_angle")?.unwrap_or(0.0),
         outer: t.need("outer_angle", t.num("outer_angle")?)?,
+        falloff: t
+            .parse("falloff", &["gltf", "linear-angle"], |name| match name {
+                "gltf" => Some(SpotFalloff::Gltf),
+                "linear-angle" => Some(SpotFalloff::LinearAngle),
+                _ => None,
+            })?
+            .unwrap_or_default(),
     };
     // With `target`, a zero direction is the target's fault.
     let aimed = |part: Part, message: String| match part {

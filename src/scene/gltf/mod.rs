@@ -29,7 +29,7 @@ mod texture;
 
 use super::builder::{MaterialId, SceneBuilder, Surface};
 use super::locate::Part;
-use super::{Scene, SpotLight};
+use super::{Scene, SpotFalloff, SpotLight};
 use crate::camera::{fit_view, DEFAULT_FOV_Y};
 use crate::error::{Error, Result};
 use crate::scene::file;
@@ -289,6 +289,7 @@ impl Importer<'_> {
                     intensity,
                     inner: inner_cone_angle.to_degrees(),
                     outer: outer_cone_angle.to_degrees(),
+                    falloff: SpotFalloff::Gltf,
                 };
                 self.b.add_spot_light(spot, &at)
             }

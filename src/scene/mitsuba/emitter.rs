@@ -1,9 +1,8 @@
 //! Mitsuba's top-level emitters: `point`, `spot` and `directional` (an `area` emitter lives
 //! inside its shape, `shape.rs`). Intensity is W/sr and irradiance W/m^2 per linear RGB
-//! channel, as in Mitsuba. A `spot` (cone along its `to_world`'s +Z) keeps its angles:
-//! `beam_width` becomes the inner and `cutoff_angle` the outer half-angle of our glTF-style
-//! falloff, which is quadratic in the cosine between them where Mitsuba's is linear in the
-//! angle, so a spot with a transition band is approximated (a warning says so). `constant`
+//! channel, as in Mitsuba. A `spot` (cone along its `to_world`'s +Z) keeps its angles and
+//! Mitsuba's falloff: `beam_width` is the inner and `cutoff_angle` the outer half-angle of a
+//! ramp linear in the angle (`SpotFalloff::LinearAngle`). `constant`
 //! (`radiance`, default 1) and `envmap` (`filename` of a lat-long image, `scale`, `to_world`'s
 //! rotation) are the environment (`crate::scene::Environment`).
 
@@ -11,7 +10,7 @@ use super::plugin::Plugin;
 use super::Importer;
 use crate::error::Result;
 use crate::scene::locate::{Locate, Part};
-use crate::scene::SpotLight;
+use crate::scene::{SpotFalloff, SpotLight};
 use crate::texture::{Encoding, Texture};
 use glam::{Mat3, Mat4, Vec3};
 use roxmltree::Node;
@@ -87,17 +86,9 @@ impl Importer<'_> {
                     intensity: color,
                     inner: beam,
                     outer,
+                    falloff: SpotFalloff::LinearAngle,
                 };
                 self.b.add_spot_light(spot, &at)?;
-                if beam < outer {
-                    self.warnings.push(format!(
-                        "{}: {field}: spot falloff approximated: Mitsuba's ramp, linear \
-                         in angle from beam_width {beam} to cutoff_angle {outer} degrees, \
-                         becomes a ramp quadratic in the cosine between the same angles \
-                         (glTF's form)",
-                        cx.loc(node)
-                    ));
-                }
                 Ok(())
             }
             _ => {
