@@ -8,6 +8,7 @@ use gpu_photon::bsdf::Bsdf;
 use gpu_photon::error::Error;
 use gpu_photon::scene::mitsuba::{import, import_with, Imported, MAX_INCLUDE_DEPTH};
 use gpu_photon::scene::{load_with_options, Scene, NO_TEXTURE};
+use gpu_photon::settings::RenderSettings;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -468,7 +469,7 @@ fn any_integrator_is_one_warning() {
     for (integrator, hint) in [
         (
             r#"<integrator type="path"><integer name="max_depth" value="8"/><integer name="rr_depth" value="3"/></integrator>"#,
-            "; max_depth 8, rr_depth 3 not honoured (path lengths)",
+            "; rr_depth 3 changes only noise, not used",
         ),
         (r#"<integrator type="direct"/>"#, ""),
         (
@@ -487,6 +488,35 @@ fn any_integrator_is_one_warning() {
         );
         assert_eq!(im.warnings, vec![want]);
     }
+}
+
+/// Mitsuba's `max_depth` M bounds path segments: photon paths get M - 1 bounces, camera
+/// mirror/glass chains M - 2 (at least 1), never more than our defaults; -1 bounds nothing.
+#[test]
+fn integrator_max_depth_caps_path_lengths() {
+    let d = RenderSettings::default();
+    for (depth, photon, camera) in [
+        ("-1", d.max_photon_bounces, d.max_depth),
+        ("64", d.max_photon_bounces, d.max_depth),
+        ("8", 7, 6),
+        ("3", 2, 1),
+        ("2", 1, 1),
+    ] {
+        let xml = format!(
+            r#"<integrator type="path"><integer name="max_depth" value="{depth}"/></integrator>"#
+        );
+        let s = ok(&xml).scene.settings;
+        assert_eq!(
+            (s.max_photon_bounces, s.max_depth),
+            (photon, camera),
+            "max_depth {depth}"
+        );
+    }
+    let bad = r#"<integrator type="path"><integer name="max_depth" value="0"/></integrator>"#;
+    assert_eq!(
+        error(import(&scene(bad), "t.xml", Path::new("."))),
+        "t.xml:3: integrator[0].max_depth: must be -1 or a positive integer (got `0`)"
+    );
 }
 
 /// `sample_count` is the total per pixel: the planned passes x spp equals it exactly

@@ -13,7 +13,7 @@ use super::Importer;
 use crate::error::Result;
 use crate::pixel_filter::PixelFilter;
 use crate::scene::builder::SceneBuilder;
-use crate::settings::split_samples;
+use crate::settings::{split_samples, MAX_BOUNCES};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -143,28 +143,48 @@ impl Importer<'_> {
         self.b.camera(eye, eye + forward, up, fov_y, &at)
     }
 
-    /// `<integrator>` of any type: one warning saying that our technique renders it; Mitsuba's
-    /// `max_depth` and `rr_depth` (path lengths, which our settings do not have: our
-    /// `max_depth` counts specular bounces of camera rays) are read and named in it.
+    /// `<integrator>` of any type: one warning saying that our technique renders it.
+    /// Mitsuba's `max_depth` M (path segments, -1 for no bound) caps our path lengths:
+    /// photon paths at M - 1 bounces and camera mirror/glass chains at M - 2 (exact in the
+    /// photon and direct modes, where a camera path ends at its first diffuse hit; final
+    /// gathering can add one bounce). `rr_depth` changes no expected value (our photons'
+    /// Russian roulette works by reflectance from the first bounce): read and named.
     pub(super) fn integrator(&mut self, node: Node, field: &str) -> Result<()> {
         let kind = self.cx.attr(node, field, "type")?.unwrap_or_default();
-        let mut hints = Vec::new();
+        let mut notes = Vec::new();
         for child in node.children().filter(Node::is_element) {
             let name = child.attribute("name").unwrap_or_default();
-            if matches!(name, "max_depth" | "rr_depth") {
-                let value = self
-                    .cx
-                    .need_attr(child, &format!("{field}.{name}"), "value")?;
-                hints.push(format!("{name} {value}"));
+            if !matches!(name, "max_depth" | "rr_depth") {
+                continue;
+            }
+            let at = format!("{field}.{name}");
+            let text = self.cx.need_attr(child, &at, "value")?;
+            let depth = match text.trim().parse::<i64>() {
+                Ok(v) if v == -1 || (v >= 1 && v <= i64::from(u32::MAX)) => v,
+                _ => {
+                    let message = format!("must be -1 or a positive integer (got `{text}`)");
+                    return Err(self.cx.err(child, &at, message));
+                }
+            };
+            if name == "rr_depth" {
+                notes.push(format!("rr_depth {depth} changes only noise, not used"));
+            } else if depth > 0 {
+                let s = self.b.settings();
+                let m = depth.min(i64::from(MAX_BOUNCES) + 2) as u32;
+                s.max_photon_bounces = s.max_photon_bounces.min((m - 1).max(1));
+                s.max_depth = s.max_depth.min((m.max(2) - 2).max(1));
+                if m == 1 {
+                    notes.push("max_depth 1 (emitters only) rendered as 2".to_string());
+                }
             }
         }
-        let hints = match hints.is_empty() {
+        let notes = match notes.is_empty() {
             true => String::new(),
-            false => format!("; {} not honoured (path lengths)", hints.join(", ")),
+            false => format!("; {}", notes.join(", ")),
         };
         self.warnings.push(format!(
             "{}: {field}: integrator `{kind}` rendered with our photon mapping (the render \
-             mode: [render] mode, --mode){hints}",
+             mode: [render] mode, --mode){notes}",
             self.cx.loc(node)
         ));
         Ok(())
