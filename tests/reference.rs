@@ -429,3 +429,71 @@ fn every_scene_renders_tiny_without_nan_in_every_mode() {
         }
     }
 }
+
+/// RMS over the channels of the pixels at least 2 from the border of `a - b` (a gaussian
+/// filter of radius 2 reaches past the image there, where Mitsuba draws no samples).
+fn inner_rms(a: &Image, b: &Image) -> f64 {
+    let (w, h) = (a.width as usize, a.height as usize);
+    let (mut sum, mut n) = (0.0, 0usize);
+    for y in 2..h - 2 {
+        for x in 2..w - 2 {
+            let (p, q) = (a.pixels[y * w + x], b.pixels[y * w + x]);
+            for c in 0..3 {
+                sum += (p[c] as f64 - q[c] as f64).powi(2);
+                n += 1;
+            }
+        }
+    }
+    (sum / n as f64).sqrt()
+}
+
+/// `scenes/mitsuba/filter.xml` (32 x 32: emissive bars before a wall they light, through
+/// Mitsuba's gaussian filter) against its Mitsuba 3.9.1 reference `tests/data/filter.exr`
+/// (two halves of 16,384 spp by `scripts/filter_reference.py`; its own noise 0.00179 RMS, from the llvm_ad_rgb variant, whose filter is exact).
+/// Two seeds of ours give our own noise; unbiased, the RMS difference of their mean from the
+/// reference is the root sum of squares of the two noises: allowed 1.25x that. The same
+/// film with a box filter must miss by more than 3x (the edges are as wide as the filter).
+#[test]
+fn a_gaussian_film_renders_as_mitsubas_image_of_the_same_scene() {
+    const REFERENCE_NOISE: f64 = 0.00179;
+    let path = root().join("scenes/mitsuba/filter.xml");
+    let reference = reference("filter.exr");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let gaussian = r#"<rfilter type="gaussian"><float name="stddev" value="0.5"/></rfilter>"#;
+    assert!(text.contains(gaussian));
+    let mut misses = Vec::new();
+    for rfilter in [gaussian, r#"<rfilter type="box"/>"#] {
+        let xml = text.replace(gaussian, rfilter);
+        let scene =
+            gpu_photon::scene::mitsuba::import(&xml, "filter.xml", &root().join("scenes/mitsuba"))
+                .unwrap_or_else(|e| panic!("{e}"))
+                .scene;
+        let s = RenderSettings {
+            spp: 64,
+            ..scene.settings.as_default_render()
+        };
+        let [a, b] = [1, 2].map(|seed| render_cpu(&scene, &RenderSettings { seed, ..s.clone() }));
+        let mut mean = a.clone();
+        for (m, q) in mean.pixels.iter_mut().zip(&b.pixels) {
+            for c in 0..3 {
+                m[c] = 0.5 * (m[c] + q[c]);
+            }
+        }
+        let ours = 0.5 * inner_rms(&a, &b);
+        let expected = (ours * ours + REFERENCE_NOISE * REFERENCE_NOISE).sqrt();
+        let miss = inner_rms(&mean, &reference);
+        eprintln!(
+            "{rfilter}: RMS {miss:.5} against the reference, {expected:.5} expected from the noise"
+        );
+        misses.push((miss, expected));
+    }
+    let ((gauss, expected), (boxed, _)) = (misses[0], misses[1]);
+    assert!(
+        gauss <= 1.25 * expected,
+        "gaussian film: RMS {gauss} vs noise {expected}"
+    );
+    assert!(
+        boxed > 3.0 * expected,
+        "box film: RMS {boxed} is within the noise {expected}"
+    );
+}
