@@ -47,6 +47,9 @@ pub enum Error {
         /// The scene file.
         file: PathBuf,
     },
+    /// A scene uses what the renderers cannot render yet (participating media).
+    #[error("{0}")]
+    Unsupported(String),
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),

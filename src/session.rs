@@ -68,6 +68,7 @@ pub fn open<'s>(
     scene: &'s Scene,
     settings: &RenderSettings,
 ) -> Result<Box<dyn PassRenderer + 's>> {
+    scene.require_no_media()?;
     match choice {
         BackendChoice::Cpu => open_backend(Backend::Cpu, scene, settings),
         BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),

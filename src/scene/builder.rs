@@ -60,6 +60,9 @@ pub struct Surface {
     /// A texture (from [`SceneBuilder::add_texture`]) multiplying the emission at each point
     /// (`Material::emission_texture`); only for emissive surfaces.
     pub emission_texture: Option<u32>,
+    /// The media the shape bounds (from [`SceneBuilder::add_medium`]), replacing the
+    /// material's (`Material::media`).
+    pub media: Option<crate::medium::MediumInterface>,
 }
 
 impl Surface {
@@ -93,6 +96,7 @@ pub struct SceneBuilder {
     pub(super) spheres: Vec<Sphere>,
     pub(super) lights: Vec<Light>,
     pub(super) environment: Option<super::Environment>,
+    pub(super) media: super::media::Media,
     settings: RenderSettings,
     optics: Option<(PixelFilter, f32, f32)>,
 }
@@ -372,6 +376,8 @@ impl SceneBuilder {
             textures: self.textures,
             spheres: self.spheres,
             lights: self.lights,
+            media: self.media.media,
+            camera_medium: self.media.camera,
             settings: self.settings,
         };
         // A textured emitter's power includes its texture's mean (crate::scene::emission).
@@ -411,6 +417,9 @@ impl SceneBuilder {
                 return Err(at.error(Part::Emission, message.into()));
             }
             material.emission_texture = t;
+        }
+        if let Some(media) = surface.media {
+            material.media = media;
         }
         if let Some(two_sided) = surface.two_sided {
             if !material.is_emissive() {

@@ -2,6 +2,7 @@
 //! is the one place the integrators read them).
 
 use crate::bsdf::Bsdf;
+use crate::medium::MediumInterface;
 use glam::Vec3;
 
 /// The kind of surface scattering a material performs.
@@ -117,6 +118,8 @@ pub struct Material {
     /// Cut-outs and partial coverage (glTF `alphaMode` MASK and BLEND, Mitsuba's `mask`);
     /// `None` for an opaque surface.
     pub alpha: Option<Alpha>,
+    /// The media the surface bounds (vacuum on both sides by default; `crate::medium`).
+    pub media: MediumInterface,
 }
 
 /// Whether a ray passes a surface of a material with an [`Alpha`].
@@ -222,6 +225,7 @@ impl Material {
             gltf_textures: [NO_TEXTURE; 3],
             emission_texture: NO_TEXTURE,
             alpha: None,
+            media: MediumInterface::default(),
         }
     }
     /// A material of one of [`crate::bsdf`]'s BSDFs: `Diffuse` and a smooth `Dielectric`

@@ -15,6 +15,7 @@ mod file;
 mod gltf;
 mod locate;
 mod material;
+pub mod media;
 mod mesh_file;
 pub mod mitsuba;
 mod normals;
@@ -24,6 +25,7 @@ mod punctual;
 mod spot;
 mod tangents;
 mod toml;
+mod toml_media;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
@@ -292,6 +294,10 @@ pub struct Scene {
     pub spheres: Vec<Sphere>,
     /// Lights, in the order their shapes (then point lights) were added.
     pub lights: Vec<Light>,
+    /// Participating media, indexed by `Material::media` and [`Self::camera_medium`].
+    pub media: Vec<crate::medium::Medium>,
+    /// The medium the camera sits in, or `crate::medium::NO_MEDIUM` (vacuum).
+    pub camera_medium: u32,
     /// Render settings from the file's `[camera]` and `[render]` tables (defaults where
     /// absent).
     pub settings: RenderSettings,
@@ -318,6 +324,8 @@ impl Scene {
             textures: vec![],
             spheres: vec![],
             lights: vec![],
+            media: vec![],
+            camera_medium: crate::medium::NO_MEDIUM,
             settings: RenderSettings::default(),
         }
     }

@@ -11,7 +11,7 @@ use super::builder::{SceneBuilder, Surface};
 use super::locate::Locate;
 use super::locate::Part;
 use super::toml_table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use super::{mesh_file, Material, Scene, SpotFalloff, SpotLight};
+use super::{mesh_file, toml_media, Material, Scene, SpotFalloff, SpotLight};
 use crate::error::Result;
 use crate::pixel_filter::{PixelFilter, FILTER_NAMES};
 use crate::scene::file;
@@ -34,6 +34,8 @@ struct RawScene {
     #[serde(default)]
     lights: Vec<Spanned<RawTable>>,
     environment: Option<Spanned<RawTable>>,
+    #[serde(default)]
+    media: BTreeMap<String, Spanned<RawTable>>,
 }
 
 /// `[camera]` keys besides the settings whose table is `camera` (width, height).
@@ -47,6 +49,7 @@ const CAMERA_KEYS: &[&str] = &[
     "filter_stddev",
     "aperture_radius",
     "focus_distance",
+    "medium",
 ];
 /// `[render]` keys besides the settings whose table is `render`.
 const RENDER_NAMES: &[&str] = &["mode", "filter", "fresnel", "sampler"];
@@ -64,7 +67,7 @@ const SHAPE_TYPES: &Types = &[
     ("box", &["min", "max", "rotate_y"]),
     ("mesh", &["file", "scale", "translate", "smooth"]),
 ];
-const SHAPE_KEYS: &[&str] = &["material", "emission", "two_sided"];
+const SHAPE_KEYS: &[&str] = &["material", "emission", "two_sided", "interior", "exterior"];
 const LIGHT_TYPES: &Types = &[
     ("point", &["position", "intensity"]),
     (
@@ -105,6 +108,12 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     })?;
 
     let mut b = SceneBuilder::new();
+    // Media first: the camera and shapes name them.
+    let mut media: Vec<_> = raw.media.iter().collect();
+    media.sort_by_key(|(_, m)| m.span().start);
+    for (name, m) in media {
+        toml_media::medium(&Tab::new(&cx, format!("media.{name}"), m), name, &mut b)?;
+    }
     let no_camera = |_: Part, _: String| cx.err(0..0, "camera", "missing table [camera]");
     let Some(camera_table) = &raw.camera else {
         return Err(no_camera(Part::Camera, String::new()));
@@ -269,7 +278,7 @@ fn camera(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         .positive("focus_distance")?
         .unwrap_or((target - eye).length());
     b.optics(filter, aperture, focus);
-    Ok(())
+    toml_media::camera_medium(t, b)
 }
 
 /// `filter` (`"box"`, `"tent"` with `filter_radius`, `"gaussian"` with `filter_stddev`;
@@ -366,6 +375,7 @@ fn shape(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
         emission,
         two_sided,
         emission_texture: None,
+        media: toml_media::shape_media(t, b)?,
     };
     match kind {
         "sphere" => {

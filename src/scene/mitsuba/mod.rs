@@ -15,6 +15,7 @@ mod bsdf;
 mod cie;
 mod emitter;
 mod include;
+mod medium;
 mod plugin;
 mod sensor;
 mod shape;
@@ -144,6 +145,7 @@ pub fn import_with(
         b: SceneBuilder::new(),
         bsdfs: HashMap::new(),
         default_material: None,
+        media: HashMap::new(),
         warnings: Vec::new(),
     };
     let mut counts: HashMap<&str, usize> = HashMap::new();
@@ -172,13 +174,15 @@ pub fn import_with(
                 im.add_bsdf(node, &field)?;
             }
             // Read where a <ref> names them.
-            ("texture", Some(_)) => {}
+            ("texture" | "medium", Some(_)) => {}
             ("emitter", Some(_)) if kind == Some("area") => {}
             ("shape", _) => im.shape(node, &field)?,
             ("emitter", _) => im.emitter(node, &field)?,
             (other, _) => {
                 let message = match other {
-                    "texture" => "a top-level <texture> needs an `id` (for <ref>)".to_string(),
+                    "texture" | "medium" => {
+                        format!("a top-level <{other}> needs an `id` (for <ref>)")
+                    }
                     _ => format!("unsupported element <{other}>"),
                 };
                 return Err(im.cx.err(node, &field, message));
@@ -233,6 +237,8 @@ struct Importer<'f> {
     bsdfs: HashMap<String, MaterialId>,
     /// Mitsuba's material for shapes without a bsdf (diffuse 0.5), added when first needed.
     default_material: Option<MaterialId>,
+    /// Media of the top-level `medium`s with an `id`, for `ref`.
+    media: HashMap<String, crate::scene::media::MediumId>,
     warnings: Vec<String>,
 }
 

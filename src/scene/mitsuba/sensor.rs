@@ -34,6 +34,8 @@ impl Importer<'_> {
         // Mitsuba's film size when the file gives none.
         self.b.settings().width = 768;
         self.b.settings().height = 576;
+        // The camera's medium, read once the sensor's other parameters are.
+        let mut medium = None;
         for child in &p.objects {
             let sub = format!("{field}.{}", child.tag_name().name());
             match child.tag_name().name() {
@@ -48,6 +50,7 @@ impl Importer<'_> {
                     s.ignore(&["seed"]);
                     s.done(cx)?;
                 }
+                "medium" | "ref" if medium.is_none() => medium = Some((*child, sub)),
                 other => {
                     let message = format!("unsupported <{other}> in a sensor");
                     return Err(cx.err(*child, field, message));
@@ -138,6 +141,10 @@ impl Importer<'_> {
         if left.dot(up.cross(forward).normalize_or_zero()) < 0.999 {
             let message = "unsupported camera to_world (only rotation, translation, uniform scale)";
             return Err(cx.err(node, &p.at("to_world"), message));
+        }
+        if let Some((child, sub)) = medium {
+            let m = self.medium_child(child, &sub)?;
+            self.b.set_camera_medium(m);
         }
         let at = self.origin(node, field);
         self.b.camera(eye, eye + forward, up, fov_y, &at)

@@ -5,10 +5,12 @@
 //! default true for `obj` and false for `ply`), each with its bsdf (nested or `ref`) and
 //! optionally an `area` emitter.
 
+use super::medium::side;
 use super::plugin::Plugin;
 use super::Importer;
 use crate::error::Result;
 use crate::scene::builder::Surface;
+use crate::scene::media::{interface, MediumId};
 use crate::scene::mesh_file::{self, MeshData, MeshFormat};
 use crate::texture::uv;
 use crate::texture::SceneTexture;
@@ -45,14 +47,23 @@ impl<'f> Importer<'f> {
         let mut material = None;
         let mut emission = None;
         let mut emission_texture = None;
+        let mut media: [Option<MediumId>; 2] = [None, None];
         for child in &p.objects {
             let tag = child.tag_name().name();
             let sub = format!("{field}.{tag}");
             let found = match tag {
                 "bsdf" => Some(self.add_bsdf(*child, &sub)?),
+                "medium" => {
+                    self.shape_medium(*child, &sub, &mut media)?;
+                    None
+                }
                 "ref" => {
                     let (id, target) = self.referenced(*child, &sub)?;
                     match target.tag_name().name() {
+                        "medium" => {
+                            self.shape_medium(*child, &sub, &mut media)?;
+                            None
+                        }
                         "bsdf" => Some(self.bsdf_by_id(&id, target)?),
                         "emitter" => {
                             let (radiance, t) = self.area(target, &format!("emitter[{id}]"))?;
@@ -63,7 +74,8 @@ impl<'f> Importer<'f> {
                             None
                         }
                         other => {
-                            let message = format!("`{id}` is a <{other}>, not a bsdf or emitter");
+                            let message =
+                                format!("`{id}` is a <{other}>, not a bsdf, emitter or medium");
                             return Err(self.cx.err(*child, &sub, message));
                         }
                     }
@@ -95,12 +107,33 @@ impl<'f> Importer<'f> {
             }
         };
         let surface = Surface {
+            media: (media[0].is_some() || media[1].is_some())
+                .then(|| interface(media[0], media[1])),
             material: Some(material),
             emission,
             two_sided: None,
             emission_texture: emission_texture.map(|t| self.b.add_texture(t)),
         };
         self.geometry(&p, surface)
+    }
+
+    /// The `<medium>` or `<ref>` `child` of a shape, into `media` (interior, exterior) by
+    /// its `name`; each side once.
+    fn shape_medium(
+        &mut self,
+        child: Node,
+        field: &str,
+        media: &mut [Option<MediumId>; 2],
+    ) -> Result<()> {
+        let interior = side(&self.cx, child, field)?;
+        let m = self.medium_child(child, field)?;
+        let slot = &mut media[usize::from(!interior)];
+        if slot.replace(m).is_some() {
+            return Err(self
+                .cx
+                .err(child, field, "a shape has one medium on each side"));
+        }
+        Ok(())
     }
 
     /// An `area` emitter's radiance, and its texture when `radiance` is a `<texture>` (the

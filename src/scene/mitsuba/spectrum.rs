@@ -21,7 +21,7 @@ const D65_NORMALIZATION: f64 = 1.0 / 98.997_417_518_762_55;
 const STEPS: usize = 1000;
 
 /// Parameters Mitsuba reads as unbounded spectra (clamped to >= 0 only).
-pub const UNBOUNDED: &[&str] = &["eta", "k", "int_ior", "ext_ior"];
+pub const UNBOUNDED: &[&str] = &["eta", "k", "int_ior", "ext_ior", "sigma_t"];
 
 /// CIE XYZ to linear sRGB (Mitsuba's `xyz_to_srgb`).
 pub fn xyz_to_srgb(xyz: [f64; 3]) -> Vec3 {

@@ -1,0 +1,152 @@
+//! Participating media of the scene being built (issue 24): [`SceneBuilder::add_medium`]
+//! checks a homogeneous medium and names it; shapes bound media through their
+//! [`Surface::media`](super::Surface::media) and the camera may sit in one.
+//! Every importer (TOML `[media.NAME]`, Mitsuba `homogeneous`) calls these.
+
+use super::locate::{Locate, Part};
+use super::SceneBuilder;
+use crate::error::Result;
+use crate::medium::{Medium, MediumInterface, NO_MEDIUM};
+use crate::phase::HenyeyGreenstein;
+use glam::Vec3;
+use std::collections::HashMap;
+
+/// A medium of the scene being built, as [`SceneBuilder::add_medium`] returns it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MediumId(u32);
+
+impl MediumId {
+    /// Index into `Scene::media`.
+    pub fn index(self) -> u32 {
+        self.0
+    }
+}
+
+/// The builder's media, their names and the camera's medium.
+#[derive(Debug)]
+pub(super) struct Media {
+    pub(super) media: Vec<Medium>,
+    names: HashMap<String, MediumId>,
+    pub(super) camera: u32,
+}
+
+impl Default for Media {
+    fn default() -> Self {
+        Media {
+            media: Vec::new(),
+            names: HashMap::new(),
+            camera: NO_MEDIUM,
+        }
+    }
+}
+
+/// A homogeneous medium as a file gives it, before checks: Mitsuba's `homogeneous`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumParams {
+    /// Extinction per channel per unit length, before `scale`.
+    pub sigma_t: Vec3,
+    /// Single-scattering albedo per channel.
+    pub albedo: Vec3,
+    /// Multiplies `sigma_t` (Mitsuba's `scale`, for scenes in other units).
+    pub scale: f32,
+    /// The Henyey-Greenstein asymmetry (0: isotropic).
+    pub g: f32,
+}
+
+impl SceneBuilder {
+    /// Adds a homogeneous medium, findable by `name` through [`Self::medium_named`].
+    /// `sigma_t` and `scale` must be finite and >= 0, the albedo in [0, 1], `g` in (-1, 1);
+    /// errors are on `Part::Parameter("sigma_t" | "scale" | "albedo" | "g")`.
+    pub fn add_medium(
+        &mut self,
+        name: Option<&str>,
+        p: MediumParams,
+        at: &dyn Locate,
+    ) -> Result<MediumId> {
+        let fail =
+            |key: &'static str, message: String| Err(at.error(Part::Parameter(key), message));
+        if !(p.sigma_t.is_finite() && p.sigma_t.min_element() >= 0.0) {
+            return fail(
+                "sigma_t",
+                format!("must be finite and >= 0 (got {})", p.sigma_t),
+            );
+        }
+        if !(p.scale.is_finite() && p.scale >= 0.0) {
+            return fail(
+                "scale",
+                format!("must be finite and >= 0 (got {})", p.scale),
+            );
+        }
+        if !(p.albedo.min_element() >= 0.0 && p.albedo.max_element() <= 1.0) {
+            return fail("albedo", format!("must be in [0, 1] (got {})", p.albedo));
+        }
+        if !(p.g > -1.0 && p.g < 1.0) {
+            return fail("g", format!("must be in (-1, 1) (got {})", p.g));
+        }
+        let sigma_t = p.sigma_t * p.scale;
+        if !sigma_t.is_finite() {
+            return fail("scale", "sigma_t x scale is not finite".into());
+        }
+        self.media.media.push(Medium {
+            sigma_t,
+            albedo: p.albedo,
+            phase: HenyeyGreenstein { g: p.g },
+        });
+        let id = MediumId(self.media.media.len() as u32 - 1);
+        if let Some(name) = name {
+            self.media.names.insert(name.to_string(), id);
+        }
+        Ok(id)
+    }
+
+    /// The medium called `name`; an unknown name is an error on `part` that lists the
+    /// names defined.
+    pub fn medium_named(&self, name: &str, part: Part, at: &dyn Locate) -> Result<MediumId> {
+        if let Some(&id) = self.media.names.get(name) {
+            return Ok(id);
+        }
+        let mut known: Vec<String> = self.media.names.keys().map(|k| format!("`{k}`")).collect();
+        known.sort();
+        let known = Some(known.join(", ")).filter(|k| !k.is_empty());
+        let message = format!(
+            "unknown medium `{name}` (defined: {})",
+            known.unwrap_or_else(|| "none".into())
+        );
+        Err(at.error(part, message))
+    }
+
+    /// Puts the camera in medium `m`.
+    pub fn set_camera_medium(&mut self, m: MediumId) {
+        self.media.camera = m.0;
+    }
+}
+
+/// The interface of a shape with `interior` and `exterior` media (either absent: vacuum).
+pub fn interface(interior: Option<MediumId>, exterior: Option<MediumId>) -> MediumInterface {
+    MediumInterface {
+        interior: interior.map_or(NO_MEDIUM, MediumId::index),
+        exterior: exterior.map_or(NO_MEDIUM, MediumId::index),
+    }
+}
+
+impl super::Scene {
+    /// Whether any shape bounds a medium or the camera sits in one.
+    pub fn uses_media(&self) -> bool {
+        self.camera_medium != NO_MEDIUM || self.materials.iter().any(|m| !m.media.is_vacuum())
+    }
+
+    /// Fails with [`crate::Error::Unsupported`] when the scene uses media: both backends
+    /// still carry light through vacuum only, and a render without its media would not be
+    /// the scene asked for.
+    pub fn require_no_media(&self) -> Result<()> {
+        match self.uses_media() {
+            false => Ok(()),
+            true => Err(crate::Error::Unsupported(format!(
+                "the scene uses participating media ({} defined), which gpu-photon cannot \
+                 render yet; without its media (no `interior`/`exterior` on shapes, no \
+                 camera medium) it renders",
+                self.media.len()
+            ))),
+        }
+    }
+}
