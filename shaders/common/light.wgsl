@@ -31,38 +31,44 @@ fn spot_linear_mass(outer: f32, x: f32) -> f32 {
 
 // A cosine to the spot's axis drawn in proportion to the falloff (SpotCone::sample_cos):
 // glTF's ramp holds (a - co)^3 / (3 w^2) of the falloff's integral over the cosine, the flat
-// top 1 - a; the linear ramp's mass is bisected SPOT_BISECTIONS times.
+// top 1 - a.
 fn spot_cos(l: Light, u: f32) -> f32 {
+    if l.spot_profile == SPOT_LINEAR_ANGLE {
+        return spot_cos_linear(l, u);
+    }
     let co = l.cos_outer;
-    let linear = l.spot_profile == SPOT_LINEAR_ANGLE;
-    let inner = acos(l.cos_inner);
-    let outer = acos(co);
     let w = max(l.cos_inner - co, SPOT_MIN_RAMP);
-    var a = min(co + w, 1.0);
-    var ramp = (a - co) * (a - co) * (a - co) / (3.0 * w * w);
-    if linear {
-        a = l.cos_inner;
-        ramp = select(0.0, spot_linear_mass(outer, outer - inner) / (outer - inner), outer > inner);
-    }
+    let a = min(co + w, 1.0);
+    let ramp = (a - co) * (a - co) * (a - co) / (3.0 * w * w);
     let t = u * (ramp + (1.0 - a));
+    var c = a + (t - ramp);
+    if t < ramp {
+        c = co + select(0.0, pow(3.0 * w * w * t, 1.0 / 3.0), t > 0.0);
+    }
+    return min(c, 1.0);
+}
+
+// spot_cos for Mitsuba's linear ramp: its mass is bisected SPOT_BISECTIONS times.
+fn spot_cos_linear(l: Light, u: f32) -> f32 {
+    let inner = acos(l.cos_inner);
+    let outer = acos(l.cos_outer);
+    let ramp = select(0.0, spot_linear_mass(outer, outer - inner) / (outer - inner), outer > inner);
+    let t = u * (ramp + (1.0 - l.cos_inner));
     if t >= ramp {
-        return min(a + (t - ramp), 1.0);
+        return min(l.cos_inner + (t - ramp), 1.0);
     }
-    if linear {
-        let want = t * (outer - inner);
-        var lo = 0.0;
-        var hi = outer - inner;
-        for (var i = 0u; i < SPOT_BISECTIONS; i++) {
-            let mid = 0.5 * (lo + hi);
-            if spot_linear_mass(outer, mid) < want {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
+    let want = t * (outer - inner);
+    var lo = 0.0;
+    var hi = outer - inner;
+    for (var i = 0u; i < SPOT_BISECTIONS; i++) {
+        let mid = 0.5 * (lo + hi);
+        if spot_linear_mass(outer, mid) < want {
+            lo = mid;
+        } else {
+            hi = mid;
         }
-        return min(cos(outer - 0.5 * (lo + hi)), 1.0);
     }
-    return min(co + select(0.0, pow(3.0 * w * w * t, 1.0 / 3.0), t > 0.0), 1.0);
+    return min(cos(outer - 0.5 * (lo + hi)), 1.0);
 }
 
 struct SurfacePoint {
