@@ -47,6 +47,9 @@ pub enum Error {
         /// The scene file.
         file: PathBuf,
     },
+    /// Two images that must have the same size do not.
+    #[error("{0}")]
+    Sizes(String),
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),
