@@ -4,7 +4,9 @@ tests/data/cornell-diffuse.exr, Mitsuba 3's path-traced Cornell box).
 
     python examples/python/error_vs_time.py [--setting photons] [--values 20000,50000,200000]
         [--scene scenes/cornell-box.toml] [--reference tests/data/cornell-diffuse.exr]
-        [--passes 8] [--out error.png]
+        [--passes 8] [--size 64] [--out error.png]
+
+--size renders at that width (the reference is averaged down by an integer factor to match).
 """
 
 import argparse
@@ -35,6 +37,7 @@ def main():
     p.add_argument("--values", default="20000,50000,200000")
     p.add_argument("--passes", type=int, default=8)
     p.add_argument("--spp", type=int, default=4)
+    p.add_argument("--size", type=int, help="render width (default: the reference's)")
     p.add_argument("--backend", default="auto")
     p.add_argument("--out", help="write the figure here instead of showing it")
     args = p.parse_args()
@@ -44,6 +47,11 @@ def main():
 
     scene = gpu_photon.load(args.scene)
     reference = gpu_photon.read_image(args.reference)
+    if args.size:
+        h, w, _ = reference.shape
+        f = w // args.size
+        reference = reference[: h - h % f, : w - w % f]
+        reference = reference.reshape(h // f, f, w // f, f, 3).mean(axis=(1, 3))
     for text in args.values.split(","):
         value = float(text) if "." in text else int(text)
         settings = {args.setting: value}
