@@ -50,6 +50,9 @@ pub enum Error {
     /// A scene uses what the renderers cannot render yet (participating media).
     #[error("{0}")]
     Unsupported(String),
+    /// Two images that must have the same size do not.
+    #[error("{0}")]
+    Sizes(String),
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),

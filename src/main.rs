@@ -2,14 +2,16 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba;
-use gpu_photon::session::{render, render_slice, BackendChoice, SliceJob};
-use gpu_photon::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, MAX_PASSES};
+use gpu_photon::{
+    Backend, Filter, Flow, FresnelMode, Image, LoadOptions, Mode, RenderSettings, Renderer,
+    Sampler, Scene, SliceFile, Stop, Warning, MAX_PASSES,
+};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Instant;
+
+mod bench_cmd;
 
 #[derive(Parser)]
 #[command(
@@ -57,7 +59,7 @@ enum Command {
 }
 
 #[derive(Args)]
-struct BenchArgs {
+pub(crate) struct BenchArgs {
     /// Scene file.
     scene: PathBuf,
     #[arg(long, default_value_t = 200_000)]
@@ -119,7 +121,7 @@ struct RenderArgs {
     #[arg(long, value_name = "S", requires = "env")]
     env_scale: Option<f32>,
     /// A Mitsuba scene's parameter `$NAME` (overrides its <default>; Mitsuba's -D).
-    #[arg(short = 'D', long, value_name = "NAME=VALUE", value_parser = mitsuba::parse_define)]
+    #[arg(short = 'D', long, value_name = "NAME=VALUE", value_parser = LoadOptions::parse_define)]
     define: Vec<(String, String)>,
     /// Photon paths for the global map.
     #[arg(long)]
@@ -171,12 +173,12 @@ struct RenderArgs {
     #[arg(long)]
     passes: Option<u32>,
     /// Progressive passes A..B only (a slice of a longer render, for `gpu-photon merge`).
-    #[arg(long, value_parser = gpu_photon::merge::parse_range)]
+    #[arg(long, value_parser = gpu_photon::parse_pass_range)]
     pass_range: Option<(u32, u32)>,
     /// With --passes P: only slice I (0-based) of N of the passes (balanced); `/N` takes I
     /// from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX.
-    #[arg(long, value_name = "I/N", value_parser = gpu_photon::slice::parse_spec)]
-    slice: Option<gpu_photon::slice::SliceSpec>,
+    #[arg(long, value_name = "I/N", value_parser = gpu_photon::parse_slice)]
+    slice: Option<gpu_photon::SliceSpec>,
     /// Stop progressive passes after this many seconds (without --passes: pass until then).
     #[arg(long)]
     time: Option<f64>,
@@ -218,7 +220,7 @@ impl RenderArgs {
             }
             (None, _, _) if self.slice.is_some() => bail!("--slice needs --passes"),
             (Some(0), None, _) => None,
-            (Some(n), None, _) => Some(gpu_photon::slice::pass_range(n, self.slice)?),
+            (Some(n), None, _) => Some(gpu_photon::slice_pass_range(n, self.slice)?),
             (None, Some(r), _) => Some(r),
             (None, None, Some(_)) => Some((0, MAX_PASSES)),
             (None, None, None) => s.as_default_render().pass_range,
@@ -249,29 +251,43 @@ impl RenderArgs {
 }
 
 impl BackendArg {
-    fn choice(self) -> BackendChoice {
+    fn choice(self) -> Backend {
         match self {
-            BackendArg::Auto => BackendChoice::Auto,
-            BackendArg::Cpu => BackendChoice::Cpu,
-            BackendArg::Gpu => BackendChoice::Gpu,
+            BackendArg::Auto => Backend::Auto,
+            BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Gpu => Backend::Gpu,
         }
     }
 }
 
+/// Prints the library's warnings, as it reports them.
+fn print_warnings(warnings: &[Warning]) {
+    warnings.iter().for_each(|w| eprintln!("warning: {w}"));
+}
+
 fn run_render(args: &RenderArgs) -> Result<()> {
-    gpu_photon::film::check_output_path(&args.output)?;
-    let (camera, defines, env) = (args.camera.as_deref(), &args.define, args.env.as_deref());
-    let mut scene = gpu_photon::scene::load_with_options(&args.scene, camera, defines)?;
-    gpu_photon::scene::apply_env_arg(&mut scene, env, args.env_scale, &args.scene)?;
-    let mut settings = scene.settings.clone();
+    gpu_photon::check_output_path(&args.output)?;
+    let options = LoadOptions {
+        camera: args.camera.clone(),
+        defines: args.define.clone(),
+        env: args.env.clone(),
+        env_scale: args.env_scale,
+    };
+    let scene = Scene::load_with(&args.scene, &options)?;
+    print_warnings(scene.warnings());
+    let mut settings = scene.settings();
     args.apply(&mut settings)?;
     let show = !args.quiet && std::io::stderr().is_terminal();
-    let progress = Progress { enabled: show };
     if settings.pass_range.is_some() {
-        return run_progressive(args, &scene, &settings, progress);
+        return run_progressive(args, &scene, &settings, show);
     }
-    let (image, report) = render(&scene, &settings, args.backend.choice(), progress)?;
-    image.write(&args.output, settings.exposure)?;
+    let mut r = Renderer::new(&scene, &settings, args.backend.choice())?;
+    print_warnings(&r.take_warnings());
+    r.show_progress_bars(show);
+    r.run(&Stop::default(), |_, _| Flow::Continue)?;
+    print_warnings(&r.take_warnings());
+    let report = r.report()?;
+    r.image().write(&args.output, settings.exposure)?;
     warn_if_incomplete(&args.output, &report);
     if !args.quiet {
         for line in report.summary(&args.output, &settings) {
@@ -281,32 +297,56 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// A progressive render to a slice file: stops at --time, --noise or Ctrl-C (after the pass
+/// in progress), writes the running mean every --write-every passes and at the end.
 fn run_progressive(
     args: &RenderArgs,
-    scene: &gpu_photon::Scene,
+    scene: &Scene,
     settings: &RenderSettings,
-    progress: Progress,
+    show: bool,
 ) -> Result<()> {
-    use std::sync::atomic::{AtomicBool, Ordering};
-    use std::sync::Arc;
-    let interrupted = Arc::new(AtomicBool::new(false));
+    use std::sync::atomic::Ordering;
+    let file = SliceFile::new(&args.scene, &args.output, settings, args.passes)?;
+    let started = Instant::now();
+    let mut r = Renderer::new(scene, settings, args.backend.choice())?;
+    print_warnings(&r.take_warnings());
+    r.show_progress_bars(show);
+    let interrupted = r.cancel_flag();
     let flag = interrupted.clone();
     // A second Ctrl-C while finishing the pass is left to the default handler's absence:
     // the flag is simply set again.
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
-    let job = SliceJob {
-        scene_path: &args.scene,
-        output: &args.output,
-        time: args.time,
-        write_every: args.write_every,
-        noise: args.noise,
-        stop: &interrupted,
-        total_passes: args.passes,
-    };
-    let done = render_slice(scene, settings, args.backend.choice(), progress, &job)?;
-    warn_if_incomplete(&args.output, &done.report);
+    let mut write_error = None;
+    r.run(&Stop::default(), |info, r| {
+        if let Some(n) = args.write_every {
+            if n > 0 && info.done % n == 0 {
+                if let Err(e) = file.write(r) {
+                    write_error = Some(e);
+                    return Flow::Stop;
+                }
+            }
+        }
+        let out_of_time = args
+            .time
+            .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
+        let quiet_enough = args.noise.zip(info.noise).is_some_and(|(t, n)| n <= t);
+        if out_of_time || quiet_enough {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    })?;
+    print_warnings(&r.take_warnings());
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    file.write(&r)?;
+    let report = r.report()?;
+    warn_if_incomplete(&args.output, &report);
     if !args.quiet {
-        for line in done.summary(&args.output, settings, interrupted.load(Ordering::SeqCst)) {
+        let stopped = interrupted.load(Ordering::SeqCst);
+        let wall = started.elapsed();
+        for line in gpu_photon::progressive_summary(&r, &report, &args.output, stopped, wall) {
             eprintln!("{line}");
         }
     }
@@ -314,133 +354,20 @@ fn run_progressive(
 }
 
 /// Warns (even with --quiet) when a GPU render hit one of its bounds.
-fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::report::RenderReport) {
+fn warn_if_incomplete(output: &std::path::Path, report: &gpu_photon::Report) {
     if let Some(warning) = report.incomplete_warning(output) {
         eprintln!("{warning}");
     }
 }
 
 fn run_merge(inputs: &[PathBuf], output: &PathBuf, partial: bool) -> Result<()> {
-    let s = gpu_photon::merge::merge(inputs, output, partial)?;
+    let s = gpu_photon::merge(inputs, output, partial)?;
     eprintln!("{}: {s}", output.display());
     Ok(())
 }
 
-fn run_bench(args: &BenchArgs) -> Result<()> {
-    use gpu_photon::bench::{self, BenchBackends};
-    let scene = gpu_photon::scene::load(&args.scene)?;
-    let sizes = (args.photons, args.spp, args.width, args.height);
-    let s = bench::bench_settings(&scene, (!args.default_render).then_some(sizes));
-    let which = BenchBackends::of(args.backend.map(BackendArg::choice));
-    let modes = match &args.modes {
-        Some(list) => Mode::parse_list(list)?,
-        None => vec![s.mode],
-    };
-    println!("{}", bench::heading(&args.scene, &s, args.runs));
-    println!("{}", bench::Throughput::header());
-    let results = bench::throughputs(&scene, &s, &which, args.runs, |r| match r {
-        Ok(t) => println!("{t}"),
-        Err(why) => eprintln!("gpu: skipped ({why})"),
-    })?;
-    let ran = which.only(results.iter().map(|t| t.kind).collect());
-    if let Some(dir) = &args.out {
-        let reference = match &args.reference {
-            Some(r) => r.clone(),
-            None => {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("creating {}", dir.display()))?;
-                let path = dir.join("reference.exr");
-                println!(
-                    "no --reference: rendering one first with the CPU backend ({}) to {}",
-                    bench::ladder::describe_reference(&bench::reference_settings(&scene)),
-                    path.display()
-                );
-                bench::ladder::render_reference(&scene, &path)?;
-                path
-            }
-        };
-        ladder_bench(&scene, &args.scene, &s, &ran, &modes, &reference, dir)?;
-    }
-    if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
-        curve_bench(&scene, &s, &ran, reference, passes, args.out.as_deref())?;
-    }
-    bench::phase_table(&results)
-        .iter()
-        .for_each(|l| println!("{l}"));
-    if let [cpu, gpu] = &results[..] {
-        println!("{}", bench::ratios(cpu, gpu));
-    }
-    Ok(())
-}
-
-/// The speed-against-error ladder: every rung on every backend, as DIR/bench.csv and a
-/// log-log plot DIR/bench.png.
-fn ladder_bench(
-    scene: &gpu_photon::Scene,
-    scene_path: &std::path::Path,
-    s: &RenderSettings,
-    which: &gpu_photon::bench::BenchBackends,
-    modes: &[Mode],
-    reference: &std::path::Path,
-    dir: &std::path::Path,
-) -> Result<()> {
-    use gpu_photon::bench::{ladder, ladder_csv, plot, plot_title, LadderRow, LADDER};
-    let reference = Image::read(reference)?;
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    println!(
-        "speed against error ({}x{}, the reference's size):",
-        reference.width, reference.height
-    );
-    println!("{}", LadderRow::header());
-    let rows = ladder(scene, s, &which.backends, modes, &reference, &LADDER, |r| {
-        println!("{r}")
-    })?;
-    let csv = dir.join("bench.csv");
-    std::fs::write(&csv, ladder_csv(&rows))
-        .with_context(|| format!("writing {}", csv.display()))?;
-    println!("wrote {}", csv.display());
-    let png = dir.join("bench.png");
-    let title = plot_title(scene_path, reference.width, reference.height, modes);
-    match plot(&rows, &png, &title) {
-        Ok(()) => println!("wrote {}", png.display()),
-        Err(e) => eprintln!("warning: no plot: {e}"),
-    }
-    Ok(())
-}
-
-/// Error against the reference after 1, 2, 4, ... passes, with the wall time, per backend.
-fn curve_bench(
-    scene: &gpu_photon::Scene,
-    s: &RenderSettings,
-    which: &gpu_photon::bench::BenchBackends,
-    reference: &std::path::Path,
-    passes: u32,
-    out: Option<&std::path::Path>,
-) -> Result<()> {
-    let reference = Image::read(reference)?;
-    println!("progressive curve against the reference ({passes} passes):");
-    println!("{}", gpu_photon::bench::CurvePoint::header());
-    let points = gpu_photon::bench::progressive_curve(
-        scene,
-        s,
-        which,
-        &reference,
-        passes,
-        |p| println!("{p}"),
-        |why| eprintln!("gpu: skipped ({why})"),
-    )?;
-    if let Some(dir) = out {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        let path = dir.join("progressive.csv");
-        std::fs::write(&path, gpu_photon::bench::curve_csv(&points))
-            .with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
-    Ok(())
-}
-
 fn run_adapters() -> Result<()> {
-    let adapters = gpu_photon::gpu::list_adapters();
+    let adapters = gpu_photon::adapters();
     if adapters.is_empty() {
         bail!("no Vulkan adapter found (install mesa-vulkan-drivers for lavapipe)");
     }
@@ -453,7 +380,7 @@ fn run_adapters() -> Result<()> {
 fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>) -> Result<()> {
     let ia = Image::read(a)?;
     let ib = Image::read(b)?;
-    let d = match diff(&ia, &ib, block) {
+    let d = match ia.diff(&ib, block) {
         Ok(d) => d,
         Err(e) => bail!("{} vs {}: {e}", a.display(), b.display()),
     };
@@ -473,7 +400,7 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
-    gpu_photon::gpu::quiet_headless_vulkan();
+    gpu_photon::quiet_headless_vulkan();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
         Command::Adapters => run_adapters(),
@@ -482,7 +409,7 @@ fn main() -> ExitCode {
             output,
             partial,
         } => run_merge(inputs, output, *partial),
-        Command::Bench(args) => run_bench(args),
+        Command::Bench(args) => bench_cmd::run_bench(args),
         Command::Diff {
             a,
             b,

@@ -11,8 +11,7 @@ use crate::scene::Scene;
 use crate::settings::{validate, RenderSettings};
 use std::ops::Range;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 pub use crate::report::PassRenderer;
 
@@ -74,7 +73,7 @@ pub fn open<'s>(
         BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),
         BackendChoice::Auto => match auto_rule() {
             Err(why) => {
-                eprintln!("warning: {why}; rendering on the CPU");
+                crate::warning::warn(format!("{why}; rendering on the CPU"));
                 open_backend(Backend::Cpu, scene, settings)
             }
             Ok(_) => match open_backend(Backend::Gpu, scene, settings) {
@@ -151,7 +150,7 @@ fn fall_back<'s>(
     scene: &'s Scene,
     settings: &RenderSettings,
 ) -> Result<Box<dyn PassRenderer + 's>> {
-    eprintln!("warning: GPU backend failed ({why}); rendering on the CPU");
+    crate::warning::warn(format!("GPU backend failed ({why}); rendering on the CPU"));
     open_backend(Backend::Cpu, scene, settings)
 }
 
@@ -234,127 +233,4 @@ pub fn render_progressive(
     }
     bar.finish_and_clear();
     Ok((acc, renderer.report()?))
-}
-
-/// How a progressive render to a file (`render --passes`, `--pass-range`, `--time`) stops
-/// and saves.
-pub struct SliceJob<'a> {
-    /// The scene file (its text goes into the slice's signature).
-    pub scene_path: &'a Path,
-    /// The image written (tagged with its pass range and signature, for `merge`).
-    pub output: &'a Path,
-    /// Stop after the pass that ends past this many seconds.
-    pub time: Option<f64>,
-    /// Also write the running mean every this many passes.
-    pub write_every: Option<u32>,
-    /// Stop after the first even pass count whose estimated relative noise
-    /// ([`Accumulator::noise`]) is at most this.
-    pub noise: Option<f64>,
-    /// Stop after the current pass once this is set (Ctrl-C).
-    pub stop: &'a AtomicBool,
-    /// The pass count of the whole render this slice belongs to (`--passes P` with
-    /// `--slice`), recorded so `merge` can name missing passes; `None` for a bare range.
-    pub total_passes: Option<u32>,
-}
-
-/// What a progressive render to a file did.
-pub struct SliceOutcome {
-    /// The passes rendered (`first..first + count`) and their sum.
-    pub acc: Accumulator,
-    /// Timings and counts of every pass.
-    pub report: RenderReport,
-    /// When the passes started (after the signature was taken).
-    pub started: Instant,
-}
-
-impl SliceOutcome {
-    /// Wall time since the passes started.
-    pub fn wall(&self) -> Duration {
-        self.started.elapsed()
-    }
-
-    /// What `render` prints after a progressive render to `output` with `s`: the passes
-    /// (and whether they were `interrupted`), size, samples, mode and backend, then the
-    /// phases and the wall time.
-    pub fn summary(&self, output: &Path, s: &RenderSettings, interrupted: bool) -> Vec<String> {
-        let why = if interrupted { " (interrupted)" } else { "" };
-        let mut lines = vec![format!(
-            "{}: passes {}..{}{why}, {}x{}, {} spp per pass, mode {}, backend {}",
-            output.display(),
-            self.acc.first,
-            self.acc.first + self.acc.count,
-            s.width,
-            s.height,
-            s.spp,
-            s.mode.name(),
-            self.report.backend
-        )];
-        if let Some(n) = self.acc.noise() {
-            lines.push(format!(
-                "  estimated noise {:.2}% (relative RMS)",
-                100.0 * n
-            ));
-        }
-        lines.extend(self.report.phase_lines(18));
-        lines.push(format!(
-            "  {:<18} {:>9.3} s",
-            "wall",
-            self.wall().as_secs_f64()
-        ));
-        lines
-    }
-}
-
-/// Renders the progressive passes of `settings.pass_range` (which must be set) to
-/// `job.output`, stopping early at the time budget or the stop flag, and writing the running
-/// mean every `job.write_every` passes and at the end.
-pub fn render_slice(
-    scene: &Scene,
-    settings: &RenderSettings,
-    choice: BackendChoice,
-    progress: Progress,
-    job: &SliceJob,
-) -> Result<SliceOutcome> {
-    let Some((a, b)) = settings.pass_range else {
-        return Err(Error::Setting {
-            field: "pass-range",
-            message: "a progressive render needs a pass range".into(),
-        });
-    };
-    let sig = crate::merge::signature(job.scene_path, settings)?;
-    let started = Instant::now();
-    let write = |acc: &Accumulator| -> Result<()> {
-        let tags = crate::merge::slice_tags(acc, &sig, job.total_passes);
-        acc.mean()
-            .write_tagged(job.output, settings.exposure, &tags)
-    };
-    let mut write_error = None;
-    let (acc, report) = render_progressive(scene, settings, choice, progress, a..b, |acc| {
-        if let Some(n) = job.write_every {
-            if n > 0 && acc.count % n == 0 {
-                if let Err(e) = write(acc) {
-                    write_error = Some(e);
-                    return Flow::Stop;
-                }
-            }
-        }
-        let out_of_time = job
-            .time
-            .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
-        let quiet_enough = job.noise.zip(acc.noise()).is_some_and(|(t, n)| n <= t);
-        if job.stop.load(Ordering::SeqCst) || out_of_time || quiet_enough {
-            Flow::Stop
-        } else {
-            Flow::Continue
-        }
-    })?;
-    if let Some(e) = write_error {
-        return Err(e);
-    }
-    write(&acc)?;
-    Ok(SliceOutcome {
-        acc,
-        report,
-        started,
-    })
 }

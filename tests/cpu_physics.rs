@@ -778,6 +778,8 @@ fn sealed_box(albedo: Vec3) -> Scene {
         textures: vec![],
         spheres: vec![],
         lights: vec![],
+        media: vec![],
+        camera_medium: gpu_photon::medium::NO_MEDIUM,
         settings: RenderSettings::default(),
     }
 }

@@ -17,7 +17,7 @@ use gpu_photon::report::Progress;
 use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 
-fn settings(scene: &gpu_photon::Scene, seed: u32) -> RenderSettings {
+fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
     RenderSettings {
         width: 48,
         height: 48,
@@ -46,7 +46,7 @@ fn scene_paths() -> Vec<std::path::PathBuf> {
 /// and fused multiply-adds separate them) the same-seed images far below the noise.
 fn compare_backends(
     what: &str,
-    scene: &gpu_photon::Scene,
+    scene: &gpu_photon::scene::Scene,
     settings: impl Fn(u32) -> RenderSettings,
     failures: &mut Vec<String>,
 ) {

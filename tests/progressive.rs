@@ -7,9 +7,9 @@ mod common;
 use gpu_photon::film::{diff, Image};
 use gpu_photon::progressive::{radius2_factor, Flow};
 use gpu_photon::report::Progress;
+use gpu_photon::scene::Scene;
 use gpu_photon::session::{render_progressive, Backend};
 use gpu_photon::settings::RenderSettings;
-use gpu_photon::Scene;
 
 fn load(name: &str) -> Scene {
     gpu_photon::scene::load(std::path::Path::new(&format!("scenes/{name}.toml"))).unwrap()

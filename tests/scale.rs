@@ -71,7 +71,7 @@ fn sphere_ply(c: [f32; 3], r: f32) -> Vec<u8> {
     out
 }
 
-fn settings(scene: &gpu_photon::Scene, seed: u32) -> RenderSettings {
+fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
     RenderSettings {
         width: 24,
         height: 24,

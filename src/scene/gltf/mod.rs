@@ -367,7 +367,7 @@ impl Importer<'_> {
                 .collect(),
             other => {
                 let m = format!("{other:?} primitives are skipped (only triangles are rendered)");
-                eprintln!("warning: {}: {field}: {m}", self.cx.file);
+                crate::warning::warn(format!("{}: {field}: {m}", self.cx.file));
                 return Ok(());
             }
         };

@@ -30,13 +30,13 @@ impl Importer<'_> {
         let err = |(f, msg): (String, String)| self.cx.err(&f, format!("material {name}: {msg}"));
         let warn_set = |r: &texture::TexRef| {
             if r.set() != set {
-                eprintln!(
-                    "warning: {}: material {name}: texture {} reads TEXCOORD_{}, rendered with \
+                crate::warning::warn(format!(
+                    "{}: material {name}: texture {} reads TEXCOORD_{}, rendered with \
                      TEXCOORD_{set} (one uv set per primitive)",
                     self.cx.file,
                     r.name(),
                     r.set()
-                );
+                ));
             }
         };
         let (buffers, dir) = (&self.buffers, self.base_dir);
@@ -145,14 +145,14 @@ impl Importer<'_> {
         self.textures(m, &name, &mut material)?;
         material.alpha = self.alpha(m, &material);
         if let Some(note) = note {
-            eprintln!("warning: {file}: material {name}: {note}");
+            crate::warning::warn(format!("{file}: material {name}: {note}"));
         }
         for (texture, slot) in material::textures(m) {
             if !self.warned.contains(&texture) {
-                eprintln!(
-                    "warning: {file}: material {name}: {slot} texture {texture} ignored \
+                crate::warning::warn(format!(
+                    "{file}: material {name}: {slot} texture {texture} ignored \
                      (its factor is used)"
-                );
+                ));
                 self.warned.push(texture);
             }
         }

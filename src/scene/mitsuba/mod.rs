@@ -67,7 +67,7 @@ pub fn load_with_defines(path: &Path, defines: &[(String, String)]) -> Result<Sc
     let file = path.display().to_string();
     let imported = import_with(text, &file, file::base_dir(path), defines)?;
     for warning in &imported.warnings {
-        eprintln!("warning: {warning}");
+        crate::warning::warn(warning.to_string());
     }
     Ok(imported.scene)
 }
@@ -77,7 +77,7 @@ pub fn load_with_defines(path: &Path, defines: &[(String, String)]) -> Result<Sc
 pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     let imported = import(text, file, base_dir)?;
     for warning in &imported.warnings {
-        eprintln!("warning: {warning}");
+        crate::warning::warn(warning.to_string());
     }
     Ok(imported.scene)
 }

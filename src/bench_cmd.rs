@@ -1,0 +1,120 @@
+//! `gpu-photon bench`: throughput of each backend, the speed-against-error ladder and the
+//! progressive curve, printed and written as CSV and plots.
+
+use crate::{print_warnings, BackendArg, BenchArgs};
+use anyhow::{Context, Result};
+use gpu_photon::{Image, Mode, RenderSettings, Scene};
+
+pub(crate) fn run_bench(args: &BenchArgs) -> Result<()> {
+    use gpu_photon::bench::{self, BenchBackends};
+    let scene = Scene::load(&args.scene)?;
+    print_warnings(scene.warnings());
+    let sizes = (args.photons, args.spp, args.width, args.height);
+    let s = bench::bench_settings(&scene, (!args.default_render).then_some(sizes));
+    let which = BenchBackends::of(args.backend.map(BackendArg::choice));
+    let modes = match &args.modes {
+        Some(list) => Mode::parse_list(list)?,
+        None => vec![s.mode],
+    };
+    println!("{}", bench::heading(&args.scene, &s, args.runs));
+    println!("{}", bench::Throughput::header());
+    let results = bench::throughputs(&scene, &s, &which, args.runs, |r| match r {
+        Ok(t) => println!("{t}"),
+        Err(why) => eprintln!("gpu: skipped ({why})"),
+    })?;
+    let ran = which.only(results.iter().map(|t| t.kind).collect());
+    if let Some(dir) = &args.out {
+        let reference = match &args.reference {
+            Some(r) => r.clone(),
+            None => {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("creating {}", dir.display()))?;
+                let path = dir.join("reference.exr");
+                println!(
+                    "no --reference: rendering one first with the CPU backend ({}) to {}",
+                    bench::ladder::describe_reference(&bench::reference_settings(&scene)),
+                    path.display()
+                );
+                bench::ladder::render_reference(&scene, &path)?;
+                path
+            }
+        };
+        ladder_bench(&scene, &args.scene, &s, &ran, &modes, &reference, dir)?;
+    }
+    if let (Some(reference), Some(passes)) = (&args.reference, args.passes) {
+        curve_bench(&scene, &s, &ran, reference, passes, args.out.as_deref())?;
+    }
+    bench::phase_table(&results)
+        .iter()
+        .for_each(|l| println!("{l}"));
+    if let [cpu, gpu] = &results[..] {
+        println!("{}", bench::ratios(cpu, gpu));
+    }
+    Ok(())
+}
+
+/// The speed-against-error ladder: every rung on every backend, as DIR/bench.csv and a
+/// log-log plot DIR/bench.png.
+fn ladder_bench(
+    scene: &Scene,
+    scene_path: &std::path::Path,
+    s: &RenderSettings,
+    which: &gpu_photon::bench::BenchBackends,
+    modes: &[Mode],
+    reference: &std::path::Path,
+    dir: &std::path::Path,
+) -> Result<()> {
+    use gpu_photon::bench::{ladder, ladder_csv, plot, plot_title, LadderRow, LADDER};
+    let reference = Image::read(reference)?;
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    println!(
+        "speed against error ({}x{}, the reference's size):",
+        reference.width, reference.height
+    );
+    println!("{}", LadderRow::header());
+    let rows = ladder(scene, s, &which.backends, modes, &reference, &LADDER, |r| {
+        println!("{r}")
+    })?;
+    let csv = dir.join("bench.csv");
+    std::fs::write(&csv, ladder_csv(&rows))
+        .with_context(|| format!("writing {}", csv.display()))?;
+    println!("wrote {}", csv.display());
+    let png = dir.join("bench.png");
+    let title = plot_title(scene_path, reference.width, reference.height, modes);
+    match plot(&rows, &png, &title) {
+        Ok(()) => println!("wrote {}", png.display()),
+        Err(e) => eprintln!("warning: no plot: {e}"),
+    }
+    Ok(())
+}
+
+/// Error against the reference after 1, 2, 4, ... passes, with the wall time, per backend.
+fn curve_bench(
+    scene: &Scene,
+    s: &RenderSettings,
+    which: &gpu_photon::bench::BenchBackends,
+    reference: &std::path::Path,
+    passes: u32,
+    out: Option<&std::path::Path>,
+) -> Result<()> {
+    let reference = Image::read(reference)?;
+    println!("progressive curve against the reference ({passes} passes):");
+    println!("{}", gpu_photon::bench::CurvePoint::header());
+    let points = gpu_photon::bench::progressive_curve(
+        scene,
+        s,
+        which,
+        &reference,
+        passes,
+        |p| println!("{p}"),
+        |why| eprintln!("gpu: skipped ({why})"),
+    )?;
+    if let Some(dir) = out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        let path = dir.join("progressive.csv");
+        std::fs::write(&path, gpu_photon::bench::curve_csv(&points))
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
