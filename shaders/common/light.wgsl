@@ -12,7 +12,7 @@ fn is_delta_light(l: Light) -> bool {
 // The spot falloff at cosine cd to the axis (SpotCone::falloff): glTF's reference form,
 // quadratic in the cosine, or Mitsuba's, linear in the angle.
 fn spot_falloff(l: Light, cd: f32) -> f32 {
-    if l.spot_profile == SPOT_LINEAR_ANGLE {
+    if HAS_LINEAR_SPOTS && l.spot_profile == SPOT_LINEAR_ANGLE {
         let inner = acos(l.cos_inner);
         let outer = acos(l.cos_outer);
         let ramp = clamp((outer - acos(clamp(cd, -1.0, 1.0))) / max(outer - inner, 1e-30), 0.0, 1.0);
@@ -33,7 +33,7 @@ fn spot_linear_mass(outer: f32, x: f32) -> f32 {
 // glTF's ramp holds (a - co)^3 / (3 w^2) of the falloff's integral over the cosine, the flat
 // top 1 - a.
 fn spot_cos(l: Light, u: f32) -> f32 {
-    if l.spot_profile == SPOT_LINEAR_ANGLE {
+    if HAS_LINEAR_SPOTS && l.spot_profile == SPOT_LINEAR_ANGLE {
         return spot_cos_linear(l, u);
     }
     let co = l.cos_outer;

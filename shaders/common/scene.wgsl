@@ -35,6 +35,8 @@
 override HAS_GLASS: bool = true;
 override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
+// Some spot light has Mitsuba's falloff, linear in the angle (light.wgsl's spot_cos_linear).
+override HAS_LINEAR_SPOTS: bool = true;
 // The scene has an environment light (its last light).
 override HAS_ENVIRONMENT: bool = true;
 // Some triangle is smooth-shaded: without, the shading normal is the geometric one.

@@ -32,6 +32,7 @@ pub fn feature_constants(
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         // The WGSL name covers every delta light: point, spot and directional.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
+        ("HAS_LINEAR_SPOTS", has_linear_spots(scene) as u32 as f64),
         ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
         (
             "HAS_ENVIRONMENT",
@@ -56,6 +57,16 @@ pub fn feature_constants(
         ),
         ("KNN", knn as u32 as f64),
     ]
+}
+
+/// Whether some spot light has Mitsuba's falloff (its sampling code is compiled only then:
+/// the bisection loop slowed lavapipe's photon tracing by a quarter even where unused).
+fn has_linear_spots(scene: &Scene) -> bool {
+    use crate::scene::{LightShape, SpotFalloff};
+    let linear = |shape: &LightShape| {
+        matches!(shape, LightShape::Spot { cone, .. } if cone.profile == SpotFalloff::LinearAngle)
+    };
+    scene.lights.iter().any(|l| linear(&l.shape))
 }
 
 /// The compute pipelines of a render, each created once.
