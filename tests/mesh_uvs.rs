@@ -255,7 +255,7 @@ fn malformed_texture_coordinates_give_exact_messages() {
     assert_eq!(
         mesh_error(&dir, "int.ply", &int),
         format!(
-            "{}: vertex property `u` is int; expected float or double",
+            "{}:3: vertex property `u` is int; expected float or double",
             path("int.ply")
         )
     );
@@ -263,7 +263,7 @@ fn malformed_texture_coordinates_give_exact_messages() {
     assert_eq!(
         mesh_error(&dir, "inf.ply", &inf),
         format!(
-            "{}: vertex 1: the texture coordinate (s, t) [{}, inf] is not finite",
+            "{}:13: vertex 1: the texture coordinate (s, t) [{}, inf] is not finite",
             path("inf.ply"),
             file_uv(1.0, 0.0).x
         )

@@ -20,6 +20,7 @@ pub mod mitsuba;
 mod normals;
 mod obj;
 mod ply;
+mod ply_place;
 mod punctual;
 mod spot;
 mod tangents;
