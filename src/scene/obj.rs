@@ -181,7 +181,7 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     return Err(at(format!("OBJ vertex {p} is not finite")));
                 }
                 positions += 1;
-                out.push_str(line);
+                keep_three(&mut out, line);
             }
             Some("vn") if has_normals => {
                 let n = three_numbers(line).map_err(at)?;
@@ -189,7 +189,7 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     return Err(at(format!("OBJ normal (vn) {n} is zero or not finite")));
                 }
                 seen += 1;
-                out.push_str(line);
+                keep_three(&mut out, line);
             }
             Some("f") => {
                 out.push('f');
@@ -245,6 +245,15 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
         has_normals,
         uvs: has_uvs.then_some(uvs),
     })
+}
+
+/// Appends a checked `v` or `vn` record with only its keyword and first three numbers
+/// (tobj would parse a `w` or colours after them, and fail on a malformed one).
+fn keep_three(out: &mut String, line: &str) {
+    for word in line.split_whitespace().take(4) {
+        out.push_str(word);
+        out.push(' ');
+    }
 }
 
 /// The first three numbers after a `v` or `vn` record's keyword (a `v`'s `w` and vertex

@@ -116,6 +116,12 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         .read_header(&mut reader)
         .map_err(|e| invalid(path, &e, true))?;
     let (head, rest) = bytes.split_at(reader.get_ref().position() as usize);
+    if matches!(header.encoding, Encoding::Ascii) {
+        if let Err(bad) = crate::read::utf8(bytes.to_vec()) {
+            let message = format!("not a valid PLY file: {bad}");
+            return Err(at(Some(Place::Line(bad.line)), message));
+        }
+    }
     check_counts(&header, head, rest)
         .map_err(|(line, message)| at(Some(Place::Line(line)), message))?;
     let elements = &header.elements;
