@@ -28,6 +28,7 @@ mod toml;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
 pub use environment::{
     apply_env_arg, latlong_dir, latlong_lookup, latlong_uv, luminance, require_light, Environment,
 };

@@ -94,11 +94,15 @@ impl<'f> Importer<'f> {
                 self.default_material(&at)?
             }
         };
+        let emission_texture = match emission_texture {
+            Some(t) => Some(self.b.add_texture(t, &self.origin(node, field))?),
+            None => None,
+        };
         let surface = Surface {
             material: Some(material),
             emission,
             two_sided: None,
-            emission_texture: emission_texture.map(|t| self.b.add_texture(t)),
+            emission_texture,
         };
         self.geometry(&p, surface)
     }
