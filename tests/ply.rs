@@ -385,6 +385,20 @@ fn malformed_files_give_clear_messages() {
             "FILE:7: the `face` element has no `vertex_indices` list",
         ),
         (
+            "empty.ply",
+            Vec::new(),
+            "FILE:1: not a valid PLY file: Unexpected end of file while reading magic number",
+        ),
+        (
+            // `end_header` joined to the line before: the header runs into binary data.
+            "no-end.ply",
+            {
+                let at = good.windows(11).position(|w| w == b"\nend_header").unwrap();
+                [&good[..at], &good[at + 1..]].concat()
+            },
+            "FILE:9: not a valid PLY file: the header has invalid UTF-8 at byte 182",
+        ),
+        (
             "not-ply.ply",
             b"v 0 0 0\n".to_vec(),
             "FILE:1: not a valid PLY file: Expected magic number 'ply'",

@@ -114,7 +114,7 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     let parser = Parser::<DefaultElement>::new();
     let header = parser
         .read_header(&mut reader)
-        .map_err(|e| invalid(path, &e, true))?;
+        .map_err(|e| header_error(path, &e, &bytes))?;
     let (head, rest) = bytes.split_at(reader.get_ref().position() as usize);
     if matches!(header.encoding, Encoding::Ascii) {
         if let Err(bad) = crate::read::utf8(bytes.to_vec()) {
@@ -244,6 +244,24 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         normals: has_normals.then_some(normals),
         uvs: uv_names.map(|_| uvs),
     })
+}
+
+/// A header the parser refused, as a [`PlyError`] with a line: the parser's, else (it read
+/// past a mangled `end_header` into binary data, or the file ended) the line of the first
+/// byte that is not UTF-8, or the file's last line.
+fn header_error(path: &Path, e: &ParseError, bytes: &[u8]) -> PlyError {
+    let mut error = invalid(path, e, true);
+    if error.line.is_none() {
+        let end = 1 + bytes.iter().filter(|&&b| b == b'\n').count();
+        error.line = Some(match crate::read::utf8(bytes.to_vec()) {
+            Err(bad) => {
+                error.message = format!("not a valid PLY file: the header has {bad}");
+                bad.line
+            }
+            Ok(_) => end,
+        });
+    }
+    error
 }
 
 /// A parser error as a one-line [`PlyError`] (the parser's first line, without its
