@@ -37,8 +37,12 @@ const CI_CASES: u64 = 800;
 /// Longest a case may take before it counts as a hang.
 const DEADLINE: Duration = Duration::from_secs(20);
 
-/// Address space the test process may use: an allocation past it aborts the run.
+/// Address space the test process may use for data: an allocation past it aborts the run.
+/// Each thread adds [`PER_THREAD`] for its stack and malloc arena, which reserve address
+/// space they do not use.
 const ADDRESS_SPACE: u64 = 4 << 30;
+/// Address space reserved per hardware thread on top of [`ADDRESS_SPACE`].
+const PER_THREAD: u64 = 128 << 20;
 
 fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz")
@@ -155,15 +159,21 @@ fn prepare() {
     });
 }
 
-/// Caps the process's address space at [`ADDRESS_SPACE`] (Linux; elsewhere a no-op).
+/// Caps the process's address space at [`ADDRESS_SPACE`] plus [`PER_THREAD`] per hardware
+/// thread (Linux; elsewhere a no-op).
 fn limit_address_space() {
     #[cfg(target_os = "linux")]
     {
-        let limit = libc::rlimit {
-            rlim_cur: ADDRESS_SPACE,
-            rlim_max: libc::RLIM_INFINITY,
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+        let mut limit = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
         };
-        // SAFETY: setrlimit reads the struct it is given and nothing else.
+        // SAFETY: getrlimit and setrlimit read or write the one struct they are given.
+        let rc = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) };
+        assert_eq!(rc, 0, "getrlimit(RLIMIT_AS)");
+        // Lowered only: a tighter limit set from outside (`prlimit`) stays.
+        limit.rlim_cur = limit.rlim_cur.min(ADDRESS_SPACE + PER_THREAD * threads);
         let rc = unsafe { libc::setrlimit(libc::RLIMIT_AS, &limit) };
         assert_eq!(rc, 0, "setrlimit(RLIMIT_AS)");
     }
