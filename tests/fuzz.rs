@@ -264,6 +264,8 @@ struct Tally {
     panics: u64,
     hangs: u64,
     failures: Vec<String>,
+    /// The slowest case: (seconds, case number).
+    slowest: (f64, u64),
 }
 
 fn env_u64(name: &str, default: u64) -> u64 {
@@ -312,8 +314,13 @@ fn mutated_scenes_fail_cleanly() {
             let work = root.join(format!("{format}-{n}"));
             let entry = build_case(format, &seeds, n, &work);
             QUIET.store(true, Ordering::SeqCst);
+            let case_start = Instant::now();
             let outcome = run_case(entry);
             QUIET.store(false, Ordering::SeqCst);
+            let took = case_start.elapsed().as_secs_f64();
+            if took > t.slowest.0 {
+                t.slowest = (took, n);
+            }
             let bad = match &outcome {
                 Outcome::Rendered => (t.rendered += 1, None).1,
                 Outcome::Located(_) => (t.located += 1, None).1,
@@ -337,14 +344,16 @@ fn mutated_scenes_fail_cleanly() {
         }
         eprintln!(
             "fuzz {format}: {} cases in {:.1} s: {} rendered, {} located errors, {} unlocated, \
-             {} panics, {} hangs",
+             {} panics, {} hangs; slowest case {} ({:.2} s)",
             t.rendered + t.located + t.unlocated + t.panics + t.hangs,
             start.elapsed().as_secs_f64(),
             t.rendered,
             t.located,
             t.unlocated,
             t.panics,
-            t.hangs
+            t.hangs,
+            t.slowest.1,
+            t.slowest.0
         );
         for f in &t.failures {
             eprintln!("  {f}");
