@@ -130,6 +130,9 @@ pub fn split_samples(total: u32, max_passes: u32) -> (u32, u32) {
 
 /// Largest accepted progressive pass count (pass indices leave the RNG's top 8 bits free).
 pub const MAX_PASSES: u32 = u32::MAX >> 8;
+/// Largest accepted photon count, global or caustic (2^28): a photon path may store up to
+/// `max_photon_bounces` photons, so the maps' memory is bounded before they are allocated.
+pub const MAX_PHOTONS: u32 = 1 << 28;
 /// Largest accepted image side, in pixels.
 pub const MAX_RESOLUTION: u32 = 16384;
 /// Largest accepted K.
@@ -317,8 +320,8 @@ const RENDER: Option<&str> = Some("render");
 pub static SETTINGS: &[Setting] = &[
     row!(width, "width", CAMERA, int(1, MAX_RESOLUTION), u32, "image width, pixels"),
     row!(height, "height", CAMERA, int(1, MAX_RESOLUTION), u32, "image height, pixels"),
-    row!(photons, "photons", RENDER, int(1, u32::MAX), u32, "photon paths for the global map"),
-    row!(caustic_photons, "caustic-photons", RENDER, int(0, u32::MAX), u32,
+    row!(photons, "photons", RENDER, int(1, MAX_PHOTONS), u32, "photon paths for the global map"),
+    row!(caustic_photons, "caustic-photons", RENDER, int(0, MAX_PHOTONS), u32,
         "photons stored in the caustic map (0: none)"),
     row!(k, "k", RENDER, int(1, MAX_K), u32, "photons per K-nearest radiance estimate"),
     row!(radius, "radius", RENDER, Range::Positive, f32,

@@ -52,7 +52,7 @@ fn scene(l: f32, up: bool) -> Scene {
             Wrap::Clamp,
             UvTransform::IDENTITY,
         ));
-    let tex = b.add_texture(SceneTexture::Bitmap(tex));
+    let tex = b.add_texture(SceneTexture::Bitmap(tex), &at()).unwrap();
     let mut m = Material::emitter(Vec3::splat(l));
     m.emission_texture = tex;
     let light = b.add_material(None, m, &at()).unwrap();

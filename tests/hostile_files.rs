@@ -405,3 +405,59 @@ fn mitsuba_defaults_expand_to_a_bounded_total() {
         "t.xml:20: default.d18: the defaults expand to more than 16777216 bytes",
     );
 }
+
+#[test]
+fn scene_budgets_stop_triangles_and_texels_at_the_shape_that_crosses_them() {
+    use glam::Vec3;
+    use gpu_photon::scene::{
+        Material, Origin, SceneBudgets, SceneBuilder, Surface, MAX_TEXTURE_BYTES, MAX_TRIANGLES,
+    };
+    use gpu_photon::texture::{Encoding, SceneTexture, Texture};
+    let defaults = SceneBudgets::default();
+    assert_eq!(
+        (defaults.max_triangles, defaults.max_texture_bytes),
+        (MAX_TRIANGLES, MAX_TEXTURE_BYTES)
+    );
+    let at = |line: usize, field: &str| Origin {
+        file: "t.toml".into(),
+        line,
+        field: field.into(),
+    };
+    let mut b = SceneBuilder::new();
+    b.set_budgets(SceneBudgets {
+        max_triangles: 13,
+        max_texture_bytes: 100,
+    });
+    let white = b
+        .add_material(None, Material::diffuse(Vec3::ONE), &at(1, "materials.w"))
+        .unwrap();
+    let (lo, hi) = (Vec3::ZERO, Vec3::ONE);
+    b.add_box(lo, hi, 0.0, Surface::of(white), &at(5, "shapes[0]"))
+        .unwrap();
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    b.add_triangle(tri, Surface::of(white), &at(7, "shapes[1]"))
+        .unwrap();
+    // 13 triangles: the next box (12 more) is refused, with its own place.
+    let e = b
+        .add_box(lo, hi, 0.0, Surface::of(white), &at(9, "shapes[2]"))
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "t.toml:9: shapes[2]: the scene would have 25 triangles (12 from this shape), more \
+         than the 13 a scene may have"
+    );
+    // A 4 x 4 RGBA8 texture is 64 bytes: the second passes the 100-byte budget.
+    let texture = || {
+        let t = Texture::from_rgba8("t.png", 4, 4, vec![0; 16], Encoding::Raw).unwrap();
+        SceneTexture::Bitmap(t)
+    };
+    assert_eq!(b.add_texture(texture(), &at(11, "materials.a")).unwrap(), 0);
+    let e = b
+        .add_texture(texture(), &at(14, "materials.b"))
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "t.toml:14: materials.b: the scene's textures would take 128 bytes (64 for this one), \
+         more than the 100 a scene may have"
+    );
+}

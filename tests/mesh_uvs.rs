@@ -244,17 +244,18 @@ fn malformed_texture_coordinates_give_exact_messages() {
             "OBJ texture coordinate (vt) [inf, 0] is not finite",
         ),
     ];
-    for (file, text, want) in cases {
+    // The line of the record at fault: the face, or the `vt` record.
+    for ((file, text, want), line) in cases.into_iter().zip([5, 5, 4, 4, 4, 4]) {
         assert_eq!(
             mesh_error(&dir, file, &text),
-            format!("{}: {want}", path(file))
+            format!("{}:{line}: {want}", path(file))
         );
     }
     let int = square_ply(["u", "v"], "int", "0");
     assert_eq!(
         mesh_error(&dir, "int.ply", &int),
         format!(
-            "{}: vertex property `u` is int; expected float or double",
+            "{}:3: vertex property `u` is int; expected float or double",
             path("int.ply")
         )
     );
@@ -262,7 +263,7 @@ fn malformed_texture_coordinates_give_exact_messages() {
     assert_eq!(
         mesh_error(&dir, "inf.ply", &inf),
         format!(
-            "{}: vertex 1: the texture coordinate (s, t) [{}, inf] is not finite",
+            "{}:13: vertex 1: the texture coordinate (s, t) [{}, inf] is not finite",
             path("inf.ply"),
             file_uv(1.0, 0.0).x
         )

@@ -324,65 +324,79 @@ fn malformed_files_give_clear_messages() {
         (
             "truncated.ply",
             good[..good.len() - 3].to_vec(),
-            "FILE: not a valid PLY file: Unexpected end of file while reading binary element \
+            "FILE: byte 215: not a valid PLY file: Unexpected end of file while reading binary element \
              'face' (expected 1, got 0): Couldn't find a list element at index 2: failed to fill \
              whole buffer",
         ),
         (
             "int-coords.ply",
             ply_bytes(&tri, &face, Encoding { coord: "int", ..le }),
-            "FILE: vertex property `x` is int; expected float or double",
+            "FILE:3: vertex property `x` is int; expected float or double",
         ),
         (
             "float-indices.ply",
             ply_bytes(&tri, &face, Encoding { index: "float", ..le }),
-            "FILE: face property `vertex_indices` is list uchar float; expected a list of integers",
+            "FILE:7: face property `vertex_indices` is list uchar float; expected a list of integers",
         ),
         (
             "out-of-range.ply",
             ply_bytes(&tri, &[vec![0, 1, 3]], le),
-            "FILE: face 0 refers to vertex 3; the mesh has 3 vertices",
+            "FILE: byte 205: face 0 refers to vertex 3; the mesh has 3 vertices",
         ),
         (
             "negative.ply",
             ply_bytes(&tri, &[vec![0, 1, 2], vec![0, -1, 2]], le),
-            "FILE: face 1 refers to vertex -1; the mesh has 3 vertices",
+            "FILE: byte 218: face 1 refers to vertex -1; the mesh has 3 vertices",
         ),
         (
             "nan.ply",
             ply_bytes(&[Vec3::ZERO, Vec3::X, Vec3::NAN], &face, le),
-            "FILE: vertex 2 is not finite: [NaN, NaN, NaN]",
+            "FILE: byte 193: vertex 2 is not finite: [NaN, NaN, NaN]",
         ),
         (
             "no-faces.ply",
             ply_bytes(&tri, &[], le),
-            "FILE: the mesh has no triangles",
+            "FILE:7: the mesh has no triangles",
         ),
         (
             "two-corners.ply",
             ply_bytes(&tri, &[vec![0, 1]], ASCII),
-            "FILE: face 0 has 2 vertices; a face needs at least 3",
+            "FILE:13: face 0 has 2 vertices; a face needs at least 3",
         ),
         (
             "no-face-element.ply",
             b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
               property float z\nend_header\n0 0 0\n"
                 .to_vec(),
-            "FILE: no `face` element: the mesh has no triangles",
+            "FILE:7: no `face` element: the mesh has no triangles",
         ),
         (
             "no-z.ply",
             b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
               element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0\n"
                 .to_vec(),
-            "FILE: vertex property `z` is missing",
+            "FILE:3: vertex property `z` is missing",
         ),
         (
             "no-list.ply",
             b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
               property float z\nelement face 0\nproperty int flags\nend_header\n0 0 0\n"
                 .to_vec(),
-            "FILE: the `face` element has no `vertex_indices` list",
+            "FILE:7: the `face` element has no `vertex_indices` list",
+        ),
+        (
+            "empty.ply",
+            Vec::new(),
+            "FILE:1: not a valid PLY file: Unexpected end of file while reading magic number",
+        ),
+        (
+            // `end_header` joined to the line before: the header runs into binary data.
+            "no-end.ply",
+            {
+                let at = good.windows(11).position(|w| w == b"\nend_header").unwrap();
+                [&good[..at], &good[at + 1..]].concat()
+            },
+            "FILE:9: not a valid PLY file: the header has invalid UTF-8 at byte 182",
         ),
         (
             "not-ply.ply",
@@ -438,7 +452,7 @@ fn a_bad_ply_in_a_scene_names_the_scene_line() {
     write(&dir, "bad.ply", &ply_bytes(&tri, &[vec![0, 1, 5]], ASCII));
     let e = mesh_scene(&dir, "bad.ply", "").unwrap_err();
     let expect = format!(
-        "test.toml:7: shapes[0].file: {}: face 0 refers to vertex 5; the mesh has 3 vertices",
+        "test.toml:7: shapes[0].file: {}:13: face 0 refers to vertex 5; the mesh has 3 vertices",
         dir.join("bad.ply").display()
     );
     assert_eq!(e.to_string(), expect);
@@ -515,7 +529,7 @@ fn the_cli_reports_a_bad_ply_and_renders_a_good_one() {
     assert_eq!(code, Some(1), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     let expect = format!(
-        "{}: face 0 refers to vertex 9; the mesh has 3 vertices",
+        "{}:13: face 0 refers to vertex 9; the mesh has 3 vertices",
         dir.join("bad.ply").display()
     );
     assert!(err.contains(&expect), "{err}");

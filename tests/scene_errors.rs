@@ -253,7 +253,7 @@ k = 0  #! render.k | must be an integer in 1..=1024
 k = 5000  #! render.k | 1..=1024
 ---
 [render]
-photons = 0  #! render.photons | 1..=4294967295
+photons = 0  #! render.photons | 1..=268435456
 ---
 [render]
 spp = 5000000000  #! render.spp | must be an integer in 1..=65536
@@ -873,34 +873,43 @@ fn broken_obj_files() {
         (
             "empty.obj",
             "v 0 0 0\nv 1 0 0\nv 0 1 0\n",
-            "has no triangles",
+            "empty.obj:3: the mesh has no triangles",
         ),
         (
             "lines.obj",
             "v 0 0 0\nv 1 0 0\nl 1 2\np 1\n",
-            "has no triangles",
+            "lines.obj:4: the mesh has no triangles",
         ),
         (
             "out-of-range.obj",
             "v 0 0 0\nv 1 0 0\nf 1 2 3\n",
-            "OBJ parse error",
+            "out-of-range.obj:3: OBJ face corner `3`: vertex index out of range or malformed (2 v \
+             records before it, 2 in all)",
         ),
         (
             "zero-index.obj",
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
-            "OBJ parse error",
+            "zero-index.obj:4: OBJ face corner `0`: vertex index out of range",
         ),
-        ("garbage.obj", "v 0 zero 0\n", "OBJ parse error"),
+        (
+            "garbage.obj",
+            "v 0 zero 0\n",
+            "garbage.obj:1: OBJ record `v 0 zero 0`: `zero` is not a number",
+        ),
         (
             "nan.obj",
             "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-            "is not finite",
+            "nan.obj:1: OBJ vertex [NaN, 0, 0] is not finite",
         ),
-        ("empty-face.obj", "v 0 0 0\nf\n", "OBJ parse error"),
+        (
+            "empty-face.obj",
+            "v 0 0 0\nf\n",
+            "empty-face.obj:2: OBJ face has 0 corners; a face needs 3 or more",
+        ),
         (
             "vt-out-of-range.obj",
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/-99999999999 3/1\n",
-            "texture coordinate index out of range",
+            "vt-out-of-range.obj:5: OBJ face corner `2/-99999999999`: texture coordinate index",
         ),
     ];
     for (name, obj, needle) in bad {
@@ -1049,10 +1058,9 @@ fn every_scene_file_setting_has_the_range_of_validate() {
             assert!(validate(&s.settings).is_ok(), "{} = {value}", row.name);
         }
     }
-    // Two bad values for every setting but photons (one: its top is u32::MAX), passes (one:
-    // its bottom is 0) and
-    // caustic_photons, seed, exposure (none: every u32, every finite number).
-    assert_eq!(checked, 22);
+    // Two bad values for every setting but passes and caustic_photons (one: their bottom is
+    // 0) and seed and exposure (none: every u32, every finite number).
+    assert_eq!(checked, 24);
 }
 
 #[test]

@@ -47,7 +47,7 @@ fn scene(dir: Vec3, e: f32) -> Scene {
             Wrap::Clamp,
             UvTransform::IDENTITY,
         ));
-    let id = b.add_texture(SceneTexture::Bitmap(tex));
+    let id = b.add_texture(SceneTexture::Bitmap(tex), &at).unwrap();
     let mut m = Material::diffuse(Vec3::splat(0.5));
     m.kd_texture = id;
     let mat = b.add_material(None, m, &at).unwrap();

@@ -63,9 +63,7 @@ pub fn feature_constants(
 /// the bisection loop slowed lavapipe's photon tracing by a quarter even where unused).
 fn has_linear_spots(scene: &Scene) -> bool {
     use crate::scene::{LightShape, SpotFalloff};
-    let linear = |shape: &LightShape| {
-        matches!(shape, LightShape::Spot { cone, .. } if cone.profile == SpotFalloff::LinearAngle)
-    };
+    let linear = |shape: &LightShape| matches!(shape, LightShape::Spot { cone, .. } if cone.profile == SpotFalloff::LinearAngle);
     scene.lights.iter().any(|l| linear(&l.shape))
 }
 

@@ -24,7 +24,7 @@
 //! the file, line and field (a TOML table maps each part to its key; [`Origin`](super::Origin) names one
 //! fixed place).
 
-use super::checks::{check_emission, check_light, check_material};
+use super::checks::{check_emission, check_light, check_material, SceneBudgets};
 use super::locate::{Locate, Part};
 use super::normals::{is_flat, unit_normals};
 use super::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
@@ -60,8 +60,7 @@ pub struct Surface {
     /// A texture (from [`SceneBuilder::add_texture`]) multiplying the emission at each point
     /// (`Material::emission_texture`); only for emissive surfaces.
     pub emission_texture: Option<u32>,
-    /// The media the shape bounds (from [`SceneBuilder::add_medium`]), replacing the
-    /// material's (`Material::media`).
+    /// The media the shape bounds ([`SceneBuilder::add_medium`]), replacing the material's.
     pub media: Option<crate::medium::MediumInterface>,
 }
 
@@ -99,12 +98,18 @@ pub struct SceneBuilder {
     pub(super) media: super::media::Media,
     settings: RenderSettings,
     optics: Option<(PixelFilter, f32, f32)>,
+    budgets: SceneBudgets,
 }
 
 impl SceneBuilder {
     /// An empty scene: no camera yet, default settings.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Replaces the scene's budgets (what it may hold; [`SceneBudgets::default`] until set).
+    pub fn set_budgets(&mut self, budgets: SceneBudgets) {
+        self.budgets = budgets;
     }
 
     /// The render settings the scene will carry (defaults until changed).
@@ -275,6 +280,8 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
+        let have = self.triangles.len();
+        self.budgets.check_triangles(have, tris.len(), at)?;
         let surface = self.resolve(surface, at)?;
         if tris.iter().flatten().any(|p| !p.is_finite()) {
             return Err(at.error(Part::Geometry, "vertices must be finite".into()));
@@ -338,10 +345,13 @@ impl SceneBuilder {
         Ok(())
     }
 
-    /// Adds a texture that materials can refer to by the index returned.
-    pub fn add_texture(&mut self, texture: SceneTexture) -> u32 {
+    /// Adds a texture that materials can refer to by the index returned; past the scene's
+    /// texture budget ([`SceneBudgets::max_texture_bytes`]) it is an error at `at`.
+    pub fn add_texture(&mut self, texture: SceneTexture, at: &dyn Locate) -> Result<u32> {
+        let have = self.textures.iter().map(SceneTexture::bytes).sum();
+        self.budgets.check_texels(have, texture.bytes(), at)?;
         self.textures.push(texture);
-        self.textures.len() as u32 - 1
+        Ok(self.textures.len() as u32 - 1)
     }
 
     /// The texture added as `id` by [`add_texture`](Self::add_texture).
@@ -418,9 +428,7 @@ impl SceneBuilder {
             }
             material.emission_texture = t;
         }
-        if let Some(media) = surface.media {
-            material.media = media;
-        }
+        material.media = surface.media.unwrap_or(material.media);
         if let Some(two_sided) = surface.two_sided {
             if !material.is_emissive() {
                 let message = "only applies to emissive shapes";

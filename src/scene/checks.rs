@@ -5,6 +5,68 @@ use super::{Material, MaterialKind};
 use crate::error::Result;
 use glam::Vec3;
 
+/// Most triangles a scene may have (after instancing): 64 Mi, about 3 GiB of triangles alone
+/// on each backend. Checked before a shape's triangles are added, so that a scene graph
+/// that instances a mesh many times fails with the shape that crossed it.
+pub const MAX_TRIANGLES: usize = 1 << 26;
+
+/// Most bytes of decoded texels a scene may hold, all textures together: 4 GiB. (One texture
+/// is bounded on its own by `texture::MAX_TEXELS`; a scene that names many is bounded here.)
+pub const MAX_TEXTURE_BYTES: u64 = 1 << 32;
+
+/// What a scene may hold, checked as it is built (see [`SceneBuilder::set_budgets`]).
+///
+/// [`SceneBuilder::set_budgets`]: super::SceneBuilder::set_budgets
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneBudgets {
+    /// Most triangles, after instancing ([`MAX_TRIANGLES`] by default).
+    pub max_triangles: usize,
+    /// Most bytes of decoded texels, all textures together ([`MAX_TEXTURE_BYTES`] by default).
+    pub max_texture_bytes: u64,
+}
+
+impl Default for SceneBudgets {
+    fn default() -> Self {
+        Self {
+            max_triangles: MAX_TRIANGLES,
+            max_texture_bytes: MAX_TEXTURE_BYTES,
+        }
+    }
+}
+
+impl SceneBudgets {
+    /// `have` triangles so far plus `adding` must stay within the budget.
+    pub(super) fn check_triangles(
+        &self,
+        have: usize,
+        adding: usize,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let (total, max) = (have.saturating_add(adding), self.max_triangles);
+        if total > max {
+            let message = format!(
+                "the scene would have {total} triangles ({adding} from this shape), more than \
+                 the {max} a scene may have"
+            );
+            return Err(at.error(Part::Geometry, message));
+        }
+        Ok(())
+    }
+
+    /// `have` bytes of texels so far plus `adding` must stay within the budget.
+    pub(super) fn check_texels(&self, have: u64, adding: u64, at: &dyn Locate) -> Result<()> {
+        let (total, max) = (have.saturating_add(adding), self.max_texture_bytes);
+        if total > max {
+            let message = format!(
+                "the scene's textures would take {total} bytes ({adding} for this one), more \
+                 than the {max} a scene may have"
+            );
+            return Err(at.error(Part::Material, message));
+        }
+        Ok(())
+    }
+}
+
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
 pub(super) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
     check_color(c, None, Part::Emission, at)

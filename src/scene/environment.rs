@@ -168,7 +168,7 @@ impl SceneBuilder {
             to_world.z_axis.normalize(),
         );
         let texture = match image {
-            Some(t) => self.add_texture(SceneTexture::Bitmap(t)),
+            Some(t) => self.add_texture(SceneTexture::Bitmap(t), at)?,
             None => NO_TEXTURE,
         };
         self.environment = Some(Environment {

@@ -21,6 +21,7 @@ pub mod mitsuba;
 mod normals;
 mod obj;
 mod ply;
+mod ply_place;
 mod punctual;
 mod spot;
 mod tangents;
@@ -29,6 +30,7 @@ mod toml_media;
 mod toml_table;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
+pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
 pub use environment::{
     apply_env_arg, latlong_dir, latlong_lookup, latlong_uv, luminance, require_light, Environment,
 };

@@ -32,32 +32,38 @@ pub(crate) struct ObjTriangles {
 
 /// Loads the triangles of the OBJ file at `path` (in the file's coordinates).
 ///
-/// Errors are messages naming the resolved path: the file cannot be read, it does not parse,
-/// a face refers to a missing vertex or normal, a vertex is not finite, a normal (`vn`) is
-/// zero or not finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or
-/// there are no triangles.
+/// Errors are messages naming the resolved path and, for a malformed record, its line
+/// (`PATH:LINE: message`): the file cannot be read, a record does not parse, a face refers
+/// to a missing vertex or normal, a vertex is not finite, a normal (`vn`) is zero or not
+/// finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or there are no
+/// triangles (at the file's last line).
 pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, String> {
     let bytes = crate::read::regular_file(path)
         .map_err(|e| format!("cannot read mesh {}: {e}", path.display()))?;
     let text = crate::read::utf8(bytes)
         .map_err(|bad| format!("{}:{}: {bad}", path.display(), bad.line))?;
     match parse_triangles(&text, flip_v) {
-        Ok(obj) if obj.tris.is_empty() => {
-            Err(format!("{}: the mesh has no triangles", path.display()))
-        }
-        result => result.map_err(|e| format!("{}: {e}", path.display())),
+        Ok(obj) if obj.tris.is_empty() => Err(format!(
+            "{}:{}: the mesh has no triangles",
+            path.display(),
+            text.lines().count().max(1)
+        )),
+        Ok(obj) => Ok(obj),
+        Err((0, e)) => Err(format!("{}: {e}", path.display())),
+        Err((line, e)) => Err(format!("{}:{line}: {e}", path.display())),
     }
 }
 
-/// Parses OBJ `text` into triangles; see [`load_triangles`].
-fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, String> {
+/// Parses OBJ `text` into triangles; see [`load_triangles`]. Errors carry the 1-based line
+/// of the record (0: none).
+fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, (usize, String)> {
     let kept = strip_attributes(text, flip_v)?;
     let mut reader = BufReader::new(kept.as_bytes());
     // Single index, triangulated (fans), points and lines ignored. Material libraries are
     // never opened: materials come from the scene file.
     let no_mtl = |_: &Path| Err(tobj::LoadError::GenericFailure);
     let (models, _) = tobj::load_obj_buf(&mut reader, &tobj::GPU_LOAD_OPTIONS, no_mtl)
-        .map_err(|e| format!("OBJ parse error: {e}"))?;
+        .map_err(|e| (0, format!("OBJ parse error: {e}")))?;
 
     let mut triangles = Vec::new();
     let mut normals = Vec::new();
@@ -88,9 +94,11 @@ fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, String> {
             Ok(n)
         };
         for face in mesh.indices.chunks_exact(3) {
-            triangles.push([vertex(face[0])?, vertex(face[1])?, vertex(face[2])?]);
+            let v = |k: usize| vertex(face[k]).map_err(|e| (0, e));
+            triangles.push([v(0)?, v(1)?, v(2)?]);
             if kept.has_normals {
-                normals.push([normal(face[0])?, normal(face[1])?, normal(face[2])?]);
+                let n = |k: usize| normal(face[k]).map_err(|e| (0, e));
+                normals.push([n(0)?, n(1)?, n(2)?]);
             }
         }
     }
@@ -98,10 +106,13 @@ fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, String> {
         None => None,
         Some(uvs) if uvs.len() == triangles.len() => Some(uvs),
         Some(uvs) => {
-            return Err(format!(
-                "OBJ texture coordinates: {} triangles with vt corners, {} triangles read",
-                uvs.len(),
-                triangles.len()
+            return Err((
+                0,
+                format!(
+                    "OBJ texture coordinates: {} triangles with vt corners, {} triangles read",
+                    uvs.len(),
+                    triangles.len()
+                ),
             ))
         }
     };
@@ -127,33 +138,36 @@ impl Kept {
 }
 
 /// Keeps only positions, faces and (when every face corner names one) normals: drops
-/// `vt`/`vp` records and reduces each face corner `v/vt/vn` to `v//vn` (or `v`), so that tobj
-/// never indexes texture coordinates; a normal index is checked against the `vn` records
-/// first (tobj does not guard an out-of-range index against overflow). The `vt` records
-/// named by the corners are read here instead (v flipped when `flip_v`), checked the same
-/// way.
-fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, String> {
-    let n_normals = text
-        .lines()
-        .filter(|l| l.split_whitespace().next() == Some("vn"))
-        .count() as i64;
-    let corners = || {
+/// `vt`/`vp` records and everything tobj would only name or group (`o`, `g`, `s`, `usemtl`,
+/// `mtllib`, `l`, `p`), and reduces each face corner `v/vt/vn` to `v//vn` (or `v`), so that
+/// tobj never indexes texture coordinates. Every kept record is checked here first, with its
+/// line (tobj's errors have none, and it does not guard an index against overflow): a `v`
+/// has three finite numbers, a used `vn` three numbers neither all zero nor infinite, a face
+/// three or more corners whose indices name existing records (a normal, or a negative
+/// index, one before it). The `vt` records named by the corners are read here instead (v
+/// flipped when `flip_v`), checked the same way.
+fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
+    let records = |kind: &'static str| {
         text.lines()
-            .filter(|l| l.split_whitespace().next() == Some("f"))
-            .flat_map(|l| l.split_whitespace().skip(1))
+            .filter(move |l| l.split_whitespace().next() == Some(kind))
     };
+    let n_normals = records("vn").count() as i64;
+    let n_positions = records("v").count() as i64;
+    let corners = || records("f").flat_map(|l| l.split_whitespace().skip(1));
     let has_normals =
         n_normals > 0 && corners().all(|c| c.split('/').nth(2).is_some_and(|n| !n.is_empty()));
     let mut out = String::with_capacity(text.len());
     let has_uvs = corners().any(|c| c.split('/').nth(1).is_some_and(|t| !t.is_empty()));
     let mut seen = 0i64; // `vn` records so far: a corner may name only those
+    let mut positions = 0i64; // `v` records so far: a negative index counts back from here
     let mut vts: Vec<Vec2> = Vec::new();
     let mut uvs = Vec::new();
-    for line in text.lines() {
+    for (i, line) in text.lines().enumerate() {
+        let at = |e: String| (i + 1, e);
         let mut words = line.split_whitespace();
         match words.next() {
             Some("vt") if has_uvs => {
-                let uv = parse_vt(line)?;
+                let uv = parse_vt(line).map_err(at)?;
                 vts.push(if flip_v {
                     Vec2::new(uv.x, 1.0 - uv.y)
                 } else {
@@ -161,40 +175,68 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, String> {
                 });
                 continue;
             }
-            Some("vt") | Some("vp") => continue,
-            Some("vn") if !has_normals => continue,
-            Some("vn") => {
+            Some("v") => {
+                let p = three_numbers(line).map_err(at)?;
+                if !p.is_finite() {
+                    return Err(at(format!("OBJ vertex {p} is not finite")));
+                }
+                positions += 1;
+                keep_three(&mut out, line);
+            }
+            Some("vn") if has_normals => {
+                let n = three_numbers(line).map_err(at)?;
+                if !n.is_finite() || n == Vec3::ZERO {
+                    return Err(at(format!("OBJ normal (vn) {n} is zero or not finite")));
+                }
                 seen += 1;
-                out.push_str(line);
+                keep_three(&mut out, line);
             }
             Some("f") => {
                 out.push('f');
                 let mut face_uvs = Vec::new();
+                let mut count = 0;
                 for corner in words {
+                    count += 1;
                     if has_uvs {
-                        face_uvs.push(corner_uv(corner, &vts)?);
+                        face_uvs.push(corner_uv(corner, &vts).map_err(at)?);
                     }
                     out.push(' ');
                     let mut parts = corner.split('/');
-                    out.push_str(parts.next().unwrap_or(corner));
+                    let v = parts.next().unwrap_or(corner);
+                    let valid = v.parse::<i64>().is_ok_and(|i| match i {
+                        1.. => i <= n_positions,
+                        ..=-1 => -i <= positions,
+                        0 => false,
+                    });
+                    if !valid || corner.split('/').count() > 3 {
+                        return Err(at(format!(
+                            "OBJ face corner `{corner}`: vertex index out of range or \
+                             malformed ({positions} v records before it, {n_positions} in all)"
+                        )));
+                    }
+                    out.push_str(v);
                     if has_normals {
                         let n = parts.nth(1).unwrap_or("");
                         let valid = n.parse::<i64>().is_ok_and(|i| i != 0 && i.abs() <= seen);
                         if !valid {
-                            return Err(format!(
+                            return Err(at(format!(
                                 "OBJ face corner `{corner}`: normal index out of range \
                                  ({seen} vn records before it)"
-                            ));
+                            )));
                         }
                         out.push_str("//");
                         out.push_str(n);
                     }
                 }
+                if count < 3 {
+                    let message = format!("OBJ face has {count} corners; a face needs 3 or more");
+                    return Err(at(message));
+                }
                 for k in 2..face_uvs.len() {
                     uvs.push([face_uvs[0], face_uvs[k - 1], face_uvs[k]]);
                 }
             }
-            _ => out.push_str(line),
+            _ => continue,
         }
         out.push('\n');
     }
@@ -203,6 +245,31 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, String> {
         has_normals,
         uvs: has_uvs.then_some(uvs),
     })
+}
+
+/// Appends a checked `v` or `vn` record with only its keyword and first three numbers
+/// (tobj would parse a `w` or colours after them, and fail on a malformed one).
+fn keep_three(out: &mut String, line: &str) {
+    for word in line.split_whitespace().take(4) {
+        out.push_str(word);
+        out.push(' ');
+    }
+}
+
+/// The first three numbers after a `v` or `vn` record's keyword (a `v`'s `w` and vertex
+/// colours are ignored).
+fn three_numbers(line: &str) -> Result<Vec3, String> {
+    let mut xyz = [0.0f32; 3];
+    let mut words = line.split_whitespace().skip(1);
+    for x in &mut xyz {
+        let w = words
+            .next()
+            .ok_or_else(|| format!("OBJ record `{line}` has fewer than 3 numbers"))?;
+        *x = w
+            .parse()
+            .map_err(|_| format!("OBJ record `{line}`: `{w}` is not a number"))?;
+    }
+    Ok(Vec3::from_array(xyz))
 }
 
 /// The `(u, v)` of a `vt u [v [w]]` record (`v` 0 when absent), finite.

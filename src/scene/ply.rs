@@ -11,6 +11,7 @@
 //! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
 //! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.
 
+use super::ply_place::{element_line, row_place, size, Place};
 use crate::error::Result;
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
@@ -54,17 +55,30 @@ impl PlyMesh {
     }
 }
 
-/// Why a PLY file could not be read or used; shown as `FILE: what`, or `FILE:LINE: what`
-/// for a malformed header or ASCII payload line.
+/// Why a PLY file could not be read or used; shown as `FILE:LINE: what` for a problem in
+/// the header or an ASCII row, `FILE: byte N: what` for one in a binary row, or `FILE: what`
+/// when the file cannot be read.
 #[derive(Debug, thiserror::Error)]
-#[error("{}{}: {message}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
+#[error("{}{}: {message}", path.display(), shown_place(*line, *byte))]
 pub struct PlyError {
     /// The file.
     pub path: PathBuf,
-    /// The 1-based line of a malformed header or ASCII payload.
+    /// The 1-based line of the header entry or ASCII row at fault.
     pub line: Option<usize>,
+    /// The 0-based offset of the binary row at fault (or of the payload's end, when it ends
+    /// too early).
+    pub byte: Option<usize>,
     /// What is wrong with it.
     pub message: String,
+}
+
+/// `:LINE`, `: byte N` or nothing.
+fn shown_place(line: Option<usize>, byte: Option<usize>) -> String {
+    match (line, byte) {
+        (Some(l), _) => format!(":{l}"),
+        (None, Some(b)) => format!(": byte {b}"),
+        (None, None) => String::new(),
+    }
 }
 
 /// Reads the PLY file at `path` (see the module documentation for what is used).
@@ -74,44 +88,66 @@ pub struct PlyError {
 /// wrong type, a face has fewer than 3 vertices or refers to a missing vertex, a position
 /// or texture coordinate is not finite, or there are no faces.
 pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
-    let fail = |message: String| PlyError {
+    let at = |place: Option<Place>, message: String| PlyError {
         path: path.to_path_buf(),
-        line: None,
+        line: match place {
+            Some(Place::Line(l)) => Some(l),
+            _ => None,
+        },
+        byte: match place {
+            Some(Place::Byte(b)) => Some(b),
+            _ => None,
+        },
         message,
     };
-    let bytes = crate::read::regular_file(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let bytes =
+        crate::read::regular_file(path).map_err(|e| at(None, format!("cannot read: {e}")))?;
+    let head_end = bytes
+        .windows(10)
+        .position(|w| w == b"end_header")
+        .map_or(bytes.len(), |p| p + 10);
+    if let Err(bad) = crate::read::utf8(bytes[..head_end].to_vec()) {
+        let message = format!("not a valid PLY file: the header has {bad}");
+        return Err(at(Some(Place::Line(bad.line)), message));
+    }
     let mut reader = Reader::new(Cursor::new(&bytes[..]));
     let parser = Parser::<DefaultElement>::new();
     let header = parser
         .read_header(&mut reader)
-        .map_err(|e| invalid(path, &e, true))?;
+        .map_err(|e| header_error(path, &e, &bytes))?;
     let (head, rest) = bytes.split_at(reader.get_ref().position() as usize);
-    check_counts(&header, head, rest).map_err(|(line, message)| PlyError {
-        path: path.to_path_buf(),
-        line: Some(line),
-        message,
-    })?;
+    if matches!(header.encoding, Encoding::Ascii) {
+        if let Err(bad) = crate::read::utf8(bytes.to_vec()) {
+            let message = format!("not a valid PLY file: {bad}");
+            return Err(at(Some(Place::Line(bad.line)), message));
+        }
+    }
+    check_counts(&header, head, rest)
+        .map_err(|(line, message)| at(Some(Place::Line(line)), message))?;
     let elements = &header.elements;
+    let line_of = |name: &str| Some(Place::Line(element_line(head, name)));
+    let fail = |message: String| at(line_of("vertex"), message);
     let vertex_def = elements
         .get("vertex")
         .ok_or_else(|| fail("no `vertex` element".into()))?;
     for name in ["x", "y", "z"] {
-        check_float(vertex_def, name).map_err(&fail)?;
+        check_float(vertex_def, name).map_err(fail)?;
     }
     let has_normals = ["nx", "ny", "nz"]
         .iter()
         .all(|n| vertex_def.properties.contains_key(*n));
     if has_normals {
         for name in ["nx", "ny", "nz"] {
-            check_float(vertex_def, name).map_err(&fail)?;
+            check_float(vertex_def, name).map_err(fail)?;
         }
     }
     let uv_names = UV_NAMES
         .into_iter()
         .find(|pair| pair.iter().all(|n| vertex_def.properties.contains_key(*n)));
     for name in uv_names.iter().flatten() {
-        check_float(vertex_def, name).map_err(&fail)?;
+        check_float(vertex_def, name).map_err(fail)?;
     }
+    let fail = |message: String| at(line_of("face"), message);
     let face_def = elements
         .get("face")
         .ok_or_else(|| fail("no `face` element: the mesh has no triangles".into()))?;
@@ -131,9 +167,15 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
 
     // A binary payload has no lines: the parser's line is then the header's last.
     let ascii = matches!(header.encoding, Encoding::Ascii);
-    let payload = parser
-        .read_payload(&mut reader, &header)
-        .map_err(|e| invalid(path, &e, ascii))?;
+    let payload = parser.read_payload(&mut reader, &header).map_err(|e| {
+        let mut e = invalid(path, &e, ascii);
+        // A binary payload fails only by ending early: at the file's end.
+        e.byte = (!ascii).then_some(bytes.len());
+        e
+    })?;
+    let row = |name: &str, i: usize, message: String| {
+        at(row_place(&header, head, rest, name, i), message)
+    };
 
     let empty = Vec::new();
     let vertices = payload.get("vertex").unwrap_or(&empty);
@@ -142,16 +184,23 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     let mut normals = Vec::with_capacity(if has_normals { vertices.len() } else { 0 });
     let mut uvs = Vec::with_capacity(uv_names.map_or(0, |_| vertices.len()));
     for (i, v) in vertices.iter().enumerate() {
-        let p = vec3(v, ["x", "y", "z"]).map_err(&fail)?;
+        let fail = |message: String| row("vertex", i, message);
+        let p = vec3(v, ["x", "y", "z"]).map_err(fail)?;
         if !p.is_finite() {
             return Err(fail(format!("vertex {i} is not finite: {p}")));
         }
         positions.push(p);
         if has_normals {
-            normals.push(vec3(v, ["nx", "ny", "nz"]).map_err(&fail)?);
+            let n = vec3(v, ["nx", "ny", "nz"]).map_err(fail)?;
+            if !n.is_finite() || n == Vec3::ZERO {
+                return Err(fail(format!(
+                    "vertex {i}: the normal (nx, ny, nz) {n} is zero or not finite"
+                )));
+            }
+            normals.push(n);
         }
         if let Some([a, b]) = uv_names {
-            let uv = vec3(v, [a, b, a]).map_err(&fail)?.truncate();
+            let uv = vec3(v, [a, b, a]).map_err(fail)?.truncate();
             if !uv.is_finite() {
                 return Err(fail(format!(
                     "vertex {i}: the texture coordinate ({a}, {b}) {uv} is not finite"
@@ -162,7 +211,8 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     }
     let mut triangles = Vec::with_capacity(faces.len());
     for (f, face) in faces.iter().enumerate() {
-        let indices = indices(face.get(list)).map_err(&fail)?;
+        let fail = |message: String| row("face", f, message);
+        let indices = indices(face.get(list)).map_err(fail)?;
         if indices.len() < 3 {
             return Err(fail(format!(
                 "face {f} has {} vertices; a face needs at least 3",
@@ -186,7 +236,7 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         }
     }
     if triangles.is_empty() {
-        return Err(fail("the mesh has no triangles".into()));
+        return Err(at(line_of("face"), "the mesh has no triangles".into()));
     }
     Ok(PlyMesh {
         positions,
@@ -194,6 +244,24 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
         normals: has_normals.then_some(normals),
         uvs: uv_names.map(|_| uvs),
     })
+}
+
+/// A header the parser refused, as a [`PlyError`] with a line: the parser's, else (it read
+/// past a mangled `end_header` into binary data, or the file ended) the line of the first
+/// byte that is not UTF-8, or the file's last line.
+fn header_error(path: &Path, e: &ParseError, bytes: &[u8]) -> PlyError {
+    let mut error = invalid(path, e, true);
+    if error.line.is_none() {
+        let end = 1 + bytes.iter().filter(|&&b| b == b'\n').count();
+        error.line = Some(match crate::read::utf8(bytes.to_vec()) {
+            Err(bad) => {
+                error.message = format!("not a valid PLY file: the header has {bad}");
+                bad.line
+            }
+            Ok(_) => end,
+        });
+    }
+    error
 }
 
 /// A parser error as a one-line [`PlyError`] (the parser's first line, without its
@@ -218,6 +286,7 @@ fn invalid(path: &Path, e: &ParseError, has_lines: bool) -> PlyError {
     PlyError {
         path: path.to_path_buf(),
         line: e.line().filter(|_| has_lines),
+        byte: None,
         message: format!("not a valid PLY file: {what}"),
     }
 }
@@ -234,7 +303,7 @@ fn check_counts(header: &Header, head: &[u8], rest: &[u8]) -> Result<(), (usize,
     let mut bytes = 0usize;
     for e in header.elements.values() {
         let row = e.properties.values().map(|p| match &p.data_type {
-            PropertyType::Scalar(s) | PropertyType::List(s, _) => scalar_size(s),
+            PropertyType::Scalar(s) | PropertyType::List(s, _) => size(s),
         });
         let row = row.sum::<usize>().max(1);
         bytes = bytes.saturating_add(e.count.saturating_mul(row));
@@ -250,27 +319,6 @@ fn check_counts(header: &Header, head: &[u8], rest: &[u8]) -> Result<(), (usize,
         }
     }
     Ok(())
-}
-
-/// The 1-based line of `element NAME` in the header text `head` (0 if absent).
-fn element_line(head: &[u8], name: &str) -> usize {
-    let text = String::from_utf8_lossy(head);
-    text.lines()
-        .position(|l| {
-            let mut words = l.split_whitespace();
-            words.next() == Some("element") && words.next() == Some(name)
-        })
-        .map_or(0, |i| i + 1)
-}
-
-/// The bytes of a binary scalar.
-fn scalar_size(s: &ScalarType) -> usize {
-    match s {
-        ScalarType::Char | ScalarType::UChar => 1,
-        ScalarType::Short | ScalarType::UShort => 2,
-        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
-        ScalarType::Double => 8,
-    }
 }
 
 /// Checks that `element` has the scalar float or double property `name`.

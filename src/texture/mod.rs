@@ -305,6 +305,16 @@ pub enum SceneTexture {
 }
 
 impl SceneTexture {
+    /// The bytes its texels take (none for a procedural texture).
+    pub fn bytes(&self) -> u64 {
+        match self {
+            SceneTexture::Bitmap(t) => match &t.texels {
+                Texels::Rgba8 { texels, .. } => 4 * texels.len() as u64,
+                Texels::Float { data, .. } => 4 * data.len() as u64,
+            },
+            SceneTexture::Checkerboard(_) => 0,
+        }
+    }
     /// Linear RGB at `uv`.
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         match self {

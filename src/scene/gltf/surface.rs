@@ -90,8 +90,9 @@ impl Importer<'_> {
             let t = texture::normal(&r, n.scale(), buffers, dir).map_err(err)?;
             read.push((Slot::Normal, t));
         }
+        let budget = |_: Part, m: String| err(("texture".into(), m));
         for (slot, t) in read {
-            let id = self.b.add_texture(t);
+            let id = self.b.add_texture(t, &budget)?;
             match slot {
                 Slot::BaseColour => material.kd_texture = id,
                 Slot::Emission => material.emission_texture = id,

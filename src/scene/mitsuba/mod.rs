@@ -247,16 +247,16 @@ impl<'f> Importer<'f> {
     fn add_bsdf(&mut self, node: Node, field: &str) -> Result<MaterialId> {
         let read = bsdf::bsdf(&self.cx, node, field, &mut self.warnings)?;
         let mut material = read.material;
+        let at = self.origin(node, field);
         if let Some(t) = read.kd_texture {
-            material.kd_texture = self.b.add_texture(t);
+            material.kd_texture = self.b.add_texture(t, &at)?;
         }
         if let Some(t) = read.normal_texture {
-            material.normal_texture = self.b.add_texture(t);
+            material.normal_texture = self.b.add_texture(t, &at)?;
         }
         if let (Some(t), Some(alpha)) = (read.alpha_texture, material.alpha.as_mut()) {
-            alpha.texture = self.b.add_texture(t);
+            alpha.texture = self.b.add_texture(t, &at)?;
         }
-        let at = self.origin(node, field);
         self.b.add_material(None, material, &at)
     }
 

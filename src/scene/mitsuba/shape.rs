@@ -106,13 +106,17 @@ impl<'f> Importer<'f> {
                 self.default_material(&at)?
             }
         };
+        let emission_texture = match emission_texture {
+            Some(t) => Some(self.b.add_texture(t, &self.origin(node, field))?),
+            None => None,
+        };
         let surface = Surface {
             media: (media[0].is_some() || media[1].is_some())
                 .then(|| interface(media[0], media[1])),
             material: Some(material),
             emission,
             two_sided: None,
-            emission_texture: emission_texture.map(|t| self.b.add_texture(t)),
+            emission_texture,
         };
         self.geometry(&p, surface)
     }
