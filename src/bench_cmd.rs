@@ -50,7 +50,57 @@ pub(crate) fn run_bench(args: &BenchArgs) -> Result<()> {
     if let [cpu, gpu] = &results[..] {
         println!("{}", bench::ratios(cpu, gpu));
     }
+    if let Some(path) = &args.json {
+        let text = serde_json::to_string_pretty(&json(args, &s, &results))?;
+        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
     Ok(())
+}
+
+/// What `bench --json` writes: the scene and sizes, each adapter wgpu finds, and each
+/// backend's medians (`bench::Throughput`, phases and kernels in seconds).
+fn json(
+    args: &BenchArgs,
+    s: &RenderSettings,
+    results: &[gpu_photon::bench::Throughput],
+) -> serde_json::Value {
+    use gpu_photon::bench::backend_name;
+    let seconds = |v: &[(&str, f64)]| -> serde_json::Map<String, serde_json::Value> {
+        v.iter()
+            .map(|(k, t)| (k.to_string(), (*t).into()))
+            .collect()
+    };
+    let results: Vec<_> = results
+        .iter()
+        .map(|t| {
+            serde_json::json!({
+                "backend": backend_name(t.kind),
+                "device": t.backend,
+                "photon_paths_per_s": t.paths_per_s,
+                "map_build_s": t.build_s,
+                "gather_s_per_mpix_sample": t.gather_s_per_mpix_sample,
+                "camera_samples_per_s": 1e6 / t.gather_s_per_mpix_sample,
+                "total_s": t.total_s,
+                "phases_s": seconds(&t.phases),
+                "kernels_s": seconds(&t.kernels),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "runs": args.runs,
+        "settings": {
+            "photons": s.photons,
+            "caustic_photons": s.caustic_photons,
+            "spp": s.spp,
+            "width": s.width,
+            "height": s.height,
+            "mode": format!("{:?}", s.mode),
+        },
+        "adapters": gpu_photon::adapters(),
+        "results": results,
+    })
 }
 
 /// The speed-against-error ladder: every rung on every backend, as DIR/bench.csv and a

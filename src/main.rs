@@ -92,6 +92,10 @@ pub(crate) struct BenchArgs {
     /// Bench the scene's default render (as `render SCENE -o OUT`) instead of --photons etc.
     #[arg(long)]
     default_render: bool,
+    /// Also write the throughputs as JSON to FILE, with the settings and every adapter's
+    /// name, driver, limits and subgroup size.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -486,6 +486,63 @@ fn bench_modes_are_checked_before_rendering() {
     );
 }
 
+/// `bench --json FILE` writes the sizes, the adapters wgpu finds (name, driver, limits and
+/// subgroup size, for the real-GPU figures) and each backend's medians, as JSON.
+#[test]
+fn bench_writes_its_figures_as_json() {
+    let dir = TempDir::new("bench-json");
+    let out = dir.path("bench.json");
+    let o = run(&[
+        "bench",
+        "scenes/cornell-box.toml",
+        "--backend",
+        "cpu",
+        "--runs",
+        "1",
+        "--photons",
+        "4000",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(v["scene"], "scenes/cornell-box.toml");
+    assert_eq!(
+        (
+            v["settings"]["width"].as_u64(),
+            v["settings"]["height"].as_u64()
+        ),
+        (Some(16), Some(12))
+    );
+    assert_eq!(v["settings"]["photons"].as_u64(), Some(4000));
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), 1);
+    assert_eq!(results[0]["backend"], "cpu");
+    for key in ["photon_paths_per_s", "camera_samples_per_s", "total_s"] {
+        assert!(
+            results[0][key].as_f64().unwrap() > 0.0,
+            "{key}: {}",
+            results[0][key]
+        );
+    }
+    assert!(results[0]["phases_s"]["gather"].as_f64().unwrap() > 0.0);
+    for a in v["adapters"].as_array().unwrap() {
+        let (lo, hi) = (
+            a["subgroup_size"][0].as_u64().unwrap(),
+            a["subgroup_size"][1].as_u64().unwrap(),
+        );
+        assert!(lo >= 1 && lo <= hi, "{a}");
+        assert!(
+            a["max_storage_buffer_binding_size"].as_u64().unwrap() > 0,
+            "{a}"
+        );
+    }
+}
+
 /// Output into a pipe that closes early (`gpu-photon diff A B | head -1`) ends the process
 /// quietly, as other command-line tools do, never with a panic in `println!`.
 #[test]

@@ -199,6 +199,11 @@ fn load(
 #[pyclass(module = "gpu_photon", name = "Renderer")]
 struct PyRenderer {
     inner: Mutex<gp::Renderer>,
+    /// The scene file, the settings and the `passes` keyword, for [`PyRenderer::write`]'s
+    /// tags (what `gpu-photon render` writes for the same file and flags).
+    scene_path: std::path::PathBuf,
+    settings: gp::RenderSettings,
+    total: Option<u32>,
 }
 
 impl PyRenderer {
@@ -208,6 +213,14 @@ impl PyRenderer {
         backend_name: &str,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<PyRenderer> {
+        let total = match settings
+            .map(|d| d.get_item("passes"))
+            .transpose()?
+            .flatten()
+        {
+            Some(v) => Some(v.extract::<u32>()?),
+            None => None,
+        };
         let settings = apply(py, scene.settings(), settings)?;
         let b = backend(backend_name)?;
         let mut r = py
@@ -216,6 +229,9 @@ impl PyRenderer {
         warn_all(py, &r.take_warnings())?;
         Ok(PyRenderer {
             inner: Mutex::new(r),
+            scene_path: scene.path().to_path_buf(),
+            settings,
+            total,
         })
     }
 
@@ -299,6 +315,17 @@ impl PyRenderer {
     /// The mean of the passes so far, float32 (H, W, 3).
     fn image<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_array(py, self.inner.get_mut().map_err(poisoned)?.image())
+    }
+
+    /// Writes the mean of the passes so far to `path` (EXR or PNG, atomically) as
+    /// `gpu-photon render` writes it: tagged with its passes and a fingerprint of the scene
+    /// file and settings, so `gpu-photon merge` takes it; the same bytes as the command's
+    /// file for the same scene and settings.
+    fn write(&mut self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
+        let r = self.inner.get_mut().map_err(poisoned)?;
+        let file = gp::SliceFile::new(&self.scene_path, &path, &self.settings, self.total)
+            .map_err(|e| to_py(py, e))?;
+        file.write(r).map_err(|e| to_py(py, e))
     }
 
     /// The passes in the mean, as (first, end).

@@ -50,6 +50,18 @@ def test_cornell_defaults_equal_the_cli_bit_for_bit(tmp_path):
     assert 0.05 < ours.mean() < 1.0
 
 
+def test_renderer_writes_the_clis_file_byte_for_byte(tmp_path):
+    out = tmp_path / "cli.exr"
+    size = ["--width", "32", "--height", "32", "--spp", "4"]
+    cmd = [cli(), "render", CORNELL, "-o", str(out), "--backend", "cpu", "--quiet", *size]
+    subprocess.run(cmd, check=True)
+    r = g.Renderer(g.load(CORNELL), "cpu", width=32, height=32, spp=4)
+    r.run()
+    ours = tmp_path / "python.exr"
+    r.write(ours)
+    assert ours.read_bytes() == out.read_bytes()
+
+
 def test_a_scene_error_names_file_line_and_field(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(

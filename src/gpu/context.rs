@@ -3,9 +3,10 @@
 use crate::error::{Error, Result};
 use std::sync::{Arc, Mutex};
 
-/// Largest storage binding the backend uses: lavapipe's 128 MiB, or less when the adapter
-/// says so.
-pub const MAX_BINDING: u64 = 128 << 20;
+/// Largest storage binding the backend asks for: 2 GiB (every word index stays far inside a
+/// u32), or the adapter's own limit where that is lower (lavapipe: 128 MiB). Photon maps and
+/// textures are batched or refused only beyond what the adapter grants.
+pub const MAX_BINDING: u64 = 2 << 30;
 
 /// A device ready for compute work (a handle: clones share the device).
 #[derive(Clone)]
@@ -26,8 +27,8 @@ pub struct GpuContext {
     pub timestamps: bool,
 }
 
-/// One adapter, described for `gpu-photon adapters`.
-#[derive(Clone, Debug)]
+/// One adapter, described for `gpu-photon adapters` and `bench --json`.
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct AdapterSummary {
     /// Adapter name.
     pub name: String,
@@ -47,6 +48,10 @@ pub struct AdapterSummary {
     pub max_compute_invocations_per_workgroup: u32,
     /// Most storage buffers one stage may bind.
     pub max_storage_buffers_per_shader_stage: u32,
+    /// Most workgroup memory, in bytes.
+    pub max_compute_workgroup_storage_size: u32,
+    /// Smallest and largest subgroup (SIMD group, warp) the adapter reports.
+    pub subgroup_size: (u32, u32),
 }
 
 impl AdapterSummary {
@@ -74,6 +79,14 @@ impl AdapterSummary {
             format!(
                 "    max_compute_invocations_per_workgroup: {}",
                 self.max_compute_invocations_per_workgroup
+            ),
+            format!(
+                "    max_compute_workgroup_storage_size: {} KiB",
+                self.max_compute_workgroup_storage_size >> 10
+            ),
+            format!(
+                "    subgroup size: {}..{}",
+                self.subgroup_size.0, self.subgroup_size.1
             ),
         ]
     }
@@ -103,6 +116,8 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
                 max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
                 max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
                 max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
+                max_compute_workgroup_storage_size: l.max_compute_workgroup_storage_size,
+                subgroup_size: (info.subgroup_min_size, info.subgroup_max_size),
             }
         })
         .collect()
