@@ -18,6 +18,9 @@ import sys
 import numpy as np
 import mitsuba as mi
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mitsuba_refs import block_rmse  # noqa: E402
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 SCENE = os.path.join(ROOT, "tests", "data", "cornell-idiomatic", "cornell.xml")
 REFERENCE = os.path.join(ROOT, "tests", "data", "cornell-diffuse.exr")
@@ -53,13 +56,6 @@ def solve(target):
             jac[:, i] = (rgb(x + e) - f) / 1e-3
         x = x + np.linalg.solve(jac, target - f)
     return x
-
-
-def block_rmse(a, b, n=16):
-    h, w, _ = a.shape
-    d = (a - b).mean(axis=2)
-    blocks = d[: h // n * n, : w // n * n].reshape(h // n, n, w // n, n).mean(axis=(1, 3))
-    return float(np.sqrt((blocks ** 2).mean()))
 
 
 def main():
