@@ -25,7 +25,7 @@
 //! fixed place).
 
 use super::checks::{check_emission, check_light, check_material, SceneBudgets};
-use super::locate::{Locate, Part};
+use super::locate::{unknown_name, Locate, Part};
 use super::normals::{is_flat, unit_normals};
 use super::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
 use crate::camera::Camera;
@@ -183,11 +183,7 @@ impl SceneBuilder {
         if let Some(&id) = self.names.get(name) {
             return Ok(id);
         }
-        let mut known: Vec<String> = self.names.keys().map(|k| format!("`{k}`")).collect();
-        known.sort();
-        let known = Some(known.join(", ")).filter(|k| !k.is_empty());
-        let known = known.unwrap_or_else(|| "none".into());
-        let message = format!("unknown material `{name}` (defined: {known})");
+        let message = unknown_name("material", name, self.names.keys());
         Err(at.error(Part::Material, message))
     }
 

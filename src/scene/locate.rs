@@ -67,3 +67,19 @@ impl Locate for Origin {
         }
     }
 }
+
+/// The message for a reference to `name` that no `kind` of the scene has:
+/// `` unknown KIND `NAME` (defined: `a`, `b`) ``, the names sorted, or `none`.
+pub(super) fn unknown_name<'a>(
+    kind: &str,
+    name: &str,
+    defined: impl Iterator<Item = &'a String>,
+) -> String {
+    let mut known: Vec<String> = defined.map(|k| format!("`{k}`")).collect();
+    known.sort();
+    let known = match known.is_empty() {
+        true => "none".to_string(),
+        false => known.join(", "),
+    };
+    format!("unknown {kind} `{name}` (defined: {known})")
+}

@@ -3,7 +3,7 @@
 //! [`Surface::media`](super::Surface::media) and the camera may sit in one.
 //! Every importer (TOML `[media.NAME]`, Mitsuba `homogeneous`) calls these.
 
-use super::locate::{Locate, Part};
+use super::locate::{unknown_name, Locate, Part};
 use super::SceneBuilder;
 use crate::error::Result;
 use crate::medium::{Medium, MediumInterface, NO_MEDIUM};
@@ -105,13 +105,7 @@ impl SceneBuilder {
         if let Some(&id) = self.media.names.get(name) {
             return Ok(id);
         }
-        let mut known: Vec<String> = self.media.names.keys().map(|k| format!("`{k}`")).collect();
-        known.sort();
-        let known = Some(known.join(", ")).filter(|k| !k.is_empty());
-        let message = format!(
-            "unknown medium `{name}` (defined: {})",
-            known.unwrap_or_else(|| "none".into())
-        );
+        let message = unknown_name("medium", name, self.media.names.keys());
         Err(at.error(part, message))
     }
 
@@ -121,12 +115,16 @@ impl SceneBuilder {
     }
 }
 
-/// The interface of a shape with `interior` and `exterior` media (either absent: vacuum).
-pub fn interface(interior: Option<MediumId>, exterior: Option<MediumId>) -> MediumInterface {
-    MediumInterface {
+/// The interface of a shape with `interior` and `exterior` media (an absent one: vacuum), or
+/// `None` when it names neither (the shape keeps its material's).
+pub fn interface(
+    interior: Option<MediumId>,
+    exterior: Option<MediumId>,
+) -> Option<MediumInterface> {
+    (interior.is_some() || exterior.is_some()).then(|| MediumInterface {
         interior: interior.map_or(NO_MEDIUM, MediumId::index),
         exterior: exterior.map_or(NO_MEDIUM, MediumId::index),
-    }
+    })
 }
 
 impl super::Scene {

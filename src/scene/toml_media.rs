@@ -57,8 +57,10 @@ fn named(t: &Tab, key: &'static str, b: &SceneBuilder) -> Result<Option<MediumId
 
 /// A shape's `interior` and `exterior`, when it gives either.
 pub(super) fn shape_media(t: &Tab, b: &SceneBuilder) -> Result<Option<MediumInterface>> {
-    let (interior, exterior) = (named(t, "interior", b)?, named(t, "exterior", b)?);
-    Ok((interior.is_some() || exterior.is_some()).then(|| interface(interior, exterior)))
+    Ok(interface(
+        named(t, "interior", b)?,
+        named(t, "exterior", b)?,
+    ))
 }
 
 /// `[camera] medium`: the medium the camera sits in.

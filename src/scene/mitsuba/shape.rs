@@ -111,8 +111,7 @@ impl<'f> Importer<'f> {
             None => None,
         };
         let surface = Surface {
-            media: (media[0].is_some() || media[1].is_some())
-                .then(|| interface(media[0], media[1])),
+            media: interface(media[0], media[1]),
             material: Some(material),
             emission,
             two_sided: None,
