@@ -174,6 +174,10 @@ fn mitsuba_media_errors_name_their_line_and_field() {
             "t.xml:4: medium[fog].phase.g: must be in (-1, 1) (got 1)",
         ),
         (
+            r#"<bsdf type="diffuse" id="fog"/>"#.to_string(),
+            "t.xml:3: sensor[0].ref: `fog` is a <bsdf>, not a medium",
+        ),
+        (
             format!(r#"{fog}<medium type="homogeneous"/>"#),
             "t.xml:4: medium[1]: a top-level <medium> needs an `id` (for <ref>)",
         ),

@@ -58,10 +58,8 @@ impl Importer<'_> {
                 let phase = p.objects.first().copied().unwrap_or(node);
                 cx.err(phase, &format!("{field}.phase.g"), message)
             }
-            Part::Parameter(name) if p.node_of(name) != node => {
-                cx.err(p.node_of(name), &p.at(name), message)
-            }
-            Part::Parameter(name) => cx.err(node, &p.at(name), message),
+            // The parameter's element, or the medium's where the file leaves it out.
+            Part::Parameter(name) => cx.err(p.node_of(name), &p.at(name), message),
             _ => cx.err(node, field, message),
         };
         let m = self.b.add_medium(id, params, &at)?;
@@ -77,6 +75,11 @@ impl Importer<'_> {
             "medium" => self.medium(child, field, None),
             _ => {
                 let (id, target) = self.referenced(child, field)?;
+                let tag = target.tag_name().name();
+                if tag != "medium" {
+                    let message = format!("`{id}` is a <{tag}>, not a medium");
+                    return Err(self.cx.err(child, field, message));
+                }
                 self.medium(target, &format!("medium[{id}]"), Some(&id))
             }
         }
