@@ -201,18 +201,10 @@ const SPOT_H: f64 = 1.0;
 const INNER: f32 = 20.0;
 const OUTER: f32 = 30.0;
 
-/// The TOML name of a spot falloff.
-fn falloff_name(f: SpotFalloff) -> &'static str {
-    match f {
-        SpotFalloff::Gltf => "gltf",
-        SpotFalloff::LinearAngle => "linear-angle",
-    }
-}
-
 /// A 2.4 x 2.4 white plane at y = 0 under a spot at height 1 pointing straight down, seen
 /// from straight above (so each pixel is a square of the plane; the view is 2 x 2).
 fn spot_plane(falloff: SpotFalloff) -> Scene {
-    let falloff = falloff_name(falloff);
+    let falloff = falloff.name();
     scene(&format!(
         r#"[camera]
 eye = [0.0, 3.0, 0.0]
@@ -275,7 +267,7 @@ fn spot_radiance(f: SpotFalloff, x: DVec3) -> f64 {
 
 #[test]
 fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
-    for f in [SpotFalloff::Gltf, SpotFalloff::LinearAngle] {
+    for f in SpotFalloff::ALL {
         spot_on_a_plane(f);
     }
 }
@@ -387,7 +379,7 @@ fn falloff_integral(f: SpotFalloff, inner: f64, outer: f64, lo: f64, hi: f64) ->
 
 #[test]
 fn spot_photons_carry_its_power_and_follow_its_falloff() {
-    for f in [SpotFalloff::Gltf, SpotFalloff::LinearAngle] {
+    for f in SpotFalloff::ALL {
         spot_photons(f);
     }
 }
@@ -417,7 +409,7 @@ inner_angle = 15
 outer_angle = 40
 falloff = "{}"
 "#,
-        falloff_name(f)
+        f.name()
     ));
     let omega = falloff_integral(f, 15.0, 40.0, -1.0, 1.0);
     let LightShape::Spot {

@@ -29,9 +29,24 @@ pub enum SpotFalloff {
 }
 
 impl SpotFalloff {
+    /// Every falloff, in [`Self::code`] order.
+    pub const ALL: [SpotFalloff; 2] = [SpotFalloff::Gltf, SpotFalloff::LinearAngle];
+    /// Their names in scene files (TOML `falloff`), in the same order.
+    pub const NAMES: [&'static str; 2] = ["gltf", "linear-angle"];
+
     /// The code the GPU's light record carries (`SPOT_GLTF`, `SPOT_LINEAR_ANGLE` in WGSL).
     pub fn code(self) -> u32 {
         self as u32
+    }
+
+    /// Its name in scene files.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The falloff called `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
     }
 }
 
@@ -181,6 +196,14 @@ mod tests {
     }
 
     #[test]
+    fn falloff_names_round_trip() {
+        for f in SpotFalloff::ALL {
+            assert_eq!(SpotFalloff::from_name(f.name()), Some(f));
+        }
+        assert_eq!(SpotFalloff::from_name("linear"), None);
+    }
+
+    #[test]
     fn linear_falloff_is_linear_in_the_angle() {
         let c = SpotCone::with_profile(20.0, 30.0, SpotFalloff::LinearAngle);
         assert_eq!(c.falloff(1.0), 1.0);
@@ -207,9 +230,8 @@ mod tests {
             (89.0, 90.0),
             (0.0, 1.0),
         ];
-        let profiles = [SpotFalloff::Gltf, SpotFalloff::LinearAngle];
         let mut all = Vec::new();
-        for profile in profiles {
+        for profile in SpotFalloff::ALL {
             for (inner, outer) in angles {
                 all.push((inner, outer, SpotCone::with_profile(inner, outer, profile)));
             }
@@ -247,7 +269,7 @@ mod tests {
     #[test]
     fn sampled_cosines_follow_the_falloff() {
         // Histogram of sample_cos over a fine grid of u against the falloff's mass per bin.
-        for profile in [SpotFalloff::Gltf, SpotFalloff::LinearAngle] {
+        for profile in SpotFalloff::ALL {
             histogram_follows_the_falloff(SpotCone::with_profile(10.0, 40.0, profile));
             histogram_follows_the_falloff(SpotCone::with_profile(25.0, 30.0, profile));
         }

@@ -230,11 +230,7 @@ fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         inner: t.num("inner_angle")?.unwrap_or(0.0),
         outer: t.need("outer_angle", t.num("outer_angle")?)?,
         falloff: t
-            .parse("falloff", &["gltf", "linear-angle"], |name| match name {
-                "gltf" => Some(SpotFalloff::Gltf),
-                "linear-angle" => Some(SpotFalloff::LinearAngle),
-                _ => None,
-            })?
+            .parse("falloff", &SpotFalloff::NAMES, SpotFalloff::from_name)?
             .unwrap_or_default(),
     };
     // With `target`, a zero direction is the target's fault.
