@@ -142,6 +142,10 @@ struct RenderArgs {
     /// Maximum search radius of the caustic map.
     #[arg(long)]
     caustic_radius: Option<f32>,
+    /// Radius of the volume photons' beam estimate (participating media; the first
+    /// progressive pass's is at most this).
+    #[arg(long)]
+    volume_radius: Option<f32>,
     /// Camera samples per pixel (a perfect square gives an n x n jittered grid).
     #[arg(long)]
     spp: Option<u32>,
@@ -209,7 +213,14 @@ impl RenderArgs {
         macro_rules! set {
             ($($f:ident),*) => { $(if let Some(v) = self.$f { s.$f = v; })* };
         }
-        set!(photons, caustic_photons, k, radius, caustic_radius);
+        set!(
+            photons,
+            caustic_photons,
+            k,
+            radius,
+            caustic_radius,
+            volume_radius
+        );
         set!(spp, shadow_samples, caustic_every, seed, width);
         set!(height, exposure, alpha);
         if self.initial_radius.is_some() {

@@ -209,6 +209,7 @@ pub fn photon_bounce_shading(
     match m.kind {
         // crate::bsdf's kinds bounce in `shading::SurfaceBsdf::photon_bounce`.
         MaterialKind::Black
+        | MaterialKind::Null
         | MaterialKind::Conductor
         | MaterialKind::RoughConductor
         | MaterialKind::RoughDielectric

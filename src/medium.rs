@@ -51,6 +51,21 @@ impl MediumInterface {
     pub fn is_vacuum(&self) -> bool {
         self.interior == NO_MEDIUM && self.exterior == NO_MEDIUM
     }
+
+    /// The medium a ray is in after this surface (geometric normal `n`) sent it along `dir`,
+    /// when it was in `current` before: Mitsuba 3's rule (its `volpath`). A surface that
+    /// bounds a medium on either side is a medium transition: the ray is then in the medium
+    /// on the side `dir` leaves towards (exterior where `n` points, else interior), after a
+    /// reflection as after a refraction. A surface that bounds none leaves `current` as it
+    /// was, so walls inside fog need no medium of their own.
+    #[inline]
+    pub fn after(&self, current: u32, n: Vec3, dir: Vec3) -> u32 {
+        match (self.is_vacuum(), dir.dot(n) > 0.0) {
+            (true, _) => current,
+            (false, true) => self.exterior,
+            (false, false) => self.interior,
+        }
+    }
 }
 
 /// What a free flight of [`Medium::sample_flight`] ended in.
@@ -66,7 +81,48 @@ pub struct Flight {
     pub weight: Vec3,
 }
 
+/// A distance drawn in a segment by [`Medium::sample_in_segment`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentPoint {
+    /// Distance along the segment.
+    pub t: f32,
+    /// Its density: the mean over the channels of `sigma_c T_c(t) / (1 - T_c(t_max))`.
+    pub pdf: f32,
+}
+
 impl Medium {
+    /// Draws a distance in `[0, t_max)` (`t_max` may be infinite) in proportion to one
+    /// channel's `sigma_t T(t)`, the channel chosen uniformly by `u_channel` (the density is
+    /// the channels' mean, as in [`Self::sample_flight`]): single scattering's next-event
+    /// estimate along a camera segment, every sample inside it. `None` when the chosen
+    /// channel cannot scatter over the segment (no extinction and no finite length).
+    pub fn sample_in_segment(&self, u_channel: f32, u: f32, t_max: f32) -> Option<SegmentPoint> {
+        let c = ((u_channel * 3.0) as usize).min(2);
+        // The mass of channel `s` over the segment, 1 - T(t_max); 0 for a clear channel.
+        let mass = |s: f32| match t_max.is_finite() {
+            true => -(-s * t_max).exp_m1(),
+            false => 1.0,
+        };
+        let sigma = self.sigma_t[c];
+        let t = if sigma > 0.0 {
+            // Inverse of the truncated exponential: 1 - exp(-sigma t) = u (1 - T(t_max)).
+            -(-u * mass(sigma)).ln_1p() / sigma
+        } else if t_max.is_finite() {
+            u * t_max
+        } else {
+            return None;
+        };
+        let t = t.min(t_max * (1.0 - f32::EPSILON));
+        let density = |s: f32| match (s > 0.0, t_max.is_finite()) {
+            (true, _) => s * (-s * t).exp() / mass(s),
+            (false, true) => 1.0 / t_max,
+            (false, false) => 0.0,
+        };
+        let pdf =
+            (density(self.sigma_t.x) + density(self.sigma_t.y) + density(self.sigma_t.z)) / 3.0;
+        (pdf > 0.0 && t.is_finite()).then_some(SegmentPoint { t, pdf })
+    }
+
     /// Scattering coefficient per channel, `albedo sigma_t`.
     pub fn sigma_s(&self) -> Vec3 {
         self.albedo * self.sigma_t

@@ -27,7 +27,8 @@ pub struct Photon {
     pub dir: [f32; 3],
     /// The surface's geometric normal on the side the photon arrived from ([`pack_normal`]):
     /// an estimate takes only photons of a surface facing the same way as its own, so the
-    /// other side of a wall, or a face meeting it at an edge, lends it no light.
+    /// other side of a wall, or a face meeting it at an edge, lends it no light. A volume
+    /// photon ([`Photon::in_medium`]) has no surface: this is its medium's index.
     pub normal: u32,
 }
 
@@ -81,6 +82,26 @@ impl Photon {
             id,
             dir: dir.to_array(),
             normal: pack_normal(if dir.dot(n) < 0.0 { n } else { -n }),
+        }
+    }
+    /// A photon that scattered in medium `medium` at `position` while travelling along `dir`
+    /// (a volume photon: `power` is what it scatters, `sigma_s` already in it).
+    pub fn in_medium(
+        position: Vec3,
+        power: Vec3,
+        dir: Vec3,
+        medium: u32,
+        id: u32,
+        depth: u32,
+        caustic: bool,
+    ) -> Self {
+        Photon {
+            position: position.to_array(),
+            flags: depth.min(DEPTH_MASK) | if caustic { FLAG_CAUSTIC } else { 0 },
+            power: power.to_array(),
+            id,
+            dir: dir.to_array(),
+            normal: medium,
         }
     }
     /// Surface interactions before this hit (0: direct light).

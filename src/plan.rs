@@ -80,6 +80,19 @@ pub struct MapSpec {
     pub filter: StoreFilter,
 }
 
+/// The volume photon map (participating media, issue 24): the photons that the global and
+/// caustic maps' paths leave where they scatter in a medium, kept apart from the surface maps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VolumeSpec {
+    /// The global paths' L S+ V photons are left out: the caustic map's paths, aimed at the
+    /// specular surfaces, carry them (volume caustics).
+    pub drop_caustic: bool,
+    /// The camera's beam estimate leaves out single scattering (photons of depth 0): next-event
+    /// estimation from the lights does it where the mode adds direct light. Gather rays take
+    /// every photon (their radiance is the whole in-scattered light).
+    pub camera_skips_direct: bool,
+}
+
 /// The photon maps a render needs: only what the scene and mode use.
 #[derive(Clone, Debug)]
 pub struct MapPlan {
@@ -87,6 +100,9 @@ pub struct MapPlan {
     pub mode: Mode,
     /// The maps, in [`MapKind`] slot order, at most one of each kind.
     pub maps: Vec<MapSpec>,
+    /// The volume photon map, when the scene has a medium that scatters and some map's paths
+    /// are traced.
+    pub volume: Option<VolumeSpec>,
 }
 
 impl MapPlan {
@@ -152,9 +168,16 @@ impl MapPlan {
                 },
             }
         });
+        let scatters = scene.media.iter().any(|m| m.sigma_s().max_element() > 0.0);
+        let volume = (scatters && scene.uses_media() && (global.is_some() || caustic.is_some()))
+            .then_some(VolumeSpec {
+                drop_caustic: caustic.is_some(),
+                camera_skips_direct: Terms::of(s.mode).direct,
+            });
         MapPlan {
             mode: s.mode,
             maps: global.into_iter().chain(caustic).collect(),
+            volume,
         }
     }
 

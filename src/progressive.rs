@@ -45,6 +45,38 @@ pub fn initial_radii(scene: &Scene, s: &RenderSettings) -> (f32, f32) {
     (global, caustic)
 }
 
+/// Volume photons a beam query of the first pass is sized to read, per K of a surface
+/// estimate: a camera sample's beam runs once per sample, so the pixel's samples average
+/// its noise, and its cost grows with the photons it reads.
+pub const BEAM_PHOTONS_PER_K: f64 = 0.25;
+/// Volume photons a global path is assumed to store, for the first volume radius.
+pub const VOLUME_PHOTONS_PER_PATH: f64 = 2.0;
+
+/// The first pass's volume radius: the radius of a beam that would hold
+/// `BEAM_PHOTONS_PER_K * K` volume photons along a segment as long as the scene's bounding
+/// box is wide (the cube root of its volume V), were a pass's `VOLUME_PHOTONS_PER_PATH * N`
+/// volume photons (N global paths) spread evenly through the box:
+/// `pi r^2 V^(1/3) (2 N / V) = K / 4`. At most `volume_radius`.
+pub fn initial_volume_radius(scene: &Scene, s: &RenderSettings) -> f32 {
+    let volume = crate::scene::bounds_of(&scene.triangles, &scene.spheres)
+        .map_or(0.0, |(lo, hi)| (hi - lo).as_dvec3().element_product())
+        .max(1e-12);
+    let photons = VOLUME_PHOTONS_PER_PATH * s.photons.max(1) as f64;
+    let per_length = photons / volume.powf(2.0 / 3.0);
+    let r = (BEAM_PHOTONS_PER_K * s.k as f64 / (std::f64::consts::PI * per_length)).sqrt();
+    (r as f32).min(s.volume_radius)
+}
+
+/// The volume radius of pass `pass` ([`pass_settings`]): in three dimensions the kernel's
+/// volume, r^3, takes the place of the area, so `r_{i+1}^3 = r_i^3 (i + alpha) / (i + 1)`.
+/// Knaus and Zwicker's argument carries over unchanged: a pass's estimate is unbiased up to
+/// the kernel's width, its variance grows as the inverse of the kernel's volume, and
+/// shrinking that volume by `(i + alpha) / (i + 1)` per pass makes the variance of the mean
+/// over passes vanish while the bias does too (docs/media.md).
+pub fn volume_radius(scene: &Scene, s: &RenderSettings, pass: u32) -> f32 {
+    initial_volume_radius(scene, s) * radius2_factor(pass, s.alpha).cbrt() as f32
+}
+
 /// Settings of progressive pass `pass`: a fixed-radius estimate (`k = 0`) with the pass's
 /// shrunken radii.
 pub fn pass_settings(scene: &Scene, s: &RenderSettings, pass: u32) -> RenderSettings {
@@ -54,6 +86,7 @@ pub fn pass_settings(scene: &Scene, s: &RenderSettings, pass: u32) -> RenderSett
         k: 0,
         radius: g * f,
         caustic_radius: c * f,
+        volume_radius: volume_radius(scene, s, pass),
         pass_range: None,
         ..s.clone()
     }

@@ -33,6 +33,8 @@ pub struct RenderReport {
     /// Photons each map's paths stored (before the map's filter), by
     /// [`MapKind`](crate::plan::MapKind) slot; the last pass's.
     pub stored: [usize; 2],
+    /// Photons the paths stored in media (the volume map's); the last pass's.
+    pub volume_stored: usize,
     /// Which backend ran, in words.
     pub backend: String,
     /// GPU bound counters (photon overflow, loop budget, gather truncation), if on the GPU.
@@ -84,6 +86,7 @@ impl RenderReport {
             self.kernel_took(name, d);
         }
         self.stored = other.stored;
+        self.volume_stored = other.volume_stored;
         self.batches = self.batches.max(other.batches);
         if self.backend.is_empty() {
             self.backend = other.backend.clone();
@@ -129,6 +132,10 @@ impl RenderReport {
                 crate::plan::MapKind::ALL
                     .map(|k| format!("{} {}", self.stored[k as usize], k.name()))
                     .join(", ")
+                    + &match self.volume_stored {
+                        0 => String::new(),
+                        n => format!(", {n} volume"),
+                    }
             ),
         ];
         if self.batches > 1 {

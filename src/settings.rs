@@ -25,6 +25,9 @@ pub struct RenderSettings {
     pub radius: f32,
     /// Maximum search radius of the caustic map (scene units).
     pub caustic_radius: f32,
+    /// Largest radius of the volume photons in the beam radiance estimate (scene units):
+    /// the radius of a classic pass, the cap of the first progressive pass's.
+    pub volume_radius: f32,
     /// Camera samples per pixel (n x n jittered when a perfect square).
     pub spp: u32,
     /// Shadow rays per area light sample in `direct` mode.
@@ -76,6 +79,7 @@ impl Default for RenderSettings {
             k: 100,
             radius: 0.25,
             caustic_radius: 0.1,
+            volume_radius: 0.25,
             spp: 64,
             shadow_samples: 1,
             caustic_every: 4,
@@ -328,6 +332,8 @@ pub static SETTINGS: &[Setting] = &[
         "largest search radius of the global map, scene units"),
     row!(caustic_radius, "caustic-radius", RENDER, Range::Positive, f32,
         "largest search radius of the caustic map, scene units"),
+    row!(volume_radius, "volume-radius", RENDER, Range::Positive, f32,
+        "radius of the volume photons' beam estimate (largest when progressive), scene units"),
     row!(spp, "spp", RENDER, int(1, MAX_SPP), u32, "camera samples per pixel"),
     row!(shadow_samples, "shadow-samples", RENDER, int(1, MAX_SHADOW_SAMPLES), u32,
         "shadow rays per area-light sample (direct mode)"),

@@ -31,6 +31,9 @@ pub enum SurfaceClass {
     /// A diffuse part or a non-delta lobe: the path shades here (photon estimates, shadow
     /// rays, gather rays) and may go on along the lobe.
     Shaded,
+    /// An index-matched boundary: the path goes on straight through, unscattered and not
+    /// counted as a bounce; only the medium changes.
+    Null,
 }
 
 /// The ways a delta surface sends on a ray.
@@ -162,6 +165,7 @@ pub fn escape(scene: &Scene, dir: Vec3) -> Vec3 {
 pub const fn class_of(kind: MaterialKind) -> SurfaceClass {
     match kind {
         MaterialKind::Black => SurfaceClass::Black,
+        MaterialKind::Null => SurfaceClass::Null,
         MaterialKind::Mirror
         | MaterialKind::Glass
         | MaterialKind::Conductor
@@ -287,7 +291,7 @@ impl SurfaceBsdf<'_> {
     pub fn has_lobe(&self) -> bool {
         match self.m.kind {
             MaterialKind::Glossy => self.m.ks.max_element() > 0.0,
-            MaterialKind::Diffuse | MaterialKind::Black => false,
+            MaterialKind::Diffuse | MaterialKind::Black | MaterialKind::Null => false,
             _ => true,
         }
     }

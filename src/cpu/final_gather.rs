@@ -13,6 +13,7 @@
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
 use crate::geometry::{offset_origin, Facing, Ray};
+use crate::medium::NO_MEDIUM;
 use crate::rng::Rng;
 use crate::sampling::cosine_hemisphere;
 use crate::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
@@ -24,7 +25,8 @@ impl Gatherer<'_> {
     /// depth `depth`) by one gather ray about the shading normal, before the factor kd(x):
     /// (u1, u2) for the direction from `sobol`'s pair `PAIR_GATHER` when given (the first
     /// shaded hit), else from `rng`; then one `rng` number per glass bounce. A direction
-    /// below the geometric surface gives zero.
+    /// below the geometric surface gives zero. `after` gives the medium the ray leaves in.
+    #[allow(clippy::too_many_arguments)]
     pub fn final_gather(
         &self,
         hit: &Hit,
@@ -33,6 +35,7 @@ impl Gatherer<'_> {
         depth: u32,
         rng: &mut Rng,
         sobol: Option<SobolStream>,
+        after: &dyn Fn(Vec3) -> u32,
     ) -> Vec3 {
         let (u1, u2) = match sobol {
             Some(st) => sample_pair(st.key, st.index, PAIR_GATHER),
@@ -49,6 +52,7 @@ impl Gatherer<'_> {
             },
             depth + 1,
             rng,
+            after(dir),
         );
         match bsdf.store_weight(dir) {
             Some(w) => w * l,
@@ -58,14 +62,26 @@ impl Gatherer<'_> {
 
     /// Radiance the cache gives along `ray` (its hit at depth `depth`): the specular chain,
     /// then kd times the cache at the first diffuse or glossy hit, continued over glossy
-    /// lobes; nothing more on a miss, at a black surface or past `max_depth`.
-    fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng) -> Vec3 {
+    /// lobes; nothing more on a miss, at a black surface or past `max_depth`. Through a
+    /// medium (`medium`), every segment adds the volume map's whole in-scattered light and
+    /// carries its transmittance.
+    fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng, medium: u32) -> Vec3 {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
+        let mut medium = medium;
         let mut sum = Vec3::ZERO;
         loop {
             // Emission is never counted here: light reaching x from a light (direct) or over
             // delta and glossy lobes (L (S|G)+ D) is in the shadow rays and the caustic map.
-            let Some(hit) = self.bvh.intersect(self.scene, &ray, f32::INFINITY) else {
+            let hit = self.bvh.intersect(self.scene, &ray, f32::INFINITY);
+            if medium != NO_MEDIUM {
+                let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+                sum += throughput * self.in_scattered(&ray, t, medium, false, false, rng);
+                throughput *= self.segment_transmittance(t, medium);
+                if throughput == Vec3::ZERO {
+                    return sum;
+                }
+            }
+            let Some(hit) = hit else {
                 return sum;
             };
             let bsdf = bsdf_at(self.scene, &hit);
@@ -93,6 +109,7 @@ impl Gatherer<'_> {
                     lobe.dir
                 }
                 _ if !can_recurse => return sum,
+                SurfaceClass::Null => ray.dir,
                 SurfaceClass::Delta => {
                     let f = hit.facing(ray.dir);
                     match bsdf.delta(ray.dir, &hit, &f, self.settings.fresnel) {
@@ -119,6 +136,11 @@ impl Gatherer<'_> {
                     }
                 }
             };
+            if self.media {
+                medium = self.scene.materials[hit.material as usize]
+                    .media
+                    .after(medium, hit.normal, dir);
+            }
             ray = Ray {
                 origin: offset_origin(hit.position, hit.normal, dir),
                 dir,

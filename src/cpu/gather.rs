@@ -13,9 +13,13 @@
 
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
+use crate::cpu::media::transmittance;
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
+use crate::cpu::volume_map::VolumeMap;
 use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
+use crate::medium::NO_MEDIUM;
+use crate::plan::VolumeSpec;
 use crate::plan::{caustic_weight, Terms};
 use crate::rng::Rng;
 use crate::scene::Scene;
@@ -63,6 +67,12 @@ pub struct Gatherer<'a> {
     pub terms: Terms,
     /// The radiance cache gather rays read (`terms.final_gather`; else `None`).
     pub cache: Option<&'a RadianceCache>,
+    /// The volume photon map, if the plan has one.
+    pub volume: Option<&'a VolumeMap>,
+    /// The plan's rules for it.
+    pub volume_spec: Option<VolumeSpec>,
+    /// Whether the scene needs media transport (`Scene::has_media_transport`).
+    pub media: bool,
 }
 
 impl Gatherer<'_> {
@@ -101,15 +111,19 @@ impl Gatherer<'_> {
                 &mut stream,
                 caustic_weight(s.spp, s.caustic_every, i),
                 None,
+                self.scene.camera_medium,
             );
         }
         sum / s.spp as f32
     }
 
-    /// Radiance arriving along `ray` (the chain of specular bounces, then shading).
+    /// Radiance arriving along `ray` (the chain of specular bounces, then shading), which
+    /// travels in `medium`: in a medium, the light scattered towards the camera along the
+    /// segment (`Gatherer::in_scattered`) plus the transmittance times what arrives at its end.
     /// `first` is the sample's Sobol stream until a diffuse or glossy hit is shaded (which
     /// takes it; see the module's doc), then `None`. `cw` weighs the caustic-map estimate
     /// (`plan::caustic_weight`; 0 skips it).
+    #[allow(clippy::too_many_arguments)]
     pub fn radiance(
         &self,
         ray: &Ray,
@@ -118,8 +132,37 @@ impl Gatherer<'_> {
         first: &mut Option<SobolStream>,
         cw: f32,
         mis: Option<Mis>,
+        medium: u32,
     ) -> Vec3 {
-        let Some(hit) = self.bvh.intersect(self.scene, ray, f32::INFINITY) else {
+        let hit = self.bvh.intersect(self.scene, ray, f32::INFINITY);
+        if medium == NO_MEDIUM {
+            return self.arriving(ray, hit, depth, rng, first, cw, mis, medium);
+        }
+        let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+        let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
+        let scattered = self.in_scattered(ray, t, medium, self.terms.direct, skip_direct, rng);
+        let tr = self.segment_transmittance(t, medium);
+        if tr == Vec3::ZERO {
+            return scattered;
+        }
+        scattered + tr * self.arriving(ray, hit, depth, rng, first, cw, mis, medium)
+    }
+
+    /// What arrives along `ray` at its hit (`None`: it left the scene), `ray` having travelled
+    /// in `medium`: the surface's emission and what it scatters, or the environment.
+    #[allow(clippy::too_many_arguments)]
+    fn arriving(
+        &self,
+        ray: &Ray,
+        hit: Option<Hit>,
+        depth: u32,
+        rng: &mut Rng,
+        first: &mut Option<SobolStream>,
+        cw: f32,
+        mis: Option<Mis>,
+        medium: u32,
+    ) -> Vec3 {
+        let Some(hit) = hit else {
             return self.escape(ray.dir, mis);
         };
         let bsdf = bsdf_at(self.scene, &hit);
@@ -142,8 +185,25 @@ impl Gatherer<'_> {
             emitted *= power_heuristic(mis.pdf, pdf_light);
         }
         let can_recurse = depth < self.settings.max_depth;
+        let media = self.scene.materials[hit.material as usize].media;
+        let after = |dir: Vec3| match self.media {
+            true => media.after(medium, hit.normal, dir),
+            false => medium,
+        };
         match bsdf.class() {
             SurfaceClass::Black => emitted,
+            // An index-matched boundary: straight on in the medium behind it (a step of the
+            // depth, which bounds the work of a ray through nested boundaries).
+            SurfaceClass::Null => {
+                if !can_recurse {
+                    return emitted;
+                }
+                let next = Ray {
+                    origin: offset_origin(hit.position, hit.normal, ray.dir),
+                    dir: ray.dir,
+                };
+                emitted + self.radiance(&next, depth + 1, rng, first, cw, mis, after(ray.dir))
+            }
             SurfaceClass::Delta => {
                 if !can_recurse {
                     return emitted;
@@ -159,7 +219,16 @@ impl Gatherer<'_> {
                             return emitted;
                         }
                         emitted
-                            + weight * self.radiance(&next(dir), depth + 1, rng, first, cw, None)
+                            + weight
+                                * self.radiance(
+                                    &next(dir),
+                                    depth + 1,
+                                    rng,
+                                    first,
+                                    cw,
+                                    None,
+                                    after(dir),
+                                )
                     }
                     DeltaEvent::Split(g) => {
                         // A branch that ends on the wrong side of the geometric surface
@@ -173,7 +242,7 @@ impl Gatherer<'_> {
                             if leaks {
                                 return Vec3::ZERO;
                             }
-                            self.radiance(&next(dir), depth + 1, rng, first, cw, None)
+                            self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
@@ -194,7 +263,7 @@ impl Gatherer<'_> {
             }
             SurfaceClass::Shaded => {
                 let sobol = first.take();
-                emitted + self.shade(&hit, &bsdf, -ray.dir, depth, rng, sobol, cw)
+                emitted + self.shade(&hit, &bsdf, -ray.dir, depth, rng, sobol, cw, medium)
             }
         }
     }
@@ -219,7 +288,7 @@ impl Gatherer<'_> {
 
     /// Radiance leaving a diffuse or glossy hit towards `wo`; `sobol` is the sample's Sobol
     /// stream at its first shaded hit (first shadow sample and gather direction), else `None`;
-    /// `cw` the caustic estimate's weight.
+    /// `cw` the caustic estimate's weight; `medium` the one the viewer's ray came through.
     #[allow(clippy::too_many_arguments)]
     fn shade(
         &self,
@@ -230,12 +299,18 @@ impl Gatherer<'_> {
         rng: &mut Rng,
         sobol: Option<SobolStream>,
         cw: f32,
+        medium: u32,
     ) -> Vec3 {
+        let media = self.scene.materials[hit.material as usize].media;
+        let after = |dir: Vec3| match self.media {
+            true => media.after(medium, hit.normal, dir),
+            false => medium,
+        };
         let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && bsdf.lobe_takes_point_lights()) {
-            l += self.direct(hit, bsdf, &f, wo, rng, sobol);
+            l += self.direct(hit, bsdf, &f, wo, rng, sobol, &after);
         }
         // The photon estimate uses the diffuse part; the lobe is traced below.
         let kd_over_pi = bsdf.estimate_brdf(wo);
@@ -262,7 +337,7 @@ impl Gatherer<'_> {
         }
         let albedo = bsdf.diffuse_albedo(wo);
         if self.terms.final_gather && depth < s.max_depth && albedo.max_element() > 0.0 {
-            l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol);
+            l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol, &after);
         }
         if self.terms.lobe_ray && bsdf.has_lobe() && depth < s.max_depth {
             if let Some(lobe) = bsdf.sample_lobe(-wo, &f, rng) {
@@ -284,6 +359,7 @@ impl Gatherer<'_> {
                         &mut None,
                         cw,
                         mis,
+                        after(dir),
                     );
             }
         }
@@ -296,6 +372,9 @@ impl Gatherer<'_> {
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
     /// nothing.
+    /// `after` gives the medium a ray leaving the hit along a direction is in (shadow rays
+    /// carry its transmittance, through index-matched boundaries, in scenes with media).
+    #[allow(clippy::too_many_arguments)]
     fn direct(
         &self,
         hit: &Hit,
@@ -304,6 +383,7 @@ impl Gatherer<'_> {
         wo: Vec3,
         rng: &mut Rng,
         mut sobol: Option<SobolStream>,
+        after: &dyn Fn(Vec3) -> u32,
     ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for (li, light) in self.scene.lights.iter().enumerate() {
@@ -378,6 +458,14 @@ impl Gatherer<'_> {
                     let len = to.length();
                     (to / len, len - end_eps)
                 };
+                if self.media {
+                    let tr = match t_max > 0.0 {
+                        true => transmittance(self.scene, self.bvh, origin, dir, t_max, after(dir)),
+                        false => Vec3::ONE,
+                    };
+                    acc += f * ls.weight * cos * tr;
+                    continue;
+                }
                 if t_max > 0.0 && self.bvh.occluded(self.scene, &Ray { origin, dir }, t_max) {
                     continue;
                 }

@@ -4,8 +4,11 @@
 pub mod cache;
 pub mod final_gather;
 pub mod gather;
+mod gather_media;
+pub mod media;
 pub mod photon_map;
 pub mod photons;
 pub mod renderer;
+pub mod volume_map;
 
 pub use renderer::CpuRenderer;

@@ -2,14 +2,17 @@
 //! by (seed, stream, pass, index) so the result does not depend on thread scheduling.
 
 use crate::bvh::Bvh;
+use crate::cpu::media::{light_medium, MAX_CROSSINGS};
 use crate::geometry::{offset_origin, Ray};
 use crate::light::{aims_at, LightTable};
 use crate::material::Bounce;
+use crate::medium::NO_MEDIUM;
 use crate::photon::{Budget, Photon};
+use crate::plan::VolumeSpec;
 use crate::rng::{Rng, Stream};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-use crate::shading::bsdf_at;
+use crate::shading::{bsdf_at, SurfaceClass};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -27,10 +30,70 @@ pub struct TraceContext<'a> {
     pub pass: u32,
 }
 
+/// The photons of one map's paths: those stored on surfaces, and those stored where the
+/// paths scattered in a medium (for the volume map; empty without media); and where the
+/// paths' power went (the energy balance `tests/media_transport.rs` checks).
+#[derive(Debug, Default)]
+pub struct Traced {
+    /// Surface photons, in path-index order.
+    pub surface: Vec<Photon>,
+    /// Volume photons, in path-index order.
+    pub volume: Vec<Photon>,
+    /// Power of the paths that ended, by where they ended (W per channel, in f64).
+    pub ends: PathEnds,
+}
+
+/// Power of the ended photon paths of a [`Traced`], by how each ended. A path's power at its
+/// end is what Russian roulette let it carry, so in expectation each sum is the power the
+/// surfaces or media absorbed (or that left the scene).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PathEnds {
+    /// Absorbed at a surface (Russian roulette, a black surface, a light's own surface).
+    pub surface: [f64; 3],
+    /// Absorbed in a medium (Russian roulette on a scattering event's weight).
+    pub medium: [f64; 3],
+    /// Left the scene.
+    pub escaped: [f64; 3],
+    /// Cut off: by `max_photon_bounces`, the boundary-crossing bound, or a power that is not
+    /// finite and positive; caustic paths that end at their first diffuse or medium event.
+    pub cut: [f64; 3],
+}
+
+impl PathEnds {
+    fn add(sum: &mut [f64; 3], power: Vec3) {
+        for (s, p) in sum.iter_mut().zip(power.to_array()) {
+            if p.is_finite() {
+                *s += p as f64;
+            }
+        }
+    }
+    fn merge(&mut self, o: &PathEnds) {
+        for (a, b) in [
+            (&mut self.surface, &o.surface),
+            (&mut self.medium, &o.medium),
+            (&mut self.escaped, &o.escaped),
+            (&mut self.cut, &o.cut),
+        ] {
+            for c in 0..3 {
+                a[c] += b[c];
+            }
+        }
+    }
+}
+
+impl Traced {
+    fn append(mut self, mut other: Traced) -> Traced {
+        self.surface.append(&mut other.surface);
+        self.volume.append(&mut other.volume);
+        self.ends.merge(&other.ends);
+        self
+    }
+}
+
 /// Traces the global photon paths `0..budget.total()`; stores a photon at every diffuse or
 /// glossy hit, in path-index order.
 pub fn trace_photons(ctx: &TraceContext, budget: &Budget) -> Vec<Photon> {
-    trace_paths(ctx, budget, Stream::Photon, None)
+    trace_paths(ctx, budget, Stream::Photon, None, None).surface
 }
 
 /// Traces caustic paths `0..budget.total()` aimed at `bounds`: emissions that miss the
@@ -42,13 +105,18 @@ pub fn trace_caustic_photons(
     budget: &Budget,
     bounds: &[crate::geometry::Aabb],
 ) -> Vec<Photon> {
-    trace_paths(ctx, budget, Stream::Caustic, Some(bounds))
+    trace_paths(ctx, budget, Stream::Caustic, Some(bounds), None).surface
 }
 
-/// Traces the paths of map `spec` (`trace_photons` or, aimed, `trace_caustic_photons`).
-pub fn trace_map(ctx: &TraceContext, spec: &crate::plan::MapSpec) -> Vec<Photon> {
+/// Traces the paths of map `spec` (`trace_photons` or, aimed, `trace_caustic_photons`);
+/// with `volume` (the plan's volume map) they also store volume photons.
+pub fn trace_map(
+    ctx: &TraceContext,
+    spec: &crate::plan::MapSpec,
+    volume: Option<VolumeSpec>,
+) -> Traced {
     let aim = (!spec.aim.is_empty()).then_some(&spec.aim[..]);
-    trace_paths(ctx, &spec.budget, spec.kind.stream(), aim)
+    trace_paths(ctx, &spec.budget, spec.kind.stream(), aim, volume)
 }
 
 /// Every path of `budget` in parallel; the photons in path-index order (rayon's fold and
@@ -58,33 +126,40 @@ fn trace_paths(
     budget: &Budget,
     stream: Stream,
     aim: Option<&[crate::geometry::Aabb]>,
-) -> Vec<Photon> {
+    volume: Option<VolumeSpec>,
+) -> Traced {
+    let media = ctx.scene.has_media_transport();
     (0..budget.total())
         .into_par_iter()
-        .fold(Vec::new, |mut out, i| {
-            trace_path(ctx, budget, stream, i, aim, &mut out);
+        .fold(Traced::default, |mut out, i| {
+            trace_path(ctx, budget, stream, i, aim, volume, media, &mut out);
             out
         })
-        .reduce(Vec::new, |mut a, mut b| {
-            a.append(&mut b);
-            a
-        })
+        .reduce(Traced::default, Traced::append)
 }
 
-/// One photon path. With `aim` (a caustic path) only L S+ D is stored.
+/// One photon path. With `aim` (a caustic path) only L S+ D (and L S+ V) is stored. In a
+/// medium each segment samples a free flight (`Medium::sample_flight`): an event in the
+/// medium stores a volume photon (with `volume`), then the path goes on by the phase
+/// function with Russian roulette on the flight's weight (the albedo, for a grey medium),
+/// and counts as a bounce; index-matched boundaries only change the medium.
+#[allow(clippy::too_many_arguments)]
 fn trace_path(
     ctx: &TraceContext,
     budget: &Budget,
     stream: Stream,
     i: u32,
     aim: Option<&[crate::geometry::Aabb]>,
-    out: &mut Vec<Photon>,
+    volume: Option<VolumeSpec>,
+    has_media: bool,
+    out: &mut Traced,
 ) {
     let s = ctx.settings;
+    let scene = ctx.scene;
     let mut rng = Rng::new(s.seed, stream, ctx.pass, i);
     let l = budget.light_of(i);
     let e = ctx.lights.emit(
-        ctx.scene,
+        scene,
         l,
         [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()],
     );
@@ -102,12 +177,70 @@ fn trace_path(
         },
         dir: e.dir,
     };
+    let mut medium = match has_media {
+        true => light_medium(scene, l, &e),
+        false => NO_MEDIUM,
+    };
     let mut all_specular = true;
-    for depth in 0..s.max_photon_bounces {
-        let Some(hit) = ctx.bvh.intersect(ctx.scene, &ray, f32::INFINITY) else {
-            return;
+    let mut depth = 0;
+    let mut crossings = 0;
+    while depth < s.max_photon_bounces {
+        let hit = ctx.bvh.intersect(scene, &ray, f32::INFINITY);
+        if medium != NO_MEDIUM {
+            let m = &scene.media[medium as usize];
+            let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            let flight = m.sample_flight(rng.next(), rng.next(), t_max);
+            if flight.in_medium {
+                let x = ray.origin + ray.dir * flight.t;
+                let scattered = power * flight.weight;
+                let caustic = depth > 0 && all_specular;
+                if let Some(v) = volume {
+                    // A caustic path keeps only L S+ V; the global paths leave those to it.
+                    let keep = match aim {
+                        Some(_) => caustic,
+                        None => !(caustic && v.drop_caustic),
+                    };
+                    if keep && scattered.max_element() > 0.0 {
+                        out.volume.push(Photon::in_medium(
+                            x, scattered, ray.dir, medium, i, depth, caustic,
+                        ));
+                    }
+                }
+                if aim.is_some() {
+                    return PathEnds::add(&mut out.ends.cut, power);
+                }
+                // Absorption by Russian roulette on the scattering weight.
+                let q = flight.weight.max_element().min(1.0);
+                if !(rng.next() < q) {
+                    return PathEnds::add(&mut out.ends.medium, power);
+                }
+                power = scattered / q;
+                let dir = m.phase.sample(ray.dir, rng.next(), rng.next());
+                ray = Ray { origin: x, dir };
+                all_specular = false;
+                depth += 1;
+                if !(power.max_element() > 0.0) || !power.is_finite() {
+                    return PathEnds::add(&mut out.ends.cut, power);
+                }
+                continue;
+            }
+            power *= flight.weight;
+        }
+        let Some(hit) = hit else {
+            return PathEnds::add(&mut out.ends.escaped, power);
         };
-        let bsdf = bsdf_at(ctx.scene, &hit);
+        let bsdf = bsdf_at(scene, &hit);
+        let media = scene.materials[hit.material as usize].media;
+        if bsdf.class() == SurfaceClass::Null {
+            // An index-matched boundary: straight on, in the medium behind it.
+            crossings += 1;
+            if crossings > MAX_CROSSINGS {
+                return PathEnds::add(&mut out.ends.cut, power);
+            }
+            medium = media.after(medium, hit.normal, ray.dir);
+            ray.origin = offset_origin(hit.position, hit.normal, ray.dir);
+            continue;
+        }
         if bsdf.stores_photons() {
             let caustic = depth > 0 && all_specular;
             // The caustic map keeps only L (S|G)+ D photons: its paths end at the first
@@ -118,7 +251,7 @@ fn trace_path(
                     Some(w) => power * w,
                     None => power,
                 };
-                out.push(Photon::new(
+                out.surface.push(Photon::new(
                     hit.position,
                     stored,
                     ray.dir,
@@ -132,8 +265,10 @@ fn trace_path(
         let u = [rng.next(), rng.next(), rng.next()];
         let bounce = bsdf.photon_bounce(ray.dir, &hit, s.fresnel, u);
         let (dir, weight) = match bounce {
-            Bounce::Absorb => return,
-            Bounce::Diffuse { .. } if aim.is_some() => return,
+            Bounce::Absorb => return PathEnds::add(&mut out.ends.surface, power),
+            Bounce::Diffuse { .. } if aim.is_some() => {
+                return PathEnds::add(&mut out.ends.cut, power)
+            }
             Bounce::Diffuse { dir, weight } => {
                 all_specular = false;
                 (dir, weight)
@@ -144,11 +279,16 @@ fn trace_path(
         };
         power *= weight;
         if !(power.max_element() > 0.0) || !power.is_finite() {
-            return;
+            return PathEnds::add(&mut out.ends.cut, power);
+        }
+        if has_media {
+            medium = media.after(medium, hit.normal, dir);
         }
         ray = Ray {
             origin: offset_origin(hit.position, hit.normal, dir),
             dir,
         };
+        depth += 1;
     }
+    PathEnds::add(&mut out.ends.cut, power);
 }

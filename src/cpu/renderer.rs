@@ -8,6 +8,7 @@ use crate::cpu::cache::RadianceCache;
 use crate::cpu::gather::Gatherer;
 use crate::cpu::photon_map::PhotonMap;
 use crate::cpu::photons::{trace_map, TraceContext};
+use crate::cpu::volume_map::VolumeMap;
 use crate::error::Result;
 use crate::film::Image;
 use crate::light::LightTable;
@@ -68,17 +69,26 @@ impl PassRenderer for CpuRenderer<'_> {
         // One slot per map kind (crate::plan::MapKind), built as the plan lists them.
         let t = Instant::now();
         let mut traced: [Option<Vec<Photon>>; 2] = Default::default();
+        let mut volume_photons = Vec::new();
         for spec in &plan.maps {
-            let photons = trace_map(&ctx, spec);
-            *report.stored_mut(spec.kind) = photons.len();
-            let kept = photons.into_iter().filter(|p| spec.filter.keeps(p));
+            let photons = trace_map(&ctx, spec, plan.volume);
+            *report.stored_mut(spec.kind) = photons.surface.len();
+            let kept = photons.surface.into_iter().filter(|p| spec.filter.keeps(p));
             traced[spec.kind as usize] = Some(kept.collect());
+            volume_photons.extend(photons.volume);
         }
+        report.volume_stored = volume_photons.len();
         report.phase("trace photons", t);
 
         let t = Instant::now();
         let [global, caustic] = traced.map(|p| p.map(PhotonMap::build));
         report.phase("build kd-trees", t);
+        let volume = plan.volume.map(|_| {
+            let t = Instant::now();
+            let map = VolumeMap::build(volume_photons, settings.volume_radius);
+            report.phase("build volume grid", t);
+            map
+        });
 
         let terms = Terms::of(plan.mode);
         let cache = match (&global, terms.final_gather) {
@@ -102,6 +112,9 @@ impl PassRenderer for CpuRenderer<'_> {
             caustic: caustic.as_ref(),
             terms,
             cache: cache.as_ref(),
+            volume: volume.as_ref(),
+            volume_spec: plan.volume,
+            media: scene.has_media_transport(),
         };
         let mut image = Image::new(settings.width, settings.height);
         let bar = progress.bar(settings.height as u64, "gather");

@@ -33,6 +33,8 @@ pub const MAT_PLASTIC: u32 = 9;
 pub const MAT_ROUGH_PLASTIC: u32 = 10;
 /// glTF's metallic-roughness material (`crate::bsdf::MetallicRoughness`).
 pub const MAT_METALLIC_ROUGHNESS: u32 = 11;
+/// `Material.kind` of an index-matched boundary (media scenes: the CPU backend only).
+pub const MAT_NULL: u32 = 12;
 
 /// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
 pub const CLASS_BLACK: u32 = 0;
@@ -40,6 +42,8 @@ pub const CLASS_BLACK: u32 = 0;
 pub const CLASS_DELTA: u32 = 1;
 /// Surface class of a material that shades (diffuse part or non-delta lobe).
 pub const CLASS_SHADED: u32 = 2;
+/// Surface class of an index-matched boundary (the CPU backend only, for now).
+pub const CLASS_NULL: u32 = 3;
 
 /// `Material.bsdf` of a material without `crate::bsdf` parameters.
 pub const NO_BSDF: u32 = u32::MAX;
@@ -190,6 +194,7 @@ pub fn material_code(kind: MaterialKind) -> u32 {
         MaterialKind::Plastic => MAT_PLASTIC,
         MaterialKind::RoughPlastic => MAT_ROUGH_PLASTIC,
         MaterialKind::MetallicRoughness => MAT_METALLIC_ROUGHNESS,
+        MaterialKind::Null => MAT_NULL,
     }
 }
 
@@ -255,9 +260,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MAT_PLASTIC", U32(MAT_PLASTIC)),
         ("MAT_ROUGH_PLASTIC", U32(MAT_ROUGH_PLASTIC)),
         ("MAT_METALLIC_ROUGHNESS", U32(MAT_METALLIC_ROUGHNESS)),
+        ("MAT_NULL", U32(MAT_NULL)),
         ("CLASS_BLACK", U32(CLASS_BLACK)),
         ("CLASS_DELTA", U32(CLASS_DELTA)),
         ("CLASS_SHADED", U32(CLASS_SHADED)),
+        ("CLASS_NULL", U32(CLASS_NULL)),
         ("LIGHT_POINT", U32(LIGHT_POINT)),
         ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
         ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
@@ -369,6 +376,7 @@ pub fn class_code(class: SurfaceClass) -> u32 {
         SurfaceClass::Black => CLASS_BLACK,
         SurfaceClass::Delta => CLASS_DELTA,
         SurfaceClass::Shaded => CLASS_SHADED,
+        SurfaceClass::Null => CLASS_NULL,
     }
 }
 

@@ -112,7 +112,7 @@ pub(super) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
             ior if ior.is_finite() && ior > 0.0 => Ok(()),
             _ => Err(at.error(param("ior"), "must be positive and finite".into())),
         },
-        MaterialKind::Black => Ok(()),
+        MaterialKind::Black | MaterialKind::Null => Ok(()),
         // Built by crate::bsdf from checked parameters (importers check their ranges).
         _ => match m.bsdf {
             Some(_) => Ok(()),

@@ -34,11 +34,14 @@ pub enum MaterialKind {
     /// [`Material::kd_texture`] its base colour and [`Material::mr_texture`] its metalness
     /// and roughness.
     MetallicRoughness,
+    /// An index-matched boundary (Mitsuba's `null`): rays and photons pass straight through,
+    /// unscattered; it only bounds media ([`Material::media`]).
+    Null,
 }
 
 impl MaterialKind {
     /// Every kind, in the order of their GPU codes.
-    pub const ALL: [MaterialKind; 12] = [
+    pub const ALL: [MaterialKind; 13] = [
         MaterialKind::Diffuse,
         MaterialKind::Glossy,
         MaterialKind::Mirror,
@@ -51,6 +54,7 @@ impl MaterialKind {
         MaterialKind::Plastic,
         MaterialKind::RoughPlastic,
         MaterialKind::MetallicRoughness,
+        MaterialKind::Null,
     ];
 
     /// The kind a [`Bsdf`] of `crate::bsdf` is rendered as.
@@ -208,6 +212,13 @@ impl Material {
             ..Self::black()
         }
     }
+    /// An index-matched boundary: passes everything straight through (bounds media).
+    pub fn null() -> Self {
+        Self {
+            kind: MaterialKind::Null,
+            ..Self::black()
+        }
+    }
     /// A surface that reflects and emits nothing; the base of the other constructors.
     pub fn black() -> Self {
         Self {
@@ -287,7 +298,7 @@ impl Material {
     /// aimed at them and pass them (L (S|G)+ D).
     pub fn casts_caustics(&self) -> bool {
         match self.kind {
-            MaterialKind::Diffuse | MaterialKind::Black => false,
+            MaterialKind::Diffuse | MaterialKind::Black | MaterialKind::Null => false,
             MaterialKind::Glossy => self.ks.max_element() > 0.0,
             _ => true,
         }

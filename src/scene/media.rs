@@ -133,16 +133,27 @@ impl super::Scene {
         self.camera_medium != NO_MEDIUM || self.materials.iter().any(|m| !m.media.is_vacuum())
     }
 
-    /// Fails with [`crate::Error::Unsupported`] when the scene uses media: both backends
-    /// still carry light through vacuum only, and a render without its media would not be
-    /// the scene asked for.
+    /// Whether rays must be carried through media: the scene uses a medium
+    /// ([`Self::uses_media`]) or has an index-matched boundary (`MaterialKind::Null`), which
+    /// only media transport passes.
+    pub fn has_media_transport(&self) -> bool {
+        self.uses_media()
+            || self
+                .materials
+                .iter()
+                .any(|m| m.kind == super::MaterialKind::Null)
+    }
+
+    /// Fails with [`crate::Error::Unsupported`] when the scene needs media transport
+    /// ([`Self::has_media_transport`]) and the GPU backend is asked for: only the CPU backend
+    /// carries light through media yet, and a render without them would not be the scene
+    /// asked for.
     pub fn require_no_media(&self) -> Result<()> {
-        match self.uses_media() {
+        match self.has_media_transport() {
             false => Ok(()),
             true => Err(crate::Error::Unsupported(format!(
-                "the scene uses participating media ({} defined), which gpu-photon cannot \
-                 render yet; without its media (no `interior`/`exterior` on shapes, no \
-                 camera medium) it renders",
+                "the scene uses participating media ({} defined) or `null` boundaries, which \
+                 only the CPU backend renders yet (--backend cpu; `auto` chooses it)",
                 self.media.len()
             ))),
         }

@@ -388,17 +388,20 @@ impl Scene {
         2f32.powi(half.log2().floor() as i32)
     }
     /// Multiplies the search radii the scene file left at their defaults (`radius`,
-    /// `caustic_radius`; `given`: which the file set) by [`Scene::size_unit`] when it is above
+    /// `caustic_radius`, `volume_radius`; `given`: which the file set) by [`Scene::size_unit`] when it is above
     /// 1, so that a larger scene renders as it would in smaller units. Never down: the radii
     /// are caps on searches the photon density sizes, harmless when large. A power of two, so
     /// scenes of size class 1 or below keep them exactly.
-    pub fn scale_default_radii(&mut self, given: [bool; 2]) {
+    pub fn scale_default_radii(&mut self, given: [bool; 3]) {
         let unit = self.size_unit().max(1.0);
         if !given[0] {
             self.settings.radius *= unit;
         }
         if !given[1] {
             self.settings.caustic_radius *= unit;
+        }
+        if !given[2] {
+            self.settings.volume_radius *= unit;
         }
     }
     /// Total emitted power per channel.

@@ -58,6 +58,7 @@ const MATERIAL_TYPES: &Types = &[
     ("glossy", &["kd", "ks", "exponent"]),
     ("mirror", &["reflectance"]),
     ("glass", &["ior"]),
+    ("null", &[]),
     ("emissive", &["radiance", "two_sided"]),
 ];
 const SHAPE_TYPES: &Types = &[
@@ -149,7 +150,11 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
             .as_ref()
             .is_some_and(|r| r.get_ref().contains_key(key))
     };
-    scene.scale_default_radii([given("radius"), given("caustic_radius")]);
+    scene.scale_default_radii([
+        given("radius"),
+        given("caustic_radius"),
+        given("volume_radius"),
+    ]);
     Ok(scene)
 }
 
@@ -344,6 +349,7 @@ fn material(t: &Tab) -> Result<Material> {
         }
         "mirror" => Material::mirror(t.need("reflectance", t.color("reflectance", unit)?)?),
         "glass" => Material::glass(t.need("ior", t.positive("ior")?)?),
+        "null" => Material::null(),
         _ => Material {
             two_sided_emission: t.boolean("two_sided")?.unwrap_or(false),
             ..Material::emitter(t.need("radiance", t.color("radiance", None)?)?)

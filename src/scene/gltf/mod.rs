@@ -119,7 +119,7 @@ pub fn load_slice(
         im.b.camera(eye, target, Vec3::Y, DEFAULT_FOV_Y, &at)?;
     }
     let mut scene = im.b.finish(&at)?;
-    scene.scale_default_radii([false, false]);
+    scene.scale_default_radii([false; 3]);
     Ok(scene)
 }
 

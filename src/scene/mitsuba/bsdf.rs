@@ -273,6 +273,8 @@ pub(super) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             }
             m
         }
+        // Mitsuba 3's `null`: an index-matched boundary that only bounds media.
+        "null" => Material::null(),
         other => {
             let message = format!("unsupported bsdf `{other}`");
             return Err(cx.err(node, field, message));

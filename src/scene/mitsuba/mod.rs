@@ -198,7 +198,7 @@ pub fn import_with(
         return Err(im.cx.err(root, "scene", "the scene has no <sensor>"));
     }
     let mut scene = im.b.finish(&at)?;
-    scene.scale_default_radii([false, false]);
+    scene.scale_default_radii([false; 3]);
     Ok(Imported {
         scene,
         warnings: im.warnings,

@@ -1,0 +1,255 @@
+//! Light transport through participating media on the CPU backend (issue 24), against
+//! closed forms: Beer-Lambert through a slab bounded by index-matched (`null`) faces,
+//! single scattering of a directional light in that slab seen head-on (by next-event
+//! estimation, and by the volume photon map's beam estimate), and the energy balance of
+//! photon paths in a closed box filled with fog.
+
+use glam::Vec3;
+use gpu_photon::bvh::Bvh;
+use gpu_photon::cpu::media::transmittance;
+use gpu_photon::cpu::photons::{trace_map, TraceContext};
+use gpu_photon::light::LightTable;
+use gpu_photon::plan::MapPlan;
+use gpu_photon::report::Progress;
+use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::session::{render, Backend};
+use gpu_photon::settings::{Mode, RenderSettings};
+use std::path::Path;
+
+const D: f32 = 0.8;
+const SIGMA_T: [f32; 3] = [0.5, 1.0, 2.0];
+const ALBEDO: f32 = 0.6;
+const G: f32 = 0.3;
+
+/// A slab of fog `D` thick between z = 0 and z = -D (two `null` quads `half` wide whose
+/// interior is the fog), a camera on the z axis looking down -z with a 1 degree field of
+/// view, and a directional light of irradiance 1 travelling along -z.
+fn slab(half: f32) -> Scene {
+    let (h, d) = (half, D);
+    let text = format!(
+        r#"
+[camera]
+eye = [0, 0, 5]
+target = [0, 0, 0]
+up = [0, 1, 0]
+fov = 1.0
+width = 4
+height = 4
+
+[media.fog]
+sigma_t = [{}, {}, {}]
+albedo = {ALBEDO}
+g = {G}
+
+[materials.boundary]
+type = "null"
+
+[[shapes]]
+type = "quad"
+corners = [[-{h}, -{h}, 0], [{h}, -{h}, 0], [{h}, {h}, 0], [-{h}, {h}, 0]]
+material = "boundary"
+interior = "fog"
+
+[[shapes]]
+type = "quad"
+corners = [[-{h}, -{h}, -{d}], [-{h}, {h}, -{d}], [{h}, {h}, -{d}], [{h}, -{h}, -{d}]]
+material = "boundary"
+interior = "fog"
+
+[[lights]]
+type = "directional"
+direction = [0, 0, -1]
+irradiance = [1, 1, 1]
+"#,
+        SIGMA_T[0], SIGMA_T[1], SIGMA_T[2]
+    );
+    load_str(&text, "slab.toml", Path::new(".")).expect("the slab scene loads")
+}
+
+/// Henyey-Greenstein's density at cosine `c`.
+fn hg(g: f64, c: f64) -> f64 {
+    (1.0 - g * g) / (4.0 * std::f64::consts::PI * (1.0 + g * g - 2.0 * g * c).powf(1.5))
+}
+
+/// Single-scattered radiance leaving the slab's lit face towards the light: the light
+/// reaches depth s attenuated by exp(-sigma s), scatters back (cosine -1 between the
+/// directions of travel), and returns attenuated as much again:
+/// `E sigma_s p(-1) (1 - exp(-2 sigma D)) / (2 sigma)`.
+fn single_scattering(c: usize) -> f64 {
+    let s = SIGMA_T[c] as f64;
+    ALBEDO as f64 * s * hg(G as f64, -1.0) * (1.0 - (-2.0 * s * D as f64).exp()) / (2.0 * s)
+}
+
+#[test]
+fn transmittance_through_a_slab_is_beer_lambert() {
+    let scene = slab(10.0);
+    let bvh = Bvh::build(&scene);
+    // From the camera's side, through both faces, to well beyond the slab.
+    let tr = transmittance(
+        &scene,
+        &bvh,
+        Vec3::new(0.1, -0.2, 2.0),
+        Vec3::NEG_Z,
+        6.0,
+        scene.camera_medium,
+    );
+    for c in 0..3 {
+        let want = (-(SIGMA_T[c] as f64) * D as f64).exp();
+        let rel = (tr[c] as f64 - want).abs() / want;
+        assert!(rel < 2e-6, "channel {c}: {} vs {want}", tr[c]);
+    }
+    // Slanted: the path in the slab is D / cos long.
+    let dir = Vec3::new(0.6, 0.0, -0.8);
+    let tr = transmittance(&scene, &bvh, Vec3::Z, dir, 5.0, scene.camera_medium);
+    let want = (-(SIGMA_T[1] as f64) * D as f64 / 0.8).exp();
+    assert!((tr[1] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
+    // Stopping inside the slab: only the part travelled inside attenuates.
+    let tr = transmittance(&scene, &bvh, Vec3::Z, Vec3::NEG_Z, 1.3, scene.camera_medium);
+    let want = (-(SIGMA_T[2] as f64) * 0.3).exp();
+    assert!((tr[2] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
+}
+
+fn mean(scene: &Scene, s: &RenderSettings) -> [f64; 3] {
+    let (image, _) = render(scene, s, Backend::Cpu, Progress::default()).expect("renders");
+    let mut m = [0.0f64; 3];
+    for p in &image.pixels {
+        for c in 0..3 {
+            m[c] += p[c] as f64 / image.pixels.len() as f64;
+        }
+    }
+    m
+}
+
+/// Next-event estimation alone (`direct-only` builds no photon map): every channel within
+/// 1% of the closed form.
+#[test]
+fn single_scattering_by_next_event_estimation_matches_the_closed_form() {
+    let scene = slab(10.0);
+    let s = RenderSettings {
+        mode: Mode::DirectOnly,
+        spp: 1024,
+        ..scene.settings.clone()
+    };
+    let m = mean(&scene, &s);
+    for c in 0..3 {
+        let want = single_scattering(c);
+        assert!(
+            (m[c] / want - 1.0).abs() < 0.01,
+            "channel {c}: {} vs {want}",
+            m[c]
+        );
+    }
+}
+
+/// The volume photon map's beam estimate alone (`photon` mode, photon paths of one bounce,
+/// so every volume photon is single scattering): within 1% with 4 million paths, whose own
+/// noise here is about 0.3% (some 10^5 photons in each beam of radius 1; the slab is uniform
+/// across, so the radius adds no bias).
+#[test]
+fn single_scattering_by_the_beam_estimate_matches_the_closed_form() {
+    let scene = slab(4.0);
+    let s = RenderSettings {
+        mode: Mode::Photon,
+        photons: 4_000_000,
+        max_photon_bounces: 1,
+        volume_radius: 1.0,
+        pass_range: None,
+        spp: 1,
+        ..scene.settings.clone()
+    };
+    let m = mean(&scene, &s);
+    for c in 0..3 {
+        let want = single_scattering(c);
+        assert!(
+            (m[c] / want - 1.0).abs() < 0.01,
+            "channel {c}: {} vs {want}",
+            m[c]
+        );
+    }
+}
+
+/// A closed box of grey walls (albedo 0.5) with the camera inside and a light under its
+/// ceiling, filled with fog of `albedo`.
+fn fog_box(albedo: f32) -> Scene {
+    let text = format!(
+        r#"
+[camera]
+eye = [0, 0, 0.5]
+target = [0, 0, 0]
+up = [0, 1, 0]
+fov = 60.0
+width = 4
+height = 4
+medium = "fog"
+
+[render]
+max_photon_bounces = 64
+
+[media.fog]
+sigma_t = 1.0
+albedo = {albedo}
+
+[materials.wall]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+
+[[shapes]]
+type = "box"
+min = [-1, -1, -1]
+max = [1, 1, 1]
+material = "wall"
+
+[[shapes]]
+type = "quad"
+corners = [[-0.2, 0.95, -0.2], [0.2, 0.95, -0.2], [0.2, 0.95, 0.2], [-0.2, 0.95, 0.2]]
+emission = [5, 5, 5]
+"#
+    );
+    load_str(&text, "box.toml", Path::new(".")).expect("the fog box loads")
+}
+
+/// Where the photon paths' power goes, as fractions of the emitted power: (surfaces,
+/// medium, escaped or cut).
+fn balance(scene: &Scene) -> (f64, f64, f64) {
+    let s = RenderSettings {
+        photons: 200_000,
+        ..scene.settings.clone()
+    };
+    let (bvh, lights) = (Bvh::build(scene), LightTable::new(scene));
+    let plan = MapPlan::new(scene, &lights, &s);
+    let ctx = TraceContext {
+        scene,
+        bvh: &bvh,
+        lights: &lights,
+        settings: &s,
+        pass: 0,
+    };
+    let global = plan.maps.iter().find(|m| m.budget.total() > 0).unwrap();
+    let traced = trace_map(&ctx, global, plan.volume);
+    assert!(!traced.volume.is_empty(), "no volume photon stored");
+    let emitted = scene.total_power().x as f64;
+    let e = traced.ends;
+    (
+        e.surface[0] / emitted,
+        e.medium[0] / emitted,
+        (e.escaped[0] + e.cut[0]) / emitted,
+    )
+}
+
+/// Purely scattering fog loses nothing: the walls (and the light's own surface) absorb the
+/// emitted power, to 0.1%. Fog of albedo 0.8 absorbs some: the medium and the walls together
+/// absorb it all, and the medium's share is a real part of it.
+#[test]
+fn photon_power_is_conserved_in_a_fog_filled_box() {
+    let (walls, medium, lost) = balance(&fog_box(1.0));
+    assert_eq!(medium, 0.0, "a purely scattering medium absorbed {medium}");
+    assert!((walls - 1.0).abs() < 1e-3, "walls absorbed {walls}");
+    assert!(lost < 1e-4, "escaped or cut: {lost}");
+    let (walls, medium, lost) = balance(&fog_box(0.8));
+    assert!(
+        (walls + medium - 1.0).abs() < 1e-3,
+        "walls {walls} + medium {medium}"
+    );
+    assert!(medium > 0.2, "fog of albedo 0.8 absorbed only {medium}");
+    assert!(lost < 1e-4, "escaped or cut: {lost}");
+}
