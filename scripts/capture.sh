@@ -8,6 +8,17 @@ bin=${2:-target/release/gpu-photon}
 mkdir -p "$out"
 for scene in scenes/*.toml; do
     name=$(basename "$scene" .toml)
+    # A scene the renderers refuse as unsupported (the media scenes until issue 24's
+    # transport lands) is skipped, saying so; any other failure stops the script.
+    if ! "$bin" render "$scene" -o "$out/probe.exr" --backend cpu --width 1 --height 1 \
+        --passes 0 --spp 1 --photons 1 -q 2>"$out/probe.err"; then
+        if grep -q "cannot render yet" "$out/probe.err"; then
+            echo "skipped $scene: $(cat "$out/probe.err")" >&2
+            continue
+        fi
+        cat "$out/probe.err" >&2
+        exit 1
+    fi
     for backend in cpu gpu; do
         "$bin" render "$scene" -o "$out/$name-$backend-default.exr" --backend "$backend" \
             --width 48 --height 48 --passes 2 -q
@@ -17,3 +28,4 @@ for scene in scenes/*.toml; do
             --width 48 --height 48 --mode direct --passes 1 --spp 4 --photons 20000 -q
     done
 done
+rm -f "$out/probe.exr" "$out/probe.err"

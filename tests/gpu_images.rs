@@ -29,15 +29,40 @@ fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
     }
 }
 
-/// The example scenes, sorted.
+/// The example scenes, sorted, less those the renderers refuse as unsupported (the media
+/// scenes, `fog-cornell.toml` and `volume-caustic.toml`, until issue 24's transport lands:
+/// they join these tests by themselves once the renderers accept them).
 fn scene_paths() -> Vec<std::path::PathBuf> {
     let mut paths: Vec<_> = std::fs::read_dir("scenes")
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter(|p| renderable(p))
         .collect();
     paths.sort();
     paths
+}
+
+/// Whether the renderers accept the scene at `path` (a one-pixel CPU render is not refused
+/// with `Error::Unsupported`).
+fn renderable(path: &std::path::Path) -> bool {
+    let scene = gpu_photon::scene::load(path).unwrap();
+    let tiny = RenderSettings {
+        width: 1,
+        height: 1,
+        spp: 1,
+        passes: 0,
+        photons: 1,
+        caustic_photons: 0,
+        ..scene.settings.clone()
+    };
+    match render(&scene, &tiny, Backend::Cpu, Progress::default()) {
+        Err(gpu_photon::Error::Unsupported(why)) => {
+            eprintln!("{}: skipped: {why}", path.display());
+            false
+        }
+        _ => true,
+    }
 }
 
 /// Renders `scene` with `settings(seed)` on the CPU at seeds 1 and 2 and on the GPU at seed

@@ -384,6 +384,23 @@ fn every_scene_renders_tiny_without_nan_in_every_mode() {
     for path in &names {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let scene = load(path).unwrap_or_else(|e| panic!("{e}"));
+        // A scene the renderers refuse as unsupported (the media scenes until issue 24's
+        // transport lands) is skipped, saying so; it joins once a one-pixel render passes.
+        let probe = RenderSettings {
+            width: 1,
+            height: 1,
+            spp: 1,
+            passes: 0,
+            photons: 1,
+            caustic_photons: 0,
+            ..scene.settings.clone()
+        };
+        if let Err(gpu_photon::Error::Unsupported(why)) =
+            render(&scene, &probe, Backend::Cpu, Progress::default())
+        {
+            eprintln!("{name}: skipped: {why}");
+            continue;
+        }
         for mode in [
             Mode::Photon,
             Mode::Direct,

@@ -638,11 +638,13 @@ fn every_scene_file_loads() {
         "coloured-lights",
         "cornell-box",
         "cornell-caustics",
+        "fog-cornell",
         "glossy-sphere",
         "inside-glass",
         "mesh-light",
         "point-light-plane",
         "spot-light",
+        "volume-caustic",
     ];
     assert_eq!(names, expected);
 }
