@@ -47,7 +47,7 @@ pub enum Error {
         /// The scene file.
         file: PathBuf,
     },
-    /// A scene uses what the renderers cannot render yet (participating media).
+    /// A scene uses what the chosen backend cannot render yet (media on the GPU backend).
     #[error("{0}")]
     Unsupported(String),
     /// Two images that must have the same size do not.

@@ -1,7 +1,9 @@
 //! Participating media (issue 24) as the scene files give them: TOML `[media.NAME]` with
 //! `interior`/`exterior` on shapes and `[camera] medium`, Mitsuba's `homogeneous` with its
 //! `hg`/`isotropic` phase (nested, referenced, in the sensor), their checks with exact
-//! messages, and the renderers' refusal of a scene whose media they cannot render yet.
+//! messages, the GPU backend's refusal of a scene with media (only the CPU backend renders them yet), and glTF's volume attenuation.
+
+mod common;
 
 use glam::Vec3;
 use gpu_photon::medium::{Medium, MediumInterface, NO_MEDIUM};
@@ -205,4 +207,75 @@ fn the_gpu_refuses_scenes_whose_media_it_cannot_render() {
     assert!(!s.uses_media());
     let (img, _) = render(&s, &s.settings, Backend::Cpu, Progress::default()).unwrap();
     assert_eq!((img.width, img.height), (8, 8));
+}
+
+/// A glTF triangle whose material is `material` (JSON), loaded.
+fn gltf_with(material: &str) -> Scene {
+    let bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let text = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0, 1]}}],
+"nodes": [{{"camera": 0, "translation": [0, 0, 3]}}, {{"mesh": 0}}],
+"cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.7, "znear": 0.1}}}}],
+"materials": [{material}],
+"meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0}}]}}],
+"accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}],
+"bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+"buffers": [{{"byteLength": 36, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+        common::b64(&bytes)
+    );
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output/media");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("volume-{}.gltf", text.len()));
+    std::fs::write(&path, text).unwrap();
+    gpu_photon::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// glTF's `KHR_materials_volume` on a refracting dielectric: an absorbing interior of
+/// `sigma_t = -ln(attenuationColor) / attenuationDistance`, as the extension defines it;
+/// none without an attenuation distance (infinite by default) or on a thin-walled material.
+#[test]
+fn gltf_volume_attenuation_is_an_absorbing_interior() {
+    let material = |volume: &str, transmission: f32| {
+        format!(
+            r#"{{"pbrMetallicRoughness": {{"metallicFactor": 0, "roughnessFactor": 0}}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": {transmission}}}, "KHR_materials_volume": {volume}}}}}"#
+        )
+    };
+    let s = gltf_with(&material(
+        r#"{"thicknessFactor": 0.5, "attenuationDistance": 2.0, "attenuationColor": [0.5, 0.8, 1.0]}"#,
+        1.0,
+    ));
+    let m = s.materials[s.triangles[0].material as usize];
+    assert_eq!(m.media.exterior, NO_MEDIUM);
+    let medium = s.media[m.media.interior as usize];
+    let want = Vec3::new(-(0.5f32.ln()), -(0.8f32.ln()), 0.0) / 2.0;
+    assert!(
+        (medium.sigma_t - want).abs().max_element() < 1e-6,
+        "{medium:?}"
+    );
+    assert_eq!(medium.albedo, Vec3::ZERO);
+    // Light crossing one attenuation distance keeps the attenuation colour.
+    let t = medium.transmittance(2.0);
+    assert!(
+        (t - Vec3::new(0.5, 0.8, 1.0)).abs().max_element() < 1e-6,
+        "{t}"
+    );
+    for (volume, transmission) in [
+        (
+            r#"{"thicknessFactor": 0.5, "attenuationColor": [0.5, 0.8, 1.0]}"#,
+            1.0,
+        ),
+        (
+            r#"{"thicknessFactor": 0.5, "attenuationDistance": 2.0, "attenuationColor": [0.5, 0.8, 1.0]}"#,
+            0.5,
+        ),
+    ] {
+        let s = gltf_with(&material(volume, transmission));
+        assert!(
+            s.media.is_empty() && !s.uses_media(),
+            "{volume} {transmission}"
+        );
+    }
 }

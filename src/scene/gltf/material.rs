@@ -80,6 +80,34 @@ pub(super) fn map(m: &gltf::Material) -> (Material, Option<String>) {
     )
 }
 
+/// The absorbing medium inside a volume dielectric (`KHR_materials_volume` on a material
+/// [`map`] made a dielectric boundary), as the extension defines it: light travelling a
+/// distance `d` inside keeps `attenuationColor ^ (d / attenuationDistance)`, so
+/// `sigma_t = -ln(attenuationColor) / attenuationDistance` per channel, albedo 0 (it absorbs,
+/// it does not scatter). `None` without attenuation (the default distance is infinite) or for
+/// a material rendered thin-walled. A colour channel of 0 absorbs as 1e-6 does.
+pub(super) fn absorption(
+    m: &gltf::Material,
+    material: &Material,
+) -> Option<crate::scene::media::MediumParams> {
+    use crate::scene::MaterialKind as K;
+    let v = m.volume().filter(|v| v.thickness_factor() > 0.0)?;
+    if !matches!(material.kind, K::Glass | K::RoughDielectric) {
+        return None;
+    }
+    let d = v.attenuation_distance();
+    let colour = Vec3::from(v.attenuation_color()).clamp(Vec3::splat(1e-6), Vec3::ONE);
+    if !(d > 0.0 && d.is_finite()) || colour == Vec3::ONE {
+        return None;
+    }
+    Some(crate::scene::media::MediumParams {
+        sigma_t: Vec3::new(-colour.x.ln(), -colour.y.ln(), -colour.z.ln()) / d,
+        albedo: Vec3::ZERO,
+        scale: 1.0,
+        g: 0.0,
+    })
+}
+
 /// A dielectric boundary of index `ior`: glass when smooth and untinted, else a GGX rough
 /// dielectric (alpha = roughness^2) whose transmission the base colour tints.
 fn dielectric(ior: f32, base: Vec3, roughness: f32) -> Material {

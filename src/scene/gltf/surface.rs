@@ -158,6 +158,13 @@ impl Importer<'_> {
             }
         }
         let at = |_: Part, msg: String| self.cx.err(&field, format!("material {name}: {msg}"));
+        if let Some(p) = material::absorption(m, &material) {
+            let medium = self.b.add_medium(None, p, &at)?;
+            material.media = crate::medium::MediumInterface {
+                interior: medium.index(),
+                exterior: crate::medium::NO_MEDIUM,
+            };
+        }
         let id = self.b.add_material(None, material, &at)?;
         self.materials.insert(m.index(), id);
         Ok(id)
