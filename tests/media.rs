@@ -1,7 +1,8 @@
 //! Participating media (issue 24) as the scene files give them: TOML `[media.NAME]` with
 //! `interior`/`exterior` on shapes and `[camera] medium`, Mitsuba's `homogeneous` with its
 //! `hg`/`isotropic` phase (nested, referenced, in the sensor), their checks with exact
-//! messages, the GPU backend's refusal of a scene with media (only the CPU backend renders them yet), and glTF's volume attenuation.
+//! messages, the GPU backend's refusal of a scene with media (only the CPU backend renders
+//! them yet), and glTF's volume attenuation.
 
 mod common;
 
