@@ -93,7 +93,7 @@ radius = 1
 k = 5
 ---
 [materials.plastic]
-type = "plastic"  #! materials.plastic.type | unknown type "plastic" (valid: "diffuse", "glossy", "mirror", "glass", "emissive")
+type = "plastic"  #! materials.plastic.type | unknown type "plastic" (valid: "diffuse", "glossy", "mirror", "glass", "null", "emissive")
 ---
 [materials.white]
 type = "diffuse"
@@ -1062,7 +1062,7 @@ fn every_scene_file_setting_has_the_range_of_validate() {
     }
     // Two bad values for every setting but passes and caustic_photons (one: their bottom is
     // 0) and seed and exposure (none: every u32, every finite number).
-    assert_eq!(checked, 24);
+    assert_eq!(checked, 26);
 }
 
 #[test]
