@@ -150,7 +150,7 @@ fn caustics_xml_is_the_toml_scene() {
 
 #[test]
 fn cornell_xml_matches_reference() {
-    // The TOML test's settings (tests/reference.rs: what `gpu-photon render` renders for
+    // The TOML test's settings (tests/reference/main.rs: what `gpu-photon render` renders for
     // the scene with no flags, 4 progressive passes of 32 spp in gather mode) and its bounds:
     // mean ratio within 2%, RMSE < 0.0058, block RMSE < 0.002. The file is the idiomatic
     // one (includes, defaults, spectra, a referenced emitter; measured: mean ratios 0.9988,

@@ -69,24 +69,29 @@ fn cornell_reference() -> Image {
 }
 
 /// The caustics scene has no independent reference: a long CPU progressive render (256
-/// passes, other seed) stands in for it.
-fn caustics_reference() -> Image {
-    let scene = load("cornell-caustics");
-    let s = RenderSettings {
-        seed: 99,
-        ..small(&scene)
-    };
-    render_progressive(
-        &scene,
-        &s,
-        Backend::Cpu,
-        Progress::default(),
-        0..256,
-        |_| Flow::Continue,
-    )
-    .unwrap()
-    .0
-    .mean()
+/// passes, other seed) stands in for it. Rendered once per test binary: the CPU and the GPU
+/// test compare against the same image (it is deterministic, so sharing it changes nothing
+/// but the time).
+fn caustics_reference() -> &'static Image {
+    static REFERENCE: std::sync::OnceLock<Image> = std::sync::OnceLock::new();
+    REFERENCE.get_or_init(|| {
+        let scene = load("cornell-caustics");
+        let s = RenderSettings {
+            seed: 99,
+            ..small(&scene)
+        };
+        render_progressive(
+            &scene,
+            &s,
+            Backend::Cpu,
+            Progress::default(),
+            0..256,
+            |_| Flow::Continue,
+        )
+        .unwrap()
+        .0
+        .mean()
+    })
 }
 
 #[test]
@@ -101,7 +106,7 @@ fn cpu_error_keeps_falling() {
         "cornell-caustics",
         Backend::Cpu,
         &[1, 4, 16],
-        &caustics_reference(),
+        caustics_reference(),
     );
 }
 
@@ -120,7 +125,7 @@ fn gpu_error_keeps_falling() {
         "cornell-caustics",
         Backend::Gpu,
         &[1, 4, 16],
-        &caustics_reference(),
+        caustics_reference(),
     );
 }
 

@@ -4,8 +4,14 @@
 //!
 //! On failure the rendered image and |render - reference| are written to
 //! `target/test-output/` for inspection.
+//!
+//! The glTF importer's tests (`gltf.rs`) are in this test binary too: they compare the glTF
+//! Cornell box with the TOML one at its default settings, the image the reference test
+//! renders, and both read it from [`cornell_box_default_render`] (one render, not two).
 
+#[path = "../common/mod.rs"]
 mod common;
+mod gltf;
 
 use glam::DVec3;
 use gpu_photon::film::{diff, DiffStats, Image};
@@ -33,6 +39,18 @@ fn render_cpu(scene: &Scene, settings: &RenderSettings) -> Image {
     let (img, _) = render(scene, settings, Backend::Cpu, Progress::default()).expect("CPU render");
     assert_eq!((img.width, img.height), (settings.width, settings.height));
     img
+}
+
+/// `scenes/cornell-box.toml` rendered on the CPU at its default settings (what
+/// `gpu-photon render` renders with no flags), once per test binary: the reference test
+/// below and `gltf.rs`'s TOML twin both compare this image (the render is deterministic, so
+/// sharing it changes nothing but the time).
+fn cornell_box_default_render() -> &'static Image {
+    static IMAGE: std::sync::OnceLock<Image> = std::sync::OnceLock::new();
+    IMAGE.get_or_init(|| {
+        let scene = load_scene("cornell-box.toml");
+        render_cpu(&scene, &scene.settings.as_default_render())
+    })
 }
 
 /// Writes `img` and |img - reference| to `target/test-output/NAME.exr` and `NAME-error.exr`.
@@ -85,9 +103,9 @@ fn cornell_box_default_settings_match_reference() {
         (settings.width, settings.height, settings.mode),
         (256, 256, Mode::Gather)
     );
-    let img = render_cpu(&scene, &settings);
+    let img = cornell_box_default_render();
     let reference = reference("cornell-diffuse.exr");
-    let d = diff(&img, &reference, 16).expect("same size");
+    let d = diff(img, &reference, 16).expect("same size");
     eprintln!("cornell-box: {d:?}");
     check_all(
         "cornell-box",
