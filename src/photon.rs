@@ -75,13 +75,10 @@ impl Photon {
         depth: u32,
         caustic: bool,
     ) -> Self {
+        let normal = pack_normal(if dir.dot(n) < 0.0 { n } else { -n });
         Photon {
-            position: position.to_array(),
-            flags: depth.min(DEPTH_MASK) | if caustic { FLAG_CAUSTIC } else { 0 },
-            power: power.to_array(),
-            id,
-            dir: dir.to_array(),
-            normal: pack_normal(if dir.dot(n) < 0.0 { n } else { -n }),
+            normal,
+            ..Self::in_medium(position, power, dir, 0, id, depth, caustic)
         }
     }
     /// A photon that scattered in medium `medium` at `position` while travelling along `dir`
@@ -104,7 +101,7 @@ impl Photon {
             normal: medium,
         }
     }
-    /// Surface interactions before this hit (0: direct light).
+    /// Scattering events (at surfaces or in media) before this one (0: direct light).
     pub fn depth(&self) -> u32 {
         self.flags & DEPTH_MASK
     }

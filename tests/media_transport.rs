@@ -109,6 +109,20 @@ fn transmittance_through_a_slab_is_beer_lambert() {
     assert!((tr[2] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
 }
 
+/// The mean of the render of `scene` with `s` is the single-scattering closed form within 1%
+/// per channel.
+fn assert_single_scattering(scene: &Scene, s: &RenderSettings) {
+    let m = mean(scene, s);
+    for c in 0..3 {
+        let want = single_scattering(c);
+        assert!(
+            (m[c] / want - 1.0).abs() < 0.01,
+            "channel {c}: {} vs {want}",
+            m[c]
+        );
+    }
+}
+
 fn mean(scene: &Scene, s: &RenderSettings) -> [f64; 3] {
     let (image, _) = render(scene, s, Backend::Cpu, Progress::default()).expect("renders");
     let mut m = [0.0f64; 3];
@@ -130,15 +144,7 @@ fn single_scattering_by_next_event_estimation_matches_the_closed_form() {
         spp: 1024,
         ..scene.settings.clone()
     };
-    let m = mean(&scene, &s);
-    for c in 0..3 {
-        let want = single_scattering(c);
-        assert!(
-            (m[c] / want - 1.0).abs() < 0.01,
-            "channel {c}: {} vs {want}",
-            m[c]
-        );
-    }
+    assert_single_scattering(&scene, &s);
 }
 
 /// The volume photon map's beam estimate alone (`photon` mode, photon paths of one bounce,
@@ -157,15 +163,7 @@ fn single_scattering_by_the_beam_estimate_matches_the_closed_form() {
         spp: 1,
         ..scene.settings.clone()
     };
-    let m = mean(&scene, &s);
-    for c in 0..3 {
-        let want = single_scattering(c);
-        assert!(
-            (m[c] / want - 1.0).abs() < 0.01,
-            "channel {c}: {} vs {want}",
-            m[c]
-        );
-    }
+    assert_single_scattering(&scene, &s);
 }
 
 /// A closed box of grey walls (albedo 0.5) with the camera inside and a light under its

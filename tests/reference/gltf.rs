@@ -323,9 +323,11 @@ fn cornell_box_gltf_builds_and_renders_as_its_toml_twin() {
     let mut images = vec![];
     for (name, scene) in [("glTF", Some(&g)), ("TOML", None)] {
         let img = match scene {
-            Some(scene) => render(scene, &settings, Backend::Cpu, Progress::default())
-                .unwrap()
-                .0,
+            Some(scene) => {
+                render(scene, &settings, Backend::Cpu, Progress::default())
+                    .unwrap()
+                    .0
+            }
             None => crate::cornell_box_default_render().clone(),
         };
         let d = diff(&img, &reference, 16).unwrap();
