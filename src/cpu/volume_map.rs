@@ -3,7 +3,7 @@
 //! of the pass's radius r, and one query per camera segment for every photon whose sphere
 //! the segment passes through.
 //!
-//! The map hashes a uniform grid of cells of side 2 r (unbounded: fog around an open scene
+//! The map hashes a uniform grid of cells of side at least 2 r (unbounded: fog around an open scene
 //! spreads photons far). A photon is listed in every cell its sphere's box overlaps (at most
 //! 8). A query walks the cells the segment crosses inside the photons' bounds (3D DDA, at
 //! most [`MAX_STEPS`]) and, in each, takes the listed photons whose nearest point on the ray
@@ -20,6 +20,8 @@ use std::f32::consts::PI;
 /// Most cells one beam query walks (bounds its work on a segment through photons spread
 /// over a huge region; the cells past it are not read).
 pub const MAX_STEPS: usize = 1 << 16;
+/// Photons a grid cell is sized to hold at the mean density (see [`VolumeMap::build`]).
+pub const PHOTONS_PER_CELL: f32 = 16.0;
 /// Marks an empty slot of the cell table.
 const EMPTY: u64 = u64::MAX;
 
@@ -60,8 +62,17 @@ impl VolumeMap {
             (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
         }
         let (lo, hi) = (lo - Vec3::splat(radius), hi + Vec3::splat(radius));
-        // Cells of at least 2 r, and few enough that every coordinate fits its 21 bits.
-        let cell = (2.0 * radius).max((hi - lo).max_element() / 1.0e6);
+        // Cells of at least 2 r, larger where photons are sparse: a query pays one table
+        // probe per cell it crosses and one test per photon listed, so cells of about
+        // `PHOTONS_PER_CELL` photons (at the mean density over the bounds), up to 8 r;
+        // and few enough that every coordinate fits its 21 bits.
+        let density = photons.len() as f32 / (hi - lo).element_product().max(1e-30);
+        let sparse = (PHOTONS_PER_CELL / density.max(1e-30))
+            .cbrt()
+            .min(8.0 * radius);
+        let cell = (2.0 * radius)
+            .max(sparse)
+            .max((hi - lo).max_element() / 1.0e6);
         let mut map = VolumeMap {
             photons,
             radius,
