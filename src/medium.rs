@@ -128,9 +128,15 @@ impl Medium {
         self.albedo * self.sigma_t
     }
 
-    /// Beer-Lambert transmittance over a distance `t`: `exp(-sigma_t t)` per channel.
+    /// Beer-Lambert transmittance over a distance `t`: `exp(-sigma_t t)` per channel. `t`
+    /// may be infinite (a ray that leaves the scene): only clear channels then transmit
+    /// (`exp(-0 * inf)` would be NaN).
     pub fn transmittance(&self, t: f32) -> Vec3 {
-        (-self.sigma_t * t).exp()
+        Vec3::select(
+            self.sigma_t.cmpgt(Vec3::ZERO),
+            (-self.sigma_t * t).exp(),
+            Vec3::ONE,
+        )
     }
 
     /// Samples how far a path travels before an interaction, up to a surface `t_max` away
@@ -197,6 +203,9 @@ mod tests {
         // Two slabs in a row transmit what one slab of their total thickness does.
         let two = m.transmittance(0.4) * m.transmittance(1.1);
         assert!((two - t).abs().max_element() < 1e-6);
+        // An endless run: only a clear channel transmits.
+        let clear = medium(Vec3::new(0.5, 0.0, 2.0), Vec3::splat(0.8));
+        assert_eq!(clear.transmittance(f32::INFINITY), Vec3::new(0.0, 1.0, 0.0));
     }
 
     /// The weights' mean is each channel's expectation: at events, the scattered fraction

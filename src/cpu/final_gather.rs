@@ -12,6 +12,7 @@
 
 use crate::bvh::Hit;
 use crate::cpu::gather::Gatherer;
+use crate::cpu::media::medium_after;
 use crate::geometry::{offset_origin, Facing, Ray};
 use crate::medium::NO_MEDIUM;
 use crate::rng::Rng;
@@ -25,7 +26,8 @@ impl Gatherer<'_> {
     /// depth `depth`) by one gather ray about the shading normal, before the factor kd(x):
     /// (u1, u2) for the direction from `sobol`'s pair `PAIR_GATHER` when given (the first
     /// shaded hit), else from `rng`; then one `rng` number per glass bounce. A direction
-    /// below the geometric surface gives zero. `after` gives the medium the ray leaves in.
+    /// below the geometric surface gives zero. `medium`: the one the viewer's ray came
+    /// through.
     #[allow(clippy::too_many_arguments)]
     pub fn final_gather(
         &self,
@@ -35,7 +37,7 @@ impl Gatherer<'_> {
         depth: u32,
         rng: &mut Rng,
         sobol: Option<SobolStream>,
-        after: &dyn Fn(Vec3) -> u32,
+        medium: u32,
     ) -> Vec3 {
         let (u1, u2) = match sobol {
             Some(st) => sample_pair(st.key, st.index, PAIR_GATHER),
@@ -52,7 +54,7 @@ impl Gatherer<'_> {
             },
             depth + 1,
             rng,
-            after(dir),
+            medium_after(self.scene, hit, medium, dir),
         );
         match bsdf.store_weight(dir) {
             Some(w) => w * l,
@@ -76,7 +78,7 @@ impl Gatherer<'_> {
             if medium != NO_MEDIUM {
                 let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
                 sum += throughput * self.in_scattered(&ray, t, medium, false, false, rng);
-                throughput *= self.segment_transmittance(t, medium);
+                throughput *= self.scene.media[medium as usize].transmittance(t);
                 if throughput == Vec3::ZERO {
                     return sum;
                 }
@@ -136,11 +138,7 @@ impl Gatherer<'_> {
                     }
                 }
             };
-            if self.media {
-                medium = self.scene.materials[hit.material as usize]
-                    .media
-                    .after(medium, hit.normal, dir);
-            }
+            medium = medium_after(self.scene, &hit, medium, dir);
             ray = Ray {
                 origin: offset_origin(hit.position, hit.normal, dir),
                 dir,

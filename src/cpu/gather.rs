@@ -13,14 +13,13 @@
 
 use crate::bvh::{Bvh, Hit};
 use crate::cpu::cache::RadianceCache;
-use crate::cpu::media::transmittance;
+use crate::cpu::media::{medium_after, transmittance};
 use crate::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::cpu::volume_map::VolumeMap;
 use crate::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::LightTable;
 use crate::medium::NO_MEDIUM;
-use crate::plan::VolumeSpec;
-use crate::plan::{caustic_weight, Terms};
+use crate::plan::{caustic_weight, Terms, VolumeSpec};
 use crate::rng::Rng;
 use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
@@ -141,7 +140,7 @@ impl Gatherer<'_> {
         let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
         let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
         let scattered = self.in_scattered(ray, t, medium, self.terms.direct, skip_direct, rng);
-        let tr = self.segment_transmittance(t, medium);
+        let tr = self.scene.media[medium as usize].transmittance(t);
         if tr == Vec3::ZERO {
             return scattered;
         }
@@ -185,11 +184,7 @@ impl Gatherer<'_> {
             emitted *= power_heuristic(mis.pdf, pdf_light);
         }
         let can_recurse = depth < self.settings.max_depth;
-        let media = self.scene.materials[hit.material as usize].media;
-        let after = |dir: Vec3| match self.media {
-            true => media.after(medium, hit.normal, dir),
-            false => medium,
-        };
+        let after = |dir: Vec3| medium_after(self.scene, &hit, medium, dir);
         match bsdf.class() {
             SurfaceClass::Black => emitted,
             // An index-matched boundary: straight on in the medium behind it (a step of the
@@ -301,16 +296,11 @@ impl Gatherer<'_> {
         cw: f32,
         medium: u32,
     ) -> Vec3 {
-        let media = self.scene.materials[hit.material as usize].media;
-        let after = |dir: Vec3| match self.media {
-            true => media.after(medium, hit.normal, dir),
-            false => medium,
-        };
         let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
         let s = self.settings;
         let mut l = Vec3::ZERO;
         if self.terms.direct || (self.terms.point_lobe && bsdf.lobe_takes_point_lights()) {
-            l += self.direct(hit, bsdf, &f, wo, rng, sobol, &after);
+            l += self.direct(hit, bsdf, &f, wo, rng, sobol, medium);
         }
         // The photon estimate uses the diffuse part; the lobe is traced below.
         let kd_over_pi = bsdf.estimate_brdf(wo);
@@ -337,7 +327,7 @@ impl Gatherer<'_> {
         }
         let albedo = bsdf.diffuse_albedo(wo);
         if self.terms.final_gather && depth < s.max_depth && albedo.max_element() > 0.0 {
-            l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol, &after);
+            l += albedo * self.final_gather(hit, bsdf, &f, depth, rng, sobol, medium);
         }
         if self.terms.lobe_ray && bsdf.has_lobe() && depth < s.max_depth {
             if let Some(lobe) = bsdf.sample_lobe(-wo, &f, rng) {
@@ -359,7 +349,7 @@ impl Gatherer<'_> {
                         &mut None,
                         cw,
                         mis,
-                        after(dir),
+                        medium_after(self.scene, hit, medium, dir),
                     );
             }
         }
@@ -372,8 +362,8 @@ impl Gatherer<'_> {
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
     /// nothing.
-    /// `after` gives the medium a ray leaving the hit along a direction is in (shadow rays
-    /// carry its transmittance, through index-matched boundaries, in scenes with media).
+    /// In scenes with media, shadow rays carry the transmittance of the media they cross
+    /// (starting in the one a ray leaving the hit is in, `medium` the viewer's).
     #[allow(clippy::too_many_arguments)]
     fn direct(
         &self,
@@ -383,7 +373,7 @@ impl Gatherer<'_> {
         wo: Vec3,
         rng: &mut Rng,
         mut sobol: Option<SobolStream>,
-        after: &dyn Fn(Vec3) -> u32,
+        medium: u32,
     ) -> Vec3 {
         let mut l = Vec3::ZERO;
         for (li, light) in self.scene.lights.iter().enumerate() {
@@ -460,7 +450,10 @@ impl Gatherer<'_> {
                 };
                 if self.media {
                     let tr = match t_max > 0.0 {
-                        true => transmittance(self.scene, self.bvh, origin, dir, t_max, after(dir)),
+                        true => {
+                            let m = medium_after(self.scene, hit, medium, dir);
+                            transmittance(self.scene, self.bvh, origin, dir, t_max, m)
+                        }
                         false => Vec3::ONE,
                     };
                     acc += f * ls.weight * cos * tr;

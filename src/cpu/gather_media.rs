@@ -1,6 +1,6 @@
 //! The camera pass's segments through participating media on the CPU (issue 24): what a
-//! medium scatters towards the camera along a segment, and what it lets through. The camera
-//! rays (`gather.rs`) and the gather rays (`final_gather.rs`) call these.
+//! medium scatters towards the camera along a segment (`Medium::transmittance` is what it
+//! lets through). The camera rays (`gather.rs`) and the gather rays (`final_gather.rs`) call these.
 
 use crate::cpu::gather::Gatherer;
 use crate::cpu::media::single_scattering;
@@ -39,15 +39,5 @@ impl Gatherer<'_> {
             l += v.beam(ray.origin, ray.dir, t, m, medium, skip_direct);
         }
         l
-    }
-
-    /// The transmittance of a segment `t` long in `medium` (an endless one transmits only
-    /// through clear channels).
-    pub fn segment_transmittance(&self, t: f32, medium: u32) -> Vec3 {
-        let m = &self.scene.media[medium as usize];
-        match t.is_finite() {
-            true => m.transmittance(t),
-            false => Vec3::select(m.sigma_t.cmpgt(Vec3::ZERO), Vec3::ZERO, Vec3::ONE),
-        }
     }
 }

@@ -4,7 +4,7 @@
 //! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
 //! its beam estimate in `volume_map.rs`. Scenes without media never call these.
 
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, Hit};
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::{Emission, LightTable};
 use crate::medium::NO_MEDIUM;
@@ -16,6 +16,16 @@ use glam::Vec3;
 /// Index-matched boundaries a shadow ray may cross before it counts as blocked (a bound on
 /// the work of one ray through nested media).
 pub const MAX_CROSSINGS: u32 = 64;
+
+/// The medium a ray that was in `current` is in after the surface of `hit` sent it along
+/// `dir` (`MediumInterface::after`: unchanged at a surface that bounds no medium, so scenes
+/// without media stay in `NO_MEDIUM`).
+#[inline]
+pub fn medium_after(scene: &Scene, hit: &Hit, current: u32, dir: Vec3) -> u32 {
+    scene.materials[hit.material as usize]
+        .media
+        .after(current, hit.normal, dir)
+}
 
 /// The medium a photon of light `l` starts in: an area light's shape's medium on the side it
 /// emits towards; point, spot, directional and environment lights sit in the camera's
@@ -56,21 +66,15 @@ pub fn transmittance(
             (None, false) => f32::INFINITY,
         };
         if medium != NO_MEDIUM {
-            if !run.is_finite() {
-                // An unbounded run through a medium: nothing arrives unless it is clear.
-                let m = &scene.media[medium as usize];
-                return tr * Vec3::select(m.sigma_t.cmpgt(Vec3::ZERO), Vec3::ZERO, Vec3::ONE);
-            }
             tr *= scene.media[medium as usize].transmittance(run);
         }
         let Some(hit) = hit else {
             return tr;
         };
-        let m = &scene.materials[hit.material as usize];
-        if class_of(m.kind) != SurfaceClass::Null {
+        if class_of(scene.materials[hit.material as usize].kind) != SurfaceClass::Null {
             return Vec3::ZERO;
         }
-        medium = m.media.after(medium, hit.normal, dir);
+        medium = medium_after(scene, &hit, medium, dir);
         at = hit.position;
         let origin = offset_origin(hit.position, hit.normal, dir);
         left -= (origin - ray.origin).dot(dir);

@@ -2,7 +2,7 @@
 //! by (seed, stream, pass, index) so the result does not depend on thread scheduling.
 
 use crate::bvh::Bvh;
-use crate::cpu::media::{light_medium, MAX_CROSSINGS};
+use crate::cpu::media::{light_medium, medium_after, MAX_CROSSINGS};
 use crate::geometry::{offset_origin, Ray};
 use crate::light::{aims_at, LightTable};
 use crate::material::Bounce;
@@ -128,11 +128,10 @@ fn trace_paths(
     aim: Option<&[crate::geometry::Aabb]>,
     volume: Option<VolumeSpec>,
 ) -> Traced {
-    let media = ctx.scene.has_media_transport();
     (0..budget.total())
         .into_par_iter()
         .fold(Traced::default, |mut out, i| {
-            trace_path(ctx, budget, stream, i, aim, volume, media, &mut out);
+            trace_path(ctx, budget, stream, i, aim, volume, &mut out);
             out
         })
         .reduce(Traced::default, Traced::append)
@@ -151,7 +150,6 @@ fn trace_path(
     i: u32,
     aim: Option<&[crate::geometry::Aabb]>,
     volume: Option<VolumeSpec>,
-    has_media: bool,
     out: &mut Traced,
 ) {
     let s = ctx.settings;
@@ -177,10 +175,8 @@ fn trace_path(
         },
         dir: e.dir,
     };
-    let mut medium = match has_media {
-        true => light_medium(scene, l, &e),
-        false => NO_MEDIUM,
-    };
+    // NO_MEDIUM in a scene without media (vacuum interfaces, no camera medium).
+    let mut medium = light_medium(scene, l, &e);
     let mut all_specular = true;
     let mut depth = 0;
     let mut crossings = 0;
@@ -230,14 +226,13 @@ fn trace_path(
             return PathEnds::add(&mut out.ends.escaped, power);
         };
         let bsdf = bsdf_at(scene, &hit);
-        let media = scene.materials[hit.material as usize].media;
         if bsdf.class() == SurfaceClass::Null {
             // An index-matched boundary: straight on, in the medium behind it.
             crossings += 1;
             if crossings > MAX_CROSSINGS {
                 return PathEnds::add(&mut out.ends.cut, power);
             }
-            medium = media.after(medium, hit.normal, ray.dir);
+            medium = medium_after(scene, &hit, medium, ray.dir);
             ray.origin = offset_origin(hit.position, hit.normal, ray.dir);
             continue;
         }
@@ -281,9 +276,7 @@ fn trace_path(
         if !(power.max_element() > 0.0) || !power.is_finite() {
             return PathEnds::add(&mut out.ends.cut, power);
         }
-        if has_media {
-            medium = media.after(medium, hit.normal, dir);
-        }
+        medium = medium_after(scene, &hit, medium, dir);
         ray = Ray {
             origin: offset_origin(hit.position, hit.normal, dir),
             dir,
