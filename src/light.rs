@@ -313,6 +313,22 @@ impl LightTable {
         scene.materials[mat as usize].two_sided_emission
     }
 
+    /// The point [`sample`](Self::sample) picks on light `l` for the uniform numbers `u`
+    /// whatever the shading point, where there is one: a point or spot light's position, the
+    /// point drawn by area on an area light; `None` for directional and environment lights.
+    /// Single scattering draws its distance along a segment towards it.
+    pub fn anchor(&self, scene: &Scene, l: usize, u: [f32; 3]) -> Option<Vec3> {
+        match scene.lights[l].shape {
+            LightShape::Point { position, .. } | LightShape::Spot { position, .. } => {
+                Some(position)
+            }
+            LightShape::Directional { .. } | LightShape::Environment(_) => None,
+            LightShape::Sphere { .. } | LightShape::Triangles { .. } => {
+                Some(self.surface_point(scene, l, u).0)
+            }
+        }
+    }
+
     /// A shadow-ray target on light `l` for shading point `x` (shading normal `ns`), from
     /// three uniform numbers. Area lights are sampled uniformly by area, the environment by
     /// [`env::sample_direction`] (a distant target); the others are one point or direction.

@@ -90,6 +90,36 @@ pub struct SegmentPoint {
     pub pdf: f32,
 }
 
+/// Draws a distance in `[0, t_max)` along the ray from `o` along unit `d` (`t_max` may be
+/// infinite) in proportion to `1 / |o + t d - y|^2`, the inverse square distance to the point
+/// `y`: equiangular sampling (Kulla and Fajardo 2012), uniform in the angle the ray subtends
+/// at `y`. Single scattering from a light at (or sampled at) `y` is then estimated with the
+/// light's own `1/d^2` cancelled, where drawing by transmittance leaves it as the noise of a
+/// segment passing near the light. `None` when the ray passes through `y` (or `y` is not
+/// finite): the caller draws by transmittance instead.
+pub fn sample_equiangular(o: Vec3, d: Vec3, t_max: f32, y: Vec3, u: f32) -> Option<SegmentPoint> {
+    let to_y = y - o;
+    let delta = to_y.dot(d);
+    let dist = (to_y - d * delta).length();
+    // A ray through y (to float precision): no angle to draw.
+    if !(dist > 1e-6 * to_y.length()) || !dist.is_finite() {
+        return None;
+    }
+    let a = (-delta).atan2(dist);
+    let b = match t_max.is_finite() {
+        true => (t_max - delta).atan2(dist),
+        false => std::f32::consts::FRAC_PI_2,
+    };
+    if !(b > a) {
+        return None;
+    }
+    let theta = a + u * (b - a);
+    let t = (delta + dist * theta.tan()).clamp(0.0, t_max * (1.0 - f32::EPSILON));
+    let s = t - delta;
+    let pdf = dist / ((b - a) * (dist * dist + s * s));
+    (pdf > 0.0 && pdf.is_finite() && t.is_finite()).then_some(SegmentPoint { t, pdf })
+}
+
 impl Medium {
     /// Draws a distance in `[0, t_max)` (`t_max` may be infinite) in proportion to one
     /// channel's `sigma_t T(t)`, the channel chosen uniformly by `u_channel` (the density is
@@ -237,5 +267,56 @@ mod tests {
         // Vacuum: every flight reaches the surface with weight 1.
         let vacuum = medium(Vec3::ZERO, Vec3::ONE).sample_flight(0.5, 0.5, 3.0);
         assert_eq!((vacuum.in_medium, vacuum.weight), (false, Vec3::ONE));
+    }
+
+    /// Equiangular sampling: the density integrates to one over the segment, inverts its
+    /// own CDF, and makes `1 / |x_t - y|^2` over the density the same for every sample (the
+    /// angle the segment subtends at y over the distance to the line), for a light ahead of,
+    /// beside and behind the origin, finite and endless segments; a ray through y gives None.
+    #[test]
+    fn equiangular_sampling_cancels_the_inverse_square() {
+        let o = Vec3::new(0.1, -0.2, 0.3);
+        let d = Vec3::new(1.0, 2.0, -0.5).normalize();
+        for (y, t_max) in [
+            (Vec3::new(1.0, 1.0, 1.0), 3.0),
+            (Vec3::new(1.0, 1.0, 1.0), f32::INFINITY),
+            (o - d * 2.0 + Vec3::new(0.0, 0.1, 0.2), 5.0),
+            (o + d * 0.5 + Vec3::new(0.0, 0.0, 0.01), 1.0),
+        ] {
+            let to_y = y - o;
+            let delta = to_y.dot(d);
+            let dist = (to_y - d * delta).length();
+            let (a, b) = ((-delta).atan2(dist), (t_max - delta).atan2(dist));
+            let exact = (b - a) / dist;
+            for i in 0..64 {
+                let u = (i as f32 + 0.5) / 64.0;
+                let p = sample_equiangular(o, d, t_max, y, u).expect("a point");
+                assert!(p.t >= 0.0 && p.t < t_max, "{p:?}");
+                let f = 1.0 / (o + d * p.t - y).length_squared();
+                assert!(
+                    (f / p.pdf - exact).abs() < 2e-4 * exact,
+                    "{f} / {} vs {exact}",
+                    p.pdf
+                );
+                let cdf = (((p.t - delta) / dist).atan() - a) / (b - a);
+                assert!((cdf - u).abs() < 1e-4, "cdf {cdf} at u {u}");
+            }
+            // The density's integral over a finite segment (midpoint rule).
+            if !t_max.is_finite() {
+                continue;
+            }
+            let n = 20_000;
+            let integral: f64 = (0..n)
+                .map(|i| {
+                    let t = (i as f32 + 0.5) / n as f32 * t_max;
+                    let s = t - delta;
+                    let pdf = dist / ((b - a) * (dist * dist + s * s));
+                    pdf as f64 * (t_max / n as f32) as f64
+                })
+                .sum();
+            assert!((integral - 1.0).abs() < 1e-3, "{integral}");
+        }
+        let through = sample_equiangular(o, d, 4.0, o + d * 2.0, 0.3);
+        assert_eq!(through, None);
     }
 }

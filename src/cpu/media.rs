@@ -7,7 +7,7 @@
 use crate::bvh::{Bvh, Hit};
 use crate::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::light::{Emission, LightTable};
-use crate::medium::NO_MEDIUM;
+use crate::medium::{sample_equiangular, NO_MEDIUM};
 use crate::rng::Rng;
 use crate::scene::{LightShape, Scene};
 use crate::shading::{class_of, SurfaceClass};
@@ -87,11 +87,13 @@ pub fn transmittance(
 }
 
 /// Single scattering along a camera segment from `origin` along unit `dir`, `t_seg` long
-/// (infinite: the ray left the scene), in `medium`: one distance drawn in the segment
-/// (`Medium::sample_in_segment`), then one shadow ray to each light (uniform numbers as
-/// the surfaces' shadow rays draw them), weighed by the phase function, `sigma_s`, the
-/// transmittance along the segment and along the shadow ray. The environment light is left
-/// out (its sampling covers the hemisphere above a surface).
+/// (infinite: the ray left the scene), in `medium`: for each light, a point on it (three
+/// uniform numbers, as the surfaces' shadow rays draw them), one distance drawn in the
+/// segment towards that point (equiangular, [`sample_equiangular`], so a segment passing near
+/// a light is not noise; by transmittance, `Medium::sample_in_segment`, for a directional
+/// light or a segment through the point) and one shadow ray, weighed by the phase function,
+/// `sigma_s` and the transmittance along the segment and the shadow ray. The environment
+/// light is left out (its sampling covers the hemisphere above a surface).
 #[allow(clippy::too_many_arguments)]
 pub fn single_scattering(
     scene: &Scene,
@@ -105,18 +107,21 @@ pub fn single_scattering(
 ) -> Vec3 {
     let m = &scene.media[medium as usize];
     let sigma_s = m.sigma_s();
-    let (uc, u) = (rng.next(), rng.next());
-    let Some(p) = m.sample_in_segment(uc, u, t_seg) else {
-        return Vec3::ZERO;
-    };
-    let x = origin + dir * p.t;
-    let weight = sigma_s * m.transmittance(p.t) / p.pdf;
     let mut l = Vec3::ZERO;
     for (li, light) in scene.lights.iter().enumerate() {
         let u = [rng.next(), rng.next(), rng.next()];
+        let (uc, ut) = (rng.next(), rng.next());
         if matches!(light.shape, LightShape::Environment(_)) {
             continue;
         }
+        let p = match lights.anchor(scene, li, u) {
+            Some(y) => sample_equiangular(origin, dir, t_seg, y, ut),
+            None => None,
+        };
+        let Some(p) = p.or_else(|| m.sample_in_segment(uc, ut, t_seg)) else {
+            continue;
+        };
+        let x = origin + dir * p.t;
         let ls = lights.sample(scene, li, x, -dir, u);
         if ls.weight == Vec3::ZERO {
             continue;
@@ -138,7 +143,7 @@ pub fn single_scattering(
             }
         };
         let tr = transmittance(scene, bvh, x, wi, t_max, medium);
-        l += ls.weight * phase * tr;
+        l += (m.transmittance(p.t) / p.pdf) * ls.weight * phase * tr;
     }
-    weight * l
+    sigma_s * l
 }
