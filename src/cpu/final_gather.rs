@@ -65,8 +65,8 @@ impl Gatherer<'_> {
     /// Radiance the cache gives along `ray` (its hit at depth `depth`): the specular chain,
     /// then kd times the cache at the first diffuse or glossy hit, continued over glossy
     /// lobes; nothing more on a miss, at a black surface or past `max_depth`. Through a
-    /// medium (`medium`), every segment adds the volume map's whole in-scattered light and
-    /// carries its transmittance.
+    /// medium (`medium`), every segment adds the volume map's in-scattered light
+    /// (`gathered_in_medium`) and carries its transmittance.
     fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng, medium: u32) -> Vec3 {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
         let mut medium = medium;
@@ -77,7 +77,7 @@ impl Gatherer<'_> {
             let hit = self.bvh.intersect(self.scene, &ray, f32::INFINITY);
             if medium != NO_MEDIUM {
                 let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-                sum += throughput * self.in_scattered(&ray, t, medium, false, false, rng);
+                sum += throughput * self.gathered_in_medium(&ray, t, medium, rng);
                 throughput *= self.scene.media[medium as usize].transmittance(t);
                 if throughput == Vec3::ZERO {
                     return sum;

@@ -8,6 +8,10 @@ use crate::geometry::Ray;
 use crate::rng::Rng;
 use glam::Vec3;
 
+/// Distances at which a final-gather ray's segment through a medium takes the volume map's
+/// point estimate ([`Gatherer::gathered_in_medium`]).
+pub const GATHER_MEDIUM_POINTS: u32 = 4;
+
 impl Gatherer<'_> {
     /// The light scattered towards the camera along a segment of `ray`, `t` long, in
     /// `medium`: single scattering by next-event estimation (with `nee`) and the volume map's
@@ -39,5 +43,32 @@ impl Gatherer<'_> {
             l += v.beam(ray.origin, ray.dir, t, m, medium, skip_direct);
         }
         l
+    }
+
+    /// The light scattered towards a final-gather ray's origin along its segment of `ray`,
+    /// `t` long, in `medium`: the volume map's point estimate (`VolumeMap::point`) at
+    /// [`GATHER_MEDIUM_POINTS`] distances drawn in the segment in proportion to
+    /// `sigma_t T(t)` (`Medium::sample_in_segment`, stratified: one channel, the strata of
+    /// one uniform number), each weighed by the transmittance to it over its density. All
+    /// the volume photons count (a gather ray has no next-event estimate). A few table
+    /// probes where the whole beam walks every cell the segment crosses: gather rays are
+    /// most of the camera pass's volume queries, and their noise is averaged by the pixel's
+    /// samples.
+    pub fn gathered_in_medium(&self, ray: &Ray, t: f32, medium: u32, rng: &mut Rng) -> Vec3 {
+        let (uc, u) = (rng.next(), rng.next());
+        let Some(v) = self.volume else {
+            return Vec3::ZERO;
+        };
+        let m = &self.scene.media[medium as usize];
+        let mut sum = Vec3::ZERO;
+        for i in 0..GATHER_MEDIUM_POINTS {
+            let ui = (i as f32 + u) / GATHER_MEDIUM_POINTS as f32;
+            let Some(p) = m.sample_in_segment(uc, ui, t) else {
+                return Vec3::ZERO;
+            };
+            let x = ray.origin + ray.dir * p.t;
+            sum += m.transmittance(p.t) / p.pdf * v.point(x, -ray.dir, m, medium);
+        }
+        sum / GATHER_MEDIUM_POINTS as f32
     }
 }

@@ -154,6 +154,27 @@ impl VolumeMap {
         }
     }
 
+    /// The volume radiance estimate at the point `x` for light leaving towards `wo` (unit), in
+    /// medium `medium` (index `medium_index`): the sum over that medium's photons within r of
+    /// `x` of `p(cos) power / (4/3 pi r^3)` (`cos` between the photon's travel and `wo`),
+    /// which estimates `sigma_s` times the in-scattered radiance there. One table probe:
+    /// every photon within r of `x` is listed in `x`'s cell.
+    pub fn point(&self, x: Vec3, wo: Vec3, medium: &Medium, medium_index: u32) -> Vec3 {
+        if self.photons.is_empty() || x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() {
+            return Vec3::ZERO;
+        }
+        let r2 = self.radius * self.radius;
+        let mut sum = Vec3::ZERO;
+        for &i in self.list(self.cell_coords(x)) {
+            let p = &self.photons[i as usize];
+            if p.normal != medium_index || (p.pos() - x).length_squared() >= r2 {
+                continue;
+            }
+            sum += medium.phase.eval(Vec3::from(p.dir).dot(wo)) * Vec3::from(p.power);
+        }
+        sum * (3.0 / (4.0 * PI * r2 * self.radius))
+    }
+
     /// The beam radiance estimate along the segment from `o` along unit `d`, `t_max` long
     /// (infinite allowed), in medium `medium` (index `medium_index`): the sum over photons of
     /// that medium whose sphere the segment passes through, each at its nearest point t on
@@ -244,5 +265,71 @@ fn sign(x: f32) -> i32 {
         -1
     } else {
         0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::phase::HenyeyGreenstein;
+    use crate::rng::{Rng, Stream};
+
+    /// Photons spread uniformly through a unit cube, each of power `phi`, in a clear
+    /// isotropic medium: the point estimate inside is `n phi / (4 pi)` per unit volume, and
+    /// the beam estimate along a segment of length L inside is L times that (within the
+    /// noise of the photons counted: about 7,000 per point query, 30,000 per beam), with
+    /// photons of another medium and depth-0 photons (`skip_direct`) left out.
+    #[test]
+    fn point_and_beam_estimates_match_a_uniform_density() {
+        let (n, r, phi) = (200_000u32, 0.2f32, 1e-3f32);
+        let mut rng = Rng::new(7, Stream::Photon, 0, 0);
+        let photons: Vec<Photon> = (0..n)
+            .map(|i| {
+                let p = Vec3::new(rng.next(), rng.next(), rng.next());
+                let dir = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, 1.0).normalize();
+                // Every tenth photon in medium 1; every other one of depth 0.
+                Photon::in_medium(
+                    p,
+                    Vec3::splat(phi),
+                    dir,
+                    (i % 10 == 9) as u32,
+                    i,
+                    i % 2,
+                    false,
+                )
+            })
+            .collect();
+        let map = VolumeMap::build(photons, r);
+        let m = Medium {
+            sigma_t: Vec3::ZERO,
+            albedo: Vec3::ONE,
+            phase: HenyeyGreenstein { g: 0.0 },
+        };
+        let density = 0.9 * n as f32 * phi / (4.0 * PI);
+        let mut mean = 0.0;
+        for i in 0..16 {
+            let x = Vec3::new(0.3 + 0.025 * i as f32, 0.5, 0.45 + 0.01 * i as f32);
+            mean += map.point(x, Vec3::Z, &m, 0).x / 16.0;
+        }
+        assert!(
+            (mean / density - 1.0).abs() < 0.02,
+            "point {mean} vs {density}"
+        );
+        // A segment from inside to inside, 0.5 long, not starting at a cell boundary.
+        let (o, d) = (
+            Vec3::new(0.25, 0.3, 0.5),
+            Vec3::new(1.0, 1.0, 0.3).normalize(),
+        );
+        let beam = map.beam(o, d, 0.5, &m, 0, false).x;
+        assert!((beam / (0.5 * density) - 1.0).abs() < 0.02, "beam {beam}");
+        let direct_left_out = map.beam(o, d, 0.5, &m, 0, true).x;
+        // Of medium 0's photons (i mod 10 in 0..9), those with odd i are of depth 1: 4 in 9.
+        let want = 0.5 * density * 4.0 / 9.0;
+        assert!(
+            (direct_left_out / want - 1.0).abs() < 0.03,
+            "{direct_left_out} vs {want}"
+        );
+        // Outside the photons' bounds: nothing.
+        assert_eq!(map.point(Vec3::splat(2.0), Vec3::Z, &m, 0), Vec3::ZERO);
     }
 }
