@@ -147,6 +147,7 @@ fn curve_bench(
     passes: u32,
     out: Option<&std::path::Path>,
 ) -> Result<()> {
+    let peer = gpu_photon::bench::PeerCurve::beside(reference)?;
     let reference = Image::read(reference)?;
     println!("progressive curve against the reference ({passes} passes):");
     println!("{}", gpu_photon::bench::CurvePoint::header());
@@ -159,6 +160,9 @@ fn curve_bench(
         |p| println!("{p}"),
         |why| eprintln!("gpu: skipped ({why})"),
     )?;
+    if let Some(peer) = peer {
+        print_peer(&peer, &points);
+    }
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let path = dir.join("progressive.csv");
@@ -167,4 +171,47 @@ fn curve_bench(
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// The peer's recorded curve, and each backend's last point against it at equal RMSE.
+fn print_peer(peer: &gpu_photon::bench::PeerCurve, points: &[gpu_photon::bench::CurvePoint]) {
+    println!(
+        "peer: {} as recorded in {} (its own run, not this one):",
+        peer.renderer,
+        peer.path.display()
+    );
+    for p in &peer.points {
+        println!(
+            "  {:>6} spp {:>9.2} s  rmse {:.5}",
+            p.spp, p.seconds, p.rmse
+        );
+    }
+    println!(
+        "at equal RMSE (the reference's own noise, {:.5}, taken out of both):",
+        peer.reference_noise
+    );
+    let mut last: Vec<&gpu_photon::bench::CurvePoint> = Vec::new();
+    for p in points {
+        match last.iter_mut().find(|q| q.backend == p.backend) {
+            Some(q) => *q = p,
+            None => last.push(p),
+        }
+    }
+    for p in last {
+        match peer.seconds_at(p.rmse) {
+            Some(t) => println!(
+                "  {} after {} passes: {:.2} s, rmse {:.5}; the peer needs {:.2} s: {:.2}x",
+                p.backend,
+                p.passes,
+                p.seconds,
+                p.rmse,
+                t,
+                t / p.seconds
+            ),
+            None => println!(
+                "  {} after {} passes: rmse {:.5} is within the reference's noise",
+                p.backend, p.passes, p.rmse
+            ),
+        }
+    }
 }

@@ -565,3 +565,102 @@ fn a_closed_output_pipe_is_no_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert_ne!(out.status.code(), Some(101), "{err}");
 }
+
+/// `bench --reference R --passes N` reads the peer's curve recorded beside the reference
+/// (`R.json`'s `peer_curve`) and puts each backend's last point against it at equal RMSE.
+#[test]
+fn bench_curve_stands_against_the_peer_recorded_beside_the_reference() {
+    let dir = TempDir::new("bench-peer");
+    let reference = dir.path("ref.exr");
+    let size = ["--width", "16", "--height", "12"];
+    let o = run(&[
+        &[
+            "render",
+            "scenes/cornell-box.toml",
+            "-o",
+            reference.to_str().unwrap(),
+        ],
+        &size[..],
+        &["--backend", "cpu", "--spp", "64", "--quiet"],
+    ]
+    .concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let peer = r#"{"renderer": "Peer 1.0", "estimated_rmse_of_reference": 0.0,
+        "peer_curve": [{"spp": 16, "seconds": 1.0, "rmse": 0.2},
+                       {"spp": 64, "seconds": 4.0, "rmse": 0.1}]}"#;
+    std::fs::write(dir.path("ref.json"), peer).unwrap();
+    let o = run(&[
+        &[
+            "bench",
+            "scenes/cornell-box.toml",
+            "--backend",
+            "cpu",
+            "--runs",
+            "1",
+        ],
+        &[
+            "--photons",
+            "4000",
+            "--reference",
+            reference.to_str().unwrap(),
+            "--passes",
+            "2",
+        ],
+        &size[..],
+    ]
+    .concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("peer: Peer 1.0 as recorded in"), "{out}");
+    assert!(
+        out.contains("      64 spp      4.00 s  rmse 0.10000"),
+        "{out}"
+    );
+    // RMSE^2 x seconds is 0.04 for both peer points: the peer needs 0.04 / rmse^2 seconds.
+    let line = out
+        .lines()
+        .find(|l| l.contains("cpu after 2 passes"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let num = |key: &str| -> f64 {
+        let at = line.find(key).unwrap() + key.len();
+        line[at..]
+            .split(|c: char| c == ';' || c == ' ' || c == ':')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (rmse, needs) = (num("rmse "), num("the peer needs "));
+    assert!(
+        (needs - 0.04 / (rmse * rmse)).abs() < 0.01 * needs + 0.01,
+        "{line}"
+    );
+    // A malformed sidecar is an error naming it.
+    std::fs::write(dir.path("ref.json"), "{\"peer_curve\": [1,").unwrap();
+    let o = run(&[
+        &[
+            "bench",
+            "scenes/cornell-box.toml",
+            "--backend",
+            "cpu",
+            "--runs",
+            "1",
+        ],
+        &[
+            "--photons",
+            "4000",
+            "--reference",
+            reference.to_str().unwrap(),
+            "--passes",
+            "1",
+        ],
+        &size[..],
+    ]
+    .concat());
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("ref.json:1: peer_curve:"),
+        "{}",
+        stderr(&o)
+    );
+}

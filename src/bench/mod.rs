@@ -1,14 +1,16 @@
 //! Benchmarks (`gpu-photon bench`): throughput of each backend on one scene (timed per phase,
 //! medians over several runs), the speed-against-error ladder (`ladder`), the progressive
-//! error curve (`curve`) and their plot (`plot`). The policy lives here: which backends run,
+//! error curve (`curve`) against a peer's recorded one (`peer`) and their plot (`plot`). The policy lives here: which backends run,
 //! when a GPU failure only skips the GPU, and how a missing reference is rendered.
 
 pub mod curve;
 pub mod ladder;
+pub mod peer;
 pub mod plot;
 
 pub use curve::{curve_csv, progressive_curve, CurvePoint};
 pub use ladder::{ladder, ladder_csv, plot_title, reference_settings, LadderRow, LADDER};
+pub use peer::{PeerCurve, PeerPoint};
 pub use plot::{plot, PLOT_FONT};
 
 use crate::error::{Error, Result};
