@@ -92,8 +92,8 @@ pub fn transmittance(
 /// segment towards that point (equiangular, [`sample_equiangular`], so a segment passing near
 /// a light is not noise; by transmittance, `Medium::sample_in_segment`, for a directional
 /// light or a segment through the point) and one shadow ray, weighed by the phase function,
-/// `sigma_s` and the transmittance along the segment and the shadow ray. The environment
-/// light is left out (its sampling covers the hemisphere above a surface).
+/// `sigma_s` and the transmittance along the segment and the shadow ray. The environment's
+/// direction is drawn from the phase function.
 #[allow(clippy::too_many_arguments)]
 pub fn single_scattering(
     scene: &Scene,
@@ -111,9 +111,6 @@ pub fn single_scattering(
     for (li, light) in scene.lights.iter().enumerate() {
         let u = [rng.next(), rng.next(), rng.next()];
         let (uc, ut) = (rng.next(), rng.next());
-        if matches!(light.shape, LightShape::Environment(_)) {
-            continue;
-        }
         let p = match lights.anchor(scene, li, u) {
             Some(y) => sample_equiangular(origin, dir, t_seg, y, ut),
             None => None,
@@ -122,6 +119,14 @@ pub fn single_scattering(
             continue;
         };
         let x = origin + dir * p.t;
+        if let LightShape::Environment(e) = light.shape {
+            // A direction drawn from the phase function (which then cancels): the
+            // environment's own sampling covers a surface's hemisphere.
+            let wi = m.phase.sample(dir, u[1], u[2]);
+            let tr = transmittance(scene, bvh, x, wi, f32::INFINITY, medium);
+            l += (m.transmittance(p.t) / p.pdf) * e.eval(&scene.textures, wi) * tr;
+            continue;
+        }
         let ls = lights.sample(scene, li, x, -dir, u);
         if ls.weight == Vec3::ZERO {
             continue;
