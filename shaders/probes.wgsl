@@ -82,3 +82,22 @@ fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
     let s = env_sample(l, ns, accum[2u * w + i].xyz);
     accum[4u * w + i] = vec4<f32>(s.dir, s.pdf);
 }
+
+// probe_medium: the scene's medium 0 for case i < width: (u_channel, u, t_max, u1) =
+// accum[i], (dir, u2) = accum[width + i]; writes sample_flight's (weight, t) to
+// accum[2 width + i] and (hg_sample(g, dir, u1, u2), 1 when the flight ended in the medium)
+// to accum[3 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let m = load_medium(0u);
+    let a = accum[i];
+    let b = accum[w + i];
+    let f = sample_flight(m, a.x, a.y, a.z);
+    accum[2u * w + i] = vec4<f32>(f.weight, f.t);
+    accum[3u * w + i] = vec4<f32>(hg_sample(m.g, b.xyz, a.w, b.w), select(0.0, 1.0, f.in_medium));
+}

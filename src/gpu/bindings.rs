@@ -97,10 +97,13 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         ro("uvs", 13),
         ro("tex_table", 14),
         ro("tex_words", 15),
+        ro("media", 16),
+        ro("material_media", 17),
     ],
 };
 
-/// Group 1 of the map-building kernels (shaders/common/map.wgsl): one photon map.
+/// Group 1 of the map-building kernels (shaders/common/map.wgsl): one photon map, and the
+/// volume photons every map's paths add to (participating media; placeholders without).
 pub const MAP_GROUP: GroupTable = GroupTable {
     group: 1,
     label: "photon map",
@@ -112,6 +115,8 @@ pub const MAP_GROUP: GroupTable = GroupTable {
         rw("sorted", 4),
         rw("block_sums", 5),
         rw("map_params", 6),
+        rw("volume", 7),
+        rw("volume_count", 8),
     ],
 };
 

@@ -111,6 +111,17 @@ pub const DROP_DIRECT: u32 = 1;
 /// `MapParams.drop_flags` bit: drop L S+ D photons (`plan::StoreFilter::drop_caustic`).
 pub const DROP_CAUSTIC: u32 = 2;
 
+/// `MapParams.volume_flags` bit: the map's paths store volume photons (`plan::VolumeSpec`).
+pub const VOLUME_STORE: u32 = 1;
+/// `MapParams.volume_flags` bit: a global map leaves the L S+ V volume photons to the caustic
+/// map's paths (`plan::VolumeSpec::drop_caustic`).
+pub const VOLUME_DROP_CAUSTIC: u32 = 2;
+
+/// Index-matched boundaries a shadow ray crosses before it counts as blocked, and that a
+/// photon path crosses before it is cut (twin of `cpu::media::MAX_CROSSINGS`, which
+/// tests/media_gpu.rs checks it equals).
+pub const MAX_CROSSINGS: u32 = 64;
+
 /// Index of the stats buffer: photons dropped because a map was full.
 pub const STAT_PHOTON_OVERFLOW: u32 = 0;
 /// Index of the stats buffer: invocations that exhausted their loop budget.
@@ -163,6 +174,8 @@ pub const TRIANGLE_WORDS: u32 = 3;
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
 pub const MATERIAL_WORDS: u32 = 5;
+/// 16-byte words of a `Medium` (`types::GpuMedium`).
+pub const MEDIUM_WORDS: u32 = 2;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 8;
 /// Words per triangle of the `uvs` buffer: its corner uvs (`gpu::types::triangle_uvs`).
@@ -301,6 +314,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_NORMAL_COS", F32(crate::plan::CACHE_NORMAL_COS)),
         ("DROP_DIRECT", U32(DROP_DIRECT)),
         ("DROP_CAUSTIC", U32(DROP_CAUSTIC)),
+        ("VOLUME_STORE", U32(VOLUME_STORE)),
+        ("VOLUME_DROP_CAUSTIC", U32(VOLUME_DROP_CAUSTIC)),
+        ("NO_MEDIUM", U32(crate::medium::NO_MEDIUM)),
+        ("MAX_CROSSINGS", U32(MAX_CROSSINGS)),
+        ("HG_ISOTROPIC_BELOW", F32(crate::phase::HG_ISOTROPIC_BELOW)),
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
@@ -326,6 +344,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("TRIANGLE_WORDS", U32(TRIANGLE_WORDS)),
         ("SPHERE_WORDS", U32(SPHERE_WORDS)),
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
+        ("MEDIUM_WORDS", U32(MEDIUM_WORDS)),
+        ("F32_MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
         ("LIGHT_WORDS", U32(LIGHT_WORDS)),
         ("PHOTON_WORDS", U32(PHOTON_WORDS)),
         ("UV_WORDS", U32(UV_WORDS)),

@@ -8,6 +8,7 @@ use super::context::GpuContext;
 use super::pipelines::Pipelines;
 use super::recorder::Recorder;
 use super::types::GpuMapParams;
+use super::volume::VolumeBuffers;
 use crate::photon::Photon;
 use wgpu::util::DeviceExt;
 
@@ -24,6 +25,7 @@ pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
     k: 0,
     storing_area: 0.0,
     max_power: 0.0,
+    volume_flags: 0,
 };
 
 /// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped,
@@ -41,6 +43,7 @@ pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -
         k: 0,
         storing_area: 0.0,
         max_power: 0.0,
+        volume_flags: 0,
     }
 }
 
@@ -72,8 +75,15 @@ pub struct MapBuffers {
 }
 
 impl MapBuffers {
-    /// Allocates a map of `params.capacity` photons and `params.table_size` cells.
-    pub fn new(ctx: &GpuContext, layouts: &Layouts, label: &str, params: GpuMapParams) -> Self {
+    /// Allocates a map of `params.capacity` photons and `params.table_size` cells, its paths
+    /// storing volume photons into `volume`.
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        label: &str,
+        params: GpuMapParams,
+        volume: &VolumeBuffers,
+    ) -> Self {
         let dev = &ctx.device;
         let rw = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST
@@ -113,6 +123,8 @@ impl MapBuffers {
                 ("sorted", sorted.as_entire_binding()),
                 ("block_sums", block_sums.as_entire_binding()),
                 ("map_params", params_buf.as_entire_binding()),
+                ("volume", volume.photons.as_entire_binding()),
+                ("volume_count", volume.count.as_entire_binding()),
             ],
         );
         MapBuffers {

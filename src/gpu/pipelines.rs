@@ -56,6 +56,7 @@ pub fn feature_constants(
             scene.materials.iter().any(|m| m.alpha.is_some()) as u32 as f64,
         ),
         ("KNN", knn as u32 as f64),
+        ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
     ]
 }
 

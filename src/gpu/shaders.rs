@@ -32,6 +32,7 @@ const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
 const ENVIRONMENT: &str = include_str!("../../shaders/common/environment.wgsl");
 const SHADING: &str = include_str!("../../shaders/common/shading.wgsl");
 const TEXTURE: &str = include_str!("../../shaders/common/texture.wgsl");
+const MEDIUM: &str = include_str!("../../shaders/common/medium.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
@@ -46,7 +47,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 27] = [
+pub const WGSL_FILES: [(&str, &str); 28] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -59,6 +60,7 @@ pub const WGSL_FILES: [(&str, &str); 27] = [
     ("common/shading.wgsl", SHADING),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("common/texture.wgsl", TEXTURE),
+    ("common/medium.wgsl", MEDIUM),
     ("common/grid.wgsl", GRID),
     ("common/map.wgsl", MAP),
     ("common/estimate.wgsl", ESTIMATE),
@@ -128,6 +130,7 @@ impl Kernel {
                 "probe_cache",
                 "probe_cosine",
                 "probe_env",
+                "probe_medium",
             ],
         }
     }
@@ -153,6 +156,7 @@ impl Kernel {
             &bsdf,
             &textures,
             SHADING,
+            MEDIUM,
             GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
