@@ -432,8 +432,8 @@ fn host_tables_are_the_expected_layouts() {
             &SCENE_GROUP,
             &[R, R, R, R, R, R, R, R, R, W, R, R, R, R, R, R, R, R],
         ),
-        (&MAP_GROUP, &[W, W, W, W, W, W, W, W, W]),
-        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
+        (&MAP_GROUP, &[W, W, W, W, W, W, W, W, W, W]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W, R, R, R, R]),
     ];
     let mut errors = Vec::new();
     for (table, kinds) in expected {

@@ -18,6 +18,9 @@
 // without media).
 @group(1) @binding(7) var<storage, read_write> volume: array<vec4<u32>>;
 @group(1) @binding(8) var<storage, read_write> volume_count: array<atomic<u32>>;
+// The volume grid's layout, written by size_volume (volume_grid.wgsl): (lo, cell), (hi, r),
+// (table size, photons) as bits.
+@group(1) @binding(9) var<storage, read_write> volume_grid: array<vec4<f32>>;
 
 // Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {

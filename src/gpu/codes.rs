@@ -122,6 +122,13 @@ pub const VOLUME_DROP_CAUSTIC: u32 = 2;
 /// tests/media_gpu.rs checks it equals).
 pub const MAX_CROSSINGS: u32 = 64;
 
+/// Photons a volume-grid cell is sized to hold at the mean density (twin of
+/// `cpu::volume_map::PHOTONS_PER_CELL`, which tests/media_gpu.rs checks it equals).
+pub const VOLUME_PHOTONS_PER_CELL: f32 = 16.0;
+/// Most volume photons a pass keeps: `size_volume`'s one workgroup reads at most 60,000 each
+/// of its SCAN_BLOCK lanes (below lavapipe's loop cut).
+pub const VOLUME_MAX_PHOTONS: u32 = SCAN_BLOCK * 60_000;
+
 /// Index of the stats buffer: photons dropped because a map was full.
 pub const STAT_PHOTON_OVERFLOW: u32 = 0;
 /// Index of the stats buffer: invocations that exhausted their loop budget.
@@ -346,6 +353,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
         ("MEDIUM_WORDS", U32(MEDIUM_WORDS)),
         ("F32_MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
+        ("F32_EPSILON", F32(f32::EPSILON)),
+        ("VOLUME_PHOTONS_PER_CELL", F32(VOLUME_PHOTONS_PER_CELL)),
         ("LIGHT_WORDS", U32(LIGHT_WORDS)),
         ("PHOTON_WORDS", U32(PHOTON_WORDS)),
         ("UV_WORDS", U32(UV_WORDS)),

@@ -9,7 +9,7 @@
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
 //! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
-//! `scene_buffers`, `volume` (the volume photons' buffers), `maps`, `run` (what a render sets up once), `photon_maps`,
+//! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media).
 

@@ -34,7 +34,7 @@ impl GpuRun {
                 m.set_params(&self.ctx, p);
                 m
             }
-            None => MapBuffers::new(&self.ctx, &self.layouts, label, p, &self.volume),
+            None => MapBuffers::new(&self.ctx, &self.layouts, label, p, self.volume.bindings()),
         }
     }
 
@@ -48,7 +48,7 @@ impl GpuRun {
         // bind groups hold the old one: they are made anew).
         let volume = volume_capacity(&self.plan, s.max_photon_bounces, max_photons);
         if volume > self.volume.capacity {
-            self.volume = VolumeBuffers::new(&self.ctx, volume);
+            self.volume = VolumeBuffers::new(&self.ctx, &self.layouts, volume);
             self.map_cache.clear();
         }
         let volume_flags = match self.plan.volume {
@@ -127,6 +127,11 @@ impl GpuRun {
         rec.phase("trace photons", report)?;
         for m in maps.iter().filter(|m| m.params.paths > 0) {
             m.record_grid(rec, &self.pipelines, scene_bg);
+        }
+        if self.plan.volume.is_some() {
+            let scene_bg = &self.scene_buffers.bind_group;
+            self.volume
+                .record_grid(&self.ctx, rec, &self.pipelines, scene_bg, s.volume_radius);
         }
         rec.phase("build grids", report)?;
         Ok(maps)

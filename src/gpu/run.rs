@@ -76,6 +76,7 @@ impl GpuRun {
         let cache = cache_buffers(&ctx.device, 1);
         let volume = VolumeBuffers::new(
             &ctx,
+            &layouts,
             volume_capacity(&plan, s.max_photon_bounces, ctx.max_photons()),
         );
         Ok(GpuRun {
@@ -173,7 +174,7 @@ impl GpuRun {
         } else {
             "global (absent)"
         };
-        MapBuffers::new(&self.ctx, &self.layouts, label, p, &self.volume)
+        MapBuffers::new(&self.ctx, &self.layouts, label, p, self.volume.bindings())
     }
 
     /// Uploads `photons` as a map and builds its grid (no tracing).
@@ -187,7 +188,13 @@ impl GpuRun {
         let ctx = &self.ctx;
         let n = photons.len() as u32;
         let params = probe_map_params(n, cell_size, table_size, radius2);
-        let map = MapBuffers::new(ctx, &self.layouts, "uploaded", params, &self.volume);
+        let map = MapBuffers::new(
+            ctx,
+            &self.layouts,
+            "uploaded",
+            params,
+            self.volume.bindings(),
+        );
         if n > 0 {
             ctx.queue
                 .write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
@@ -219,6 +226,10 @@ impl GpuRun {
             ("accum", accum.as_entire_binding()),
             ("cache", self.cache[0].as_entire_binding()),
             ("cache_list", self.cache[1].as_entire_binding()),
+            ("v_photons", self.volume.photons.as_entire_binding()),
+            ("v_refs", self.volume.map.sorted.as_entire_binding()),
+            ("v_cells", self.volume.map.cell_start.as_entire_binding()),
+            ("v_grid", self.volume.grid.as_entire_binding()),
         ]);
         bind_group(
             &self.ctx.device,
