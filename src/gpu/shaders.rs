@@ -140,6 +140,8 @@ impl Kernel {
                 "probe_cosine",
                 "probe_env",
                 "probe_medium",
+                "probe_beam",
+                "probe_transmittance",
             ],
         }
     }
