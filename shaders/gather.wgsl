@@ -10,8 +10,10 @@
 // through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 // The BRDF and cosine use the shading normal f.ns; a light below the geometric surface
-// gives nothing.
-fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool) -> vec3<f32> {
+// gives nothing. With media, shadow rays carry the transmittance of those they cross, from
+// the one a ray leaving `hit` is in (`medium` the viewer's).
+fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool, medium: u32) -> vec3<f32> {
+    let x = hit.position;
     let n = f.ng;
     let ns = f.ns;
     let with_direct = (params.terms & TERM_DIRECT) != 0u;
@@ -69,6 +71,14 @@ fn direct_light(x: vec3<f32>, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<fun
                 dir = to / len;
                 t_max = len - end_eps;
             }
+            if HAS_MEDIA {
+                var tr = vec3<f32>(1.0);
+                if t_max > 0.0 {
+                    tr = shadow_transmittance(o, dir, t_max, ls.distant, medium_after(hit, medium, dir));
+                }
+                acc += f * ls.weight * c * tr;
+                continue;
+            }
             if t_max > 0.0 && trace_ray(o, dir, t_max, true).found {
                 continue;
             }
@@ -97,11 +107,23 @@ struct ChainEnd {
 // `mis_pdf` > 0: the ray was drawn from a glossy lobe at mis_from (shading normal mis_ns
 // facing the viewer) with that density, and an area light it meets first is weighed against
 // the shadow rays' sampling (twin of cpu::gather::Mis).
-fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>, mis_pdf: f32, mis_from: vec3<f32>, mis_ns: vec3<f32>) -> ChainEnd {
+// With media (HAS_MEDIA), *medium is the one the ray travels in: each segment in a medium adds
+// *t times what it scatters towards the viewer (in_scattered; next-event estimation and
+// without the single-scattering photons on camera paths, `emission`) and multiplies *t by its
+// transmittance; `null` boundaries pass the ray on (a step of *depth) in the medium behind.
+fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, medium: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>, mis_pdf: f32, mis_from: vec3<f32>, mis_ns: vec3<f32>) -> ChainEnd {
     var end: ChainEnd;
     var pdf = mis_pdf;
     while *depth <= params.max_depth && spend() {
         let hit = trace_ray(*o, *d, 3.0e38, false);
+        if HAS_MEDIA && *medium != NO_MEDIUM {
+            let direct = emission && (params.terms & TERM_DIRECT) != 0u;
+            end.emitted += *t * in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, rng);
+            *t *= medium_transmittance(load_medium(*medium), select(3.0e38, hit.t, hit.found));
+            if all(*t == vec3<f32>(0.0)) {
+                break;
+            }
+        }
         if !hit.found {
             if emission {
                 var le = escape(*d);
@@ -129,14 +151,28 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             }
             end.emitted += *t * le;
         }
-        pdf = 0.0;
         let kind_class = surface_class(m);
+        // An index-matched boundary: straight on in the medium behind it (a lobe sample's
+        // weighing of the light it meets carries over).
+        if HAS_MEDIA && kind_class == CLASS_NULL {
+            if *depth >= params.max_depth {
+                break;
+            }
+            *medium = medium_after(hit, *medium, *d);
+            *o = offset_origin(hit.position, hit.normal, *d);
+            *depth += 1u;
+            continue;
+        }
+        pdf = 0.0;
         if kind_class == CLASS_BLACK {
             break;
         }
         if kind_class == CLASS_DELTA {
             if *depth >= params.max_depth || !surface_delta(hit, m, d, o, t, rng) {
                 break;
+            }
+            if HAS_MEDIA {
+                *medium = medium_after(hit, *medium, *d);
             }
             *depth += 1u;
             continue;
@@ -154,7 +190,10 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
 // per bounce up to max_depth, to its first shaded hit y, where it adds throughput *
 // the diffuse albedo of y * the radiance cache at y (normal facing the ray). Where y has a lobe
 // it goes on along it. It never counts emission (shadow rays and caustic photons carry it).
-fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<function, Rng>) -> vec3<f32> {
+// Through media (it starts in `medium_in`) every segment adds the volume map's whole
+// in-scattered light (follow_chain) and carries its transmittance.
+fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, medium_in: u32, rng: ptr<function, Rng>) -> vec3<f32> {
+    var medium = medium_in;
     var d = dir;
     var o = offset_origin(x, n, d);
     var t = vec3<f32>(1.0);
@@ -164,7 +203,8 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         // No emission: light from a light directly (shadow rays) or over delta and glossy
         // lobes (L (S|G)+ D: the caustic map) is counted elsewhere.
         // (Bounded: follow_chain spends a loop step per ray, and shades nothing once refused.)
-        let end = follow_chain(&o, &d, &t, &gd, false, rng, 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+        let end = follow_chain(&o, &d, &t, &gd, &medium, false, rng, 0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+        sum += end.emitted;
         if !end.shade {
             break;
         }
@@ -184,6 +224,9 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, rng: ptr<f
         }
         t *= lr.weight;
         d = lr.dir;
+        if HAS_MEDIA {
+            medium = medium_after(hit, medium, d);
+        }
         o = offset_origin(hit.position, hit.normal, d);
         gd += 1u;
     }
@@ -225,9 +268,10 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var mis_pdf = 0.0;
     var mis_from = vec3<f32>(0.0);
     var mis_ns = vec3<f32>(0.0);
+    var medium = params.camera_medium;
     loop {
         // Bounded as in gather_ray: no shading once the loop budget is spent.
-        let end = follow_chain(&o, &d, &throughput, &depth, true, &rng, mis_pdf, mis_from, mis_ns);
+        let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, &rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
         if !end.shade {
             break;
@@ -243,7 +287,7 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         let use_sobol = first_shade;
         first_shade = false;
         if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
-            l += direct_light(hit.position, f, wo, m, &rng, sob, use_sobol);
+            l += direct_light(hit, f, wo, m, &rng, sob, use_sobol, medium);
         }
         let kd_pi = surface_estimate_brdf(m, wo);
         let albedo = surface_diffuse_albedo(m, wo);
@@ -265,7 +309,11 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             }
             let dir = cosine_hemisphere(ns, gu.x, gu.y);
             if !reflection_leaks(f, dir) {
-                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, &rng) * surface_store_weight(m, dir);
+                var gm = medium;
+                if HAS_MEDIA {
+                    gm = medium_after(hit, medium, dir);
+                }
+                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, &rng) * surface_store_weight(m, dir);
             }
         }
         radiance += throughput * l;
@@ -282,6 +330,9 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         mis_from = hit.position;
         mis_ns = ns;
         d = lr.dir;
+        if HAS_MEDIA {
+            medium = medium_after(hit, medium, d);
+        }
         o = offset_origin(hit.position, hit.normal, d);
         depth += 1u;
     }

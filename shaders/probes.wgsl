@@ -1,8 +1,8 @@
-// Oracle probes for tests/gpu_oracle.rs, never used by a render: single library functions
-// (the RNG, the K-nearest estimate) run on chosen inputs so a test can compare them with their
-// Rust twins. Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per value.
-// Writes: accum[] as each entry point says. Composed after common/estimate.wgsl and
-// radiance_cache.wgsl.
+// Oracle probes for tests/gpu_oracle.rs and tests/media_gpu.rs, never used by a render: single
+// library functions (the RNG, the K-nearest estimate, the media's) run on chosen inputs so a
+// test can compare them with their Rust twins. Dispatch: ceil(width / WG_SIZE) workgroups of
+// WG_SIZE, one invocation per value. Writes: accum[] as each entry point says. Composed after
+// common/estimate.wgsl, media_camera.wgsl and radiance_cache.wgsl.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -81,4 +81,56 @@ fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[3u * w + i] = vec4<f32>(env_radiance(l, d), env_pdf(l, ns, d));
     let s = env_sample(l, ns, accum[2u * w + i].xyz);
     accum[4u * w + i] = vec4<f32>(s.dir, s.pdf);
+}
+
+// probe_medium: the scene's medium 0 for case i < width: (u_channel, u, t_max, u1) =
+// accum[i], (dir, u2) = accum[width + i]; writes sample_flight's (weight, t) to
+// accum[2 width + i] and (hg_sample(g, dir, u1, u2), 1 when the flight ended in the medium)
+// to accum[3 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let m = load_medium(0u);
+    let a = accum[i];
+    let b = accum[w + i];
+    let f = sample_flight(m, a.x, a.y, a.z);
+    accum[2u * w + i] = vec4<f32>(f.weight, f.t);
+    accum[3u * w + i] = vec4<f32>(hg_sample(m.g, b.xyz, a.w, b.w), select(0.0, 1.0, f.in_medium));
+}
+
+// probe_beam: the volume map's beam estimate for query i < width: (o, t_max) = accum[i],
+// (d, medium as bits) = accum[width + i], skip_direct when accum[2 width + i].x > 0; writes
+// beam(...) with the scene's medium to accum[3 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let a = accum[i];
+    let b = accum[w + i];
+    let medium = bitcast<u32>(b.w);
+    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), accum[2u * w + i].x > 0.0);
+    accum[3u * w + i] = vec4<f32>(l, 0.0);
+}
+
+// probe_transmittance: the shadow walk for case i < width: (o, t_max) = accum[i] (endless
+// when t_max >= 3e38), (d, medium as bits) = accum[width + i]; writes
+// shadow_transmittance(...) to accum[2 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let a = accum[i];
+    let b = accum[w + i];
+    let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w));
+    accum[2u * w + i] = vec4<f32>(tr, 0.0);
 }

@@ -52,10 +52,7 @@ fn open_backend<'s>(
 ) -> Result<Box<dyn PassRenderer + 's>> {
     Ok(match backend {
         Backend::Cpu => Box::new(crate::cpu::CpuRenderer::new(scene, settings)?),
-        Backend::Gpu => {
-            scene.require_no_media()?;
-            Box::new(crate::gpu::GpuRenderer::new(scene, settings)?)
-        }
+        Backend::Gpu => Box::new(crate::gpu::GpuRenderer::new(scene, settings)?),
     })
 }
 
@@ -64,8 +61,7 @@ fn open_backend<'s>(
 /// it rendered the calibration scene faster than the CPU (measured once, then read from the
 /// cache file), else the CPU with a one-line warning on stderr; without an adapter, the CPU
 /// with a warning; a GPU that fails to open or fails its first pass (`Error::Gpu`) also gives
-/// way to the CPU with a warning. A scene with participating media renders on the CPU (`Auto`)
-/// or not at all (`Gpu`: `Scene::require_no_media`).
+/// way to the CPU with a warning. Scenes with participating media choose as any other.
 pub fn open<'s>(
     choice: BackendChoice,
     scene: &'s Scene,
@@ -74,10 +70,6 @@ pub fn open<'s>(
     match choice {
         BackendChoice::Cpu => open_backend(Backend::Cpu, scene, settings),
         BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),
-        // Media: only the CPU backend carries light through them yet.
-        BackendChoice::Auto if scene.has_media_transport() => {
-            open_backend(Backend::Cpu, scene, settings)
-        }
         BackendChoice::Auto => match auto_rule() {
             Err(why) => {
                 crate::warning::warn(format!("{why}; rendering on the CPU"));

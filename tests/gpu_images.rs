@@ -29,30 +29,16 @@ fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
     }
 }
 
-/// The example scenes, sorted, less those the renderers refuse as unsupported (the media
-/// scenes, `fog-cornell.toml` and `volume-caustic.toml`, until issue 24's transport lands:
-/// they join these tests by themselves once the renderers accept them).
+/// The example scenes, sorted (the media scenes, `fog-cornell.toml` and
+/// `volume-caustic.toml`, included: both backends carry light through media).
 fn scene_paths() -> Vec<std::path::PathBuf> {
     let mut paths: Vec<_> = std::fs::read_dir("scenes")
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .filter(|p| renderable(p))
         .collect();
     paths.sort();
     paths
-}
-
-/// Whether both backends render the scene at `path`: scenes with participating media are
-/// the CPU backend's alone for now (the GPU refuses them: `tests/media.rs` checks the message;
-/// `tests/media_reference.rs` renders them).
-fn renderable(path: &std::path::Path) -> bool {
-    let scene = gpu_photon::scene::load(path).unwrap();
-    if scene.has_media_transport() {
-        eprintln!("{}: skipped: media (CPU backend only)", path.display());
-        return false;
-    }
-    true
 }
 
 /// Renders `scene` with `settings(seed)` on the CPU at seeds 1 and 2 and on the GPU at seed

@@ -23,8 +23,8 @@ use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
 use gpu_photon::gpu::types::{
-    GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuParams, GpuShadingNormals, GpuSphere,
-    GpuTriangle,
+    GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuMedium, GpuParams, GpuShadingNormals,
+    GpuSphere, GpuTriangle,
 };
 use gpu_photon::photon::{self, Photon};
 use gpu_photon::rng::Stream;
@@ -190,11 +190,12 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
                 n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
-                aperture_radius, focus_distance, _pad2),
+                aperture_radius, focus_distance, camera_medium),
         ),
+        ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, _pad)),
         (
             "MapParams",
-            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area, max_power),
+            fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area, max_power, volume_flags),
         ),
     ]
 }
@@ -420,7 +421,8 @@ fn tables_use_no_uniform_buffers_and_one_dynamic_offset() {
 #[test]
 fn host_tables_are_the_expected_layouts() {
     // (table, its bindings 0.. in order with their access): the scene (with its BSDF
-    // parameters, uvs and textures) is read-only but for the stats counters, a map's buffers are all written by its kernels (its parameters'
+    // parameters, uvs, textures and media) is read-only but for the stats counters, a map's
+    // buffers (and the volume photons its paths add to) are all written by its kernels (its parameters'
     // cell size by size_grid, max_power by scan_sums), and the gather group reads both maps
     // and writes only the accumulator and the radiance cache with its point list (built by
     // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather).
@@ -428,10 +430,10 @@ fn host_tables_are_the_expected_layouts() {
     let expected: [(&GroupTable, &[Access]); 3] = [
         (
             &SCENE_GROUP,
-            &[R, R, R, R, R, R, R, R, R, W, R, R, R, R, R, R],
+            &[R, R, R, R, R, R, R, R, R, W, R, R, R, R, R, R, R, R],
         ),
-        (&MAP_GROUP, &[W, W, W, W, W, W, W]),
-        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W]),
+        (&MAP_GROUP, &[W, W, W, W, W, W, W, W, W, W]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W, R, R, R, R]),
     ];
     let mut errors = Vec::new();
     for (table, kinds) in expected {

@@ -1,9 +1,12 @@
-//! Light transport through participating media on the CPU backend (issue 24), against
-//! closed forms: Beer-Lambert through a slab bounded by index-matched (`null`) faces,
-//! single scattering of a directional light in that slab seen head-on (by next-event
-//! estimation, and by the volume photon map's beam estimate), and the energy balance of
-//! photon paths in a closed box filled with fog; single scattering from a point light
-//! against its integral.
+//! Light transport through participating media (issue 24) on both backends, against closed
+//! forms: Beer-Lambert through a slab bounded by index-matched (`null`) faces, single
+//! scattering of a directional light in that slab seen head-on (by next-event estimation,
+//! and by the volume photon map's beam estimate), and (CPU) the energy balance of photon
+//! paths in a closed box filled with fog, single scattering from a point light and from a
+//! constant environment against their integrals; the GPU's photon paths are the CPU's,
+//! photon for photon (tests/media_gpu.rs). GPU tests skip without a device (CI has lavapipe).
+
+mod common;
 
 use glam::Vec3;
 use gpu_photon::bvh::Bvh;
@@ -116,22 +119,69 @@ fn transmittance_through_a_slab_is_beer_lambert() {
     assert!((tr[2] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
 }
 
-/// The mean of the render of `scene` with `s` is the single-scattering closed form within 1%
-/// per channel.
-fn assert_single_scattering(scene: &Scene, s: &RenderSettings) {
-    let m = mean(scene, s);
+/// The GPU's shadow walk (`shadow_transmittance`): the same cases, the same closed forms (to
+/// 1e-5: the device's `exp`).
+#[test]
+fn transmittance_through_a_slab_is_beer_lambert_on_the_gpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let scene = slab(10.0);
+    let m = scene.camera_medium;
+    let cases = [
+        ([0.1, -0.2, 2.0], [0.0, 0.0, -1.0], 6.0, m),
+        ([0.0, 0.0, 1.0], [0.6, 0.0, -0.8], 5.0, m),
+        ([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], 1.3, m),
+        ([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], 3.0e38, m),
+    ];
+    let got = gpu_photon::gpu::probe_media::transmittance(&ctx, &scene, &cases).unwrap();
+    let want = |c: usize, len: f64| (-(SIGMA_T[c] as f64) * len).exp();
+    for c in 0..3 {
+        for (case, len) in [(0, D as f64), (3, D as f64)] {
+            let w = want(c, len);
+            assert!(
+                (got[case][c] as f64 - w).abs() < 1e-5 * w,
+                "case {case} channel {c}: {} vs {w}",
+                got[case][c]
+            );
+        }
+    }
+    let w = want(1, D as f64 / 0.8);
+    assert!(
+        (got[1][1] as f64 - w).abs() < 1e-5 * w,
+        "{:?} vs {w}",
+        got[1]
+    );
+    let w = want(2, 0.3);
+    assert!(
+        (got[2][2] as f64 - w).abs() < 1e-5 * w,
+        "{:?} vs {w}",
+        got[2]
+    );
+}
+
+/// The mean of the render of `scene` with `s` on `backend` is the single-scattering closed
+/// form within 1% per channel.
+fn assert_single_scattering(scene: &Scene, s: &RenderSettings, backend: Backend) {
+    let m = mean(scene, s, backend);
     for c in 0..3 {
         let want = single_scattering(c);
         assert!(
             (m[c] / want - 1.0).abs() < 0.01,
-            "channel {c}: {} vs {want}",
+            "{backend:?} channel {c}: {} vs {want}",
             m[c]
         );
     }
 }
 
-fn mean(scene: &Scene, s: &RenderSettings) -> [f64; 3] {
-    let (image, _) = render(scene, s, Backend::Cpu, Progress::default()).expect("renders");
+/// The backends to check: the CPU, and the GPU where there is one.
+fn backends() -> Vec<Backend> {
+    match common::gpu() {
+        Some(_) => vec![Backend::Cpu, Backend::Gpu],
+        None => vec![Backend::Cpu],
+    }
+}
+
+fn mean(scene: &Scene, s: &RenderSettings, backend: Backend) -> [f64; 3] {
+    let (image, _) = render(scene, s, backend, Progress::default()).expect("renders");
     let mut m = [0.0f64; 3];
     for p in &image.pixels {
         for c in 0..3 {
@@ -142,7 +192,7 @@ fn mean(scene: &Scene, s: &RenderSettings) -> [f64; 3] {
 }
 
 /// Next-event estimation alone (`direct-only` builds no photon map): every channel within
-/// 1% of the closed form.
+/// 1% of the closed form, on both backends.
 #[test]
 fn single_scattering_by_next_event_estimation_matches_the_closed_form() {
     let scene = slab(10.0);
@@ -151,7 +201,9 @@ fn single_scattering_by_next_event_estimation_matches_the_closed_form() {
         spp: 1024,
         ..scene.settings.clone()
     };
-    assert_single_scattering(&scene, &s);
+    for backend in backends() {
+        assert_single_scattering(&scene, &s, backend);
+    }
 }
 
 /// The volume photon map's beam estimate alone (`photon` mode, photon paths of one bounce,
@@ -170,7 +222,9 @@ fn single_scattering_by_the_beam_estimate_matches_the_closed_form() {
         spp: 1,
         ..scene.settings.clone()
     };
-    assert_single_scattering(&scene, &s);
+    for backend in backends() {
+        assert_single_scattering(&scene, &s, backend);
+    }
 }
 
 /// A closed box of grey walls (albedo 0.5) with the camera inside and a light under its
@@ -365,11 +419,11 @@ fn single_scattering_of_an_environment_matches_the_integral() {
         spp: 1024,
         ..scene.settings.clone()
     };
-    let m = mean(&scene, &s);
     let (n, d) = (2000, D as f64);
+    let mut want = [0.0f64; 3];
     for c in 0..3 {
         let sigma = SIGMA_T[c] as f64;
-        let mut want = (-sigma * d).exp();
+        want[c] = (-sigma * d).exp();
         for i in 0..n {
             let t = (i as f64 + 0.5) / n as f64 * d;
             for j in 0..n {
@@ -377,7 +431,7 @@ fn single_scattering_of_an_environment_matches_the_integral() {
                 // +z; the camera looks along -z, so the scattering cosine is -mu.
                 let mu = -1.0 + (j as f64 + 0.5) / n as f64 * 2.0;
                 let out = if mu > 0.0 { t / mu } else { (d - t) / -mu };
-                want += ALBEDO as f64
+                want[c] += ALBEDO as f64
                     * sigma
                     * (-sigma * t).exp()
                     * 2.0
@@ -388,10 +442,16 @@ fn single_scattering_of_an_environment_matches_the_integral() {
                     * (2.0 / n as f64);
             }
         }
-        assert!(
-            (m[c] / want - 1.0).abs() < 0.01,
-            "channel {c}: {} vs {want}",
-            m[c]
-        );
+    }
+    for backend in backends() {
+        let m = mean(&scene, &s, backend);
+        for c in 0..3 {
+            let w = want[c];
+            assert!(
+                (m[c] / w - 1.0).abs() < 0.01,
+                "{backend:?} channel {c}: {} vs {w}",
+                m[c]
+            );
+        }
     }
 }

@@ -35,3 +35,9 @@ fn keep_photon(flags: u32, drop: u32) -> bool {
 fn is_cache_point(flags: u32, id: u32) -> bool {
     return (id + (flags & DEPTH_MASK)) % CACHE_STRIDE == 0u;
 }
+
+// A point's cell in the volume map's grid of cells of edge `cell` from corner `lo` (twin of
+// VolumeMap::cell_coords).
+fn volume_cell(x: vec3<f32>, lo: vec3<f32>, cell: f32) -> vec3<i32> {
+    return vec3<i32>(floor((x - lo) / cell));
+}

@@ -1,6 +1,7 @@
 // Group 1 of the map-building kernels (trace_photons.wgsl, build_grid.wgsl): one photon
-// map's buffers and parameters (table: MAP_GROUP in src/gpu/bindings.rs), and the flat
-// index of their WG_SIZE-wide 2D dispatches. Library, no entry point.
+// map's buffers and parameters, and the volume photons (table: MAP_GROUP in
+// src/gpu/bindings.rs); the flat index of their WG_SIZE-wide 2D dispatches.
+// Library, no entry point.
 
 // photons (as traced) and sorted (by cell): PHOTON_WORDS words per photon (common/photon.wgsl).
 @group(1) @binding(0) var<storage, read_write> photons: array<vec4<u32>>;
@@ -12,6 +13,14 @@
 // Read-write: the grid build sets cell_size (size_grid, from the photons stored) and
 // max_power (scan_sums) on the device.
 @group(1) @binding(6) var<storage, read_write> map_params: MapParams;
+// Volume photons (participating media), PHOTON_WORDS words each, shared by the pass's maps:
+// their paths append through volume_count[0] (src/gpu/volume.rs; one placeholder photon
+// without media).
+@group(1) @binding(7) var<storage, read_write> volume: array<vec4<u32>>;
+@group(1) @binding(8) var<storage, read_write> volume_count: array<atomic<u32>>;
+// The volume grid's layout, written by size_volume (volume_grid.wgsl): (lo, cell), (hi, r),
+// (table size, photons) as bits.
+@group(1) @binding(9) var<storage, read_write> volume_grid: array<vec4<f32>>;
 
 // Flat invocation index of a 2D dispatch of WG_SIZE-wide workgroups.
 fn flat_index(gid: vec3<u32>, nwg: vec3<u32>) -> u32 {

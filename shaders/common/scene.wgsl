@@ -29,6 +29,10 @@
 @group(0) @binding(13) var<storage, read> uvs: array<vec4<f32>>;
 @group(0) @binding(14) var<storage, read> tex_table: array<TextureRecord>;
 @group(0) @binding(15) var<storage, read> tex_words: array<u32>;
+// Participating media (shaders/common/medium.wgsl): the media as two words each (Medium), and
+// each material's (interior, exterior) media; one placeholder each when the scene has none.
+@group(0) @binding(16) var<storage, read> media: array<vec4<f32>>;
+@group(0) @binding(17) var<storage, read> material_media: array<vec2<u32>>;
 
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.
@@ -59,6 +63,10 @@ override HAS_ALPHA: bool = true;
 // K-th selection then fold away (on lavapipe the gather kernel compiles 6x faster, and runs
 // about 10% faster).
 override KNN: bool = true;
+// The scene needs media transport (Scene::has_media_transport: a medium, or a `null`
+// boundary): free flights, volume photons, transmittance and in-scattering
+// (shaders/common/medium.wgsl); without, none of it is compiled.
+override HAS_MEDIA: bool = true;
 
 // Loop iterations one invocation may spend in total, across all its loops. Lavapipe cuts
 // loops silently after 65,535 iterations counted per SIMD group (8 lanes), across all loops,

@@ -151,7 +151,16 @@ struct Params {
     filter_param: f32,
     aperture_radius: f32,
     focus_distance: f32,
-    _pad2: u32,
+    // The medium the camera sits in (NO_MEDIUM: vacuum).
+    camera_medium: u32,
+}
+
+// A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).
+struct Medium {
+    sigma_t: vec3<f32>,
+    g: f32,
+    sigma_s: vec3<f32>,
+    _pad: u32,
 }
 
 // Per photon map: what to trace and how its hash grid is laid out.
@@ -167,6 +176,8 @@ struct MapParams {
     k: u32,
     storing_area: f32,
     max_power: f32,
+    // VOLUME_STORE: the paths store volume photons; VOLUME_DROP_CAUSTIC: not the L S+ V ones.
+    volume_flags: u32,
 }
 
 // The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)

@@ -97,10 +97,13 @@ pub const SCENE_GROUP: GroupTable = GroupTable {
         ro("uvs", 13),
         ro("tex_table", 14),
         ro("tex_words", 15),
+        ro("media", 16),
+        ro("material_media", 17),
     ],
 };
 
-/// Group 1 of the map-building kernels (shaders/common/map.wgsl): one photon map.
+/// Group 1 of the map-building kernels (shaders/common/map.wgsl): one photon map, and the
+/// volume photons every map's paths add to (participating media; placeholders without).
 pub const MAP_GROUP: GroupTable = GroupTable {
     group: 1,
     label: "photon map",
@@ -112,6 +115,9 @@ pub const MAP_GROUP: GroupTable = GroupTable {
         rw("sorted", 4),
         rw("block_sums", 5),
         rw("map_params", 6),
+        rw("volume", 7),
+        rw("volume_count", 8),
+        rw("volume_grid", 9),
     ],
 };
 
@@ -126,7 +132,8 @@ pub const MAP_SLOTS: [[&str; 3]; 2] = [
 /// Group 1 of the gather and the probes (shaders/common/estimate.wgsl, gather.wgsl): both
 /// maps' sorted photons, cell starts and parameters, the image accumulator, and the radiance
 /// cache (parallel to the global map's sorted photons: written by the cache build, read by the
-/// gather) with the list of its points (small stand-ins outside mode gather).
+/// gather) with the list of its points (small stand-ins outside mode gather), and the volume
+/// map (its photons, the grid's entries and cells, its layout; placeholders without media).
 pub const GATHER_GROUP: GroupTable = GroupTable {
     group: 1,
     label: "gather",
@@ -140,6 +147,10 @@ pub const GATHER_GROUP: GroupTable = GroupTable {
         rw("accum", 6),
         rw("cache", 7),
         rw("cache_list", 8),
+        ro("v_photons", 9),
+        ro("v_refs", 10),
+        ro("v_cells", 11),
+        ro("v_grid", 12),
     ],
 };
 

@@ -111,6 +111,24 @@ pub const DROP_DIRECT: u32 = 1;
 /// `MapParams.drop_flags` bit: drop L S+ D photons (`plan::StoreFilter::drop_caustic`).
 pub const DROP_CAUSTIC: u32 = 2;
 
+/// `MapParams.volume_flags` bit: the map's paths store volume photons (`plan::VolumeSpec`).
+pub const VOLUME_STORE: u32 = 1;
+/// `MapParams.volume_flags` bit: a global map leaves the L S+ V volume photons to the caustic
+/// map's paths (`plan::VolumeSpec::drop_caustic`).
+pub const VOLUME_DROP_CAUSTIC: u32 = 2;
+
+/// Index-matched boundaries a shadow ray crosses before it counts as blocked, and that a
+/// photon path crosses before it is cut (twin of `cpu::media::MAX_CROSSINGS`, which
+/// tests/media_gpu.rs checks it equals).
+pub const MAX_CROSSINGS: u32 = 64;
+
+/// Photons a volume-grid cell is sized to hold at the mean density (twin of
+/// `cpu::volume_map::PHOTONS_PER_CELL`, which tests/media_gpu.rs checks it equals).
+pub const VOLUME_PHOTONS_PER_CELL: f32 = 16.0;
+/// Most volume photons a pass keeps: `size_volume`'s one workgroup reads at most 60,000 each
+/// of its SCAN_BLOCK lanes (below lavapipe's loop cut).
+pub const VOLUME_MAX_PHOTONS: u32 = SCAN_BLOCK * 60_000;
+
 /// Index of the stats buffer: photons dropped because a map was full.
 pub const STAT_PHOTON_OVERFLOW: u32 = 0;
 /// Index of the stats buffer: invocations that exhausted their loop budget.
@@ -163,6 +181,8 @@ pub const TRIANGLE_WORDS: u32 = 3;
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
 pub const MATERIAL_WORDS: u32 = 5;
+/// 16-byte words of a `Medium` (`types::GpuMedium`).
+pub const MEDIUM_WORDS: u32 = 2;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 8;
 /// Words per triangle of the `uvs` buffer: its corner uvs (`gpu::types::triangle_uvs`).
@@ -301,6 +321,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_NORMAL_COS", F32(crate::plan::CACHE_NORMAL_COS)),
         ("DROP_DIRECT", U32(DROP_DIRECT)),
         ("DROP_CAUSTIC", U32(DROP_CAUSTIC)),
+        ("VOLUME_STORE", U32(VOLUME_STORE)),
+        ("VOLUME_DROP_CAUSTIC", U32(VOLUME_DROP_CAUSTIC)),
+        ("NO_MEDIUM", U32(crate::medium::NO_MEDIUM)),
+        ("MAX_CROSSINGS", U32(MAX_CROSSINGS)),
+        ("HG_ISOTROPIC_BELOW", F32(crate::phase::HG_ISOTROPIC_BELOW)),
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
@@ -326,6 +351,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("TRIANGLE_WORDS", U32(TRIANGLE_WORDS)),
         ("SPHERE_WORDS", U32(SPHERE_WORDS)),
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
+        ("MEDIUM_WORDS", U32(MEDIUM_WORDS)),
+        ("F32_MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
+        ("F32_EPSILON", F32(f32::EPSILON)),
+        ("VOLUME_PHOTONS_PER_CELL", F32(VOLUME_PHOTONS_PER_CELL)),
         ("LIGHT_WORDS", U32(LIGHT_WORDS)),
         ("PHOTON_WORDS", U32(PHOTON_WORDS)),
         ("UV_WORDS", U32(UV_WORDS)),

@@ -143,6 +143,11 @@ pub const STORAGE_BUFFERS_NEEDED: u32 = {
 };
 
 impl GpuContext {
+    /// Photons one storage binding holds.
+    pub fn max_photons(&self) -> u32 {
+        (self.max_binding / std::mem::size_of::<crate::photon::Photon>() as u64) as u32
+    }
+
     /// Opens the default adapter (high performance preferred).
     pub fn new() -> Result<Self> {
         let instance = instance();

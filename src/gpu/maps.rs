@@ -24,6 +24,7 @@ pub const EMPTY_MAP: GpuMapParams = GpuMapParams {
     k: 0,
     storing_area: 0.0,
     max_power: 0.0,
+    volume_flags: 0,
 };
 
 /// Map parameters of `n` uploaded photons (a probe's map: nothing traced, nothing dropped,
@@ -41,6 +42,7 @@ pub fn probe_map_params(n: u32, cell_size: f32, table_size: u32, radius2: f32) -
         k: 0,
         storing_area: 0.0,
         max_power: 0.0,
+        volume_flags: 0,
     }
 }
 
@@ -72,8 +74,30 @@ pub struct MapBuffers {
 }
 
 impl MapBuffers {
-    /// Allocates a map of `params.capacity` photons and `params.table_size` cells.
-    pub fn new(ctx: &GpuContext, layouts: &Layouts, label: &str, params: GpuMapParams) -> Self {
+    /// Allocates a map of `params.capacity` photons and `params.table_size` cells, its paths
+    /// storing volume photons into `volume` (`volume`, `volume_count`, `volume_grid`: see
+    /// `gpu::volume`).
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        label: &str,
+        params: GpuMapParams,
+        volume: [&wgpu::Buffer; 3],
+    ) -> Self {
+        let photon_bytes = params.capacity as u64 * std::mem::size_of::<Photon>() as u64;
+        Self::sized(ctx, layouts, label, params, volume, photon_bytes)
+    }
+
+    /// [`Self::new`] with a `sorted` buffer of `sorted_bytes` (the volume grid lists its
+    /// (photon, cell) entries there).
+    pub fn sized(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        label: &str,
+        params: GpuMapParams,
+        volume: [&wgpu::Buffer; 3],
+        sorted_bytes: u64,
+    ) -> Self {
         let dev = &ctx.device;
         let rw = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST
@@ -91,7 +115,7 @@ impl MapBuffers {
         let dispatch = empty_buffer(dev, &format!("{label} grid dispatch"), 12, indirect);
         let cell_count = empty_buffer(dev, &format!("{label} cell counts"), 4 * t, rw);
         let cell_start = empty_buffer(dev, &format!("{label} cell starts"), 4 * (t + 1), rw);
-        let sorted = empty_buffer(dev, &format!("{label} sorted photons"), photon_bytes, rw);
+        let sorted = empty_buffer(dev, &format!("{label} sorted photons"), sorted_bytes, rw);
         let blocks = t.div_ceil((SCAN_BLOCK * SCAN_ITEMS) as u64);
         let block_sums = empty_buffer(dev, &format!("{label} block sums"), 4 * blocks, rw);
         let params_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -113,6 +137,9 @@ impl MapBuffers {
                 ("sorted", sorted.as_entire_binding()),
                 ("block_sums", block_sums.as_entire_binding()),
                 ("map_params", params_buf.as_entire_binding()),
+                ("volume", volume[0].as_entire_binding()),
+                ("volume_count", volume[1].as_entire_binding()),
+                ("volume_grid", volume[2].as_entire_binding()),
             ],
         );
         MapBuffers {
@@ -137,7 +164,7 @@ impl MapBuffers {
     }
 
     /// A compute pass `label` in `enc` with the scene (sample slot 0) and this map bound.
-    fn begin<'e>(
+    pub fn begin<'e>(
         &self,
         enc: &'e mut wgpu::CommandEncoder,
         label: &str,

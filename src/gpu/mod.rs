@@ -9,9 +9,9 @@
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
 //! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
-//! `scene_buffers`, `maps`, `run` (what a render sets up once), `photon_maps`,
+//! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
-//! then `renderer` and `probe` (tests' oracle probes).
+//! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media).
 
 pub mod bindings;
 pub mod bsdf_params;
@@ -26,6 +26,7 @@ pub mod pass;
 pub mod photon_maps;
 pub mod pipelines;
 pub mod probe;
+pub mod probe_media;
 pub mod radiance_cache;
 pub mod recorder;
 pub mod renderer;
@@ -35,6 +36,7 @@ pub mod shaders;
 pub mod texture_buffers;
 pub mod textures;
 pub mod types;
+pub mod volume;
 
 pub use context::{list_adapters, preferred_adapter, quiet_headless_vulkan, GpuContext};
 pub use renderer::GpuRenderer;

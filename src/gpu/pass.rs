@@ -44,12 +44,14 @@ impl GpuRun {
         let accum_bytes = accum.size();
         let (phases_before, kernels_before) = (report.phases.len(), report.kernels.len());
         let mut batches = 1u32;
-        // Photons each batch's maps stored: one count per map slot per batch.
+        // Photons each batch's maps stored: one count per map slot, then the volume
+        // photons', per batch.
         let slots = MapKind::ALL.len();
+        let per = slots + 1;
         let counts = empty_buffer(
             &self.ctx.device,
             "photon counts",
-            4 * (slots * MAX_BATCHES as usize) as u64,
+            4 * (per * MAX_BATCHES as usize) as u64,
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
         );
         loop {
@@ -57,7 +59,7 @@ impl GpuRun {
             self.ctx
                 .queue
                 .write_buffer(accum, 0, &vec![0u8; accum_bytes as usize]);
-            let mut capacity = vec![1u32; slots];
+            let mut capacity = vec![1u32; per];
             let mut recorders = Vec::new();
             let bar = progress.bar(batches as u64 * s.spp as u64, "gather");
             for b in 0..batches {
@@ -66,12 +68,18 @@ impl GpuRun {
                 let mut rec = Recorder::new(self.ctx.clone(), s.timed_phases);
                 let maps = self.record_maps(scene, &sb, &mut rec, report)?;
                 for (i, m) in maps.iter().enumerate() {
-                    let at = 4 * (slots * b as usize + i) as u64;
+                    let at = 4 * (per * b as usize + i) as u64;
                     rec.enc()
                         .copy_buffer_to_buffer(&m.counters, 0, &counts, at, 4);
                     if b == 0 {
                         capacity[i] = m.params.capacity.max(1);
                     }
+                }
+                let at = 4 * (per * b as usize + slots) as u64;
+                rec.enc()
+                    .copy_buffer_to_buffer(&self.volume.count, 0, &counts, at, 4);
+                if b == 0 {
+                    capacity[slots] = self.volume.capacity;
                 }
                 let global = &maps[MapKind::Global as usize];
                 if self.plan_final_gather() && global.params.paths > 0 {
@@ -89,8 +97,8 @@ impl GpuRun {
             self.ctx.check()?;
             bar.inc(batches as u64 * s.spp as u64);
             bar.finish_and_clear();
-            let n: Vec<u32> = read_back(&self.ctx, &counts, 4 * (slots * batches as usize) as u64)?;
-            let overflow = (0..slots)
+            let n: Vec<u32> = read_back(&self.ctx, &counts, 4 * (per * batches as usize) as u64)?;
+            let overflow = (0..per)
                 .map(|i| n[i].div_ceil(capacity[i]))
                 .max()
                 .unwrap_or(1);
@@ -102,9 +110,12 @@ impl GpuRun {
                 self.ctx.queue.write_buffer(stats, 0, &[0u8; STATS_LEN * 4]);
                 continue;
             }
-            let last = slots * (batches as usize - 1);
+            let last = per * (batches as usize - 1);
             for (i, stored) in report.stored.iter_mut().enumerate() {
                 *stored = n[last + i] as usize;
+            }
+            if self.plan.volume.is_some() {
+                report.volume_stored = n[last + slots] as usize;
             }
             for rec in &recorders {
                 rec.times(report)?;

@@ -2,14 +2,15 @@
 //! binding, grid table and a first cell size), and the recording of their tracing and grid
 //! builds, whose cells the device resizes from the photons actually stored (`size_grid`).
 
+use super::codes::{VOLUME_DROP_CAUSTIC, VOLUME_STORE};
 use super::grid::{cell_size_for, table_size_for};
 use super::host::drop_flags;
 use super::maps::{MapBuffers, EMPTY_MAP};
 use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::types::GpuMapParams;
+use super::volume::{volume_capacity, VolumeBuffers};
 use crate::error::Result;
-use crate::photon::Photon;
 use crate::plan::MapKind;
 use crate::report::RenderReport;
 use crate::scene::Scene;
@@ -33,7 +34,7 @@ impl GpuRun {
                 m.set_params(&self.ctx, p);
                 m
             }
-            None => MapBuffers::new(&self.ctx, &self.layouts, label, p),
+            None => MapBuffers::new(&self.ctx, &self.layouts, label, p, self.volume.bindings()),
         }
     }
 
@@ -41,8 +42,26 @@ impl GpuRun {
     /// `paths == 0`).
     fn plan_maps(&mut self, scene: &Scene, s: &RenderSettings) -> PassMaps {
         let max_binding = self.ctx.max_binding;
-        let max_photons = (max_binding / std::mem::size_of::<Photon>() as u64) as u32;
+        let max_photons = self.ctx.max_photons();
         let area = scene.storing_area();
+        // The volume photons' buffer, grown when this pass's paths may store more (the maps'
+        // bind groups hold the old one: they are made anew).
+        let volume = volume_capacity(&self.plan, s.max_photon_bounces, max_photons);
+        if volume > self.volume.capacity {
+            self.volume = VolumeBuffers::new(&self.ctx, &self.layouts, volume);
+            self.map_cache.clear();
+        }
+        let volume_flags = match self.plan.volume {
+            Some(v) => {
+                VOLUME_STORE
+                    | if v.drop_caustic {
+                        VOLUME_DROP_CAUSTIC
+                    } else {
+                        0
+                    }
+            }
+            None => 0,
+        };
         MapKind::ALL.map(|kind| {
             let is_caustic = (kind == MapKind::Caustic) as u32;
             let Some(spec) = self.plan.map(kind) else {
@@ -80,6 +99,11 @@ impl GpuRun {
                 storing_area: area * concentration,
                 // Written by the grid build.
                 max_power: 0.0,
+                // Only the global map drops: its L S+ V photons are the caustic paths'.
+                volume_flags: match kind {
+                    MapKind::Global => volume_flags,
+                    MapKind::Caustic => volume_flags & VOLUME_STORE,
+                },
             };
             self.take_map(p, kind.name())
         })
@@ -95,6 +119,7 @@ impl GpuRun {
         report: &mut RenderReport,
     ) -> Result<PassMaps> {
         let maps = self.plan_maps(scene, s);
+        rec.enc().clear_buffer(&self.volume.count, 0, None);
         let scene_bg = &self.scene_buffers.bind_group;
         for m in maps.iter().filter(|m| m.params.paths > 0) {
             m.record_trace(rec, &self.pipelines, scene_bg);
@@ -102,6 +127,11 @@ impl GpuRun {
         rec.phase("trace photons", report)?;
         for m in maps.iter().filter(|m| m.params.paths > 0) {
             m.record_grid(rec, &self.pipelines, scene_bg);
+        }
+        if self.plan.volume.is_some() {
+            let scene_bg = &self.scene_buffers.bind_group;
+            self.volume
+                .record_grid(&self.ctx, rec, &self.pipelines, scene_bg, s.volume_radius);
         }
         rec.phase("build grids", report)?;
         Ok(maps)

@@ -56,6 +56,7 @@ pub fn feature_constants(
             scene.materials.iter().any(|m| m.alpha.is_some()) as u32 as f64,
         ),
         ("KNN", knn as u32 as f64),
+        ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
     ]
 }
 
@@ -85,6 +86,12 @@ pub struct Pipelines {
     pub scatter: wgpu::ComputePipeline,
     /// `scatter_rest` (shaders/build_grid.wgsl).
     pub scatter_rest: wgpu::ComputePipeline,
+    /// `size_volume` (shaders/volume_grid.wgsl).
+    pub size_volume: wgpu::ComputePipeline,
+    /// `count_volume` (shaders/volume_grid.wgsl).
+    pub count_volume: wgpu::ComputePipeline,
+    /// `scatter_volume` (shaders/volume_grid.wgsl).
+    pub scatter_volume: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
     /// The radiance cache's build: only for a render in mode gather.
@@ -168,6 +175,9 @@ impl Pipelines {
             add_offsets: pipeline(&grid, &map_layout, "add_offsets"),
             scatter: pipeline(&grid, &map_layout, "scatter"),
             scatter_rest: pipeline(&grid, &map_layout, "scatter_rest"),
+            size_volume: pipeline(&grid, &map_layout, "size_volume"),
+            count_volume: pipeline(&grid, &map_layout, "count_volume"),
+            scatter_volume: pipeline(&grid, &map_layout, "scatter_volume"),
             gather: pipeline(&gather, &gather_layout, "gather"),
             radiance_cache: final_gather.then(|| CachePipelines {
                 list: pipeline(&gather, &gather_layout, "list_cache_points"),

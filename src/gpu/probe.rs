@@ -226,7 +226,7 @@ pub fn radiance_cache(
 /// Runs the probe entry point `entry` over `n` invocations (WG_SIZE-wide) with group 1 `bg`
 /// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline keeps the
 /// WGSL defaults of the override constants.
-fn dispatch_probe(
+pub(super) fn dispatch_probe(
     run: &GpuRun,
     entry: &str,
     accum: &wgpu::Buffer,

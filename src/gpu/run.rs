@@ -12,6 +12,7 @@ use super::pipelines::{feature_constants, Pipelines};
 use super::recorder::Recorder;
 use super::scene_buffers::SceneBuffers;
 use super::types::{GpuAabb, GpuMapParams, GpuParams};
+use super::volume::{volume_capacity, VolumeBuffers};
 use crate::bvh::Bvh;
 use crate::error::Result;
 use crate::light::LightTable;
@@ -45,6 +46,9 @@ pub struct GpuRun {
     /// The pipelines run K-nearest estimates (override `KNN`); false for a progressive
     /// render, whose passes must then all have `k == 0`.
     pub knn: bool,
+    /// The volume photons every map's paths store (a placeholder without a volume map);
+    /// grown by `GpuRun::plan_maps` when a pass needs more.
+    pub volume: VolumeBuffers,
 }
 
 impl GpuRun {
@@ -70,7 +74,13 @@ impl GpuRun {
         let pipelines = pipelines?;
         let (plan, table, params, scene_buffers) = scene_side?;
         let cache = cache_buffers(&ctx.device, 1);
+        let volume = VolumeBuffers::new(
+            &ctx,
+            &layouts,
+            volume_capacity(&plan, s.max_photon_bounces, ctx.max_photons()),
+        );
         Ok(GpuRun {
+            volume,
             ctx,
             layouts,
             scene_buffers,
@@ -164,7 +174,7 @@ impl GpuRun {
         } else {
             "global (absent)"
         };
-        MapBuffers::new(&self.ctx, &self.layouts, label, p)
+        MapBuffers::new(&self.ctx, &self.layouts, label, p, self.volume.bindings())
     }
 
     /// Uploads `photons` as a map and builds its grid (no tracing).
@@ -178,7 +188,13 @@ impl GpuRun {
         let ctx = &self.ctx;
         let n = photons.len() as u32;
         let params = probe_map_params(n, cell_size, table_size, radius2);
-        let map = MapBuffers::new(ctx, &self.layouts, "uploaded", params);
+        let map = MapBuffers::new(
+            ctx,
+            &self.layouts,
+            "uploaded",
+            params,
+            self.volume.bindings(),
+        );
         if n > 0 {
             ctx.queue
                 .write_buffer(&map.photons, 0, bytemuck::cast_slice(photons));
@@ -210,6 +226,10 @@ impl GpuRun {
             ("accum", accum.as_entire_binding()),
             ("cache", self.cache[0].as_entire_binding()),
             ("cache_list", self.cache[1].as_entire_binding()),
+            ("v_photons", self.volume.photons.as_entire_binding()),
+            ("v_refs", self.volume.map.sorted.as_entire_binding()),
+            ("v_cells", self.volume.map.cell_start.as_entire_binding()),
+            ("v_grid", self.volume.grid.as_entire_binding()),
         ]);
         bind_group(
             &self.ctx.device,

@@ -100,6 +100,21 @@ impl SceneBuffers {
         let bsdf_tables = storage_buffer(dev, "bsdf tables", &bsdf_tables, none);
         let uvs = storage_buffer(dev, "triangle uvs", &uvs, none);
         let textures = textures.upload(ctx)?;
+        // Placeholders (a binding cannot be empty) when the scene has no media.
+        let mut media: Vec<GpuMedium> = scene.media.iter().map(GpuMedium::from).collect();
+        if media.is_empty() {
+            media.push(GpuMedium::default());
+        }
+        let media = storage_buffer(dev, "media", &media, none);
+        let mut interfaces: Vec<[u32; 2]> = scene
+            .materials
+            .iter()
+            .map(|m| [m.media.interior, m.media.exterior])
+            .collect();
+        if interfaces.is_empty() {
+            interfaces.push([crate::medium::NO_MEDIUM; 2]);
+        }
+        let material_media = storage_buffer(dev, "material media", &interfaces, none);
         // One PARAMS_STRIDE slot per camera sample: a pass's gathers are all recorded into
         // one submission, each dispatch reading its sample's slot (dynamic offset).
         let params_buf = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -143,6 +158,8 @@ impl SceneBuffers {
                 ("uvs", uvs.as_entire_binding()),
                 ("tex_table", textures.table.as_entire_binding()),
                 ("tex_words", textures.words.as_entire_binding()),
+                ("media", media.as_entire_binding()),
+                ("material_media", material_media.as_entire_binding()),
             ],
         );
         Ok(SceneBuffers {

@@ -10,9 +10,11 @@ use super::codes::wgsl_prelude;
 pub enum Kernel {
     /// `shaders/trace_photons.wgsl`: photon paths into a map's photon buffer.
     TracePhotons,
-    /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid.
+    /// `shaders/build_grid.wgsl`: the counting sort that builds a map's hash grid, with
+    /// `shaders/volume_grid.wgsl` (the volume map's).
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
+    /// `shaders/media_camera.wgsl` (segments through media),
     /// `shaders/radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::sobol::wgsl_library`).
@@ -32,6 +34,7 @@ const LIGHT: &str = include_str!("../../shaders/common/light.wgsl");
 const ENVIRONMENT: &str = include_str!("../../shaders/common/environment.wgsl");
 const SHADING: &str = include_str!("../../shaders/common/shading.wgsl");
 const TEXTURE: &str = include_str!("../../shaders/common/texture.wgsl");
+const MEDIUM: &str = include_str!("../../shaders/common/medium.wgsl");
 const GRID: &str = include_str!("../../shaders/common/grid.wgsl");
 const MAP: &str = include_str!("../../shaders/common/map.wgsl");
 const ESTIMATE: &str = include_str!("../../shaders/common/estimate.wgsl");
@@ -39,6 +42,8 @@ const SOBOL: &str = include_str!("../../shaders/common/sobol.wgsl");
 const CAMERA: &str = include_str!("../../shaders/common/camera.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
+const VOLUME_GRID: &str = include_str!("../../shaders/volume_grid.wgsl");
+const MEDIA_CAMERA: &str = include_str!("../../shaders/media_camera.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
 const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
 const CACHE_FIXED: &str = include_str!("../../shaders/cache_fixed.wgsl");
@@ -46,7 +51,7 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 27] = [
+pub const WGSL_FILES: [(&str, &str); 30] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -59,6 +64,7 @@ pub const WGSL_FILES: [(&str, &str); 27] = [
     ("common/shading.wgsl", SHADING),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("common/texture.wgsl", TEXTURE),
+    ("common/medium.wgsl", MEDIUM),
     ("common/grid.wgsl", GRID),
     ("common/map.wgsl", MAP),
     ("common/estimate.wgsl", ESTIMATE),
@@ -68,6 +74,8 @@ pub const WGSL_FILES: [(&str, &str); 27] = [
     ("common/camera.wgsl", CAMERA),
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
+    ("volume_grid.wgsl", VOLUME_GRID),
+    ("media_camera.wgsl", MEDIA_CAMERA),
     ("radiance_cache.wgsl", RADIANCE_CACHE),
     ("cache_build.wgsl", CACHE_BUILD),
     ("cache_fixed.wgsl", CACHE_FIXED),
@@ -114,6 +122,9 @@ impl Kernel {
                 "add_offsets",
                 "scatter",
                 "scatter_rest",
+                "size_volume",
+                "count_volume",
+                "scatter_volume",
             ],
             Kernel::Gather => &[
                 "gather",
@@ -128,6 +139,9 @@ impl Kernel {
                 "probe_cache",
                 "probe_cosine",
                 "probe_env",
+                "probe_medium",
+                "probe_beam",
+                "probe_transmittance",
             ],
         }
     }
@@ -153,6 +167,7 @@ impl Kernel {
             &bsdf,
             &textures,
             SHADING,
+            MEDIUM,
             GRID,
         ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
@@ -162,17 +177,18 @@ impl Kernel {
         let camera = crate::pixel_filter::wgsl_library();
         let own: &[&str] = match self {
             Kernel::TracePhotons => &[MAP, TRACE_PHOTONS],
-            Kernel::BuildGrid => &[MAP, BUILD_GRID],
+            Kernel::BuildGrid => &[MAP, BUILD_GRID, VOLUME_GRID],
             Kernel::Gather => &[
                 &sobol,
                 &camera,
                 ESTIMATE,
+                MEDIA_CAMERA,
                 RADIANCE_CACHE,
                 CACHE_BUILD,
                 CACHE_FIXED,
                 GATHER,
             ],
-            Kernel::Probes => &[ESTIMATE, RADIANCE_CACHE, PROBES],
+            Kernel::Probes => &[ESTIMATE, MEDIA_CAMERA, RADIANCE_CACHE, PROBES],
         };
         libs.iter()
             .chain(own)

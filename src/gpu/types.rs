@@ -231,8 +231,34 @@ pub struct GpuParams {
     pub aperture_radius: f32,
     /// The camera's focus distance.
     pub focus_distance: f32,
+    /// The medium the camera sits in (`Scene::camera_medium`; `NO_MEDIUM` for vacuum).
+    pub camera_medium: u32,
+}
+
+/// Twin of WGSL `Medium`: a homogeneous medium (`crate::medium::Medium`) as the kernels use
+/// it, `sigma_s = albedo sigma_t` precomputed.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMedium {
+    /// Extinction per channel per scene unit.
+    pub sigma_t: [f32; 3],
+    /// The Henyey-Greenstein asymmetry.
+    pub g: f32,
+    /// Scattering per channel per scene unit.
+    pub sigma_s: [f32; 3],
     /// Padding.
-    pub _pad2: u32,
+    pub _pad: u32,
+}
+
+impl From<&crate::medium::Medium> for GpuMedium {
+    fn from(m: &crate::medium::Medium) -> Self {
+        GpuMedium {
+            sigma_t: m.sigma_t.to_array(),
+            g: m.phase.g,
+            sigma_s: m.sigma_s().to_array(),
+            _pad: 0,
+        }
+    }
 }
 
 /// Twin of WGSL `MapParams`: what one photon map traces and how its hash grid is laid out.
@@ -264,15 +290,21 @@ pub struct GpuMapParams {
     /// The largest power channel of the photons in the grid, written on the device by the
     /// grid build (`scan_sums`; the host writes 0): the fixed-radius estimates' scale.
     pub max_power: f32,
+    /// VOLUME_* bits: whether the map's paths store volume photons (participating media)
+    /// and whether they leave the L S+ V ones to the caustic map's paths.
+    pub volume_flags: u32,
 }
 
 // The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
 const _: () = {
-    use super::codes::{LIGHT_WORDS, MATERIAL_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS};
+    use super::codes::{
+        LIGHT_WORDS, MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
+    };
     use std::mem::size_of;
     assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
     assert!(size_of::<GpuSphere>() == 16 * SPHERE_WORDS as usize);
     assert!(size_of::<GpuMaterial>() == 16 * MATERIAL_WORDS as usize);
+    assert!(size_of::<GpuMedium>() == 16 * MEDIUM_WORDS as usize);
     assert!(size_of::<GpuLight>() == 16 * LIGHT_WORDS as usize);
     assert!(size_of::<crate::photon::Photon>() == 16 * PHOTON_WORDS as usize);
 };

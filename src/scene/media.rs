@@ -143,19 +143,4 @@ impl super::Scene {
                 .iter()
                 .any(|m| m.kind == super::MaterialKind::Null)
     }
-
-    /// Fails with [`crate::Error::Unsupported`] when the scene needs media transport
-    /// ([`Self::has_media_transport`]) and the GPU backend is asked for: only the CPU backend
-    /// carries light through media yet, and a render without them would not be the scene
-    /// asked for.
-    pub fn require_no_media(&self) -> Result<()> {
-        match self.has_media_transport() {
-            false => Ok(()),
-            true => Err(crate::Error::Unsupported(format!(
-                "the scene uses participating media ({} defined) or `null` boundaries, which \
-                 only the CPU backend renders yet (--backend cpu; `auto` chooses it)",
-                self.media.len()
-            ))),
-        }
-    }
 }

@@ -1,0 +1,266 @@
+//! Oracle probes of participating media (issue 24): the free-flight and Henyey-Greenstein
+//! samplers on chosen random numbers (`probe_medium` in shaders/probes.wgsl), one pass's
+//! photon tracing read back (surface maps and volume photons), the volume grid's build over
+//! uploaded photons, its beam estimate and the shadow walk's transmittance, for
+//! tests/media_gpu.rs to compare with their Rust twins.
+
+use super::buffers::read_back;
+use super::context::GpuContext;
+use super::probe::dispatch_probe;
+use super::recorder::Recorder;
+use super::run::GpuRun;
+use super::volume::VolumeBuffers;
+use crate::error::Result;
+use crate::photon::Photon;
+use crate::report::RenderReport;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+
+/// One case of [`medium_samplers`]: the free flight's `(u_channel, u, t_max)` and the
+/// phase function's travel direction and `(u1, u2)`.
+#[derive(Clone, Copy, Debug)]
+pub struct MediumCase {
+    /// `Medium::sample_flight`'s channel choice.
+    pub u_channel: f32,
+    /// Its distance draw.
+    pub u: f32,
+    /// The surface's distance (a miss: any value beyond every flight, e.g. 3e38).
+    pub t_max: f32,
+    /// The direction travelled before scattering (unit).
+    pub dir: [f32; 3],
+    /// `HenyeyGreenstein::sample`'s two numbers.
+    pub u_phase: [f32; 2],
+}
+
+/// What the device's samplers gave for one [`MediumCase`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumSample {
+    /// The flight's distance.
+    pub t: f32,
+    /// Whether it ended in the medium.
+    pub in_medium: bool,
+    /// Its weight.
+    pub weight: [f32; 3],
+    /// The scattered direction.
+    pub scattered: [f32; 3],
+}
+
+/// The device's `sample_flight` and `hg_sample` (shaders/common/medium.wgsl) with `scene`'s
+/// first medium, per case.
+pub fn medium_samplers(
+    ctx: &GpuContext,
+    scene: &Scene,
+    cases: &[MediumCase],
+) -> Result<Vec<MediumSample>> {
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 4 * n];
+    for (i, c) in cases.iter().enumerate() {
+        init[i] = [c.u_channel, c.u, c.t_max, c.u_phase[0]];
+        init[n + i] = [c.dir[0], c.dir[1], c.dir[2], c.u_phase[1]];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_medium", &accum, n as u32, None)?;
+    Ok((0..cases.len())
+        .map(|i| {
+            let (f, h) = (out[2 * n + i], out[3 * n + i]);
+            MediumSample {
+                t: f[3],
+                in_medium: h[3] == 1.0,
+                weight: [f[0], f[1], f[2]],
+                scattered: [h[0], h[1], h[2]],
+            }
+        })
+        .collect())
+}
+
+/// The photons one pass traced on the device (`GpuRun::record_maps`, pass index `pass`):
+/// each map's surface photons in [`crate::plan::MapKind`] slot order (as traced, before the
+/// grid's sort) and the volume photons, each list in the device's order.
+#[derive(Clone, Debug, Default)]
+pub struct TracedPhotons {
+    /// Surface photons per map slot.
+    pub surface: [Vec<Photon>; 2],
+    /// Volume photons of every map's paths.
+    pub volume: Vec<Photon>,
+}
+
+/// Traces one pass's photon maps of `scene` with `s` on the device and reads them back.
+pub fn trace_photons(
+    ctx: &GpuContext,
+    scene: &Scene,
+    s: &RenderSettings,
+    pass: u32,
+) -> Result<TracedPhotons> {
+    let mut run = GpuRun::new(ctx.clone(), scene, s, pass)?;
+    run.configure_pass(scene, s, pass);
+    let mut rec = Recorder::new(ctx.clone(), false);
+    let mut report = RenderReport::default();
+    let maps = run.record_maps(scene, s, &mut rec, &mut report)?;
+    rec.submit();
+    ctx.check()?;
+    let photons =
+        |buf: &wgpu::Buffer, count: &wgpu::Buffer, capacity: u32| -> Result<Vec<Photon>> {
+            let n: Vec<u32> = read_back(ctx, count, 4)?;
+            let n = n[0].min(capacity) as usize;
+            let all: Vec<Photon> = read_back(ctx, buf, buf.size())?;
+            Ok(all[..n].to_vec())
+        };
+    let mut out = TracedPhotons::default();
+    for (slot, m) in maps.iter().enumerate() {
+        if m.params.paths > 0 {
+            out.surface[slot] = photons(&m.photons, &m.counters, m.params.capacity)?;
+        }
+    }
+    out.volume = photons(&run.volume.photons, &run.volume.count, run.volume.capacity)?;
+    Ok(out)
+}
+
+/// The volume grid the device built over uploaded photons ([`volume_grid`]).
+#[derive(Clone, Debug)]
+pub struct VolumeGridProbe {
+    /// The grid's corner (the photons' bounds less r).
+    pub lo: [f32; 3],
+    /// Its cell edge.
+    pub cell: f32,
+    /// The far corner (bounds plus r).
+    pub hi: [f32; 3],
+    /// Hash-table slots.
+    pub table_size: u32,
+    /// Each slot's first entry; `[table_size]` = all entries.
+    pub cell_start: Vec<u32>,
+    /// The entries in slot order: (photon index, cell coordinates).
+    pub entries: Vec<(u32, [i32; 3])>,
+}
+
+/// A run over `scene` with the volume map's grid built over `photons` (spheres of
+/// `radius`) on the device, as a render's pass builds it.
+fn run_with_volume(
+    ctx: &GpuContext,
+    scene: &Scene,
+    photons: &[Photon],
+    radius: f32,
+    width: u32,
+) -> Result<GpuRun> {
+    let settings = RenderSettings {
+        width,
+        height: 1,
+        ..Default::default()
+    };
+    let mut run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
+    run.volume = VolumeBuffers::new(ctx, &run.layouts, photons.len() as u32);
+    let n = photons.len() as u32;
+    if n > 0 {
+        ctx.queue
+            .write_buffer(&run.volume.photons, 0, bytemuck::cast_slice(photons));
+    }
+    ctx.queue
+        .write_buffer(&run.volume.count, 0, bytemuck::cast_slice(&[n, 0, 0, 0]));
+    let mut rec = Recorder::new(ctx.clone(), false);
+    let scene_bg = &run.scene_buffers.bind_group;
+    run.volume
+        .record_grid(&run.ctx, &mut rec, &run.pipelines, scene_bg, radius);
+    rec.submit();
+    ctx.check()?;
+    Ok(run)
+}
+
+/// Builds the volume grid over `photons` (spheres of `radius`) on the device and reads it
+/// back.
+pub fn volume_grid(ctx: &GpuContext, photons: &[Photon], radius: f32) -> Result<VolumeGridProbe> {
+    let run = run_with_volume(ctx, &Scene::empty(), photons, radius, 1)?;
+    let g: Vec<[f32; 4]> = read_back(ctx, &run.volume.grid, 48)?;
+    let table_size = g[2][0].to_bits();
+    let cell_start: Vec<u32> =
+        read_back(ctx, &run.volume.map.cell_start, 4 * (table_size as u64 + 1))?;
+    let total = cell_start[table_size as usize] as usize;
+    let raw: Vec<[u32; 4]> = read_back(ctx, &run.volume.map.sorted, run.volume.map.sorted.size())?;
+    Ok(VolumeGridProbe {
+        lo: [g[0][0], g[0][1], g[0][2]],
+        cell: g[0][3],
+        hi: [g[1][0], g[1][1], g[1][2]],
+        table_size,
+        cell_start,
+        entries: raw[..total]
+            .iter()
+            .map(|e| (e[0], [e[1] as i32, e[2] as i32, e[3] as i32]))
+            .collect(),
+    })
+}
+
+/// One beam query: the segment's origin, unit direction and length, the medium (an index of
+/// the scene's) and whether single-scattering photons are left out.
+#[derive(Clone, Copy, Debug)]
+pub struct BeamQuery {
+    /// Origin.
+    pub o: [f32; 3],
+    /// Unit direction.
+    pub d: [f32; 3],
+    /// Length (3e38 or more: endless).
+    pub t_max: f32,
+    /// The medium the segment runs in.
+    pub medium: u32,
+    /// Leave out photons of depth 0.
+    pub skip_direct: bool,
+}
+
+/// The device's beam estimate (`beam` in shaders/media_camera.wgsl) over `photons` (spheres
+/// of `radius`) with `scene`'s media, per query.
+pub fn beam(
+    ctx: &GpuContext,
+    scene: &Scene,
+    photons: &[Photon],
+    radius: f32,
+    queries: &[BeamQuery],
+) -> Result<Vec<[f32; 3]>> {
+    let n = queries.len().max(1);
+    let run = run_with_volume(ctx, scene, photons, radius, n as u32)?;
+    let mut init = vec![[0f32; 4]; 4 * n];
+    for (i, q) in queries.iter().enumerate() {
+        init[i] = [q.o[0], q.o[1], q.o[2], q.t_max];
+        init[n + i] = [q.d[0], q.d[1], q.d[2], f32::from_bits(q.medium)];
+        init[2 * n + i] = [q.skip_direct as u32 as f32, 0.0, 0.0, 0.0];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_beam", &accum, n as u32, None)?;
+    Ok((0..queries.len())
+        .map(|i| [out[3 * n + i][0], out[3 * n + i][1], out[3 * n + i][2]])
+        .collect())
+}
+
+/// The device's shadow walk (`shadow_transmittance`) through `scene` per case (origin,
+/// unit direction, length, 3e38 or more for endless; the medium it starts in).
+pub fn transmittance(
+    ctx: &GpuContext,
+    scene: &Scene,
+    cases: &[([f32; 3], [f32; 3], f32, u32)],
+) -> Result<Vec<[f32; 3]>> {
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 3 * n];
+    for (i, (o, d, t, m)) in cases.iter().enumerate() {
+        init[i] = [o[0], o[1], o[2], *t];
+        init[n + i] = [d[0], d[1], d[2], f32::from_bits(*m)];
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_transmittance", &accum, n as u32, None)?;
+    Ok((0..cases.len())
+        .map(|i| [out[2 * n + i][0], out[2 * n + i][1], out[2 * n + i][2]])
+        .collect())
+}

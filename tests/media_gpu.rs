@@ -1,0 +1,440 @@
+//! Participating media on the GPU backend (issue 24) against the CPU's twins: the free-flight
+//! and Henyey-Greenstein samplers on the same random numbers, and photon tracing through fog
+//! (the same paths, by the shared random-number streams, so the same volume photons and the
+//! same power where they go). Tests that need a device skip without one (CI has lavapipe).
+
+mod common;
+
+use common::gpu;
+use glam::Vec3;
+use gpu_photon::bvh::Bvh;
+use gpu_photon::cpu::photons::{trace_map, TraceContext, Traced};
+use gpu_photon::gpu::probe_media::{medium_samplers, trace_photons, MediumCase, TracedPhotons};
+use gpu_photon::light::LightTable;
+use gpu_photon::photon::Photon;
+use gpu_photon::plan::MapPlan;
+use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::settings::RenderSettings;
+use std::collections::HashMap;
+use std::path::Path;
+
+#[test]
+fn the_boundary_crossing_bound_is_the_cpus() {
+    assert_eq!(
+        gpu_photon::gpu::codes::MAX_CROSSINGS,
+        gpu_photon::cpu::media::MAX_CROSSINGS
+    );
+}
+
+/// A closed box of grey walls with a light under its ceiling, filled with fog of `albedo`
+/// and `sigma_t` (coloured: each channel's flights differ) and phase `g`.
+fn fog_box(sigma_t: [f32; 3], albedo: f32, g: f32) -> Scene {
+    let text = format!(
+        r#"
+[camera]
+eye = [0, 0, 0.5]
+target = [0, 0, 0]
+up = [0, 1, 0]
+fov = 60.0
+width = 4
+height = 4
+medium = "fog"
+
+[render]
+max_photon_bounces = 16
+
+[media.fog]
+sigma_t = [{}, {}, {}]
+albedo = {albedo}
+g = {g}
+
+[materials.wall]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+
+[[shapes]]
+type = "box"
+min = [-1, -1, -1]
+max = [1, 1, 1]
+material = "wall"
+
+[[shapes]]
+type = "quad"
+corners = [[-0.2, 0.95, -0.2], [0.2, 0.95, -0.2], [0.2, 0.95, 0.2], [-0.2, 0.95, 0.2]]
+emission = [5, 5, 5]
+"#,
+        sigma_t[0], sigma_t[1], sigma_t[2]
+    );
+    load_str(&text, "box.toml", Path::new(".")).expect("the fog box loads")
+}
+
+#[test]
+fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
+    let Some(ctx) = gpu() else { return };
+    let scene = fog_box([0.3, 1.0, 0.0], 0.8, 0.6);
+    let m = scene.media[0];
+    let mut r = common::TestRng(11);
+    let cases: Vec<MediumCase> = (0..2000)
+        .map(|i| MediumCase {
+            u_channel: r.f32(),
+            u: r.f32(),
+            // Some surfaces near, some far, some misses.
+            t_max: match i % 3 {
+                0 => 0.3 + r.f32(),
+                1 => 5.0 * r.f32(),
+                _ => 3.0e38,
+            },
+            dir: r.dir().to_array(),
+            u_phase: [r.f32(), r.f32()],
+        })
+        .collect();
+    let got = medium_samplers(&ctx, &scene, &cases).unwrap();
+    for (c, g) in cases.iter().zip(&got) {
+        let t_max = if c.t_max > 1e30 {
+            f32::INFINITY
+        } else {
+            c.t_max
+        };
+        let want = m.sample_flight(c.u_channel, c.u, t_max);
+        assert_eq!(g.in_medium, want.in_medium, "{c:?}: {g:?} vs {want:?}");
+        if want.in_medium {
+            assert!(
+                (g.t - want.t).abs() <= 1e-5 * want.t.max(1.0),
+                "{c:?}: {g:?}"
+            );
+        }
+        let w = Vec3::from(g.weight);
+        let rel = (w - want.weight).abs().max_element() / want.weight.max_element().max(1e-6);
+        assert!(rel < 1e-4, "{c:?}: weight {w} vs {}", want.weight);
+        let d = Vec3::from(c.dir);
+        let s = m.phase.sample(d, c.u_phase[0], c.u_phase[1]);
+        let gs = Vec3::from(g.scattered);
+        assert!((gs - s).abs().max_element() < 1e-4, "{c:?}: {gs} vs {s}");
+    }
+    // Both kinds of flight ends occurred.
+    assert!(got.iter().any(|g| g.in_medium) && got.iter().any(|g| !g.in_medium));
+}
+
+/// The CPU's traced photons of the plan's global map (and its volume photons).
+fn cpu_trace(scene: &Scene, s: &RenderSettings) -> Traced {
+    let (bvh, lights) = (Bvh::build(scene), LightTable::new(scene));
+    let plan = MapPlan::new(scene, &lights, s);
+    let ctx = TraceContext {
+        scene,
+        bvh: &bvh,
+        lights: &lights,
+        settings: s,
+        pass: 0,
+    };
+    let mut all = Traced::default();
+    for spec in &plan.maps {
+        let t = trace_map(&ctx, spec, plan.volume);
+        all.surface.extend(t.surface);
+        all.volume.extend(t.volume);
+    }
+    all
+}
+
+fn power_sum(photons: &[Photon]) -> [f64; 3] {
+    let mut s = [0.0f64; 3];
+    for p in photons {
+        for c in 0..3 {
+            s[c] += p.power[c] as f64;
+        }
+    }
+    s
+}
+
+/// The device's photons against the CPU's of the same paths: by (path, depth, caustic flag)
+/// nearly all the same, at the same places with the same power, and the power sums within
+/// `tol` relative (the few paths whose float rounding sent them another way).
+fn assert_same_photons(cpu: &[Photon], gpu: &[Photon], what: &str, tol: f64) {
+    assert!(!cpu.is_empty(), "{what}: the CPU stored none");
+    let key = |p: &Photon| (p.id, p.flags);
+    let by_key: HashMap<(u32, u32), &Photon> = cpu.iter().map(|p| (key(p), p)).collect();
+    let mut same = 0usize;
+    for g in gpu {
+        if let Some(c) = by_key.get(&key(g)) {
+            let dp = (Vec3::from(g.position) - Vec3::from(c.position)).length();
+            let pw = (Vec3::from(g.power) - Vec3::from(c.power))
+                .abs()
+                .max_element();
+            if dp < 1e-3 && pw <= 1e-3 * Vec3::from(c.power).max_element() && g.normal == c.normal {
+                same += 1;
+            }
+        }
+    }
+    let frac = same as f64 / cpu.len() as f64;
+    assert!(
+        frac > 0.98 && gpu.len().abs_diff(cpu.len()) * 50 < cpu.len(),
+        "{what}: {same} of the CPU's {} photons the same on the device ({} stored there)",
+        cpu.len(),
+        gpu.len()
+    );
+    let (a, b) = (power_sum(cpu), power_sum(gpu));
+    for c in 0..3 {
+        assert!(
+            (a[c] - b[c]).abs() <= tol * a[c].abs().max(1e-12),
+            "{what}: power sums {a:?} (CPU) vs {b:?} (GPU)"
+        );
+    }
+}
+
+fn gpu_trace(
+    ctx: &gpu_photon::gpu::GpuContext,
+    scene: &Scene,
+    s: &RenderSettings,
+) -> TracedPhotons {
+    trace_photons(ctx, scene, s, 0).expect("the device traces")
+}
+
+/// Coloured fog, forward scattering: the device's photon paths are the CPU's (the same
+/// random-number streams: emission, free flights, roulette, phase and surface bounces).
+#[test]
+fn device_photon_paths_through_fog_equal_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
+    let s = RenderSettings {
+        photons: 20_000,
+        ..scene.settings.clone()
+    };
+    let cpu = cpu_trace(&scene, &s);
+    let g = gpu_trace(&ctx, &scene, &s);
+    assert_same_photons(&cpu.volume, &g.volume, "volume photons", 0.02);
+    assert_same_photons(&cpu.surface, &g.surface[0], "surface photons", 0.02);
+    // Every volume photon carries its medium's index where a surface photon's normal is.
+    assert!(g.volume.iter().all(|p| p.normal == 0));
+}
+
+/// The volume caustic scene: the caustic map's paths store L S+ V photons (and end there),
+/// the global paths leave those to them.
+#[test]
+fn device_volume_caustic_photons_equal_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let scene = gpu_photon::scene::load(Path::new("scenes/volume-caustic.toml")).unwrap();
+    let s = RenderSettings {
+        photons: 20_000,
+        caustic_photons: 20_000,
+        pass_range: None,
+        ..scene.settings.clone()
+    };
+    let cpu = cpu_trace(&scene, &s);
+    let g = gpu_trace(&ctx, &scene, &s);
+    let caustic =
+        |v: &[Photon]| -> Vec<Photon> { v.iter().filter(|p| p.is_caustic()).copied().collect() };
+    let diffuse =
+        |v: &[Photon]| -> Vec<Photon> { v.iter().filter(|p| !p.is_caustic()).copied().collect() };
+    assert!(
+        !caustic(&cpu.volume).is_empty(),
+        "no volume caustic photon on the CPU"
+    );
+    assert_same_photons(
+        &caustic(&cpu.volume),
+        &caustic(&g.volume),
+        "L S+ V photons",
+        0.03,
+    );
+    assert_same_photons(
+        &diffuse(&cpu.volume),
+        &diffuse(&g.volume),
+        "other volume photons",
+        0.03,
+    );
+}
+
+#[test]
+fn the_volume_grids_cell_sizing_is_the_cpus() {
+    assert_eq!(
+        gpu_photon::gpu::codes::VOLUME_PHOTONS_PER_CELL,
+        gpu_photon::cpu::volume_map::PHOTONS_PER_CELL
+    );
+}
+
+/// Volume photons in fog: spread through a box, a dense cluster, two media (the index in the
+/// normal's word), depths 0 to 3, distinct powers and directions.
+fn volume_photons(n: usize, seed: u64) -> Vec<Photon> {
+    let mut r = common::TestRng(seed);
+    (0..n)
+        .map(|i| {
+            let p = match i % 4 {
+                3 => Vec3::new(0.2 + 0.05 * r.f32(), -0.1 + 0.05 * r.f32(), 0.3 * r.f32()),
+                _ => Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)),
+            };
+            let power = Vec3::new(1.0 + r.f32(), 0.5 + r.f32(), 0.2 + r.f32()) * 1e-3;
+            Photon::in_medium(
+                p,
+                power,
+                r.dir(),
+                (i % 5 == 0) as u32,
+                i as u32,
+                (i % 4) as u32,
+                i % 7 == 0,
+            )
+        })
+        .collect()
+}
+
+/// The device's grid lists each photon in exactly the cells its sphere's box overlaps (the
+/// CPU map's rule), each entry in its cell's hash slot; its bounds are the photons' less and
+/// plus r, its cell the CPU's sizing rule.
+#[test]
+fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
+    use gpu_photon::gpu::grid::cell_hash;
+    use std::collections::BTreeMap;
+    let Some(ctx) = gpu() else { return };
+    let (photons, r) = (volume_photons(20_000, 3), 0.04f32);
+    let g = gpu_photon::gpu::probe_media::volume_grid(&ctx, &photons, r).unwrap();
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for p in &photons {
+        lo = lo.min(p.pos());
+        hi = hi.max(p.pos());
+    }
+    let (lo, hi) = (lo - Vec3::splat(r), hi + Vec3::splat(r));
+    assert_eq!((Vec3::from(g.lo), Vec3::from(g.hi)), (lo, hi));
+    let density = photons.len() as f32 / (hi - lo).element_product();
+    let want_cell = (2.0 * r).max((16.0 / density).cbrt().min(8.0 * r));
+    assert!(
+        (g.cell / want_cell - 1.0).abs() < 1e-5,
+        "cell {} vs {want_cell}",
+        g.cell
+    );
+    // The CPU's lists for the device's grid (its corner and cell).
+    let cell_of = |x: Vec3| ((x - lo) / g.cell).floor().as_ivec3().to_array();
+    let mut want: BTreeMap<[i32; 3], Vec<u32>> = BTreeMap::new();
+    for (i, p) in photons.iter().enumerate() {
+        let (a, b) = (
+            cell_of(p.pos() - Vec3::splat(r)),
+            cell_of(p.pos() + Vec3::splat(r)),
+        );
+        for z in a[2]..=b[2] {
+            for y in a[1]..=b[1] {
+                for x in a[0]..=b[0] {
+                    want.entry([x, y, z]).or_default().push(i as u32);
+                }
+            }
+        }
+    }
+    let mut got: BTreeMap<[i32; 3], Vec<u32>> = BTreeMap::new();
+    for h in 0..g.table_size as usize {
+        for k in g.cell_start[h]..g.cell_start[h + 1] {
+            let (i, c) = g.entries[k as usize];
+            assert_eq!(
+                cell_hash(c, g.table_size) as usize,
+                h,
+                "entry {k} in the wrong slot"
+            );
+            got.entry(c).or_default().push(i);
+        }
+    }
+    for v in got.values_mut() {
+        v.sort_unstable();
+    }
+    assert!(want.len() > 100, "only {} cells", want.len());
+    assert_eq!(got, want, "the cell lists differ");
+}
+
+/// The device's beam estimate over its grid equals the CPU's VolumeMap::beam for the same
+/// photons and segments (short, long, endless, through the cluster, in either medium, with
+/// and without the single-scattering photons) to 1e-4 relative.
+#[test]
+fn device_beam_estimate_equals_the_cpu_volume_map() {
+    use gpu_photon::cpu::volume_map::VolumeMap;
+    use gpu_photon::gpu::probe_media::{beam, BeamQuery};
+    let Some(ctx) = gpu() else { return };
+    let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
+    let mut other = scene.media[0];
+    other.phase.g = -0.3;
+    other.sigma_t = Vec3::new(0.2, 0.1, 0.05);
+    scene.media.push(other);
+    let (photons, r) = (volume_photons(30_000, 5), 0.06f32);
+    let map = VolumeMap::build(photons.clone(), r);
+    let mut rng = common::TestRng(9);
+    let queries: Vec<BeamQuery> = (0..512)
+        .map(|i| {
+            let o = Vec3::new(
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+            );
+            // Every other ray aimed through the cluster.
+            let d = match i % 2 {
+                0 => (Vec3::new(0.22, -0.08, 0.15) - o).normalize(),
+                _ => rng.dir(),
+            };
+            BeamQuery {
+                o: o.to_array(),
+                d: d.to_array(),
+                t_max: match i % 3 {
+                    0 => 3.0e38,
+                    1 => rng.range(0.1, 1.0),
+                    _ => rng.range(1.0, 4.0),
+                },
+                medium: (i % 5 == 1) as u32,
+                skip_direct: i % 4 == 1,
+            }
+        })
+        .collect();
+    let got = beam(&ctx, &scene, &photons, r, &queries).unwrap();
+    let mut lit = 0;
+    for (q, g) in queries.iter().zip(&got) {
+        let t_max = if q.t_max >= 3.0e38 {
+            f32::INFINITY
+        } else {
+            q.t_max
+        };
+        let m = &scene.media[q.medium as usize];
+        let want = map.beam(
+            Vec3::from(q.o),
+            Vec3::from(q.d),
+            t_max,
+            m,
+            q.medium,
+            q.skip_direct,
+        );
+        let g = Vec3::from(*g);
+        let scale = want.max_element().max(1e-9);
+        assert!(
+            (g - want).abs().max_element() <= 1e-4 * scale,
+            "{q:?}: {g} vs {want}"
+        );
+        lit += (want.max_element() > 0.0) as usize;
+    }
+    assert!(lit > 200, "only {lit} of the segments met photons");
+}
+
+/// The example media scenes at 32 x 32 (one pass of 16 samples, 100,000 photons of each map):
+/// the GPU's image is no farther from the CPU's second seed than the CPU's first seed is
+/// (common::within_seed_noise).
+#[test]
+fn gpu_renders_the_media_scenes_as_the_cpu_does() {
+    let Some(_ctx) = gpu() else { return };
+    let mut failures = Vec::new();
+    for name in ["fog-cornell", "volume-caustic"] {
+        let path = format!("scenes/{name}.toml");
+        let scene = gpu_photon::scene::load(Path::new(&path)).unwrap();
+        let s = RenderSettings {
+            width: 32,
+            height: 32,
+            spp: 16,
+            photons: 100_000,
+            caustic_photons: 100_000,
+            pass_range: None,
+            ..scene.settings.clone()
+        };
+        let (d, noise) = common::gpu_and_seed_diffs(&scene, &s);
+        let line = format!(
+            "{name}: rmse gpu-cpu2 {:.5} vs cpu1-cpu2 {:.5}; block {:.5} vs {:.5}; mean ratio {:?}",
+            d.rmse, noise.rmse, d.block_rmse, noise.block_rmse, d.mean_ratio
+        );
+        eprintln!("{line}");
+        let (pixels, blocks) = common::within_seed_noise(&d, &noise, 1e-6);
+        if !(pixels && blocks) {
+            failures.push(line);
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "backends disagree:\n{}",
+        failures.join("\n")
+    );
+}
