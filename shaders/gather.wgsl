@@ -108,8 +108,9 @@ struct ChainEnd {
 // facing the viewer) with that density, and an area light it meets first is weighed against
 // the shadow rays' sampling (twin of cpu::gather::Mis).
 // With media (HAS_MEDIA), *medium is the one the ray travels in: each segment in a medium adds
-// *t times what it scatters towards the viewer (in_scattered; next-event estimation and
-// without the single-scattering photons on camera paths, `emission`) and multiplies *t by its
+// *t times what it scatters towards the viewer (camera paths, `emission`: in_scattered, with
+// next-event estimation and without the single-scattering photons in modes with direct
+// light; gather rays: gathered_in_medium) and multiplies *t by its
 // transmittance; `null` boundaries pass the ray on (a step of *depth) in the medium behind.
 fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, medium: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>, mis_pdf: f32, mis_from: vec3<f32>, mis_ns: vec3<f32>) -> ChainEnd {
     var end: ChainEnd;
@@ -117,8 +118,12 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
     while *depth <= params.max_depth && spend() {
         let hit = trace_ray(*o, *d, 3.0e38, false);
         if HAS_MEDIA && *medium != NO_MEDIUM {
-            let direct = emission && (params.terms & TERM_DIRECT) != 0u;
-            end.emitted += *t * in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, rng);
+            if emission {
+                let direct = (params.terms & TERM_DIRECT) != 0u;
+                end.emitted += *t * in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, rng);
+            } else {
+                end.emitted += *t * gathered_in_medium(*o, *d, hit.t, !hit.found, *medium, rng);
+            }
             *t *= medium_transmittance(load_medium(*medium), select(3.0e38, hit.t, hit.found));
             if all(*t == vec3<f32>(0.0)) {
                 break;

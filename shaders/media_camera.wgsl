@@ -112,24 +112,83 @@ fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: 
     return vec3<f32>(0.0);
 }
 
-// cpu::media::single_scattering: one distance drawn in the segment from o along d (t_seg
-// long, or endless) in `medium`, then one shadow ray to each light but the environment,
-// weighed by the phase function, sigma_s and the transmittance of both legs.
+// medium::sample_equiangular: a distance in [0, t_max) (or endless) along o + t d in
+// proportion to the inverse square distance to y, uniform in the angle the segment subtends
+// at y; not ok for a ray through y.
+fn sample_equiangular(o: vec3<f32>, d: vec3<f32>, t_max: f32, endless: bool, y: vec3<f32>, u: f32) -> SegmentPoint {
+    let to_y = y - o;
+    let delta = dot(to_y, d);
+    let dist = length(to_y - d * delta);
+    if !(dist > 1e-6 * length(to_y)) || !(dist <= 3.0e38) {
+        return SegmentPoint(0.0, 0.0, false);
+    }
+    let a = atan2(-delta, dist);
+    var b = 0.5 * PI;
+    if !endless {
+        b = atan2(t_max - delta, dist);
+    }
+    if !(b > a) {
+        return SegmentPoint(0.0, 0.0, false);
+    }
+    var t = max(delta + dist * tan(a + u * (b - a)), 0.0);
+    if !endless {
+        t = min(t, t_max * (1.0 - F32_EPSILON));
+    }
+    let s = t - delta;
+    let pdf = dist / ((b - a) * (dist * dist + s * s));
+    return SegmentPoint(t, pdf, pdf > 0.0 && pdf <= 3.0e38 && t <= 3.0e38);
+}
+
+// LightTable::anchor: the point sample_light picks on l for u whatever the shading point
+// (a point or spot light's position, an area light's point by area); not ok for
+// directional and environment lights.
+struct Anchor {
+    y: vec3<f32>,
+    ok: bool,
+}
+
+fn light_anchor(l: Light, u: vec3<f32>) -> Anchor {
+    if HAS_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
+        return Anchor(vec3<f32>(0.0), false);
+    }
+    if HAS_POINT_LIGHTS && (l.kind == LIGHT_POINT || l.kind == LIGHT_SPOT) {
+        return Anchor(l.position, true);
+    }
+    if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
+        return Anchor(vec3<f32>(0.0), false);
+    }
+    return Anchor(light_point(l, u).p, true);
+}
+
+// cpu::media::single_scattering: for each light, a point on it and one distance in the
+// segment from o along d (t_seg long, or endless) in `medium` drawn towards that point
+// (equiangular; by transmittance for directional lights or a ray through the point), then
+// one shadow ray, weighed by the phase function, sigma_s and the transmittance of both
+// legs; the environment's direction drawn from the phase function.
 fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     let m = load_medium(medium);
-    let uc = rng_next(rng);
-    let u = rng_next(rng);
-    let p = sample_in_segment(m, uc, u, t_seg, endless);
-    if !p.ok {
-        return vec3<f32>(0.0);
-    }
-    let x = o + d * p.t;
-    let weight = m.sigma_s * medium_transmittance(m, p.t) / p.pdf;
     var l = vec3<f32>(0.0);
     for (var li = 0u; li < params.n_lights && spend(); li += 1u) {
         let light = load_light(li);
         let u3 = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
+        let uc = rng_next(rng);
+        let ut = rng_next(rng);
+        let an = light_anchor(light, u3);
+        var p = SegmentPoint(0.0, 0.0, false);
+        if an.ok {
+            p = sample_equiangular(o, d, t_seg, endless, an.y, ut);
+        }
+        if !p.ok {
+            p = sample_in_segment(m, uc, ut, t_seg, endless);
+        }
+        if !p.ok {
+            continue;
+        }
+        let x = o + d * p.t;
+        let w = medium_transmittance(m, p.t) / p.pdf;
         if HAS_ENVIRONMENT && light.kind == LIGHT_ENVIRONMENT {
+            let wi = hg_sample(m.g, d, u3.y, u3.z);
+            l += w * env_radiance(light, wi) * shadow_transmittance(x, wi, 3.0e38, true, medium);
             continue;
         }
         let ls = sample_light(light, x, -d, u3);
@@ -149,9 +208,9 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
         if !ls.distant && !is_delta_light(light) {
             t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
         }
-        l += ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium);
+        l += w * ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium);
     }
-    return weight * l;
+    return m.sigma_s * l;
 }
 
 // Where the DDA leaves cell c along `axis` (infinite where the ray runs parallel to it).
@@ -273,7 +332,7 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, skip_dir
 // along d, t long (endless: the ray left the scene), in `medium`: single scattering by
 // next-event estimation (with nee) and the volume map's beam estimate (without its single-
 // scattering photons when skip_direct). Camera rays pass nee = skip_direct = TERM_DIRECT,
-// gather rays neither (their radiance is the whole in-scattered light).
+// gather rays take gathered_in_medium instead.
 fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, nee: bool, skip_direct: bool, rng: ptr<function, Rng>) -> vec3<f32> {
     let m = load_medium(medium);
     var l = vec3<f32>(0.0);
@@ -281,4 +340,56 @@ fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, 
         l += single_scattering(o, d, t, endless, medium, rng);
     }
     return l + beam(o, d, select(t, 3.0e38, endless), medium, m, skip_direct);
+}
+
+// VolumeMap::point: the sum over the volume photons of `medium` within r of x of
+// p(cos) power / (4/3 pi r^3), cos between the photon's travel and wo; one cell's entries
+// (every photon within r of x is listed in x's cell).
+fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32> {
+    let g2 = v_grid[2];
+    let lo = v_grid[0].xyz;
+    let hi = v_grid[1].xyz;
+    if bitcast<u32>(g2.y) == 0u || any(x < lo) || any(x > hi) {
+        return vec3<f32>(0.0);
+    }
+    let cell = v_grid[0].w;
+    let r = v_grid[1].w;
+    let c = volume_cell(x, lo, cell);
+    let h = cell_hash(c, bitcast<u32>(g2.x));
+    let last = v_cells[h + 1u];
+    var sum = vec3<f32>(0.0);
+    for (var k = v_cells[h]; k < last && spend(); k += 1u) {
+        let e = v_refs[k];
+        if any(bitcast<vec3<i32>>(e.yzw) != c) {
+            continue;
+        }
+        let a = v_photons[PHOTON_WORDS * e.x];
+        let w = v_photons[PHOTON_WORDS * e.x + 2u];
+        let v = bitcast<vec3<f32>>(a.xyz) - x;
+        if w.w != medium || dot(v, v) >= r * r {
+            continue;
+        }
+        let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
+        sum += hg_eval(m.g, dot(bitcast<vec3<f32>>(w.xyz), wo)) * power;
+    }
+    return sum * (3.0 / (4.0 * PI * r * r * r));
+}
+
+// Gatherer::gathered_in_medium: a final-gather ray's in-scattered light along its segment
+// from o along d (t long, or endless) in `medium`: the point estimate at GATHER_MEDIUM_POINTS
+// distances drawn by transmittance (one channel, the strata of one number), each weighed by
+// the transmittance over its density.
+fn gathered_in_medium(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
+    let uc = rng_next(rng);
+    let u = rng_next(rng);
+    let m = load_medium(medium);
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < GATHER_MEDIUM_POINTS; i += 1u) {
+        let p = sample_in_segment(m, uc, (f32(i) + u) / f32(GATHER_MEDIUM_POINTS), t, endless);
+        if !p.ok {
+            return vec3<f32>(0.0);
+        }
+        sum += medium_transmittance(m, p.t) / p.pdf * volume_point(o + d * p.t, -d, medium, m);
+    }
+    return sum / f32(GATHER_MEDIUM_POINTS);
 }

@@ -13,6 +13,10 @@
 use crate::phase::HenyeyGreenstein;
 use glam::Vec3;
 
+/// Distances at which a final-gather ray's segment through a medium takes the volume map's
+/// point estimate (the CPU's `Gatherer::gathered_in_medium`, the GPU's `gathered_in_medium`).
+pub const GATHER_MEDIUM_POINTS: u32 = 4;
+
 /// Marks "no medium" (vacuum) in a [`MediumInterface`] or `Scene::camera_medium`.
 pub const NO_MEDIUM: u32 = u32::MAX;
 

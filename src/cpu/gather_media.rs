@@ -5,12 +5,9 @@
 use crate::cpu::gather::Gatherer;
 use crate::cpu::media::single_scattering;
 use crate::geometry::Ray;
+use crate::medium::GATHER_MEDIUM_POINTS;
 use crate::rng::Rng;
 use glam::Vec3;
-
-/// Distances at which a final-gather ray's segment through a medium takes the volume map's
-/// point estimate ([`Gatherer::gathered_in_medium`]).
-pub const GATHER_MEDIUM_POINTS: u32 = 4;
 
 impl Gatherer<'_> {
     /// The light scattered towards the camera along a segment of `ray`, `t` long, in

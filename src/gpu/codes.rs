@@ -325,6 +325,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("VOLUME_DROP_CAUSTIC", U32(VOLUME_DROP_CAUSTIC)),
         ("NO_MEDIUM", U32(crate::medium::NO_MEDIUM)),
         ("MAX_CROSSINGS", U32(MAX_CROSSINGS)),
+        (
+            "GATHER_MEDIUM_POINTS",
+            U32(crate::medium::GATHER_MEDIUM_POINTS),
+        ),
         ("HG_ISOTROPIC_BELOW", F32(crate::phase::HG_ISOTROPIC_BELOW)),
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
