@@ -430,10 +430,12 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
 fn main() -> ExitCode {
     // SAFETY: called before any thread starts. The default SIGPIPE action ends the process
     // quietly when its output pipe closes (`gpu-photon diff A B | head -1`), instead of a
-    // panic in `println!`.
+    // panic in `println!`. SIGXFSZ ignored: a write past a file size limit (`ulimit -f`)
+    // then fails with an error naming the image, instead of a core dump.
     #[cfg(unix)]
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
     let cli = Cli::parse();
     gpu_photon::quiet_headless_vulkan();
