@@ -190,7 +190,11 @@ impl Pipelines {
 /// The gather kernel cut short (an injected shader fault, `gpu::faults`): a parse error.
 fn malformed_module(dev: &wgpu::Device) -> wgpu::ShaderModule {
     let source = Kernel::Gather.source();
-    let cut = &source[..source.len() / 2];
+    let mut half = source.len() / 2;
+    while !source.is_char_boundary(half) {
+        half -= 1;
+    }
+    let cut = &source[..half];
     dev.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("gather (malformed)"),
         source: wgpu::ShaderSource::Wgsl(cut.into()),
