@@ -114,7 +114,9 @@ SelectTypeParameters=CR_CPU
 SchedulerParameters=batch_sched_delay=0,sched_min_interval=0
 # Finished jobs stay visible to scontrol for 10 minutes.
 MinJobAge=600
-KillWait=5
+# Slurm's default grace between SIGTERM and SIGKILL: a cancelled render finishes its pass in
+# flight and writes it in that time.
+KillWait=30
 ReturnToService=2
 NodeName=$host NodeAddr=127.0.0.1 CPUs=$ncpu State=UNKNOWN
 PartitionName=main Nodes=ALL Default=YES MaxTime=INFINITE State=UP

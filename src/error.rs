@@ -53,6 +53,9 @@ pub enum Error {
     /// Two images that must have the same size do not.
     #[error("{0}")]
     Sizes(String),
+    /// The render would need more memory than this machine has available (`budget`).
+    #[error("{0}")]
+    Memory(String),
     /// The GPU backend could not run.
     #[error("GPU backend: {0}")]
     Gpu(String),

@@ -2,7 +2,10 @@
 //! written atomically, and the statistics `gpu-photon diff` prints.
 
 use crate::error::{Error, Result};
+use std::fs::File;
+use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A linear RGB image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,8 +120,7 @@ impl Image {
                 "unknown image type '.{ext}' (expected .exr or .png)"
             )));
         }
-        let tmp = temp_path(path, &ext);
-        let result = match ext.as_str() {
+        write_atomically(path, |out| match ext.as_str() {
             "exr" => {
                 use exr::prelude::*;
                 let (w, h) = (self.width as usize, self.height as usize);
@@ -144,8 +146,8 @@ impl Image {
                 image
                     .write()
                     .non_parallel()
-                    .to_file(&tmp)
-                    .map_err(|e| err(e.to_string()))
+                    .to_buffered(out)
+                    .map_err(|e| e.to_string())
             }
             _ => {
                 let scale = 2f32.powf(exposure);
@@ -156,40 +158,141 @@ impl Image {
                         p.map(|c| (linear_to_srgb(c * scale) * 255.0 + 0.5).clamp(0.0, 255.0) as u8)
                     })
                     .collect();
-                image::save_buffer_with_format(
-                    &tmp,
+                image::write_buffer_with_format(
+                    out,
                     &bytes,
                     self.width,
                     self.height,
                     image::ColorType::Rgb8,
                     image::ImageFormat::Png,
                 )
-                .map_err(|e| err(e.to_string()))
-            }
-        };
-        if let Err(e) = result {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(e);
-        }
-        std::fs::rename(&tmp, path).map_err(|source| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Io {
-                path: path.to_path_buf(),
-                source,
+                .map_err(|e| e.to_string())
             }
         })
     }
 }
 
-/// Checks that `path` names a writable image type (before spending time on a render).
+/// Checks, before time is spent on a render, that `path` names an image type this writes
+/// and a place it can be written: not an existing directory or device, in a directory where
+/// a file can be created (a temporary one is, then removed).
 pub fn check_output_path(path: &Path) -> Result<()> {
-    match extension(path).as_str() {
-        "exr" | "png" => Ok(()),
-        ext => Err(Error::Image {
-            path: path.to_path_buf(),
-            message: format!("unknown image type '.{ext}' (expected .exr or .png)"),
-        }),
+    let ext = extension(path);
+    let err = |message: String| Error::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    if ext != "exr" && ext != "png" {
+        return Err(err(format!(
+            "unknown image type '.{ext}' (expected .exr or .png)"
+        )));
     }
+    if let Ok(meta) = std::fs::metadata(path) {
+        if !meta.is_file() {
+            let what = if meta.is_dir() {
+                "a directory"
+            } else {
+                "not a regular file"
+            };
+            return Err(err(format!("cannot be written: it is {what}")));
+        }
+    }
+    let (tmp, _) = create_temp(path, &ext).map_err(|e| err(format!("cannot be written: {e}")))?;
+    let _ = std::fs::remove_file(tmp);
+    Ok(())
+}
+
+/// A temporary file beside `path` (same directory, so the rename is atomic), created new:
+/// `dir/.NAME.PID.N.tmp.EXT`, N counting this process's files.
+fn create_temp(path: &Path, ext: &str) -> std::io::Result<(PathBuf, File)> {
+    static NEXT: AtomicU32 = AtomicU32::new(0);
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
+    loop {
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let tmp = path.with_file_name(format!(".{name}.{}.{n}.tmp.{ext}", std::process::id()));
+        match File::options().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((tmp, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// A writer that keeps the first error of the file under it, so a failed write is
+/// reported as the operating system said it (`No space left on device`), not as the
+/// encoder wrapped it.
+struct Tracked<W> {
+    inner: W,
+    error: Option<std::io::Error>,
+}
+
+impl<W> Tracked<W> {
+    fn keep<T>(&mut self, r: std::io::Result<T>) -> std::io::Result<T> {
+        r.map_err(|e| {
+            let copy = std::io::Error::new(e.kind(), e.to_string());
+            self.error.get_or_insert(e);
+            copy
+        })
+    }
+}
+
+impl<W: Write> Write for Tracked<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.inner.write(buf);
+        self.keep(r)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.inner.flush();
+        self.keep(r)
+    }
+}
+
+impl<W: Seek> Seek for Tracked<W> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        let r = self.inner.seek(pos);
+        self.keep(r)
+    }
+}
+
+/// Writes what `encode` writes to `path` atomically: into a new temporary file beside it,
+/// flushed to the disk, then renamed over `path`. On any failure (no permission, disk full,
+/// a file size limit) the temporary file is removed and an earlier file at `path` stays as
+/// it was; the error names `path` and says so.
+fn write_atomically(
+    path: &Path,
+    encode: impl FnOnce(&mut Tracked<BufWriter<File>>) -> std::result::Result<(), String>,
+) -> Result<()> {
+    let ext = extension(path);
+    let failed = |why: String| {
+        let kept = if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+            "; the earlier file there is unchanged"
+        } else {
+            ""
+        };
+        Error::Image {
+            path: path.to_path_buf(),
+            message: format!("not written: {why}{kept}"),
+        }
+    };
+    let (tmp, file) = create_temp(path, &ext).map_err(|e| failed(e.to_string()))?;
+    let mut out = Tracked {
+        inner: BufWriter::new(file),
+        error: None,
+    };
+    let encoded = encode(&mut out);
+    let written = encoded.and_then(|()| {
+        let file = out
+            .inner
+            .into_inner()
+            .map_err(|e| e.into_error().to_string())?;
+        // On the disk before the rename: a late error (a full disk, a quota) is seen here,
+        // and a crash after the rename never leaves an empty file.
+        file.sync_all().map_err(|e| e.to_string())?;
+        std::fs::rename(&tmp, path).map_err(|e| e.to_string())
+    });
+    written.map_err(|why| {
+        let _ = std::fs::remove_file(&tmp);
+        failed(out.error.map_or(why, |e| e.to_string()))
+    })
 }
 
 /// The EXR header attribute that holds [`Image::write_tagged`]'s tags.
@@ -257,13 +360,6 @@ fn extension(path: &Path) -> String {
         .to_ascii_lowercase()
 }
 
-/// `dir/.name.PID.tmp.EXT`: same directory (so rename is atomic), keeps the extension.
-fn temp_path(path: &Path, ext: &str) -> PathBuf {
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
-    path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
-}
-
-/// The sRGB transfer function (linear in `[0, 1]` to encoded).
 pub fn linear_to_srgb(c: f32) -> f32 {
     let c = if c.is_finite() {
         c.clamp(0.0, 1.0)

@@ -38,6 +38,8 @@ pub mod bench;
 #[doc(hidden)]
 pub mod bsdf;
 #[doc(hidden)]
+pub mod budget;
+#[doc(hidden)]
 pub mod bvh;
 #[doc(hidden)]
 pub mod calibration;

@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 mod bench_cmd;
+mod signals;
 
 #[derive(Parser)]
 #[command(
@@ -280,7 +281,8 @@ fn print_warnings(warnings: &[Warning]) {
     warnings.iter().for_each(|w| eprintln!("warning: {w}"));
 }
 
-fn run_render(args: &RenderArgs) -> Result<()> {
+/// Renders; returns the exit status (see `run_progressive`).
+fn run_render(args: &RenderArgs) -> Result<u8> {
     gpu_photon::check_output_path(&args.output)?;
     let options = LoadOptions {
         camera: args.camera.clone(),
@@ -309,28 +311,27 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             eprintln!("{line}");
         }
     }
-    Ok(())
+    Ok(0)
 }
 
-/// A progressive render to a slice file: stops at --time, --noise or Ctrl-C (after the pass
-/// in progress), writes the running mean every --write-every passes and at the end.
+/// A progressive render to a slice file: stops at --time, --noise, Ctrl-C or SIGTERM (after
+/// the pass in progress), writes the running mean every --write-every passes and at the end.
+/// Returns the exit status: that of the signal which stopped the render short of its planned
+/// passes (see `signals::Stop::exit_status`), else 0.
 fn run_progressive(
     args: &RenderArgs,
     scene: &Scene,
     settings: &RenderSettings,
     show: bool,
-) -> Result<()> {
-    use std::sync::atomic::Ordering;
+) -> Result<u8> {
     let file = SliceFile::new(&args.scene, &args.output, settings, args.passes)?;
     let started = Instant::now();
     let mut r = Renderer::new(scene, settings, args.backend.choice())?;
     print_warnings(&r.take_warnings());
     r.show_progress_bars(show);
-    let interrupted = r.cancel_flag();
-    let flag = interrupted.clone();
-    // A second Ctrl-C while finishing the pass is left to the default handler's absence:
-    // the flag is simply set again.
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    // From here on a signal finishes the pass in flight; before, it ends the process with
+    // nothing done and nothing written.
+    signals::install();
     let mut write_error = None;
     r.run(&Stop::default(), |info, r| {
         if let Some(n) = args.write_every {
@@ -345,7 +346,7 @@ fn run_progressive(
             .time
             .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
         let quiet_enough = args.noise.zip(info.noise).is_some_and(|(t, n)| n <= t);
-        if out_of_time || quiet_enough {
+        if out_of_time || quiet_enough || signals::received().is_some() {
             Flow::Stop
         } else {
             Flow::Continue
@@ -358,14 +359,34 @@ fn run_progressive(
     file.write(&r)?;
     let report = r.report()?;
     warn_if_incomplete(&args.output, &report);
-    if !args.quiet {
-        let stopped = interrupted.load(Ordering::SeqCst);
-        let wall = started.elapsed();
-        for line in gpu_photon::progressive_summary(&r, &report, &args.output, stopped, wall) {
-            eprintln!("{line}");
-        }
+    let stopped = signals::received();
+    let (done, planned) = (r.done(), r.passes());
+    let short = done.end < planned.end;
+    if let Some(signal) = stopped {
+        // Even with --quiet: a scheduler's log should say what the file holds.
+        let of = if planned.end < MAX_PASSES {
+            format!(" of {}..{}", planned.start, planned.end)
+        } else {
+            String::new()
+        };
+        eprintln!(
+            "{}: stopped by {} after passes {}..{}{of}; wrote them",
+            args.output.display(),
+            signal.name(),
+            done.start,
+            done.end
+        );
     }
-    Ok(())
+    if !args.quiet {
+        let wall = started.elapsed();
+        let lines =
+            gpu_photon::progressive_summary(&r, &report, &args.output, stopped.is_some(), wall);
+        lines.iter().for_each(|line| eprintln!("{line}"));
+    }
+    Ok(match stopped {
+        Some(signal) if short => signal.exit_status(),
+        _ => 0,
+    })
 }
 
 /// Warns (even with --quiet) when a GPU render hit one of its bounds.
@@ -409,31 +430,33 @@ fn run_diff(a: &PathBuf, b: &PathBuf, block: u32, error_image: Option<&PathBuf>)
 fn main() -> ExitCode {
     // SAFETY: called before any thread starts. The default SIGPIPE action ends the process
     // quietly when its output pipe closes (`gpu-photon diff A B | head -1`), instead of a
-    // panic in `println!`.
+    // panic in `println!`. SIGXFSZ ignored: a write past a file size limit (`ulimit -f`)
+    // then fails with an error naming the image, instead of a core dump.
     #[cfg(unix)]
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
     let cli = Cli::parse();
     gpu_photon::quiet_headless_vulkan();
     let result = match &cli.command {
-        Command::Render(args) => run_render(args),
-        Command::Adapters => run_adapters(),
+        Command::Render(args) => run_render(args).map(ExitCode::from),
+        Command::Adapters => run_adapters().map(|()| ExitCode::SUCCESS),
         Command::Merge {
             inputs,
             output,
             partial,
-        } => run_merge(inputs, output, *partial),
-        Command::Bench(args) => bench_cmd::run_bench(args),
+        } => run_merge(inputs, output, *partial).map(|()| ExitCode::SUCCESS),
+        Command::Bench(args) => bench_cmd::run_bench(args).map(|()| ExitCode::SUCCESS),
         Command::Diff {
             a,
             b,
             block,
             error_image,
-        } => run_diff(a, b, *block, error_image.as_ref()),
+        } => run_diff(a, b, *block, error_image.as_ref()).map(|()| ExitCode::SUCCESS),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(1)

@@ -50,6 +50,8 @@ fn open_backend<'s>(
     scene: &'s Scene,
     settings: &RenderSettings,
 ) -> Result<Box<dyn PassRenderer + 's>> {
+    // Before anything of the render is allocated.
+    crate::budget::check(scene, settings, backend == Backend::Cpu)?;
     Ok(match backend {
         Backend::Cpu => Box::new(crate::cpu::CpuRenderer::new(scene, settings)?),
         Backend::Gpu => Box::new(crate::gpu::GpuRenderer::new(scene, settings)?),

@@ -62,6 +62,7 @@ fn auto_measures_once_then_follows_the_stored_times() {
     }
     let dir = std::env::temp_dir().join(format!("gpu-photon-auto-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
     let file: PathBuf = dir.join("gpu-photon").join("backend-calibration.tsv");
     let out = dir.join("o.exr");
 

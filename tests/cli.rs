@@ -27,7 +27,7 @@ impl TempDir {
         v.sort();
         v
     }
-    /// Asserts no temporary file of the atomic writer (`.NAME.PID.tmp.EXT`) is left.
+    /// Asserts no temporary file of the atomic writer (`.NAME.PID.N.tmp.EXT`) is left.
     #[track_caller]
     fn assert_no_temp_files(&self) {
         let left: Vec<String> = self

@@ -1,9 +1,11 @@
 //! A render split over a real Slurm job array: a private one-node cluster
 //! (scripts/slurm-cluster.sh: munged, slurmctld, slurmd in a scratch directory) runs
 //! examples/slurm/submit.sh, an array of 4 slices plus the merge job that depends on it. The
-//! merged image must be the bytes of a single `--passes` run; then one array task is killed
-//! mid-render (its merge job is cancelled, no slice file appears, `merge` names the missing
-//! passes), resubmitted alone, and the result must again be the same bytes.
+//! merged image must be the bytes of a single `--passes` run; then one array task is cancelled
+//! mid-render: Slurm's SIGTERM lets it finish its pass and write its slice (the merge job is
+//! still cancelled, as the task was; the slice merges by hand into the same bytes, and
+//! without it `merge` names the missing passes), it is resubmitted alone, and the result
+//! must again be the same bytes.
 //!
 //! Needs Debian's slurmctld, slurmd, slurm-client and munge (`.ci/run` installs them) and
 //! root. Without them it skips with a message, unless CI=true, where it fails.
@@ -265,6 +267,19 @@ fn task_process(array: &str, task: &str) -> Option<u32> {
     None
 }
 
+/// Whether process `pid` has a handler for SIGTERM (`SigCgt` in /proc/PID/status): the render
+/// installs it once its renderer is open, just before its first pass.
+fn catches_sigterm(pid: u32) -> bool {
+    let Ok(status) = std::fs::read_to_string(format!("/proc/{pid}/status")) else {
+        return false;
+    };
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigCgt:"))
+        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+        .is_some_and(|mask| mask & (1 << (15 - 1)) != 0)
+}
+
 fn same_bytes(a: &Path, b: &Path) -> bool {
     std::fs::read(a).unwrap() == std::fs::read(b).unwrap()
 }
@@ -305,11 +320,13 @@ fn slurm_array_renders_merges_and_recovers_a_killed_task() {
     );
 
     // Round 2: task 2 is stopped mid-render (SIGSTOP, so it cannot finish while it is being
-    // cancelled), then cancelled.
+    // cancelled; once its renderer is open and its signal handler installed, so the pass is
+    // in flight), then cancelled: Slurm sends SIGCONT and SIGTERM, then SIGKILL after
+    // KillWait (30 s, Slurm's default).
     let (array, merge) = cluster.submit(&round2, None);
     let t = Instant::now();
     let pid = loop {
-        if let Some(pid) = task_process(&array, "2") {
+        if let Some(pid) = task_process(&array, "2").filter(|&p| catches_sigterm(p)) {
             break pid;
         }
         let st = cluster.states(&format!("{array}_2"));
@@ -352,9 +369,34 @@ fn slurm_array_renders_merges_and_recovers_a_killed_task() {
     // --kill-on-invalid-dep=yes: the merge job is cancelled, not left pending forever.
     let merge_state = cluster.states(&merge);
     assert_eq!(merge_state[0].1, "CANCELLED", "{merge_state:?}");
-    assert!(!slice2.exists(), "a killed task left a slice");
     assert!(!round2.join("merged.exr").exists());
-    // A merge of what is there names the missing passes.
+    // The cancelled task finished its pass in flight and wrote it: a whole, valid slice.
+    let log = std::fs::read_to_string(round2.join(format!("logs/slice-2-{array}.out")))
+        .unwrap_or_default();
+    assert!(
+        log.contains(&format!(
+            "{}: stopped by SIGTERM after passes 2..3 of 2..3; wrote them",
+            slice2.display()
+        )),
+        "task 2's log: {log}{}",
+        cluster.logs()
+    );
+    let by_hand = cluster.dir.join("by-hand.exr");
+    let merged = Command::new(bin())
+        .arg("merge")
+        .args((0..4).map(|i| round2.join(format!("slice-{i}.exr"))))
+        .arg("-o")
+        .arg(&by_hand)
+        .output()
+        .unwrap();
+    assert!(merged.status.success(), "{merged:?}");
+    assert!(
+        same_bytes(&by_hand, &whole),
+        "the cancelled task's slice does not merge into the single --passes run"
+    );
+    // Without it (as a task killed outright, before its first pass ended, leaves the
+    // directory), a merge names the missing passes.
+    std::fs::remove_file(&slice2).unwrap();
     let slices: Vec<PathBuf> = [0, 1, 3]
         .iter()
         .map(|i| round2.join(format!("slice-{i}.exr")))

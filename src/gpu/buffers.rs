@@ -40,12 +40,23 @@ pub fn empty_buffer(
     })
 }
 
-/// Waits until the device has finished all submitted work.
+/// Waits until the device has finished all submitted work, at most the watchdog's time
+/// (`faults::watchdog`), then fails with any error the device reported meanwhile.
 pub fn wait(ctx: &GpuContext) -> Result<()> {
-    ctx.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))?;
-    Ok(())
+    let limit = super::faults::watchdog();
+    let polled = ctx.device.poll(wgpu::PollType::Wait {
+        submission_index: None,
+        timeout: Some(limit),
+    });
+    ctx.check()?;
+    match polled {
+        Ok(_) => Ok(()),
+        Err(wgpu::PollError::Timeout) => Err(Error::Gpu(format!(
+            "the device did not finish its work within {:.0} s (the watchdog; GPU_PHOTON_WATCHDOG sets it): hung, or a pass far too large for it",
+            limit.as_secs_f64()
+        ))),
+        Err(e) => Err(Error::Gpu(format!("waiting for the device: {e}"))),
+    }
 }
 
 /// Reads the first `bytes` of a buffer back to the host.

@@ -19,7 +19,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Storage binding size in bytes that every buffer stays within.
     pub max_binding: u64,
-    /// The first error the device reported outside an error scope (instead of a panic).
+    /// The first error the device reported outside an error scope (instead of a panic), or
+    /// its loss, which replaces any other.
     pub uncaptured: Arc<Mutex<Option<String>>>,
     /// The device was opened with timestamp queries inside encoders (an optional feature):
     /// a pass's phases are then timed on the device, in one submission. Clearing it makes
@@ -203,9 +204,21 @@ impl GpuContext {
         let slot = uncaptured.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
             if let Ok(mut s) = slot.lock() {
-                s.get_or_insert_with(|| e.to_string());
+                s.get_or_insert_with(|| super::faults::describe(&e));
             }
         }));
+        // A lost device explains every error after it: its reason replaces theirs.
+        let slot = uncaptured.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            if let Ok(mut s) = slot.lock() {
+                let why = match reason {
+                    wgpu::DeviceLostReason::Destroyed => "destroyed".to_string(),
+                    wgpu::DeviceLostReason::Unknown if message.is_empty() => "by the driver".into(),
+                    wgpu::DeviceLostReason::Unknown => format!("by the driver: {message}"),
+                };
+                *s = Some(format!("the device was lost ({why})"));
+            }
+        });
         Ok(GpuContext {
             adapter,
             device,

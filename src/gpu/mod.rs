@@ -7,7 +7,8 @@
 //! prelude), `bsdf_params` (the BSDF twin `GpuBsdf` and the BSDF library's codes),
 //! `textures` (the scene's textures packed into words, the texture library's constants),
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
-//! `shaders` (composition), `bindings` (named binding tables, layouts), `context`,
+//! `shaders` (composition), `bindings` (named binding tables, layouts), `faults` (the device's
+//! failures described, their injection for tests, the watchdog), `context`,
 //! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
@@ -19,6 +20,7 @@ pub mod buffers;
 pub mod bvh_layout;
 pub mod codes;
 pub mod context;
+pub mod faults;
 pub mod grid;
 pub mod host;
 pub mod maps;

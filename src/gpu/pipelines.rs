@@ -165,7 +165,10 @@ impl Pipelines {
         };
         let trace = shader_module(dev, Kernel::TracePhotons);
         let grid = shader_module(dev, Kernel::BuildGrid);
-        let gather = shader_module(dev, Kernel::Gather);
+        let gather = match super::faults::injected() {
+            Some(super::faults::Fault::Shader) => malformed_module(dev),
+            _ => shader_module(dev, Kernel::Gather),
+        };
         let p = Pipelines {
             trace_photons: pipeline(&trace, &map_layout, "trace_photons"),
             size_grid: pipeline(&grid, &map_layout, "size_grid"),
@@ -187,8 +190,23 @@ impl Pipelines {
             }),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
+            let e = super::faults::describe(&e);
             return Err(Error::Gpu(format!("pipeline creation failed: {e}")));
         }
         Ok(p)
     }
+}
+
+/// The gather kernel cut short (an injected shader fault, `gpu::faults`): a parse error.
+fn malformed_module(dev: &wgpu::Device) -> wgpu::ShaderModule {
+    let source = Kernel::Gather.source();
+    let mut half = source.len() / 2;
+    while !source.is_char_boundary(half) {
+        half -= 1;
+    }
+    let cut = &source[..half];
+    dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("gather (malformed)"),
+        source: wgpu::ShaderSource::Wgsl(cut.into()),
+    })
 }

@@ -9,6 +9,7 @@
 
 use super::buffers::{empty_buffer, read_back, wait};
 use super::context::GpuContext;
+use super::faults::{injected, Fault};
 use crate::error::Result;
 use crate::report::RenderReport;
 use std::time::{Duration, Instant};
@@ -18,6 +19,16 @@ use std::time::{Duration, Instant};
 const MAX_STAMPS: u32 = 40;
 /// Stamps kept for phases: kernels take a timestamp only while more than this many are left.
 const PHASE_RESERVE: u32 = 8;
+
+/// An injected `device-lost` (`gpu::faults`): the device destroyed after the render's first
+/// submission, while its work is in flight.
+fn lose_device_once(ctx: &GpuContext) {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    static LOST: AtomicBool = AtomicBool::new(false);
+    if injected() == Some(Fault::DeviceLost) && !LOST.swap(true, Ordering::SeqCst) {
+        ctx.device.destroy();
+    }
+}
 
 /// The timestamps of one recording: one at its start, one after each phase and (`bench`)
 /// each kernel, named, `true` for a phase.
@@ -123,6 +134,7 @@ impl Recorder {
         }
         if let Some(enc) = self.enc.take() {
             self.ctx.queue.submit([enc.finish()]);
+            lose_device_once(&self.ctx);
         }
     }
 

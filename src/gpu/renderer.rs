@@ -5,6 +5,7 @@
 use super::buffers::read_back;
 use super::codes::{MAX_HEAP, STATS_LEN};
 use super::context::GpuContext;
+use super::faults::{injected, Fault};
 use super::run::GpuRun;
 use crate::error::{Error, Result};
 use crate::film::Image;
@@ -55,7 +56,7 @@ impl<'s> GpuRenderer<'s> {
         let t = Instant::now();
         let run = GpuRun::new(ctx, scene, s, 0)?;
         report.phase("upload + pipelines", t);
-        let accum = run.accum_buffer(accum_bytes);
+        let accum = accumulator(&run, accum_bytes)?;
         Ok(GpuRenderer {
             scene,
             run,
@@ -65,10 +66,33 @@ impl<'s> GpuRenderer<'s> {
     }
 }
 
+/// The image accumulator of `bytes`, its allocation failure (out of memory, over a limit)
+/// an error. An injected `oom` (`gpu::faults`) asks for one byte over the largest buffer.
+fn accumulator(run: &GpuRun, bytes: u64) -> Result<wgpu::Buffer> {
+    let dev = &run.ctx.device;
+    let size = match injected() {
+        Some(Fault::OutOfMemory) => dev.limits().max_buffer_size + 1,
+        _ => bytes,
+    };
+    let oom = dev.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let invalid = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+    let accum = run.accum_buffer(size);
+    let invalid = pollster::block_on(invalid.pop());
+    match pollster::block_on(oom.pop()).or(invalid) {
+        Some(e) => Err(Error::Gpu(format!(
+            "could not allocate the image accumulator ({size} bytes): {}",
+            super::faults::describe(&e)
+        ))),
+        None => Ok(accum),
+    }
+}
+
 impl PassRenderer for GpuRenderer<'_> {
     /// Renders pass `pass` with `settings` (k at most MAX_HEAP, the image size of `new`).
     fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
         check_k(settings)?;
+        // A device lost since the last pass: an error here, before wgpu is asked for buffers.
+        self.run.ctx.check()?;
         self.run.render_pass(
             self.scene,
             settings,
