@@ -138,8 +138,8 @@ fn cpu_trace(scene: &Scene, s: &RenderSettings) -> Traced {
 fn power_sum(photons: &[Photon]) -> [f64; 3] {
     let mut s = [0.0f64; 3];
     for p in photons {
-        for c in 0..3 {
-            s[c] += p.power[c] as f64;
+        for (s, v) in s.iter_mut().zip(p.power) {
+            *s += v as f64;
         }
     }
     s

@@ -101,7 +101,16 @@ impl SceneBuffers {
         let uvs = storage_buffer(dev, "triangle uvs", &uvs, none);
         let textures = textures.upload(ctx)?;
         // Placeholders (a binding cannot be empty) when the scene has no media.
-        let mut media: Vec<GpuMedium> = scene.media.iter().map(GpuMedium::from).collect();
+        let mut media: Vec<GpuMedium> = scene
+            .media
+            .iter()
+            .map(|m| GpuMedium {
+                sigma_t: m.sigma_t.to_array(),
+                g: m.phase.g,
+                sigma_s: m.sigma_s().to_array(),
+                _pad: 0,
+            })
+            .collect();
         if media.is_empty() {
             media.push(GpuMedium::default());
         }

@@ -250,17 +250,6 @@ pub struct GpuMedium {
     pub _pad: u32,
 }
 
-impl From<&crate::medium::Medium> for GpuMedium {
-    fn from(m: &crate::medium::Medium) -> Self {
-        GpuMedium {
-            sigma_t: m.sigma_t.to_array(),
-            g: m.phase.g,
-            sigma_s: m.sigma_s().to_array(),
-            _pad: 0,
-        }
-    }
-}
-
 /// Twin of WGSL `MapParams`: what one photon map traces and how its hash grid is laid out.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
