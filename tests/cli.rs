@@ -589,26 +589,29 @@ fn bench_curve_stands_against_the_peer_recorded_beside_the_reference() {
         "peer_curve": [{"spp": 16, "seconds": 1.0, "rmse": 0.2},
                        {"spp": 64, "seconds": 4.0, "rmse": 0.1}]}"#;
     std::fs::write(dir.path("ref.json"), peer).unwrap();
-    let o = run(&[
-        &[
-            "bench",
-            "scenes/cornell-box.toml",
-            "--backend",
-            "cpu",
-            "--runs",
-            "1",
-        ],
-        &[
-            "--photons",
-            "4000",
+    let bench = |passes: &str| {
+        let against = [
             "--reference",
             reference.to_str().unwrap(),
             "--passes",
-            "2",
-        ],
-        &size[..],
-    ]
-    .concat());
+            passes,
+        ];
+        run(&[
+            &[
+                "bench",
+                "scenes/cornell-box.toml",
+                "--backend",
+                "cpu",
+                "--runs",
+                "1",
+            ],
+            &["--photons", "4000"],
+            &against[..],
+            &size[..],
+        ]
+        .concat())
+    };
+    let o = bench("2");
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("peer: Peer 1.0 as recorded in"), "{out}");
@@ -637,26 +640,7 @@ fn bench_curve_stands_against_the_peer_recorded_beside_the_reference() {
     );
     // A malformed sidecar is an error naming it.
     std::fs::write(dir.path("ref.json"), "{\"peer_curve\": [1,").unwrap();
-    let o = run(&[
-        &[
-            "bench",
-            "scenes/cornell-box.toml",
-            "--backend",
-            "cpu",
-            "--runs",
-            "1",
-        ],
-        &[
-            "--photons",
-            "4000",
-            "--reference",
-            reference.to_str().unwrap(),
-            "--passes",
-            "1",
-        ],
-        &size[..],
-    ]
-    .concat());
+    let o = bench("1");
     assert!(!o.status.success());
     assert!(
         stderr(&o).contains("ref.json:1: peer_curve:"),

@@ -100,14 +100,14 @@ pub struct Material {
     /// The parameters of the kinds after `Black` (conductors, rough dielectrics, plastics);
     /// `None` for the others.
     pub bsdf: Option<Bsdf>,
-    /// Index into [`Scene::textures`] of the texture that gives `kd` at a hit (a `diffuse`
+    /// Index into [`Scene::textures`](crate::scene::Scene::textures) of the texture that gives `kd` at a hit (a `diffuse`
     /// material's albedo), or [`NO_TEXTURE`].
     pub kd_texture: u32,
-    /// Index into [`Scene::textures`] of a tangent-space normal map (Mitsuba's `normalmap`
+    /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a tangent-space normal map (Mitsuba's `normalmap`
     /// bsdf: the texture's rgb `c` is the normal `2 c - 1` in the hit's shading frame, see
     /// `crate::bvh::perturb`), or [`NO_TEXTURE`].
     pub normal_texture: u32,
-    /// Index into [`Scene::textures`] of a metallic-roughness material's metalness (blue)
+    /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a metallic-roughness material's metalness (blue)
     /// and roughness (green) texture, multiplying its factors, or [`NO_TEXTURE`].
     pub mr_texture: u32,
     /// glTF's other parameter textures of a metallic-roughness material, each
@@ -115,7 +115,7 @@ pub struct Material {
     /// transmission), `KHR_materials_specular`'s specular (alpha scales the specular factor)
     /// and specular colour (rgb scales the F0 colour).
     pub gltf_textures: [u32; 3],
-    /// Index into [`Scene::textures`] of a texture multiplying `emission` at each point (glTF
+    /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a texture multiplying `emission` at each point (glTF
     /// `emissiveTexture`, Mitsuba's textured `radiance`; `crate::scene::emission`), or
     /// [`NO_TEXTURE`].
     pub emission_texture: u32,
@@ -144,7 +144,7 @@ pub struct Alpha {
     pub mode: AlphaMode,
     /// Constant opacity (glTF `baseColorFactor`'s alpha, Mitsuba's float `opacity`).
     pub factor: f32,
-    /// Index into [`Scene::textures`] of the texture that varies it, or [`NO_TEXTURE`].
+    /// Index into [`Scene::textures`](crate::scene::Scene::textures) of the texture that varies it, or [`NO_TEXTURE`].
     pub texture: u32,
     /// Read the texture's luminance (Mitsuba's textured `opacity`) instead of its alpha
     /// (glTF's base colour alpha).

@@ -32,7 +32,7 @@ pub struct PlyMesh {
     /// `vertex` element has `nx`, `ny` and `nz`.
     pub normals: Option<Vec<Vec3>>,
     /// Texture coordinates as the file gives them, one per position, when the `vertex`
-    /// element has a pair of [`UV_NAMES`].
+    /// element has a pair of `UV_NAMES`.
     pub uvs: Option<Vec<Vec2>>,
 }
 

@@ -95,7 +95,7 @@ pub fn load(path: &Path) -> Result<Scene> {
 }
 
 /// Loads a scene from TOML `text`. `file` names it in errors; mesh paths are relative to
-/// `base_dir`. Every problem is an [`Error::Scene`] naming the line and field it is about.
+/// `base_dir`. Every problem is an [`Error::Scene`](crate::error::Error::Scene) naming the line and field it is about.
 pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     let cx = Ctx { text, file };
     let raw: RawScene = toml::from_str(text).map_err(|e| {

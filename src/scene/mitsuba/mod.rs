@@ -41,7 +41,7 @@ use values::Cx;
 pub const MAX_NESTING: usize = 64;
 
 /// Most bytes all `<default>` values may expand to together (each is also bounded by
-/// [`values::MAX_VALUE_BYTES`]).
+/// `values::MAX_VALUE_BYTES`).
 pub const MAX_DEFAULTS_BYTES: usize = 16 << 20;
 
 /// A scene read from Mitsuba XML, with the warnings about what was approximated.
