@@ -604,8 +604,8 @@ fn bench_curve_stands_against_the_peer_recorded_beside_the_reference() {
                 "cpu",
                 "--runs",
                 "1",
-            ],
-            &["--photons", "4000"],
+            ][..],
+            &["--photons", "4000"][..],
             &against[..],
             &size[..],
         ]

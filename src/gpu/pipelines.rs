@@ -197,14 +197,17 @@ impl Pipelines {
     }
 }
 
-/// The gather kernel cut short (an injected shader fault, `gpu::faults`): a parse error.
+/// The gather kernel cut short and ended by a stray token (an injected shader fault,
+/// `gpu::faults`): a parse error.
 fn malformed_module(dev: &wgpu::Device) -> wgpu::ShaderModule {
     let source = Kernel::Gather.source();
     let mut half = source.len() / 2;
     while !source.is_char_boundary(half) {
         half -= 1;
     }
-    let cut = &source[..half];
+    // A token no WGSL parses after the cut: the half alone may end between two whole
+    // functions and parse, failing only later at the missing entry point.
+    let cut = format!("{}\n@@ malformed", &source[..half]);
     dev.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("gather (malformed)"),
         source: wgpu::ShaderSource::Wgsl(cut.into()),
