@@ -22,6 +22,17 @@ fn scratch(name: &str) -> PathBuf {
 /// A two-pass 16x16 render of the Cornell box on `backend` into `out`, with `fault`
 /// injected; its own calibration cache `cache`. Fails (killing it) after 120 s.
 fn render(backend: &str, fault: Option<&str>, cache: &Path, out: &Path) -> Output {
+    render_with(backend, fault, &[], cache, out)
+}
+
+/// [`render`] with more environment variables `env`.
+fn render_with(
+    backend: &str,
+    fault: Option<&str>,
+    env: &[(&str, &str)],
+    cache: &Path,
+    out: &Path,
+) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_gpu-photon"));
     c.args(["render", "scenes/cornell-box.toml", "--backend", backend])
         .args(["--width", "16", "--height", "16", "--spp", "1"])
@@ -35,6 +46,7 @@ fn render(backend: &str, fault: Option<&str>, cache: &Path, out: &Path) -> Outpu
     if let Some(f) = fault {
         c.env("GPU_PHOTON_FAULT", f);
     }
+    c.envs(env.iter().copied());
     let mut child = c.spawn().unwrap();
     let start = Instant::now();
     while child.try_wait().unwrap().is_none() {
@@ -110,6 +122,28 @@ fn each_fault_ends_a_gpu_render_with_one_error() {
         err.trim_end().ends_with(')') && err.contains("(wgsl:"),
         "{err}"
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A device lost in the second pass (after the first pass's submission, whose image was
+/// read back), not the first: the same one error, no image (the passes done are not
+/// written as if the render had finished).
+#[test]
+fn a_device_lost_in_a_later_pass_ends_the_render_with_one_error() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let d = scratch("later");
+    let out = d.join("later.exr");
+    let env = [("GPU_PHOTON_FAULT_AFTER", "2")];
+    let o = render_with("gpu", Some("device-lost"), &env, &d, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(
+        err.trim_end(),
+        "error: GPU backend: the device was lost (destroyed)"
+    );
+    assert!(!out.exists(), "wrote an image");
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -2,7 +2,8 @@
 //!
 //! `GPU_PHOTON_FAULT=device-lost|oom|timeout|shader` (read here, once) makes a render meet
 //! one fault through wgpu's real paths: `device-lost` destroys the device once the first
-//! pass is submitted; `oom` asks for the image accumulator one byte over the device's largest
+//! submission is made (the `GPU_PHOTON_FAULT_AFTER`-th with that variable: a later batch or
+//! pass); `oom` asks for the image accumulator one byte over the device's largest
 //! buffer; `timeout` gives the watchdog no time at all; `shader` compiles the gather kernel
 //! from a malformed source. `GPU_PHOTON_WATCHDOG=SECONDS` sets how long one wait for the
 //! device may take before the render ends with an error ([`DEFAULT_WATCHDOG`]).
@@ -58,6 +59,18 @@ pub fn injected() -> Option<Fault> {
             ));
         }
         fault
+    })
+}
+
+/// After how many submissions an injected `device-lost` destroys the device:
+/// `GPU_PHOTON_FAULT_AFTER` (at least 1), else 1.
+pub fn lose_after() -> u32 {
+    static AFTER: OnceLock<u32> = OnceLock::new();
+    *AFTER.get_or_init(|| {
+        std::env::var("GPU_PHOTON_FAULT_AFTER")
+            .ok()
+            .and_then(|s| s.trim().parse::<u32>().ok())
+            .map_or(1, |n| n.max(1))
     })
 }
 

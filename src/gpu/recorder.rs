@@ -9,7 +9,7 @@
 
 use super::buffers::{empty_buffer, read_back, wait};
 use super::context::GpuContext;
-use super::faults::{injected, Fault};
+use super::faults::{injected, lose_after, Fault};
 use crate::error::Result;
 use crate::report::RenderReport;
 use std::time::{Duration, Instant};
@@ -20,12 +20,14 @@ const MAX_STAMPS: u32 = 40;
 /// Stamps kept for phases: kernels take a timestamp only while more than this many are left.
 const PHASE_RESERVE: u32 = 8;
 
-/// An injected `device-lost` (`gpu::faults`): the device destroyed after the render's first
-/// submission, while its work is in flight.
+/// An injected `device-lost` (`gpu::faults`): the device destroyed after the render's
+/// `lose_after()`-th submission (the first by default), while its work is in flight.
 fn lose_device_once(ctx: &GpuContext) {
-    use std::sync::atomic::{AtomicBool, Ordering};
-    static LOST: AtomicBool = AtomicBool::new(false);
-    if injected() == Some(Fault::DeviceLost) && !LOST.swap(true, Ordering::SeqCst) {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static SUBMITTED: AtomicU32 = AtomicU32::new(0);
+    if injected() == Some(Fault::DeviceLost)
+        && SUBMITTED.fetch_add(1, Ordering::SeqCst) + 1 == lose_after()
+    {
         ctx.device.destroy();
     }
 }
