@@ -3,7 +3,8 @@
 //! naming what is too big and by how much, instead of being killed by the kernel later.
 //!
 //! The estimate counts what grows with the settings and the scene: the photon maps of one
-//! pass (CPU backend; the GPU's are device memory, batched to one binding), the image and its
+//! pass (CPU backend; the GPU's are device memory, batched to one binding), the volume photons
+//! where the scene has media, the image and its
 //! running mean, the BVH. Its rates were measured on the CPU backend (peak resident memory of
 //! `render scenes/cornell-box.toml` at two photon counts and two sizes, docs/guide.md).
 
@@ -48,6 +49,16 @@ pub fn estimate(scene: &Scene, s: &RenderSettings, host_maps: bool) -> Vec<Part>
             bytes: s.caustic_photons as u64 * BYTES_PER_PHOTON,
             remedy: "lower --caustic-photons",
         });
+        if !scene.media.is_empty() {
+            // A path scatters in a medium about as often as it bounces off surfaces (both
+            // end by the same Russian roulette), and a caustic path stores at most one.
+            let volume = global + s.caustic_photons as u64;
+            parts.push(Part {
+                what: format!("{volume} volume photons"),
+                bytes: volume * BYTES_PER_PHOTON,
+                remedy: "lower --photons and --caustic-photons",
+            });
+        }
     }
     parts.push(Part {
         what: format!("a {}x{} image", s.width, s.height),

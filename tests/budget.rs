@@ -9,16 +9,14 @@ use std::process::{Command, Output};
 
 /// A classic render on `backend` with `GPU_PHOTON_MEMORY=memory`.
 fn render(backend: &str, memory: &str, extra: &[&str]) -> Output {
+    render_scene("scenes/cornell-box.toml", backend, memory, extra)
+}
+
+/// [`render`] of `scene`.
+fn render_scene(scene: &str, backend: &str, memory: &str, extra: &[&str]) -> Output {
     let out = std::env::temp_dir().join(format!("gpu-photon-budget-{}.exr", std::process::id()));
     let o = Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
-        .args([
-            "render",
-            "scenes/cornell-box.toml",
-            "--backend",
-            backend,
-            "-q",
-            "-o",
-        ])
+        .args(["render", scene, "--backend", backend, "-q", "-o"])
         .arg(&out)
         .args(["--spp", "1", "--passes", "0"])
         .args(extra)
@@ -64,6 +62,32 @@ fn too_many_photons_for_the_memory_is_refused_naming_them() {
          476.6 MiB more than the 256.0 MiB available (GPU_PHOTON_MEMORY); lower --photons \
          (more passes of fewer photons converge alike)",
     );
+}
+
+#[test]
+fn volume_photons_count_where_the_scene_has_media() {
+    // 1,000,000 paths in fog: 3e6 surface and 3e6 volume photons, 183.1 MiB each.
+    let args = [
+        "--photons",
+        "1000000",
+        "--caustic-photons",
+        "0",
+        "--width",
+        "64",
+        "--height",
+        "64",
+    ];
+    let o = render_scene("scenes/fog-cornell.toml", "cpu", "256M", &args);
+    assert_refused(
+        &o,
+        "the render needs about 366.4 MiB of memory (183.1 MiB for photon maps for 1000000 \
+         global paths, 183.1 MiB for 3000000 volume photons, 192.0 KiB for a 64x64 image, \
+         4.0 KiB for a BVH of 32 triangles), 110.4 MiB more than the 256.0 MiB available \
+         (GPU_PHOTON_MEMORY); lower --photons and --caustic-photons",
+    );
+    // The same without fog fits.
+    let o = render("cpu", "256M", &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 #[test]
