@@ -144,3 +144,39 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
         "GPU backend: a K-nearest pass on pipelines built for a progressive render (fixed radii)"
     );
 }
+
+/// A second render in the process with the same scene and kinds of kernels takes the first
+/// one's pipelines (`gpu::pipeline_cache`, on the shared device) and gives the same pixels;
+/// another mode (one with the radiance cache's kernels) compiles its own.
+#[test]
+fn a_later_render_reuses_the_pipelines_and_gives_the_same_pixels() {
+    if gpu().is_none() {
+        return;
+    }
+    use gpu_photon::report::Progress;
+    use gpu_photon::session::{render, Backend};
+    use gpu_photon::settings::Mode;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml");
+    let scene = gpu_photon::scene::load(&path).unwrap();
+    let s = RenderSettings {
+        width: 16,
+        height: 16,
+        spp: 1,
+        photons: 5_000,
+        // A mode no other test here renders in: the first render compiles.
+        mode: Mode::CausticOnly,
+        ..Default::default()
+    };
+    let upload = |r: &RenderReport| names(r)[1];
+    let (first, r1) = render(&scene, &s, Backend::Gpu, Progress::default()).unwrap();
+    assert_eq!(upload(&r1), "upload + pipelines");
+    let (second, r2) = render(&scene, &s, Backend::Gpu, Progress::default()).unwrap();
+    assert_eq!(upload(&r2), "upload (pipelines reused)");
+    assert_eq!(first.pixels, second.pixels);
+    let other = RenderSettings {
+        mode: Mode::Gather,
+        ..s
+    };
+    let (_, r3) = render(&scene, &other, Backend::Gpu, Progress::default()).unwrap();
+    assert_eq!(upload(&r3), "upload + pipelines");
+}

@@ -188,6 +188,7 @@ pub fn layout(dev: &wgpu::Device, table: &GroupTable) -> wgpu::BindGroupLayout {
 
 /// The bind-group layouts, declared once per render: group 0 (scene) for every kernel,
 /// group 1 for the map-building kernels or for the gather.
+#[derive(Clone)]
 pub struct Layouts {
     /// Layout of [`SCENE_GROUP`].
     pub scene: wgpu::BindGroupLayout,

@@ -1,6 +1,8 @@
-//! The wgpu instance, adapter, device and queue, created once per render.
+//! The wgpu instance, adapter, device and queue: opened once per process and shared by its
+//! renders (`GpuContext::shared`), again only after the device was lost.
 
 use crate::error::{Error, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// Largest storage binding the backend asks for: 2 GiB (every word index stays far inside a
@@ -22,6 +24,11 @@ pub struct GpuContext {
     /// The first error the device reported outside an error scope (instead of a panic), or
     /// its loss, which replaces any other.
     pub uncaptured: Arc<Mutex<Option<String>>>,
+    /// The device was lost (a shared context is then opened anew).
+    pub lost: Arc<AtomicBool>,
+    /// This context's number in the process, unique (wgpu's own ids repeat between
+    /// instances, and each context has its own instance).
+    pub id: u64,
     /// The device was opened with timestamp queries inside encoders (an optional feature):
     /// a pass's phases are then timed on the device, in one submission. Clearing it makes
     /// renders take the fallback (see `gpu::recorder`).
@@ -209,7 +216,10 @@ impl GpuContext {
         }));
         // A lost device explains every error after it: its reason replaces theirs.
         let slot = uncaptured.clone();
+        let lost = Arc::new(AtomicBool::new(false));
+        let flag = lost.clone();
         device.set_device_lost_callback(move |reason, message| {
+            flag.store(true, Ordering::SeqCst);
             if let Ok(mut s) = slot.lock() {
                 let why = match reason {
                     wgpu::DeviceLostReason::Destroyed => "destroyed".to_string(),
@@ -225,8 +235,30 @@ impl GpuContext {
             queue,
             max_binding,
             uncaptured,
+            lost,
+            id: {
+                static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+                NEXT.fetch_add(1, Ordering::SeqCst)
+            },
             timestamps,
         })
+    }
+
+    /// The process's context, opened by the first call and shared by every render after it
+    /// (so their pipelines can be reused, `gpu::pipeline_cache`); opened anew once its
+    /// device is lost. Renders on one context run side by side; an error the device reports
+    /// outside an error scope reaches whichever of them checks first.
+    pub fn shared() -> Result<Self> {
+        static SHARED: Mutex<Option<GpuContext>> = Mutex::new(None);
+        let mut slot = SHARED
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(ctx) = slot.as_ref().filter(|c| !c.lost.load(Ordering::SeqCst)) {
+            return Ok(ctx.clone());
+        }
+        let ctx = GpuContext::new()?;
+        *slot = Some(ctx.clone());
+        Ok(ctx)
     }
 
     /// Fails with the first uncaptured device error, if there was one.

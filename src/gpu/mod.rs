@@ -26,6 +26,7 @@ pub mod host;
 pub mod maps;
 pub mod pass;
 pub mod photon_maps;
+pub mod pipeline_cache;
 pub mod pipelines;
 pub mod probe;
 pub mod probe_media;

@@ -69,6 +69,7 @@ fn has_linear_spots(scene: &Scene) -> bool {
 }
 
 /// The compute pipelines of a render, each created once.
+#[derive(Clone)]
 pub struct Pipelines {
     /// `trace_photons` (shaders/trace_photons.wgsl).
     pub trace_photons: wgpu::ComputePipeline,
@@ -99,6 +100,7 @@ pub struct Pipelines {
 }
 
 /// The radiance cache's build (shaders/cache_build.wgsl and cache_fixed.wgsl).
+#[derive(Clone)]
 pub struct CachePipelines {
     /// `list_cache_points`.
     pub list: wgpu::ComputePipeline,

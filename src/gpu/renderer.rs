@@ -43,7 +43,7 @@ impl<'s> GpuRenderer<'s> {
         let s = settings;
         let mut report = RenderReport::default();
         let t = Instant::now();
-        let ctx = GpuContext::new()?;
+        let ctx = GpuContext::shared()?;
         let accum_bytes = s.width as u64 * s.height as u64 * 16;
         if accum_bytes > ctx.max_binding {
             return Err(Error::Gpu(format!(
@@ -55,7 +55,13 @@ impl<'s> GpuRenderer<'s> {
         report.phase("open device", t);
         let t = Instant::now();
         let run = GpuRun::new(ctx, scene, s, 0)?;
-        report.phase("upload + pipelines", t);
+        report.phase(
+            match run.reused_pipelines {
+                true => "upload (pipelines reused)",
+                false => "upload + pipelines",
+            },
+            t,
+        );
         let accum = accumulator(&run, accum_bytes)?;
         Ok(GpuRenderer {
             scene,

@@ -8,6 +8,7 @@ use super::codes::SCAN_BLOCK;
 use super::context::GpuContext;
 use super::host::{budgeted_lights, gpu_params};
 use super::maps::{probe_map_params, MapBuffers};
+use super::pipeline_cache::{self, PipelineKey};
 use super::pipelines::{feature_constants, Pipelines};
 use super::recorder::Recorder;
 use super::scene_buffers::SceneBuffers;
@@ -31,6 +32,8 @@ pub struct GpuRun {
     pub scene_buffers: SceneBuffers,
     /// Every render pipeline, created once.
     pub pipelines: Pipelines,
+    /// The pipelines came from an earlier render in this process (`gpu::pipeline_cache`).
+    pub reused_pipelines: bool,
     /// The current pass's parameters (slot 0; the gather writes one slot per sample).
     pub params: GpuParams,
     /// The current pass's plan.
@@ -55,16 +58,24 @@ impl GpuRun {
     /// Uploads the scene and creates the pipelines, specialised to the scene's features;
     /// `s` and `pass` give the first parameters and plan (each pass re-plans).
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
-        let layouts = Layouts::new(&ctx.device);
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
         let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
+        let key = PipelineKey::new(&constants, final_gather, knn);
+        let cached = pipeline_cache::get(&ctx, &key);
+        let layouts = match &cached {
+            Some((layouts, _)) => layouts.clone(),
+            None => Layouts::new(&ctx.device),
+        };
+        let compiled = cached.is_none();
         // The pipelines compile (synchronously, on lavapipe) on a second thread while this one
         // builds the BVH and uploads the scene: neither needs the other.
         let (pipelines, scene_side) = std::thread::scope(|threads| {
-            let compile =
-                threads.spawn(|| Pipelines::new(&ctx, &layouts, &constants, final_gather, knn));
+            let compile = threads.spawn(|| match cached {
+                Some((_, pipelines)) => Ok(pipelines),
+                None => Pipelines::new(&ctx, &layouts, &constants, final_gather, knn),
+            });
             let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass);
             let pipelines = compile
                 .join()
@@ -72,6 +83,9 @@ impl GpuRun {
             (pipelines, scene_side)
         });
         let pipelines = pipelines?;
+        if compiled {
+            pipeline_cache::put(&ctx, key, layouts.clone(), pipelines.clone());
+        }
         let (plan, table, params, scene_buffers) = scene_side?;
         let cache = cache_buffers(&ctx.device, 1);
         let volume = VolumeBuffers::new(
@@ -85,6 +99,7 @@ impl GpuRun {
             layouts,
             scene_buffers,
             pipelines,
+            reused_pipelines: !compiled,
             params,
             plan,
             table,
