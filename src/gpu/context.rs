@@ -1,5 +1,6 @@
 //! The wgpu instance, adapter, device and queue, created once per render.
 
+use super::shape::{AdapterFacts, KernelShape};
 use crate::error::{Error, Result};
 use std::sync::{Arc, Mutex};
 
@@ -22,6 +23,9 @@ pub struct GpuContext {
     /// The first error the device reported outside an error scope (instead of a panic), or
     /// its loss, which replaces any other.
     pub uncaptured: Arc<Mutex<Option<String>>>,
+    /// The kernel shape (workgroup widths, cache lanes, loop guard) the pipelines are
+    /// created with: the adapter's, or the one `GPU_PHOTON_KERNEL_SHAPE` forces.
+    pub shape: KernelShape,
     /// The device was opened with timestamp queries inside encoders (an optional feature):
     /// a pass's phases are then timed on the device, in one submission. Clearing it makes
     /// renders take the fallback (see `gpu::recorder`).
@@ -53,6 +57,9 @@ pub struct AdapterSummary {
     pub max_compute_workgroup_storage_size: u32,
     /// Smallest and largest subgroup (SIMD group, warp) the adapter reports.
     pub subgroup_size: (u32, u32),
+    /// The kernel shape a render on this adapter gets (`GPU_PHOTON_KERNEL_SHAPE` included;
+    /// the adapter's own when that variable does not parse).
+    pub kernel_shape: KernelShape,
 }
 
 impl AdapterSummary {
@@ -89,6 +96,7 @@ impl AdapterSummary {
                 "    subgroup size: {}..{}",
                 self.subgroup_size.0, self.subgroup_size.1
             ),
+            format!("    kernel shape: {}", self.kernel_shape.describe()),
         ]
     }
 }
@@ -107,6 +115,9 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
         .map(|a| {
             let info = a.get_info();
             let l = a.limits();
+            let facts = AdapterFacts::from_parts(&info, &l);
+            let kernel_shape =
+                KernelShape::from_env(&facts).unwrap_or_else(|_| KernelShape::for_adapter(&facts));
             AdapterSummary {
                 name: info.name,
                 backend: format!("{:?}", info.backend),
@@ -119,6 +130,7 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
                 max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
                 max_compute_workgroup_storage_size: l.max_compute_workgroup_storage_size,
                 subgroup_size: (info.subgroup_min_size, info.subgroup_max_size),
+                kernel_shape,
             }
         })
         .collect()
@@ -160,6 +172,7 @@ impl GpuContext {
         }))
         .map_err(|e| Error::Gpu(format!("no Vulkan adapter found ({e}); install mesa-vulkan-drivers for lavapipe, or use --backend cpu")))?;
         let limits = adapter.limits();
+        let shape = KernelShape::from_env(&AdapterFacts::of(&adapter)).map_err(Error::Gpu)?;
         if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
             return Err(Error::Gpu(format!(
                 "adapter {} allows {} storage buffers per stage; {STORAGE_BUFFERS_NEEDED} are needed",
@@ -182,6 +195,9 @@ impl GpuContext {
         required.max_compute_invocations_per_workgroup =
             256.min(limits.max_compute_invocations_per_workgroup);
         required.max_compute_workgroup_size_x = 256.min(limits.max_compute_workgroup_size_x);
+        // The cache build's workgroup memory grows with its lanes (`shape::cache_build_bytes`):
+        // ask for all the adapter grants.
+        required.max_compute_workgroup_storage_size = limits.max_compute_workgroup_storage_size;
         required.max_bind_groups = 2;
         // Optional: per-phase device times where the adapter has them.
         let stamps =
@@ -225,6 +241,7 @@ impl GpuContext {
             queue,
             max_binding,
             uncaptured,
+            shape,
             timestamps,
         })
     }

@@ -58,7 +58,8 @@ impl GpuRun {
         let layouts = Layouts::new(&ctx.device);
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
-        let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
+        let constants =
+            feature_constants(scene, &ctx.shape, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
         // The pipelines compile (synchronously, on lavapipe) on a second thread while this one
         // builds the BVH and uploads the scene: neither needs the other.
