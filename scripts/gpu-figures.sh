@@ -117,6 +117,11 @@ json.dump(figures, open(f"{out}/figures.json", "w"), indent=2)
 lines = ["| scene | photon paths/s | grid build per M photons | camera samples/s | device |", "|---|---|---|---|---|"]
 lines += [f"| {' | '.join(str(c) for c in row)} |" for row in rows]
 lines.append("")
+for a in runs["cornell"]["adapters"]:
+    k = a.get("kernel_shape") or {}
+    if k:
+        lines.append(f'{a["name"]}: kernel shape subgroup {k["subgroup"]}, workgroups {k["wg_size"]}, '
+                     f'cache lanes {k["cache_lanes"]}, loop guard {"on" if k["loop_guard"] else "off"}')
 lines.append(f"default render GPU/CPU time: {ratio:.2f}x" if ratio else "default render GPU/CPU: not both backends")
 lines.append(f"time to RMSE 0.0058 against cornell-diffuse.exr: {target:.2f} s" if target else "RMSE 0.0058 not reached in the curve's passes")
 if quick:

@@ -486,8 +486,9 @@ fn bench_modes_are_checked_before_rendering() {
     );
 }
 
-/// `bench --json FILE` writes the sizes, the adapters wgpu finds (name, driver, limits and
-/// subgroup size, for the real-GPU figures) and each backend's medians, as JSON.
+/// `bench --json FILE` writes the sizes, the adapters wgpu finds (name, driver, limits,
+/// subgroup size and kernel shape, for the real-GPU figures) and each backend's medians, as
+/// JSON.
 #[test]
 fn bench_writes_its_figures_as_json() {
     let dir = TempDir::new("bench-json");
@@ -538,6 +539,12 @@ fn bench_writes_its_figures_as_json() {
         assert!(lo >= 1 && lo <= hi, "{a}");
         assert!(
             a["max_storage_buffer_binding_size"].as_u64().unwrap() > 0,
+            "{a}"
+        );
+        let shape = &a["kernel_shape"];
+        let lanes = shape["cache_lanes"].as_u64().unwrap();
+        assert!(
+            lanes.is_power_of_two() && shape["loop_guard"].is_boolean(),
             "{a}"
         );
     }

@@ -22,6 +22,7 @@ use gpu_photon::gpu::bvh_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LE
 use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::gpu::shaders::{validate, Kernel, WGSL_FILES};
+use gpu_photon::gpu::shape::KernelShape;
 use gpu_photon::gpu::types::{
     GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuMedium, GpuParams, GpuShadingNormals,
     GpuSphere, GpuTriangle,
@@ -617,10 +618,8 @@ fn shared_constants_agree() {
         "BOUNCE_DELTA",
         "FILTER_CONE",
         "FRESNEL_SCHLICK",
-        "WG_SIZE",
         "SCAN_BLOCK",
         "SCAN_ITEMS",
-        "GATHER_TILE",
         "SOBOL_PAIR_JITTER",
         "SOBOL_PAIR_LIGHT",
         "SOBOL_DIM_LIGHT_THIRD",
@@ -728,20 +727,40 @@ fn shared_constants_agree() {
         }
     }
 
+    // The WGSL defaults of the loop budget and of the kernel shape's overrides (which the
+    // probes run with) are lavapipe's: the default shape, `KernelShape::DEFAULT`.
+    let shape = KernelShape::DEFAULT;
+    let defaults = [
+        ("LOOP_BUDGET", Literal::U32(CPU_DEVICE_LOOP_BUDGET)),
+        ("WG_SIZE", Literal::U32(shape.wg_size)),
+        ("GATHER_TILE", Literal::U32(shape.gather_tile)),
+        ("CACHE_LANES", Literal::U32(shape.cache_lanes)),
+        ("LOOP_GUARD", Literal::Bool(shape.loop_guard)),
+    ];
     for &kernel in &Kernel::ALL {
-        // The WGSL default of the loop budget (which the probes run with) is lavapipe's.
-        let budget = module(kernel)
-            .overrides
-            .iter()
-            .find(|(_, o)| o.name.as_deref() == Some("LOOP_BUDGET"))
-            .and_then(|(_, o)| o.init)
-            .map(|e| &module(kernel).global_expressions[e]);
-        match budget {
-            Some(Expression::Literal(Literal::U32(b))) if *b == CPU_DEVICE_LOOP_BUDGET => {}
-            other => errors.push(format!(
-                "[{}] override LOOP_BUDGET defaults to {other:?}, not {CPU_DEVICE_LOOP_BUDGET}",
-                kernel.name()
-            )),
+        for (name, want) in defaults {
+            let init = module(kernel)
+                .overrides
+                .iter()
+                .find(|(_, o)| o.name.as_deref() == Some(name))
+                .and_then(|(_, o)| o.init)
+                .map(|e| &module(kernel).global_expressions[e]);
+            match init {
+                Some(Expression::Literal(l)) if *l == want => {}
+                other => errors.push(format!(
+                    "[{}] override {name} defaults to {other:?}, not {want:?}",
+                    kernel.name()
+                )),
+            }
+        }
+        // The shape's names are overrides only, never module constants.
+        for (name, _) in shape.overrides() {
+            if constant(module(kernel), name).is_some() {
+                errors.push(format!(
+                    "[{}] {name} is a const, not an override",
+                    kernel.name()
+                ));
+            }
         }
     }
     fail_if_any("shared constants", &errors);

@@ -73,12 +73,17 @@ override HAS_MEDIA: bool = true;
 // and a group iterates while any lane does: so each lane gets 65,535 / 8 (rounded down to
 // 8,000) there, and every loop in every kernel calls spend() once per iteration, which bounds
 // the group's total by 8 x 8,000 = 64,000. The host raises it on other devices. Exhausting
-// it ends the invocation's work and is counted in stats[STAT_LOOP_BUDGET].
+// it ends the invocation's work and is counted in stats[STAT_LOOP_BUDGET]. Adapters without
+// the cut compile the guard out (LOOP_GUARD false, src/gpu/shape.rs): spend() is then true
+// and the counter is dropped.
 override LOOP_BUDGET: u32 = 8000u;
 var<private> loop_iters: u32 = 0u;
 
 // Spends one loop iteration; false once the budget is gone (counted once).
 fn spend() -> bool {
+    if !LOOP_GUARD {
+        return true;
+    }
     loop_iters += 1u;
     if loop_iters == LOOP_BUDGET {
         atomicAdd(&stats[STAT_LOOP_BUDGET], 1u);

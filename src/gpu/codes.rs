@@ -138,18 +138,21 @@ pub const STAT_GATHER_TRUNCATED: u32 = 2;
 /// Length of the stats buffer in u32 counters.
 pub const STATS_LEN: usize = 4;
 
-/// Workgroup width of the one-dimensional kernels (tracing, grid build, probes).
+/// Workgroup width of the one-dimensional kernels (tracing, grid build, probes) in the
+/// default kernel shape (`shape::KernelShape::DEFAULT`; a render's is `GpuContext::shape`).
 pub const WG_SIZE: u32 = 64;
 /// Workgroup width of the grid's scan kernels: cells per scan block.
 pub const SCAN_BLOCK: u32 = 256;
 /// Consecutive cells each `scan_blocks` invocation sums (a scan block covers
 /// SCAN_BLOCK * SCAN_ITEMS cells).
 pub const SCAN_ITEMS: u32 = 16;
-/// The gather's workgroups are GATHER_TILE x GATHER_TILE pixels.
+/// The gather's workgroups are GATHER_TILE x GATHER_TILE pixels (every kernel shape's, unless
+/// forced: `shape::KernelShape::gather_tile`).
 pub const GATHER_TILE: u32 = 8;
 
-/// Invocations of a `build_cache` workgroup, which share one cache point's search (one
-/// lavapipe SIMD group: its loops then advance together).
+/// Invocations of a `build_cache` workgroup, which share one cache point's search, in the
+/// default kernel shape: one lavapipe SIMD group, so its loops advance together (a render's
+/// is the adapter's subgroup width, `shape::KernelShape::cache_lanes`).
 pub const CACHE_LANES: u32 = 8;
 /// Bins of `build_cache`'s distance histogram (a power of two, a multiple of CACHE_LANES).
 pub const CACHE_BINS: u32 = 256;
@@ -333,12 +336,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
-        ("WG_SIZE", U32(WG_SIZE)),
         ("SCAN_BLOCK", U32(SCAN_BLOCK)),
         ("SCAN_ITEMS", U32(SCAN_ITEMS)),
-        ("GATHER_TILE", U32(GATHER_TILE)),
         ("MAX_HEAP", U32(MAX_HEAP)),
-        ("CACHE_LANES", U32(CACHE_LANES)),
         ("CACHE_BINS", U32(CACHE_BINS)),
         ("CACHE_CANDIDATES", U32(CACHE_CANDIDATES)),
         ("CACHE_NEAR", U32(CACHE_NEAR)),
@@ -428,8 +428,9 @@ pub fn wgsl_material_class() -> String {
     out
 }
 
-/// The WGSL prelude: one `const` declaration per shared constant, then the generated
-/// dispatch tables.
+/// The WGSL prelude: one `const` declaration per shared constant, the kernel shape's override
+/// constants with the default shape's values (`shape::KernelShape::DEFAULT`), then the
+/// generated dispatch tables.
 pub fn wgsl_prelude() -> String {
     let mut out = String::from(
         "// Generated from src/gpu/codes.rs (shared_constants): do not declare these in WGSL.\n",
@@ -437,6 +438,13 @@ pub fn wgsl_prelude() -> String {
     for (name, value) in shared_constants() {
         out.push_str(&format!("const {name}: {};\n", value.declaration()));
     }
+    out.push_str(&format!(
+        "// The kernel shape (src/gpu/shape.rs): set per adapter at pipeline creation.\n\
+         override WG_SIZE: u32 = {WG_SIZE}u;\n\
+         override GATHER_TILE: u32 = {GATHER_TILE}u;\n\
+         override CACHE_LANES: u32 = {CACHE_LANES}u;\n\
+         override LOOP_GUARD: bool = true;\n"
+    ));
     out.push_str(&wgsl_material_class());
     out
 }

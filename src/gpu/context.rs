@@ -1,6 +1,7 @@
 //! The wgpu instance, adapter, device and queue: opened once per process and shared by its
 //! renders (`GpuContext::shared`), again only after the device was lost.
 
+use super::shape::{AdapterFacts, KernelShape};
 use crate::error::{Error, Result};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -29,6 +30,9 @@ pub struct GpuContext {
     /// This context's number in the process, unique (wgpu's own ids repeat between
     /// instances, and each context has its own instance).
     pub id: u64,
+    /// The kernel shape (workgroup widths, cache lanes, loop guard) the pipelines are
+    /// created with: the adapter's, or the one `GPU_PHOTON_KERNEL_SHAPE` forces.
+    pub shape: KernelShape,
     /// The device was opened with timestamp queries inside encoders (an optional feature):
     /// a pass's phases are then timed on the device, in one submission. Clearing it makes
     /// renders take the fallback (see `gpu::recorder`).
@@ -60,6 +64,9 @@ pub struct AdapterSummary {
     pub max_compute_workgroup_storage_size: u32,
     /// Smallest and largest subgroup (SIMD group, warp) the adapter reports.
     pub subgroup_size: (u32, u32),
+    /// The kernel shape a render on this adapter gets (`GPU_PHOTON_KERNEL_SHAPE` included;
+    /// the adapter's own when that variable does not parse).
+    pub kernel_shape: KernelShape,
 }
 
 impl AdapterSummary {
@@ -96,6 +103,7 @@ impl AdapterSummary {
                 "    subgroup size: {}..{}",
                 self.subgroup_size.0, self.subgroup_size.1
             ),
+            format!("    kernel shape: {}", self.kernel_shape.describe()),
         ]
     }
 }
@@ -114,6 +122,9 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
         .map(|a| {
             let info = a.get_info();
             let l = a.limits();
+            let facts = AdapterFacts::from_parts(&info, &l);
+            let kernel_shape =
+                KernelShape::from_env(&facts).unwrap_or_else(|_| KernelShape::for_adapter(&facts));
             AdapterSummary {
                 name: info.name,
                 backend: format!("{:?}", info.backend),
@@ -126,6 +137,7 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
                 max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
                 max_compute_workgroup_storage_size: l.max_compute_workgroup_storage_size,
                 subgroup_size: (info.subgroup_min_size, info.subgroup_max_size),
+                kernel_shape,
             }
         })
         .collect()
@@ -167,6 +179,7 @@ impl GpuContext {
         }))
         .map_err(|e| Error::Gpu(format!("no Vulkan adapter found ({e}); install mesa-vulkan-drivers for lavapipe, or use --backend cpu")))?;
         let limits = adapter.limits();
+        let shape = KernelShape::from_env(&AdapterFacts::of(&adapter)).map_err(Error::Gpu)?;
         if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
             return Err(Error::Gpu(format!(
                 "adapter {} allows {} storage buffers per stage; {STORAGE_BUFFERS_NEEDED} are needed",
@@ -189,6 +202,9 @@ impl GpuContext {
         required.max_compute_invocations_per_workgroup =
             256.min(limits.max_compute_invocations_per_workgroup);
         required.max_compute_workgroup_size_x = 256.min(limits.max_compute_workgroup_size_x);
+        // The cache build's workgroup memory grows with its lanes (`shape::cache_build_bytes`):
+        // ask for all the adapter grants.
+        required.max_compute_workgroup_storage_size = limits.max_compute_workgroup_storage_size;
         required.max_bind_groups = 2;
         // Optional: per-phase device times where the adapter has them.
         let stamps =
@@ -240,6 +256,7 @@ impl GpuContext {
                 static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
                 NEXT.fetch_add(1, Ordering::SeqCst)
             },
+            shape,
             timestamps,
         })
     }

@@ -3,7 +3,7 @@
 
 use super::bindings::{bind_group, Layouts, MAP_GROUP};
 use super::buffers::{empty_buffer, grid_2d};
-use super::codes::{COUNTER_MAX_POWER, SCAN_BLOCK, SCAN_ITEMS, WG_SIZE};
+use super::codes::{COUNTER_MAX_POWER, SCAN_BLOCK, SCAN_ITEMS};
 use super::context::GpuContext;
 use super::pipelines::Pipelines;
 use super::recorder::Recorder;
@@ -186,7 +186,7 @@ impl MapBuffers {
         {
             let mut pass = self.begin(enc, "trace photons", scene_bg);
             pass.set_pipeline(&p.trace_photons);
-            let (x, y) = grid_2d(self.params.paths.div_ceil(WG_SIZE));
+            let (x, y) = grid_2d(self.params.paths.div_ceil(p.shape.wg_size));
             pass.dispatch_workgroups(x, y, 1);
         }
         rec.kernel("trace_photons");
@@ -215,7 +215,7 @@ impl MapBuffers {
                 Some((t.div_ceil(SCAN_ITEMS), SCAN_BLOCK)),
             ),
             ("scan_sums", &p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
-            ("add_offsets", &p.add_offsets, Some((t, WG_SIZE))),
+            ("add_offsets", &p.add_offsets, Some((t, p.shape.wg_size))),
             ("scatter", &p.scatter, None),
             ("scatter_rest", &p.scatter_rest, None),
         ];

@@ -8,7 +8,8 @@
 //! `textures` (the scene's textures packed into words, the texture library's constants),
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `faults` (the device's
-//! failures described, their injection for tests, the watchdog), `context`,
+//! failures described, their injection for tests, the watchdog), `shape` (the kernel shape
+//! chosen per adapter: widths and the loop guard as override constants), `context`,
 //! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
@@ -36,6 +37,7 @@ pub mod renderer;
 pub mod run;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod shape;
 pub mod texture_buffers;
 pub mod textures;
 pub mod types;

@@ -5,7 +5,7 @@
 //! read back once, when the pass ends.
 
 use super::buffers::{empty_buffer, read_back, wait};
-use super::codes::{GATHER_TILE, STATS_LEN};
+use super::codes::STATS_LEN;
 use super::host::{batch_pass, batch_settings, MAX_BATCHES, PARAMS_STRIDE};
 use super::maps::MapBuffers;
 use super::recorder::Recorder;
@@ -152,10 +152,8 @@ impl GpuRun {
     ) {
         let ctx = &self.ctx;
         let gather_bg = self.gather_bind_group(maps, accum);
-        let (wx, wy) = (
-            s.width.div_ceil(GATHER_TILE),
-            s.height.div_ceil(GATHER_TILE),
-        );
+        let tile = ctx.shape.gather_tile;
+        let (wx, wy) = (s.width.div_ceil(tile), s.height.div_ceil(tile));
         let mut slots = vec![0u8; (PARAMS_STRIDE * s.spp as u64) as usize];
         for sample in 0..s.spp {
             let p = GpuParams {

@@ -4,6 +4,7 @@
 use super::bindings::Layouts;
 use super::context::GpuContext;
 use super::shaders::Kernel;
+use super::shape::KernelShape;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 
@@ -14,10 +15,12 @@ pub const CPU_DEVICE_LOOP_BUDGET: u32 = 8000;
 /// Loop budget on devices without lavapipe's cut: a guard against runaway loops only.
 pub const GPU_DEVICE_LOOP_BUDGET: u32 = 1_000_000;
 
-/// Scene features, the device's loop budget and whether any pass may run K-nearest
-/// estimates (`knn`: false for a progressive render) as pipeline-overridable constants.
+/// Scene features, the kernel shape (`shape`: widths and the loop guard), the device's loop
+/// budget and whether any pass may run K-nearest estimates (`knn`: false for a progressive
+/// render) as pipeline-overridable constants.
 pub fn feature_constants(
     scene: &Scene,
+    shape: &KernelShape,
     device_type: wgpu::DeviceType,
     knn: bool,
 ) -> Vec<(&'static str, f64)> {
@@ -26,7 +29,8 @@ pub fn feature_constants(
     } else {
         GPU_DEVICE_LOOP_BUDGET
     };
-    vec![
+    let mut constants = shape.overrides();
+    constants.extend([
         ("LOOP_BUDGET", budget as f64),
         ("HAS_GLASS", scene.has_glass() as u32 as f64),
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
@@ -57,7 +61,8 @@ pub fn feature_constants(
         ),
         ("KNN", knn as u32 as f64),
         ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
-    ]
+    ]);
+    constants
 }
 
 /// Whether some spot light has Mitsuba's falloff (its sampling code is compiled only then:
@@ -97,6 +102,8 @@ pub struct Pipelines {
     pub gather: wgpu::ComputePipeline,
     /// The radiance cache's build: only for a render in mode gather.
     pub radiance_cache: Option<CachePipelines>,
+    /// The kernel shape they were compiled with (the host's dispatch sizes follow it).
+    pub shape: KernelShape,
 }
 
 /// The radiance cache's build (shaders/cache_build.wgsl and cache_fixed.wgsl).
@@ -190,6 +197,7 @@ impl Pipelines {
                 knn: knn.then(|| pipeline(&gather, &gather_layout, "build_cache")),
                 fixed: pipeline(&gather, &gather_layout, "build_cache_fixed"),
             }),
+            shape: ctx.shape,
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             let e = super::faults::describe(&e);

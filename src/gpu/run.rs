@@ -60,7 +60,8 @@ impl GpuRun {
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
-        let constants = feature_constants(scene, ctx.adapter.get_info().device_type, knn);
+        let constants =
+            feature_constants(scene, &ctx.shape, ctx.adapter.get_info().device_type, knn);
         let final_gather = crate::plan::Terms::of(s.mode).final_gather;
         let key = PipelineKey::new(&constants, final_gather, knn);
         let cached = pipeline_cache::get(&ctx, &key);

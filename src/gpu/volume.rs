@@ -8,7 +8,7 @@
 
 use super::bindings::Layouts;
 use super::buffers::{empty_buffer, grid_2d};
-use super::codes::{SCAN_BLOCK, SCAN_ITEMS, VOLUME_MAX_PHOTONS, WG_SIZE};
+use super::codes::{SCAN_BLOCK, SCAN_ITEMS, VOLUME_MAX_PHOTONS};
 use super::context::GpuContext;
 use super::grid::table_size_for;
 use super::maps::{MapBuffers, EMPTY_MAP};
@@ -116,7 +116,7 @@ impl VolumeBuffers {
                 Some((t.div_ceil(SCAN_ITEMS), SCAN_BLOCK)),
             ),
             ("scan_sums", &p.scan_sums, Some((SCAN_BLOCK, SCAN_BLOCK))),
-            ("add_offsets", &p.add_offsets, Some((t, WG_SIZE))),
+            ("add_offsets", &p.add_offsets, Some((t, p.shape.wg_size))),
             ("scatter_volume", &p.scatter_volume, None),
         ];
         for (name, pipeline, size) in stages {
