@@ -67,7 +67,8 @@ pub fn unpack_normal(bits: u32) -> Vec3 {
 /// finite (NaN or infinite in any channel). The path ends there on both backends (twin:
 /// `power_ends` in shaders/common/photon.wgsl).
 pub fn power_ends(power: Vec3) -> bool {
-    !(power.max_element() > 0.0) || !power.is_finite()
+    // A finite power has no NaN, so its largest channel then compares.
+    !power.is_finite() || power.max_element() <= 0.0
 }
 
 impl Photon {

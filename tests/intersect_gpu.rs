@@ -16,8 +16,9 @@ use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::bvh::{Bvh, SPHERE_BIT};
 use gpu_photon::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
-use gpu_photon::gpu::probe_light::{intersect, IntersectProbe, RayCase};
+use gpu_photon::gpu::probe_light::{IntersectProbe, RayCase, SceneProbes};
 use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 
 /// Two quads meeting at an edge (each two triangles sharing a diagonal), a closed box and
@@ -248,16 +249,14 @@ fn device_intersection_equals_the_hosts() {
     rays.extend(edges);
     rays.extend(sphere_rays(&scene, &mut r));
     // t_max at the host's hit (a miss: hits count below t_max) and just past it.
-    for c in rays[..200].to_vec() {
-        if let Some(h) = host_primitive(&scene, &c) {
-            rays.push(RayCase { t_max: h[0], ..c });
-            rays.push(RayCase {
-                t_max: h[0].next_up(),
-                ..c
-            });
-        }
-    }
-    let got = intersect(&ctx, &scene, &rays).unwrap();
+    let at_hits: Vec<RayCase> = rays[..200]
+        .iter()
+        .filter_map(|c| host_primitive(&scene, c).map(|h| (c, h[0])))
+        .flat_map(|(c, t)| [t, t.next_up()].map(|t_max| RayCase { t_max, ..*c }))
+        .collect();
+    rays.extend(at_hits);
+    let mut probes = SceneProbes::new(&ctx, &scene, &RenderSettings::default()).unwrap();
+    let got = probes.intersect(&rays).unwrap();
     let (mut hits, mut nearest) = (0, 0);
     let mut worst = (0u32, 0f32, 0u32);
     for (i, (c, g)) in rays.iter().zip(&got).enumerate() {

@@ -8,14 +8,15 @@
 //! each photon path of both maps (the device scans the lights, the host bisects their
 //! offsets: identical for every path, so at every boundary); and the end of a path whose
 //! power is spent (zero, negative, NaN, infinite).
-//! Tolerances are in `check` (measured worst cases on lavapipe in the commit message).
+//! Tolerances: `ABS`, `REL` and the linear-angle spot's `LINEAR_ABS`, `LINEAR_REL` (each with
+//! its measured worst case on lavapipe).
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::gpu::probe_light::{lights, paths, LightCase};
+use gpu_photon::gpu::probe_light::{LightCase, SceneProbes};
 use gpu_photon::light::{LightSample, LightTable};
 use gpu_photon::photon::power_ends;
 use gpu_photon::plan::MapPlan;
@@ -165,11 +166,27 @@ const REL: f32 = 1e-5;
 const LINEAR_ABS: f32 = 2e-4;
 const LINEAR_REL: f32 = 5e-4;
 
+/// The photon budgets of the paths' test (both maps planned).
+fn settings() -> RenderSettings {
+    RenderSettings {
+        photons: 20_000,
+        caustic_photons: 5_000,
+        ..Default::default()
+    }
+}
+
+/// Both checks on one upload of the scene (its pipelines compile once: most of the time).
 #[test]
-fn emission_and_shadow_samples_equal_the_hosts() {
+fn device_lights_equal_the_hosts() {
     let Some(ctx) = gpu() else { return };
     let scene = scene();
-    let table = LightTable::new(&scene);
+    let mut probes = SceneProbes::new(&ctx, &scene, &settings()).unwrap();
+    emission_and_shadow_samples_equal_the_hosts(&scene, &mut probes);
+    every_path_has_the_hosts_light_and_spent_powers_end(&scene, &mut probes);
+}
+
+fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut SceneProbes) {
+    let table = LightTable::new(scene);
     let mut r = TestRng(0x1167);
     let mut cases = Vec::new();
     for (l, light) in scene.lights.iter().enumerate() {
@@ -196,7 +213,7 @@ fn emission_and_shadow_samples_equal_the_hosts() {
             });
         }
     }
-    let got = lights(&ctx, &scene, &cases).unwrap();
+    let got = probes.lights(&cases).unwrap();
     let mut worst = Worst::default();
     let mut kinds = std::collections::BTreeMap::new();
     for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
@@ -211,15 +228,15 @@ fn emission_and_shadow_samples_equal_the_hosts() {
             rel: if linear { LINEAR_REL } else { REL },
         };
         *kinds.entry(kind).or_insert(0) += 1;
-        let e = table.emit(&scene, l, c.u);
+        let e = table.emit(scene, l, c.u);
         worst.check("emit origin", &at, v(g.origin), e.origin, false);
         worst.check("emit dir", &at, v(g.dir), e.dir, false);
         worst.check("emit normal", &at, v(g.normal), e.normal, false);
         worst.check("emit scale", &at, v(g.scale), e.scale, true);
         let (x, ns) = (v(c.x), v(c.ns));
-        let s = table.sample(&scene, l, x, ns, [c.u[0], c.u[3], c.u[4]]);
+        let s = table.sample(scene, l, x, ns, [c.u[0], c.u[3], c.u[4]]);
         if let LightShape::Triangles { .. } = scene.lights[l].shape {
-            let want = table.pick_triangle(&scene, l, c.u[0]) as u32;
+            let want = table.pick_triangle(scene, l, c.u[0]) as u32;
             assert_eq!(
                 g.triangle,
                 Some(want),
@@ -233,7 +250,7 @@ fn emission_and_shadow_samples_equal_the_hosts() {
         // A distant sample's point is x plus a unit direction: compared as a direction.
         worst.check("sample point", &at, v(g.point), s.point, false);
         worst.check("sample weight", &at, v(g.weight), s.weight, true);
-        let pdf = host_pdf(&scene, &table, l, x, ns, &s);
+        let pdf = host_pdf(scene, &table, l, x, ns, &s);
         worst.check(
             "sample pdf",
             &at,
@@ -286,15 +303,8 @@ fn host_pdf(
     }
 }
 
-#[test]
-fn every_path_has_the_hosts_light_and_spent_powers_end() {
-    let Some(ctx) = gpu() else { return };
-    let scene = scene();
-    let s = RenderSettings {
-        photons: 20_000,
-        caustic_photons: 5_000,
-        ..Default::default()
-    };
+fn every_path_has_the_hosts_light_and_spent_powers_end(scene: &Scene, probes: &mut SceneProbes) {
+    let s = settings();
     let inf = f32::INFINITY;
     let nan = f32::NAN;
     let powers: Vec<[f32; 3]> = vec![
@@ -314,12 +324,12 @@ fn every_path_has_the_hosts_light_and_spent_powers_end() {
         [nan, nan, nan],
         [-inf, -inf, -inf],
     ];
-    let got = paths(&ctx, &scene, &s, &powers).unwrap();
+    let got = probes.paths(&powers).unwrap();
     for (p, &g) in powers.iter().zip(&got.ends) {
         assert_eq!(g, power_ends(Vec3::from_array(*p)), "power_ends({p:?})");
     }
     // The run's budgets are the host's plan, and each path's light is the host's.
-    let plan = MapPlan::new(&scene, &LightTable::new(&scene), &s);
+    let plan = MapPlan::new(scene, &LightTable::new(scene), &s);
     let mut seen = 0;
     for (k, kind) in [
         gpu_photon::plan::MapKind::Global,
