@@ -2,14 +2,14 @@
 //! against src/light.rs and src/photon.rs, through the probe `shaders/probe_light.wgsl`
 //! (`gpu::probe_light`): for every light kind (point, glTF and linear-angle spots,
 //! directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
-//! the environment) the photon emission (origin, direction, normal, power scale) and the
+//! an image environment) the photon emission (origin, direction, normal, power scale) and the
 //! shadow-ray sample (point, weight, distant, pdf) on the same random numbers, with the
 //! triangle picked exactly at, just below and just above every CDF value; the light that owns
 //! each photon path of both maps (the device scans the lights, the host bisects their
 //! offsets: identical for every path, so at every boundary); and the end of a path whose
 //! power is spent (zero, negative, NaN, infinite).
-//! Tolerances: `ABS`, `REL` and the linear-angle spot's `LINEAR_ABS`, `LINEAR_REL` (each with
-//! its measured worst case on lavapipe).
+//! Tolerances: `ABS`, `REL`, the linear-angle spot's `LINEAR_ABS`, `LINEAR_REL` and the image
+//! environment's `ENV_REL` (each with its measured worst case on lavapipe).
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
@@ -105,11 +105,13 @@ material = "white"
 emission = [5.0, 4.0, 4.0]
 
 [environment]
-radiance = [0.2, 0.3, 0.4]
+filename = "envlight.exr"
+scale = 0.5
 "#;
 
 fn scene() -> Scene {
-    load_str(SCENE, "lights.toml", Path::new(".")).expect("the light scene loads")
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    load_str(SCENE, "lights.toml", &data).expect("the light scene loads")
 }
 
 /// Worst errors seen, per light kind and quantity, in units of their bounds (for the report).
@@ -165,6 +167,15 @@ const REL: f32 = 1e-5;
 /// (measured). Its bounds: 2e-4 absolute, 5e-4 relative.
 const LINEAR_ABS: f32 = 2e-4;
 const LINEAR_REL: f32 = 5e-4;
+/// The image environment's radiance and density are looked up at a direction's latitude and
+/// longitude, through atan2 and acos: lavapipe's differ from Rust's by up to ~1e-4 rad
+/// (Vulkan allows 4096 ulp), and this image's sharp edges (a rendered room with its light)
+/// turn that into up to 6.2e-3 relative in a photon's power scale and a shadow sample's
+/// weight (measured; the same at the device's own directions, so not the sampled direction's
+/// error). Its directions and points keep `ABS`; what comes from the lookup is held to 2e-2
+/// relative (tests/environment.rs bounds the lookup itself by its range over nearby
+/// directions).
+const ENV_REL: f32 = 2e-2;
 
 /// The photon budgets of the paths' test (both maps planned).
 fn settings() -> RenderSettings {
@@ -225,7 +236,11 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
             case: i,
             kind,
             abs: if linear { LINEAR_ABS } else { ABS },
-            rel: if linear { LINEAR_REL } else { REL },
+            rel: match kind {
+                "spot linear-angle" => LINEAR_REL,
+                "environment" => ENV_REL,
+                _ => REL,
+            },
         };
         *kinds.entry(kind).or_insert(0) += 1;
         let e = table.emit(scene, l, c.u);
