@@ -4,10 +4,11 @@
 //! directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
 //! an image environment) the photon emission (origin, direction, normal, power scale) and the
 //! shadow-ray sample (point, weight, distant, pdf) on the same random numbers, with the
-//! triangle picked exactly at, just below and just above every CDF value; the light that owns
-//! each photon path of both maps (the device scans the lights, the host bisects their
-//! offsets: identical for every path, so at every boundary); and the end of a path whose
-//! power is spent (zero, negative, NaN, infinite).
+//! triangle picked exactly at, just below and just above every CDF value, and whether the
+//! emission aims at the caustic map's bounds; the light that owns each photon path of both
+//! maps (the device scans the lights, the host bisects their offsets: identical for every
+//! path, so at every boundary); and the end of a path whose power is spent (zero, negative,
+//! NaN, infinite).
 //! Tolerances: `ABS`, `REL`, the linear-angle spot's `LINEAR_ABS`, `LINEAR_REL` and the image
 //! environment's `ENV_REL` (each with its measured worst case on lavapipe).
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
@@ -17,9 +18,9 @@ mod common;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::gpu::probe_light::{LightCase, SceneProbes};
-use gpu_photon::light::{LightSample, LightTable};
+use gpu_photon::light::{aims_at, LightSample, LightTable};
 use gpu_photon::photon::power_ends;
-use gpu_photon::plan::MapPlan;
+use gpu_photon::plan::{MapKind, MapPlan};
 use gpu_photon::scene::{load_str, LightShape, Scene, SpotFalloff};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
@@ -198,6 +199,9 @@ fn device_lights_equal_the_hosts() {
 
 fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut SceneProbes) {
     let table = LightTable::new(scene);
+    let plan = MapPlan::new(scene, &table, &settings());
+    let aim = &plan.map(MapKind::Caustic).expect("a caustic map").aim;
+    let mut n_aimed = 0;
     let mut r = TestRng(0x1167);
     let mut cases = Vec::new();
     for (l, light) in scene.lights.iter().enumerate() {
@@ -248,6 +252,14 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         worst.check("emit dir", &at, v(g.dir), e.dir, false);
         worst.check("emit normal", &at, v(g.normal), e.normal, false);
         worst.check("emit scale", &at, v(g.scale), e.scale, true);
+        // The caustic map's aim, for the device's own emission.
+        let aims = aims_at(aim, v(g.origin), v(g.dir));
+        assert_eq!(
+            g.aims, aims,
+            "case {i}: aims_at({:?}, {:?})",
+            g.origin, g.dir
+        );
+        n_aimed += aims as usize;
         let (x, ns) = (v(c.x), v(c.ns));
         let s = table.sample(scene, l, x, ns, [c.u[0], c.u[3], c.u[4]]);
         if let LightShape::Triangles { .. } = scene.lights[l].shape {
@@ -274,8 +286,13 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
             true,
         );
     }
+    // Some emissions towards the glass sphere, most elsewhere: both answers occur.
+    assert!(
+        n_aimed > 20 && n_aimed < cases.len() / 2,
+        "{n_aimed} emissions aimed"
+    );
     eprintln!(
-        "cases per kind {kinds:?}; worst errors / bound: {:?}",
+        "{n_aimed} emissions aimed; cases per kind {kinds:?}; worst errors / bound: {:?}",
         worst.0
     );
 }
@@ -346,13 +363,7 @@ fn every_path_has_the_hosts_light_and_spent_powers_end(scene: &Scene, probes: &m
     // The run's budgets are the host's plan, and each path's light is the host's.
     let plan = MapPlan::new(scene, &LightTable::new(scene), &s);
     let mut seen = 0;
-    for (k, kind) in [
-        gpu_photon::plan::MapKind::Global,
-        gpu_photon::plan::MapKind::Caustic,
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    for (k, kind) in [MapKind::Global, MapKind::Caustic].into_iter().enumerate() {
         let b = got.budgets[k].as_ref().expect("both maps are planned");
         assert_eq!(
             Some(b),

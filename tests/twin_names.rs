@@ -40,7 +40,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/light.wgsl", "emit", "light.rs", "emit", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "light_solid_angle_pdf", "light.rs", "solid_angle_pdf", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "sample_light", "light.rs", "sample", Oracle("light_gpu.rs")),
-    ("common/light.wgsl", "aims_at", "light.rs", "aims_at", Images("gpu_images.rs")),
+    ("common/light.wgsl", "aims_at", "light.rs", "aims_at", Oracle("light_gpu.rs")),
     ("common/intersect.wgsl", "max_abs", "", "", Helper),
     ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Paths("media_gpu.rs")),
     ("common/intersect.wgsl", "inset", "geometry.rs", "inset", Oracle("intersect_gpu.rs")),

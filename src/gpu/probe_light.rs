@@ -39,6 +39,8 @@ pub struct LightProbe {
     pub normal: [f32; 3],
     /// Its factor on the photon's power.
     pub scale: [f32; 3],
+    /// Whether `aims_at` sends it towards the caustic map's bounds (the run's plan's).
+    pub aims: bool,
     /// The triangle `pick_triangle` chose for `u[0]` (a triangle light only).
     pub triangle: Option<u32>,
     /// The shadow-ray sample's point.
@@ -114,6 +116,7 @@ impl SceneProbes {
                 triangle: (at(3, i)[3] >= 0.0).then_some(at(3, i)[3] as u32),
                 dir: xyz(at(4, i)),
                 normal: xyz(at(5, i)),
+                aims: at(5, i)[3] == 1.0,
                 scale: xyz(at(6, i)),
                 point: xyz(at(7, i)),
                 pdf: at(7, i)[3],
