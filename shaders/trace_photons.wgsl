@@ -29,12 +29,6 @@ fn store_volume_photon(p: Photon) {
     }
 }
 
-// Whether a power is no longer positive and finite (the abs test is false for NaN as for
-// infinity): the path ends, as on the CPU.
-fn power_ends(power: vec3<f32>) -> bool {
-    return !(max3(power) > 0.0) || any(!(abs(power) <= vec3<f32>(3.4028235e38)));
-}
-
 @compute @workgroup_size(WG_SIZE)
 fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = flat_index(gid, nwg);
@@ -42,17 +36,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         return;
     }
     let caustic_map = map_params.is_caustic != 0u;
-    // The light that owns path i (light count is small; bounded by n_lights).
-    var li = 0u;
-    for (var l = 0u; l < params.n_lights && spend(); l += 1u) {
-        let lt = load_light(l);
-        let off = select(lt.global_offset, lt.caustic_offset, caustic_map);
-        let cnt = select(lt.global_count, lt.caustic_count, caustic_map);
-        if i >= off && i < off + cnt {
-            li = l;
-        }
-    }
-    let light = load_light(li);
+    let light = load_light(light_of(i, caustic_map));
     var rng = Rng(path_key(params.seed, map_params.stream, params.pass_index, i), 0u);
     let u0 = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
     let u3 = rng_next(&rng);

@@ -153,8 +153,9 @@ impl LightTable {
         t
     }
 
-    /// Picks a triangle of light `l` with probability proportional to area.
-    fn pick_triangle(&self, scene: &Scene, l: usize, u: f32) -> usize {
+    /// Picks a triangle of light `l` (a triangle light) with probability proportional to
+    /// area: the first whose CDF value exceeds `u` (the last for `u` at or past the end).
+    pub fn pick_triangle(&self, scene: &Scene, l: usize, u: f32) -> usize {
         let LightShape::Triangles { first, count } = scene.lights[l].shape else {
             unreachable!()
         };

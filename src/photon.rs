@@ -63,6 +63,14 @@ pub fn unpack_normal(bits: u32) -> Vec3 {
     Vec3::new(x, y, z).normalize()
 }
 
+/// Whether a photon path's `power` is spent: no longer positive in any channel, or not
+/// finite (NaN or infinite in any channel). The path ends there on both backends (twin:
+/// `power_ends` in shaders/common/photon.wgsl).
+pub fn power_ends(power: Vec3) -> bool {
+    // A finite power has no NaN, so its largest channel then compares.
+    !power.is_finite() || power.max_element() <= 0.0
+}
+
 impl Photon {
     /// A photon travelling along `dir` that hit a surface with geometric normal `n` (either
     /// orientation: the stored normal faces where the photon came from).

@@ -79,6 +79,23 @@ struct SurfacePoint {
     texel: vec3<f32>,
 }
 
+// The light that owns photon path i of the global map (or the caustic map): the last light
+// whose budget range [offset, offset + count) holds i, light 0 when none does (twin of
+// Budget::light_of; the lights' ranges are consecutive, so at most one holds i). A linear
+// scan bounded by n_lights: scenes have few lights.
+fn light_of(i: u32, caustic_map: bool) -> u32 {
+    var li = 0u;
+    for (var l = 0u; l < params.n_lights && spend(); l += 1u) {
+        let lt = load_light(l);
+        let off = select(lt.global_offset, lt.caustic_offset, caustic_map);
+        let cnt = select(lt.global_count, lt.caustic_count, caustic_map);
+        if i >= off && i < off + cnt {
+            li = l;
+        }
+    }
+    return li;
+}
+
 // Triangle of light l by area: binary search of its CDF (bounded by 32 steps).
 fn pick_triangle(l: Light, u: f32) -> u32 {
     var lo = 0u;

@@ -1,5 +1,6 @@
-// The stored photon's packed normal and the side test of the radiance estimate; twin of
-// src/photon.rs (pack_normal, unpack_normal) and src/estimate.rs (FACING_COS, photon_faces).
+// The stored photon's packed normal, the side test of the radiance estimate and the end of a
+// path whose power is spent; twin of src/photon.rs (pack_normal, unpack_normal, power_ends)
+// and src/estimate.rs (FACING_COS, photon_faces).
 // Library, no entry point; writes nothing.
 
 // A Photon as PHOTON_WORDS 16-byte words: (position, flags), (power, id), (dir, normal).
@@ -58,4 +59,10 @@ fn photon_faces(p: Photon, x: vec3<f32>, ns: vec3<f32>) -> bool {
         return false;
     }
     return (dot(p.position - x, ns) > 0.0) == (dot(x - p.position, np) > 0.0);
+}
+
+// Whether a photon's power is no longer positive and finite (the abs test is false for NaN
+// as for infinity): its path ends (twin of photon::power_ends).
+fn power_ends(power: vec3<f32>) -> bool {
+    return !(max3(power) > 0.0) || any(!(abs(power) <= vec3<f32>(3.4028235e38)));
 }

@@ -7,7 +7,7 @@ use crate::geometry::{offset_origin, Ray};
 use crate::light::{aims_at, LightTable};
 use crate::material::Bounce;
 use crate::medium::NO_MEDIUM;
-use crate::photon::{Budget, Photon};
+use crate::photon::{power_ends, Budget, Photon};
 use crate::plan::VolumeSpec;
 use crate::rng::{Rng, Stream};
 use crate::scene::Scene;
@@ -215,7 +215,7 @@ fn trace_path(
                 ray = Ray { origin: x, dir };
                 all_specular = false;
                 depth += 1;
-                if !(power.max_element() > 0.0) || !power.is_finite() {
+                if power_ends(power) {
                     return PathEnds::add(&mut out.ends.cut, power);
                 }
                 continue;
@@ -273,7 +273,7 @@ fn trace_path(
             Bounce::Specular { dir, weight, .. } => (dir, weight),
         };
         power *= weight;
-        if !(power.max_element() > 0.0) || !power.is_finite() {
+        if power_ends(power) {
             return PathEnds::add(&mut out.ends.cut, power);
         }
         medium = medium_after(scene, &hit, medium, dir);

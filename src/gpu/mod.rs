@@ -13,7 +13,8 @@
 //! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
-//! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media).
+//! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media),
+//! `probe_light` (those of the lights and of ray intersection).
 
 pub mod bindings;
 pub mod bsdf_params;
@@ -30,6 +31,7 @@ pub mod photon_maps;
 pub mod pipeline_cache;
 pub mod pipelines;
 pub mod probe;
+pub mod probe_light;
 pub mod probe_media;
 pub mod radiance_cache;
 pub mod recorder;

@@ -19,7 +19,8 @@ pub enum Kernel {
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::sobol::wgsl_library`).
     Gather,
-    /// `shaders/probes.wgsl`: oracle probes for tests (never used by a render).
+    /// `shaders/probes.wgsl`, `probe_light.wgsl` and `probe_geometry.wgsl`: oracle probes
+    /// for tests (never used by a render).
     Probes,
 }
 
@@ -49,9 +50,11 @@ const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
 const CACHE_FIXED: &str = include_str!("../../shaders/cache_fixed.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
+const PROBE_LIGHT: &str = include_str!("../../shaders/probe_light.wgsl");
+const PROBE_GEOMETRY: &str = include_str!("../../shaders/probe_geometry.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 30] = [
+pub const WGSL_FILES: [(&str, &str); 32] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -81,6 +84,8 @@ pub const WGSL_FILES: [(&str, &str); 30] = [
     ("cache_fixed.wgsl", CACHE_FIXED),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
+    ("probe_light.wgsl", PROBE_LIGHT),
+    ("probe_geometry.wgsl", PROBE_GEOMETRY),
     // The BSDF library and its oracle probe, composed by `bsdf_params::probe_source()` only.
     ("common/bsdf.wgsl", super::bsdf_params::BSDF_WGSL),
     ("common/bsdf_gltf.wgsl", super::bsdf_params::BSDF_GLTF_WGSL),
@@ -142,6 +147,9 @@ impl Kernel {
                 "probe_medium",
                 "probe_beam",
                 "probe_transmittance",
+                "probe_light",
+                "probe_paths",
+                "probe_intersect",
             ],
         }
     }
@@ -188,7 +196,14 @@ impl Kernel {
                 CACHE_FIXED,
                 GATHER,
             ],
-            Kernel::Probes => &[ESTIMATE, MEDIA_CAMERA, RADIANCE_CACHE, PROBES],
+            Kernel::Probes => &[
+                ESTIMATE,
+                MEDIA_CAMERA,
+                RADIANCE_CACHE,
+                PROBES,
+                PROBE_LIGHT,
+                PROBE_GEOMETRY,
+            ],
         };
         libs.iter()
             .chain(own)

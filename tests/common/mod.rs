@@ -44,7 +44,9 @@ pub fn cornell_gpu_pass(
 /// Opens the GPU. Without an adapter the test is skipped, except under CI (CI=true), where
 /// lavapipe is installed and a missing adapter is a failure.
 pub fn gpu() -> Option<GpuContext> {
-    match GpuContext::new() {
+    // The process's shared device, as renders use: pipelines compiled by one test are
+    // reused by the next (gpu::pipeline_cache).
+    match GpuContext::shared() {
         Ok(ctx) => Some(ctx),
         Err(e) if std::env::var("CI").is_ok_and(|v| v == "true" || v == "1") => {
             panic!("CI must have a Vulkan adapter (lavapipe): {e}")

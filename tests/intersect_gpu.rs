@@ -1,0 +1,336 @@
+//! Oracle test of ray intersection on the device (shaders/common/intersect.wgsl) against
+//! src/geometry.rs and src/bvh.rs, through the probe `shaders/probe_geometry.wgsl`
+//! (`gpu::probe_light::intersect`): each primitive's own test (the watertight
+//! ray-triangle test, the sphere's) and the BVH walk (nearest and any hit) over a small scene
+//! of quads, a box, spheres and a degenerate triangle, on random rays and on the edge cases
+//! of a watertight test: rays aimed exactly at shared edges and vertices (the device hits the
+//! same triangles as the host, and at least one of the two sharing an edge), rays in a
+//! triangle's plane, a degenerate triangle (never hit), hits with t_max at and just past the
+//! hit, rays tangent to a sphere and from inside it.
+//! Hit or miss must be identical; t within 4 ulp (`T_ULPS`), barycentrics within 1e-6.
+//! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
+
+mod common;
+
+use common::{gpu, TestRng};
+use glam::Vec3;
+use gpu_photon::bvh::{Bvh, SPHERE_BIT};
+use gpu_photon::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
+use gpu_photon::gpu::probe_light::{IntersectProbe, RayCase, SceneProbes};
+use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::settings::RenderSettings;
+use std::path::Path;
+
+/// Two quads meeting at an edge (each two triangles sharing a diagonal), a closed box and
+/// spheres, one large enough to hold ray origins.
+const SCENE: &str = r#"
+[camera]
+eye = [0.0, 0.0, 8.0]
+target = [0.0, 0.0, 0.0]
+fov = 40.0
+
+[materials.a]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+
+[materials.b]
+type = "diffuse"
+albedo = [0.2, 0.6, 0.2]
+
+[[shapes]]
+type = "quad"
+corners = [[-2.0, -1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [-2.0, 1.0, 0.0]]
+material = "a"
+
+[[shapes]]
+type = "quad"
+corners = [[0.0, -1.0, 0.0], [1.7, -1.3, 0.9], [1.9, 1.1, 1.0], [0.0, 1.0, 0.0]]
+material = "b"
+
+[[shapes]]
+type = "box"
+min = [-1.0, -3.0, -2.0]
+max = [0.7, -2.2, -0.5]
+rotate_y = 30.0
+material = "b"
+
+[[shapes]]
+type = "triangle"
+vertices = [[2.0, 2.0, -1.0], [3.0, 2.0, -1.0], [2.0, 3.0, -1.2]]
+material = "a"
+
+[[shapes]]
+type = "sphere"
+center = [2.5, -2.0, -1.0]
+radius = 0.6
+material = "a"
+
+[[shapes]]
+type = "sphere"
+center = [-2.5, 2.0, 1.5]
+radius = 0.3
+material = "b"
+"#;
+
+/// Largest difference in t, in ulp of the host's t: the device evaluates the same
+/// expressions, but may contract a multiply and an add (WGSL allows it), a rounding each.
+/// Measured on lavapipe: each primitive's test bit for bit (t and barycentrics), the walk's
+/// nearest t within 1 ulp (the same test inlined in the walk, compiled differently).
+const T_ULPS: u32 = 4;
+/// Barycentrics: differences of edge functions over their sum, each a few roundings.
+const UV_ABS: f32 = 1e-6;
+
+/// The scene, with its last triangle made degenerate (its three vertices on a line).
+fn scene() -> Scene {
+    let mut s = load_str(SCENE, "rays.toml", Path::new(".")).expect("the ray scene loads");
+    let t = s.triangles.last_mut().unwrap();
+    t.v2 = t.v0 + 0.5 * (t.v1 - t.v0);
+    s
+}
+
+fn ulps(a: f32, b: f32) -> u32 {
+    (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs() as u32
+}
+
+/// The host's test of `c.primitive` alone.
+fn host_primitive(scene: &Scene, c: &RayCase) -> Option<[f32; 3]> {
+    let ray = Ray {
+        origin: Vec3::from_array(c.origin),
+        dir: Vec3::from_array(c.dir),
+    };
+    if c.primitive == u32::MAX {
+        None
+    } else if c.primitive & SPHERE_BIT == 0 {
+        let tri = &scene.triangles[c.primitive as usize];
+        intersect_triangle(tri, &ray, &Shear::new(ray.dir), c.t_max).map(|(t, u, v)| [t, u, v])
+    } else {
+        let s = &scene.spheres[(c.primitive & !SPHERE_BIT) as usize];
+        intersect_sphere(s, &ray, c.t_max).map(|t| [t, 0.0, 0.0])
+    }
+}
+
+fn case(o: Vec3, d: Vec3, t_max: f32, primitive: u32) -> RayCase {
+    RayCase {
+        origin: o.to_array(),
+        dir: d.normalize().to_array(),
+        t_max,
+        primitive,
+    }
+}
+
+/// Random rays at random primitives (and at none), from anywhere around the scene.
+fn random_rays(scene: &Scene, r: &mut TestRng, n: usize) -> Vec<RayCase> {
+    let nt = scene.triangles.len() as u32;
+    let ns = scene.spheres.len() as u32;
+    (0..n)
+        .map(|i| {
+            let o = Vec3::new(r.range(-4.0, 4.0), r.range(-4.0, 4.0), r.range(-4.0, 4.0));
+            // Half the rays aimed near a primitive, so that they hit it often.
+            let k = (r.f32() * (nt + ns) as f32) as u32 % (nt + ns);
+            let (target, prim) = if k < nt {
+                let t = &scene.triangles[k as usize];
+                (t.point(r.f32() * 0.6, r.f32() * 0.6), k)
+            } else {
+                let s = &scene.spheres[(k - nt) as usize];
+                (s.center + r.dir() * s.radius * 1.1, SPHERE_BIT | (k - nt))
+            };
+            let d = if i % 2 == 0 { target - o } else { r.dir() };
+            let t_max = [3.0e38, r.range(0.5, 8.0)][i % 3 / 2];
+            case(o, d, t_max, if i % 17 == 0 { u32::MAX } else { prim })
+        })
+        .collect()
+}
+
+/// Rays from random origins aimed exactly at points of every triangle's edges (their ends,
+/// midpoints and random points), each tested against every triangle that has that edge or
+/// vertex; rays in each triangle's plane.
+fn edge_rays(scene: &Scene, r: &mut TestRng) -> (Vec<RayCase>, Vec<(usize, usize)>) {
+    let mut rays = Vec::new();
+    let mut shared = Vec::new();
+    let tris = &scene.triangles;
+    let on_edge = |p: Vec3, j: usize| {
+        let t = &tris[j];
+        let vs = [t.v0, t.v1, t.v2];
+        (0..3).any(|e| {
+            let (a, b) = (vs[e], vs[(e + 1) % 3]);
+            let ab = b - a;
+            let s = (p - a).dot(ab) / ab.length_squared();
+            (0.0..=1.0).contains(&s) && (a + s * ab - p).length() < 1e-6
+        })
+    };
+    for (k, t) in tris.iter().enumerate() {
+        let vs = [t.v0, t.v1, t.v2];
+        for e in 0..3 {
+            let (a, b) = (vs[e], vs[(e + 1) % 3]);
+            for s in [0.0, 0.5, r.f32(), r.f32()] {
+                let p = a + s * (b - a);
+                let o = p + r.dir() * r.range(0.5, 4.0);
+                let owners: Vec<usize> = (0..tris.len()).filter(|&j| on_edge(p, j)).collect();
+                for &j in &owners {
+                    rays.push(case(o, p - o, 3.0e38, j as u32));
+                }
+                // A shared edge the ray crosses (the two triangles on either side of the
+                // plane through the edge and the ray; not a silhouette, which a ray may pass).
+                if owners.len() == 2 && s > 0.0 && s < 1.0 {
+                    let plane = (b - a).cross(p - o);
+                    let side = |j: usize| {
+                        let t = &tris[j];
+                        let c = (t.v0 + t.v1 + t.v2) / 3.0;
+                        plane.dot(c - a).signum()
+                    };
+                    if side(owners[0]) != side(owners[1]) {
+                        shared.push((rays.len() - 2, rays.len() - 1));
+                    }
+                }
+            }
+        }
+        // In the plane: through the centroid, from outside the triangle.
+        let c = (t.v0 + t.v1 + t.v2) / 3.0;
+        let along = (t.v1 - t.v0).normalize();
+        rays.push(case(c - 3.0 * along, along, 3.0e38, k as u32));
+    }
+    (rays, shared)
+}
+
+/// Sphere edge cases: tangent rays, rays from the centre and from the surface outwards.
+fn sphere_rays(scene: &Scene, r: &mut TestRng) -> Vec<RayCase> {
+    let mut rays = Vec::new();
+    for (k, s) in scene.spheres.iter().enumerate() {
+        let id = SPHERE_BIT | k as u32;
+        for _ in 0..20 {
+            let n = r.dir();
+            let t = n.any_orthonormal_vector();
+            // Tangent at c + r n, from 2 units back.
+            let p = s.center + s.radius * n;
+            rays.push(case(p - 2.0 * t, t, 3.0e38, id));
+            rays.push(case(s.center, r.dir(), 3.0e38, id));
+            rays.push(case(p, n, 3.0e38, id));
+            rays.push(case(p, -n, 3.0e38, id));
+        }
+    }
+    rays
+}
+
+/// Compares one primitive's test; returns its (t ulps, barycentric error) for the report.
+fn check_primitive(scene: &Scene, i: usize, c: &RayCase, g: &IntersectProbe) -> (u32, f32) {
+    let want = host_primitive(scene, c);
+    match (g.primitive, want) {
+        (None, None) => (0, 0.0),
+        (Some(g), Some(w)) => {
+            assert!(
+                ulps(g[0], w[0]) <= T_ULPS,
+                "ray {i} {c:?}: t {} vs {}",
+                g[0],
+                w[0]
+            );
+            for k in 1..3 {
+                assert!(
+                    (g[k] - w[k]).abs() <= UV_ABS,
+                    "ray {i} {c:?}: uv {g:?} vs {w:?}"
+                );
+            }
+            let uv = (g[1] - w[1]).abs().max((g[2] - w[2]).abs());
+            (ulps(g[0], w[0]), uv)
+        }
+        _ => panic!("ray {i} {c:?}: device {:?}, host {want:?}", g.primitive),
+    }
+}
+
+#[test]
+fn device_intersection_equals_the_hosts() {
+    let Some(ctx) = gpu() else { return };
+    let scene = scene();
+    let bvh = Bvh::build(&scene);
+    let mut r = TestRng(0x7a7);
+    let mut rays = random_rays(&scene, &mut r, 3000);
+    let n_random = rays.len();
+    let (edges, shared) = edge_rays(&scene, &mut r);
+    let first_edge = rays.len();
+    rays.extend(edges);
+    rays.extend(sphere_rays(&scene, &mut r));
+    // t_max at the host's hit (a miss: hits count below t_max) and just past it.
+    let at_hits: Vec<RayCase> = rays[..200]
+        .iter()
+        .filter_map(|c| host_primitive(&scene, c).map(|h| (c, h[0])))
+        .flat_map(|(c, t)| [t, t.next_up()].map(|t_max| RayCase { t_max, ..*c }))
+        .collect();
+    rays.extend(at_hits);
+    let mut probes = SceneProbes::new(&ctx, &scene, &RenderSettings::default()).unwrap();
+    let got = probes.intersect(&rays).unwrap();
+    let (mut hits, mut nearest) = (0, 0);
+    let mut worst = (0u32, 0f32, 0u32);
+    for (i, (c, g)) in rays.iter().zip(&got).enumerate() {
+        let (t_ulps, uv) = check_primitive(&scene, i, c, g);
+        worst = (worst.0.max(t_ulps), worst.1.max(uv), worst.2);
+        hits += g.primitive.is_some() as usize;
+        // The walk: the same nearest hit (a tie between primitives at one t, as on a shared
+        // edge, may pick either: compared by t only there).
+        let ray = Ray {
+            origin: Vec3::from_array(c.origin),
+            dir: Vec3::from_array(c.dir),
+        };
+        let want = bvh.intersect(&scene, &ray, c.t_max);
+        assert_eq!(
+            g.occluded,
+            bvh.occluded(&scene, &ray, c.t_max),
+            "ray {i} {c:?}: any hit"
+        );
+        match (g.nearest, want) {
+            (None, None) => {}
+            (Some((t, material, light)), Some(h)) => {
+                assert!(
+                    ulps(t, h.t) <= T_ULPS,
+                    "ray {i} {c:?}: nearest t {t} vs {}",
+                    h.t
+                );
+                nearest += 1;
+                worst.2 = worst.2.max(ulps(t, h.t));
+                if i < n_random {
+                    assert_eq!(
+                        (material, light),
+                        (h.material, (h.light != u32::MAX).then_some(h.light))
+                    );
+                    let e = (Vec3::from_array(g.position) - h.position)
+                        .abs()
+                        .max_element();
+                    assert!(
+                        e <= 1e-5,
+                        "ray {i}: position {:?} vs {}",
+                        g.position,
+                        h.position
+                    );
+                    let e = (Vec3::from_array(g.normal) - h.normal).abs().max_element();
+                    assert!(e <= 1e-6, "ray {i}: normal {:?} vs {}", g.normal, h.normal);
+                }
+            }
+            (g, w) => panic!(
+                "ray {i} {c:?}: nearest device {g:?}, host {:?}",
+                w.map(|h| h.t)
+            ),
+        }
+    }
+    // Watertight: of two triangles sharing an edge, a ray through the edge hits at least one.
+    for &(a, b) in &shared {
+        let (a, b) = (first_edge + a, first_edge + b);
+        assert!(
+            got[a].primitive.is_some() || got[b].primitive.is_some(),
+            "rays {a}, {b}: through a shared edge, neither triangle hit"
+        );
+    }
+    let degenerate = scene.triangles.len() as u32 - 1;
+    assert!(rays[first_edge..]
+        .iter()
+        .zip(&got[first_edge..])
+        .filter(|(c, _)| c.primitive == degenerate)
+        .all(|(_, g)| g.primitive.is_none()));
+    eprintln!(
+        "{} rays: {hits} primitive hits, {nearest} nearest hits, {} shared-edge pairs; \
+         worst t {} ulp, barycentrics {:e}, nearest t {} ulp",
+        rays.len(),
+        shared.len(),
+        worst.0,
+        worst.1,
+        worst.2
+    );
+    assert!(hits > rays.len() / 3 && shared.len() >= 10);
+}
