@@ -18,29 +18,7 @@ use gpu_photon::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 
 fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
-    RenderSettings {
-        width: 48,
-        height: 48,
-        spp: 4,
-        photons: 40_000,
-        caustic_photons: 20_000,
-        seed,
-        ..scene.settings.clone()
-    }
-}
-
-/// The example scenes, sorted, less the media scenes (`fog-cornell.toml`,
-/// `volume-caustic.toml`): `tests/media_gpu.rs` compares the backends on them at a size
-/// lavapipe renders in CI's time (its beam queries run lane by lane, about 19x the CPU's).
-fn scene_paths() -> Vec<std::path::PathBuf> {
-    let mut paths: Vec<_> = std::fs::read_dir("scenes")
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .filter(|p| !gpu_photon::scene::load(p).unwrap().has_media_transport())
-        .collect();
-    paths.sort();
-    paths
+    common::example_settings(scene, 48, seed)
 }
 
 /// Renders `scene` with `settings(seed)` on the CPU at seeds 1 and 2 and on the GPU at seed
@@ -93,7 +71,7 @@ fn compare_backends(
 fn gpu_matches_cpu_on_every_scene() {
     let Some(_ctx) = gpu() else { return };
     let mut failures = Vec::new();
-    for path in scene_paths() {
+    for path in common::example_scenes_without_media() {
         let scene = gpu_photon::scene::load(&path).unwrap();
         let what = path.display().to_string();
         compare_backends(&what, &scene, |seed| settings(&scene, seed), &mut failures);
@@ -177,7 +155,7 @@ fn one_gpu_renderer_renders_pass_after_pass() {
 fn gpu_matches_cpu_in_direct_mode() {
     let Some(_ctx) = gpu() else { return };
     let mut failures = Vec::new();
-    for path in scene_paths() {
+    for path in common::example_scenes_without_media() {
         let scene = gpu_photon::scene::load(&path).unwrap();
         let what = format!("{} (direct)", path.display());
         let direct = |seed| RenderSettings {
@@ -205,7 +183,7 @@ fn example_scenes_at_their_defaults_hit_no_gpu_bound() {
     if gpu().is_none() {
         return;
     }
-    for path in scene_paths() {
+    for path in common::example_scenes_without_media() {
         let scene = gpu_photon::scene::load(&path).unwrap();
         let small = RenderSettings {
             width: 24,

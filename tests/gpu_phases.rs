@@ -147,7 +147,7 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
 
 /// A second render in the process with the same scene and kinds of kernels takes the first
 /// one's pipelines (`gpu::pipeline_cache`, on the shared device) and gives the same pixels;
-/// another mode (one with the radiance cache's kernels) compiles its own.
+/// a progressive pass (other override constants) compiles its own.
 #[test]
 fn a_later_render_reuses_the_pipelines_and_gives_the_same_pixels() {
     if gpu().is_none() {
@@ -173,8 +173,10 @@ fn a_later_render_reuses_the_pipelines_and_gives_the_same_pixels() {
     let (second, r2) = render(&scene, &s, Backend::Gpu, Progress::default()).unwrap();
     assert_eq!(upload(&r2), "upload (pipelines reused)");
     assert_eq!(first.pixels, second.pixels);
+    // A progressive pass (fixed radii: override KNN off), in a mode no other test here
+    // renders progressively: its pipelines are not in the cache yet.
     let other = RenderSettings {
-        mode: Mode::Gather,
+        pass_range: Some((0, 1)),
         ..s
     };
     let (_, r3) = render(&scene, &other, Backend::Gpu, Progress::default()).unwrap();

@@ -135,27 +135,7 @@ fn cache_build_workgroup_memory_is_what_rust_computes() {
 }
 
 fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
-    RenderSettings {
-        width: 32,
-        height: 32,
-        spp: 4,
-        photons: 40_000,
-        caustic_photons: 20_000,
-        seed,
-        ..scene.settings.clone()
-    }
-}
-
-/// The example scenes, sorted, less the media scenes (tests/media_gpu.rs's, slow on lavapipe).
-fn scene_paths() -> Vec<std::path::PathBuf> {
-    let mut paths: Vec<_> = std::fs::read_dir("scenes")
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .filter(|p| !gpu_photon::scene::load(p).unwrap().has_media_transport())
-        .collect();
-    paths.sort();
-    paths
+    common::example_settings(scene, 32, seed)
 }
 
 /// On lavapipe: the guard-free NVIDIA shape compiles every pipeline; then every example scene
@@ -197,7 +177,7 @@ fn a_32_wide_shape_renders_the_same_images() {
         .0
     };
     let mut failures = Vec::new();
-    for path in scene_paths() {
+    for path in common::example_scenes_without_media() {
         let scene = gpu_photon::scene::load(&path).unwrap();
         std::env::remove_var(SHAPE_ENV);
         let (d1, d2) = (run(&scene, 1), run(&scene, 2));

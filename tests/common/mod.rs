@@ -372,3 +372,36 @@ pub fn gpu_and_seed_diffs(scene: &Scene, s: &RenderSettings) -> (DiffStats, Diff
     let d = gpu_photon::film::diff(&gpu, &cpu2, 8).unwrap();
     (d, noise)
 }
+
+/// The example scenes in scenes/, sorted, less the media scenes (`fog-cornell.toml`,
+/// `volume-caustic.toml`): `tests/media_gpu.rs` compares the backends on them at a size
+/// lavapipe renders in CI's time (its beam queries run lane by lane, about 19x the CPU's).
+pub fn example_scenes_without_media() -> Vec<std::path::PathBuf> {
+    let mut paths: Vec<_> =
+        std::fs::read_dir(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .filter(|p| !gpu_photon::scene::load(p).unwrap().has_media_transport())
+            .collect();
+    paths.sort();
+    paths
+}
+
+/// An example scene's own settings at `size` x `size`, 4 spp, 40,000 global and 20,000
+/// caustic photon paths, seed `seed`: the CPU-vs-GPU image tests' renders.
+pub fn example_settings(
+    scene: &gpu_photon::scene::Scene,
+    size: u32,
+    seed: u32,
+) -> gpu_photon::settings::RenderSettings {
+    gpu_photon::settings::RenderSettings {
+        width: size,
+        height: size,
+        spp: 4,
+        photons: 40_000,
+        caustic_photons: 20_000,
+        seed,
+        ..scene.settings.clone()
+    }
+}
