@@ -182,11 +182,10 @@ fn path_directories_are_searched_first_latest_first() {
     assert_eq!(albedo(&load(both).unwrap().scene), Vec3::splat(0.3));
     assert_eq!(load(both).unwrap().scene.triangles.len(), 3);
     let got = error(load(r#"<path value="../missing"/>"#));
-    let want = format!(
-        "t.xml:3: path: folder `{}` not found",
-        dir.join("../missing").display()
+    assert_eq!(
+        got,
+        "t.xml:3: path: folder `../missing` not found beside the scene file or in an earlier <path>"
     );
-    assert_eq!(got, want);
 }
 
 #[test]

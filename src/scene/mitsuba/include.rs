@@ -187,7 +187,13 @@ impl Walk {
                         }
                     }
                     if !path.is_dir() {
-                        let message = format!("folder `{}` not found", path.display());
+                        // The value as written: the file and line already say where it is.
+                        let message = match PathBuf::from(&value).is_relative() {
+                            true => format!(
+                                "folder `{value}` not found beside the scene file or in an earlier <path>"
+                            ),
+                            false => format!("folder `{value}` not found"),
+                        };
                         return Err(err(name, node, "path", message));
                     }
                     self.g.search.insert(0, path);
