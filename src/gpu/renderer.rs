@@ -7,6 +7,7 @@ use super::codes::{MAX_HEAP, STATS_LEN};
 use super::context::GpuContext;
 use super::faults::{injected, Fault};
 use super::run::GpuRun;
+use super::shape::{AdapterFacts, KernelShape};
 use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::report::PassRenderer;
@@ -43,7 +44,9 @@ impl<'s> GpuRenderer<'s> {
         let s = settings;
         let mut report = RenderReport::default();
         let t = Instant::now();
-        let ctx = GpuContext::shared()?;
+        let mut ctx = GpuContext::shared()?;
+        // The shared device outlives this render: GPU_PHOTON_KERNEL_SHAPE is read per render.
+        ctx.shape = KernelShape::from_env(&AdapterFacts::of(&ctx.adapter)).map_err(Error::Gpu)?;
         let accum_bytes = s.width as u64 * s.height as u64 * 16;
         if accum_bytes > ctx.max_binding {
             return Err(Error::Gpu(format!(
