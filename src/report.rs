@@ -41,6 +41,9 @@ pub struct RenderReport {
     pub gpu_stats: Vec<u32>,
     /// Photon batches the pass was split into (GPU: one storage binding per map).
     pub batches: u32,
+    /// CPU fixed-radius searches whose radius held more photons than a search may read,
+    /// narrowed to the nearest (`cpu::density`); summed over passes.
+    pub narrowed: u64,
 }
 
 impl RenderReport {
@@ -88,6 +91,7 @@ impl RenderReport {
         self.stored = other.stored;
         self.volume_stored = other.volume_stored;
         self.batches = self.batches.max(other.batches);
+        self.narrowed += other.narrowed;
         if self.backend.is_empty() {
             self.backend = other.backend.clone();
         }
@@ -144,15 +148,29 @@ impl RenderReport {
                 self.batches
             ));
         }
-        if let [overflow, budget, truncated, ..] = self.gpu_stats[..] {
-            lines.push(format!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches"));
-        }
+        lines.extend(self.bound_lines());
         lines.extend(self.phase_lines(16));
         lines.push(format!(
             "  {:<16} {:>9.3} s",
             "total",
             self.total().as_secs_f64()
         ));
+        lines
+    }
+
+    /// The bounds a render hit, a line each where they matter: the GPU's counters, and the
+    /// CPU's fixed-radius searches narrowed where photons were denser than a search may read.
+    pub fn bound_lines(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let [overflow, budget, truncated, ..] = self.gpu_stats[..] {
+            lines.push(format!("  gpu bounds hit: {overflow} photons dropped (buffer full), {budget} invocations out of loop budget, {truncated} truncated searches"));
+        }
+        if self.narrowed > 0 {
+            lines.push(format!(
+                "  dense searches: {} read a smaller radius or only their nearest photons (their radius held more than a search may read); a smaller --initial-radius avoids it",
+                self.narrowed
+            ));
+        }
         lines
     }
 

@@ -82,6 +82,7 @@ pub fn progressive_summary(
             100.0 * n
         ));
     }
+    lines.extend(report.bound_lines());
     lines.extend(report.phase_lines(18));
     lines.push(format!("  {:<18} {:>9.3} s", "wall", wall.as_secs_f64()));
     lines

@@ -2,6 +2,7 @@
 //! photons. It is the fallback and the reference the GPU backend is tested against.
 
 pub mod cache;
+pub mod density;
 pub mod final_gather;
 pub mod gather;
 mod gather_media;

@@ -1,21 +1,28 @@
 //! A photon map: photons in a kd-tree (kiddo) for K-nearest-neighbour queries, and the
 //! radiance estimate from it (read by the camera pass and the radiance cache).
 
+use crate::cpu::density::{DensityTable, NARROWED_K};
 use crate::estimate;
 use crate::photon::Photon;
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use std::num::NonZeroUsize;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Photons and a kd-tree over their positions (`tree` item `i` is `photons[i]`).
 pub struct PhotonMap {
     /// The photons, in the order the tree indexes them.
     pub photons: Vec<Photon>,
     tree: Option<ImmutableKdTree<f32, 3>>,
+    /// Bounds the work of fixed-radius searches ([`PhotonMap::build_bounded`]).
+    density: Option<DensityTable>,
+    /// Fixed-radius searches narrowed so far.
+    narrowed: AtomicU64,
 }
 
 impl PhotonMap {
-    /// Builds the map over `photons`.
+    /// Builds the map over `photons`. Its fixed-radius searches read every photon within
+    /// their radius, however many.
     pub fn build(photons: Vec<Photon>) -> Self {
         let points: Vec<[f32; 3]> = photons.iter().map(|p| p.position).collect();
         let tree = if points.is_empty() {
@@ -23,7 +30,40 @@ impl PhotonMap {
         } else {
             ImmutableKdTree::new_from_slice(&points).ok()
         };
-        PhotonMap { photons, tree }
+        PhotonMap {
+            photons,
+            tree,
+            density: None,
+            narrowed: AtomicU64::new(0),
+        }
+    }
+
+    /// Builds the map over `photons` for fixed-radius searches of at most `radius`, each of
+    /// which reads a bounded number of photons (`crate::cpu::density`): a smaller radius
+    /// where the first holds too many, or the [`NARROWED_K`] nearest where no radius helps.
+    pub fn build_bounded(photons: Vec<Photon>, radius: f32) -> Self {
+        let mut map = PhotonMap::build(photons);
+        let points: Vec<[f32; 3]> = map.photons.iter().map(|p| p.position).collect();
+        map.density = DensityTable::build(&points, radius);
+        map
+    }
+
+    /// Fixed-radius searches narrowed so far (a smaller radius or the nearest photons).
+    pub fn narrowed(&self) -> u64 {
+        self.narrowed.load(Ordering::Relaxed)
+    }
+
+    /// The squared radius a fixed-radius search at `x` of `r2` reads (counted when
+    /// narrowed), or `None` where it must read the [`NARROWED_K`] nearest instead.
+    fn search_radius2(&self, x: [f32; 3], r2: f32) -> Option<f32> {
+        let Some(table) = &self.density else {
+            return Some(r2);
+        };
+        let chosen = table.radius2_at(x, r2);
+        if chosen != Some(r2) {
+            self.narrowed.fetch_add(1, Ordering::Relaxed);
+        }
+        chosen
     }
 
     /// Number of photons.
@@ -78,7 +118,8 @@ impl PhotonMap {
 }
 
 /// The radiance estimate from `map` at `x` with a Lambertian BRDF `kd / pi`: the K nearest
-/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2`.
+/// within `max_r2`, or with `k == 0` (progressive passes) every photon within `max_r2` (a
+/// bounded map's narrower radius where that holds more than a search may read).
 pub fn estimate_at(
     map: &PhotonMap,
     x: Vec3,
@@ -90,8 +131,12 @@ pub fn estimate_at(
 ) -> Vec3 {
     let mut found = Vec::with_capacity(k.max(16));
     if k == 0 {
-        map.within(x.to_array(), max_r2, &mut found);
-        return estimate::radiance(&found, usize::MAX, max_r2, filter, x, ns, |_| f);
+        let Some(r2) = map.search_radius2(x.to_array(), max_r2) else {
+            map.nearest(x.to_array(), NARROWED_K, max_r2, &mut found);
+            return estimate::radiance(&found, NARROWED_K, max_r2, filter, x, ns, |_| f);
+        };
+        map.within(x.to_array(), r2, &mut found);
+        return estimate::radiance(&found, usize::MAX, r2, filter, x, ns, |_| f);
     }
     map.nearest(x.to_array(), k, max_r2, &mut found);
     estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)

@@ -81,7 +81,15 @@ impl PassRenderer for CpuRenderer<'_> {
         report.phase("trace photons", t);
 
         let t = Instant::now();
-        let [global, caustic] = traced.map(|p| p.map(PhotonMap::build));
+        // Fixed-radius passes bound each search's work by the map's density table.
+        let radii = [settings.radius, settings.caustic_radius];
+        let mut built = traced.into_iter().zip(radii).map(|(p, r)| {
+            p.map(|p| match settings.k {
+                0 => PhotonMap::build_bounded(p, r),
+                _ => PhotonMap::build(p),
+            })
+        });
+        let (global, caustic) = (built.next().flatten(), built.next().flatten());
         report.phase("build kd-trees", t);
         let volume = plan.volume.map(|_| {
             let t = Instant::now();
@@ -130,6 +138,10 @@ impl PassRenderer for CpuRenderer<'_> {
             });
         bar.finish_and_clear();
         report.phase("gather", t);
+        report.narrowed = [&global, &caustic]
+            .iter()
+            .filter_map(|m| m.as_ref().map(PhotonMap::narrowed))
+            .sum();
         self.report.absorb(&report);
         Ok(image)
     }
