@@ -59,19 +59,16 @@ impl Image {
 
     /// Reads an EXR (linear) or PNG (sRGB, decoded to linear) image.
     pub fn read(path: &Path) -> Result<Image> {
-        let ext = extension(path);
         let err = |message: String| Error::Image {
             path: path.to_path_buf(),
             message,
         };
         if !path.exists() {
-            return Err(Error::Image {
-                path: path.to_path_buf(),
-                message: "no such file".into(),
-            });
+            return Err(err("no such file".into()));
         }
-        match ext.as_str() {
-            "exr" => {
+        let kind = image_kind(path)?;
+        match kind {
+            Kind::Exr => {
                 let img = exr::prelude::read_first_rgba_layer_from_file(
                     path,
                     |res, _| Self::new(res.width() as u32, res.height() as u32),
@@ -83,7 +80,7 @@ impl Image {
                 .map_err(|e| err(e.to_string()))?;
                 Ok(img.layer_data.channel_data.pixels)
             }
-            "png" => {
+            Kind::Png => {
                 let img = image::open(path).map_err(|e| err(e.to_string()))?.to_rgb8();
                 let (w, h) = img.dimensions();
                 let pixels = img
@@ -96,9 +93,6 @@ impl Image {
                     pixels,
                 })
             }
-            _ => Err(err(format!(
-                "unknown image type '.{ext}' (expected .exr or .png)"
-            ))),
         }
     }
 
@@ -110,18 +104,9 @@ impl Image {
 
     /// [`Image::write`] with text attributes in the EXR header (ignored for PNG).
     pub fn write_tagged(&self, path: &Path, exposure: f32, tags: &[(&str, String)]) -> Result<()> {
-        let ext = extension(path);
-        let err = |message: String| Error::Image {
-            path: path.to_path_buf(),
-            message,
-        };
-        if ext != "exr" && ext != "png" {
-            return Err(err(format!(
-                "unknown image type '.{ext}' (expected .exr or .png)"
-            )));
-        }
-        write_atomically(path, |out| match ext.as_str() {
-            "exr" => {
+        let kind = image_kind(path)?;
+        write_atomically(path, |out| match kind {
+            Kind::Exr => {
                 use exr::prelude::*;
                 let (w, h) = (self.width as usize, self.height as usize);
                 let pixels: &[[f32; 3]] = &self.pixels;
@@ -149,7 +134,7 @@ impl Image {
                     .to_buffered(out)
                     .map_err(|e| e.to_string())
             }
-            _ => {
+            Kind::Png => {
                 let scale = 2f32.powf(exposure);
                 let bytes: Vec<u8> = self
                     .pixels
@@ -177,15 +162,11 @@ impl Image {
 /// a file can be created (a temporary one is, then removed).
 pub fn check_output_path(path: &Path) -> Result<()> {
     let ext = extension(path);
+    image_kind(path)?;
     let err = |message: String| Error::Image {
         path: path.to_path_buf(),
         message,
     };
-    if ext != "exr" && ext != "png" {
-        return Err(err(format!(
-            "unknown image type '.{ext}' (expected .exr or .png)"
-        )));
-    }
     if let Ok(meta) = std::fs::metadata(path) {
         if !meta.is_file() {
             let what = if meta.is_dir() {
@@ -351,6 +332,25 @@ pub fn read_header(path: &Path) -> Result<ExrHeader> {
         height,
         tags,
     })
+}
+
+/// The image types read and written.
+#[derive(Clone, Copy)]
+enum Kind {
+    Exr,
+    Png,
+}
+
+/// The image type `path`'s extension names, or the error that names the types there are.
+fn image_kind(path: &Path) -> Result<Kind> {
+    match extension(path).as_str() {
+        "exr" => Ok(Kind::Exr),
+        "png" => Ok(Kind::Png),
+        ext => Err(Error::Image {
+            path: path.to_path_buf(),
+            message: format!("unknown image type '.{ext}' (expected .exr or .png)"),
+        }),
+    }
 }
 
 fn extension(path: &Path) -> String {
