@@ -1,22 +1,13 @@
 //! The progressive command line: slices and `merge`, Ctrl-C.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gpu-photon-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// The small caustics render every test here runs, with `extra` flags, writing `out`.
 fn render_command(out: &Path, extra: &[&str]) -> Command {
-    let mut c = bin();
+    let mut c = common::bin();
     c.args(["render", "scenes/cornell-caustics.toml", "-o"])
         .arg(out);
     c.args([
@@ -52,7 +43,7 @@ fn tag(path: &Path, key: &str) -> Option<String> {
 
 #[test]
 fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
-    let d = tmp("merge");
+    let d = common::scratch("merge");
     let (a, b, c, whole, merged) = (
         d.join("a.exr"),
         d.join("b.exr"),
@@ -65,7 +56,7 @@ fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
     assert!(render(&whole, &["--passes", "5"]).status.success());
     assert_eq!(tag(&a, "gpu_photon.pass_range").as_deref(), Some("0..2"));
     assert_eq!(tag(&whole, "gpu_photon.passes").as_deref(), Some("5"));
-    let out = bin()
+    let out = common::bin()
         .args(["merge"])
         .arg(&b)
         .arg(&a)
@@ -96,7 +87,7 @@ fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
         }
     }
     // Overlapping slices are refused.
-    let out = bin()
+    let out = common::bin()
         .args(["merge"])
         .arg(&a)
         .arg(&whole)
@@ -110,7 +101,7 @@ fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
     assert!(render(&c, &["--pass-range", "5..6", "--seed", "9"])
         .status
         .success());
-    let out = bin()
+    let out = common::bin()
         .args(["merge"])
         .arg(&a)
         .arg(&c)
@@ -123,7 +114,7 @@ fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
     // A plain render is no slice.
     let plain = d.join("plain.exr");
     assert!(render(&plain, &[]).status.success());
-    let out = bin()
+    let out = common::bin()
         .args(["merge"])
         .arg(&a)
         .arg(&plain)
@@ -138,9 +129,9 @@ fn slices_merge_to_the_single_run_and_bad_merges_are_refused() {
 /// Ctrl-C finishes the pass in flight and writes the mean of the passes done.
 #[test]
 fn interrupt_writes_the_passes_done() {
-    let d = tmp("sigint");
+    let d = common::scratch("sigint");
     let out = d.join("i.exr");
-    let mut c = bin();
+    let mut c = common::bin();
     c.args(["render", "scenes/cornell-box.toml", "-o"])
         .arg(&out);
     c.args([
@@ -182,7 +173,7 @@ fn interrupt_writes_the_passes_done() {
 /// (killing the render) instead of hanging.
 #[test]
 fn time_budget_stops_passes() {
-    let d = tmp("time");
+    let d = common::scratch("time");
     let out = d.join("t.exr");
     let mut child = render_command(&out, &["--time", "1"]).spawn().unwrap();
     let start = std::time::Instant::now();
@@ -208,7 +199,7 @@ fn time_budget_stops_passes() {
 /// most T, at most `--passes` of them; the estimate is printed.
 #[test]
 fn default_passes_classic_pass_and_noise_target() {
-    let d = tmp("noise");
+    let d = common::scratch("noise");
     let out = d.join("o.exr");
     let ok = |extra: &[&str]| {
         let o = render(&out, extra);
@@ -227,7 +218,7 @@ fn default_passes_classic_pass_and_noise_target() {
     ok(&["--noise", "1e-9", "--passes", "6"]);
     assert_eq!(tag(&out, "gpu_photon.pass_range").as_deref(), Some("0..6"));
     // The summary names the estimate.
-    let o = bin()
+    let o = common::bin()
         .args(["render", "scenes/cornell-box.toml", "-o"])
         .arg(&out)
         .args([

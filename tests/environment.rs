@@ -546,10 +546,6 @@ fn device_environment_equals_rust() {
     );
 }
 
-fn bin() -> std::process::Command {
-    std::process::Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
-}
-
 /// A scene with no light and no environment is an error that says so; `--env R,G,B` lights
 /// it (and `--env-scale` scales it), and the camera sees the radiance given.
 #[test]
@@ -565,7 +561,7 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
     )
     .unwrap();
     let out = dir.join("dark.exr");
-    let run = bin()
+    let run = common::bin()
         .args(["render", "--backend", "cpu", "-o"])
         .arg(&out)
         .arg(&scene)
@@ -579,7 +575,7 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
     );
     assert!(stderr.contains(&want), "stderr: {stderr}");
     assert!(!out.exists());
-    let run = bin()
+    let run = common::bin()
         .args([
             "render",
             "--backend",
@@ -608,7 +604,7 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
     let sky =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/envlight-sky.exr");
     let corner = |scale: &str| {
-        let run = bin()
+        let run = common::bin()
             .args([
                 "render",
                 "--backend",
@@ -638,7 +634,7 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
         "{one} {two}"
     );
     // A malformed value names the flag.
-    let run = bin()
+    let run = common::bin()
         .args(["render", "--env", "1,2", "-o"])
         .arg(&out)
         .arg(&scene)

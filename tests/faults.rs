@@ -8,16 +8,9 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gpu-photon-faults-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// A two-pass 16x16 render of the Cornell box on `backend` into `out`, with `fault`
 /// injected; its own calibration cache `cache`. Fails (killing it) after 120 s.
@@ -98,7 +91,7 @@ fn each_fault_ends_a_gpu_render_with_one_error() {
         return;
     };
     let max_buffer = ctx.device.limits().max_buffer_size;
-    let d = scratch("gpu");
+    let d = common::scratch("gpu");
     for (name, expected, exact) in FAULTS {
         let out = d.join(format!("{name}.exr"));
         let o = render("gpu", Some(name), &d, &out);
@@ -133,7 +126,7 @@ fn a_device_lost_in_a_later_pass_ends_the_render_with_one_error() {
     if common::gpu().is_none() {
         return;
     }
-    let d = scratch("later");
+    let d = common::scratch("later");
     let out = d.join("later.exr");
     let env = [("GPU_PHOTON_FAULT_AFTER", "2")];
     let o = render_with("gpu", Some("device-lost"), &env, &d, &out);
@@ -153,7 +146,7 @@ fn each_fault_under_auto_falls_back_to_the_cpu_saying_so() {
         return;
     };
     let max_buffer = ctx.device.limits().max_buffer_size;
-    let d = scratch("auto");
+    let d = common::scratch("auto");
     // A stored calibration in which the GPU is faster: auto picks it without measuring.
     let adapter = gpu_photon::gpu::preferred_adapter().unwrap();
     let file = d.join("gpu-photon").join("backend-calibration.tsv");

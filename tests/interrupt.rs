@@ -4,24 +4,15 @@
 //! missing), says so on stderr even with `-q`, and exits with 143 when planned passes are
 //! left undone (0 when the file holds them all). Ctrl-C is in `tests/cli_progressive.rs`.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Child, Command, Output};
 use std::time::{Duration, Instant};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gpu-photon-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 /// A small CPU render of the Cornell box into `out`, with `extra` flags.
 fn render_command(out: &Path, extra: &[&str]) -> Command {
-    let mut c = bin();
+    let mut c = common::bin();
     c.args(["render", "scenes/cornell-box.toml", "-o"]).arg(out);
     c.args([
         "--backend",
@@ -81,7 +72,7 @@ fn terminate_after_first_pass(mut c: Command, out: &Path) -> Output {
 
 #[test]
 fn sigterm_writes_the_passes_done_as_a_valid_slice() {
-    let d = tmp("sigterm");
+    let d = common::scratch("sigterm");
     let out = d.join("t.exr");
     let c = render_command(&out, &["--passes", "100000", "--write-every", "1"]);
     let result = terminate_after_first_pass(c, &out);
@@ -119,7 +110,7 @@ fn sigterm_writes_the_passes_done_as_a_valid_slice() {
     assert_eq!(a.non_finite(), 0);
     // A slice to merge: alone, the merge names the passes the signal cut off.
     let merged = d.join("m.exr");
-    let o = bin()
+    let o = common::bin()
         .arg("merge")
         .arg(&out)
         .arg("-o")
@@ -143,7 +134,7 @@ fn sigterm_writes_the_passes_done_as_a_valid_slice() {
 /// all the slice's passes, else 143.
 #[test]
 fn sigterm_in_the_last_pass_of_a_slice_exits_by_what_was_written() {
-    let d = tmp("sigterm-slice");
+    let d = common::scratch("sigterm-slice");
     let out = d.join("s.exr");
     let c = render_command(
         &out,

@@ -4,19 +4,14 @@
 //! uv following its vertex through fan triangulation and mirroring; and the exact messages
 //! of malformed `vt` records, indices and PLY properties.
 
+mod common;
+
 use glam::{Vec2, Vec3};
 use gpu_photon::scene::{load, load_str, Scene};
 use gpu_photon::Error;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gpu-photon-uvs-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// The file's uv of the unit square's vertex at (x, y): distinct in u and v, never
 /// symmetric under v -> 1 - v.
 fn file_uv(x: f32, y: f32) -> Vec2 {
@@ -75,7 +70,7 @@ fn square_obj() -> String {
 
 #[test]
 fn obj_vt_lands_on_the_scene_with_v_flipped() {
-    let dir = scratch("obj");
+    let dir = common::scratch("obj");
     std::fs::write(dir.join("square.obj"), square_obj()).unwrap();
     let flipped = |p: Vec3| {
         let uv = file_uv(p.x, p.y);
@@ -108,7 +103,7 @@ fn obj_vt_lands_on_the_scene_with_v_flipped() {
 
 #[test]
 fn obj_corners_without_vt_get_zero_and_meshes_without_vt_have_none() {
-    let dir = scratch("obj-partial");
+    let dir = common::scratch("obj-partial");
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.75\nvt 0.5\nf 1/1 2 3/2\n";
     std::fs::write(dir.join("partial.obj"), text).unwrap();
     let s = toml_mesh(&dir, "partial.obj", "").unwrap();
@@ -149,7 +144,7 @@ fn square_ply(names: [&str; 2], ty: &str, v1: &str) -> String {
 
 #[test]
 fn ply_uvs_land_on_the_scene_unflipped() {
-    let dir = scratch("ply");
+    let dir = common::scratch("ply");
     let v1 = file_uv(1.0, 0.0).y.to_string();
     for names in [
         ["u", "v"],
@@ -209,7 +204,7 @@ fn mesh_error(dir: &Path, file: &str, text: &str) -> String {
 
 #[test]
 fn malformed_texture_coordinates_give_exact_messages() {
-    let dir = scratch("errors");
+    let dir = common::scratch("errors");
     let path = |f: &str| dir.join(f).display().to_string();
     let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     let cases = [

@@ -2,6 +2,8 @@
 //! scene whose light is a PLY mesh builds and renders (CPU) exactly as its OBJ twin; every
 //! malformed file gives its `FILE: what` message.
 
+mod common;
+
 use glam::Vec3;
 use gpu_photon::report::Progress;
 use gpu_photon::scene::{load_str, read_ply, PlyMesh, Scene};
@@ -14,13 +16,6 @@ fn root() -> &'static Path {
 }
 
 /// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gpu-photon-ply-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 #[derive(Clone, Copy, PartialEq)]
 enum Format {
     Ascii,
@@ -170,7 +165,7 @@ fn mesh_scene(dir: &Path, file: &str, extra: &str) -> Result<Scene, Error> {
 
 #[test]
 fn ascii_binary_and_obj_give_identical_triangles() {
-    let dir = scratch("formats");
+    let dir = common::scratch("formats");
     let (positions, faces, obj) = cube();
     write(&dir, "cube.obj", obj.as_bytes());
     let encodings = [
@@ -239,7 +234,7 @@ fn light_twin_matches_the_obj_and_keeps_normals() {
     assert_eq!(ascii.positions.len(), 7);
     assert_eq!(ascii.triangles.len(), 6);
     assert_eq!(ascii.normals, Some(vec![Vec3::NEG_Y; 7]));
-    let dir = scratch("light");
+    let dir = common::scratch("light");
     let faces: Vec<Vec<i64>> = ascii
         .triangles
         .iter()
@@ -309,7 +304,7 @@ fn message(dir: &Path, name: &str, bytes: &[u8]) -> String {
 
 #[test]
 fn malformed_files_give_clear_messages() {
-    let dir = scratch("bad");
+    let dir = common::scratch("bad");
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
     let face = vec![vec![0, 1, 2]];
     let le = Encoding {
@@ -447,7 +442,7 @@ fn malformed_files_give_clear_messages() {
 /// then the PLY file and what is wrong with it.
 #[test]
 fn a_bad_ply_in_a_scene_names_the_scene_line() {
-    let dir = scratch("scene");
+    let dir = common::scratch("scene");
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
     write(&dir, "bad.ply", &ply_bytes(&tri, &[vec![0, 1, 5]], ASCII));
     let e = mesh_scene(&dir, "bad.ply", "").unwrap_err();
@@ -463,7 +458,7 @@ fn a_bad_ply_in_a_scene_names_the_scene_line() {
 /// elements, is an error, never a panic (nor an allocation of the promised size).
 #[test]
 fn every_truncation_is_an_error() {
-    let dir = scratch("cut");
+    let dir = common::scratch("cut");
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
     for format in [Format::Ascii, Format::Le, Format::Be] {
         let e = Encoding { format, ..ASCII };
@@ -489,7 +484,7 @@ fn every_truncation_is_an_error() {
 /// with the good twin it renders.
 #[test]
 fn the_cli_reports_a_bad_ply_and_renders_a_good_one() {
-    let dir = scratch("cli");
+    let dir = common::scratch("cli");
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
     write(&dir, "bad.ply", &ply_bytes(&tri, &[vec![0, 1, 9]], ASCII));
     let twin = root().join("tests/data/light.ply");

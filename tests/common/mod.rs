@@ -405,3 +405,16 @@ pub fn example_settings(
         ..scene.settings.clone()
     }
 }
+
+/// The `gpu-photon` binary the tests run.
+pub fn bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+}
+
+/// A fresh, empty scratch directory `name` for this test process.
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("gpu-photon-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
