@@ -1,6 +1,6 @@
-// Oracle probe of ray intersection (common/intersect.wgsl) for tests/intersect_gpu.rs, never
-// used by a render: one primitive's watertight triangle or sphere test and the BVH walk
-// (nearest and any hit) on chosen rays, to compare with src/geometry.rs and src/bvh.rs.
+// Oracle probes of ray intersection and the surface frame (common/intersect.wgsl) for
+// tests/intersect_gpu.rs, never used by a render: one primitive's watertight test, the BVH
+// walk, and the Phong lobe, sphere uvs, leaks and normal mapping, against their Rust twins.
 // Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per ray. Writes:
 // accum[] as the entry point says. Composed after probes.wgsl (its `accum`).
 
@@ -40,4 +40,29 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[5u * w + i] = vec4<f32>(h.normal, 0.0);
     let first = trace_ray(o, d, a.w, true);
     accum[6u * w + i] = vec4<f32>(select(0.0, 1.0, first.found), 0.0, 0.0, 0.0);
+}
+
+// probe_surface: case i < width, (axis, exponent) = accum[i], (u1, u2, flipped, 0) =
+// accum[w + i], ng, ns, dp_du, c (a normal map's texel) and d (the ray) = accum[2..7 w + i]
+// (.xyz); writes phong_lobe(axis, exponent, u1, u2) to accum[7 w + i], (sphere_uv(axis),
+// reflection_leaks(f, d), refraction_leaks(f, d)) with f the frame (ng, ns) to
+// accum[8 w + i], and normal_mapped(ng, ns, dp_du, flipped, c, d) to accum[9 w + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let a = accum[i];
+    let u = accum[w + i];
+    let ng = accum[2u * w + i].xyz;
+    let ns = accum[3u * w + i].xyz;
+    let d = accum[6u * w + i].xyz;
+    accum[7u * w + i] = vec4<f32>(phong_lobe(a.xyz, a.w, u.x, u.y), 0.0);
+    let f = Facing(ng, ns, any(ns != ng));
+    let leaks = vec2<f32>(select(0.0, 1.0, reflection_leaks(f, d)), select(0.0, 1.0, refraction_leaks(f, d)));
+    accum[8u * w + i] = vec4<f32>(sphere_uv(a.xyz), leaks);
+    let n = normal_mapped(ng, ns, accum[4u * w + i].xyz, u.z != 0.0, accum[5u * w + i].xyz, d);
+    accum[9u * w + i] = vec4<f32>(n, 0.0);
 }

@@ -334,3 +334,112 @@ fn device_intersection_equals_the_hosts() {
     );
     assert!(hits > rays.len() / 3 && shared.len() >= 10);
 }
+
+/// The surface frame's helpers on the device equal their Rust twins: `phong_lobe`
+/// (`sampling::phong_lobe`), `sphere_uv` (`texture::uv::sphere`), `reflection_leaks` and
+/// `refraction_leaks` (`geometry::Facing`), `normal_mapped` (`geometry::normal_mapped`), on
+/// random cases plus the edges: exponents 0 and 10^4, u at 0 and 1, the poles, a degenerate
+/// dp/du, mirrored frames, a flat frame (never leaks), directions in the geometric plane.
+#[test]
+fn surface_helpers_equal_the_hosts() {
+    use gpu_photon::geometry::{normal_mapped, Facing};
+    use gpu_photon::gpu::probe::{surface, SurfaceCase};
+    let Some(ctx) = gpu() else {
+        eprintln!("no GPU adapter: skipped");
+        return;
+    };
+    let mut r = TestRng(0x5eed_5afe);
+    let mut cases = Vec::new();
+    for i in 0..2000 {
+        let ng = r.dir();
+        // Shading normals near the geometric one (a flat frame every 8th case).
+        let ns = if i % 8 == 0 {
+            ng
+        } else {
+            (ng + 0.4 * r.dir()).normalize()
+        };
+        let exponent = [0.0, 1.0, 20.0, 1e4][i % 4] * if i % 5 == 0 { 1.0 } else { r.f32() };
+        let u = match i % 7 {
+            0 => [0.0, 0.0],
+            1 => [1.0, 1.0],
+            _ => [r.f32(), r.f32()],
+        };
+        let axis = match i % 11 {
+            0 => Vec3::Z,
+            1 => -Vec3::Z,
+            _ => r.dir(),
+        };
+        // A direction in the geometric plane every 9th case.
+        let d = if i % 9 == 0 {
+            let t = ng.cross(r.dir()).normalize();
+            if t.is_finite() {
+                t
+            } else {
+                r.dir()
+            }
+        } else {
+            r.dir()
+        };
+        let dp_du = if i % 13 == 0 { ns * 2.0 } else { r.dir() * 3.0 };
+        cases.push(SurfaceCase {
+            axis: axis.to_array(),
+            exponent,
+            u,
+            ng: ng.to_array(),
+            ns: ns.to_array(),
+            dp_du: dp_du.to_array(),
+            flipped: i % 3 == 0,
+            c: [r.f32(), r.f32(), r.f32()],
+            d: d.to_array(),
+        });
+    }
+    let got = surface(&ctx, &cases).unwrap();
+    let close = |a: Vec3, b: [f32; 3], tol: f32| (a - Vec3::from(b)).abs().max_element() <= tol;
+    let mut mapped_checked = 0;
+    for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
+        let (axis, ng, ns, d) = (
+            Vec3::from(c.axis),
+            Vec3::from(c.ng),
+            Vec3::from(c.ns),
+            Vec3::from(c.d),
+        );
+        let lobe = gpu_photon::sampling::phong_lobe(axis, c.exponent, c.u[0], c.u[1]);
+        // sin = sqrt(1 - cos^2) magnifies pow's last-bit differences in cos by cos / sin
+        // near the axis (large exponents).
+        let sin = lobe.cross(axis).length().max(1e-6);
+        let tol = 2e-5 + 4e-7 / sin;
+        assert!(
+            close(lobe, g.lobe, tol),
+            "case {i}: lobe {lobe} vs {:?}",
+            g.lobe
+        );
+        let uv = gpu_photon::texture::uv::sphere(axis);
+        // u wraps at phi = 0: 1 - 1e-7 and 0 name the same point; at a pole every u does
+        // (WGSL leaves atan2(0, 0) to the device: lavapipe's gives u = 0.375).
+        let du = (uv.x - g.uv[0]).abs();
+        let pole = axis.x == 0.0 && axis.y == 0.0;
+        assert!(
+            (pole || du.min(1.0 - du) <= 2e-6) && (uv.y - g.uv[1]).abs() <= 2e-6,
+            "case {i}: uv {uv} vs {:?}",
+            g.uv
+        );
+        let f = Facing::new(ng, ns, true);
+        assert_eq!(
+            g.leaks,
+            [f.reflection_leaks(d), f.refraction_leaks(d)],
+            "case {i}"
+        );
+        // The map's flip decision is a sign test: skip the cases within rounding of it.
+        let m = normal_mapped(ng, ns, Vec3::from(c.dp_du), c.flipped, Vec3::from(c.c), d);
+        let w = 2.0 * Vec3::from(c.c) - Vec3::ONE;
+        if (d.dot(ns)).abs() > 1e-3 && w.length() > 1e-2 && m.dot(ng).abs() > 1e-3 {
+            mapped_checked += 1;
+            assert!(
+                close(m, g.mapped, 1e-4),
+                "case {i}: mapped {m} vs {:?}",
+                g.mapped
+            );
+        }
+    }
+    assert!(mapped_checked > 1500, "{mapped_checked}");
+}

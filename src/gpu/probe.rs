@@ -123,6 +123,79 @@ pub fn cosine_hemisphere(
         .collect())
 }
 
+/// One case of [`surface`]: the inputs of the surface-frame functions of
+/// shaders/common/intersect.wgsl and sampling.wgsl.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceCase {
+    /// `phong_lobe`'s axis (and `sphere_uv`'s point).
+    pub axis: [f32; 3],
+    /// `phong_lobe`'s exponent.
+    pub exponent: f32,
+    /// `phong_lobe`'s two uniforms.
+    pub u: [f32; 2],
+    /// Geometric normal of the frame (ray's side).
+    pub ng: [f32; 3],
+    /// Shading normal of the frame.
+    pub ns: [f32; 3],
+    /// `normal_mapped`'s dp/du.
+    pub dp_du: [f32; 3],
+    /// Whether the tangent frame is mirrored.
+    pub flipped: bool,
+    /// A normal map's texel (in [0, 1]^3).
+    pub c: [f32; 3],
+    /// The ray's direction.
+    pub d: [f32; 3],
+}
+
+/// What the device gave for one [`SurfaceCase`].
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceProbe {
+    /// `phong_lobe(axis, exponent, u1, u2)`.
+    pub lobe: [f32; 3],
+    /// `sphere_uv(axis)`.
+    pub uv: [f32; 2],
+    /// `reflection_leaks` and `refraction_leaks` of `d` in the frame (ng, ns).
+    pub leaks: [bool; 2],
+    /// `normal_mapped(ng, ns, dp_du, flipped, c, d)`.
+    pub mapped: [f32; 3],
+}
+
+/// The device's Phong lobe, sphere uvs, leak tests and normal mapping for each case
+/// (probe `probe_surface` in shaders/probe_geometry.wgsl).
+pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
+    let n = cases.len().max(1);
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    let run = GpuRun::new(ctx.clone(), &Scene::empty(), &settings, 0)?;
+    let mut init = vec![[0f32; 4]; 10 * n];
+    let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
+    for (i, c) in cases.iter().enumerate() {
+        init[i] = [c.axis[0], c.axis[1], c.axis[2], c.exponent];
+        init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, 0.0];
+        for (k, x) in [c.ng, c.ns, c.dp_du, c.c, c.d].into_iter().enumerate() {
+            init[(2 + k) * n + i] = v(x);
+        }
+    }
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    ctx.queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let out = dispatch_probe(&run, "probe_surface", &accum, n as u32, None)?;
+    Ok((0..cases.len())
+        .map(|i| {
+            let (l, m, q) = (out[7 * n + i], out[8 * n + i], out[9 * n + i]);
+            SurfaceProbe {
+                lobe: [l[0], l[1], l[2]],
+                uv: [m[0], m[1]],
+                leaks: [m[2] != 0.0, m[3] != 0.0],
+                mapped: [q[0], q[1], q[2]],
+            }
+        })
+        .collect())
+}
+
 /// The device's environment functions (shaders/common/environment.wgsl) on `scene`'s
 /// environment (its last light) for each `(direction, shading normal, uniforms)`: per case
 /// `(radiance along the direction, env_pdf)` and the shadow-ray sample `(direction, pdf)`.
