@@ -113,6 +113,11 @@ impl SceneBuilder {
     pub fn set_camera_medium(&mut self, m: MediumId) {
         self.media.camera = m.0;
     }
+
+    /// Medium `m` as added (its `sigma_t` already times `scale`).
+    pub fn medium(&self, m: MediumId) -> &Medium {
+        &self.media.media[m.0 as usize]
+    }
 }
 
 /// The interface of a shape with `interior` and `exterior` media (an absent one: vacuum), or
