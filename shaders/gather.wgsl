@@ -1,8 +1,13 @@
 // gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the
-// mirror/glass chain (a stochastic Fresnel choice), then at diffuse and glossy hits the photon
-// maps' estimate, shadow rays, final-gather rays into radiance_cache.wgsl (mode gather; at the
-// first shaded hit the first area-light sample and the gather direction are Sobol points) and
-// the glossy lobe. One invocation per pixel of sample `params.sample`; accum += radiance / spp.
+// mirror/glass chain, then at diffuse and glossy hits the photon maps' estimate, shadow rays,
+// final-gather rays into radiance_cache.wgsl (mode gather; at the first shaded hit the first
+// area-light sample and the gather direction are Sobol points) and the glossy lobe. One
+// invocation per pixel of sample `params.sample`; accum += radiance / spp.
+// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches (reflected
+// weighted by the reflectance and traced on, refracted by its complement and kept in a small
+// private stack, traced after the reflected one's whole path: the CPU's depth-first order, so
+// the same random numbers), deeper one branch chosen by Fresnel (one rng draw; none on total
+// internal reflection). Final-gather rays always choose one branch, on both backends.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -89,6 +94,61 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
     return total;
 }
 
+// A glass branch waiting its turn on the camera path: where it starts, its direction,
+// throughput, depth and medium (a delta bounce leaves no MIS weighing to carry).
+struct Branch {
+    o: vec3<f32>,
+    depth: u32,
+    d: vec3<f32>,
+    medium: u32,
+    t: vec3<f32>,
+}
+
+// The pending refracted branches, last in first out. Those pending at once come from splits
+// on the current path's way back to the camera, each at its own depth < GLASS_SPLIT_DEPTH, so
+// GLASS_SPLIT_DEPTH slots suffice (+ 1: an array needs one).
+var<private> branches: array<Branch, GLASS_SPLIT_DEPTH + 1u>;
+var<private> n_branches: u32 = 0u;
+
+// A camera path's delta bounce (surface_delta's contract). Glass and the thin dielectric as
+// cpu::gather does: on total internal reflection (glass) the reflection, no rng draw; below
+// GLASS_SPLIT_DEPTH the reflection times the reflectance, the refraction times 1 - reflectance
+// pushed on `branches` (unless it leaks); deeper, one draw u < reflectance reflects.
+fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: u32, medium: u32, rng: ptr<function, Rng>) -> bool {
+    let m = s.m;
+    let thin = HAS_BSDFS && m.kind == MAT_THIN_DIELECTRIC;
+    if !thin && !(HAS_GLASS && m.kind == MAT_GLASS) {
+        return surface_delta(hit, s, d, o, t, rng);
+    }
+    let f = facing(hit, dot(*d, hit.normal) < 0.0);
+    var g: Dielectric;
+    if thin {
+        let r = fresnel_dielectric_mi(abs(dot(*d, f.ns)), s.b.eta).f;
+        g = Dielectric(reflect_dir(*d, f.ns), *d, select(1.0, 2.0 * r / (1.0 + r), r < 1.0));
+    } else {
+        g = dielectric(*d, hit.normal, hit.shading, m.ior);
+    }
+    let refracts = thin || any(g.refracted != vec3<f32>(0.0));
+    var reflects = true;
+    if refracts && depth < GLASS_SPLIT_DEPTH {
+        if !refraction_leaks(f, g.refracted) && n_branches <= GLASS_SPLIT_DEPTH {
+            var bm = medium;
+            if HAS_MEDIA {
+                bm = medium_after(hit, medium, g.refracted);
+            }
+            let bo = offset_origin(hit.position, hit.normal, g.refracted);
+            branches[n_branches] = Branch(bo, depth + 1u, g.refracted, bm, *t * (1.0 - g.reflectance));
+            n_branches += 1u;
+        }
+        *t *= g.reflectance;
+    } else if refracts {
+        reflects = rng_next(rng) < g.reflectance;
+    }
+    *d = select(g.refracted, g.reflected, reflects);
+    *o = offset_origin(hit.position, hit.normal, *d);
+    return !select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
+}
+
 // Where a chain of mirror and glass bounces ends: the hit to shade (diffuse or glossy; none
 // when the path left the scene, met a black surface, leaked or ran out of depth), and the
 // emission met on the way.
@@ -99,9 +159,10 @@ struct ChainEnd {
     shade: bool,
 }
 
-// Traces from *o along *d through mirrors and glass (specular_bounce, *t the throughput,
-// *depth + 1 per bounce up to max_depth) to the next diffuse or glossy hit, adding *t times
-// the emission of every surface met from its emitting side when `emission`. The camera path
+// Traces from *o along *d through mirrors and glass (*t the throughput, *depth + 1 per bounce
+// up to max_depth) to the next diffuse or glossy hit, adding *t times the emission of every
+// surface met from its emitting side when `emission`. `emission` marks the camera path, whose
+// glass hits split (camera_delta); the gather ray's choose one branch (surface_delta). The camera path
 // and the gather ray call this in a loop of its own and shade after it, so the lanes of a SIMD
 // group shade together, not once per chain length.
 // `mis_pdf` > 0: the ray was drawn from a glossy lobe at mis_from (shading normal mis_ns
@@ -173,7 +234,16 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             break;
         }
         if kind_class == CLASS_DELTA {
-            if *depth >= params.max_depth || !surface_delta(hit, m, d, o, t, rng) {
+            if *depth >= params.max_depth {
+                break;
+            }
+            var goes_on: bool;
+            if emission {
+                goes_on = camera_delta(hit, m, d, o, t, *depth, *medium, rng);
+            } else {
+                goes_on = surface_delta(hit, m, d, o, t, rng);
+            }
+            if !goes_on {
                 break;
             }
             if HAS_MEDIA {
@@ -274,72 +344,84 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     var mis_from = vec3<f32>(0.0);
     var mis_ns = vec3<f32>(0.0);
     var medium = params.camera_medium;
+    n_branches = 0u;
     loop {
-        // Bounded as in gather_ray: no shading once the loop budget is spent.
+        // Bounded as in gather_ray: no shading once the loop budget is spent, and no branch
+        // pushed, so the pending ones are popped and end.
         let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, &rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
-        if !end.shade {
-            break;
-        }
-        let hit = end.hit;
-        let m = end.m;
-        let can_continue = depth < params.max_depth;
-        // Diffuse or glossy: shade.
-        let wo = -d;
-        let f = facing(hit, dot(wo, hit.normal) >= 0.0);
-        let ns = f.ns;
-        var l = vec3<f32>(0.0);
-        let use_sobol = first_shade;
-        first_shade = false;
-        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
-            l += direct_light(hit, f, wo, m, &rng, sob, use_sobol, medium);
-        }
-        let kd_pi = surface_estimate_brdf(m, wo);
-        let albedo = surface_diffuse_albedo(m, wo);
-        let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
-        // The geometric normal: photons carry their surface's.
-        if !final_gather {
-            l += estimate(0u, hit.position, f.ng, kd_pi);
-        }
-        if params.caustic_weight > 0.0 {
-            l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
-        }
-        if final_gather && max3(albedo) > 0.0 && can_continue {
-            var gu: vec2<f32>;
-            if use_sobol {
-                gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
-            } else {
-                gu.x = rng_next(&rng);
-                gu.y = rng_next(&rng);
+        if end.shade {
+            let hit = end.hit;
+            let m = end.m;
+            let can_continue = depth < params.max_depth;
+            // Diffuse or glossy: shade.
+            let wo = -d;
+            let f = facing(hit, dot(wo, hit.normal) >= 0.0);
+            let ns = f.ns;
+            var l = vec3<f32>(0.0);
+            let use_sobol = first_shade;
+            first_shade = false;
+            if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
+                l += direct_light(hit, f, wo, m, &rng, sob, use_sobol, medium);
             }
-            let dir = cosine_hemisphere(ns, gu.x, gu.y);
-            if !reflection_leaks(f, dir) {
-                var gm = medium;
-                if HAS_MEDIA {
-                    gm = medium_after(hit, medium, dir);
+            let kd_pi = surface_estimate_brdf(m, wo);
+            let albedo = surface_diffuse_albedo(m, wo);
+            let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
+            // The geometric normal: photons carry their surface's.
+            if !final_gather {
+                l += estimate(0u, hit.position, f.ng, kd_pi);
+            }
+            if params.caustic_weight > 0.0 {
+                l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
+            }
+            if final_gather && max3(albedo) > 0.0 && can_continue {
+                var gu: vec2<f32>;
+                if use_sobol {
+                    gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
+                } else {
+                    gu.x = rng_next(&rng);
+                    gu.y = rng_next(&rng);
                 }
-                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, &rng) * surface_store_weight(m, dir);
+                let dir = cosine_hemisphere(ns, gu.x, gu.y);
+                if !reflection_leaks(f, dir) {
+                    var gm = medium;
+                    if HAS_MEDIA {
+                        gm = medium_after(hit, medium, dir);
+                    }
+                    l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, &rng) * surface_store_weight(m, dir);
+                }
+            }
+            radiance += throughput * l;
+            if (params.terms & TERM_LOBE_RAY) != 0u && surface_has_lobe(m) && can_continue {
+                let lr = surface_sample_lobe(m, -wo, f, &rng);
+                if lr.ok {
+                    throughput *= lr.weight;
+                    // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
+                    mis_pdf = select(0.0, lr.pdf, (params.terms & TERM_DIRECT) != 0u);
+                    mis_from = hit.position;
+                    mis_ns = ns;
+                    d = lr.dir;
+                    if HAS_MEDIA {
+                        medium = medium_after(hit, medium, d);
+                    }
+                    o = offset_origin(hit.position, hit.normal, d);
+                    depth += 1u;
+                    continue;
+                }
             }
         }
-        radiance += throughput * l;
-        if (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) || !can_continue {
+        // This branch ended: the last glass branch left pending, if any.
+        if n_branches == 0u {
             break;
         }
-        let lr = surface_sample_lobe(m, -wo, f, &rng);
-        if !lr.ok {
-            break;
-        }
-        throughput *= lr.weight;
-        // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
-        mis_pdf = select(0.0, lr.pdf, (params.terms & TERM_DIRECT) != 0u);
-        mis_from = hit.position;
-        mis_ns = ns;
-        d = lr.dir;
-        if HAS_MEDIA {
-            medium = medium_after(hit, medium, d);
-        }
-        o = offset_origin(hit.position, hit.normal, d);
-        depth += 1u;
+        n_branches -= 1u;
+        let b = branches[n_branches];
+        o = b.o;
+        d = b.d;
+        throughput = b.t;
+        depth = b.depth;
+        medium = b.medium;
+        mis_pdf = 0.0;
     }
     return radiance;
 }

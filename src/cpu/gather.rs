@@ -24,16 +24,14 @@ use crate::rng::Rng;
 use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
 use crate::settings::{RenderSettings, Sampler};
-use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
+use crate::shading::{
+    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass, GLASS_SPLIT_DEPTH,
+};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LENS,
     PAIR_LIGHT,
 };
 use glam::Vec3;
-
-/// Below this depth a glass hit traces both the reflected and the refracted ray; deeper,
-/// one of them is chosen with the Fresnel probability (unbiased, bounded work).
-pub const GLASS_SPLIT_DEPTH: u32 = 3;
 
 /// A ray drawn from a glossy lobe at `from` with solid-angle density `pdf`: where it meets
 /// an area light, the light's emission is weighed against the shadow rays' sampling.
