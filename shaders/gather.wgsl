@@ -3,11 +3,12 @@
 // final-gather rays into radiance_cache.wgsl (mode gather; at the first shaded hit the first
 // area-light sample and the gather direction are Sobol points) and the glossy lobe. One
 // invocation per pixel of sample `params.sample`; accum += radiance / spp.
-// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches (reflected
-// weighted by the reflectance and traced on, refracted by its complement and kept in a small
-// private stack, traced after the reflected one's whole path: the CPU's depth-first order, so
-// the same random numbers), deeper one branch chosen by Fresnel (one rng draw; none on total
-// internal reflection). Final-gather rays always choose one branch, on both backends.
+// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches, reflected
+// weighted by the reflectance and refracted by its complement. The heavier one is traced on,
+// the other waits in a small private stack until the first one's whole path is done (the
+// CPU's depth-first order: the same random numbers, and the sample's Sobol point goes to the
+// heavier branch). Deeper, one branch chosen by Fresnel (one rng draw; none on total internal
+// reflection). Final-gather rays always choose one branch, on both backends.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -112,8 +113,9 @@ var<private> n_branches: u32 = 0u;
 
 // A camera path's delta bounce (surface_delta's contract). Glass and the thin dielectric as
 // cpu::gather does: on total internal reflection (glass) the reflection, no rng draw; below
-// GLASS_SPLIT_DEPTH the reflection times the reflectance, the refraction times 1 - reflectance
-// pushed on `branches` (unless it leaks); deeper, one draw u < reflectance reflects.
+// GLASS_SPLIT_DEPTH the heavier branch (the reflection when reflectance >= 0.5) times its
+// weight, the other pushed on `branches` (unless it leaks); deeper, one draw u < reflectance
+// reflects.
 fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: u32, medium: u32, rng: ptr<function, Rng>) -> bool {
     let m = s.m;
     let thin = HAS_BSDFS && m.kind == MAT_THIN_DIELECTRIC;
@@ -131,16 +133,20 @@ fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<functi
     let refracts = thin || any(g.refracted != vec3<f32>(0.0));
     var reflects = true;
     if refracts && depth < GLASS_SPLIT_DEPTH {
-        if !refraction_leaks(f, g.refracted) && n_branches <= GLASS_SPLIT_DEPTH {
+        reflects = g.reflectance >= 0.5;
+        let later = select(g.reflected, g.refracted, reflects);
+        let leaks = select(reflection_leaks(f, later), refraction_leaks(f, later), reflects);
+        if !leaks && n_branches <= GLASS_SPLIT_DEPTH {
             var bm = medium;
             if HAS_MEDIA {
-                bm = medium_after(hit, medium, g.refracted);
+                bm = medium_after(hit, medium, later);
             }
-            let bo = offset_origin(hit.position, hit.normal, g.refracted);
-            branches[n_branches] = Branch(bo, depth + 1u, g.refracted, bm, *t * (1.0 - g.reflectance));
+            let bo = offset_origin(hit.position, hit.normal, later);
+            let w = select(g.reflectance, 1.0 - g.reflectance, reflects);
+            branches[n_branches] = Branch(bo, depth + 1u, later, bm, *t * w);
             n_branches += 1u;
         }
-        *t *= g.reflectance;
+        *t *= select(1.0 - g.reflectance, g.reflectance, reflects);
     } else if refracts {
         reflects = rng_next(rng) < g.reflectance;
     }
