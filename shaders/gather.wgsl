@@ -168,9 +168,9 @@ struct ChainEnd {
 // Traces from *o along *d through mirrors and glass (*t the throughput, *depth + 1 per bounce
 // up to max_depth) to the next diffuse or glossy hit, adding *t times the emission of every
 // surface met from its emitting side when `emission`. `emission` marks the camera path, whose
-// glass hits split (camera_delta); the gather ray's choose one branch (surface_delta). The camera path
-// and the gather ray call this in a loop of its own and shade after it, so the lanes of a SIMD
-// group shade together, not once per chain length.
+// glass hits split (camera_delta); the gather ray's choose one branch (surface_delta). The
+// camera path and the gather ray call this in a loop of its own and shade after it, so the
+// lanes of a SIMD group shade together, not once per chain length.
 // `mis_pdf` > 0: the ray was drawn from a glossy lobe at mis_from (shading normal mis_ns
 // facing the viewer) with that density, and an area light it meets first is weighed against
 // the shadow rays' sampling (twin of cpu::gather::Mis).
