@@ -1,14 +1,8 @@
 // gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the
-// mirror/glass chain, then at diffuse and glossy hits the photon maps' estimate, shadow rays,
-// final-gather rays into radiance_cache.wgsl (mode gather; at the first shaded hit the first
-// area-light sample and the gather direction are Sobol points) and the glossy lobe. One
-// invocation per pixel of sample `params.sample`; accum += radiance / spp.
-// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches, reflected
-// weighted by the reflectance and refracted by its complement. The heavier one is traced on,
-// the other waits in a small private stack until the first one's whole path is done (the
-// CPU's depth-first order: the same random numbers, and the sample's Sobol point goes to the
-// heavier branch). Deeper, one branch chosen by Fresnel (one rng draw; none on total internal
-// reflection). Final-gather rays always choose one branch, on both backends.
+// mirror/glass chain (glass hits split below GLASS_SPLIT_DEPTH as on the CPU: camera_delta),
+// then at diffuse and glossy hits the photon maps' estimate, shadow rays, final-gather rays into
+// radiance_cache.wgsl (mode gather; Sobol points at the first shaded hit) and the glossy lobe.
+// One invocation per pixel of sample `params.sample`; accum += radiance / spp.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -94,6 +88,13 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
     }
     return total;
 }
+
+// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches, reflected
+// weighted by the reflectance and refracted by its complement. The heavier one is traced on,
+// the other waits in a small private stack until the first one's whole path is done (the
+// CPU's depth-first order: the same random numbers, and the sample's Sobol point goes to the
+// heavier branch). Deeper, one branch chosen by Fresnel (one rng draw; none on total internal
+// reflection). Final-gather rays always choose one branch, on both backends.
 
 // A glass branch waiting its turn on the camera path: where it starts, its direction,
 // throughput, depth and medium (a delta bounce leaves no MIS weighing to carry).
