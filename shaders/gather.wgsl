@@ -1,8 +1,8 @@
-// gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the
-// mirror/glass chain (glass hits split below GLASS_SPLIT_DEPTH as on the CPU: camera_delta),
-// then at diffuse and glossy hits the photon maps' estimate, shadow rays, final-gather rays into
-// radiance_cache.wgsl (mode gather; Sobol points at the first shaded hit) and the glossy lobe.
-// One invocation per pixel of sample `params.sample`; accum += radiance / spp.
+// gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the mirror
+// and glass chain (glass hits split as on the CPU, one branch deferred: glass_branches.wgsl),
+// then at diffuse and glossy hits the maps' estimate, shadow rays, final-gather rays into
+// radiance_cache.wgsl and the glossy lobe. One invocation per pixel of a band of rows for a
+// sample (gather) or for one round of its deferred glass branches (gather_branches).
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -87,73 +87,6 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
         total += acc / f32(samples);
     }
     return total;
-}
-
-// Glass on the camera path as on the CPU: below GLASS_SPLIT_DEPTH both branches, reflected
-// weighted by the reflectance and refracted by its complement. The heavier one is traced on,
-// the other waits in a small private stack until the first one's whole path is done (the
-// CPU's depth-first order: the same random numbers, and the sample's Sobol point goes to the
-// heavier branch). Deeper, one branch chosen by Fresnel (one rng draw; none on total internal
-// reflection). Final-gather rays always choose one branch, on both backends.
-
-// A glass branch waiting its turn on the camera path: where it starts, its direction,
-// throughput, depth and medium (a delta bounce leaves no MIS weighing to carry).
-struct Branch {
-    o: vec3<f32>,
-    depth: u32,
-    d: vec3<f32>,
-    medium: u32,
-    t: vec3<f32>,
-}
-
-// The pending refracted branches, last in first out. Those pending at once come from splits
-// on the current path's way back to the camera, each at its own depth < GLASS_SPLIT_DEPTH, so
-// GLASS_SPLIT_DEPTH slots suffice (+ 1: an array needs one).
-var<private> branches: array<Branch, GLASS_SPLIT_DEPTH + 1u>;
-var<private> n_branches: u32 = 0u;
-
-// A camera path's delta bounce (surface_delta's contract). Glass and the thin dielectric as
-// cpu::gather does: on total internal reflection (glass) the reflection, no rng draw; below
-// GLASS_SPLIT_DEPTH the heavier branch (the reflection when reflectance >= 0.5) times its
-// weight, the other pushed on `branches` (unless it leaks); deeper, one draw u < reflectance
-// reflects.
-fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: u32, medium: u32, rng: ptr<function, Rng>) -> bool {
-    let m = s.m;
-    let thin = HAS_BSDFS && m.kind == MAT_THIN_DIELECTRIC;
-    if !thin && !(HAS_GLASS && m.kind == MAT_GLASS) {
-        return surface_delta(hit, s, d, o, t, rng);
-    }
-    let f = facing(hit, dot(*d, hit.normal) < 0.0);
-    var g: Dielectric;
-    if thin {
-        let r = fresnel_dielectric_mi(abs(dot(*d, f.ns)), s.b.eta).f;
-        g = Dielectric(reflect_dir(*d, f.ns), *d, select(1.0, 2.0 * r / (1.0 + r), r < 1.0));
-    } else {
-        g = dielectric(*d, hit.normal, hit.shading, m.ior);
-    }
-    let refracts = thin || any(g.refracted != vec3<f32>(0.0));
-    var reflects = true;
-    if refracts && depth < GLASS_SPLIT_DEPTH {
-        reflects = g.reflectance >= 0.5;
-        let later = select(g.reflected, g.refracted, reflects);
-        let leaks = select(reflection_leaks(f, later), refraction_leaks(f, later), reflects);
-        if !leaks && n_branches <= GLASS_SPLIT_DEPTH {
-            var bm = medium;
-            if HAS_MEDIA {
-                bm = medium_after(hit, medium, later);
-            }
-            let bo = offset_origin(hit.position, hit.normal, later);
-            let w = select(g.reflectance, 1.0 - g.reflectance, reflects);
-            branches[n_branches] = Branch(bo, depth + 1u, later, bm, *t * w);
-            n_branches += 1u;
-        }
-        *t *= select(1.0 - g.reflectance, g.reflectance, reflects);
-    } else if refracts {
-        reflects = rng_next(rng) < g.reflectance;
-    }
-    *d = select(g.refracted, g.reflected, reflects);
-    *o = offset_origin(hit.position, hit.normal, *d);
-    return !select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
 }
 
 // Where a chain of mirror and glass bounces ends: the hit to shade (diffuse or glossy; none
@@ -315,130 +248,168 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, medium_in:
     return sum;
 }
 
-fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
-    let pixel = py * params.width + px;
-    var rng = Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + sample), 0u);
-    let sob = sobol_stream(params.seed, params.pass_index, pixel, params.spp, sample);
-    // The first diffuse or glossy hit shaded takes the Sobol light and gather samples
-    // (sampler "independent": every number from the RNG).
-    var first_shade = params.sampler == SAMPLER_SOBOL;
+// The pixel's camera path of sample params.sample: the camera ray (Sobol-jittered), traced
+// by camera_path; rng and first_shade go on to the sample's deferred glass branches.
+fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> vec3<f32> {
     var jitter: vec2<f32>;
-    if first_shade {
+    if *first_shade {
         jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
     } else {
-        jitter.x = rng_next(&rng);
-        jitter.y = rng_next(&rng);
+        jitter.x = rng_next(rng);
+        jitter.y = rng_next(rng);
     }
     // The pixel filter warps the jitter; a thin lens draws its aperture sample next.
     let j = filter_jitter(params.pixel_filter, params.filter_param, jitter);
     var lens = vec2<f32>(0.0);
     if params.aperture_radius > 0.0 {
-        if first_shade {
+        if *first_shade {
             lens = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_LENS);
         } else {
-            lens.x = rng_next(&rng);
-            lens.y = rng_next(&rng);
+            lens.x = rng_next(rng);
+            lens.y = rng_next(rng);
         }
     }
     let cam = camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
-    var d = cam.dir;
-    var o = cam.origin;
-    var throughput = vec3<f32>(1.0);
+    return camera_path(cam.origin, cam.dir, vec3<f32>(1.0), 0u, params.camera_medium, rng, sob, first_shade);
+}
+
+// A camera path (the camera's ray, or a glass branch popped from the pixel's stack) from o
+// along d with throughput t at `depth` in `medium`, to its end: the radiance it carries
+// towards the camera. The first diffuse or glossy hit shaded while *first_shade takes the
+// Sobol light and gather samples (sampler "independent": every number from the RNG).
+fn camera_path(o_in: vec3<f32>, d_in: vec3<f32>, t_in: vec3<f32>, depth_in: u32, medium_in: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> vec3<f32> {
+    var o = o_in;
+    var d = d_in;
+    var throughput = t_in;
+    var depth = depth_in;
+    var medium = medium_in;
     var radiance = vec3<f32>(0.0);
-    var depth = 0u;
     // The last lobe sample's density, where it was drawn and that point's normal (MIS).
     var mis_pdf = 0.0;
     var mis_from = vec3<f32>(0.0);
     var mis_ns = vec3<f32>(0.0);
-    var medium = params.camera_medium;
-    n_branches = 0u;
     loop {
         // Bounded as in gather_ray: no shading once the loop budget is spent, and no branch
-        // pushed, so the pending ones are popped and end.
-        let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, &rng, mis_pdf, mis_from, mis_ns);
+        // pushed.
+        let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
-        if end.shade {
-            let hit = end.hit;
-            let m = end.m;
-            let can_continue = depth < params.max_depth;
-            // Diffuse or glossy: shade.
-            let wo = -d;
-            let f = facing(hit, dot(wo, hit.normal) >= 0.0);
-            let ns = f.ns;
-            var l = vec3<f32>(0.0);
-            let use_sobol = first_shade;
-            first_shade = false;
-            if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
-                l += direct_light(hit, f, wo, m, &rng, sob, use_sobol, medium);
-            }
-            let kd_pi = surface_estimate_brdf(m, wo);
-            let albedo = surface_diffuse_albedo(m, wo);
-            let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
-            // The geometric normal: photons carry their surface's.
-            if !final_gather {
-                l += estimate(0u, hit.position, f.ng, kd_pi);
-            }
-            if params.caustic_weight > 0.0 {
-                l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
-            }
-            if final_gather && max3(albedo) > 0.0 && can_continue {
-                var gu: vec2<f32>;
-                if use_sobol {
-                    gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
-                } else {
-                    gu.x = rng_next(&rng);
-                    gu.y = rng_next(&rng);
-                }
-                let dir = cosine_hemisphere(ns, gu.x, gu.y);
-                if !reflection_leaks(f, dir) {
-                    var gm = medium;
-                    if HAS_MEDIA {
-                        gm = medium_after(hit, medium, dir);
-                    }
-                    l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, &rng) * surface_store_weight(m, dir);
-                }
-            }
-            radiance += throughput * l;
-            if (params.terms & TERM_LOBE_RAY) != 0u && surface_has_lobe(m) && can_continue {
-                let lr = surface_sample_lobe(m, -wo, f, &rng);
-                if lr.ok {
-                    throughput *= lr.weight;
-                    // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
-                    mis_pdf = select(0.0, lr.pdf, (params.terms & TERM_DIRECT) != 0u);
-                    mis_from = hit.position;
-                    mis_ns = ns;
-                    d = lr.dir;
-                    if HAS_MEDIA {
-                        medium = medium_after(hit, medium, d);
-                    }
-                    o = offset_origin(hit.position, hit.normal, d);
-                    depth += 1u;
-                    continue;
-                }
-            }
-        }
-        // This branch ended: the last glass branch left pending, if any.
-        if n_branches == 0u {
+        if !end.shade {
             break;
         }
-        n_branches -= 1u;
-        let b = branches[n_branches];
-        o = b.o;
-        d = b.d;
-        throughput = b.t;
-        depth = b.depth;
-        medium = b.medium;
-        mis_pdf = 0.0;
+        let hit = end.hit;
+        let m = end.m;
+        let can_continue = depth < params.max_depth;
+        // Diffuse or glossy: shade.
+        let wo = -d;
+        let f = facing(hit, dot(wo, hit.normal) >= 0.0);
+        let ns = f.ns;
+        var l = vec3<f32>(0.0);
+        let use_sobol = *first_shade;
+        *first_shade = false;
+        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
+            l += direct_light(hit, f, wo, m, rng, sob, use_sobol, medium);
+        }
+        let kd_pi = surface_estimate_brdf(m, wo);
+        let albedo = surface_diffuse_albedo(m, wo);
+        let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
+        // The geometric normal: photons carry their surface's.
+        if !final_gather {
+            l += estimate(0u, hit.position, f.ng, kd_pi);
+        }
+        if params.caustic_weight > 0.0 {
+            l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
+        }
+        if final_gather && max3(albedo) > 0.0 && can_continue {
+            var gu: vec2<f32>;
+            if use_sobol {
+                gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
+            } else {
+                gu.x = rng_next(rng);
+                gu.y = rng_next(rng);
+            }
+            let dir = cosine_hemisphere(ns, gu.x, gu.y);
+            if !reflection_leaks(f, dir) {
+                var gm = medium;
+                if HAS_MEDIA {
+                    gm = medium_after(hit, medium, dir);
+                }
+                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, rng) * surface_store_weight(m, dir);
+            }
+        }
+        radiance += throughput * l;
+        if (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) || !can_continue {
+            break;
+        }
+        let lr = surface_sample_lobe(m, -wo, f, rng);
+        if !lr.ok {
+            break;
+        }
+        throughput *= lr.weight;
+        // With shadow rays to area lights, a glossy lobe's hit on one is weighed.
+        mis_pdf = select(0.0, lr.pdf, (params.terms & TERM_DIRECT) != 0u);
+        mis_from = hit.position;
+        mis_ns = ns;
+        d = lr.dir;
+        if HAS_MEDIA {
+            medium = medium_after(hit, medium, d);
+        }
+        o = offset_origin(hit.position, hit.normal, d);
+        depth += 1u;
     }
     return radiance;
 }
 
+// The sample's RNG and Sobol stream at pixel (px, py).
+fn camera_rng(px: u32, py: u32) -> Rng {
+    let pixel = py * params.width + px;
+    return Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + params.sample), 0u);
+}
+
+fn camera_sobol(px: u32, py: u32) -> SobolStream {
+    return sobol_stream(params.seed, params.pass_index, py * params.width + px, params.spp, params.sample);
+}
+
+// One invocation per pixel of the band of rows from params.first_row: the camera path of
+// sample params.sample; its glass branches wait on the pixel's stack (GLASS_SPLIT).
 @compute @workgroup_size(GATHER_TILE, GATHER_TILE)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.width || gid.y >= params.height {
+    let py = gid.y + params.first_row;
+    if gid.x >= params.width || py >= params.height {
         return;
     }
-    let l = camera_sample(gid.x, gid.y, params.sample);
-    let i = gid.y * params.width + gid.x;
+    stack_at = gid.y * params.width + gid.x;
+    n_branches = 0u;
+    var rng = camera_rng(gid.x, py);
+    var first_shade = params.sampler == SAMPLER_SOBOL;
+    let l = camera_sample(gid.x, py, &rng, camera_sobol(gid.x, py), &first_shade);
+    if GLASS_SPLIT {
+        save_branches(rng, first_shade);
+    }
+    let i = py * params.width + gid.x;
+    accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
+}
+
+// A round of the sample's glass branches (dispatched after gather, 2^GLASS_SPLIT_DEPTH - 1
+// rounds at most): each invocation pops its pixel's last pending branch, if any, and traces
+// it to its end with the RNG where the previous path left it (the CPU's depth-first order).
+@compute @workgroup_size(GATHER_TILE, GATHER_TILE)
+fn gather_branches(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let py = gid.y + params.first_row;
+    if !GLASS_SPLIT || gid.x >= params.width || py >= params.height {
+        return;
+    }
+    stack_at = gid.y * params.width + gid.x;
+    n_branches = branch_stacks[stack_at].n;
+    if n_branches == 0u {
+        return;
+    }
+    n_branches -= 1u;
+    let b = branch_stacks[stack_at].b[n_branches];
+    var rng = camera_rng(gid.x, py);
+    rng.dim = branch_stacks[stack_at].rng_dim;
+    var first_shade = branch_stacks[stack_at].first_shade != 0u;
+    let l = camera_path(b.o, b.d, b.t, b.depth, b.medium, &rng, camera_sobol(gid.x, py), &first_shade);
+    save_branches(rng, first_shade);
+    let i = py * params.width + gid.x;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
 }
