@@ -116,7 +116,8 @@ fn the_cpu_splits_glass_hits() {
     );
 }
 
-/// The GPU splits as the CPU does (its pending refracted branches on a small stack) and draws
+/// The GPU splits as the CPU does (the branch left waits on its pixel's stack for a later
+/// round of `gather_branches`, `gpu::branches`) and draws
 /// the same random numbers for the same paths: the same seed gives the CPU's image up to
 /// float rounding.
 #[test]
@@ -132,4 +133,41 @@ fn the_gpu_splits_glass_hits_as_the_cpu_does() {
         "same seed: GPU and CPU differ by rmse {:.6}",
         same.rmse
     );
+}
+
+/// Where the glass branch stacks would exceed what they may take (one storage binding), the
+/// gather runs in bands of rows, each band's stacks reused by the next: the same image, bit
+/// for bit, as in one band (here three bands of one tile of rows each).
+#[test]
+fn gpu_bands_of_rows_give_the_same_image() {
+    use gpu_photon::gpu::branches::STACK_BYTES;
+    use gpu_photon::gpu::run::GpuRun;
+    use gpu_photon::report::RenderReport;
+    let Some(ctx) = common::gpu() else { return };
+    let scene = slab();
+    let s = RenderSettings {
+        seed: 1,
+        width: 24,
+        height: 24,
+        pass_range: None,
+        ..scene.settings.clone()
+    };
+    let tile = ctx.shape.gather_tile;
+    let render_with = |stack_bytes| {
+        let mut run = GpuRun::with_stack_bytes(ctx.clone(), &scene, &s, 0, stack_bytes).unwrap();
+        let accum = run.accum_buffer(16 * s.width as u64 * s.height as u64);
+        let mut report = RenderReport::default();
+        let quiet = Progress::default();
+        let img = run
+            .render_pass(&scene, &s, 0, &accum, &quiet, &mut report)
+            .unwrap();
+        (img, run.band_rows)
+    };
+    let (one, rows) = render_with(u64::MAX);
+    assert_eq!(rows, s.height);
+    let (banded, rows) = render_with(STACK_BYTES * s.width as u64 * tile as u64);
+    assert_eq!(rows, tile);
+    assert!(rows < s.height, "tile {tile}: one band");
+    assert!(one.pixels == banded.pixels, "the bands changed the image");
+    assert!(mean(&one) > 0.5, "the slab is lit");
 }

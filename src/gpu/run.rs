@@ -62,12 +62,28 @@ pub struct GpuRun {
     pub band_width: u32,
     /// Parameter slots the scene's `params` buffer has (one per sample and band).
     pub param_slots: u32,
+    /// The most bytes the branch stacks may take: one storage binding (less in tests of
+    /// the bands).
+    pub stack_bytes: u64,
 }
 
 impl GpuRun {
     /// Uploads the scene and creates the pipelines, specialised to the scene's features;
     /// `s` and `pass` give the first parameters and plan (each pass re-plans).
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
+        let stack_bytes = ctx.max_binding;
+        Self::with_stack_bytes(ctx, scene, s, pass, stack_bytes)
+    }
+
+    /// [`GpuRun::new`] with the glass branch stacks limited to `stack_bytes` (the gather runs
+    /// in bands of rows whose stacks fit).
+    pub fn with_stack_bytes(
+        ctx: GpuContext,
+        scene: &Scene,
+        s: &RenderSettings,
+        pass: u32,
+        stack_bytes: u64,
+    ) -> Result<Self> {
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
         let constants =
@@ -87,7 +103,7 @@ impl GpuRun {
                 Some((_, pipelines)) => Ok(pipelines),
                 None => Pipelines::new(&ctx, &layouts, &constants, final_gather, knn),
             });
-            let slots = Self::bands(&ctx, scene, s).2;
+            let slots = Self::bands(&ctx, scene, s, stack_bytes).2;
             let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass, slots);
             let pipelines = compile
                 .join()
@@ -99,7 +115,7 @@ impl GpuRun {
             pipeline_cache::put(&ctx, key, layouts.clone(), pipelines.clone());
         }
         let (plan, table, params, scene_buffers) = scene_side?;
-        let (split, rows, slots) = Self::bands(&ctx, scene, s);
+        let (split, rows, slots) = Self::bands(&ctx, scene, s, stack_bytes);
         let branch_stacks = stack_buffer(&ctx.device, s.width, rows, split);
         let cache = cache_buffers(&ctx.device, 1);
         let volume = VolumeBuffers::new(
@@ -124,6 +140,7 @@ impl GpuRun {
             band_rows: rows,
             band_width: s.width,
             param_slots: slots,
+            stack_bytes,
         })
     }
 
@@ -131,7 +148,7 @@ impl GpuRun {
     /// its size); fails when its samples and bands need more parameter slots than the
     /// render made room for.
     pub fn ensure_bands(&mut self, scene: &Scene, s: &RenderSettings) -> Result<()> {
-        let (split, rows, slots) = Self::bands(&self.ctx, scene, s);
+        let (split, rows, slots) = Self::bands(&self.ctx, scene, s, self.stack_bytes);
         if slots > self.param_slots {
             return Err(crate::error::Error::Gpu(format!(
                 "a pass of {} samples in {} bands needs {slots} parameter slots; the render made room for {}",
@@ -148,14 +165,19 @@ impl GpuRun {
     }
 
     /// Whether the scene splits camera paths at glass, the gather's rows per band (the whole
-    /// image but where the glass branch stacks would exceed one storage binding) and the
+    /// image but where the glass branch stacks would exceed `stack_bytes`) and the
     /// parameter slots a pass of `s` needs (one per sample and band).
-    fn bands(ctx: &GpuContext, scene: &Scene, s: &RenderSettings) -> (bool, u32, u32) {
+    fn bands(
+        ctx: &GpuContext,
+        scene: &Scene,
+        s: &RenderSettings,
+        stack_bytes: u64,
+    ) -> (bool, u32, u32) {
         let split = glass_split(scene);
         if !split {
             return (false, s.height.max(1), s.spp.max(1));
         }
-        let rows = band_rows(s.width, s.height, ctx.shape.gather_tile, ctx.max_binding);
+        let rows = band_rows(s.width, s.height, ctx.shape.gather_tile, stack_bytes);
         (true, rows, s.spp.max(1) * s.height.div_ceil(rows).max(1))
     }
 
