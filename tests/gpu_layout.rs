@@ -192,7 +192,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
                 n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
-                aperture_radius, focus_distance, camera_medium, first_row, _pad0, _pad1, _pad2),
+                aperture_radius, focus_distance, camera_medium, first_row, _pad),
         ),
         ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, _pad)),
         ("Branch", fields!(GpuBranch: o, depth, d, medium, t, _pad)),

@@ -155,9 +155,7 @@ struct Params {
     camera_medium: u32,
     // The first image row of the band this dispatch gathers (rows of the glass branch stacks).
     first_row: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    _pad: array<u32, 3>,
 }
 
 // A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).

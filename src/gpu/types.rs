@@ -233,15 +233,10 @@ pub struct GpuParams {
     pub focus_distance: f32,
     /// The medium the camera sits in (`Scene::camera_medium`; `NO_MEDIUM` for vacuum).
     pub camera_medium: u32,
-    /// The first image row of the band a gather dispatch covers (its pixels' glass branch
-    /// stacks, `gpu::branches`, hold one band of rows).
+    /// The first image row of a gather dispatch's band of rows (`gpu::branches`).
     pub first_row: u32,
     /// Padding to 16 bytes.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
+    pub _pad: [u32; 3],
 }
 
 /// Twin of WGSL `Medium`: a homogeneous medium (`crate::medium::Medium`) as the kernels use
