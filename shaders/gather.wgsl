@@ -1,8 +1,8 @@
-// gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the
-// mirror/glass chain (a stochastic Fresnel choice), then at diffuse and glossy hits the photon
-// maps' estimate, shadow rays, final-gather rays into radiance_cache.wgsl (mode gather; at the
-// first shaded hit the first area-light sample and the gather direction are Sobol points) and
-// the glossy lobe. One invocation per pixel of sample `params.sample`; accum += radiance / spp.
+// gather: the camera pass, twin of src/cpu/gather.rs: Sobol-jittered camera ray, the mirror
+// and glass chain (glass hits split as on the CPU, one branch deferred: glass_branches.wgsl),
+// then at diffuse and glossy hits the maps' estimate, shadow rays, final-gather rays into
+// radiance_cache.wgsl and the glossy lobe. One invocation per pixel of a band of rows for a
+// sample (gather) or for one round of its deferred glass branches (gather_branches).
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -99,11 +99,12 @@ struct ChainEnd {
     shade: bool,
 }
 
-// Traces from *o along *d through mirrors and glass (specular_bounce, *t the throughput,
-// *depth + 1 per bounce up to max_depth) to the next diffuse or glossy hit, adding *t times
-// the emission of every surface met from its emitting side when `emission`. The camera path
-// and the gather ray call this in a loop of its own and shade after it, so the lanes of a SIMD
-// group shade together, not once per chain length.
+// Traces from *o along *d through mirrors and glass (*t the throughput, *depth + 1 per bounce
+// up to max_depth) to the next diffuse or glossy hit, adding *t times the emission of every
+// surface met from its emitting side when `emission`. `emission` marks the camera path, whose
+// glass hits split (camera_delta); the gather ray's choose one branch (surface_delta). The
+// camera path and the gather ray call this in a loop of its own and shade after it, so the
+// lanes of a SIMD group shade together, not once per chain length.
 // `mis_pdf` > 0: the ray was drawn from a glossy lobe at mis_from (shading normal mis_ns
 // facing the viewer) with that density, and an area light it meets first is weighed against
 // the shadow rays' sampling (twin of cpu::gather::Mis).
@@ -173,7 +174,16 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             break;
         }
         if kind_class == CLASS_DELTA {
-            if *depth >= params.max_depth || !surface_delta(hit, m, d, o, t, rng) {
+            if *depth >= params.max_depth {
+                break;
+            }
+            var goes_on: bool;
+            if emission {
+                goes_on = camera_delta(hit, m, d, o, t, *depth, *medium, rng);
+            } else {
+                goes_on = surface_delta(hit, m, d, o, t, rng);
+            }
+            if !goes_on {
                 break;
             }
             if HAS_MEDIA {
@@ -238,45 +248,50 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, medium_in:
     return sum;
 }
 
-fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
-    let pixel = py * params.width + px;
-    var rng = Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + sample), 0u);
-    let sob = sobol_stream(params.seed, params.pass_index, pixel, params.spp, sample);
-    // The first diffuse or glossy hit shaded takes the Sobol light and gather samples
-    // (sampler "independent": every number from the RNG).
-    var first_shade = params.sampler == SAMPLER_SOBOL;
+// The pixel's camera path of sample params.sample: the camera ray (Sobol-jittered), traced
+// by camera_path; rng and first_shade go on to the sample's deferred glass branches.
+fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> vec3<f32> {
     var jitter: vec2<f32>;
-    if first_shade {
+    if *first_shade {
         jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
     } else {
-        jitter.x = rng_next(&rng);
-        jitter.y = rng_next(&rng);
+        jitter.x = rng_next(rng);
+        jitter.y = rng_next(rng);
     }
     // The pixel filter warps the jitter; a thin lens draws its aperture sample next.
     let j = filter_jitter(params.pixel_filter, params.filter_param, jitter);
     var lens = vec2<f32>(0.0);
     if params.aperture_radius > 0.0 {
-        if first_shade {
+        if *first_shade {
             lens = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_LENS);
         } else {
-            lens.x = rng_next(&rng);
-            lens.y = rng_next(&rng);
+            lens.x = rng_next(rng);
+            lens.y = rng_next(rng);
         }
     }
     let cam = camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
-    var d = cam.dir;
-    var o = cam.origin;
-    var throughput = vec3<f32>(1.0);
+    return camera_path(cam.origin, cam.dir, vec3<f32>(1.0), 0u, params.camera_medium, rng, sob, first_shade);
+}
+
+// A camera path (the camera's ray, or a glass branch popped from the pixel's stack) from o
+// along d with throughput t at `depth` in `medium`, to its end: the radiance it carries
+// towards the camera. The first diffuse or glossy hit shaded while *first_shade takes the
+// Sobol light and gather samples (sampler "independent": every number from the RNG).
+fn camera_path(o_in: vec3<f32>, d_in: vec3<f32>, t_in: vec3<f32>, depth_in: u32, medium_in: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> vec3<f32> {
+    var o = o_in;
+    var d = d_in;
+    var throughput = t_in;
+    var depth = depth_in;
+    var medium = medium_in;
     var radiance = vec3<f32>(0.0);
-    var depth = 0u;
     // The last lobe sample's density, where it was drawn and that point's normal (MIS).
     var mis_pdf = 0.0;
     var mis_from = vec3<f32>(0.0);
     var mis_ns = vec3<f32>(0.0);
-    var medium = params.camera_medium;
     loop {
-        // Bounded as in gather_ray: no shading once the loop budget is spent.
-        let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, &rng, mis_pdf, mis_from, mis_ns);
+        // Bounded as in gather_ray: no shading once the loop budget is spent, and no branch
+        // pushed.
+        let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
         if !end.shade {
             break;
@@ -289,10 +304,10 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
         let f = facing(hit, dot(wo, hit.normal) >= 0.0);
         let ns = f.ns;
         var l = vec3<f32>(0.0);
-        let use_sobol = first_shade;
-        first_shade = false;
+        let use_sobol = *first_shade;
+        *first_shade = false;
         if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
-            l += direct_light(hit, f, wo, m, &rng, sob, use_sobol, medium);
+            l += direct_light(hit, f, wo, m, rng, sob, use_sobol, medium);
         }
         let kd_pi = surface_estimate_brdf(m, wo);
         let albedo = surface_diffuse_albedo(m, wo);
@@ -309,8 +324,8 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
             if use_sobol {
                 gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
             } else {
-                gu.x = rng_next(&rng);
-                gu.y = rng_next(&rng);
+                gu.x = rng_next(rng);
+                gu.y = rng_next(rng);
             }
             let dir = cosine_hemisphere(ns, gu.x, gu.y);
             if !reflection_leaks(f, dir) {
@@ -318,14 +333,14 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
                 if HAS_MEDIA {
                     gm = medium_after(hit, medium, dir);
                 }
-                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, &rng) * surface_store_weight(m, dir);
+                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, rng) * surface_store_weight(m, dir);
             }
         }
         radiance += throughput * l;
         if (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) || !can_continue {
             break;
         }
-        let lr = surface_sample_lobe(m, -wo, f, &rng);
+        let lr = surface_sample_lobe(m, -wo, f, rng);
         if !lr.ok {
             break;
         }
@@ -344,12 +359,57 @@ fn camera_sample(px: u32, py: u32, sample: u32) -> vec3<f32> {
     return radiance;
 }
 
+// The sample's RNG and Sobol stream at pixel (px, py).
+fn camera_rng(px: u32, py: u32) -> Rng {
+    let pixel = py * params.width + px;
+    return Rng(path_key(params.seed, STREAM_CAMERA, params.pass_index, pixel * params.spp + params.sample), 0u);
+}
+
+fn camera_sobol(px: u32, py: u32) -> SobolStream {
+    return sobol_stream(params.seed, params.pass_index, py * params.width + px, params.spp, params.sample);
+}
+
+// One invocation per pixel of the band of rows from params.first_row: the camera path of
+// sample params.sample; its glass branches wait on the pixel's stack (GLASS_SPLIT).
 @compute @workgroup_size(GATHER_TILE, GATHER_TILE)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.width || gid.y >= params.height {
+    let py = gid.y + params.first_row;
+    if gid.x >= params.width || py >= params.height {
         return;
     }
-    let l = camera_sample(gid.x, gid.y, params.sample);
-    let i = gid.y * params.width + gid.x;
+    stack_at = gid.y * params.width + gid.x;
+    n_branches = 0u;
+    var rng = camera_rng(gid.x, py);
+    var first_shade = params.sampler == SAMPLER_SOBOL;
+    let l = camera_sample(gid.x, py, &rng, camera_sobol(gid.x, py), &first_shade);
+    if GLASS_SPLIT {
+        save_branches(rng, first_shade);
+    }
+    let i = py * params.width + gid.x;
+    accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
+}
+
+// A round of the sample's glass branches (dispatched after gather, 2^GLASS_SPLIT_DEPTH - 1
+// rounds at most): each invocation pops its pixel's last pending branch, if any, and traces
+// it to its end with the RNG where the previous path left it (the CPU's depth-first order).
+@compute @workgroup_size(GATHER_TILE, GATHER_TILE)
+fn gather_branches(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let py = gid.y + params.first_row;
+    if !GLASS_SPLIT || gid.x >= params.width || py >= params.height {
+        return;
+    }
+    stack_at = gid.y * params.width + gid.x;
+    n_branches = branch_stacks[stack_at].n;
+    if n_branches == 0u {
+        return;
+    }
+    n_branches -= 1u;
+    let b = branch_stacks[stack_at].b[n_branches];
+    var rng = camera_rng(gid.x, py);
+    rng.dim = branch_stacks[stack_at].rng_dim;
+    var first_shade = branch_stacks[stack_at].first_shade != 0u;
+    let l = camera_path(b.o, b.d, b.t, b.depth, b.medium, &rng, camera_sobol(gid.x, py), &first_shade);
+    save_branches(rng, first_shade);
+    let i = py * params.width + gid.x;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
 }

@@ -51,6 +51,13 @@ pub enum DeltaEvent {
     Split(Dielectric),
 }
 
+/// Below this depth a camera path at a glass hit ([`DeltaEvent::Split`]) traces both the
+/// reflected and the refracted ray, weighted by the reflectance and its complement; deeper,
+/// one of them is chosen with the Fresnel probability (unbiased, bounded work). Photons and
+/// final-gather rays always choose one. Both backends' camera paths use it (the GPU's
+/// prelude carries it; its pending branches fit in this many slots).
+pub const GLASS_SPLIT_DEPTH: u32 = 3;
+
 /// A ray drawn from a lobe.
 #[derive(Clone, Copy, Debug)]
 pub struct LobeRay {

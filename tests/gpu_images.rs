@@ -5,9 +5,10 @@
 //! `rmse(gpu1, cpu2) <= 1.3 rmse(cpu1, cpu2)`, and likewise for 8x8 block means, which
 //! keep bias but average away most noise (`block(gpu1, cpu2) <= 1.5 block(cpu1, cpu2)`).
 //! Two independent renders differ by sqrt(2) sigma per pixel; a backend with the same
-//! noise and no bias gives the same figure, one with extra bias or noise a larger one. The
-//! slack covers the GPU's stochastic Fresnel choice at glass (the CPU splits the first
-//! bounces), which converges to the same image with somewhat more noise.
+//! noise and no bias gives the same figure, one with extra bias or noise a larger one.
+//! And since both backends are one estimator drawing the same numbers for the same paths
+//! (glass included: both split a camera path's glass hits below `GLASS_SPLIT_DEPTH`,
+//! `tests/glass_split.rs`), the same seed must give the same image far below that noise.
 
 mod common;
 
@@ -22,9 +23,11 @@ fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
 }
 
 /// Renders `scene` with `settings(seed)` on the CPU at seeds 1 and 2 and on the GPU at seed
-/// 1, and adds to `failures` what disagrees: the statistic of the module comment, and without
-/// glass (where both backends draw the same numbers for the same paths, so only float rounding
-/// and fused multiply-adds separate them) the same-seed images far below the noise.
+/// 1, and adds to `failures` what disagrees: the statistic of the module comment, and the
+/// same-seed images far below the noise (both backends draw the same numbers for the same
+/// paths, so only float rounding and fused multiply-adds separate them; before the GPU split
+/// glass hits too, at 64x64 cornell-caustics differed by 0.40 and inside-glass by 0.90 of the
+/// noise).
 fn compare_backends(
     what: &str,
     scene: &gpu_photon::scene::Scene,
@@ -55,14 +58,12 @@ fn compare_backends(
     if !(pixels && blocks) {
         failures.push(line);
     }
-    if !scene.has_glass() {
-        let same = diff(&gpu1, &cpu1, 8).unwrap();
-        if same.rmse > 0.01 * self_d.rmse {
-            failures.push(format!(
-                "{what}: same seed, rmse gpu1-cpu1 {:.6} is not << {:.6}",
-                same.rmse, self_d.rmse
-            ));
-        }
+    let same = diff(&gpu1, &cpu1, 8).unwrap();
+    if same.rmse > 0.01 * self_d.rmse {
+        failures.push(format!(
+            "{what}: same seed, rmse gpu1-cpu1 {:.6} is not << {:.6}",
+            same.rmse, self_d.rmse
+        ));
     }
 }
 

@@ -18,6 +18,7 @@ use gpu_photon::geometry;
 use gpu_photon::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
 };
+use gpu_photon::gpu::branches::{GpuBranch, GpuBranchStack};
 use gpu_photon::gpu::bvh_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::gpu::codes::{self, material_code, shared_constants, WgslValue};
 use gpu_photon::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
@@ -191,9 +192,14 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
                 n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
-                aperture_radius, focus_distance, camera_medium),
+                aperture_radius, focus_distance, camera_medium, first_row, _pad),
         ),
         ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, _pad)),
+        ("Branch", fields!(GpuBranch: o, depth, d, medium, t, _pad)),
+        (
+            "BranchStack",
+            fields!(GpuBranchStack: n, rng_dim, first_shade, _pad, b),
+        ),
         (
             "MapParams",
             fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area, max_power, volume_flags),
@@ -426,7 +432,8 @@ fn host_tables_are_the_expected_layouts() {
     // buffers (and the volume photons its paths add to) are all written by its kernels (its parameters'
     // cell size by size_grid, max_power by scan_sums), and the gather group reads both maps
     // and writes only the accumulator and the radiance cache with its point list (built by
-    // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather).
+    // `list_cache_points` and `build_cache` or `build_cache_fixed`, read by the gather), and
+    // the camera paths' glass branch stacks.
     use Access::{Read as R, ReadWrite as W};
     let expected: [(&GroupTable, &[Access]); 3] = [
         (
@@ -434,7 +441,7 @@ fn host_tables_are_the_expected_layouts() {
             &[R, R, R, R, R, R, R, R, R, W, R, R, R, R, R, R, R, R],
         ),
         (&MAP_GROUP, &[W, W, W, W, W, W, W, W, W, W]),
-        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W, R, R, R, R]),
+        (&GATHER_GROUP, &[R, R, R, R, R, R, W, W, W, R, R, R, R, W]),
     ];
     let mut errors = Vec::new();
     for (table, kinds) in expected {

@@ -80,13 +80,15 @@ fn a_bench_pass_with_timestamps_times_each_kernel_within_its_phases() {
     let kernels: Vec<&str> = r.kernels.iter().map(|k| k.0).collect();
     // Every entry point of the photon and grid modules but the volume grid's (a scene
     // without media builds none), and of the gather module all but the cache build that a
-    // pass of this kind does not run: exactly one of the two.
+    // pass of this kind does not run (exactly one of the two) and the glass rounds (the
+    // Cornell box has no glass; in a glass scene they are timed within `gather`).
     let (trace, grid) = (Kernel::TracePhotons, Kernel::BuildGrid);
     let volume = ["size_volume", "count_volume", "scatter_volume"];
     let grid = grid.entry_points().iter().filter(|e| !volume.contains(e));
     let maps = trace.entry_points().iter().chain(grid);
     let gather = Kernel::Gather.entry_points().iter();
     let builds = ["build_cache", "build_cache_fixed"];
+    let gather = gather.filter(|e| **e != "gather_branches");
     for want in maps.chain(gather.filter(|e| !builds.contains(e))) {
         assert!(kernels.contains(want), "{want} missing from {kernels:?}");
     }
@@ -143,6 +145,40 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
         err.to_string(),
         "GPU backend: a K-nearest pass on pipelines built for a progressive render (fixed radii)"
     );
+}
+
+/// The glass rounds (`gather_branches`) exist only for a scene whose camera paths may split at
+/// glass or a thin dielectric (override `GLASS_SPLIT`), and so do their stacks: a scene
+/// without gets a one-stack stand-in and dispatches no round.
+#[test]
+fn only_glass_scenes_get_the_glass_rounds() {
+    let Some(ctx) = gpu() else { return };
+    use gpu_photon::gpu::branches::STACK_BYTES;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let s = RenderSettings {
+        width: 8,
+        height: 8,
+        spp: 1,
+        photons: 1_000,
+        ..Default::default()
+    };
+    for (file, glass) in [
+        ("cornell-box.toml", false),
+        ("cornell-caustics.toml", true),
+        ("inside-glass.toml", true),
+        ("glossy-sphere.toml", false),
+    ] {
+        let scene = gpu_photon::scene::load(&root.join("scenes").join(file)).unwrap();
+        assert_eq!(
+            gpu_photon::gpu::pipelines::glass_split(&scene),
+            glass,
+            "{file}"
+        );
+        let run = gpu_photon::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
+        assert_eq!(run.pipelines.gather_branches.is_some(), glass, "{file}");
+        let stacks = if glass { 8 * 8 } else { 1 };
+        assert_eq!(run.branch_stacks.size(), stacks * STACK_BYTES, "{file}");
+    }
 }
 
 /// A second render in the process with the same scene and kinds of kernels takes the first

@@ -228,9 +228,9 @@ fn mitsuba_near_clip_in_the_camera_medium_warns() {
 }
 
 /// Both backends render a scene that uses a medium (the GPU compiles its media code only
-/// then, `HAS_MEDIA`), to the same image within its noise: a glass ball of juice under a
-/// light, the same random numbers on both but for the GPU's one-branch choice at glass. A
-/// medium declared but used by nothing changes nothing.
+/// then, `HAS_MEDIA`), to the same image: a glass ball of juice under a light, the same
+/// random numbers on both (glass hits split alike, `tests/glass_split.rs`), so the means
+/// agree to float rounding. A medium declared but used by nothing changes nothing.
 #[test]
 fn both_backends_render_scenes_with_media() {
     let s = toml(&format!("{CAMERA}[media.juice]\nsigma_t = 2\n{SHAPES}")).unwrap();
@@ -260,7 +260,7 @@ fn both_backends_render_scenes_with_media() {
         let gpu = mean(Backend::Gpu);
         for c in 0..3 {
             assert!(
-                (gpu[c] / cpu[c] - 1.0).abs() < 0.1,
+                (gpu[c] / cpu[c] - 1.0).abs() < 1e-3,
                 "channel {c}: GPU {gpu:?} vs CPU {cpu:?}"
             );
         }

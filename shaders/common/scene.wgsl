@@ -67,6 +67,10 @@ override KNN: bool = true;
 // boundary): free flights, volume photons, transmittance and in-scattering
 // (shaders/common/medium.wgsl); without, none of it is compiled.
 override HAS_MEDIA: bool = true;
+// A camera path may meet glass or a thin dielectric (crate::gpu::pipelines::glass_split):
+// the gather splits such hits below GLASS_SPLIT_DEPTH and defers a branch to a later round
+// (shaders/glass_branches.wgsl); without, the branch stack and its rounds fold away.
+override GLASS_SPLIT: bool = true;
 
 // Loop iterations one invocation may spend in total, across all its loops. Lavapipe cuts
 // loops silently after 65,535 iterations counted per SIMD group (8 lanes), across all loops,

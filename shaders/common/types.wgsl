@@ -153,6 +153,9 @@ struct Params {
     focus_distance: f32,
     // The medium the camera sits in (NO_MEDIUM: vacuum).
     camera_medium: u32,
+    // The first image row of the band this dispatch gathers (rows of the glass branch stacks).
+    first_row: u32,
+    _pad: array<u32, 3>,
 }
 
 // A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).
@@ -182,3 +185,28 @@ struct MapParams {
 
 // The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)
 // are generated from src/gpu/codes.rs into the prelude every kernel starts with.
+
+// A camera path's glass branch waiting on its pixel's stack (glass_branches.wgsl; twin of
+// crate::gpu::branches::GpuBranch): where it starts, its direction, throughput, depth and
+// medium (a delta bounce leaves no MIS weighing to carry).
+struct Branch {
+    o: vec3<f32>,
+    depth: u32,
+    d: vec3<f32>,
+    medium: u32,
+    t: vec3<f32>,
+    _pad: u32,
+}
+
+// One pixel's pending branches, last in first out, and what its sample's next path resumes
+// with (twin of GpuBranchStack): the RNG's next dimension and whether the Sobol point is still
+// unused (0 or 1; the first shaded hit takes it). Those pending at once come from splits on one
+// path's way back to the camera, each at its own depth < GLASS_SPLIT_DEPTH, so
+// GLASS_SPLIT_DEPTH slots suffice.
+struct BranchStack {
+    n: u32,
+    rng_dim: u32,
+    first_shade: u32,
+    _pad: u32,
+    b: array<Branch, GLASS_SPLIT_DEPTH>,
+}

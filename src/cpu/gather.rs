@@ -6,7 +6,8 @@
 //! Low-discrepancy samples (`crate::sobol`, issue 10): the pixel jitter is Sobol pair
 //! [`PAIR_JITTER`] of the sample; at the *first diffuse or glossy hit the sample shades* (the
 //! first `shade` call, after any mirror/glass chain; with a glass split below
-//! [`GLASS_SPLIT_DEPTH`] that is the reflected branch's, traced first) the first shadow sample
+//! [`GLASS_SPLIT_DEPTH`] that is the heavier branch's (reflectance >= 0.5: the reflected
+//! one), traced first) the first shadow sample
 //! of the first sampled area light takes `u[0], u[1]` from pair [`PAIR_LIGHT`] and `u[2]` from
 //! dimension [`DIM_LIGHT_THIRD`], and the gather direction takes pair [`crate::sobol::PAIR_GATHER`]. Those
 //! numbers are not drawn from the hash `Rng` at all; every other draw stays on it, in order.
@@ -24,16 +25,14 @@ use crate::rng::Rng;
 use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
 use crate::settings::{RenderSettings, Sampler};
-use crate::shading::{bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass};
+use crate::shading::{
+    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass, GLASS_SPLIT_DEPTH,
+};
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LENS,
     PAIR_LIGHT,
 };
 use glam::Vec3;
-
-/// Below this depth a glass hit traces both the reflected and the refracted ray; deeper,
-/// one of them is chosen with the Fresnel probability (unbiased, bounded work).
-pub const GLASS_SPLIT_DEPTH: u32 = 3;
 
 /// A ray drawn from a glossy lobe at `from` with solid-angle density `pdf`: where it meets
 /// an area light, the light's emission is weighed against the shadow rays' sampling.
@@ -243,11 +242,15 @@ impl Gatherer<'_> {
                             return emitted + trace(g.reflected, rng, first);
                         };
                         if depth < GLASS_SPLIT_DEPTH {
-                            // The reflected branch first: it gets the Sobol hit if one is left.
-                            let r = trace(g.reflected, rng, first);
-                            emitted
-                                + g.reflectance * r
-                                + (1.0 - g.reflectance) * trace(t, rng, first)
+                            // The heavier branch first: it gets the Sobol hit if one is left.
+                            let (r, tr) = if g.reflectance >= 0.5 {
+                                let r = trace(g.reflected, rng, first);
+                                (r, trace(t, rng, first))
+                            } else {
+                                let tr = trace(t, rng, first);
+                                (trace(g.reflected, rng, first), tr)
+                            };
+                            emitted + g.reflectance * r + (1.0 - g.reflectance) * tr
                         } else if rng.next() < g.reflectance {
                             emitted + trace(g.reflected, rng, first)
                         } else {

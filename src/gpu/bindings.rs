@@ -151,6 +151,7 @@ pub const GATHER_GROUP: GroupTable = GroupTable {
         ro("v_refs", 10),
         ro("v_cells", 11),
         ro("v_grid", 12),
+        rw("branch_stacks", 13),
     ],
 };
 

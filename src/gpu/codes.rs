@@ -316,6 +316,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("BOUNCE_DIFFUSE", U32(BOUNCE_DIFFUSE)),
         ("BOUNCE_LOBE", U32(BOUNCE_LOBE)),
         ("BOUNCE_DELTA", U32(BOUNCE_DELTA)),
+        ("GLASS_SPLIT_DEPTH", U32(crate::shading::GLASS_SPLIT_DEPTH)),
         ("TERM_DIRECT", U32(TERM_DIRECT)),
         ("TERM_POINT_LOBE", U32(TERM_POINT_LOBE)),
         ("TERM_LOBE_RAY", U32(TERM_LOBE_RAY)),

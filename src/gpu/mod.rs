@@ -10,13 +10,14 @@
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `faults` (the device's
 //! failures described, their injection for tests, the watchdog), `shape` (the kernel shape
 //! chosen per adapter: widths and the loop guard as override constants), `context`,
-//! `buffers`, `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
+//! `buffers`, `branches` (the camera paths' deferred glass branches), `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media),
 //! `probe_light` (those of the lights and of ray intersection).
 
 pub mod bindings;
+pub mod branches;
 pub mod bsdf_params;
 pub mod buffers;
 pub mod bvh_layout;

@@ -4,6 +4,7 @@
 //! photon counts, the phases' device times (where the device has timestamps) and the image
 //! read back once, when the pass ends.
 
+use super::branches::ROUNDS;
 use super::buffers::{empty_buffer, read_back, wait};
 use super::codes::STATS_LEN;
 use super::host::{batch_pass, batch_settings, MAX_BATCHES, PARAMS_STRIDE};
@@ -41,6 +42,7 @@ impl GpuRun {
                 "a K-nearest pass on pipelines built for a progressive render (fixed radii)".into(),
             ));
         }
+        self.ensure_bands(scene, s)?;
         let accum_bytes = accum.size();
         let (phases_before, kernels_before) = (report.phases.len(), report.kernels.len());
         let mut batches = 1u32;
@@ -141,8 +143,10 @@ impl GpuRun {
     }
 
     /// Records gathering every camera sample of `s` over the maps into `accum` in
-    /// `enc`: each sample's parameters in its slot (written before the submission), then one
-    /// dispatch per sample layer.
+    /// `enc`: each band's and sample's parameters in its slot (written before the
+    /// submission), then per band of rows and sample one `gather` dispatch and, where the
+    /// scene splits at glass, `branches::ROUNDS` rounds of `gather_branches` (an invocation
+    /// whose pixel has no branch left returns at once).
     fn record_gather(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -153,17 +157,22 @@ impl GpuRun {
         let ctx = &self.ctx;
         let gather_bg = self.gather_bind_group(maps, accum);
         let tile = ctx.shape.gather_tile;
-        let (wx, wy) = (s.width.div_ceil(tile), s.height.div_ceil(tile));
-        let mut slots = vec![0u8; (PARAMS_STRIDE * s.spp as u64) as usize];
-        for sample in 0..s.spp {
-            let p = GpuParams {
-                sample,
-                caustic_weight: caustic_weight(s.spp, s.caustic_every, sample),
-                ..self.params
-            };
-            let at = (PARAMS_STRIDE * sample as u64) as usize;
-            slots[at..at + std::mem::size_of::<GpuParams>()]
-                .copy_from_slice(bytemuck::bytes_of(&p));
+        let rows = self.band_rows.max(1);
+        let bands = s.height.div_ceil(rows).max(1);
+        let (wx, wy) = (s.width.div_ceil(tile), rows.min(s.height).div_ceil(tile));
+        let mut slots = vec![0u8; (PARAMS_STRIDE * (bands * s.spp) as u64) as usize];
+        for band in 0..bands {
+            for sample in 0..s.spp {
+                let p = GpuParams {
+                    sample,
+                    caustic_weight: caustic_weight(s.spp, s.caustic_every, sample),
+                    first_row: band * rows,
+                    ..self.params
+                };
+                let at = (PARAMS_STRIDE * (band * s.spp + sample) as u64) as usize;
+                slots[at..at + std::mem::size_of::<GpuParams>()]
+                    .copy_from_slice(bytemuck::bytes_of(&p));
+            }
         }
         ctx.queue
             .write_buffer(&self.scene_buffers.params, 0, &slots);
@@ -171,12 +180,18 @@ impl GpuRun {
             label: Some("gather"),
             timestamp_writes: None,
         });
-        cp.set_pipeline(&self.pipelines.gather);
         cp.set_bind_group(1, &gather_bg, &[]);
-        for sample in 0..s.spp {
-            let offset = (PARAMS_STRIDE * sample as u64) as u32;
+        for slot in 0..bands * s.spp {
+            let offset = (PARAMS_STRIDE * slot as u64) as u32;
             cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset]);
+            cp.set_pipeline(&self.pipelines.gather);
             cp.dispatch_workgroups(wx, wy, 1);
+            if let Some(rounds) = &self.pipelines.gather_branches {
+                cp.set_pipeline(rounds);
+                for _ in 0..ROUNDS {
+                    cp.dispatch_workgroups(wx, wy, 1);
+                }
+            }
         }
     }
 }

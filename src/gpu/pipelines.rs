@@ -61,8 +61,17 @@ pub fn feature_constants(
         ),
         ("KNN", knn as u32 as f64),
         ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
+        ("GLASS_SPLIT", glass_split(scene) as u32 as f64),
     ]);
     constants
+}
+
+/// Whether a camera path may split at a dielectric (glass, or a thin dielectric sheet):
+/// only then do the gather's glass branch stacks and rounds exist (`GLASS_SPLIT`).
+pub fn glass_split(scene: &Scene) -> bool {
+    use crate::scene::MaterialKind;
+    let split = |k: MaterialKind| matches!(k, MaterialKind::Glass | MaterialKind::ThinDielectric);
+    scene.materials.iter().any(|m| split(m.kind))
 }
 
 /// Whether some spot light has Mitsuba's falloff (its sampling code is compiled only then:
@@ -100,6 +109,8 @@ pub struct Pipelines {
     pub scatter_volume: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
+    /// `gather_branches` (shaders/gather.wgsl): only where `GLASS_SPLIT` is set.
+    pub gather_branches: Option<wgpu::ComputePipeline>,
     /// The radiance cache's build: only for a render in mode gather.
     pub radiance_cache: Option<CachePipelines>,
     /// The kernel shape they were compiled with (the host's dispatch sizes follow it).
@@ -172,6 +183,9 @@ impl Pipelines {
                 cache: None,
             })
         };
+        let split = constants
+            .iter()
+            .any(|&(n, v)| n == "GLASS_SPLIT" && v != 0.0);
         let trace = shader_module(dev, Kernel::TracePhotons);
         let grid = shader_module(dev, Kernel::BuildGrid);
         let gather = match super::faults::injected() {
@@ -191,6 +205,7 @@ impl Pipelines {
             count_volume: pipeline(&grid, &map_layout, "count_volume"),
             scatter_volume: pipeline(&grid, &map_layout, "scatter_volume"),
             gather: pipeline(&gather, &gather_layout, "gather"),
+            gather_branches: split.then(|| pipeline(&gather, &gather_layout, "gather_branches")),
             radiance_cache: final_gather.then(|| CachePipelines {
                 list: pipeline(&gather, &gather_layout, "list_cache_points"),
                 size: pipeline(&gather, &gather_layout, "size_cache_build"),

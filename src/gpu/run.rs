@@ -3,13 +3,14 @@
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
 use super::bindings::{bind_group, Layouts, GATHER_GROUP, MAP_SLOTS};
+use super::branches::{band_rows, stack_buffer};
 use super::buffers::{cache_buffers, empty_buffer};
 use super::codes::SCAN_BLOCK;
 use super::context::GpuContext;
 use super::host::{budgeted_lights, gpu_params};
 use super::maps::{probe_map_params, MapBuffers};
 use super::pipeline_cache::{self, PipelineKey};
-use super::pipelines::{feature_constants, Pipelines};
+use super::pipelines::{feature_constants, glass_split, Pipelines};
 use super::recorder::Recorder;
 use super::scene_buffers::SceneBuffers;
 use super::types::{GpuAabb, GpuMapParams, GpuParams};
@@ -52,12 +53,37 @@ pub struct GpuRun {
     /// The volume photons every map's paths store (a placeholder without a volume map);
     /// grown by `GpuRun::plan_maps` when a pass needs more.
     pub volume: VolumeBuffers,
+    /// The camera paths' glass branch stacks (`gpu::branches`): one per pixel of a band of
+    /// `band_rows` rows of `width` pixels, a stand-in without `GLASS_SPLIT`.
+    pub branch_stacks: wgpu::Buffer,
+    /// Rows per band of the gather, and the image width the stacks were made for.
+    pub band_rows: u32,
+    /// The width the stacks were made for.
+    pub band_width: u32,
+    /// Parameter slots the scene's `params` buffer has (one per sample and band).
+    pub param_slots: u32,
+    /// The most bytes the branch stacks may take: one storage binding (less in tests of
+    /// the bands).
+    pub stack_bytes: u64,
 }
 
 impl GpuRun {
     /// Uploads the scene and creates the pipelines, specialised to the scene's features;
     /// `s` and `pass` give the first parameters and plan (each pass re-plans).
     pub fn new(ctx: GpuContext, scene: &Scene, s: &RenderSettings, pass: u32) -> Result<Self> {
+        let stack_bytes = ctx.max_binding;
+        Self::with_stack_bytes(ctx, scene, s, pass, stack_bytes)
+    }
+
+    /// [`GpuRun::new`] with the glass branch stacks limited to `stack_bytes` (the gather runs
+    /// in bands of rows whose stacks fit).
+    pub fn with_stack_bytes(
+        ctx: GpuContext,
+        scene: &Scene,
+        s: &RenderSettings,
+        pass: u32,
+        stack_bytes: u64,
+    ) -> Result<Self> {
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
         let constants =
@@ -77,7 +103,8 @@ impl GpuRun {
                 Some((_, pipelines)) => Ok(pipelines),
                 None => Pipelines::new(&ctx, &layouts, &constants, final_gather, knn),
             });
-            let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass);
+            let slots = Self::bands(&ctx, scene, s, stack_bytes).2;
+            let scene_side = Self::upload_scene(&ctx, &layouts, scene, s, pass, slots);
             let pipelines = compile
                 .join()
                 .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
@@ -88,6 +115,8 @@ impl GpuRun {
             pipeline_cache::put(&ctx, key, layouts.clone(), pipelines.clone());
         }
         let (plan, table, params, scene_buffers) = scene_side?;
+        let (split, rows, slots) = Self::bands(&ctx, scene, s, stack_bytes);
+        let branch_stacks = stack_buffer(&ctx.device, s.width, rows, split);
         let cache = cache_buffers(&ctx.device, 1);
         let volume = VolumeBuffers::new(
             &ctx,
@@ -107,7 +136,49 @@ impl GpuRun {
             map_cache: Vec::new(),
             cache,
             knn,
+            branch_stacks,
+            band_rows: rows,
+            band_width: s.width,
+            param_slots: slots,
+            stack_bytes,
         })
+    }
+
+    /// Makes the glass branch stacks fit a pass of `s` (a pass may differ from the first in
+    /// its size); fails when its samples and bands need more parameter slots than the
+    /// render made room for.
+    pub fn ensure_bands(&mut self, scene: &Scene, s: &RenderSettings) -> Result<()> {
+        let (split, rows, slots) = Self::bands(&self.ctx, scene, s, self.stack_bytes);
+        if slots > self.param_slots {
+            return Err(crate::error::Error::Gpu(format!(
+                "a pass of {} samples in {} bands needs {slots} parameter slots; the render made room for {}",
+                s.spp,
+                slots / s.spp.max(1),
+                self.param_slots
+            )));
+        }
+        if split && (s.width, rows) != (self.band_width, self.band_rows) {
+            self.branch_stacks = stack_buffer(&self.ctx.device, s.width, rows, split);
+        }
+        (self.band_width, self.band_rows) = (s.width, rows);
+        Ok(())
+    }
+
+    /// Whether the scene splits camera paths at glass, the gather's rows per band (the whole
+    /// image but where the glass branch stacks would exceed `stack_bytes`) and the
+    /// parameter slots a pass of `s` needs (one per sample and band).
+    fn bands(
+        ctx: &GpuContext,
+        scene: &Scene,
+        s: &RenderSettings,
+        stack_bytes: u64,
+    ) -> (bool, u32, u32) {
+        let split = glass_split(scene);
+        if !split {
+            return (false, s.height.max(1), s.spp.max(1));
+        }
+        let rows = band_rows(s.width, s.height, ctx.shape.gather_tile, stack_bytes);
+        (true, rows, s.spp.max(1) * s.height.div_ceil(rows).max(1))
     }
 
     /// Re-plans the photon budgets for settings `s` and pass index `pass` (the RNG's pass),
@@ -151,6 +222,7 @@ impl GpuRun {
         scene: &Scene,
         s: &RenderSettings,
         pass: u32,
+        slots: u32,
     ) -> Result<(MapPlan, LightTable, GpuParams, SceneBuffers)> {
         let bvh = Bvh::build_with(scene, super::bvh_layout::GPU_COSTS);
         let table = LightTable::new(scene);
@@ -171,7 +243,7 @@ impl GpuRun {
             .unwrap_or_default();
         let params = gpu_params(scene, s, pass, bounds.len() as u32);
         let buffers = SceneBuffers::new(
-            ctx, layouts, scene, &bvh, &table, &lights, &bounds, &params, s.spp,
+            ctx, layouts, scene, &bvh, &table, &lights, &bounds, &params, slots,
         )?;
         Ok((plan, table, params, buffers))
     }
@@ -226,7 +298,7 @@ impl GpuRun {
     }
 
     /// The gather kernel's group 1 over the maps (by [`crate::plan::MapKind`] slot), the
-    /// accumulator and the radiance cache.
+    /// accumulator, the radiance cache and the glass branch stacks.
     pub fn gather_bind_group(
         &self,
         maps: [&MapBuffers; 2],
@@ -246,6 +318,7 @@ impl GpuRun {
             ("v_refs", self.volume.map.sorted.as_entire_binding()),
             ("v_cells", self.volume.map.cell_start.as_entire_binding()),
             ("v_grid", self.volume.grid.as_entire_binding()),
+            ("branch_stacks", self.branch_stacks.as_entire_binding()),
         ]);
         bind_group(
             &self.ctx.device,

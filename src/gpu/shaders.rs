@@ -15,6 +15,7 @@ pub enum Kernel {
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
     /// `shaders/media_camera.wgsl` (segments through media),
+    /// `shaders/glass_branches.wgsl` (the camera path's deferred glass branches),
     /// `shaders/radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::sobol::wgsl_library`).
@@ -48,13 +49,14 @@ const MEDIA_CAMERA: &str = include_str!("../../shaders/media_camera.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
 const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
 const CACHE_FIXED: &str = include_str!("../../shaders/cache_fixed.wgsl");
+const GLASS_BRANCHES: &str = include_str!("../../shaders/glass_branches.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 const PROBE_LIGHT: &str = include_str!("../../shaders/probe_light.wgsl");
 const PROBE_GEOMETRY: &str = include_str!("../../shaders/probe_geometry.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 32] = [
+pub const WGSL_FILES: [(&str, &str); 33] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -82,6 +84,7 @@ pub const WGSL_FILES: [(&str, &str); 32] = [
     ("radiance_cache.wgsl", RADIANCE_CACHE),
     ("cache_build.wgsl", CACHE_BUILD),
     ("cache_fixed.wgsl", CACHE_FIXED),
+    ("glass_branches.wgsl", GLASS_BRANCHES),
     ("gather.wgsl", GATHER),
     ("probes.wgsl", PROBES),
     ("probe_light.wgsl", PROBE_LIGHT),
@@ -133,6 +136,7 @@ impl Kernel {
             ],
             Kernel::Gather => &[
                 "gather",
+                "gather_branches",
                 "list_cache_points",
                 "size_cache_build",
                 "build_cache",
@@ -194,12 +198,15 @@ impl Kernel {
                 RADIANCE_CACHE,
                 CACHE_BUILD,
                 CACHE_FIXED,
+                GLASS_BRANCHES,
                 GATHER,
             ],
             Kernel::Probes => &[
                 ESTIMATE,
                 MEDIA_CAMERA,
                 RADIANCE_CACHE,
+                // Declares the gather group's branch stacks (the probes bind that group).
+                GLASS_BRANCHES,
                 PROBES,
                 PROBE_LIGHT,
                 PROBE_GEOMETRY,

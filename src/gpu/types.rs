@@ -233,6 +233,10 @@ pub struct GpuParams {
     pub focus_distance: f32,
     /// The medium the camera sits in (`Scene::camera_medium`; `NO_MEDIUM` for vacuum).
     pub camera_medium: u32,
+    /// The first image row of a gather dispatch's band of rows (`gpu::branches`).
+    pub first_row: u32,
+    /// Padding to 16 bytes.
+    pub _pad: [u32; 3],
 }
 
 /// Twin of WGSL `Medium`: a homogeneous medium (`crate::medium::Medium`) as the kernels use
