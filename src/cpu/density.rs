@@ -114,7 +114,7 @@ impl DensityTable {
     /// wider search than the table was built for.
     pub fn radius2_at(&self, x: [f32; 3], r2: f32) -> Option<f32> {
         let first = self.levels[0].cell;
-        if !(4.0 * r2 <= first * first) || !x.iter().all(|c| c.is_finite()) {
+        if r2.is_nan() || 4.0 * r2 > first * first || !x.iter().all(|c| c.is_finite()) {
             return Some(r2);
         }
         if self.levels[0].bound(x) <= VISIT_BOUND {
