@@ -7,6 +7,11 @@ use crate::settings::Filter;
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// Photons a radiance search may read, on either backend: past it the CPU narrows the
+/// search (`cpu::density`) and the GPU cuts it and counts it (`MAX_VISITS` in
+/// shaders/common/estimate.wgsl, lower still on lavapipe, whose loop budget bounds it first).
+pub const SEARCH_VISIT_BOUND: u32 = 16_384;
+
 /// Photons on a surface whose normal is within 60 degrees of the estimate's (cos > 0.5) are
 /// on the same surface; beyond 120 degrees (cos < -0.5) they are on its other side.
 pub const FACING_COS: f32 = 0.5;

@@ -14,9 +14,10 @@
 
 // MAX_HEAP (prelude): largest K the heap holds (GpuRenderer rejects a larger --k).
 // MAX_CELLS (prelude): grid cells one estimate may visit (rings of cells around the query).
-// Photons one estimate may examine (half the loop budget); past it the estimate uses what
-// it found and counts stats[STAT_GATHER_TRUNCATED].
-override MAX_VISITS: u32 = LOOP_BUDGET / 2u;
+// Photons one estimate may examine: the backends' shared bound (SEARCH_VISIT_BOUND, prelude),
+// or half the loop budget where that is less (lavapipe); past it the estimate uses what it
+// found and counts stats[STAT_GATHER_TRUNCATED].
+override MAX_VISITS: u32 = min(LOOP_BUDGET / 2u, SEARCH_VISIT_BOUND);
 
 // The heap: (squared distance bits, photon index) pairs; a max-heap during the search.
 var<private> heap: array<vec2<u32>, MAX_HEAP>;

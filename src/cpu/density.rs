@@ -10,10 +10,11 @@
 
 use crate::rng::pcg_hash;
 
-/// Photons a fixed-radius search may read (the eight cells' count) before it is narrowed.
-/// The point-lit plane (`scenes/point-light-plane.toml`), the example scene whose photons are
-/// densest against its first radius (about 10^3 times), stays below it.
-pub const VISIT_BOUND: u32 = 16_384;
+/// Photons a fixed-radius search may read (the eight cells' count) before it is narrowed:
+/// the bound both backends share. The point-lit plane (`scenes/point-light-plane.toml`), the
+/// example scene whose photons are densest against its first radius (about 10^3 times),
+/// stays below it.
+pub const VISIT_BOUND: u32 = crate::estimate::SEARCH_VISIT_BOUND;
 
 /// What the cells of a narrowed search hold at most: a few hundred photons within its
 /// radius on a surface, about as many as an ordinary search reads, so the narrowed estimate

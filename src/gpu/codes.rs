@@ -337,6 +337,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
+        (
+            "SEARCH_VISIT_BOUND",
+            U32(crate::estimate::SEARCH_VISIT_BOUND),
+        ),
         ("SCAN_BLOCK", U32(SCAN_BLOCK)),
         ("SCAN_ITEMS", U32(SCAN_ITEMS)),
         ("MAX_HEAP", U32(MAX_HEAP)),
