@@ -12,6 +12,19 @@ use std::f32::consts::PI;
 /// shaders/common/estimate.wgsl, lower still on lavapipe, whose loop budget bounds it first).
 pub const SEARCH_VISIT_BOUND: u32 = 16_384;
 
+/// Integer cell coordinates of `p` in a uniform grid of cells of side `cell_size` (the GPU's
+/// photon grid, twin: shaders/common/grid.wgsl; the CPU's density tables, `cpu::density`).
+pub fn cell_of(p: [f32; 3], cell_size: f32) -> [i32; 3] {
+    p.map(|c| (c / cell_size).floor() as i32)
+}
+
+/// Hash-table slot of cell `c` (`table_size` a power of two).
+pub fn cell_hash(c: [i32; 3], table_size: u32) -> u32 {
+    use crate::rng::pcg_hash;
+    let h = pcg_hash(c[0] as u32 ^ pcg_hash(c[1] as u32 ^ pcg_hash(c[2] as u32)));
+    h & (table_size - 1)
+}
+
 /// Photons on a surface whose normal is within 60 degrees of the estimate's (cos > 0.5) are
 /// on the same surface; beyond 120 degrees (cos < -0.5) they are on its other side.
 pub const FACING_COS: f32 = 0.5;

@@ -1,4 +1,4 @@
-// Hash-grid cells (twin: src/gpu/grid.rs): a point's cell, a cell's table slot, whether a
+// Hash-grid cells (twins: src/estimate.rs, src/gpu/grid.rs): a point's cell, a cell's table slot, whether a
 // map keeps a photon (DROP_* flags from the generated prelude, src/gpu/codes.rs) and whether
 // it is a radiance-cache point.
 // Library, no entry point; writes nothing.

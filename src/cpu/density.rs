@@ -8,7 +8,7 @@
 //! tables only decide how a search runs: a hash collision or a photon on a cell's edge
 //! changes the radius chosen, never what a search of that radius finds.
 
-use crate::rng::pcg_hash;
+use crate::estimate::{cell_hash, cell_of};
 
 /// Photons a fixed-radius search may read (the eight cells' count) before it is narrowed:
 /// the bound both backends share. The point-lit plane (`scenes/point-light-plane.toml`), the
@@ -33,7 +33,7 @@ pub const NARROWED_K: usize = 1_024;
 /// Photon counts per hashed cell of one side.
 struct Level {
     cell: f32,
-    mask: u32,
+    size: u32,
     counts: Vec<u16>,
 }
 
@@ -42,19 +42,18 @@ impl Level {
         let size = positions.len().max(256).next_power_of_two().min(1 << 30);
         let mut l = Level {
             cell,
-            mask: size as u32 - 1,
+            size: size as u32,
             counts: vec![0; size],
         };
-        for p in positions {
-            let slot = l.slot(p.map(|c| (c / cell).floor() as i32));
+        for &p in positions {
+            let slot = l.slot(cell_of(p, cell));
             l.counts[slot] = l.counts[slot].saturating_add(1);
         }
         l
     }
 
     fn slot(&self, c: [i32; 3]) -> usize {
-        let h = pcg_hash(c[0] as u32 ^ pcg_hash(c[1] as u32 ^ pcg_hash(c[2] as u32)));
-        (h & self.mask) as usize
+        cell_hash(c, self.size) as usize
     }
 
     /// The counts of the eight cells that hold every point within half a cell of `x`.
@@ -140,6 +139,7 @@ impl DensityTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rng::pcg_hash;
 
     fn points(n: usize, seed: u32, lo: [f32; 3], size: [f32; 3]) -> Vec<[f32; 3]> {
         let mut s = seed;

@@ -24,6 +24,19 @@ impl PhotonMap {
     /// Builds the map over `photons`. Its fixed-radius searches read every photon within
     /// their radius, however many.
     pub fn build(photons: Vec<Photon>) -> Self {
+        Self::build_with(photons, None)
+    }
+
+    /// Builds the map over `photons` for fixed-radius searches of at most `radius`, each of
+    /// which reads a bounded number of photons (`crate::cpu::density`): a smaller radius
+    /// where the first holds too many, or the [`NARROWED_K`] nearest where no radius helps.
+    pub fn build_bounded(photons: Vec<Photon>, radius: f32) -> Self {
+        Self::build_with(photons, Some(radius))
+    }
+
+    /// The kd-tree, and the density table for searches of at most `radius` if given, over
+    /// one list of the photons' positions.
+    fn build_with(photons: Vec<Photon>, radius: Option<f32>) -> Self {
         let points: Vec<[f32; 3]> = photons.iter().map(|p| p.position).collect();
         let tree = if points.is_empty() {
             None
@@ -31,21 +44,11 @@ impl PhotonMap {
             ImmutableKdTree::new_from_slice(&points).ok()
         };
         PhotonMap {
+            density: radius.and_then(|r| DensityTable::build(&points, r)),
             photons,
             tree,
-            density: None,
             narrowed: AtomicU64::new(0),
         }
-    }
-
-    /// Builds the map over `photons` for fixed-radius searches of at most `radius`, each of
-    /// which reads a bounded number of photons (`crate::cpu::density`): a smaller radius
-    /// where the first holds too many, or the [`NARROWED_K`] nearest where no radius helps.
-    pub fn build_bounded(photons: Vec<Photon>, radius: f32) -> Self {
-        let mut map = PhotonMap::build(photons);
-        let points: Vec<[f32; 3]> = map.photons.iter().map(|p| p.position).collect();
-        map.density = DensityTable::build(&points, radius);
-        map
     }
 
     /// Fixed-radius searches narrowed so far (a smaller radius or the nearest photons).

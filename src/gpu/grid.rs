@@ -1,17 +1,7 @@
-//! The hash grid's cell functions (twin: shaders/common/grid.wgsl) and its sizing.
+//! The hash grid's sizing and counting sort; its cell functions (twin:
+//! shaders/common/grid.wgsl) are `crate::estimate`'s, which the CPU's density tables share.
 
-use crate::rng::pcg_hash;
-
-/// Integer cell coordinates of `p`.
-pub fn cell_of(p: [f32; 3], cell_size: f32) -> [i32; 3] {
-    p.map(|c| (c / cell_size).floor() as i32)
-}
-
-/// Hash-table slot of cell `c` (`table_size` a power of two).
-pub fn cell_hash(c: [i32; 3], table_size: u32) -> u32 {
-    let h = pcg_hash(c[0] as u32 ^ pcg_hash(c[1] as u32 ^ pcg_hash(c[2] as u32)));
-    h & (table_size - 1)
-}
+pub use crate::estimate::{cell_hash, cell_of};
 
 /// Table size: the power of two at or above `expected` photons (load factor <= 1), at least
 /// 256 (one scan block) and within one storage binding.
