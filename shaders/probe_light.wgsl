@@ -7,8 +7,8 @@
 // probe_light: light bitcast(accum[i].w) of the scene for case i < width, with
 // u0 = accum[i].xyz, (x, u3) = accum[width + i], (ns, u4) = accum[2 width + i]; writes
 // emit(l, u0, u3, u4) as (origin, triangle picked by u0.x or -1) to accum[3 width + i],
-// (dir, 0), (normal, 1 when aims_at(origin, dir): towards the caustic bounds), (scale, 0)
-// to accum[4..6 width + i], and
+// (dir, 0), (normal, 1 when aims_at(origin, dir): towards the caustic bounds), (scale, 1
+// when is_delta_light(l)) to accum[4..6 width + i], and
 // sample_light(l, x, ns, (u0.x, u3, u4)) as (point, pdf) and (weight, 1 when distant) to
 // accum[7 width + i] and accum[8 width + i].
 @compute @workgroup_size(WG_SIZE)
@@ -30,7 +30,7 @@ fn probe_light(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[3u * w + i] = vec4<f32>(e.origin, tri);
     accum[4u * w + i] = vec4<f32>(e.dir, 0.0);
     accum[5u * w + i] = vec4<f32>(e.normal, select(0.0, 1.0, aims_at(e.origin, e.dir)));
-    accum[6u * w + i] = vec4<f32>(e.scale, 0.0);
+    accum[6u * w + i] = vec4<f32>(e.scale, select(0.0, 1.0, is_delta_light(l)));
     let s = sample_light(l, b.xyz, c.xyz, vec3<f32>(a.x, b.w, c.w));
     accum[7u * w + i] = vec4<f32>(s.point, s.pdf);
     accum[8u * w + i] = vec4<f32>(s.weight, select(0.0, 1.0, s.distant));

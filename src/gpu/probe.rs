@@ -28,7 +28,7 @@ pub fn rng_values(ctx: &GpuContext, seed: u32, pass: u32, n: u32) -> Result<Vec<
     };
     let run = GpuRun::new(ctx.clone(), &scene, &settings, pass)?;
     let accum = run.accum_buffer(n as u64 * 16);
-    let out = dispatch_probe(&run, "probe_rng", &accum, n, None)?;
+    let out = dispatch_probe(&run, "probe_rng", &accum, n, None, &[])?;
     Ok(bytemuck::cast_slice::<[f32; 4], [u32; 4]>(&out).to_vec())
 }
 
@@ -78,12 +78,10 @@ pub fn estimate(
         init[i] = [p[0], p[1], p[2], 0.0];
         init[queries.len() + i] = [nrm[0], nrm[1], nrm[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let accum = case_buffer(&run, &init);
     let empty = run.empty_map(true);
     let bg = run.gather_bind_group([&map, &empty], &accum);
-    let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg))?;
+    let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg), &[])?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     Ok((
         out[2 * queries.len()..]
@@ -100,23 +98,13 @@ pub fn cosine_hemisphere(
     ctx: &GpuContext,
     cases: &[([f32; 3], [f32; 2])],
 ) -> Result<Vec<[f32; 3]>> {
-    let scene = Scene::empty();
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 3 * n];
     for (i, (nrm, u)) in cases.iter().enumerate() {
         init[i] = [nrm[0], nrm[1], nrm[2], 0.0];
         init[n + i] = [u[0], u[1], 0.0, 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_cosine", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, &Scene::empty(), "probe_cosine", &init, n)?;
     Ok(out[2 * n..2 * n + cases.len()]
         .iter()
         .map(|v| [v[0], v[1], v[2]])
@@ -164,12 +152,6 @@ pub struct SurfaceProbe {
 /// (probe `probe_surface` in shaders/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), &Scene::empty(), &settings, 0)?;
     let mut init = vec![[0f32; 4]; 10 * n];
     let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
     for (i, c) in cases.iter().enumerate() {
@@ -179,10 +161,7 @@ pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfacePro
             init[(2 + k) * n + i] = v(x);
         }
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_surface", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, &Scene::empty(), "probe_surface", &init, n)?;
     Ok((0..cases.len())
         .map(|i| {
             let (l, m, q) = (out[7 * n + i], out[8 * n + i], out[9 * n + i]);
@@ -205,22 +184,13 @@ pub fn environment(
     cases: &[([f32; 3], [f32; 3], [f32; 3])],
 ) -> Result<Vec<([f32; 4], [f32; 4])>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 5 * n];
     for (i, (d, ns, u)) in cases.iter().enumerate() {
         init[i] = [d[0], d[1], d[2], 0.0];
         init[n + i] = [ns[0], ns[1], ns[2], 0.0];
         init[2 * n + i] = [u[0], u[1], u[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_env", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, scene, "probe_env", &init, n)?;
     Ok((0..cases.len())
         .map(|i| (out[3 * n + i], out[4 * n + i]))
         .collect())
@@ -267,9 +237,7 @@ pub fn radiance_cache(
         init[i] = [p[0], p[1], p[2], 0.0];
         init[n as usize + i] = [nrm[0], nrm[1], nrm[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let accum = case_buffer(&run, &init);
     let empty = run.empty_map(true);
     let mut rec = Recorder::new(ctx.clone(), false);
     run.record_cache(&mut rec, [&map, &empty], &accum)?;
@@ -282,7 +250,7 @@ pub fn radiance_cache(
     )?;
     let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache[0], run.cache[0].size())?;
     let bg = run.gather_bind_group([&map, &empty], &accum);
-    let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg))?;
+    let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg), &[])?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     let lookups = out[2 * n as usize..2 * n as usize + queries.len()]
         .iter()
@@ -296,15 +264,50 @@ pub fn radiance_cache(
     })
 }
 
+/// A run over `scene` for `n` probe cases (an image of `n` x 1 pixels): the render's own
+/// set-up.
+pub(super) fn case_run(ctx: &GpuContext, scene: &Scene, n: usize) -> Result<GpuRun> {
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    GpuRun::new(ctx.clone(), scene, &settings, 0)
+}
+
+/// The probes' buffer (`accum`) of `run`, holding `init`.
+pub(super) fn case_buffer(run: &GpuRun, init: &[[f32; 4]]) -> wgpu::Buffer {
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    run.ctx
+        .queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(init));
+    accum
+}
+
+/// Runs probe `entry` over `n` cases of `init` on a fresh run over `scene` (the WGSL
+/// defaults of the override constants) and reads the buffer back.
+pub(super) fn probe_cases(
+    ctx: &GpuContext,
+    scene: &Scene,
+    entry: &str,
+    init: &[[f32; 4]],
+    n: usize,
+) -> Result<Vec<[f32; 4]>> {
+    let run = case_run(ctx, scene, n)?;
+    dispatch_probe(&run, entry, &case_buffer(&run, init), n as u32, None, &[])
+}
+
 /// Runs the probe entry point `entry` over `n` invocations (WG_SIZE-wide) with group 1 `bg`
-/// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline keeps the
-/// WGSL defaults of the override constants.
+/// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline is
+/// specialised with `constants` (override constants by name; the WGSL defaults for the
+/// others).
 pub(super) fn dispatch_probe(
     run: &GpuRun,
     entry: &str,
     accum: &wgpu::Buffer,
     n: u32,
     bg: Option<&wgpu::BindGroup>,
+    constants: &[(&str, f64)],
 ) -> Result<Vec<[f32; 4]>> {
     debug_assert_eq!(GATHER_GROUP.group, 1);
     let dev = &run.ctx.device;
@@ -321,7 +324,10 @@ pub(super) fn dispatch_probe(
         layout: Some(&layout),
         module: &module,
         entry_point: Some(entry),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        },
         cache: None,
     });
     if let Some(e) = pollster::block_on(scope.pop()) {
