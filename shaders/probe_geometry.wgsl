@@ -1,8 +1,8 @@
-// Oracle probes of ray intersection and the surface frame (common/intersect.wgsl) for
-// tests/intersect_gpu.rs, never used by a render: one primitive's watertight test, the BVH
-// walk, and the Phong lobe, sphere uvs, leaks and normal mapping, against their Rust twins.
+// Oracle probes of ray intersection and a hit's surface (common/intersect.wgsl) for
+// tests/intersect_gpu.rs and hit_gpu.rs, never used by a render: primitive tests, the BVH walk,
+// surface-frame helpers, and shading normals, uv tangents, alpha tests and frames on a scene.
 // Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per ray. Writes:
-// accum[] as the entry point says. Composed after probes.wgsl (its `accum`).
+// accum[] as each entry point says. Composed after probes.wgsl (its `accum`).
 
 // probe_intersect: ray i < width, (o, t_max) = accum[i], (d, primitive id as bits: a
 // triangle, SPHERE_BIT | sphere, or 0xffffffff for none) = accum[width + i]; writes the
@@ -65,4 +65,60 @@ fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[8u * w + i] = vec4<f32>(sphere_uv(a.xyz), leaks);
     let n = normal_mapped(ng, ns, accum[4u * w + i].xyz, u.z != 0.0, accum[5u * w + i].xyz, d);
     accum[9u * w + i] = vec4<f32>(n, 0.0);
+}
+
+// The slots of probe_hit's per-triangle outputs when the function does not apply (a sphere,
+// or a scene without uvs or tangents).
+const NOT_RUN: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, -2.0);
+
+// probe_hit: the hit's surface on the bound scene for case i < width: (o, t) = accum[i],
+// (d, primitive id as bits) = accum[w + i], (ng, t_max) = accum[2 w + i], barycentrics
+// (bc, 0, 0) = accum[3 w + i]. Writes, for a triangle id: (shading_normal(ng, its normals,
+// bc), 1) to accum[4 w + i] ((ng, 0) when it is flat), triangle_tangent of its edges and
+// corner uvs, vertex_tangent of its tangents at bc and uv_tangent(id, ...) to accum[5..7 w + i]
+// (NOT_RUN without uvs, or tangents for vertex_tangent); (alpha_passes(id, t, bc, o, d),
+// found, material, interpolated) of trace_ray(o, d, t_max)'s nearest hit to accum[8 w + i],
+// and the facing(hit, d . normal < 0) frame's ng and ns to accum[9 w + i], accum[10 w + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let w = params.width;
+    if i >= w {
+        return;
+    }
+    let a = accum[i];
+    let b = accum[w + i];
+    let c = accum[2u * w + i];
+    let bc = accum[3u * w + i].xy;
+    let o = a.xyz;
+    let d = b.xyz;
+    let id = bitcast<u32>(b.w);
+    var shading = vec4<f32>(c.xyz, 0.0);
+    var tangents = array<vec4<f32>, 3>(NOT_RUN, NOT_RUN, NOT_RUN);
+    if (id & SPHERE_BIT) == 0u {
+        let tri = load_triangle(id);
+        if tri.shading != FLAT {
+            shading = vec4<f32>(shading_normal(c.xyz, tri.shading, bc), 1.0);
+        }
+        let e1 = tri.v1 - tri.v0;
+        let e2 = tri.v2 - tri.v0;
+        if HAS_TEXTURES {
+            let r = uv_record(id);
+            tangents[0] = triangle_tangent(e1, e2, uvs[r].xy, uvs[r].zw, uvs[r + 1u].xy);
+            if HAS_TANGENTS {
+                tangents[1] = vertex_tangent(r + UV_WORDS, bc);
+            }
+            tangents[2] = uv_tangent(id, e1, e2, bc);
+        }
+    }
+    accum[4u * w + i] = shading;
+    accum[5u * w + i] = tangents[0];
+    accum[6u * w + i] = tangents[1];
+    accum[7u * w + i] = tangents[2];
+    let h = trace_ray(o, d, c.w, false);
+    let f = facing(h, dot(d, h.normal) < 0.0);
+    let passes = select(0.0, 1.0, alpha_passes(id, a.w, bc, o, d));
+    accum[8u * w + i] = vec4<f32>(passes, select(0.0, 1.0, h.found), f32(h.material), select(0.0, 1.0, f.interpolated));
+    accum[9u * w + i] = vec4<f32>(f.ng, 0.0);
+    accum[10u * w + i] = vec4<f32>(f.ns, 0.0);
 }

@@ -4,7 +4,8 @@
 //! Rust function it mirrors (same name, or the pair where a method's name reads differently
 //! on its type) and the test that compares them, or as a device-only helper. The test checks
 //! that every listed name exists in its source, that no function of those libraries is
-//! missing from the list, and that docs/architecture.md's oracle table names each one.
+//! missing from the list, and that docs/architecture.md's oracle table has each one's row
+//! as listed here (the twin and the check included).
 
 use gpu_photon::gpu::shaders::WGSL_FILES;
 use std::path::Path;
@@ -28,7 +29,7 @@ use Check::{Helper, Images, Oracle, Paths};
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
 const TWINS: &[(&str, &str, &str, &str, Check)] = &[
-    ("common/light.wgsl", "is_delta_light", "scene/mod.rs", "is_delta", Images("gpu_images.rs")),
+    ("common/light.wgsl", "is_delta_light", "scene/mod.rs", "is_delta", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_falloff", "scene/spot.rs", "falloff", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_linear_mass", "scene/spot.rs", "linear_ramp_mass", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_cos", "scene/spot.rs", "sample_cos", Oracle("light_gpu.rs")),
@@ -44,22 +45,22 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/intersect.wgsl", "max_abs", "", "", Helper),
     ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Paths("media_gpu.rs")),
     ("common/intersect.wgsl", "inset", "geometry.rs", "inset", Oracle("intersect_gpu.rs")),
-    ("common/intersect.wgsl", "shading_normal", "geometry.rs", "shading_normal", Images("smooth.rs")),
-    ("common/intersect.wgsl", "triangle_tangent", "geometry.rs", "triangle_tangent", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "vertex_tangent", "geometry.rs", "vertex_tangent", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "uv_tangent", "bvh/surface.rs", "uv_tangent", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "normal_mapped", "geometry.rs", "normal_mapped", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "facing", "bvh/surface.rs", "facing", Images("gpu_images.rs")),
-    ("common/intersect.wgsl", "reflection_leaks", "geometry.rs", "reflection_leaks", Images("smooth.rs")),
-    ("common/intersect.wgsl", "refraction_leaks", "geometry.rs", "refraction_leaks", Images("smooth.rs")),
+    ("common/intersect.wgsl", "shading_normal", "geometry.rs", "shading_normal", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "triangle_tangent", "geometry.rs", "triangle_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "vertex_tangent", "geometry.rs", "vertex_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "uv_tangent", "bvh/surface.rs", "uv_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "normal_mapped", "geometry.rs", "normal_mapped", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "facing", "bvh/surface.rs", "facing", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "reflection_leaks", "geometry.rs", "reflection_leaks", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "refraction_leaks", "geometry.rs", "refraction_leaks", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "make_shear", "geometry.rs", "new", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "shear_project", "geometry.rs", "project", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "edge_function", "geometry.rs", "edge_function", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "intersect_triangle", "geometry.rs", "intersect_triangle", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "intersect_sphere", "geometry.rs", "intersect_sphere", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "hit_box", "geometry.rs", "hit", Oracle("intersect_gpu.rs")),
-    ("common/intersect.wgsl", "sphere_uv", "texture/uv.rs", "sphere", Images("texture_render.rs")),
-    ("common/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Images("alpha.rs")),
+    ("common/intersect.wgsl", "sphere_uv", "texture/uv.rs", "sphere", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Oracle("hit_gpu.rs")),
     ("common/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
     ("common/photon.wgsl", "photon_of_words", "", "", Helper),
     ("common/photon.wgsl", "sign_not_zero", "", "", Helper),
@@ -73,7 +74,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/sampling.wgsl", "to_world", "sampling.rs", "to_world", Oracle("light_gpu.rs")),
     ("common/sampling.wgsl", "cosine_hemisphere", "sampling.rs", "cosine_hemisphere", Oracle("gpu_oracle.rs")),
     ("common/sampling.wgsl", "uniform_sphere", "sampling.rs", "uniform_sphere", Oracle("light_gpu.rs")),
-    ("common/sampling.wgsl", "phong_lobe", "sampling.rs", "phong_lobe", Images("gpu_images.rs")),
+    ("common/sampling.wgsl", "phong_lobe", "sampling.rs", "phong_lobe", Oracle("intersect_gpu.rs")),
     ("common/camera.wgsl", "erf_inv", "pixel_filter.rs", "erf_inv", Oracle("camera.rs")),
     ("common/camera.wgsl", "filter_offset", "pixel_filter.rs", "offset", Oracle("camera.rs")),
     ("common/camera.wgsl", "filter_jitter", "pixel_filter.rs", "jitter", Oracle("camera.rs")),
@@ -144,10 +145,21 @@ fn every_function_of_the_shared_libraries_is_listed() {
 #[test]
 fn the_architecture_doc_names_every_twin() {
     let doc = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/architecture.md"));
-    for &(_, wname, _, _, _) in TWINS {
+    for &(wf, wname, rf, rname, check) in TWINS {
+        let twin = match check {
+            Helper => "device-only helper".to_string(),
+            _ => format!("`{rf}`: `{rname}`"),
+        };
+        let how = match check {
+            Oracle(t) => format!("oracle, `tests/{t}`"),
+            Paths(t) => format!("paths, `tests/{t}`"),
+            Images(t) => format!("images, `tests/{t}`"),
+            Helper => "through its callers".to_string(),
+        };
+        let row = format!("| `{wf}` | `{wname}` | {twin} | {how} |");
         assert!(
-            doc.contains(&format!("`{wname}`")),
-            "docs/architecture.md's oracle table lacks `{wname}`"
+            doc.lines().any(|l| l == row),
+            "docs/architecture.md's oracle table lacks the row {row}"
         );
     }
 }
