@@ -17,11 +17,10 @@ mod common;
 
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3, Vec4};
-use gpu_photon::bvh::{alpha_passes, uv_tangent, Bvh, SPHERE_BIT};
+use gpu_photon::bvh::{alpha_passes, alpha_test, uv_tangent, Bvh, SPHERE_BIT};
 use gpu_photon::geometry::{shading_normal, triangle_tangent, vertex_tangent, Ray};
 use gpu_photon::gpu::probe_hit::{HitCase, HitProbe};
 use gpu_photon::gpu::probe_light::SceneProbes;
-use gpu_photon::rng::{pcg_hash, to_unit};
 use gpu_photon::scene::{
     Alpha, AlphaMode, Material, Origin, Scene, SceneBuilder, Surface, FLAT, NO_TEXTURE,
 };
@@ -310,34 +309,13 @@ fn tangent(
 }
 
 /// How far the host's alpha decision is from its threshold (infinite when not alpha-tested).
-fn alpha_margin(scene: &Scene, id: u32, ray: &Ray, t: f32, bc: [f32; 2]) -> f32 {
-    let (material, uv) = if id & SPHERE_BIT == 0 {
-        let c = scene
-            .uvs
-            .get(id as usize)
-            .copied()
-            .unwrap_or([Vec2::ZERO; 3]);
-        let uv = (1.0 - bc[0] - bc[1]) * c[0] + bc[0] * c[1] + bc[1] * c[2];
-        (scene.triangles[id as usize].material, uv)
-    } else {
-        let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
-        let n = (ray.origin + t * ray.dir - s.center).normalize();
-        (s.material, gpu_photon::texture::uv::sphere(n))
-    };
-    let m = &scene.materials[material as usize];
-    let Some(a) = m.alpha.filter(|_| !m.is_emissive()) else {
-        return f32::INFINITY;
-    };
-    let opacity = a.opacity(&scene.textures, uv);
-    match a.mode {
-        AlphaMode::Mask(cutoff) => (opacity - cutoff).abs(),
-        AlphaMode::Blend => {
-            let mut key = pcg_hash(id ^ t.to_bits());
-            for c in ray.dir.to_array() {
-                key = pcg_hash(key ^ c.to_bits());
-            }
-            (to_unit(key) - opacity).abs()
-        }
+fn alpha_margin(scene: &Scene, id: u32, ray: &Ray, t: f32, [u, v]: [f32; 2]) -> f32 {
+    match alpha_test(scene, id, ray, t, u, v) {
+        None => f32::INFINITY,
+        Some((a, opacity, r)) => match a.mode {
+            AlphaMode::Mask(cutoff) => (opacity - cutoff).abs(),
+            AlphaMode::Blend => (r - opacity).abs(),
+        },
     }
 }
 

@@ -2,7 +2,8 @@
 //! lights, intersection, photons, sampling and the camera (shaders/common/light.wgsl,
 //! intersect.wgsl, photon.wgsl, sampling.wgsl, camera.wgsl) is listed in `TWINS` with the
 //! Rust function it mirrors (same name, or the pair where a method's name reads differently
-//! on its type) and the test that compares them, or as a device-only helper. The test checks
+//! on its type) and the test that compares them value by value (an oracle) or photon by
+//! photon (paths), or as a device-only helper: none is left to whole images alone. The test checks
 //! that every listed name exists in its source, that no function of those libraries is
 //! missing from the list, and that docs/architecture.md's oracle table has each one's row
 //! as listed here (the twin and the check included).
@@ -18,13 +19,11 @@ enum Check {
     /// Through photon paths traced on both backends, compared photon by photon (the named
     /// test).
     Paths(&'static str),
-    /// Only through whole renders of both backends (the named test).
-    Images(&'static str),
     /// A device-only helper without a Rust twin (buffer layout, or a piece of a twin).
     Helper,
 }
 
-use Check::{Helper, Images, Oracle, Paths};
+use Check::{Helper, Oracle, Paths};
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
@@ -115,7 +114,7 @@ fn every_twin_named_exists_and_has_its_check() {
             declares(&src, rname),
             "src/{rf} declares no fn {rname} (twin of {wname})"
         );
-        let (Oracle(t) | Paths(t) | Images(t)) = check else {
+        let (Oracle(t) | Paths(t)) = check else {
             unreachable!()
         };
         assert!(
@@ -153,7 +152,6 @@ fn the_architecture_doc_names_every_twin() {
         let how = match check {
             Oracle(t) => format!("oracle, `tests/{t}`"),
             Paths(t) => format!("paths, `tests/{t}`"),
-            Images(t) => format!("images, `tests/{t}`"),
             Helper => "through its callers".to_string(),
         };
         let row = format!("| `{wf}` | `{wname}` | {twin} | {how} |");

@@ -13,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 mod surface;
-pub use surface::{alpha_passes, uv_tangent, Hit};
+pub use surface::{alpha_passes, alpha_test, uv_tangent, Hit};
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;

@@ -12,7 +12,7 @@ use crate::geometry::{
     Ray,
 };
 use crate::rng::{pcg_hash, to_unit};
-use crate::scene::{Scene, FLAT, NO_TEXTURE};
+use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
 use glam::{Vec2, Vec3};
 
 /// A ray-surface intersection.
@@ -121,11 +121,18 @@ pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)
         })
 }
 
-/// Whether `ray` passes primitive `id`, hit at `t` (a triangle's barycentrics `u`, `v`):
-/// its material is alpha-tested, not emissive, and its opacity there does not stop the ray.
-/// A blended surface's choice uses a uniform hashed from the primitive, `t` and the ray's
-/// direction, so the same ray always makes the same choice (renders stay deterministic).
-pub fn alpha_passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -> bool {
+/// The alpha test of primitive `id` hit at `t` along `ray` (a triangle's barycentrics `u`,
+/// `v`): its material's [`Alpha`], the opacity there and the uniform a blend compares it
+/// with (hashed from the primitive, `t` and the ray's direction, so the same ray always
+/// makes the same choice); `None` for an opaque or emissive material.
+pub fn alpha_test(
+    scene: &Scene,
+    id: u32,
+    ray: &Ray,
+    t: f32,
+    u: f32,
+    v: f32,
+) -> Option<(Alpha, f32, f32)> {
     let (material, uv) = if id & SPHERE_BIT == 0 {
         let uv = match scene.uvs.get(id as usize) {
             Some(c) => (1.0 - u - v) * c[0] + u * c[1] + v * c[2],
@@ -138,12 +145,17 @@ pub fn alpha_passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -
         (s.material, crate::texture::uv::sphere(n))
     };
     let m = &scene.materials[material as usize];
-    let Some(alpha) = m.alpha.filter(|_| !m.is_emissive()) else {
-        return false;
-    };
+    let alpha = m.alpha.filter(|_| !m.is_emissive())?;
     let mut key = pcg_hash(id ^ t.to_bits());
     for c in ray.dir.to_array() {
         key = pcg_hash(key ^ c.to_bits());
     }
-    !alpha.stops(alpha.opacity(&scene.textures, uv), to_unit(key))
+    Some((alpha, alpha.opacity(&scene.textures, uv), to_unit(key)))
+}
+
+/// Whether `ray` passes primitive `id`, hit at `t` (a triangle's barycentrics `u`, `v`):
+/// its material is alpha-tested, not emissive, and its opacity there does not stop the ray
+/// ([`alpha_test`]). Twin: `alpha_passes` in `shaders/common/intersect.wgsl`.
+pub fn alpha_passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -> bool {
+    alpha_test(scene, id, ray, t, u, v).is_some_and(|(a, opacity, r)| !a.stops(opacity, r))
 }
