@@ -78,7 +78,8 @@ const NOT_RUN: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, -2.0);
 // corner uvs, vertex_tangent of its tangents at bc and uv_tangent(id, ...) to accum[5..7 w + i]
 // (NOT_RUN without uvs, or tangents for vertex_tangent); (alpha_passes(id, t, bc, o, d),
 // found, material, interpolated) of trace_ray(o, d, t_max)'s nearest hit to accum[8 w + i],
-// and the facing(hit, d . normal < 0) frame's ng and ns to accum[9 w + i], accum[10 w + i].
+// the facing(hit, d . normal < 0) frame's ng and ns to accum[9 w + i], accum[10 w + i], and
+// (offset_origin(o, ng, d), pack_normal(d) as bits) to accum[11 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -121,4 +122,5 @@ fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[8u * w + i] = vec4<f32>(passes, select(0.0, 1.0, h.found), f32(h.material), select(0.0, 1.0, f.interpolated));
     accum[9u * w + i] = vec4<f32>(f.ng, 0.0);
     accum[10u * w + i] = vec4<f32>(f.ns, 0.0);
+    accum[11u * w + i] = vec4<f32>(offset_origin(o, c.xyz, d), bitcast<f32>(pack_normal(d)));
 }

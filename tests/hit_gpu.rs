@@ -8,9 +8,10 @@
 //! corner uvs' fallback, triangles without uvs or tangents), `alpha_passes` (a masked
 //! texture's alpha, a blend of a texture's luminance, a constant blend, an alpha-tested
 //! sphere, an emitter whose alpha is ignored) and `facing` at the nearest hit, from both
-//! sides, on a scene with vertex tangents, one with uvs but none, and a flat one.
+//! sides, on a scene with vertex tangents, one with uvs but none, and a flat one; and each
+//! ray's `offset_origin` and `pack_normal` (the two functions photon paths checked before).
 //! Tolerances: `UNIT_ABS` on normals, `TANGENT_ULPS` on tangents, `SHADING_ABS` and
-//! `MAPPED_ABS` on the hit's frame; booleans exactly (outside `ALPHA_MARGIN` of a decision).
+//! `MAPPED_ABS` on the hit's frame, `OFFSET_ULPS` and `PACK_STEPS`; booleans exactly (outside `ALPHA_MARGIN` of a decision).
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
@@ -18,9 +19,10 @@ mod common;
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3, Vec4};
 use gpu_photon::bvh::{alpha_passes, alpha_test, uv_tangent, Bvh, SPHERE_BIT};
-use gpu_photon::geometry::{shading_normal, triangle_tangent, vertex_tangent, Ray};
+use gpu_photon::geometry::{offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray};
 use gpu_photon::gpu::probe_hit::{HitCase, HitProbe};
 use gpu_photon::gpu::probe_light::SceneProbes;
+use gpu_photon::photon::pack_normal;
 use gpu_photon::scene::{
     Alpha, AlphaMode, Material, Origin, Scene, SceneBuilder, Surface, FLAT, NO_TEXTURE,
 };
@@ -42,6 +44,12 @@ const SHADING_ABS: f32 = 1e-5;
 /// times the uv's difference) and goes through `normal_mapped` (tests/intersect_gpu.rs holds
 /// it to 1e-4).
 const MAPPED_ABS: f32 = 1e-4;
+/// `offset_origin`: `p +- n eps` with the same `eps`, which the device may fuse into one
+/// multiply-add: a rounding or two of the origin's largest coordinate.
+const OFFSET_ULPS: f32 = 2.0;
+/// `pack_normal`: each 16-bit half of the word may be one step apart (the octahedral
+/// projection divides by the L1 norm, a rounding the device may do differently).
+const PACK_STEPS: u32 = 1;
 /// An alpha decision within this of its threshold (the opacity against a mask's cutoff or a
 /// blend's uniform) is not compared: the opacity is read at a uv the device may round
 /// differently (bilinear, so a uv difference of 1e-6 moves it by less than 1e-5 here).
@@ -324,6 +332,7 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
     let bvh = Bvh::build(scene);
     let (mut smooth, mut passes, mut near, mut frames, mut worst) = (0, [0, 0], 0, 0, [0f32; 4]);
     let mut fallbacks = [0; 3];
+    let mut packed_exact = 0;
     for (i, (c, g)) in cases.iter().zip(got).enumerate() {
         let ctx = format!("{kind} case {i} {c:?}");
         let ray = Ray {
@@ -389,6 +398,22 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
                 assert!(scene.uvs.is_empty(), "{ctx}: no uv_tangent");
             }
         }
+        // A ray's offset origin (off the knife edge of its side test) and packed direction.
+        let ng = Vec3::from(c.ng);
+        if ray.dir.dot(ng).abs() > 1e-6 {
+            let want = offset_origin(ray.origin, ng, ray.dir);
+            let tol = OFFSET_ULPS * f32::EPSILON * ray.origin.abs().max_element();
+            close(g.offset, want, tol);
+        }
+        let want = pack_normal(ray.dir);
+        let halves = |w: u32| [w & 0xffff, w >> 16];
+        let (a, b) = (halves(g.packed), halves(want));
+        assert!(
+            (0..2).all(|k| a[k].abs_diff(b[k]) <= PACK_STEPS),
+            "{ctx}: pack_normal {:#x} vs {want:#x}",
+            g.packed
+        );
+        packed_exact += (g.packed == want) as usize;
         if alpha_margin(scene, id, &ray, c.t, c.bc) > ALPHA_MARGIN {
             let want = alpha_passes(scene, id, &ray, c.t, u, v);
             assert_eq!(g.passes, want, "{ctx}: alpha_passes");
@@ -418,7 +443,7 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         "{kind}: {} cases, {smooth} smooth ({} vanish: ng), {} degenerate uv maps, {} \
          vanishing vertex tangents, alpha passes {} / stops {} ({near} near the threshold \
          skipped), {frames} frames; worst shading normal {:e}, frame ns {:e} (normal-mapped \
-         {:e}), tangents {} ulp",
+         {:e}), tangents {} ulp, {packed_exact} packed directions bit for bit",
         cases.len(),
         fallbacks[0],
         fallbacks[1],

@@ -2,8 +2,8 @@
 //! lights, intersection, photons, sampling and the camera (shaders/common/light.wgsl,
 //! intersect.wgsl, photon.wgsl, sampling.wgsl, camera.wgsl) is listed in `TWINS` with the
 //! Rust function it mirrors (same name, or the pair where a method's name reads differently
-//! on its type) and the test that compares them value by value (an oracle) or photon by
-//! photon (paths), or as a device-only helper: none is left to whole images alone. The test checks
+//! on its type) and the oracle test that compares them value by value, or as a device-only
+//! helper: none is left to photon paths or whole images alone. The test checks
 //! that every listed name exists in its source, that no function of those libraries is
 //! missing from the list, and that docs/architecture.md's oracle table has each one's row
 //! as listed here (the twin and the check included).
@@ -16,14 +16,11 @@ use std::path::Path;
 enum Check {
     /// A probe compares it value by value with the Rust twin (the named test).
     Oracle(&'static str),
-    /// Through photon paths traced on both backends, compared photon by photon (the named
-    /// test).
-    Paths(&'static str),
     /// A device-only helper without a Rust twin (buffer layout, or a piece of a twin).
     Helper,
 }
 
-use Check::{Helper, Oracle, Paths};
+use Check::{Helper, Oracle};
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
@@ -42,7 +39,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/light.wgsl", "sample_light", "light.rs", "sample", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "aims_at", "light.rs", "aims_at", Oracle("light_gpu.rs")),
     ("common/intersect.wgsl", "max_abs", "", "", Helper),
-    ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Paths("media_gpu.rs")),
+    ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Oracle("hit_gpu.rs")),
     ("common/intersect.wgsl", "inset", "geometry.rs", "inset", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "shading_normal", "geometry.rs", "shading_normal", Oracle("hit_gpu.rs")),
     ("common/intersect.wgsl", "triangle_tangent", "geometry.rs", "triangle_tangent", Oracle("hit_gpu.rs")),
@@ -63,7 +60,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
     ("common/photon.wgsl", "photon_of_words", "", "", Helper),
     ("common/photon.wgsl", "sign_not_zero", "", "", Helper),
-    ("common/photon.wgsl", "pack_normal", "photon.rs", "pack_normal", Paths("media_gpu.rs")),
+    ("common/photon.wgsl", "pack_normal", "photon.rs", "pack_normal", Oracle("hit_gpu.rs")),
     ("common/photon.wgsl", "unpack_normal", "photon.rs", "unpack_normal", Oracle("gpu_oracle.rs")),
     ("common/photon.wgsl", "photon_faces", "estimate.rs", "photon_faces", Oracle("gpu_oracle.rs")),
     ("common/photon.wgsl", "power_ends", "photon.rs", "power_ends", Oracle("light_gpu.rs")),
@@ -114,9 +111,7 @@ fn every_twin_named_exists_and_has_its_check() {
             declares(&src, rname),
             "src/{rf} declares no fn {rname} (twin of {wname})"
         );
-        let (Oracle(t) | Paths(t)) = check else {
-            unreachable!()
-        };
+        let Oracle(t) = check else { unreachable!() };
         assert!(
             root.join("tests").join(t).is_file(),
             "tests/{t} (for {wname})"
@@ -151,7 +146,6 @@ fn the_architecture_doc_names_every_twin() {
         };
         let how = match check {
             Oracle(t) => format!("oracle, `tests/{t}`"),
-            Paths(t) => format!("paths, `tests/{t}`"),
             Helper => "through its callers".to_string(),
         };
         let row = format!("| `{wf}` | `{wname}` | {twin} | {how} |");

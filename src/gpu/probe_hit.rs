@@ -1,9 +1,10 @@
 //! Oracle probe of a hit's surface on one uploaded scene (`probe_hit` in
 //! shaders/probe_geometry.wgsl, through [`SceneProbes`]): a triangle's shading normal, its uv
 //! tangents (from its corner uvs, its vertex tangents, and the choice between them), the
-//! alpha test of a candidate hit, and the frame a ray sees at the nearest hit, for
-//! tests/hit_gpu.rs to compare with `geometry::shading_normal`, `triangle_tangent`,
-//! `vertex_tangent`, `bvh::uv_tangent`, `bvh::alpha_passes` and `Hit::facing`.
+//! alpha test of a candidate hit, the frame a ray sees at the nearest hit, a ray's offset
+//! origin and its packed direction, for tests/hit_gpu.rs to compare with
+//! `geometry::shading_normal`, `triangle_tangent`, `vertex_tangent`, `bvh::uv_tangent`,
+//! `bvh::alpha_passes`, `Hit::facing`, `geometry::offset_origin` and `photon::pack_normal`.
 
 use super::probe_light::SceneProbes;
 use crate::error::Result;
@@ -49,13 +50,17 @@ pub struct HitProbe {
     /// `facing(hit, dir . normal < 0)`: its geometric normal, shading normal and whether
     /// they differ.
     pub facing: ([f32; 3], [f32; 3], bool),
+    /// `offset_origin(origin, ng, dir)`.
+    pub offset: [f32; 3],
+    /// `pack_normal(dir)`.
+    pub packed: u32,
 }
 
 impl SceneProbes {
     /// The device's surface functions at each case (`probe_hit`).
     pub fn hits(&mut self, cases: &[HitCase]) -> Result<Vec<HitProbe>> {
         let n = cases.len().max(1);
-        let mut init = vec![[0f32; 4]; 11 * n];
+        let mut init = vec![[0f32; 4]; 12 * n];
         for (i, c) in cases.iter().enumerate() {
             let (o, d, ng) = (c.origin, c.dir, c.ng);
             init[i] = [o[0], o[1], o[2], c.t];
@@ -79,6 +84,8 @@ impl SceneProbes {
                     passes: h[0] == 1.0,
                     material: (h[1] == 1.0).then_some(h[2] as u32),
                     facing: (xyz(at(9, i)), xyz(at(10, i)), h[3] == 1.0),
+                    offset: xyz(at(11, i)),
+                    packed: at(11, i)[3].to_bits(),
                 }
             })
             .collect())
