@@ -14,12 +14,9 @@
 @compute @workgroup_size(WG_SIZE)
 fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let b = accum[w + i];
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
     let o = a.xyz;
     let d = b.xyz;
     let id = bitcast<u32>(b.w);
@@ -32,14 +29,14 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
             prim = vec3<f32>(intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, a.w), 0.0, 0.0);
         }
     }
-    accum[2u * w + i] = vec4<f32>(prim, 0.0);
+    accum[slot(2u, i)] = vec4<f32>(prim, 0.0);
     let h = trace_ray(o, d, a.w, false);
     let light = select(f32(h.light), -1.0, h.light == NO_LIGHT);
-    accum[3u * w + i] = vec4<f32>(h.t, select(0.0, 1.0, h.found), f32(h.material), light);
-    accum[4u * w + i] = vec4<f32>(h.position, 0.0);
-    accum[5u * w + i] = vec4<f32>(h.normal, 0.0);
+    accum[slot(3u, i)] = vec4<f32>(h.t, select(0.0, 1.0, h.found), f32(h.material), light);
+    accum[slot(4u, i)] = vec4<f32>(h.position, 0.0);
+    accum[slot(5u, i)] = vec4<f32>(h.normal, 0.0);
     let first = trace_ray(o, d, a.w, true);
-    accum[6u * w + i] = vec4<f32>(select(0.0, 1.0, first.found), 0.0, 0.0, 0.0);
+    accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, first.found), 0.0, 0.0, 0.0);
 }
 
 // probe_surface: case i < width, (axis, exponent) = accum[i], (u1, u2, flipped, 0) =
@@ -50,21 +47,18 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let u = accum[w + i];
-    let ng = accum[2u * w + i].xyz;
-    let ns = accum[3u * w + i].xyz;
-    let d = accum[6u * w + i].xyz;
-    accum[7u * w + i] = vec4<f32>(phong_lobe(a.xyz, a.w, u.x, u.y), 0.0);
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let u = accum[slot(1u, i)];
+    let ng = accum[slot(2u, i)].xyz;
+    let ns = accum[slot(3u, i)].xyz;
+    let d = accum[slot(6u, i)].xyz;
+    accum[slot(7u, i)] = vec4<f32>(phong_lobe(a.xyz, a.w, u.x, u.y), 0.0);
     let f = Facing(ng, ns, any(ns != ng));
     let leaks = vec2<f32>(select(0.0, 1.0, reflection_leaks(f, d)), select(0.0, 1.0, refraction_leaks(f, d)));
-    accum[8u * w + i] = vec4<f32>(sphere_uv(a.xyz), leaks);
-    let n = normal_mapped(ng, ns, accum[4u * w + i].xyz, u.z != 0.0, accum[5u * w + i].xyz, d);
-    accum[9u * w + i] = vec4<f32>(n, 0.0);
+    accum[slot(8u, i)] = vec4<f32>(sphere_uv(a.xyz), leaks);
+    let n = normal_mapped(ng, ns, accum[slot(4u, i)].xyz, u.z != 0.0, accum[slot(5u, i)].xyz, d);
+    accum[slot(9u, i)] = vec4<f32>(n, 0.0);
 }
 
 // The slots of probe_hit's per-triangle outputs when the function does not apply (a sphere,
@@ -83,14 +77,11 @@ const NOT_RUN: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, -2.0);
 @compute @workgroup_size(WG_SIZE)
 fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let b = accum[w + i];
-    let c = accum[2u * w + i];
-    let bc = accum[3u * w + i].xy;
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
+    let c = accum[slot(2u, i)];
+    let bc = accum[slot(3u, i)].xy;
     let o = a.xyz;
     let d = b.xyz;
     let id = bitcast<u32>(b.w);
@@ -112,15 +103,15 @@ fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
             tangents[2] = uv_tangent(id, e1, e2, bc);
         }
     }
-    accum[4u * w + i] = shading;
-    accum[5u * w + i] = tangents[0];
-    accum[6u * w + i] = tangents[1];
-    accum[7u * w + i] = tangents[2];
+    accum[slot(4u, i)] = shading;
+    accum[slot(5u, i)] = tangents[0];
+    accum[slot(6u, i)] = tangents[1];
+    accum[slot(7u, i)] = tangents[2];
     let h = trace_ray(o, d, c.w, false);
     let f = facing(h, dot(d, h.normal) < 0.0);
     let passes = select(0.0, 1.0, alpha_passes(id, a.w, bc, o, d));
-    accum[8u * w + i] = vec4<f32>(passes, select(0.0, 1.0, h.found), f32(h.material), select(0.0, 1.0, f.interpolated));
-    accum[9u * w + i] = vec4<f32>(f.ng, 0.0);
-    accum[10u * w + i] = vec4<f32>(f.ns, 0.0);
-    accum[11u * w + i] = vec4<f32>(offset_origin(o, c.xyz, d), bitcast<f32>(pack_normal(d)));
+    accum[slot(8u, i)] = vec4<f32>(passes, select(0.0, 1.0, h.found), f32(h.material), select(0.0, 1.0, f.interpolated));
+    accum[slot(9u, i)] = vec4<f32>(f.ng, 0.0);
+    accum[slot(10u, i)] = vec4<f32>(f.ns, 0.0);
+    accum[slot(11u, i)] = vec4<f32>(offset_origin(o, c.xyz, d), bitcast<f32>(pack_normal(d)));
 }

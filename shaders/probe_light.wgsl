@@ -14,26 +14,23 @@
 @compute @workgroup_size(WG_SIZE)
 fn probe_light(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let b = accum[w + i];
-    let c = accum[2u * w + i];
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
+    let c = accum[slot(2u, i)];
     let l = load_light(bitcast<u32>(a.w));
     let e = emit(l, a.xyz, b.w, c.w);
     var tri = -1.0;
     if l.kind == LIGHT_TRIANGLES {
         tri = f32(pick_triangle(l, a.x));
     }
-    accum[3u * w + i] = vec4<f32>(e.origin, tri);
-    accum[4u * w + i] = vec4<f32>(e.dir, 0.0);
-    accum[5u * w + i] = vec4<f32>(e.normal, select(0.0, 1.0, aims_at(e.origin, e.dir)));
-    accum[6u * w + i] = vec4<f32>(e.scale, select(0.0, 1.0, is_delta_light(l)));
+    accum[slot(3u, i)] = vec4<f32>(e.origin, tri);
+    accum[slot(4u, i)] = vec4<f32>(e.dir, 0.0);
+    accum[slot(5u, i)] = vec4<f32>(e.normal, select(0.0, 1.0, aims_at(e.origin, e.dir)));
+    accum[slot(6u, i)] = vec4<f32>(e.scale, select(0.0, 1.0, is_delta_light(l)));
     let s = sample_light(l, b.xyz, c.xyz, vec3<f32>(a.x, b.w, c.w));
-    accum[7u * w + i] = vec4<f32>(s.point, s.pdf);
-    accum[8u * w + i] = vec4<f32>(s.weight, select(0.0, 1.0, s.distant));
+    accum[slot(7u, i)] = vec4<f32>(s.point, s.pdf);
+    accum[slot(8u, i)] = vec4<f32>(s.weight, select(0.0, 1.0, s.distant));
 }
 
 // probe_paths: for path i < width, power accum[i].xyz; writes (light_of(i, global map),
@@ -41,10 +38,7 @@ fn probe_light(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_paths(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let ends = power_ends(accum[i].xyz);
-    accum[w + i] = vec4<f32>(f32(light_of(i, false)), f32(light_of(i, true)), select(0.0, 1.0, ends), 0.0);
+    if i >= params.width { return; }
+    let ends = power_ends(accum[slot(0u, i)].xyz);
+    accum[slot(1u, i)] = vec4<f32>(f32(light_of(i, false)), f32(light_of(i, true)), select(0.0, 1.0, ends), 0.0);
 }
