@@ -39,11 +39,18 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, first.found), 0.0, 0.0, 0.0);
 }
 
-// probe_surface: case i < width, (axis, exponent) = accum[i], (u1, u2, flipped, 0) =
+// probe_surface: case i < width, (axis, exponent) = accum[i], (u1, u2, flipped, ior) =
 // accum[w + i], ng, ns, dp_du, c (a normal map's texel) and d (the ray) = accum[2..7 w + i]
 // (.xyz); writes phong_lobe(axis, exponent, u1, u2) to accum[7 w + i], (sphere_uv(axis),
 // reflection_leaks(f, d), refraction_leaks(f, d)) with f the frame (ng, ns) to
-// accum[8 w + i], and normal_mapped(ng, ns, dp_du, flipped, c, d) to accum[9 w + i].
+// accum[8 w + i], normal_mapped(ng, ns, dp_du, flipped, c, d) to accum[9 w + i], and
+// material.wgsl's functions: dielectric(d, ng, ns, ior) as (reflected, reflectance) and
+// (refracted, 0) to accum[10, 11 w + i], fresnel_exact and fresnel_schlick at cosine c.x
+// entering (1 to ior) and leaving (ior to 1) to accum[12 w + i], (reflect_dir(d, ns),
+// phong_lobe_value(axis, -d, ns, exponent)) to accum[13 w + i], and with (kd, kind as bits)
+// = accum[14 w + i], (ks, u3) = accum[15 w + i], photon_bounce of that material (exponent,
+// ior) at a hit of normals (ng, ns) on (u1, u2, u3) as (dir, kind), (weight, 0) to
+// accum[16, 17 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -59,6 +66,27 @@ fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(8u, i)] = vec4<f32>(sphere_uv(a.xyz), leaks);
     let n = normal_mapped(ng, ns, accum[slot(4u, i)].xyz, u.z != 0.0, accum[slot(5u, i)].xyz, d);
     accum[slot(9u, i)] = vec4<f32>(n, 0.0);
+    let g = dielectric(d, ng, ns, u.w);
+    accum[slot(10u, i)] = vec4<f32>(g.reflected, g.reflectance);
+    accum[slot(11u, i)] = vec4<f32>(g.refracted, 0.0);
+    let ci = accum[slot(5u, i)].x;
+    accum[slot(12u, i)] = vec4<f32>(fresnel_exact(ci, 1.0, u.w), fresnel_exact(ci, u.w, 1.0),
+        fresnel_schlick(ci, 1.0, u.w), fresnel_schlick(ci, u.w, 1.0));
+    accum[slot(13u, i)] = vec4<f32>(reflect_dir(d, ns), phong_lobe_value(a.xyz, -d, ns, a.w));
+    let kd = accum[slot(14u, i)];
+    let ks = accum[slot(15u, i)];
+    var m: Material;
+    m.kd = kd.xyz;
+    m.kind = bitcast<u32>(kd.w);
+    m.ks = ks.xyz;
+    m.exponent = a.w;
+    m.ior = u.w;
+    var h: Hit;
+    h.normal = ng;
+    h.shading = ns;
+    let b = photon_bounce(m, d, h, vec3<f32>(u.x, u.y, ks.w));
+    accum[slot(16u, i)] = vec4<f32>(b.dir, f32(b.kind));
+    accum[slot(17u, i)] = vec4<f32>(b.weight, 0.0);
 }
 
 // The slots of probe_hit's per-triangle outputs when the function does not apply (a sphere,

@@ -391,6 +391,7 @@ fn surface_helpers_equal_the_hosts() {
             flipped: i % 3 == 0,
             c: [r.f32(), r.f32(), r.f32()],
             d: d.to_array(),
+            ..Default::default()
         });
     }
     let got = surface(&ctx, &cases).unwrap();

@@ -1,6 +1,7 @@
 //! Twins share names (issue 25): every function of the device's shared libraries for the
-//! lights, intersection, photons, sampling and the camera (shaders/common/light.wgsl,
-//! intersect.wgsl, photon.wgsl, sampling.wgsl, camera.wgsl) is listed in `TWINS` with the
+//! lights, intersection, the classic materials, photons, sampling and the camera
+//! (shaders/common/light.wgsl, intersect.wgsl, material.wgsl, photon.wgsl, sampling.wgsl,
+//! camera.wgsl) is listed in `TWINS` with the
 //! Rust function it mirrors (same name, or the pair where a method's name reads differently
 //! on its type) and the oracle test that compares them value by value, or as a device-only
 //! helper: none is left to photon paths or whole images alone. The test checks
@@ -58,6 +59,14 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/intersect.wgsl", "sphere_uv", "texture/uv.rs", "sphere", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Oracle("hit_gpu.rs")),
     ("common/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
+    ("common/material.wgsl", "reflect_dir", "material.rs", "reflect", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "fresnel_exact", "material.rs", "fresnel_exact", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "fresnel_schlick", "material.rs", "fresnel_schlick", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "dielectric", "material.rs", "dielectric_shading", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "max3", "", "", Helper),
+    ("common/material.wgsl", "sum3", "", "", Helper),
+    ("common/material.wgsl", "phong_lobe_value", "material.rs", "phong_lobe_value", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "photon_bounce", "material.rs", "photon_bounce_shading", Oracle("material_gpu.rs")),
     ("common/photon.wgsl", "photon_of_words", "", "", Helper),
     ("common/photon.wgsl", "sign_not_zero", "", "", Helper),
     ("common/photon.wgsl", "pack_normal", "photon.rs", "pack_normal", Oracle("hit_gpu.rs")),

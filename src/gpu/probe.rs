@@ -112,8 +112,8 @@ pub fn cosine_hemisphere(
 }
 
 /// One case of [`surface`]: the inputs of the surface-frame functions of
-/// shaders/common/intersect.wgsl and sampling.wgsl.
-#[derive(Clone, Copy, Debug)]
+/// shaders/common/intersect.wgsl and sampling.wgsl, and of material.wgsl's.
+#[derive(Clone, Copy, Debug, Default)]
 pub struct SurfaceCase {
     /// `phong_lobe`'s axis (and `sphere_uv`'s point).
     pub axis: [f32; 3],
@@ -129,6 +129,13 @@ pub struct SurfaceCase {
     pub dp_du: [f32; 3],
     /// Whether the tangent frame is mirrored.
     pub flipped: bool,
+    /// `dielectric`'s and the Fresnel functions' index of refraction (and the bounce's).
+    pub ior: f32,
+    /// `photon_bounce`'s material: kind (`codes::MAT_*`, a classic one), kd and ks (its
+    /// exponent and ior are the case's).
+    pub material: (u32, [f32; 3], [f32; 3]),
+    /// `photon_bounce`'s third uniform (the first two are `u`).
+    pub u3: f32,
     /// A normal map's texel (in [0, 1]^3).
     pub c: [f32; 3],
     /// The ray's direction.
@@ -146,17 +153,33 @@ pub struct SurfaceProbe {
     pub leaks: [bool; 2],
     /// `normal_mapped(ng, ns, dp_du, flipped, c, d)`.
     pub mapped: [f32; 3],
+    /// `dielectric(d, ng, ns, ior)`: reflected direction, refracted direction (zero on total
+    /// internal reflection) and reflectance (with the settings' Fresnel formula).
+    pub dielectric: ([f32; 3], [f32; 3], f32),
+    /// `fresnel_exact(c.x, 1, ior)`, `fresnel_exact(c.x, ior, 1)`, `fresnel_schlick(c.x, 1,
+    /// ior)`, `fresnel_schlick(c.x, ior, 1)`.
+    pub fresnel: [f32; 4],
+    /// `reflect_dir(d, ns)`.
+    pub reflected: [f32; 3],
+    /// `phong_lobe_value(axis, -d, ns, exponent)`.
+    pub lobe_value: f32,
+    /// `photon_bounce`'s direction, kind (`codes::BOUNCE_*`) and weight.
+    pub bounce: ([f32; 3], u32, [f32; 3]),
 }
 
-/// The device's Phong lobe, sphere uvs, leak tests and normal mapping for each case
-/// (probe `probe_surface` in shaders/probe_geometry.wgsl).
+/// The device's Phong lobe, sphere uvs, leak tests, normal mapping and the classic materials'
+/// functions (shaders/common/material.wgsl) for each case (probe `probe_surface` in
+/// shaders/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
-    let mut init = vec![[0f32; 4]; 10 * n];
+    let mut init = vec![[0f32; 4]; 18 * n];
     let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.axis[0], c.axis[1], c.axis[2], c.exponent];
-        init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, 0.0];
+        init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, c.ior];
+        let (kind, kd, ks) = c.material;
+        init[14 * n + i] = [kd[0], kd[1], kd[2], f32::from_bits(kind)];
+        init[15 * n + i] = [ks[0], ks[1], ks[2], c.u3];
         for (k, x) in [c.ng, c.ns, c.dp_du, c.c, c.d].into_iter().enumerate() {
             init[(2 + k) * n + i] = v(x);
         }
@@ -164,12 +187,19 @@ pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfacePro
     let out = probe_cases(ctx, &Scene::empty(), "probe_surface", &init, n)?;
     Ok((0..cases.len())
         .map(|i| {
-            let (l, m, q) = (out[7 * n + i], out[8 * n + i], out[9 * n + i]);
+            let at = |k: usize| out[k * n + i];
+            let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];
+            let (m, g) = (at(8), at(10));
             SurfaceProbe {
-                lobe: [l[0], l[1], l[2]],
+                lobe: xyz(at(7)),
                 uv: [m[0], m[1]],
                 leaks: [m[2] != 0.0, m[3] != 0.0],
-                mapped: [q[0], q[1], q[2]],
+                mapped: xyz(at(9)),
+                dielectric: (xyz(g), xyz(at(11)), g[3]),
+                fresnel: at(12),
+                reflected: xyz(at(13)),
+                lobe_value: at(13)[3],
+                bounce: (xyz(at(16)), at(16)[3] as u32, xyz(at(17))),
             }
         })
         .collect())
