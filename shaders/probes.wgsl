@@ -6,17 +6,21 @@
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
+// Where every probe keeps case i's values (inputs and outputs alike): slot k is
+// accum[k * width + i], for the cases i < params.width, one an invocation.
+fn slot(k: u32, i: u32) -> u32 {
+    return k * params.width + i;
+}
+
 // probe_rng: accum[i] = (path_key(seed, 1 + i % 4, pass, i), draw_u32(key, i % 9),
 // bits of to_unit(draw), pcg_hash(i)) as raw bits, for i < width.
 @compute @workgroup_size(WG_SIZE)
 fn probe_rng(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    if i >= params.width {
-        return;
-    }
+    if i >= params.width { return; }
     let key = path_key(params.seed, 1u + i % 4u, params.pass_index, i);
     let bits = draw_u32(key, i % 9u);
-    accum[i] = bitcast<vec4<f32>>(vec4<u32>(key, bits, bitcast<u32>(to_unit(bits)), pcg_hash(i)));
+    accum[slot(0u, i)] = bitcast<vec4<f32>>(vec4<u32>(key, bits, bitcast<u32>(to_unit(bits)), pcg_hash(i)));
 }
 
 // probe_knn: for query i < width, position accum[i].xyz and normal accum[width + i].xyz,
@@ -24,13 +28,11 @@ fn probe_rng(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_knn(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    if i >= params.width {
-        return;
-    }
-    let x = accum[i].xyz;
-    let ns = accum[params.width + i].xyz;
+    if i >= params.width { return; }
+    let x = accum[slot(0u, i)].xyz;
+    let ns = accum[slot(1u, i)].xyz;
     let l = estimate(0u, x, ns, vec3<f32>(1.0));
-    accum[2u * params.width + i] = vec4<f32>(l, f32(last_found));
+    accum[slot(2u, i)] = vec4<f32>(l, f32(last_found));
 }
 
 // probe_cache: for query i < width, position accum[i].xyz and normal accum[width + i].xyz,
@@ -39,17 +41,15 @@ fn probe_knn(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_cache(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    if i >= params.width {
-        return;
-    }
-    let y = accum[i].xyz;
-    let n = accum[params.width + i].xyz;
+    if i >= params.width { return; }
+    let y = accum[slot(0u, i)].xyz;
+    let n = accum[slot(1u, i)].xyz;
     let j = cache_find(y, n);
     var l = vec3<f32>(0.0);
     if j != CACHE_NONE {
         l = cache[j].xyz;
     }
-    accum[2u * params.width + i] = vec4<f32>(l, select(f32(j), -1.0, j == CACHE_NONE));
+    accum[slot(2u, i)] = vec4<f32>(l, select(f32(j), -1.0, j == CACHE_NONE));
 }
 
 // probe_cosine: for i < width, normal accum[i].xyz and (u1, u2) = accum[width + i].xy, writes
@@ -57,11 +57,9 @@ fn probe_cache(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_cosine(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    if i >= params.width {
-        return;
-    }
-    let u = accum[params.width + i].xy;
-    accum[2u * params.width + i] = vec4<f32>(cosine_hemisphere(accum[i].xyz, u.x, u.y), 0.0);
+    if i >= params.width { return; }
+    let u = accum[slot(1u, i)].xy;
+    accum[slot(2u, i)] = vec4<f32>(cosine_hemisphere(accum[slot(0u, i)].xyz, u.x, u.y), 0.0);
 }
 
 // probe_env: the scene's environment (its last light) for case i < width: direction
@@ -71,16 +69,13 @@ fn probe_cosine(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
+    if i >= params.width { return; }
     let l = load_light(params.n_lights - 1u);
-    let d = accum[i].xyz;
-    let ns = accum[w + i].xyz;
-    accum[3u * w + i] = vec4<f32>(env_radiance(l, d), env_pdf(l, ns, d));
-    let s = env_sample(l, ns, accum[2u * w + i].xyz);
-    accum[4u * w + i] = vec4<f32>(s.dir, s.pdf);
+    let d = accum[slot(0u, i)].xyz;
+    let ns = accum[slot(1u, i)].xyz;
+    accum[slot(3u, i)] = vec4<f32>(env_radiance(l, d), env_pdf(l, ns, d));
+    let s = env_sample(l, ns, accum[slot(2u, i)].xyz);
+    accum[slot(4u, i)] = vec4<f32>(s.dir, s.pdf);
 }
 
 // probe_medium: the scene's medium 0 for case i < width: (u_channel, u, t_max, u1) =
@@ -90,16 +85,13 @@ fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
+    if i >= params.width { return; }
     let m = load_medium(0u);
-    let a = accum[i];
-    let b = accum[w + i];
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
     let f = sample_flight(m, a.x, a.y, a.z);
-    accum[2u * w + i] = vec4<f32>(f.weight, f.t);
-    accum[3u * w + i] = vec4<f32>(hg_sample(m.g, b.xyz, a.w, b.w), select(0.0, 1.0, f.in_medium));
+    accum[slot(2u, i)] = vec4<f32>(f.weight, f.t);
+    accum[slot(3u, i)] = vec4<f32>(hg_sample(m.g, b.xyz, a.w, b.w), select(0.0, 1.0, f.in_medium));
 }
 
 // probe_beam: the volume map's beam estimate for query i < width: (o, t_max) = accum[i],
@@ -108,15 +100,12 @@ fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let b = accum[w + i];
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
     let medium = bitcast<u32>(b.w);
-    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), accum[2u * w + i].x > 0.0);
-    accum[3u * w + i] = vec4<f32>(l, 0.0);
+    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), accum[slot(2u, i)].x > 0.0);
+    accum[slot(3u, i)] = vec4<f32>(l, 0.0);
 }
 
 // probe_transmittance: the shadow walk for case i < width: (o, t_max) = accum[i] (endless
@@ -125,12 +114,9 @@ fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WG_SIZE)
 fn probe_transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let w = params.width;
-    if i >= w {
-        return;
-    }
-    let a = accum[i];
-    let b = accum[w + i];
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
     let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w));
-    accum[2u * w + i] = vec4<f32>(tr, 0.0);
+    accum[slot(2u, i)] = vec4<f32>(tr, 0.0);
 }

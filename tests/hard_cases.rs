@@ -1508,7 +1508,7 @@ fn empty_scenes_render_black() {
     // are invisible and there is nothing to light): black in every mode on both backends.
     // The camera looks through the cube [-1, 1]^3, where the empty scene's placeholder BVH
     // node lies: until Bvh::walk skipped it, the CPU panicked there (index out of bounds in
-    // src/bvh.rs; in photon mode a point light's photons anywhere did it too), and the GPU
+    // src/bvh/mod.rs; in photon mode a point light's photons anywhere did it too), and the GPU
     // failed on any scene without lights (wgpu validation error: the lights buffer bound
     // with 64 bytes where the shader's `array<Light>` needs 96).
     let cam = empty_camera();

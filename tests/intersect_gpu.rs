@@ -1,5 +1,5 @@
 //! Oracle test of ray intersection on the device (shaders/common/intersect.wgsl) against
-//! src/geometry.rs and src/bvh.rs, through the probe `shaders/probe_geometry.wgsl`
+//! src/geometry.rs and src/bvh/, through the probe `shaders/probe_geometry.wgsl`
 //! (`gpu::probe_light::intersect`): each primitive's own test (the watertight
 //! ray-triangle test, the sphere's) and the BVH walk (nearest and any hit) over a small scene
 //! of quads, a box, spheres and a degenerate triangle, on random rays and on the edge cases
@@ -391,6 +391,7 @@ fn surface_helpers_equal_the_hosts() {
             flipped: i % 3 == 0,
             c: [r.f32(), r.f32(), r.f32()],
             d: d.to_array(),
+            ..Default::default()
         });
     }
     let got = surface(&ctx, &cases).unwrap();

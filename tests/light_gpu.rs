@@ -3,7 +3,8 @@
 //! (`gpu::probe_light`): for every light kind (point, glTF and linear-angle spots,
 //! directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
 //! an image environment) the photon emission (origin, direction, normal, power scale) and the
-//! shadow-ray sample (point, weight, distant, pdf) on the same random numbers, with the
+//! shadow-ray sample (point, weight, distant, pdf) and whether it is a delta light
+//! (`is_delta_light`, exactly) on the same random numbers, with the
 //! triangle picked exactly at, just below and just above every CDF value, and whether the
 //! emission aims at the caustic map's bounds; the light that owns each photon path of both
 //! maps (the device scans the lights, the host bisects their offsets: identical for every
@@ -235,6 +236,11 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         let l = c.light as usize;
         let v = Vec3::from_array;
         let kind = kind_of(&scene.lights[l].shape);
+        assert_eq!(
+            g.delta,
+            scene.lights[l].shape.is_delta(),
+            "case {i} ({kind}): is_delta_light"
+        );
         let linear = kind == "spot linear-angle";
         let at = At {
             case: i,

@@ -1,10 +1,13 @@
 //! Twins share names (issue 25): every function of the device's shared libraries for the
-//! lights, intersection, photons, sampling and the camera (shaders/common/light.wgsl,
-//! intersect.wgsl, photon.wgsl, sampling.wgsl, camera.wgsl) is listed in `TWINS` with the
+//! lights, intersection, the classic materials, photons, sampling and the camera
+//! (shaders/common/light.wgsl, intersect.wgsl, material.wgsl, photon.wgsl, sampling.wgsl,
+//! camera.wgsl) is listed in `TWINS` with the
 //! Rust function it mirrors (same name, or the pair where a method's name reads differently
-//! on its type) and the test that compares them, or as a device-only helper. The test checks
+//! on its type) and the oracle test that compares them value by value, or as a device-only
+//! helper: none is left to photon paths or whole images alone. The test checks
 //! that every listed name exists in its source, that no function of those libraries is
-//! missing from the list, and that docs/architecture.md's oracle table names each one.
+//! missing from the list, and that docs/architecture.md's oracle table has each one's row
+//! as listed here (the twin and the check included).
 
 use gpu_photon::gpu::shaders::WGSL_FILES;
 use std::path::Path;
@@ -14,21 +17,16 @@ use std::path::Path;
 enum Check {
     /// A probe compares it value by value with the Rust twin (the named test).
     Oracle(&'static str),
-    /// Through photon paths traced on both backends, compared photon by photon (the named
-    /// test).
-    Paths(&'static str),
-    /// Only through whole renders of both backends (the named test).
-    Images(&'static str),
     /// A device-only helper without a Rust twin (buffer layout, or a piece of a twin).
     Helper,
 }
 
-use Check::{Helper, Images, Oracle, Paths};
+use Check::{Helper, Oracle};
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
 const TWINS: &[(&str, &str, &str, &str, Check)] = &[
-    ("common/light.wgsl", "is_delta_light", "scene/mod.rs", "is_delta", Images("gpu_images.rs")),
+    ("common/light.wgsl", "is_delta_light", "scene/mod.rs", "is_delta", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_falloff", "scene/spot.rs", "falloff", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_linear_mass", "scene/spot.rs", "linear_ramp_mass", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "spot_cos", "scene/spot.rs", "sample_cos", Oracle("light_gpu.rs")),
@@ -42,28 +40,36 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/light.wgsl", "sample_light", "light.rs", "sample", Oracle("light_gpu.rs")),
     ("common/light.wgsl", "aims_at", "light.rs", "aims_at", Oracle("light_gpu.rs")),
     ("common/intersect.wgsl", "max_abs", "", "", Helper),
-    ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Paths("media_gpu.rs")),
+    ("common/intersect.wgsl", "offset_origin", "geometry.rs", "offset_origin", Oracle("hit_gpu.rs")),
     ("common/intersect.wgsl", "inset", "geometry.rs", "inset", Oracle("intersect_gpu.rs")),
-    ("common/intersect.wgsl", "shading_normal", "geometry.rs", "shading_normal", Images("smooth.rs")),
-    ("common/intersect.wgsl", "triangle_tangent", "geometry.rs", "triangle_tangent", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "vertex_tangent", "geometry.rs", "vertex_tangent", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "uv_tangent", "bvh.rs", "intersect", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "normal_mapped", "geometry.rs", "normal_mapped", Images("normal_map.rs")),
-    ("common/intersect.wgsl", "facing", "bvh.rs", "facing", Images("gpu_images.rs")),
-    ("common/intersect.wgsl", "reflection_leaks", "geometry.rs", "reflection_leaks", Images("smooth.rs")),
-    ("common/intersect.wgsl", "refraction_leaks", "geometry.rs", "refraction_leaks", Images("smooth.rs")),
+    ("common/intersect.wgsl", "shading_normal", "geometry.rs", "shading_normal", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "triangle_tangent", "geometry.rs", "triangle_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "vertex_tangent", "geometry.rs", "vertex_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "uv_tangent", "bvh/surface.rs", "uv_tangent", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "normal_mapped", "geometry.rs", "normal_mapped", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "facing", "bvh/surface.rs", "facing", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "reflection_leaks", "geometry.rs", "reflection_leaks", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "refraction_leaks", "geometry.rs", "refraction_leaks", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "make_shear", "geometry.rs", "new", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "shear_project", "geometry.rs", "project", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "edge_function", "geometry.rs", "edge_function", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "intersect_triangle", "geometry.rs", "intersect_triangle", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "intersect_sphere", "geometry.rs", "intersect_sphere", Oracle("intersect_gpu.rs")),
     ("common/intersect.wgsl", "hit_box", "geometry.rs", "hit", Oracle("intersect_gpu.rs")),
-    ("common/intersect.wgsl", "sphere_uv", "texture/uv.rs", "sphere", Images("texture_render.rs")),
-    ("common/intersect.wgsl", "alpha_passes", "bvh.rs", "passes", Images("alpha.rs")),
-    ("common/intersect.wgsl", "trace_ray", "bvh.rs", "intersect", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "sphere_uv", "texture/uv.rs", "sphere", Oracle("intersect_gpu.rs")),
+    ("common/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Oracle("hit_gpu.rs")),
+    ("common/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
+    ("common/material.wgsl", "reflect_dir", "material.rs", "reflect", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "fresnel_exact", "material.rs", "fresnel_exact", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "fresnel_schlick", "material.rs", "fresnel_schlick", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "dielectric", "material.rs", "dielectric_shading", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "max3", "", "", Helper),
+    ("common/material.wgsl", "sum3", "", "", Helper),
+    ("common/material.wgsl", "phong_lobe_value", "material.rs", "phong_lobe_value", Oracle("material_gpu.rs")),
+    ("common/material.wgsl", "photon_bounce", "material.rs", "photon_bounce_shading", Oracle("material_gpu.rs")),
     ("common/photon.wgsl", "photon_of_words", "", "", Helper),
     ("common/photon.wgsl", "sign_not_zero", "", "", Helper),
-    ("common/photon.wgsl", "pack_normal", "photon.rs", "pack_normal", Paths("media_gpu.rs")),
+    ("common/photon.wgsl", "pack_normal", "photon.rs", "pack_normal", Oracle("hit_gpu.rs")),
     ("common/photon.wgsl", "unpack_normal", "photon.rs", "unpack_normal", Oracle("gpu_oracle.rs")),
     ("common/photon.wgsl", "photon_faces", "estimate.rs", "photon_faces", Oracle("gpu_oracle.rs")),
     ("common/photon.wgsl", "power_ends", "photon.rs", "power_ends", Oracle("light_gpu.rs")),
@@ -73,7 +79,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/sampling.wgsl", "to_world", "sampling.rs", "to_world", Oracle("light_gpu.rs")),
     ("common/sampling.wgsl", "cosine_hemisphere", "sampling.rs", "cosine_hemisphere", Oracle("gpu_oracle.rs")),
     ("common/sampling.wgsl", "uniform_sphere", "sampling.rs", "uniform_sphere", Oracle("light_gpu.rs")),
-    ("common/sampling.wgsl", "phong_lobe", "sampling.rs", "phong_lobe", Images("gpu_images.rs")),
+    ("common/sampling.wgsl", "phong_lobe", "sampling.rs", "phong_lobe", Oracle("intersect_gpu.rs")),
     ("common/camera.wgsl", "erf_inv", "pixel_filter.rs", "erf_inv", Oracle("camera.rs")),
     ("common/camera.wgsl", "filter_offset", "pixel_filter.rs", "offset", Oracle("camera.rs")),
     ("common/camera.wgsl", "filter_jitter", "pixel_filter.rs", "jitter", Oracle("camera.rs")),
@@ -114,9 +120,7 @@ fn every_twin_named_exists_and_has_its_check() {
             declares(&src, rname),
             "src/{rf} declares no fn {rname} (twin of {wname})"
         );
-        let (Oracle(t) | Paths(t) | Images(t)) = check else {
-            unreachable!()
-        };
+        let Oracle(t) = check else { unreachable!() };
         assert!(
             root.join("tests").join(t).is_file(),
             "tests/{t} (for {wname})"
@@ -144,10 +148,19 @@ fn every_function_of_the_shared_libraries_is_listed() {
 #[test]
 fn the_architecture_doc_names_every_twin() {
     let doc = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/architecture.md"));
-    for &(_, wname, _, _, _) in TWINS {
+    for &(wf, wname, rf, rname, check) in TWINS {
+        let twin = match check {
+            Helper => "device-only helper".to_string(),
+            _ => format!("`{rf}`: `{rname}`"),
+        };
+        let how = match check {
+            Oracle(t) => format!("oracle, `tests/{t}`"),
+            Helper => "through its callers".to_string(),
+        };
+        let row = format!("| `{wf}` | `{wname}` | {twin} | {how} |");
         assert!(
-            doc.contains(&format!("`{wname}`")),
-            "docs/architecture.md's oracle table lacks `{wname}`"
+            doc.lines().any(|l| l == row),
+            "docs/architecture.md's oracle table lacks the row {row}"
         );
     }
 }

@@ -1,5 +1,5 @@
 // Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
-// normals, Facing); twin of src/geometry.rs and src/bvh.rs. OFFSET_SCALE, OFFSET_FLOOR,
+// normals, Facing); twin of src/geometry.rs and src/bvh/. OFFSET_SCALE, OFFSET_FLOOR,
 // BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound)
 // and FLAT come from the generated prelude.
 // Library, no entry point; writes nothing but the loop budget it spends.
@@ -257,7 +257,7 @@ fn sphere_uv(n: vec3<f32>) -> vec2<f32> {
 // Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
 // Whether the ray o + t d passes primitive id hit at t (a triangle's barycentrics bc): its
 // material is alpha-tested, not emissive, and its opacity there does not stop the ray; a
-// blend's uniform hashes the primitive, t and d. Twin of bvh.rs's passes.
+// blend's uniform hashes the primitive, t and d. Twin of alpha_passes in src/bvh/surface.rs.
 fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> bool {
     var mat = 0u;
     var uv = vec2<f32>(0.0);

@@ -1,5 +1,5 @@
 //! The BVH as the GPU walks it (`trace_ray` in shaders/common/intersect.wgsl): the hierarchy
-//! of src/bvh.rs, built with [`GPU_COSTS`], copied into the two arrays a traversal step reads.
+//! of src/bvh/mod.rs, built with [`GPU_COSTS`], copied into the two arrays a traversal step reads.
 //!
 //! - `nodes`: a [`GpuBvhFrame`], then every node once per child order (left child first,
 //!   then right child first), each copy numbered in its own depth-first preorder. A node is

@@ -14,7 +14,7 @@
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media),
-//! `probe_light` (those of the lights and of ray intersection).
+//! `probe_light` (those of the lights and of ray intersection), `probe_hit` (a hit's surface).
 
 pub mod bindings;
 pub mod branches;
@@ -32,6 +32,7 @@ pub mod photon_maps;
 pub mod pipeline_cache;
 pub mod pipelines;
 pub mod probe;
+pub mod probe_hit;
 pub mod probe_light;
 pub mod probe_media;
 pub mod radiance_cache;

@@ -30,8 +30,16 @@ pub fn feature_constants(
         GPU_DEVICE_LOOP_BUDGET
     };
     let mut constants = shape.overrides();
-    constants.extend([
-        ("LOOP_BUDGET", budget as f64),
+    constants.push(("LOOP_BUDGET", budget as f64));
+    constants.extend(scene_features(scene, knn));
+    constants
+}
+
+/// The scene's features (and `knn`, whether any pass may run K-nearest estimates) as the
+/// pipeline-overridable constants a render's pipelines, and the probes on its scene, are
+/// specialised with.
+pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
+    vec![
         ("HAS_GLASS", scene.has_glass() as u32 as f64),
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         // The WGSL name covers every delta light: point, spot and directional.
@@ -62,8 +70,7 @@ pub fn feature_constants(
         ("KNN", knn as u32 as f64),
         ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
         ("GLASS_SPLIT", glass_split(scene) as u32 as f64),
-    ]);
-    constants
+    ]
 }
 
 /// Whether a camera path may split at a dielectric (glass, or a thin dielectric sheet):

@@ -28,7 +28,7 @@ pub fn rng_values(ctx: &GpuContext, seed: u32, pass: u32, n: u32) -> Result<Vec<
     };
     let run = GpuRun::new(ctx.clone(), &scene, &settings, pass)?;
     let accum = run.accum_buffer(n as u64 * 16);
-    let out = dispatch_probe(&run, "probe_rng", &accum, n, None)?;
+    let out = dispatch_probe(&run, "probe_rng", &accum, n, None, &[])?;
     Ok(bytemuck::cast_slice::<[f32; 4], [u32; 4]>(&out).to_vec())
 }
 
@@ -78,12 +78,10 @@ pub fn estimate(
         init[i] = [p[0], p[1], p[2], 0.0];
         init[queries.len() + i] = [nrm[0], nrm[1], nrm[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let accum = case_buffer(&run, &init);
     let empty = run.empty_map(true);
     let bg = run.gather_bind_group([&map, &empty], &accum);
-    let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg))?;
+    let out = dispatch_probe(&run, "probe_knn", &accum, n, Some(&bg), &[])?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     Ok((
         out[2 * queries.len()..]
@@ -100,23 +98,13 @@ pub fn cosine_hemisphere(
     ctx: &GpuContext,
     cases: &[([f32; 3], [f32; 2])],
 ) -> Result<Vec<[f32; 3]>> {
-    let scene = Scene::empty();
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 3 * n];
     for (i, (nrm, u)) in cases.iter().enumerate() {
         init[i] = [nrm[0], nrm[1], nrm[2], 0.0];
         init[n + i] = [u[0], u[1], 0.0, 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_cosine", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, &Scene::empty(), "probe_cosine", &init, n)?;
     Ok(out[2 * n..2 * n + cases.len()]
         .iter()
         .map(|v| [v[0], v[1], v[2]])
@@ -124,8 +112,8 @@ pub fn cosine_hemisphere(
 }
 
 /// One case of [`surface`]: the inputs of the surface-frame functions of
-/// shaders/common/intersect.wgsl and sampling.wgsl.
-#[derive(Clone, Copy, Debug)]
+/// shaders/common/intersect.wgsl and sampling.wgsl, and of material.wgsl's.
+#[derive(Clone, Copy, Debug, Default)]
 pub struct SurfaceCase {
     /// `phong_lobe`'s axis (and `sphere_uv`'s point).
     pub axis: [f32; 3],
@@ -141,6 +129,13 @@ pub struct SurfaceCase {
     pub dp_du: [f32; 3],
     /// Whether the tangent frame is mirrored.
     pub flipped: bool,
+    /// `dielectric`'s and the Fresnel functions' index of refraction (and the bounce's).
+    pub ior: f32,
+    /// `photon_bounce`'s material: kind (`codes::MAT_*`, a classic one), kd and ks (its
+    /// exponent and ior are the case's).
+    pub material: (u32, [f32; 3], [f32; 3]),
+    /// `photon_bounce`'s third uniform (the first two are `u`).
+    pub u3: f32,
     /// A normal map's texel (in [0, 1]^3).
     pub c: [f32; 3],
     /// The ray's direction.
@@ -158,39 +153,53 @@ pub struct SurfaceProbe {
     pub leaks: [bool; 2],
     /// `normal_mapped(ng, ns, dp_du, flipped, c, d)`.
     pub mapped: [f32; 3],
+    /// `dielectric(d, ng, ns, ior)`: reflected direction, refracted direction (zero on total
+    /// internal reflection) and reflectance (with the settings' Fresnel formula).
+    pub dielectric: ([f32; 3], [f32; 3], f32),
+    /// `fresnel_exact(c.x, 1, ior)`, `fresnel_exact(c.x, ior, 1)`, `fresnel_schlick(c.x, 1,
+    /// ior)`, `fresnel_schlick(c.x, ior, 1)`.
+    pub fresnel: [f32; 4],
+    /// `reflect_dir(d, ns)`.
+    pub reflected: [f32; 3],
+    /// `phong_lobe_value(axis, -d, ns, exponent)`.
+    pub lobe_value: f32,
+    /// `photon_bounce`'s direction, kind (`codes::BOUNCE_*`) and weight.
+    pub bounce: ([f32; 3], u32, [f32; 3]),
 }
 
-/// The device's Phong lobe, sphere uvs, leak tests and normal mapping for each case
-/// (probe `probe_surface` in shaders/probe_geometry.wgsl).
+/// The device's Phong lobe, sphere uvs, leak tests, normal mapping and the classic materials'
+/// functions (shaders/common/material.wgsl) for each case (probe `probe_surface` in
+/// shaders/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), &Scene::empty(), &settings, 0)?;
-    let mut init = vec![[0f32; 4]; 10 * n];
+    let mut init = vec![[0f32; 4]; 18 * n];
     let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.axis[0], c.axis[1], c.axis[2], c.exponent];
-        init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, 0.0];
+        init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, c.ior];
+        let (kind, kd, ks) = c.material;
+        init[14 * n + i] = [kd[0], kd[1], kd[2], f32::from_bits(kind)];
+        init[15 * n + i] = [ks[0], ks[1], ks[2], c.u3];
         for (k, x) in [c.ng, c.ns, c.dp_du, c.c, c.d].into_iter().enumerate() {
             init[(2 + k) * n + i] = v(x);
         }
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_surface", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, &Scene::empty(), "probe_surface", &init, n)?;
     Ok((0..cases.len())
         .map(|i| {
-            let (l, m, q) = (out[7 * n + i], out[8 * n + i], out[9 * n + i]);
+            let at = |k: usize| out[k * n + i];
+            let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];
+            let (m, g) = (at(8), at(10));
             SurfaceProbe {
-                lobe: [l[0], l[1], l[2]],
+                lobe: xyz(at(7)),
                 uv: [m[0], m[1]],
                 leaks: [m[2] != 0.0, m[3] != 0.0],
-                mapped: [q[0], q[1], q[2]],
+                mapped: xyz(at(9)),
+                dielectric: (xyz(g), xyz(at(11)), g[3]),
+                fresnel: at(12),
+                reflected: xyz(at(13)),
+                lobe_value: at(13)[3],
+                bounce: (xyz(at(16)), at(16)[3] as u32, xyz(at(17))),
             }
         })
         .collect())
@@ -205,22 +214,13 @@ pub fn environment(
     cases: &[([f32; 3], [f32; 3], [f32; 3])],
 ) -> Result<Vec<([f32; 4], [f32; 4])>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 5 * n];
     for (i, (d, ns, u)) in cases.iter().enumerate() {
         init[i] = [d[0], d[1], d[2], 0.0];
         init[n + i] = [ns[0], ns[1], ns[2], 0.0];
         init[2 * n + i] = [u[0], u[1], u[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_env", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, scene, "probe_env", &init, n)?;
     Ok((0..cases.len())
         .map(|i| (out[3 * n + i], out[4 * n + i]))
         .collect())
@@ -267,9 +267,7 @@ pub fn radiance_cache(
         init[i] = [p[0], p[1], p[2], 0.0];
         init[n as usize + i] = [nrm[0], nrm[1], nrm[2], 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
+    let accum = case_buffer(&run, &init);
     let empty = run.empty_map(true);
     let mut rec = Recorder::new(ctx.clone(), false);
     run.record_cache(&mut rec, [&map, &empty], &accum)?;
@@ -282,7 +280,7 @@ pub fn radiance_cache(
     )?;
     let cache: Vec<[f32; 4]> = read_back(ctx, &run.cache[0], run.cache[0].size())?;
     let bg = run.gather_bind_group([&map, &empty], &accum);
-    let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg))?;
+    let out = dispatch_probe(&run, "probe_cache", &accum, n, Some(&bg), &[])?;
     let stats: Vec<u32> = read_back(ctx, &run.scene_buffers.stats, (STATS_LEN * 4) as u64)?;
     let lookups = out[2 * n as usize..2 * n as usize + queries.len()]
         .iter()
@@ -296,15 +294,50 @@ pub fn radiance_cache(
     })
 }
 
+/// A run over `scene` for `n` probe cases (an image of `n` x 1 pixels): the render's own
+/// set-up.
+pub(super) fn case_run(ctx: &GpuContext, scene: &Scene, n: usize) -> Result<GpuRun> {
+    let settings = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..Default::default()
+    };
+    GpuRun::new(ctx.clone(), scene, &settings, 0)
+}
+
+/// The probes' buffer (`accum`) of `run`, holding `init`.
+pub(super) fn case_buffer(run: &GpuRun, init: &[[f32; 4]]) -> wgpu::Buffer {
+    let accum = run.accum_buffer(init.len() as u64 * 16);
+    run.ctx
+        .queue
+        .write_buffer(&accum, 0, bytemuck::cast_slice(init));
+    accum
+}
+
+/// Runs probe `entry` over `n` cases of `init` on a fresh run over `scene` (the WGSL
+/// defaults of the override constants) and reads the buffer back.
+pub(super) fn probe_cases(
+    ctx: &GpuContext,
+    scene: &Scene,
+    entry: &str,
+    init: &[[f32; 4]],
+    n: usize,
+) -> Result<Vec<[f32; 4]>> {
+    let run = case_run(ctx, scene, n)?;
+    dispatch_probe(&run, entry, &case_buffer(&run, init), n as u32, None, &[])
+}
+
 /// Runs the probe entry point `entry` over `n` invocations (WG_SIZE-wide) with group 1 `bg`
-/// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline keeps the
-/// WGSL defaults of the override constants.
+/// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline is
+/// specialised with `constants` (override constants by name; the WGSL defaults for the
+/// others).
 pub(super) fn dispatch_probe(
     run: &GpuRun,
     entry: &str,
     accum: &wgpu::Buffer,
     n: u32,
     bg: Option<&wgpu::BindGroup>,
+    constants: &[(&str, f64)],
 ) -> Result<Vec<[f32; 4]>> {
     debug_assert_eq!(GATHER_GROUP.group, 1);
     let dev = &run.ctx.device;
@@ -321,7 +354,10 @@ pub(super) fn dispatch_probe(
         layout: Some(&layout),
         module: &module,
         entry_point: Some(entry),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        },
         cache: None,
     });
     if let Some(e) = pollster::block_on(scope.pop()) {

@@ -6,7 +6,8 @@
 //! `geometry::intersect_triangle` and `intersect_sphere`, `Bvh::intersect` and `occluded`).
 
 use super::context::GpuContext;
-use super::probe::dispatch_probe;
+use super::pipelines::scene_features;
+use super::probe::{case_buffer, dispatch_probe};
 use super::run::GpuRun;
 use crate::error::Result;
 use crate::photon::Budget;
@@ -49,6 +50,8 @@ pub struct LightProbe {
     pub weight: [f32; 3],
     /// Whether it is distant (a directional light's or the environment's).
     pub distant: bool,
+    /// Whether the light is a delta light (`is_delta_light`: point, spot, directional).
+    pub delta: bool,
     /// Its solid-angle density (area lights and the environment; 0 for the delta lights).
     pub pdf: f32,
 }
@@ -68,34 +71,39 @@ pub struct PathsProbe {
     pub ends: Vec<bool>,
 }
 
-/// One scene on the device (its buffers and pipelines, compiled once) for the probes of
-/// this module.
+/// One scene on the device, uploaded as a render uploads it, for the probes of this module
+/// and `probe_hit`: their pipelines are specialised with the scene's features, as a
+/// render's are (`pipelines::scene_features`).
 pub struct SceneProbes {
     run: GpuRun,
+    features: Vec<(&'static str, f64)>,
 }
 
 impl SceneProbes {
     /// Uploads `scene` with the photon budgets `s` plans (see [`SceneProbes::paths`]).
     pub fn new(ctx: &GpuContext, scene: &Scene, s: &RenderSettings) -> Result<Self> {
-        Ok(SceneProbes {
-            run: GpuRun::new(ctx.clone(), scene, s, 0)?,
-        })
+        let run = GpuRun::new(ctx.clone(), scene, s, 0)?;
+        let features = scene_features(scene, run.knn);
+        Ok(SceneProbes { run, features })
     }
 
     /// Runs probe `entry` over `n` invocations on `init` (the parameters' width set to `n`)
     /// and reads the buffer back.
-    fn dispatch(&mut self, entry: &str, init: &[[f32; 4]], n: usize) -> Result<Vec<[f32; 4]>> {
+    pub(super) fn dispatch(
+        &mut self,
+        entry: &str,
+        init: &[[f32; 4]],
+        n: usize,
+    ) -> Result<Vec<[f32; 4]>> {
         let run = &mut self.run;
         run.params.width = n as u32;
-        let queue = &run.ctx.queue;
-        queue.write_buffer(
+        run.ctx.queue.write_buffer(
             &run.scene_buffers.params,
             0,
             bytemuck::bytes_of(&run.params),
         );
-        let accum = run.accum_buffer(init.len() as u64 * 16);
-        queue.write_buffer(&accum, 0, bytemuck::cast_slice(init));
-        dispatch_probe(run, entry, &accum, n as u32, None)
+        let accum = case_buffer(run, init);
+        dispatch_probe(run, entry, &accum, n as u32, None, &self.features)
     }
 
     /// The device's `emit` and `sample_light` (shaders/common/light.wgsl) on the scene's
@@ -118,6 +126,7 @@ impl SceneProbes {
                 normal: xyz(at(5, i)),
                 aims: at(5, i)[3] == 1.0,
                 scale: xyz(at(6, i)),
+                delta: at(6, i)[3] == 1.0,
                 point: xyz(at(7, i)),
                 pdf: at(7, i)[3],
                 weight: xyz(at(8, i)),

@@ -6,7 +6,7 @@
 
 use super::buffers::read_back;
 use super::context::GpuContext;
-use super::probe::dispatch_probe;
+use super::probe::{case_buffer, dispatch_probe, probe_cases};
 use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::volume::VolumeBuffers;
@@ -53,21 +53,12 @@ pub fn medium_samplers(
     cases: &[MediumCase],
 ) -> Result<Vec<MediumSample>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 4 * n];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.u_channel, c.u, c.t_max, c.u_phase[0]];
         init[n + i] = [c.dir[0], c.dir[1], c.dir[2], c.u_phase[1]];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_medium", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, scene, "probe_medium", &init, n)?;
     Ok((0..cases.len())
         .map(|i| {
             let (f, h) = (out[2 * n + i], out[3 * n + i]);
@@ -228,10 +219,14 @@ pub fn beam(
         init[n + i] = [q.d[0], q.d[1], q.d[2], f32::from_bits(q.medium)];
         init[2 * n + i] = [q.skip_direct as u32 as f32, 0.0, 0.0, 0.0];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_beam", &accum, n as u32, None)?;
+    let out = dispatch_probe(
+        &run,
+        "probe_beam",
+        &case_buffer(&run, &init),
+        n as u32,
+        None,
+        &[],
+    )?;
     Ok((0..queries.len())
         .map(|i| [out[3 * n + i][0], out[3 * n + i][1], out[3 * n + i][2]])
         .collect())
@@ -245,21 +240,12 @@ pub fn transmittance(
     cases: &[([f32; 3], [f32; 3], f32, u32)],
 ) -> Result<Vec<[f32; 3]>> {
     let n = cases.len().max(1);
-    let settings = RenderSettings {
-        width: n as u32,
-        height: 1,
-        ..Default::default()
-    };
-    let run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
     let mut init = vec![[0f32; 4]; 3 * n];
     for (i, (o, d, t, m)) in cases.iter().enumerate() {
         init[i] = [o[0], o[1], o[2], *t];
         init[n + i] = [d[0], d[1], d[2], f32::from_bits(*m)];
     }
-    let accum = run.accum_buffer(init.len() as u64 * 16);
-    ctx.queue
-        .write_buffer(&accum, 0, bytemuck::cast_slice(&init));
-    let out = dispatch_probe(&run, "probe_transmittance", &accum, n as u32, None)?;
+    let out = probe_cases(ctx, scene, "probe_transmittance", &init, n)?;
     Ok((0..cases.len())
         .map(|i| [out[2 * n + i][0], out[2 * n + i][1], out[2 * n + i][2]])
         .collect())

@@ -154,6 +154,8 @@ impl Kernel {
                 "probe_light",
                 "probe_paths",
                 "probe_intersect",
+                "probe_surface",
+                "probe_hit",
             ],
         }
     }

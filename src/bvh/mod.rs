@@ -7,14 +7,13 @@
 //! The GPU walks a copy laid out for its traversal (src/gpu/bvh_layout.rs,
 //! `shaders/common/intersect.wgsl`).
 
-use crate::geometry::{
-    inset, intersect_sphere, intersect_triangle, normal_mapped, shading_normal, sphere_tangent,
-    triangle_tangent, vertex_tangent, Aabb, Facing, Ray, Shear,
-};
-use crate::rng::{pcg_hash, to_unit};
-use crate::scene::{Scene, FLAT, NO_TEXTURE};
+use crate::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
+use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
-use glam::{Vec2, Vec3};
+use glam::Vec3;
+
+mod surface;
+pub use surface::{alpha_passes, alpha_test, uv_tangent, Hit};
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
@@ -68,37 +67,6 @@ pub struct Bvh {
     /// Whether some material is alpha-tested ([`crate::scene::Alpha`]): hits are then
     /// checked against its opacity.
     pub alpha: bool,
-}
-
-/// A ray-surface intersection.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit {
-    /// Distance along the ray.
-    pub t: f32,
-    /// The hit point.
-    pub position: Vec3,
-    /// Unit geometric front normal of the primitive (not flipped towards the ray).
-    pub normal: Vec3,
-    /// Unit shading normal, on the side of `normal`: the interpolated vertex normals of a
-    /// smooth triangle, else `normal` itself; then perturbed by the material's normal map
-    /// when it has one (`crate::geometry::normal_mapped`).
-    pub shading: Vec3,
-    /// Index of the primitive's material in `Scene::materials`.
-    pub material: u32,
-    /// Index of the primitive's light in `Scene::lights`, or `scene::NO_LIGHT`.
-    pub light: u32,
-    /// Texture coordinates: a triangle's interpolated corner uvs (`Scene::uvs`), a sphere's
-    /// Mitsuba parameterisation; zero when the scene has no textures.
-    pub uv: Vec2,
-}
-
-impl Hit {
-    /// The normals turned towards a ray along `d` that arrives from the front when
-    /// `d . normal < 0` (see [`Facing`]).
-    #[inline]
-    pub fn facing(&self, d: Vec3) -> Facing {
-        Facing::new(self.normal, self.shading, d.dot(self.normal) < 0.0)
-    }
 }
 
 struct Item {
@@ -205,7 +173,7 @@ impl Bvh {
                     if let Some((t, u, v)) =
                         intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
                     {
-                        if self.alpha && passes(scene, id, ray, t, u, v) {
+                        if self.alpha && alpha_passes(scene, id, ray, t, u, v) {
                             return None;
                         }
                         best_t = t;
@@ -215,7 +183,7 @@ impl Bvh {
                 } else if let Some(t) =
                     intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
                 {
-                    if self.alpha && passes(scene, id, ray, t, 0.0, 0.0) {
+                    if self.alpha && alpha_passes(scene, id, ray, t, 0.0, 0.0) {
                         return None;
                     }
                     best_t = t;
@@ -227,67 +195,7 @@ impl Bvh {
             t_max,
         );
         let (id, u, v) = best?;
-        let mut hit = if id & SPHERE_BIT == 0 {
-            let tri = &scene.triangles[id as usize];
-            let normal = tri.normal();
-            let shading = match tri.shading {
-                FLAT => normal,
-                i => shading_normal(normal, &scene.shading_normals[i as usize], u, v),
-            };
-            let uv = match scene.uvs.get(id as usize) {
-                Some(c) => (1.0 - u - v) * c[0] + u * c[1] + v * c[2],
-                None => Vec2::ZERO,
-            };
-            Hit {
-                t: best_t,
-                // Barycentric position (closer to the plane than origin + t dir), inset
-                // from the edges.
-                position: inset(tri, tri.point(u, v)),
-                normal,
-                shading,
-                material: tri.material,
-                light: tri.light,
-                uv,
-            }
-        } else {
-            let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
-            let p = ray.origin + best_t * ray.dir;
-            let n = (p - s.center).normalize_or_zero();
-            let uv = if scene.textures.is_empty() {
-                Vec2::ZERO
-            } else {
-                crate::texture::uv::sphere(n)
-            };
-            Hit {
-                t: best_t,
-                position: s.center + n * s.radius,
-                normal: n,
-                shading: n,
-                material: s.material,
-                light: s.light,
-                uv,
-            }
-        };
-        let normal_texture = scene.materials[hit.material as usize].normal_texture;
-        if normal_texture != NO_TEXTURE {
-            // The uv tangent: a triangle's vertex tangents where it has them, else its
-            // corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
-            let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
-                let tri = &scene.triangles[id as usize];
-                (scene.tangents.get(id as usize))
-                    .and_then(|t| vertex_tangent(t, u, v))
-                    .or_else(|| {
-                        let uvs = scene.uvs.get(id as usize);
-                        uvs.and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c))
-                    })
-                    .unwrap_or((Vec3::ZERO, false))
-            } else {
-                (sphere_tangent(hit.normal), false)
-            };
-            let c = scene.textures[normal_texture as usize].eval(hit.uv);
-            hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, ray.dir);
-        }
-        Some(hit)
+        Some(surface::hit_at(scene, ray, id, best_t, u, v))
     }
 
     /// Whether anything blocks `ray` before `t_max`.
@@ -299,10 +207,12 @@ impl Bvh {
             |id, t_limit| {
                 let h = if id & SPHERE_BIT == 0 {
                     intersect_triangle(&scene.triangles[id as usize], ray, &shear, t_limit)
-                        .is_some_and(|(t, u, v)| !(self.alpha && passes(scene, id, ray, t, u, v)))
+                        .is_some_and(|(t, u, v)| {
+                            !(self.alpha && alpha_passes(scene, id, ray, t, u, v))
+                        })
                 } else {
                     intersect_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize], ray, t_limit)
-                        .is_some_and(|t| !(self.alpha && passes(scene, id, ray, t, 0.0, 0.0)))
+                        .is_some_and(|t| !(self.alpha && alpha_passes(scene, id, ray, t, 0.0, 0.0)))
                 };
                 if h {
                     hit = true;
@@ -390,33 +300,6 @@ impl Bvh {
 }
 
 /// Binned SAH: the split position in `items` (reordered) or `None` when a leaf is cheaper.
-/// Whether `ray` passes primitive `id`, hit at `t` (a triangle's barycentrics `u`, `v`):
-/// its material is alpha-tested, not emissive, and its opacity there does not stop the ray.
-/// A blended surface's choice uses a uniform hashed from the primitive, `t` and the ray's
-/// direction, so the same ray always makes the same choice (renders stay deterministic).
-fn passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -> bool {
-    let (material, uv) = if id & SPHERE_BIT == 0 {
-        let uv = match scene.uvs.get(id as usize) {
-            Some(c) => (1.0 - u - v) * c[0] + u * c[1] + v * c[2],
-            None => Vec2::ZERO,
-        };
-        (scene.triangles[id as usize].material, uv)
-    } else {
-        let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
-        let n = (ray.origin + t * ray.dir - s.center).normalize_or_zero();
-        (s.material, crate::texture::uv::sphere(n))
-    };
-    let m = &scene.materials[material as usize];
-    let Some(alpha) = m.alpha.filter(|_| !m.is_emissive()) else {
-        return false;
-    };
-    let mut key = pcg_hash(id ^ t.to_bits());
-    for c in ray.dir.to_array() {
-        key = pcg_hash(key ^ c.to_bits());
-    }
-    !alpha.stops(alpha.opacity(&scene.textures, uv), to_unit(key))
-}
-
 fn sah_split(items: &mut [Item], parent_half_area: f32, costs: BuildCosts) -> Option<usize> {
     let cb = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let extent = cb.max - cb.min;
