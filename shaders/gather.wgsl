@@ -97,6 +97,13 @@ struct ChainEnd {
     m: Surface,
     emitted: vec3<f32>,
     shade: bool,
+    // The last segment's near gather ray (in_scattered), for the camera path to trace.
+    gather: bool,
+    gather_x: vec3<f32>,
+    gather_dir: vec3<f32>,
+    gather_w: vec3<f32>,
+    gather_medium: u32,
+    gather_depth: u32,
 }
 
 // Traces from *o along *d through mirrors and glass (*t the throughput, *depth + 1 per bounce
@@ -121,7 +128,22 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         if HAS_MEDIA && *medium != NO_MEDIUM {
             if emission {
                 let direct = (params.terms & TERM_DIRECT) != 0u;
-                end.emitted += *t * in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, rng);
+                // The near gather ray waits for a chain that ends here (no number drawn
+                // before the camera path traces it, as on the CPU).
+                var near = !hit.found;
+                if hit.found {
+                    near = surface_class(bsdf_at(hit)) == CLASS_SHADED;
+                }
+                let sl = in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, near, *depth, rng);
+                end.emitted += *t * sl.l;
+                if sl.gather {
+                    end.gather = true;
+                    end.gather_x = sl.x;
+                    end.gather_dir = sl.dir;
+                    end.gather_w = *t * sl.w;
+                    end.gather_medium = *medium;
+                    end.gather_depth = *depth;
+                }
             } else {
                 end.emitted += *t * gathered_in_medium(*o, *d, hit.t, !hit.found, *medium, rng);
             }
@@ -293,6 +315,9 @@ fn camera_path(o_in: vec3<f32>, d_in: vec3<f32>, t_in: vec3<f32>, depth_in: u32,
         // pushed.
         let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
+        if HAS_MEDIA && end.gather {
+            radiance += end.gather_w * gather_ray(end.gather_x, vec3<f32>(0.0), end.gather_dir, end.gather_depth, end.gather_medium, rng);
+        }
         if !end.shade {
             break;
         }

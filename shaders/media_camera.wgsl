@@ -164,12 +164,14 @@ fn light_anchor(l: Light, u: vec3<f32>) -> Anchor {
 // segment from o along d (t_seg long, or endless) in `medium` drawn towards that point
 // (equiangular; by transmittance for directional lights or a ray through the point), then
 // one shadow ray, weighed by the phase function, sigma_s and the transmittance of both
-// legs; the environment's direction drawn from the phase function.
+// legs; the environment's direction drawn from the phase function. params.shadow_samples
+// estimates per light, averaged, light by light (the CPU's order of random numbers).
 fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     let m = load_medium(medium);
     var l = vec3<f32>(0.0);
-    for (var li = 0u; li < params.n_lights && spend(); li += 1u) {
-        let light = load_light(li);
+    let n = max(params.shadow_samples, 1u);
+    for (var k = 0u; k < params.n_lights * n && spend(); k += 1u) {
+        let light = load_light(k / n);
         let u3 = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
         let uc = rng_next(rng);
         let ut = rng_next(rng);
@@ -210,7 +212,7 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
         }
         l += w * ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium);
     }
-    return m.sigma_s * l;
+    return m.sigma_s * l / f32(n);
 }
 
 // Where the DDA leaves cell c along `axis` (infinite where the ray runs parallel to it).
@@ -231,13 +233,24 @@ struct BeamQuery {
     t1: f32,
     r2: f32,
     medium: u32,
-    skip_direct: bool,
+    which: u32,
     m: Medium,
 }
 
+// BeamPhotons::keeps: whether a photon of these flags counts in a beam of kind `which`.
+fn beam_keeps(which: u32, flags: u32) -> bool {
+    if which == BEAM_SKIP_DIRECT {
+        return (flags & DEPTH_MASK) != 0u;
+    }
+    if which == BEAM_CAUSTIC {
+        return (flags & FLAG_CAUSTIC) != 0u;
+    }
+    return true;
+}
+
 // Grid entry k's share of the beam in cell c, whose part of the ray is [t_enter, t_exit):
-// zero for another cell's entry hashed to the same slot, a photon of another medium (or of
-// depth 0 with skip_direct), or one whose nearest point on the ray lies outside that part
+// zero for another cell's entry hashed to the same slot, a photon of another medium or one
+// the beam's kind leaves out (beam_keeps), or one whose nearest point on the ray lies outside that part
 // (it counts in the cell holding that point) or farther than r.
 fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<f32> {
     let e = v_refs[k];
@@ -246,7 +259,7 @@ fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> 
     }
     let a = v_photons[PHOTON_WORDS * e.x];
     let w = v_photons[PHOTON_WORDS * e.x + 2u];
-    if w.w != q.medium || (q.skip_direct && (a.w & DEPTH_MASK) == 0u) {
+    if w.w != q.medium || !beam_keeps(q.which, a.w) {
         return vec3<f32>(0.0);
     }
     let to = bitcast<vec3<f32>>(a.xyz) - q.o;
@@ -298,10 +311,10 @@ fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_e
 
 // VolumeMap::beam: the sum over the volume photons of `medium` whose sphere the segment from
 // o along unit d (t_max long) passes through, each at its nearest point t on the ray, of
-// T(t) p(cos) power / (pi r^2); photons of depth 0 left out with skip_direct. A 3D DDA over
+// T(t) p(cos) power / (pi r^2), over the photons `which` (a BEAM_* code) keeps. A 3D DDA over
 // the cells the segment crosses, each photon taken in the cell holding its nearest point.
 // A cell's entries are read 64 a loop step: lavapipe's loop cut counts steps, not work.
-fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, skip_direct: bool) -> vec3<f32> {
+fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u32) -> vec3<f32> {
     let g2 = v_grid[2];
     if bitcast<u32>(g2.y) == 0u {
         return vec3<f32>(0.0);
@@ -322,7 +335,7 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, skip_dir
     if !(t0 < t1) {
         return vec3<f32>(0.0);
     }
-    let q = BeamQuery(o, d, t0, t1, r * r, medium, skip_direct, m);
+    let q = BeamQuery(o, d, t0, t1, r * r, medium, which, m);
     var sum = vec3<f32>(0.0);
     var c = volume_cell(o + d * t0, lo, cell);
     let step = vec3<i32>(sign(d));
@@ -361,18 +374,66 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, skip_dir
     return sum / (PI * q.r2);
 }
 
+// VolumeMap::exit: where the ray from o along unit d leaves the volume photons' bounds (0
+// where there are none or it never meets them).
+fn volume_exit(o: vec3<f32>, d: vec3<f32>) -> f32 {
+    if bitcast<u32>(v_grid[2].y) == 0u {
+        return 0.0;
+    }
+    let inv = 1.0 / d;
+    let tf = max((v_grid[0].xyz - o) * inv, (v_grid[1].xyz - o) * inv);
+    return max(min(min(tf.x, tf.y), tf.z), 0.0);
+}
+
+// What a camera segment scatters towards the viewer (l), and the near part's gather ray
+// (Gatherer::near_gather) when `gather`: from x along dir, weighed by w; the camera path
+// traces it once its chain ends (gather_ray calls follow_chain, which calls this).
+struct SegmentLight {
+    l: vec3<f32>,
+    gather: bool,
+    x: vec3<f32>,
+    dir: vec3<f32>,
+    w: vec3<f32>,
+}
+
 // Gatherer::in_scattered: the light scattered towards the viewer along the segment from o
 // along d, t long (endless: the ray left the scene), in `medium`: single scattering by
 // next-event estimation (with nee) and the volume map's beam estimate (without its single-
-// scattering photons when skip_direct). Camera rays pass nee = skip_direct = TERM_DIRECT,
-// gather rays take gathered_in_medium instead.
-fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, nee: bool, skip_direct: bool, rng: ptr<function, Rng>) -> vec3<f32> {
+// scattering photons when skip_direct). With `near` (the segment ends at a shaded surface or
+// leaves) in final-gather modes, the first NEAR_GATHER_FRACTION of the segment within the
+// photons' bounds takes only the caustic photons' beam, and a point and direction drawn there
+// for the gather ray (four rng numbers; `depth`: the segment's camera depth). Camera rays
+// pass nee = skip_direct = TERM_DIRECT, gather rays take gathered_in_medium instead.
+fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, nee: bool, skip_direct: bool, near: bool, depth: u32, rng: ptr<function, Rng>) -> SegmentLight {
     let m = load_medium(medium);
-    var l = vec3<f32>(0.0);
+    var s: SegmentLight;
     if nee && max3(m.sigma_s) > 0.0 {
-        l += single_scattering(o, d, t, endless, medium, rng);
+        s.l += single_scattering(o, d, t, endless, medium, rng);
     }
-    return l + beam(o, d, select(t, 3.0e38, endless), medium, m, skip_direct);
+    let which = select(BEAM_ALL, BEAM_SKIP_DIRECT, skip_direct);
+    let t_max = select(t, 3.0e38, endless);
+    var zn = 0.0;
+    if near && skip_direct && (params.terms & TERM_FINAL_GATHER) != 0u && depth < params.max_depth && max3(m.sigma_s) > 0.0 {
+        zn = NEAR_GATHER_FRACTION * min(t_max, volume_exit(o, d));
+    }
+    if !(zn > 0.0 && zn < 3.0e38) {
+        s.l += beam(o, d, t_max, medium, m, which);
+        return s;
+    }
+    s.l += medium_transmittance(m, zn) * beam(o + d * zn, d, t_max - zn, medium, m, which);
+    s.l += beam(o, d, zn, medium, m, BEAM_CAUSTIC);
+    let uc = rng_next(rng);
+    let ut = rng_next(rng);
+    let u1 = rng_next(rng);
+    let u2 = rng_next(rng);
+    let p = sample_in_segment(m, uc, ut, zn, false);
+    if p.ok {
+        s.gather = true;
+        s.x = o + d * p.t;
+        s.dir = hg_sample(m.g, d, u1, u2);
+        s.w = medium_transmittance(m, p.t) / p.pdf * m.sigma_s;
+    }
+    return s;
 }
 
 // VolumeMap::point: the sum over the volume photons of `medium` within r of x of

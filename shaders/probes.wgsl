@@ -104,7 +104,7 @@ fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
     let a = accum[slot(0u, i)];
     let b = accum[slot(1u, i)];
     let medium = bitcast<u32>(b.w);
-    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), accum[slot(2u, i)].x > 0.0);
+    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), u32(accum[slot(2u, i)].x));
     accum[slot(3u, i)] = vec4<f32>(l, 0.0);
 }
 

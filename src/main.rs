@@ -150,7 +150,8 @@ struct RenderArgs {
     /// Camera samples per pixel (a perfect square gives an n x n jittered grid).
     #[arg(long)]
     spp: Option<u32>,
-    /// Shadow rays per area light per camera sample (direct mode).
+    /// Shadow rays per area light per camera sample; also single-scattering estimates per
+    /// light along a camera segment in a medium.
     #[arg(long)]
     shadow_samples: Option<u32>,
     /// Run the caustic-map estimate on one camera sample in N (1: every sample).

@@ -17,6 +17,16 @@ use glam::Vec3;
 /// point estimate (the CPU's `Gatherer::gathered_in_medium`, the GPU's `gathered_in_medium`).
 pub const GATHER_MEDIUM_POINTS: u32 = 4;
 
+/// The near part of a camera segment through a medium, as a fraction of its length inside
+/// the volume photons' bounds, whose multiply scattered light one gather ray brings instead
+/// of the beam estimate (in `gather` mode). The beam gives each photon near the camera a
+/// weight over the image that grows as the inverse square of its distance (its disc covers
+/// that many more pixels), so the few photons there made most of the image's
+/// low-frequency noise; a gather ray from a point drawn in the near part reads the photons
+/// where it lands instead. Volume caustic photons (L S+ V, which no gather ray sees) still
+/// come from the beam there (docs/media.md).
+pub const NEAR_GATHER_FRACTION: f32 = 0.5;
+
 /// Marks "no medium" (vacuum) in a [`MediumInterface`] or `Scene::camera_medium`.
 pub const NO_MEDIUM: u32 = u32::MAX;
 

@@ -11,6 +11,30 @@ pub const FLAG_CAUSTIC: u32 = 1 << 8;
 /// Mask of the number of surface interactions before this hit (0: direct light).
 pub const DEPTH_MASK: u32 = 0xff;
 
+/// Which volume photons a beam estimate takes (twin: the `BEAM_*` codes of the WGSL
+/// prelude, `beam_entry` in `shaders/media_camera.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BeamPhotons {
+    /// Every photon (a mode without next-event estimation).
+    All = 0,
+    /// All but single scattering (depth 0): next-event estimation does it.
+    SkipDirect = 1,
+    /// Only L S+ V photons (volume caustics): the near part of a camera segment whose other
+    /// light a gather ray brings (`medium::NEAR_GATHER_FRACTION`).
+    Caustic = 2,
+}
+
+impl BeamPhotons {
+    /// Whether photon `p` counts.
+    pub fn keeps(self, p: &Photon) -> bool {
+        match self {
+            BeamPhotons::All => true,
+            BeamPhotons::SkipDirect => p.depth() != 0,
+            BeamPhotons::Caustic => p.is_caustic(),
+        }
+    }
+}
+
 /// A photon stored at a diffuse or glossy surface (48 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

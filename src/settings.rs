@@ -30,7 +30,8 @@ pub struct RenderSettings {
     pub volume_radius: f32,
     /// Camera samples per pixel (n x n jittered when a perfect square).
     pub spp: u32,
-    /// Shadow rays per area light sample in `direct` mode.
+    /// Shadow rays per area light sample where direct light is estimated, and next-event
+    /// estimates of single scattering per light along a camera segment in a medium.
     pub shadow_samples: u32,
     /// The caustic-map estimate runs on one camera sample in this many (see
     /// [`crate::plan::caustic_weight`]); 1: on every sample.
@@ -336,7 +337,7 @@ pub static SETTINGS: &[Setting] = &[
         "radius of the volume photons' beam estimate (largest when progressive), scene units"),
     row!(spp, "spp", RENDER, int(1, MAX_SPP), u32, "camera samples per pixel"),
     row!(shadow_samples, "shadow-samples", RENDER, int(1, MAX_SHADOW_SAMPLES), u32,
-        "shadow rays per area-light sample (direct mode)"),
+        "shadow rays per area light and camera sample; single-scattering estimates per light in media"),
     row!(caustic_every, "caustic-every", RENDER, int(1, MAX_SPP), u32,
         "camera samples per caustic-map estimate (1: every sample)"),
     row!(max_photon_bounces, "max-photon-bounces", RENDER, int(1, MAX_BOUNCES), u32,

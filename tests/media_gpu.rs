@@ -340,6 +340,7 @@ fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
 fn device_beam_estimate_equals_the_cpu_volume_map() {
     use gpu_photon::cpu::volume_map::VolumeMap;
     use gpu_photon::gpu::probe_media::{beam, BeamQuery};
+    use gpu_photon::photon::BeamPhotons;
     let Some(ctx) = gpu() else { return };
     let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
     let mut other = scene.media[0];
@@ -370,7 +371,11 @@ fn device_beam_estimate_equals_the_cpu_volume_map() {
                     _ => rng.range(1.0, 4.0),
                 },
                 medium: (i % 5 == 1) as u32,
-                skip_direct: i % 4 == 1,
+                photons: match i % 4 {
+                    1 => BeamPhotons::SkipDirect,
+                    2 => BeamPhotons::Caustic,
+                    _ => BeamPhotons::All,
+                },
             }
         })
         .collect();
@@ -383,13 +388,13 @@ fn device_beam_estimate_equals_the_cpu_volume_map() {
             q.t_max
         };
         let m = &scene.media[q.medium as usize];
-        let want = map.beam(
+        let want = map.beam_of(
             Vec3::from(q.o),
             Vec3::from(q.d),
             t_max,
             m,
             q.medium,
-            q.skip_direct,
+            q.photons,
         );
         let g = Vec3::from(*g);
         let scale = want.max_element().max(1e-9);

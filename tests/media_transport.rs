@@ -366,7 +366,7 @@ intensity = [{intensity}, {intensity}, {intensity}]
         let mut rng = Rng::new(5, Stream::Camera, 0, 0);
         let (mut est, mut sq) = ([0.0f64; 3], [0.0f64; 3]);
         for _ in 0..n {
-            let l = media::single_scattering(&scene, &bvh, &lights, o, d, t_seg, 0, &mut rng);
+            let l = media::single_scattering(&scene, &bvh, &lights, o, d, t_seg, 0, 1, &mut rng);
             for c in 0..3 {
                 est[c] += l[c] as f64 / n as f64;
                 sq[c] += (l[c] as f64).powi(2) / n as f64;

@@ -67,7 +67,7 @@ impl Gatherer<'_> {
     /// lobes; nothing more on a miss, at a black surface or past `max_depth`. Through a
     /// medium (`medium`), every segment adds the volume map's in-scattered light
     /// (`gathered_in_medium`) and carries its transmittance.
-    fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng, medium: u32) -> Vec3 {
+    pub(crate) fn gather_ray(&self, ray: &Ray, depth: u32, rng: &mut Rng, medium: u32) -> Vec3 {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
         let mut medium = medium;
         let mut sum = Vec3::ZERO;

@@ -138,7 +138,21 @@ impl Gatherer<'_> {
         }
         let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
         let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
-        let scattered = self.in_scattered(ray, t, medium, self.terms.direct, skip_direct, rng);
+        // The near part's gather ray runs where nothing else draws numbers before the next
+        // shading (the GPU's camera path takes it after its chain of mirrors and glass).
+        let near = hit
+            .as_ref()
+            .is_none_or(|h| bsdf_at(self.scene, h).class() == SurfaceClass::Shaded);
+        let scattered = self.in_scattered(
+            ray,
+            t,
+            medium,
+            self.terms.direct,
+            skip_direct,
+            near,
+            depth,
+            rng,
+        );
         let tr = self.scene.media[medium as usize].transmittance(t);
         if tr == Vec3::ZERO {
             return scattered;

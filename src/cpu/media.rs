@@ -93,7 +93,9 @@ pub fn transmittance(
 /// a light is not noise; by transmittance, `Medium::sample_in_segment`, for a directional
 /// light or a segment through the point) and one shadow ray, weighed by the phase function,
 /// `sigma_s` and the transmittance along the segment and the shadow ray. The environment's
-/// direction is drawn from the phase function.
+/// direction is drawn from the phase function. Each light takes `samples` such estimates
+/// (the render's `shadow_samples`, for delta lights too: the distance is drawn either way),
+/// averaged; light by light, so one sample draws the random numbers of the light loop.
 #[allow(clippy::too_many_arguments)]
 pub fn single_scattering(
     scene: &Scene,
@@ -103,12 +105,15 @@ pub fn single_scattering(
     dir: Vec3,
     t_seg: f32,
     medium: u32,
+    samples: u32,
     rng: &mut Rng,
 ) -> Vec3 {
     let m = &scene.media[medium as usize];
     let sigma_s = m.sigma_s();
     let mut l = Vec3::ZERO;
-    for (li, light) in scene.lights.iter().enumerate() {
+    let lights_samples = (0..scene.lights.len()).flat_map(|li| (0..samples).map(move |_| li));
+    for li in lights_samples {
+        let light = &scene.lights[li];
         let u = [rng.next(), rng.next(), rng.next()];
         let (uc, ut) = (rng.next(), rng.next());
         let p = match lights.anchor(scene, li, u) {
@@ -150,5 +155,5 @@ pub fn single_scattering(
         let tr = transmittance(scene, bvh, x, wi, t_max, medium);
         l += (m.transmittance(p.t) / p.pdf) * ls.weight * phase * tr;
     }
-    sigma_s * l
+    sigma_s * l / samples.max(1) as f32
 }

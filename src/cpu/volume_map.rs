@@ -12,7 +12,7 @@
 //! once.
 
 use crate::medium::Medium;
-use crate::photon::Photon;
+use crate::photon::{BeamPhotons, Photon};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -190,6 +190,34 @@ impl VolumeMap {
         medium_index: u32,
         skip_direct: bool,
     ) -> Vec3 {
+        let which = match skip_direct {
+            true => BeamPhotons::SkipDirect,
+            false => BeamPhotons::All,
+        };
+        self.beam_of(o, d, t_max, medium, medium_index, which)
+    }
+
+    /// Where the ray from `o` along unit `d` leaves the photons' bounds (0 where it never
+    /// meets them).
+    pub fn exit(&self, o: Vec3, d: Vec3) -> f32 {
+        if self.photons.is_empty() {
+            return 0.0;
+        }
+        let inv = d.recip();
+        let (ta, tb) = ((self.lo - o) * inv, (self.hi - o) * inv);
+        ta.max(tb).min_element().max(0.0)
+    }
+
+    /// [`Self::beam`] over the photons `which` keeps.
+    pub fn beam_of(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        t_max: f32,
+        medium: &Medium,
+        medium_index: u32,
+        which: BeamPhotons,
+    ) -> Vec3 {
         if self.photons.is_empty() {
             return Vec3::ZERO;
         }
@@ -232,7 +260,7 @@ impl VolumeMap {
             let t_exit = t_next[axis].min(t1);
             for &i in self.list(c) {
                 let p = &self.photons[i as usize];
-                if p.normal != medium_index || (skip_direct && p.depth() == 0) {
+                if p.normal != medium_index || !which.keeps(p) {
                     continue;
                 }
                 let to = p.pos() - o;

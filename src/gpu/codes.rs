@@ -382,6 +382,19 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
         ("FLAG_CAUSTIC", U32(crate::photon::FLAG_CAUSTIC)),
         ("DEPTH_MASK", U32(crate::photon::DEPTH_MASK)),
+        ("BEAM_ALL", U32(crate::photon::BeamPhotons::All as u32)),
+        (
+            "BEAM_SKIP_DIRECT",
+            U32(crate::photon::BeamPhotons::SkipDirect as u32),
+        ),
+        (
+            "BEAM_CAUSTIC",
+            U32(crate::photon::BeamPhotons::Caustic as u32),
+        ),
+        (
+            "NEAR_GATHER_FRACTION",
+            F32(crate::medium::NEAR_GATHER_FRACTION),
+        ),
         ("OFFSET_SCALE", F32(crate::geometry::OFFSET_SCALE)),
         ("OFFSET_FLOOR", F32(crate::geometry::OFFSET_FLOOR)),
         ("BOX_SLACK", F32(crate::geometry::BOX_SLACK)),

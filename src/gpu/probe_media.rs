@@ -11,7 +11,7 @@ use super::recorder::Recorder;
 use super::run::GpuRun;
 use super::volume::VolumeBuffers;
 use crate::error::Result;
-use crate::photon::Photon;
+use crate::photon::{BeamPhotons, Photon};
 use crate::report::RenderReport;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -187,7 +187,7 @@ pub fn volume_grid(ctx: &GpuContext, photons: &[Photon], radius: f32) -> Result<
 }
 
 /// One beam query: the segment's origin, unit direction and length, the medium (an index of
-/// the scene's) and whether single-scattering photons are left out.
+/// the scene's) and which photons count.
 #[derive(Clone, Copy, Debug)]
 pub struct BeamQuery {
     /// Origin.
@@ -198,8 +198,8 @@ pub struct BeamQuery {
     pub t_max: f32,
     /// The medium the segment runs in.
     pub medium: u32,
-    /// Leave out photons of depth 0.
-    pub skip_direct: bool,
+    /// Which photons count.
+    pub photons: BeamPhotons,
 }
 
 /// The device's beam estimate (`beam` in shaders/media_camera.wgsl) over `photons` (spheres
@@ -217,7 +217,7 @@ pub fn beam(
     for (i, q) in queries.iter().enumerate() {
         init[i] = [q.o[0], q.o[1], q.o[2], q.t_max];
         init[n + i] = [q.d[0], q.d[1], q.d[2], f32::from_bits(q.medium)];
-        init[2 * n + i] = [q.skip_direct as u32 as f32, 0.0, 0.0, 0.0];
+        init[2 * n + i] = [q.photons as u32 as f32, 0.0, 0.0, 0.0];
     }
     let out = dispatch_probe(
         &run,
