@@ -23,7 +23,7 @@ use gpu_photon::gpu::codes::{
     class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
 use gpu_photon::gpu::probe_light::SceneProbes;
-use gpu_photon::gpu::probe_shading::{ShadingCase, SurfaceProbe, SHADING_FLAGS};
+use gpu_photon::gpu::probe_shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
 use gpu_photon::material::Bounce;
 use gpu_photon::rng::{path_key, Rng, Stream};
 use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
@@ -240,7 +240,7 @@ fn stable<T: PartialEq>(d: Vec3, decide: impl Fn(Vec3) -> T) -> bool {
 
 /// The host's delta bounce as the device makes it (one draw chooses at a dielectric):
 /// (direction, not leaking, throughput).
-fn host_delta(s: &SurfaceBsdf, probe: &SurfaceProbe, d: Vec3, i: usize) -> (Vec3, bool, Vec3) {
+fn host_delta(s: &SurfaceBsdf, probe: &ShadedSurface, d: Vec3, i: usize) -> (Vec3, bool, Vec3) {
     let hit = &probe.hit;
     let f = hit.facing(d);
     match s.delta(d, hit, &f, RenderSettings::default().fresnel) {

@@ -34,7 +34,7 @@ pub struct ShadingCase {
     pub pdfs: [f32; 2],
 }
 
-/// The bit of each flag in [`ShadingProbe::flags`], in order: `surface_is_bsdf`,
+/// The bit of each flag in [`ShadedSurface::flags`], in order: `surface_is_bsdf`,
 /// `surface_has_lobe`, `surface_lobe_takes_point_lights`, `surface_lobe_is_glossy`,
 /// `surface_stores_photons`.
 pub const SHADING_FLAGS: [&str; 5] = [
@@ -47,7 +47,7 @@ pub const SHADING_FLAGS: [&str; 5] = [
 
 /// What the device's shading gave at one [`ShadingCase`]'s hit.
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceProbe {
+pub struct ShadedSurface {
     /// The hit the device shaded (`t`, position, normals, material, light, uv).
     pub hit: Hit,
     /// `surface_class` (`codes::CLASS_*`).
@@ -85,7 +85,7 @@ pub struct ShadingProbe {
     /// `power_heuristic(pdfs[0], pdfs[1])`.
     pub power_heuristic: f32,
     /// The surface at the nearest hit (`None`: the ray left the scene).
-    pub surface: Option<SurfaceProbe>,
+    pub surface: Option<ShadedSurface>,
 }
 
 /// vec4 slots per case of `probe_shading`.
@@ -123,7 +123,7 @@ impl SceneProbes {
                         uv: Vec2::new(m8[0], m8[1]),
                     };
                     let (l, w, dl) = (at(15, i), at(16, i), at(17, i));
-                    SurfaceProbe {
+                    ShadedSurface {
                         hit,
                         class: m8[2] as u32,
                         flags: m8[3] as u32,
