@@ -4,8 +4,8 @@
 //! uploads it: a sphere of every material kind (the classic ones, crate::bsdf's, a textured
 //! Lambertian, plastic and glTF material, emitters one- and two-sided with a texture) and a
 //! floor cell of each on smooth triangles (shading normals off the face: the leak tests),
-//! under a lat-long environment. Each ray's nearest hit on the device is read back and shaded on both
-//! sides from the same bits: `bsdf_at` and every `surface_*` question (class, flags,
+//! under a lat-long environment. Each ray's nearest hit on the device is read back and
+//! shaded on both sides from the same bits: `bsdf_at` and every `surface_*` question (class, flags,
 //! emission, store weight, diffuse albedo, value and estimate BRDF, the lobe's value and
 //! density, a lobe sample and a delta bounce from the same random stream, a photon's bounce),
 //! `power_heuristic` and `escape`. Classes, flags and bounce kinds are compared exactly (a

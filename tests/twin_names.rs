@@ -42,10 +42,8 @@ const UNCHECKED: &[(&str, &str)] = &[
     ("common/grid.wgsl", "keep_photon"),
     ("common/grid.wgsl", "is_cache_point"),
     ("common/grid.wgsl", "volume_cell"),
-    ("common/medium.wgsl", "medium_interface_after"),
     ("common/medium.wgsl", "medium_after"),
     ("common/medium.wgsl", "light_medium"),
-    ("common/medium.wgsl", "hg_eval"),
 ];
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
@@ -166,8 +164,10 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/environment.wgsl", "env_pdf", "environment.rs", "direction_pdf", Oracle("environment.rs")),
     ("common/environment.wgsl", "env_emit_dir", "environment.rs", "emit_direction", Caller("light_gpu.rs")),
     ("common/medium.wgsl", "load_medium", "", "", Helper),
+    ("common/medium.wgsl", "medium_interface_after", "medium.rs", "after", Oracle("media_gpu.rs")),
     ("common/medium.wgsl", "medium_transmittance", "medium.rs", "transmittance", Caller("media_gpu.rs")),
     ("common/medium.wgsl", "sample_flight", "medium.rs", "sample_flight", Oracle("media_gpu.rs")),
+    ("common/medium.wgsl", "hg_eval", "phase.rs", "eval", Oracle("media_gpu.rs")),
     ("common/medium.wgsl", "hg_sample_cos", "phase.rs", "sample_cos", Caller("media_gpu.rs")),
     ("common/medium.wgsl", "hg_sample", "phase.rs", "sample", Oracle("media_gpu.rs")),
     ("common/texture.wgsl", "tex_rem", "", "", Helper),
