@@ -8,8 +8,8 @@
 // surface_lobe_takes_point_lights, surface_lobe_is_glossy, surface_stores_photons.
 fn shading_flags(s: Surface) -> u32 {
     return select(0u, 1u, surface_is_bsdf(s)) | select(0u, 2u, surface_has_lobe(s))
-        | select(0u, 4u, surface_lobe_takes_point_lights(s)) | select(0u, 8u, surface_lobe_is_glossy(s))
-        | select(0u, 16u, surface_stores_photons(s));
+        | select(0u, 4u, surface_lobe_takes_point_lights(s))
+        | select(0u, 8u, surface_lobe_is_glossy(s)) | select(0u, 16u, surface_stores_photons(s));
 }
 
 // probe_shading: case i < width, (o, t_max) = accum[i], (d, rng key as bits) = accum[w + i],
@@ -49,7 +49,8 @@ fn probe_shading(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(7u, i)] = vec4<f32>(h.shading, h.t);
     accum[slot(8u, i)] = vec4<f32>(h.uv, f32(surface_class(s)), f32(shading_flags(s)));
     accum[slot(9u, i)] = vec4<f32>(surface_emitted(s, true), surface_store_weight(s, wi.xyz));
-    accum[slot(10u, i)] = vec4<f32>(surface_emitted(s, false), surface_pdf_lobe(s, wi.xyz, wo.xyz, f.ns));
+    let pdf = surface_pdf_lobe(s, wi.xyz, wo.xyz, f.ns);
+    accum[slot(10u, i)] = vec4<f32>(surface_emitted(s, false), pdf);
     accum[slot(11u, i)] = vec4<f32>(surface_diffuse_albedo(s, wo.xyz), 0.0);
     accum[slot(12u, i)] = vec4<f32>(surface_eval_diffuse(s, wi.xyz, wo.xyz), 0.0);
     accum[slot(13u, i)] = vec4<f32>(surface_estimate_brdf(s, wo.xyz), 0.0);
