@@ -81,7 +81,9 @@ fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
 // probe_medium: the scene's medium 0 for case i < width: (u_channel, u, t_max, u1) =
 // accum[i], (dir, u2) = accum[width + i]; writes sample_flight's (weight, t) to
 // accum[2 width + i] and (hg_sample(g, dir, u1, u2), 1 when the flight ended in the medium)
-// to accum[3 width + i].
+// to accum[3 width + i]; with (c, interior, exterior, current as bits) = accum[4 width + i]
+// and n = accum[5 width + i].xyz, writes (hg_eval(g, c), medium_interface_after((interior,
+// exterior), current, n, dir) as bits) to accum[6 width + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -92,6 +94,10 @@ fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let f = sample_flight(m, a.x, a.y, a.z);
     accum[slot(2u, i)] = vec4<f32>(f.weight, f.t);
     accum[slot(3u, i)] = vec4<f32>(hg_sample(m.g, b.xyz, a.w, b.w), select(0.0, 1.0, f.in_medium));
+    let c = accum[slot(4u, i)];
+    let iface = bitcast<vec2<u32>>(c.yz);
+    let after = medium_interface_after(iface, bitcast<u32>(c.w), accum[slot(5u, i)].xyz, b.xyz);
+    accum[slot(6u, i)] = vec4<f32>(hg_eval(m.g, c.x), bitcast<f32>(after), 0.0, 0.0);
 }
 
 // probe_beam: the volume map's beam estimate for query i < width: (o, t_max) = accum[i],

@@ -1,5 +1,7 @@
 //! Participating media on the GPU backend (issue 24) against the CPU's twins: the free-flight
-//! and Henyey-Greenstein samplers on the same random numbers, and photon tracing through fog
+//! and Henyey-Greenstein samplers on the same random numbers, the phase density (`hg_eval`,
+//! 1e-5 relative) and the interface rule (`medium_interface_after`, exactly), and photon
+//! tracing through fog
 //! (the same paths, by the shared random-number streams, so the same volume photons and the
 //! same power where they go). Tests that need a device skip without one (CI has lavapipe).
 
@@ -11,6 +13,7 @@ use gpu_photon::bvh::Bvh;
 use gpu_photon::cpu::photons::{trace_map, TraceContext, Traced};
 use gpu_photon::gpu::probe_media::{medium_samplers, trace_photons, MediumCase, TracedPhotons};
 use gpu_photon::light::LightTable;
+use gpu_photon::medium::{MediumInterface, NO_MEDIUM};
 use gpu_photon::photon::Photon;
 use gpu_photon::plan::MapPlan;
 use gpu_photon::scene::{load_str, Scene};
@@ -86,6 +89,17 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
             },
             dir: r.dir().to_array(),
             u_phase: [r.f32(), r.f32()],
+            // The forward peak too (g = 0.6: the density's steep side).
+            cos: if i % 4 == 0 {
+                1.0 - 1e-3 * r.f32()
+            } else {
+                r.range(-1.0, 1.0)
+            },
+            interface: (
+                [0, 1].map(|_| [NO_MEDIUM, 0, 1][(r.f32() * 3.0) as usize]),
+                [NO_MEDIUM, 0][i % 2],
+                r.dir().to_array(),
+            ),
         })
         .collect();
     let got = medium_samplers(&ctx, &scene, &cases).unwrap();
@@ -110,6 +124,17 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
         let s = m.phase.sample(d, c.u_phase[0], c.u_phase[1]);
         let gs = Vec3::from(g.scattered);
         assert!((gs - s).abs().max_element() < 1e-4, "{c:?}: {gs} vs {s}");
+        // The density: the same rational expression and one sqrt, a few roundings.
+        let p = m.phase.eval(c.cos);
+        assert!(
+            (g.density - p).abs() <= 1e-5 * p,
+            "{c:?}: hg_eval {} vs {p}",
+            g.density
+        );
+        let ([interior, exterior], current, n) = c.interface;
+        let iface = MediumInterface { interior, exterior };
+        let want = iface.after(current, Vec3::from(n), d);
+        assert_eq!(g.after, want, "{c:?}: medium_interface_after");
     }
     // Both kinds of flight ends occurred.
     assert!(got.iter().any(|g| g.in_medium) && got.iter().any(|g| !g.in_medium));

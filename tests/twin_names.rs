@@ -1,13 +1,13 @@
-//! Twins share names (issue 25): every function of the device's shared libraries for the
-//! lights, intersection, the classic materials, photons, sampling and the camera
-//! (shaders/common/light.wgsl, intersect.wgsl, material.wgsl, photon.wgsl, sampling.wgsl,
-//! camera.wgsl) is listed in `TWINS` with the
-//! Rust function it mirrors (same name, or the pair where a method's name reads differently
-//! on its type) and the oracle test that compares them value by value, or as a device-only
-//! helper: none is left to photon paths or whole images alone. The test checks
-//! that every listed name exists in its source, that no function of those libraries is
-//! missing from the list, and that docs/architecture.md's oracle table has each one's row
-//! as listed here (the twin and the check included).
+//! Twins share names (issue 25): every function of the device's shared libraries
+//! (shaders/common/*.wgsl) is listed in `TWINS` with the Rust function it mirrors (same
+//! name, or the pair where a method's name reads differently on its type) and the oracle
+//! test that compares them value by value, or that compares the callers it is a piece of,
+//! or as a device-only helper: none is left to photon paths or whole images alone. The
+//! libraries in `NOT_YET_LISTED` (their oracle tests named there) and the functions in
+//! `UNCHECKED` (no oracle compares them or a caller yet) are the known exceptions. The test
+//! checks that every listed name exists in its source, that no function of those libraries
+//! is missing from the lists, and that docs/architecture.md's oracle table has each one's
+//! row as listed here (the twin and the check included).
 
 use gpu_photon::gpu::shaders::WGSL_FILES;
 use std::path::Path;
@@ -17,11 +17,34 @@ use std::path::Path;
 enum Check {
     /// A probe compares it value by value with the Rust twin (the named test).
     Oracle(&'static str),
+    /// It has a Rust twin but is compared only inside its callers, value by value with
+    /// theirs by the named test (a piece of a twin, or a step a probe does not expose).
+    Caller(&'static str),
     /// A device-only helper without a Rust twin (buffer layout, or a piece of a twin).
     Helper,
 }
 
-use Check::{Helper, Oracle};
+use Check::{Caller, Helper, Oracle};
+
+/// Libraries whose functions are not yet listed one by one, with the tests whose oracles
+/// check them (per those tests' documentation).
+const NOT_YET_LISTED: &[(&str, &str)] = &[
+    ("common/bsdf.wgsl", "bsdf_gpu.rs"),
+    ("common/bsdf_dispatch.wgsl", "bsdf_gpu.rs"),
+    ("common/bsdf_gltf.wgsl", "bsdf_gpu.rs"),
+    ("common/estimate.wgsl", "gpu_oracle.rs"),
+    ("common/sobol.wgsl", "sobol.rs"),
+];
+
+/// Functions of the listed libraries that no oracle compares yet, themselves or through a
+/// caller (only photon paths or images exercise them): (WGSL file, function).
+const UNCHECKED: &[(&str, &str)] = &[
+    ("common/grid.wgsl", "keep_photon"),
+    ("common/grid.wgsl", "is_cache_point"),
+    ("common/grid.wgsl", "volume_cell"),
+    ("common/medium.wgsl", "medium_after"),
+    ("common/medium.wgsl", "light_medium"),
+];
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
@@ -85,6 +108,76 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/camera.wgsl", "filter_jitter", "pixel_filter.rs", "jitter", Oracle("camera.rs")),
     ("common/camera.wgsl", "concentric_disc", "pixel_filter.rs", "concentric_disc", Oracle("camera.rs")),
     ("common/camera.wgsl", "camera_ray", "camera.rs", "ray", Oracle("camera.rs")),
+    ("common/shading.wgsl", "bsdf_at", "shading.rs", "bsdf_at", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "gltf_textures", "shading.rs", "gltf_textures", Caller("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_is_bsdf", "", "", Helper),
+    ("common/shading.wgsl", "surface_local", "shading.rs", "local", Caller("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_class", "shading.rs", "class", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_emitted", "shading.rs", "emitted", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_diffuse_albedo", "shading.rs", "diffuse_albedo", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_store_weight", "shading.rs", "store_weight", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_eval_diffuse", "shading.rs", "eval_diffuse", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_estimate_brdf", "shading.rs", "estimate_brdf", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_has_lobe", "shading.rs", "has_lobe", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_lobe_takes_point_lights", "shading.rs", "lobe_takes_point_lights", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_eval_lobe", "shading.rs", "eval_lobe", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_pdf_lobe", "shading.rs", "pdf_lobe", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_lobe_is_glossy", "shading.rs", "lobe_is_glossy", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "power_heuristic", "shading.rs", "power_heuristic", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_world_ray", "shading.rs", "world_direction", Caller("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_sample_lobe", "shading.rs", "sample_lobe", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_stores_photons", "shading.rs", "stores_photons", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_delta", "shading.rs", "delta", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "surface_photon_bounce", "shading.rs", "photon_bounce", Oracle("shading_gpu.rs")),
+    ("common/shading.wgsl", "escape", "shading.rs", "escape", Oracle("shading_gpu.rs")),
+    ("common/rng.wgsl", "pcg_hash", "rng.rs", "pcg_hash", Oracle("gpu_oracle.rs")),
+    ("common/rng.wgsl", "path_key", "rng.rs", "path_key", Oracle("gpu_oracle.rs")),
+    ("common/rng.wgsl", "draw_u32", "rng.rs", "draw_u32", Oracle("gpu_oracle.rs")),
+    ("common/rng.wgsl", "to_unit", "rng.rs", "to_unit", Oracle("gpu_oracle.rs")),
+    ("common/rng.wgsl", "rng_next", "rng.rs", "next", Caller("shading_gpu.rs")),
+    ("common/grid.wgsl", "cell_of", "estimate.rs", "cell_of", Caller("gpu_oracle.rs")),
+    ("common/grid.wgsl", "cell_gap2", "", "", Helper),
+    ("common/grid.wgsl", "cell_hash", "estimate.rs", "cell_hash", Caller("gpu_oracle.rs")),
+    ("common/map.wgsl", "flat_index", "", "", Helper),
+    ("common/map.wgsl", "photon_word", "", "", Helper),
+    ("common/map.wgsl", "copy_to_sorted", "", "", Helper),
+    ("common/scene.wgsl", "spend", "", "", Helper),
+    ("common/scene.wgsl", "load_triangle", "", "", Helper),
+    ("common/scene.wgsl", "load_sphere", "", "", Helper),
+    ("common/scene.wgsl", "load_material", "", "", Helper),
+    ("common/scene.wgsl", "load_light", "", "", Helper),
+    ("common/scene.wgsl", "uv_record", "", "", Helper),
+    ("common/scene.wgsl", "triangle_uv", "", "", Helper),
+    ("common/environment.wgsl", "env_is_map", "", "", Helper),
+    ("common/environment.wgsl", "env_word", "", "", Helper),
+    ("common/environment.wgsl", "env_mat", "", "", Helper),
+    ("common/environment.wgsl", "latlong_uv", "scene/environment.rs", "latlong_uv", Caller("environment.rs")),
+    ("common/environment.wgsl", "latlong_dir", "scene/environment.rs", "latlong_dir", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_lookup", "scene/environment.rs", "latlong_lookup", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_radiance", "scene/environment.rs", "eval", Oracle("environment.rs")),
+    ("common/environment.wgsl", "env_grid", "", "", Helper),
+    ("common/environment.wgsl", "env_pdf_uv", "environment.rs", "pdf_uv", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_sample_linear", "environment.rs", "sample_linear", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_sample_map", "environment.rs", "image_sample", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_pdf_map", "environment.rs", "image_pdf", Caller("environment.rs")),
+    ("common/environment.wgsl", "env_sample", "environment.rs", "sample_direction", Oracle("environment.rs")),
+    ("common/environment.wgsl", "env_pdf", "environment.rs", "direction_pdf", Oracle("environment.rs")),
+    ("common/environment.wgsl", "env_emit_dir", "environment.rs", "emit_direction", Caller("light_gpu.rs")),
+    ("common/medium.wgsl", "load_medium", "", "", Helper),
+    ("common/medium.wgsl", "medium_interface_after", "medium.rs", "after", Oracle("media_gpu.rs")),
+    ("common/medium.wgsl", "medium_transmittance", "medium.rs", "transmittance", Caller("media_gpu.rs")),
+    ("common/medium.wgsl", "sample_flight", "medium.rs", "sample_flight", Oracle("media_gpu.rs")),
+    ("common/medium.wgsl", "hg_eval", "phase.rs", "eval", Oracle("media_gpu.rs")),
+    ("common/medium.wgsl", "hg_sample_cos", "phase.rs", "sample_cos", Caller("media_gpu.rs")),
+    ("common/medium.wgsl", "hg_sample", "phase.rs", "sample", Oracle("media_gpu.rs")),
+    ("common/texture.wgsl", "tex_rem", "", "", Helper),
+    ("common/texture.wgsl", "tex_wrap", "texture/sampler.rs", "index", Caller("texture_gpu.rs")),
+    ("common/texture.wgsl", "tex_coord", "", "", Helper),
+    ("common/texture.wgsl", "tex_lut", "", "", Helper),
+    ("common/texture.wgsl", "tex_texel", "texture/mod.rs", "texel", Caller("texture_gpu.rs")),
+    ("common/texture.wgsl", "texture_eval_rgba", "", "", Helper),
+    ("common/texture.wgsl", "texture_eval", "texture/mod.rs", "eval", Oracle("texture_gpu.rs")),
+    ("common/texture.wgsl", "texture_alpha", "texture/mod.rs", "eval_alpha", Oracle("texture_gpu.rs")),
 ];
 
 fn read(path: &Path) -> String {
@@ -120,7 +213,9 @@ fn every_twin_named_exists_and_has_its_check() {
             declares(&src, rname),
             "src/{rf} declares no fn {rname} (twin of {wname})"
         );
-        let Oracle(t) = check else { unreachable!() };
+        let (Oracle(t) | Caller(t)) = check else {
+            unreachable!()
+        };
         assert!(
             root.join("tests").join(t).is_file(),
             "tests/{t} (for {wname})"
@@ -128,20 +223,34 @@ fn every_twin_named_exists_and_has_its_check() {
     }
 }
 
+/// The functions `src` declares at the start of a line.
+fn functions(src: &str) -> impl Iterator<Item = &str> {
+    src.lines()
+        .filter_map(|l| l.strip_prefix("fn "))
+        .map(|rest| rest.split(['(', '<']).next().unwrap())
+}
+
 #[test]
 fn every_function_of_the_shared_libraries_is_listed() {
-    let files: Vec<&str> = TWINS.iter().map(|t| t.0).collect();
-    for f in files {
-        for line in wgsl(f).lines() {
-            let Some(rest) = line.strip_prefix("fn ") else {
-                continue;
-            };
-            let name = rest.split('(').next().unwrap();
+    for &(f, src) in WGSL_FILES.iter().filter(|(p, _)| p.starts_with("common/")) {
+        if let Some((_, t)) = NOT_YET_LISTED.iter().find(|(p, _)| *p == f) {
+            let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+            assert!(root.join("tests").join(t).is_file(), "tests/{t} (for {f})");
+            assert!(!TWINS.iter().any(|r| r.0 == f), "{f} is listed after all");
+            continue;
+        }
+        for name in functions(src) {
+            let listed = TWINS.iter().any(|t| t.0 == f && t.1 == name);
+            let unchecked = UNCHECKED.contains(&(f, name));
             assert!(
-                TWINS.iter().any(|t| t.0 == f && t.1 == name),
-                "{f}: fn {name} has no entry in TWINS (its Rust twin and oracle)"
+                listed != unchecked,
+                "{f}: fn {name} must be in exactly one of TWINS (its Rust twin and oracle) and \
+                 UNCHECKED"
             );
         }
+    }
+    for &(f, name) in UNCHECKED {
+        assert!(declares(wgsl(f), name), "{f} declares no fn {name}");
     }
 }
 
@@ -155,6 +264,7 @@ fn the_architecture_doc_names_every_twin() {
         };
         let how = match check {
             Oracle(t) => format!("oracle, `tests/{t}`"),
+            Caller(t) => format!("through its callers, `tests/{t}`"),
             Helper => "through its callers".to_string(),
         };
         let row = format!("| `{wf}` | `{wname}` | {twin} | {how} |");

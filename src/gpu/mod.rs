@@ -14,7 +14,8 @@
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
 //! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media),
-//! `probe_light` (those of the lights and of ray intersection), `probe_hit` (a hit's surface).
+//! `probe_light` (those of the lights and of ray intersection), `probe_hit` (a hit's surface),
+//! `probe_shading` (the shading interface at a hit).
 
 pub mod bindings;
 pub mod branches;
@@ -35,6 +36,7 @@ pub mod probe;
 pub mod probe_hit;
 pub mod probe_light;
 pub mod probe_media;
+pub mod probe_shading;
 pub mod radiance_cache;
 pub mod recorder;
 pub mod renderer;

@@ -30,6 +30,11 @@ pub struct MediumCase {
     pub dir: [f32; 3],
     /// `HenyeyGreenstein::sample`'s two numbers.
     pub u_phase: [f32; 2],
+    /// The cosine `HenyeyGreenstein::eval` is asked at.
+    pub cos: f32,
+    /// `MediumInterface::after`'s interface (interior, exterior), the medium the ray was in
+    /// and the surface's normal (the ray leaves along `dir`).
+    pub interface: ([u32; 2], u32, [f32; 3]),
 }
 
 /// What the device's samplers gave for one [`MediumCase`].
@@ -43,20 +48,28 @@ pub struct MediumSample {
     pub weight: [f32; 3],
     /// The scattered direction.
     pub scattered: [f32; 3],
+    /// `hg_eval(g, cos)`.
+    pub density: f32,
+    /// `medium_interface_after` of the case's interface.
+    pub after: u32,
 }
 
-/// The device's `sample_flight` and `hg_sample` (shaders/common/medium.wgsl) with `scene`'s
-/// first medium, per case.
+/// The device's `sample_flight`, `hg_sample`, `hg_eval` and `medium_interface_after`
+/// (shaders/common/medium.wgsl) with `scene`'s first medium, per case.
 pub fn medium_samplers(
     ctx: &GpuContext,
     scene: &Scene,
     cases: &[MediumCase],
 ) -> Result<Vec<MediumSample>> {
     let n = cases.len().max(1);
-    let mut init = vec![[0f32; 4]; 4 * n];
+    let mut init = vec![[0f32; 4]; 7 * n];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.u_channel, c.u, c.t_max, c.u_phase[0]];
         init[n + i] = [c.dir[0], c.dir[1], c.dir[2], c.u_phase[1]];
+        let ([inside, outside], current, nrm) = c.interface;
+        let bits = [inside, outside, current].map(f32::from_bits);
+        init[4 * n + i] = [c.cos, bits[0], bits[1], bits[2]];
+        init[5 * n + i] = [nrm[0], nrm[1], nrm[2], 0.0];
     }
     let out = probe_cases(ctx, scene, "probe_medium", &init, n)?;
     Ok((0..cases.len())
@@ -67,6 +80,8 @@ pub fn medium_samplers(
                 in_medium: h[3] == 1.0,
                 weight: [f[0], f[1], f[2]],
                 scattered: [h[0], h[1], h[2]],
+                density: out[6 * n + i][0],
+                after: out[6 * n + i][1].to_bits(),
             }
         })
         .collect())

@@ -20,7 +20,8 @@ pub enum Kernel {
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::sobol::wgsl_library`).
     Gather,
-    /// `shaders/probes.wgsl`, `probe_light.wgsl` and `probe_geometry.wgsl`: oracle probes
+    /// `shaders/probes.wgsl`, `probe_light.wgsl`, `probe_geometry.wgsl` and
+    /// `probe_shading.wgsl`: oracle probes
     /// for tests (never used by a render).
     Probes,
 }
@@ -54,9 +55,10 @@ const GATHER: &str = include_str!("../../shaders/gather.wgsl");
 const PROBES: &str = include_str!("../../shaders/probes.wgsl");
 const PROBE_LIGHT: &str = include_str!("../../shaders/probe_light.wgsl");
 const PROBE_GEOMETRY: &str = include_str!("../../shaders/probe_geometry.wgsl");
+const PROBE_SHADING: &str = include_str!("../../shaders/probe_shading.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 33] = [
+pub const WGSL_FILES: [(&str, &str); 34] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -89,6 +91,7 @@ pub const WGSL_FILES: [(&str, &str); 33] = [
     ("probes.wgsl", PROBES),
     ("probe_light.wgsl", PROBE_LIGHT),
     ("probe_geometry.wgsl", PROBE_GEOMETRY),
+    ("probe_shading.wgsl", PROBE_SHADING),
     // The BSDF library and its oracle probe, composed by `bsdf_params::probe_source()` only.
     ("common/bsdf.wgsl", super::bsdf_params::BSDF_WGSL),
     ("common/bsdf_gltf.wgsl", super::bsdf_params::BSDF_GLTF_WGSL),
@@ -156,6 +159,7 @@ impl Kernel {
                 "probe_intersect",
                 "probe_surface",
                 "probe_hit",
+                "probe_shading",
             ],
         }
     }
@@ -212,6 +216,7 @@ impl Kernel {
                 PROBES,
                 PROBE_LIGHT,
                 PROBE_GEOMETRY,
+                PROBE_SHADING,
             ],
         };
         libs.iter()
