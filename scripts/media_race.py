@@ -38,6 +38,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from mitsuba_refs import block_rmse  # noqa: E402
 
 
 def rmse(a, b):
@@ -101,10 +103,11 @@ def race(name, spps, backend, binary, tmp):
             raw = rmse(img, reference)
             mine.append({"seed": seed, "seconds": secs, "rmse_raw": raw,
                          "rmse": without(raw, ref_noise),
+                         "block16_rmse": block_rmse(img, reference),
                          "mean_ratio": [float(img[:, :, c].mean() / reference[:, :, c].mean())
                                         for c in range(3)]})
-            print(f"  gpu-photon seed {seed}: {secs:.1f} s, RMSE {mine[-1]['rmse']:.4f}",
-                  flush=True)
+            print(f"  gpu-photon seed {seed}: {secs:.1f} s, RMSE {mine[-1]['rmse']:.4f}, "
+                  f"block16 {mine[-1]['block16_rmse']:.6f}", flush=True)
     constant = statistics.median(p["rmse"] ** 2 * p["seconds"] for p in peer)
     our_seconds = statistics.median(m["seconds"] for m in mine)
     our_rmse = statistics.mean(m["rmse"] for m in mine)
