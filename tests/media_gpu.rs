@@ -413,7 +413,7 @@ fn device_beam_estimate_equals_the_cpu_volume_map() {
             q.t_max
         };
         let m = &scene.media[q.medium as usize];
-        let want = map.beam_of(
+        let want = map.beam(
             Vec3::from(q.o),
             Vec3::from(q.d),
             t_max,

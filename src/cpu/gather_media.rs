@@ -57,12 +57,16 @@ impl Gatherer<'_> {
             true => NEAR_GATHER_FRACTION * t.min(v.exit(ray.origin, ray.dir)),
             false => 0.0,
         };
+        let which = match skip_direct {
+            true => BeamPhotons::SkipDirect,
+            false => BeamPhotons::All,
+        };
         if !(zn > 0.0 && zn.is_finite()) {
-            return l + v.beam(ray.origin, ray.dir, t, m, medium, skip_direct);
+            return l + v.beam(ray.origin, ray.dir, t, m, medium, which);
         }
         let far = ray.origin + ray.dir * zn;
-        l += m.transmittance(zn) * v.beam(far, ray.dir, t - zn, m, medium, skip_direct);
-        l += v.beam_of(ray.origin, ray.dir, zn, m, medium, BeamPhotons::Caustic);
+        l += m.transmittance(zn) * v.beam(far, ray.dir, t - zn, m, medium, which);
+        l += v.beam(ray.origin, ray.dir, zn, m, medium, BeamPhotons::Caustic);
         l + self.near_gather(ray, zn, medium, depth, rng)
     }
 

@@ -175,28 +175,6 @@ impl VolumeMap {
         sum * (3.0 / (4.0 * PI * r2 * self.radius))
     }
 
-    /// The beam radiance estimate along the segment from `o` along unit `d`, `t_max` long
-    /// (infinite allowed), in medium `medium` (index `medium_index`): the sum over photons of
-    /// that medium whose sphere the segment passes through, each at its nearest point t on
-    /// the ray, of `T(t) p(cos) power / (pi r^2)` (a disc kernel across the ray; `cos`
-    /// between the photon's travel and the way to the camera, `-d`). With `skip_direct`,
-    /// photons of depth 0 (single scattering) are left out.
-    pub fn beam(
-        &self,
-        o: Vec3,
-        d: Vec3,
-        t_max: f32,
-        medium: &Medium,
-        medium_index: u32,
-        skip_direct: bool,
-    ) -> Vec3 {
-        let which = match skip_direct {
-            true => BeamPhotons::SkipDirect,
-            false => BeamPhotons::All,
-        };
-        self.beam_of(o, d, t_max, medium, medium_index, which)
-    }
-
     /// Where the ray from `o` along unit `d` leaves the photons' bounds (0 where it never
     /// meets them).
     pub fn exit(&self, o: Vec3, d: Vec3) -> f32 {
@@ -208,8 +186,13 @@ impl VolumeMap {
         ta.max(tb).min_element().max(0.0)
     }
 
-    /// [`Self::beam`] over the photons `which` keeps.
-    pub fn beam_of(
+    /// The beam radiance estimate along the segment from `o` along unit `d`, `t_max` long
+    /// (infinite allowed), in medium `medium` (index `medium_index`): the sum over photons of
+    /// that medium whose sphere the segment passes through, each at its nearest point t on
+    /// the ray, of `T(t) p(cos) power / (pi r^2)` (a disc kernel across the ray; `cos`
+    /// between the photon's travel and the way to the camera, `-d`), over the photons
+    /// `which` keeps.
+    pub fn beam(
         &self,
         o: Vec3,
         d: Vec3,
@@ -306,7 +289,8 @@ mod tests {
     /// isotropic medium: the point estimate inside is `n phi / (4 pi)` per unit volume, and
     /// the beam estimate along a segment of length L inside is L times that (within the
     /// noise of the photons counted: about 7,000 per point query, 30,000 per beam), with
-    /// photons of another medium and depth-0 photons (`skip_direct`) left out.
+    /// photons of another medium and depth-0 photons (`BeamPhotons::SkipDirect`) left out,
+    /// or all but the caustic ones (`BeamPhotons::Caustic`).
     #[test]
     fn point_and_beam_estimates_match_a_uniform_density() {
         let (n, r, phi) = (200_000u32, 0.2f32, 1e-3f32);
@@ -323,7 +307,7 @@ mod tests {
                     (i % 10 == 9) as u32,
                     i,
                     i % 2,
-                    false,
+                    i % 3 == 0,
                 )
             })
             .collect();
@@ -348,15 +332,19 @@ mod tests {
             Vec3::new(0.25, 0.3, 0.5),
             Vec3::new(1.0, 1.0, 0.3).normalize(),
         );
-        let beam = map.beam(o, d, 0.5, &m, 0, false).x;
+        let beam = map.beam(o, d, 0.5, &m, 0, BeamPhotons::All).x;
         assert!((beam / (0.5 * density) - 1.0).abs() < 0.02, "beam {beam}");
-        let direct_left_out = map.beam(o, d, 0.5, &m, 0, true).x;
+        let direct_left_out = map.beam(o, d, 0.5, &m, 0, BeamPhotons::SkipDirect).x;
         // Of medium 0's photons (i mod 10 in 0..9), those with odd i are of depth 1: 4 in 9.
         let want = 0.5 * density * 4.0 / 9.0;
         assert!(
             (direct_left_out / want - 1.0).abs() < 0.03,
             "{direct_left_out} vs {want}"
         );
+        // A third of them are caustic (L S+ V) photons.
+        let caustic = map.beam(o, d, 0.5, &m, 0, BeamPhotons::Caustic).x;
+        let want = 0.5 * density / 3.0;
+        assert!((caustic / want - 1.0).abs() < 0.04, "{caustic} vs {want}");
         // Outside the photons' bounds: nothing.
         assert_eq!(map.point(Vec3::splat(2.0), Vec3::Z, &m, 0), Vec3::ZERO);
     }
