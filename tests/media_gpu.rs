@@ -267,7 +267,7 @@ fn photon_case(r: &mut common::TestRng, i: usize) -> (u32, u32, u32) {
 /// power of two, corners on multiples of 1/8: every step exact, so both sides' floors must
 /// agree on the boundary) and the float just below it (the cell before).
 fn cell_case(r: &mut common::TestRng, i: usize) -> ([f32; 3], [f32; 3], f32) {
-    if i % 4 != 0 {
+    if !i.is_multiple_of(4) {
         let x = [0; 3].map(|_| r.range(-3.0, 3.0));
         let lo = [0; 3].map(|_| r.range(-2.0, 0.0));
         return (x, lo, r.range(0.05, 1.0));
@@ -276,7 +276,7 @@ fn cell_case(r: &mut common::TestRng, i: usize) -> ([f32; 3], [f32; 3], f32) {
     let lo = [0; 3].map(|_| (r.next_u64() % 17) as f32 / 8.0 - 1.0);
     let x = [0, 1, 2].map(|k| {
         let on = lo[k] + cell * ((r.next_u64() % 13) as f32 - 6.0);
-        if i % 8 == 0 {
+        if i.is_multiple_of(8) {
             on
         } else {
             on.next_down()
