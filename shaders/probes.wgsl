@@ -83,7 +83,11 @@ fn probe_env(@builtin(global_invocation_id) gid: vec3<u32>) {
 // accum[2 width + i] and (hg_sample(g, dir, u1, u2), 1 when the flight ended in the medium)
 // to accum[3 width + i]; with (c, interior, exterior, current as bits) = accum[4 width + i]
 // and n = accum[5 width + i].xyz, writes (hg_eval(g, c), medium_interface_after((interior,
-// exterior), current, n, dir) as bits) to accum[6 width + i].
+// exterior), current, n, dir) as bits) to accum[6 width + i]; with (flags, drop, id, light)
+// = accum[7 width + i] as bits, (x, cell) = accum[8 width + i] and (lo, material as bits) =
+// accum[9 width + i], writes (keep_photon, is_cache_point as 0/1, medium_after at a hit of
+// that material with normal n, light_medium of that light emitting along dir with normal n,
+// as bits) to accum[10 width + i] and volume_cell(x, lo, cell) as bits to accum[11 width + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -98,6 +102,20 @@ fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let iface = bitcast<vec2<u32>>(c.yz);
     let after = medium_interface_after(iface, bitcast<u32>(c.w), accum[slot(5u, i)].xyz, b.xyz);
     accum[slot(6u, i)] = vec4<f32>(hg_eval(m.g, c.x), bitcast<f32>(after), 0.0, 0.0);
+    let k = bitcast<vec4<u32>>(accum[slot(7u, i)]);
+    let x = accum[slot(8u, i)];
+    let lo = accum[slot(9u, i)];
+    let n = accum[slot(5u, i)].xyz;
+    let material = bitcast<u32>(lo.w);
+    let hit = Hit(1.0, vec3<f32>(0.0), n, n, material, NO_LIGHT, vec2<f32>(0.0), true);
+    let e = Emission(vec3<f32>(0.0), b.xyz, n, vec3<f32>(1.0));
+    let keep = select(0.0, 1.0, keep_photon(k.x, k.y));
+    let cache_point = select(0.0, 1.0, is_cache_point(k.x, k.z));
+    let after_hit = medium_after(hit, bitcast<u32>(c.w), b.xyz);
+    let emitted = light_medium(load_light(k.w), e);
+    let media = bitcast<vec2<f32>>(vec2<u32>(after_hit, emitted));
+    accum[slot(10u, i)] = vec4<f32>(keep, cache_point, media);
+    accum[slot(11u, i)] = vec4<f32>(bitcast<vec3<f32>>(volume_cell(x.xyz, lo.xyz, x.w)), 0.0);
 }
 
 // probe_beam: the volume map's beam estimate for query i < width: (o, t_max) = accum[i],

@@ -1,22 +1,31 @@
 //! Participating media on the GPU backend (issue 24) against the CPU's twins: the free-flight
 //! and Henyey-Greenstein samplers on the same random numbers, the phase density (`hg_eval`,
-//! 1e-5 relative) and the interface rule (`medium_interface_after`, exactly), and photon
-//! tracing through fog
+//! 1e-5 relative) and the interface rule (`medium_interface_after`, exactly), the media of
+//! a path after a surface and at its light (`medium_after`, `light_medium`) and the grid's
+//! rules (`keep_photon`, `is_cache_point`, `volume_cell`) exactly, and photon tracing
+//! through fog
 //! (the same paths, by the shared random-number streams, so the same volume photons and the
 //! same power where they go). Tests that need a device skip without one (CI has lavapipe).
 
 mod common;
 
 use common::gpu;
-use glam::Vec3;
-use gpu_photon::bvh::Bvh;
+use glam::{Vec2, Vec3};
+use gpu_photon::bvh::{Bvh, Hit};
+use gpu_photon::cpu::cache::is_cache_point;
+use gpu_photon::cpu::media::{light_medium, medium_after};
 use gpu_photon::cpu::photons::{trace_map, TraceContext, Traced};
-use gpu_photon::gpu::probe_media::{medium_samplers, trace_photons, MediumCase, TracedPhotons};
-use gpu_photon::light::LightTable;
+use gpu_photon::cpu::volume_map::volume_cell;
+use gpu_photon::gpu::codes::{DROP_CAUSTIC, DROP_DIRECT};
+use gpu_photon::gpu::host::drop_flags;
+use gpu_photon::gpu::probe_media::{
+    medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons,
+};
+use gpu_photon::light::{Emission, LightTable};
 use gpu_photon::medium::{MediumInterface, NO_MEDIUM};
-use gpu_photon::photon::Photon;
-use gpu_photon::plan::MapPlan;
-use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::photon::{Photon, DEPTH_MASK, FLAG_CAUSTIC};
+use gpu_photon::plan::{MapPlan, StoreFilter};
+use gpu_photon::scene::{load_str, Scene, NO_LIGHT};
 use gpu_photon::settings::RenderSettings;
 use std::collections::HashMap;
 use std::path::Path;
@@ -32,7 +41,56 @@ fn the_boundary_crossing_bound_is_the_cpus() {
 /// A closed box of grey walls with a light under its ceiling, filled with fog of `albedo`
 /// and `sigma_t` (coloured: each channel's flights differ) and phase `g`.
 fn fog_box(sigma_t: [f32; 3], albedo: f32, g: f32) -> Scene {
-    let text = format!(
+    load_str(
+        &fog_box_text(sigma_t, albedo, g),
+        "box.toml",
+        Path::new("."),
+    )
+    .expect("the fog box loads")
+}
+
+/// Media bounded by surfaces and lights, for the fog box: a second medium inside a glass
+/// sphere (fog outside), a sphere light and a quad light holding it, a point light in the
+/// fog (the camera's medium).
+const BOUNDED_MEDIA: &str = r#"
+[media.juice]
+sigma_t = [1, 2, 4]
+albedo = 0.5
+
+[materials.glass]
+type = "glass"
+ior = 1.5
+
+[[shapes]]
+type = "sphere"
+center = [0.5, -0.5, 0]
+radius = 0.2
+material = "glass"
+interior = "juice"
+exterior = "fog"
+
+[[shapes]]
+type = "sphere"
+center = [-0.5, -0.5, 0]
+radius = 0.1
+emission = [1, 1, 1]
+interior = "juice"
+
+[[shapes]]
+type = "quad"
+corners = [[-0.2, -0.9, -0.2], [0.2, -0.9, -0.2], [0.2, -0.9, 0.2], [-0.2, -0.9, 0.2]]
+emission = [1, 1, 1]
+interior = "juice"
+
+[[lights]]
+type = "point"
+position = [0, 0.5, 0]
+intensity = [1, 1, 1]
+"#;
+
+/// The fog box's scene text.
+fn fog_box_text(sigma_t: [f32; 3], albedo: f32, g: f32) -> String {
+    format!(
         r#"
 [camera]
 eye = [0, 0, 0.5]
@@ -67,14 +125,14 @@ corners = [[-0.2, 0.95, -0.2], [0.2, 0.95, -0.2], [0.2, 0.95, 0.2], [-0.2, 0.95,
 emission = [5, 5, 5]
 "#,
         sigma_t[0], sigma_t[1], sigma_t[2]
-    );
-    load_str(&text, "box.toml", Path::new(".")).expect("the fog box loads")
+    )
 }
 
 #[test]
 fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
     let Some(ctx) = gpu() else { return };
-    let scene = fog_box([0.3, 1.0, 0.0], 0.8, 0.6);
+    let text = fog_box_text([0.3, 1.0, 0.0], 0.8, 0.6) + BOUNDED_MEDIA;
+    let scene = load_str(&text, "media.toml", Path::new(".")).unwrap();
     let m = scene.media[0];
     let mut r = common::TestRng(11);
     let cases: Vec<MediumCase> = (0..2000)
@@ -99,6 +157,12 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
                 [0, 1].map(|_| [NO_MEDIUM, 0, 1][(r.f32() * 3.0) as usize]),
                 [NO_MEDIUM, 0][i % 2],
                 r.dir().to_array(),
+            ),
+            photon: photon_case(&mut r, i),
+            cell: cell_case(&mut r, i),
+            material_light: (
+                r.next_u64() as u32 % scene.materials.len() as u32,
+                (i % scene.lights.len()) as u32,
             ),
         })
         .collect();
@@ -135,9 +199,90 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
         let iface = MediumInterface { interior, exterior };
         let want = iface.after(current, Vec3::from(n), d);
         assert_eq!(g.after, want, "{c:?}: medium_interface_after");
+        // The grid's rules, exactly (integers and bools).
+        let (flags, id, drop) = c.photon;
+        let p = Photon {
+            flags,
+            id,
+            ..Default::default()
+        };
+        let filter = StoreFilter {
+            drop_direct: drop & DROP_DIRECT != 0,
+            drop_caustic: drop & DROP_CAUSTIC != 0,
+        };
+        assert_eq!(drop_flags(filter), drop);
+        assert_eq!(g.keep, filter.keeps(&p), "{c:?}: keep_photon");
+        assert_eq!(g.cache_point, is_cache_point(&p), "{c:?}: is_cache_point");
+        let (x, lo, cell) = c.cell;
+        let want = volume_cell(Vec3::from(x), Vec3::from(lo), cell).to_array();
+        assert_eq!(g.cell, want, "{c:?}: volume_cell");
+        // Which medium a path is in after a surface and when it leaves a light, exactly.
+        let (material, light) = c.material_light;
+        let hit = Hit {
+            t: 1.0,
+            position: Vec3::ZERO,
+            normal: Vec3::from(n),
+            shading: Vec3::from(n),
+            material,
+            light: NO_LIGHT,
+            uv: Vec2::ZERO,
+        };
+        let want = medium_after(&scene, &hit, current, d);
+        assert_eq!(g.medium_after, want, "{c:?}: medium_after");
+        let e = Emission {
+            origin: Vec3::ZERO,
+            dir: d,
+            normal: Vec3::from(n),
+            scale: Vec3::ONE,
+        };
+        let want = light_medium(&scene, light as usize, &e);
+        assert_eq!(g.light_medium, want, "{c:?}: light_medium");
     }
     // Both kinds of flight ends occurred.
     assert!(got.iter().any(|g| g.in_medium) && got.iter().any(|g| !g.in_medium));
+    // Each rule took each of its answers: kept and dropped, cache points and others, every
+    // medium after a surface and at a light (none, the fog, the juice).
+    let all = |f: &dyn Fn(&MediumSample) -> u32| -> Vec<u32> {
+        let mut v: Vec<u32> = got.iter().map(f).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    assert_eq!(all(&|g| g.keep as u32), [0, 1]);
+    assert_eq!(all(&|g| g.cache_point as u32), [0, 1]);
+    assert_eq!(all(&|g| g.medium_after), [0, 1, NO_MEDIUM]);
+    assert_eq!(all(&|g| g.light_medium), [0, 1, NO_MEDIUM]);
+}
+
+/// A photon's (flags, id) and a map's drop flags: depths 0 to 3 and the deepest, caustic or
+/// not, every filter.
+fn photon_case(r: &mut common::TestRng, i: usize) -> (u32, u32, u32) {
+    let depth = [0, 1, 2, 3, DEPTH_MASK][r.next_u64() as usize % 5];
+    let caustic = if r.f32() < 0.5 { FLAG_CAUSTIC } else { 0 };
+    let drop = [0, DROP_DIRECT, DROP_CAUSTIC, DROP_DIRECT | DROP_CAUSTIC][i % 4];
+    (depth | caustic, r.next_u64() as u32, drop)
+}
+
+/// A point, a grid corner and a cell edge: random, or a cell corner exactly (edges of a
+/// power of two, corners on multiples of 1/8: every step exact, so both sides' floors must
+/// agree on the boundary) and the float just below it (the cell before).
+fn cell_case(r: &mut common::TestRng, i: usize) -> ([f32; 3], [f32; 3], f32) {
+    if !i.is_multiple_of(4) {
+        let x = [0; 3].map(|_| r.range(-3.0, 3.0));
+        let lo = [0; 3].map(|_| r.range(-2.0, 0.0));
+        return (x, lo, r.range(0.05, 1.0));
+    }
+    let cell = [0.25, 0.5, 1.0][r.next_u64() as usize % 3];
+    let lo = [0; 3].map(|_| (r.next_u64() % 17) as f32 / 8.0 - 1.0);
+    let x = [0, 1, 2].map(|k| {
+        let on = lo[k] + cell * ((r.next_u64() % 13) as f32 - 6.0);
+        if i.is_multiple_of(8) {
+            on
+        } else {
+            on.next_down()
+        }
+    });
+    (x, lo, cell)
 }
 
 /// The CPU's traced photons of the plan's global map (and its volume photons).

@@ -25,6 +25,13 @@ pub const PHOTONS_PER_CELL: f32 = 16.0;
 /// Marks an empty slot of the cell table.
 const EMPTY: u64 = u64::MAX;
 
+/// The cell of point `x` in a grid of cells of edge `cell` from corner `lo` (the device's
+/// `volume_cell` in shaders/common/grid.wgsl).
+#[inline]
+pub fn volume_cell(x: Vec3, lo: Vec3, cell: f32) -> IVec3 {
+    ((x - lo) / cell).floor().as_ivec3()
+}
+
 /// Volume photons in a hashed grid of photon lists.
 pub struct VolumeMap {
     /// The photons.
@@ -119,7 +126,7 @@ impl VolumeMap {
     }
 
     fn cell_coords(&self, x: Vec3) -> IVec3 {
-        ((x - self.lo) / self.cell).floor().as_ivec3()
+        volume_cell(x, self.lo, self.cell)
     }
 
     /// The photons listed in cell `c`.

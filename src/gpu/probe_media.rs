@@ -1,5 +1,6 @@
 //! Oracle probes of participating media (issue 24): the free-flight and Henyey-Greenstein
-//! samplers on chosen random numbers (`probe_medium` in shaders/probes.wgsl), one pass's
+//! samplers on chosen random numbers with the interface, photon-filter, cache-point and
+//! volume-cell rules on chosen inputs (`probe_medium` in shaders/probes.wgsl), one pass's
 //! photon tracing read back (surface maps and volume photons), the volume grid's build over
 //! uploaded photons, its beam estimate and the shadow walk's transmittance, for
 //! tests/media_gpu.rs to compare with their Rust twins.
@@ -35,6 +36,15 @@ pub struct MediumCase {
     /// `MediumInterface::after`'s interface (interior, exterior), the medium the ray was in
     /// and the surface's normal (the ray leaves along `dir`).
     pub interface: ([u32; 2], u32, [f32; 3]),
+    /// A photon's flags and id, and a map's `MapParams.drop_flags` (`keep_photon`,
+    /// `is_cache_point`).
+    pub photon: (u32, u32, u32),
+    /// A point, a grid's corner and its cell edge (`volume_cell`).
+    pub cell: ([f32; 3], [f32; 3], f32),
+    /// A material of the scene (`medium_after` at a hit of it with the interface's normal,
+    /// current medium and `dir`) and a light of the scene (`light_medium` of an emission
+    /// along `dir` with that normal).
+    pub material_light: (u32, u32),
 }
 
 /// What the device's samplers gave for one [`MediumCase`].
@@ -52,17 +62,29 @@ pub struct MediumSample {
     pub density: f32,
     /// `medium_interface_after` of the case's interface.
     pub after: u32,
+    /// `keep_photon(flags, drop)`.
+    pub keep: bool,
+    /// `is_cache_point(flags, id)`.
+    pub cache_point: bool,
+    /// `volume_cell(x, lo, cell)`.
+    pub cell: [i32; 3],
+    /// `medium_after` at a hit of the case's material.
+    pub medium_after: u32,
+    /// `light_medium` of the case's light.
+    pub light_medium: u32,
 }
 
-/// The device's `sample_flight`, `hg_sample`, `hg_eval` and `medium_interface_after`
-/// (shaders/common/medium.wgsl) with `scene`'s first medium, per case.
+/// The device's `sample_flight`, `hg_sample`, `hg_eval`, `medium_interface_after`,
+/// `medium_after` and `light_medium` (shaders/common/medium.wgsl) with `scene`'s first
+/// medium, materials and lights, and `keep_photon`, `is_cache_point` and `volume_cell`
+/// (shaders/common/grid.wgsl), per case.
 pub fn medium_samplers(
     ctx: &GpuContext,
     scene: &Scene,
     cases: &[MediumCase],
 ) -> Result<Vec<MediumSample>> {
     let n = cases.len().max(1);
-    let mut init = vec![[0f32; 4]; 7 * n];
+    let mut init = vec![[0f32; 4]; 12 * n];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.u_channel, c.u, c.t_max, c.u_phase[0]];
         init[n + i] = [c.dir[0], c.dir[1], c.dir[2], c.u_phase[1]];
@@ -70,6 +92,12 @@ pub fn medium_samplers(
         let bits = [inside, outside, current].map(f32::from_bits);
         init[4 * n + i] = [c.cos, bits[0], bits[1], bits[2]];
         init[5 * n + i] = [nrm[0], nrm[1], nrm[2], 0.0];
+        let (flags, id, drop) = c.photon;
+        let (material, light) = c.material_light;
+        init[7 * n + i] = [flags, drop, id, light].map(f32::from_bits);
+        let (x, lo, cell) = c.cell;
+        init[8 * n + i] = [x[0], x[1], x[2], cell];
+        init[9 * n + i] = [lo[0], lo[1], lo[2], f32::from_bits(material)];
     }
     let out = probe_cases(ctx, scene, "probe_medium", &init, n)?;
     Ok((0..cases.len())
@@ -82,6 +110,11 @@ pub fn medium_samplers(
                 scattered: [h[0], h[1], h[2]],
                 density: out[6 * n + i][0],
                 after: out[6 * n + i][1].to_bits(),
+                keep: out[10 * n + i][0] == 1.0,
+                cache_point: out[10 * n + i][1] == 1.0,
+                medium_after: out[10 * n + i][2].to_bits(),
+                light_medium: out[10 * n + i][3].to_bits(),
+                cell: [0, 1, 2].map(|k| out[11 * n + i][k].to_bits() as i32),
             }
         })
         .collect())
