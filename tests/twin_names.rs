@@ -33,7 +33,7 @@ const NOT_YET_LISTED: &[(&str, &str)] = &[];
 /// Functions of the listed libraries that no oracle compares yet, themselves or through a
 /// caller (only photon paths or images exercise them, or nothing calls them): (WGSL file,
 /// function). A function added without an oracle goes here until it has one.
-const UNCHECKED: &[(&str, &str)] = &[("common/bsdf_dispatch.wgsl", "bsdf_eval_cos")];
+const UNCHECKED: &[(&str, &str)] = &[];
 
 /// (WGSL file under shaders/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]

@@ -27,9 +27,6 @@ fn bsdf_lobe_is_delta(b: BsdfParams) -> bool {
 fn bsdf_eval(b: BsdfParams, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> vec3<f32> {
     return bsdf_diffuse_value(b, wi, wo) + bsdf_eval_lobe(b, wi, wo, radiance);
 }
-fn bsdf_eval_cos(b: BsdfParams, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> vec3<f32> {
-    return bsdf_eval(b, wi, wo, radiance) * abs(wi.z);
-}
 fn bsdf_pdf(b: BsdfParams, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     if b.kind == BSDF_DIFFUSE || bsdf_is_plastic(b) || b.kind == BSDF_GLTF {
         let fr = to_front(wi, wo);
