@@ -132,7 +132,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
                 // before the camera path traces it, as on the CPU).
                 var near = !hit.found;
                 if hit.found {
-                    near = surface_class(bsdf_at(hit)) == CLASS_SHADED;
+                    near = material_class(load_material(hit.material).kind) == CLASS_SHADED;
                 }
                 let sl = in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, near, *depth, rng);
                 end.emitted += *t * sl.l;

@@ -26,7 +26,8 @@ use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
 use crate::settings::{RenderSettings, Sampler};
 use crate::shading::{
-    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass, GLASS_SPLIT_DEPTH,
+    bsdf_at, class_of, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
+    GLASS_SPLIT_DEPTH,
 };
 use crate::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LENS,
@@ -140,9 +141,9 @@ impl Gatherer<'_> {
         let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
         // The near part's gather ray runs where nothing else draws numbers before the next
         // shading (the GPU's camera path takes it after its chain of mirrors and glass).
-        let near = hit
-            .as_ref()
-            .is_none_or(|h| bsdf_at(self.scene, h).class() == SurfaceClass::Shaded);
+        let near = hit.as_ref().is_none_or(|h| {
+            class_of(self.scene.materials[h.material as usize].kind) == SurfaceClass::Shaded
+        });
         let scattered = self.in_scattered(
             ray,
             t,
