@@ -80,20 +80,23 @@ struct SurfacePoint {
 }
 
 // The light that owns photon path i of the global map (or the caustic map): the last light
-// whose budget range [offset, offset + count) holds i, light 0 when none does (twin of
-// Budget::light_of; the lights' ranges are consecutive, so at most one holds i). A linear
-// scan bounded by n_lights: scenes have few lights.
+// whose budget offset is at most i, by binary search over the offsets (word 4 of a Light:
+// area, global offset, count, caustic offset), bounded by 32 steps; twin of Budget::light_of.
+// The lights' ranges are consecutive, so below the total it is the light whose range holds i
+// (one without paths shares the next one's offset).
 fn light_of(i: u32, caustic_map: bool) -> u32 {
-    var li = 0u;
-    for (var l = 0u; l < params.n_lights && spend(); l += 1u) {
-        let lt = load_light(l);
-        let off = select(lt.global_offset, lt.caustic_offset, caustic_map);
-        let cnt = select(lt.global_count, lt.caustic_count, caustic_map);
-        if i >= off && i < off + cnt {
-            li = l;
+    var lo = 0u;
+    var hi = params.n_lights;
+    for (var step = 0u; step < 32u && lo < hi && spend(); step += 1u) {
+        let mid = (lo + hi) / 2u;
+        let words = lights[LIGHT_WORDS * mid + 4u];
+        if select(words.y, words.w, caustic_map) <= i {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
         }
     }
-    return li;
+    return max(lo, 1u) - 1u;
 }
 
 // Triangle of light l by area: binary search of its CDF (bounded by 32 steps).
