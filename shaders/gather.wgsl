@@ -2,7 +2,7 @@
 // and glass chain (glass hits split as on the CPU, one branch deferred: glass_branches.wgsl),
 // then at diffuse and glossy hits the maps' estimate, shadow rays, final-gather rays into
 // radiance_cache.wgsl and the glossy lobe. One invocation per pixel of a band of rows for a
-// sample (gather) or for one round of its deferred glass branches (gather_branches).
+// sample (gather), or per listed pixel for a round of its deferred glass branches.
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -409,32 +409,48 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let l = camera_sample(gid.x, py, &rng, camera_sobol(gid.x, py), &first_shade);
     if GLASS_SPLIT {
         save_branches(rng, first_shade);
+        queue_pixel(0u);
+        if all(gid.xy == vec2<u32>(0u)) {
+            queue_reset(0u);
+        }
     }
     let i = py * params.width + gid.x;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
 }
 
-// A round of the sample's glass branches (dispatched after gather, 2^GLASS_SPLIT_DEPTH - 1
-// rounds at most): each invocation pops its pixel's last pending branch, if any, and traces
-// it to its end with the RNG where the previous path left it (the CPU's depth-first order).
-@compute @workgroup_size(GATHER_TILE, GATHER_TILE)
-fn gather_branches(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let py = gid.y + params.first_row;
-    if !GLASS_SPLIT || gid.x >= params.width || py >= params.height {
+// A round of the sample's glass branches, the sample's dispatch params.branch_round (1 to
+// 2^GLASS_SPLIT_DEPTH - 1 after gather): invocation k takes the k-th pixel the dispatch before
+// listed, pops its last pending branch and traces it to its end with the RNG where the
+// previous path left it (the CPU's depth-first order). Dispatch: one invocation per pixel of
+// the band, WG_SIZE-wide workgroups (2D when many); those past the listed pixels return.
+@compute @workgroup_size(WG_SIZE)
+fn gather_branches(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let dispatch = params.branch_round;
+    let k = gid.x + gid.y * nwg.x * WG_SIZE;
+    if !GLASS_SPLIT || dispatch == 0u {
         return;
     }
-    stack_at = gid.y * params.width + gid.x;
-    n_branches = branch_stacks[stack_at].n;
+    if k == 0u {
+        queue_reset(dispatch);
+    }
+    if !queued_pixel(dispatch - 1u, k) {
+        return;
+    }
+    n_branches = branch_stacks.stacks[stack_at].n;
     if n_branches == 0u {
         return;
     }
+    let px = stack_at % params.width;
+    let py = stack_at / params.width + params.first_row;
     n_branches -= 1u;
-    let b = branch_stacks[stack_at].b[n_branches];
-    var rng = camera_rng(gid.x, py);
-    rng.dim = branch_stacks[stack_at].rng_dim;
-    var first_shade = branch_stacks[stack_at].first_shade != 0u;
-    let l = camera_path(b.o, b.d, b.t, b.depth, b.medium, &rng, camera_sobol(gid.x, py), &first_shade);
+    let b = branch_stacks.stacks[stack_at].b[n_branches];
+    let resume = branch_stacks.stacks[stack_at].resume;
+    var rng = camera_rng(px, py);
+    rng.dim = resume & ~BRANCH_SOBOL_UNUSED;
+    var first_shade = (resume & BRANCH_SOBOL_UNUSED) != 0u;
+    let l = camera_path(b.o, b.d, b.t, b.depth, b.medium, &rng, camera_sobol(px, py), &first_shade);
     save_branches(rng, first_shade);
-    let i = py * params.width + gid.x;
+    queue_pixel(dispatch);
+    let i = py * params.width + px;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
 }

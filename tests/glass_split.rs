@@ -140,7 +140,7 @@ fn the_gpu_splits_glass_hits_as_the_cpu_does() {
 /// for bit, as in one band (here three bands of one tile of rows each).
 #[test]
 fn gpu_bands_of_rows_give_the_same_image() {
-    use gpu_photon::gpu::branches::STACK_BYTES;
+    use gpu_photon::gpu::branches::stacks_bytes;
     use gpu_photon::gpu::run::GpuRun;
     use gpu_photon::report::RenderReport;
     let Some(ctx) = common::gpu() else { return };
@@ -165,7 +165,7 @@ fn gpu_bands_of_rows_give_the_same_image() {
     };
     let (one, rows) = render_with(u64::MAX);
     assert_eq!(rows, s.height);
-    let (banded, rows) = render_with(STACK_BYTES * s.width as u64 * tile as u64);
+    let (banded, rows) = render_with(stacks_bytes(s.width as u64 * tile as u64));
     assert_eq!(rows, tile);
     assert!(rows < s.height, "tile {tile}: one band");
     assert!(one.pixels == banded.pixels, "the bands changed the image");

@@ -192,14 +192,11 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             fields!(GpuParams: eye, width, forward, height, right, spp, up, sample, seed, pass_index, k,
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
                 n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
-                aperture_radius, focus_distance, camera_medium, first_row, _pad),
+                aperture_radius, focus_distance, camera_medium, first_row, branch_round, _pad),
         ),
         ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, _pad)),
         ("Branch", fields!(GpuBranch: o, depth, d, medium, t, _pad)),
-        (
-            "BranchStack",
-            fields!(GpuBranchStack: n, rng_dim, first_shade, _pad, b),
-        ),
+        ("BranchStack", fields!(GpuBranchStack: n, resume, queue, b)),
         (
             "MapParams",
             fields!(GpuMapParams: stream, paths, capacity, table_size, cell_size, is_caustic, drop_flags, radius2, k, storing_area, max_power, volume_flags),

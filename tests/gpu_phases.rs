@@ -153,7 +153,7 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
 #[test]
 fn only_glass_scenes_get_the_glass_rounds() {
     let Some(ctx) = gpu() else { return };
-    use gpu_photon::gpu::branches::STACK_BYTES;
+    use gpu_photon::gpu::branches::stacks_bytes;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let s = RenderSettings {
         width: 8,
@@ -177,7 +177,7 @@ fn only_glass_scenes_get_the_glass_rounds() {
         let run = gpu_photon::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
         assert_eq!(run.pipelines.gather_branches.is_some(), glass, "{file}");
         let stacks = if glass { 8 * 8 } else { 1 };
-        assert_eq!(run.branch_stacks.size(), stacks * STACK_BYTES, "{file}");
+        assert_eq!(run.branch_stacks.size(), stacks_bytes(stacks), "{file}");
     }
 }
 

@@ -155,7 +155,10 @@ struct Params {
     camera_medium: u32,
     // The first image row of the band this dispatch gathers (rows of the glass branch stacks).
     first_row: u32,
-    _pad: array<u32, 3>,
+    // Which of a sample's gather dispatches this is: 0 the gather, r + 1 its round r of glass
+    // branches (glass_branches.wgsl's queue).
+    branch_round: u32,
+    _pad: array<u32, 2>,
 }
 
 // A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).
@@ -199,14 +202,14 @@ struct Branch {
 }
 
 // One pixel's pending branches, last in first out, and what its sample's next path resumes
-// with (twin of GpuBranchStack): the RNG's next dimension and whether the Sobol point is still
-// unused (0 or 1; the first shaded hit takes it). Those pending at once come from splits on one
-// path's way back to the camera, each at its own depth < GLASS_SPLIT_DEPTH, so
-// GLASS_SPLIT_DEPTH slots suffice.
+// with (twin of GpuBranchStack): `resume` is the RNG's next dimension, with BRANCH_SOBOL_UNUSED
+// set while the Sobol point is (the first shaded hit takes it). Those pending at once come from
+// splits on one path's way back to the camera, each at its own depth < GLASS_SPLIT_DEPTH, so
+// GLASS_SPLIT_DEPTH slots suffice. `queue[l]`: entry i of the branch queue's list l (the i-th
+// pixel listed, not this one: glass_branches.wgsl).
 struct BranchStack {
     n: u32,
-    rng_dim: u32,
-    first_shade: u32,
-    _pad: u32,
+    resume: u32,
+    queue: array<u32, 2>,
     b: array<Branch, GLASS_SPLIT_DEPTH>,
 }

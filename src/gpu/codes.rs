@@ -317,6 +317,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("BOUNCE_LOBE", U32(BOUNCE_LOBE)),
         ("BOUNCE_DELTA", U32(BOUNCE_DELTA)),
         ("GLASS_SPLIT_DEPTH", U32(crate::shading::GLASS_SPLIT_DEPTH)),
+        ("BRANCH_LISTS", U32(crate::gpu::branches::BRANCH_LISTS)),
+        (
+            "BRANCH_SOBOL_UNUSED",
+            U32(crate::gpu::branches::SOBOL_UNUSED),
+        ),
         ("TERM_DIRECT", U32(TERM_DIRECT)),
         ("TERM_POINT_LOBE", U32(TERM_POINT_LOBE)),
         ("TERM_LOBE_RAY", U32(TERM_LOBE_RAY)),

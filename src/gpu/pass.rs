@@ -5,7 +5,7 @@
 //! read back once, when the pass ends.
 
 use super::branches::ROUNDS;
-use super::buffers::{empty_buffer, read_back, wait};
+use super::buffers::{empty_buffer, grid_2d, read_back, wait};
 use super::codes::STATS_LEN;
 use super::host::{batch_pass, batch_settings, MAX_BATCHES, PARAMS_STRIDE};
 use super::maps::MapBuffers;
@@ -143,10 +143,10 @@ impl GpuRun {
     }
 
     /// Records gathering every camera sample of `s` over the maps into `accum` in
-    /// `enc`: each band's and sample's parameters in its slot (written before the
+    /// `enc`: each band's, sample's and dispatch's parameters in its slot (written before the
     /// submission), then per band of rows and sample one `gather` dispatch and, where the
-    /// scene splits at glass, `branches::ROUNDS` rounds of `gather_branches` (an invocation
-    /// whose pixel has no branch left returns at once).
+    /// scene splits at glass, `branches::ROUNDS` rounds of `gather_branches`, each with one
+    /// invocation per pixel of the band (those past the pixels the queue lists return).
     fn record_gather(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -160,18 +160,24 @@ impl GpuRun {
         let rows = self.band_rows.max(1);
         let bands = s.height.div_ceil(rows).max(1);
         let (wx, wy) = (s.width.div_ceil(tile), rows.min(s.height).div_ceil(tile));
-        let mut slots = vec![0u8; (PARAMS_STRIDE * (bands * s.spp) as u64) as usize];
+        let rounds = self.pipelines.gather_branches.as_ref();
+        let dispatches = if rounds.is_some() { 1 + ROUNDS } else { 1 };
+        let mut slots = vec![0u8; (PARAMS_STRIDE * (bands * s.spp * dispatches) as u64) as usize];
         for band in 0..bands {
             for sample in 0..s.spp {
-                let p = GpuParams {
-                    sample,
-                    caustic_weight: caustic_weight(s.spp, s.caustic_every, sample),
-                    first_row: band * rows,
-                    ..self.params
-                };
-                let at = (PARAMS_STRIDE * (band * s.spp + sample) as u64) as usize;
-                slots[at..at + std::mem::size_of::<GpuParams>()]
-                    .copy_from_slice(bytemuck::bytes_of(&p));
+                for round in 0..dispatches {
+                    let p = GpuParams {
+                        sample,
+                        caustic_weight: caustic_weight(s.spp, s.caustic_every, sample),
+                        first_row: band * rows,
+                        branch_round: round,
+                        ..self.params
+                    };
+                    let slot = (band * s.spp + sample) * dispatches + round;
+                    let at = (PARAMS_STRIDE * slot as u64) as usize;
+                    slots[at..at + std::mem::size_of::<GpuParams>()]
+                        .copy_from_slice(bytemuck::bytes_of(&p));
+                }
             }
         }
         ctx.queue
@@ -181,15 +187,18 @@ impl GpuRun {
             timestamp_writes: None,
         });
         cp.set_bind_group(1, &gather_bg, &[]);
-        for slot in 0..bands * s.spp {
-            let offset = (PARAMS_STRIDE * slot as u64) as u32;
-            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset]);
+        let band_pixels = s.width * rows.min(s.height);
+        let (rx, ry) = grid_2d(band_pixels.div_ceil(ctx.shape.wg_size));
+        for slot in (0..bands * s.spp).map(|i| i * dispatches) {
+            let offset = |round: u32| (PARAMS_STRIDE * (slot + round) as u64) as u32;
+            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset(0)]);
             cp.set_pipeline(&self.pipelines.gather);
             cp.dispatch_workgroups(wx, wy, 1);
-            if let Some(rounds) = &self.pipelines.gather_branches {
+            if let Some(rounds) = rounds {
                 cp.set_pipeline(rounds);
-                for _ in 0..ROUNDS {
-                    cp.dispatch_workgroups(wx, wy, 1);
+                for round in 1..dispatches {
+                    cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset(round)]);
+                    cp.dispatch_workgroups(rx, ry, 1);
                 }
             }
         }

@@ -3,7 +3,7 @@
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
 use super::bindings::{bind_group, Layouts, GATHER_GROUP, MAP_SLOTS};
-use super::branches::{band_rows, stack_buffer};
+use super::branches::{band_rows, stack_buffer, BRANCH_LISTS};
 use super::buffers::{cache_buffers, empty_buffer};
 use super::codes::SCAN_BLOCK;
 use super::context::GpuContext;
@@ -166,7 +166,8 @@ impl GpuRun {
 
     /// Whether the scene splits camera paths at glass, the gather's rows per band (the whole
     /// image but where the glass branch stacks would exceed `stack_bytes`) and the
-    /// parameter slots a pass of `s` needs (one per sample and band).
+    /// parameter slots a pass of `s` needs (one per sample and band, and with glass one per
+    /// sample's dispatch: the gather and its rounds).
     fn bands(
         ctx: &GpuContext,
         scene: &Scene,
@@ -178,7 +179,8 @@ impl GpuRun {
             return (false, s.height.max(1), s.spp.max(1));
         }
         let rows = band_rows(s.width, s.height, ctx.shape.gather_tile, stack_bytes);
-        (true, rows, s.spp.max(1) * s.height.div_ceil(rows).max(1))
+        let dispatches = s.spp.max(1) * BRANCH_LISTS;
+        (true, rows, dispatches * s.height.div_ceil(rows).max(1))
     }
 
     /// Re-plans the photon budgets for settings `s` and pass index `pass` (the RNG's pass),

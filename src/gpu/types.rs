@@ -172,8 +172,7 @@ pub struct GpuAabb {
     pub _pad1: u32,
 }
 
-/// Twin of WGSL `Params`: the per-sample parameters of a pass (read-only storage, one slot
-/// per sample).
+/// Twin of WGSL `Params`: a pass's parameters, one read-only storage slot per dispatch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuParams {
@@ -235,8 +234,10 @@ pub struct GpuParams {
     pub camera_medium: u32,
     /// The first image row of a gather dispatch's band of rows (`gpu::branches`).
     pub first_row: u32,
+    /// 0: a sample's gather dispatch; `r + 1`: its round `r` of glass branches.
+    pub branch_round: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 /// Twin of WGSL `Medium`: a homogeneous medium (`crate::medium::Medium`) as the kernels use
@@ -400,10 +401,9 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<super::bsdf_params::Gp
     (mats, bsdfs, tables)
 }
 
-/// Each triangle's uv record: its corner uvs as two vec4 words `(u0, v0, u1, v1), (u2, v2,
-/// 0, 0)` (`UV_WORDS`), then, when the scene has vertex tangents, its three corners'
-/// tangents `(x, y, z, w)` (`UV_TANGENT_WORDS` in all); one zeroed record when the scene has
-/// none or no texture reads them.
+/// Each triangle's uv record: corner uvs as vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`
+/// (`UV_WORDS`), then with vertex tangents its corners' `(x, y, z, w)` (`UV_TANGENT_WORDS` in
+/// all); one zeroed record when the scene has none or no texture reads them.
 pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 4]> {
     let words = if scene.tangents.is_empty() {
         super::codes::UV_WORDS
