@@ -2,7 +2,7 @@
 // and glass chain (glass hits split as on the CPU, one branch deferred: glass_branches.wgsl),
 // then at diffuse and glossy hits the maps' estimate, shadow rays, final-gather rays into
 // radiance_cache.wgsl and the glossy lobe. One invocation per pixel of a band of rows for a
-// sample (gather), or per listed pixel for a round of its deferred glass branches.
+// sample, or per listed pixel for a round of its deferred glass branches (both `gather`).
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
@@ -270,9 +270,9 @@ fn gather_ray(x: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, depth: u32, medium_in:
     return sum;
 }
 
-// The pixel's camera path of sample params.sample: the camera ray (Sobol-jittered), traced
-// by camera_path; rng and first_shade go on to the sample's deferred glass branches.
-fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> vec3<f32> {
+// The pixel's camera ray of sample params.sample (Sobol-jittered), for camera_path; rng and
+// first_shade go on to the path and the sample's deferred glass branches.
+fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, first_shade: ptr<function, bool>) -> CameraRay {
     var jitter: vec2<f32>;
     if *first_shade {
         jitter = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_JITTER);
@@ -291,8 +291,7 @@ fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, fi
             lens.y = rng_next(rng);
         }
     }
-    let cam = camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
-    return camera_path(cam.origin, cam.dir, vec3<f32>(1.0), 0u, params.camera_medium, rng, sob, first_shade);
+    return camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
 }
 
 // A camera path (the camera's ray, or a glass branch popped from the pixel's stack) from o
@@ -394,63 +393,62 @@ fn camera_sobol(px: u32, py: u32) -> SobolStream {
     return sobol_stream(params.seed, params.pass_index, py * params.width + px, params.spp, params.sample);
 }
 
-// One invocation per pixel of the band of rows from params.first_row: the camera path of
-// sample params.sample; its glass branches wait on the pixel's stack (GLASS_SPLIT).
+// Dispatch params.branch_round of a sample, over the band of rows from params.first_row.
+// Dispatch 0 (gather): one invocation per pixel, the camera path of sample params.sample.
+// Dispatch r + 1 (with GLASS_SPLIT, up to 2^GLASS_SPLIT_DEPTH - 1 after the gather): round r
+// of the deferred glass branches, invocation k (workgroup-major, so a workgroup's lanes are
+// consecutive entries) taking the k-th pixel the dispatch before listed, popping its last
+// pending branch and tracing it with the RNG where the previous path left it (the CPU's
+// depth-first order); those past the listed pixels return. One entry point for both, so the
+// camera path compiles once.
 @compute @workgroup_size(GATHER_TILE, GATHER_TILE)
-fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let py = gid.y + params.first_row;
-    if gid.x >= params.width || py >= params.height {
-        return;
+fn gather(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let dispatch = select(0u, params.branch_round, GLASS_SPLIT);
+    var px = gid.x;
+    var py = gid.y + params.first_row;
+    var ray = Branch(vec3<f32>(0.0), 0u, vec3<f32>(0.0), params.camera_medium, vec3<f32>(1.0), 0u);
+    var rng: Rng;
+    var first_shade: bool;
+    if dispatch == 0u {
+        if gid.x >= params.width || py >= params.height {
+            return;
+        }
+        stack_at = gid.y * params.width + gid.x;
+        n_branches = 0u;
+        rng = camera_rng(px, py);
+        first_shade = params.sampler == SAMPLER_SOBOL;
+        let cam = camera_sample(px, py, &rng, camera_sobol(px, py), &first_shade);
+        ray.o = cam.origin;
+        ray.d = cam.dir;
+    } else {
+        let k = (wid.y * nwg.x + wid.x) * GATHER_TILE * GATHER_TILE + lane;
+        if k == 0u {
+            queue_reset(dispatch);
+        }
+        if !queued_pixel(dispatch - 1u, k) {
+            return;
+        }
+        n_branches = branch_stacks.stacks[stack_at].n;
+        if n_branches == 0u {
+            return;
+        }
+        px = stack_at % params.width;
+        py = stack_at / params.width + params.first_row;
+        n_branches -= 1u;
+        ray = branch_stacks.stacks[stack_at].b[n_branches];
+        let resume = branch_stacks.stacks[stack_at].resume;
+        rng = camera_rng(px, py);
+        rng.dim = resume & ~BRANCH_SOBOL_UNUSED;
+        first_shade = (resume & BRANCH_SOBOL_UNUSED) != 0u;
     }
-    stack_at = gid.y * params.width + gid.x;
-    n_branches = 0u;
-    var rng = camera_rng(gid.x, py);
-    var first_shade = params.sampler == SAMPLER_SOBOL;
-    let l = camera_sample(gid.x, py, &rng, camera_sobol(gid.x, py), &first_shade);
+    let l = camera_path(ray.o, ray.d, ray.t, ray.depth, ray.medium, &rng, camera_sobol(px, py), &first_shade);
     if GLASS_SPLIT {
         save_branches(rng, first_shade);
-        queue_pixel(0u);
-        if all(gid.xy == vec2<u32>(0u)) {
+        queue_pixel(dispatch);
+        if dispatch == 0u && all(gid.xy == vec2<u32>(0u)) {
             queue_reset(0u);
         }
     }
-    let i = py * params.width + gid.x;
-    accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
-}
-
-// A round of the sample's glass branches, the sample's dispatch params.branch_round (1 to
-// 2^GLASS_SPLIT_DEPTH - 1 after gather): invocation k takes the k-th pixel the dispatch before
-// listed, pops its last pending branch and traces it to its end with the RNG where the
-// previous path left it (the CPU's depth-first order). Dispatch: one invocation per pixel of
-// the band, WG_SIZE-wide workgroups (2D when many); those past the listed pixels return.
-@compute @workgroup_size(WG_SIZE)
-fn gather_branches(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let dispatch = params.branch_round;
-    let k = gid.x + gid.y * nwg.x * WG_SIZE;
-    if !GLASS_SPLIT || dispatch == 0u {
-        return;
-    }
-    if k == 0u {
-        queue_reset(dispatch);
-    }
-    if !queued_pixel(dispatch - 1u, k) {
-        return;
-    }
-    n_branches = branch_stacks.stacks[stack_at].n;
-    if n_branches == 0u {
-        return;
-    }
-    let px = stack_at % params.width;
-    let py = stack_at / params.width + params.first_row;
-    n_branches -= 1u;
-    let b = branch_stacks.stacks[stack_at].b[n_branches];
-    let resume = branch_stacks.stacks[stack_at].resume;
-    var rng = camera_rng(px, py);
-    rng.dim = resume & ~BRANCH_SOBOL_UNUSED;
-    var first_shade = (resume & BRANCH_SOBOL_UNUSED) != 0u;
-    let l = camera_path(b.o, b.d, b.t, b.depth, b.medium, &rng, camera_sobol(px, py), &first_shade);
-    save_branches(rng, first_shade);
-    queue_pixel(dispatch);
     let i = py * params.width + px;
     accum[i] += vec4<f32>(l / f32(params.spp), 0.0);
 }

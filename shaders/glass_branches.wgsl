@@ -1,6 +1,6 @@
 // glass_branches: a camera path's glass hits, twin of cpu::gather's DeltaEvent::Split: below
 // GLASS_SPLIT_DEPTH the heavier branch goes on and the other waits on its pixel's stack in
-// `branch_stacks`, for a later dispatch of gather_branches (gather.wgsl) to trace in an
+// `branch_stacks`, for a later round of gather (gather.wgsl) to trace in an
 // invocation, and so a loop budget, of its own; a queue there lists the pixels that have one.
 // Library of gather.wgsl; writes branch_stacks.
 

@@ -117,7 +117,7 @@ fn the_cpu_splits_glass_hits() {
 }
 
 /// The GPU splits as the CPU does (the branch left waits on its pixel's stack for a later
-/// round of `gather_branches`, `gpu::branches`) and draws
+/// round of `gather`, `gpu::branches`) and draws
 /// the same random numbers for the same paths: the same seed gives the CPU's image up to
 /// float rounding.
 #[test]

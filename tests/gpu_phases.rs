@@ -88,7 +88,6 @@ fn a_bench_pass_with_timestamps_times_each_kernel_within_its_phases() {
     let maps = trace.entry_points().iter().chain(grid);
     let gather = Kernel::Gather.entry_points().iter();
     let builds = ["build_cache", "build_cache_fixed"];
-    let gather = gather.filter(|e| **e != "gather_branches");
     for want in maps.chain(gather.filter(|e| !builds.contains(e))) {
         assert!(kernels.contains(want), "{want} missing from {kernels:?}");
     }
@@ -147,7 +146,7 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
     );
 }
 
-/// The glass rounds (`gather_branches`) exist only for a scene whose camera paths may split at
+/// The glass rounds (`gather` dispatches of listed pixels) exist only for a scene whose camera paths may split at
 /// glass or a thin dielectric (override `GLASS_SPLIT`), and so do their stacks: a scene
 /// without gets a one-stack stand-in and dispatches no round.
 #[test]
@@ -175,7 +174,7 @@ fn only_glass_scenes_get_the_glass_rounds() {
             "{file}"
         );
         let run = gpu_photon::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
-        assert_eq!(run.pipelines.gather_branches.is_some(), glass, "{file}");
+        assert_eq!(run.pipelines.glass_rounds, glass, "{file}");
         let stacks = if glass { 8 * 8 } else { 1 };
         assert_eq!(run.branch_stacks.size(), stacks_bytes(stacks), "{file}");
     }

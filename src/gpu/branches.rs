@@ -1,6 +1,6 @@
 //! The camera paths' deferred glass branches (shaders/glass_branches.wgsl): below
 //! `GLASS_SPLIT_DEPTH` a glass hit traces its heavier branch on and leaves the other on its
-//! pixel's stack, and rounds of `gather_branches` after each sample's `gather` dispatch pop
+//! pixel's stack, and rounds (`gather` again, `Params.branch_round`) after each sample's first `gather` dispatch pop
 //! and trace them, one per pixel and round, each in an invocation (so a loop budget) of its
 //! own. A queue lists the pixels each dispatch left a branch to, so a round's invocations are
 //! those pixels only. A stack holds one band of image rows; a render whose stacks exceed one storage
@@ -47,7 +47,7 @@ pub struct GpuBranchStack {
 /// RNG dimension never reaches it).
 pub const SOBOL_UNUSED: u32 = 1 << 31;
 
-/// Rounds of `gather_branches` per sample: a camera path splits at most once at each depth
+/// Rounds of glass branches per sample: a camera path splits at most once at each depth
 /// below `GLASS_SPLIT_DEPTH`, so a sample has at most 2^GLASS_SPLIT_DEPTH - 1 branches.
 pub const ROUNDS: u32 = (1 << GLASS_SPLIT_DEPTH) - 1;
 

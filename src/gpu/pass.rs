@@ -145,8 +145,8 @@ impl GpuRun {
     /// Records gathering every camera sample of `s` over the maps into `accum` in
     /// `enc`: each band's, sample's and dispatch's parameters in its slot (written before the
     /// submission), then per band of rows and sample one `gather` dispatch and, where the
-    /// scene splits at glass, `branches::ROUNDS` rounds of `gather_branches`, each with one
-    /// invocation per pixel of the band (those past the pixels the queue lists return).
+    /// scene splits at glass, `branches::ROUNDS` rounds of glass branches, `gather` again with
+    /// one invocation per pixel of the band (those past the pixels the queue lists return).
     fn record_gather(
         &self,
         enc: &mut wgpu::CommandEncoder,
@@ -160,8 +160,11 @@ impl GpuRun {
         let rows = self.band_rows.max(1);
         let bands = s.height.div_ceil(rows).max(1);
         let (wx, wy) = (s.width.div_ceil(tile), rows.min(s.height).div_ceil(tile));
-        let rounds = self.pipelines.gather_branches.as_ref();
-        let dispatches = if rounds.is_some() { 1 + ROUNDS } else { 1 };
+        let dispatches = if self.pipelines.glass_rounds {
+            1 + ROUNDS
+        } else {
+            1
+        };
         let mut slots = vec![0u8; (PARAMS_STRIDE * (bands * s.spp * dispatches) as u64) as usize];
         for band in 0..bands {
             for sample in 0..s.spp {
@@ -188,17 +191,15 @@ impl GpuRun {
         });
         cp.set_bind_group(1, &gather_bg, &[]);
         let band_pixels = s.width * rows.min(s.height);
-        let (rx, ry) = grid_2d(band_pixels.div_ceil(ctx.shape.wg_size));
+        let (rx, ry) = grid_2d(band_pixels.div_ceil(tile * tile));
         for slot in (0..bands * s.spp).map(|i| i * dispatches) {
             let offset = |round: u32| (PARAMS_STRIDE * (slot + round) as u64) as u32;
-            cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset(0)]);
             cp.set_pipeline(&self.pipelines.gather);
-            cp.dispatch_workgroups(wx, wy, 1);
-            if let Some(rounds) = rounds {
-                cp.set_pipeline(rounds);
-                for round in 1..dispatches {
-                    cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset(round)]);
-                    cp.dispatch_workgroups(rx, ry, 1);
+            for round in 0..dispatches {
+                cp.set_bind_group(0, &self.scene_buffers.bind_group, &[offset(round)]);
+                match round {
+                    0 => cp.dispatch_workgroups(wx, wy, 1),
+                    _ => cp.dispatch_workgroups(rx, ry, 1),
                 }
             }
         }

@@ -116,8 +116,8 @@ pub struct Pipelines {
     pub scatter_volume: wgpu::ComputePipeline,
     /// `gather` (shaders/gather.wgsl).
     pub gather: wgpu::ComputePipeline,
-    /// `gather_branches` (shaders/gather.wgsl): only where `GLASS_SPLIT` is set.
-    pub gather_branches: Option<wgpu::ComputePipeline>,
+    /// Whether `gather` is also dispatched for rounds of glass branches (`GLASS_SPLIT`).
+    pub glass_rounds: bool,
     /// The radiance cache's build: only for a render in mode gather.
     pub radiance_cache: Option<CachePipelines>,
     /// The kernel shape they were compiled with (the host's dispatch sizes follow it).
@@ -212,7 +212,7 @@ impl Pipelines {
             count_volume: pipeline(&grid, &map_layout, "count_volume"),
             scatter_volume: pipeline(&grid, &map_layout, "scatter_volume"),
             gather: pipeline(&gather, &gather_layout, "gather"),
-            gather_branches: split.then(|| pipeline(&gather, &gather_layout, "gather_branches")),
+            glass_rounds: split,
             radiance_cache: final_gather.then(|| CachePipelines {
                 list: pipeline(&gather, &gather_layout, "list_cache_points"),
                 size: pipeline(&gather, &gather_layout, "size_cache_build"),

@@ -139,7 +139,6 @@ impl Kernel {
             ],
             Kernel::Gather => &[
                 "gather",
-                "gather_branches",
                 "list_cache_points",
                 "size_cache_build",
                 "build_cache",
