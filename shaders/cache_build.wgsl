@@ -54,8 +54,7 @@ struct CacheScan {
 // A lane's share of a scan: the largest term, and the fixed-point sum (see radius_scan).
 struct LaneScan {
     m: f32,
-    hi: vec3<u32>,
-    lo: vec3<u32>,
+    sum: FixedSum,
 }
 
 // Photons the global map holds sorted (its grid's total, at most its capacity).
@@ -135,16 +134,14 @@ fn take_photon(j: u32, d2: f32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan, out:
         return;
     }
     let q = vec3<u32>(f * p.power * kernel_weight(d2, sc.t2) * sc.scale + 0.5);
-    let l = (*out).lo + q;
-    (*out).hi += select(vec3<u32>(0u), vec3<u32>(1u), l < q);
-    (*out).lo = l;
+    (*out).sum = fixed_add((*out).sum, q);
 }
 
 // This lane's share of the photons within the radius in the cells at Chebyshev distance
 // s_lo..=s_hi of x's cell (cells farther than bound2 skipped), treated per `sc`: the lanes
 // walk the cells together and split each cell's photons.
 fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound2: f32, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, vec3<u32>(0u), vec3<u32>(0u));
+    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
     let mp = g_map;
     let home = cell_of(x, mp.cell_size);
     let side = u32(2 * s_hi + 1);
@@ -181,7 +178,7 @@ fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound
 
 // The same over the photons the ring search listed (when they all fitted in `near`).
 fn scan_near(lid: u32, n: u32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, vec3<u32>(0u), vec3<u32>(0u));
+    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
     for (var e = lid; e < n && spend(); e += CACHE_LANES) {
         let v = near[e];
         take_photon(v.y, bitcast<f32>(v.x), x, ns, sc, &out);
@@ -191,7 +188,7 @@ fn scan_near(lid: u32, n: u32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> La
 
 // The same over the photons SELECT listed: c.x before the K-th's bin, c.y in it.
 fn scan_sel(lid: u32, c: vec2<u32>, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, vec3<u32>(0u), vec3<u32>(0u));
+    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
     for (var e = lid; e < c.x + c.y && spend(); e += CACHE_LANES) {
         let v = sel[select(e, CACHE_SELECT_LOW + e - c.x, e >= c.x)];
         take_photon(v.y, bitcast<f32>(v.x), x, ns, sc, &out);
@@ -449,18 +446,14 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         } else {
             s = scan(lid, n, x, ns, outer, min(bound2, sc.t2), sc);
         }
-        lane_hi[lid] = s.hi;
-        lane_lo[lid] = s.lo;
+        lane_hi[lid] = s.sum.hi;
+        lane_lo[lid] = s.sum.lo;
         workgroupBarrier();
-        var hi = vec3<u32>(0u);
-        var lo = vec3<u32>(0u);
+        var sum = FixedSum(vec3<u32>(0u), vec3<u32>(0u));
         for (var b = 0u; b < CACHE_LANES && spend(); b += 1u) {
-            let q = lane_lo[b];
-            lo += q;
-            hi += lane_hi[b] + select(vec3<u32>(0u), vec3<u32>(1u), lo < q);
+            sum = fixed_add(FixedSum(sum.hi + lane_hi[b], sum.lo), lane_lo[b]);
         }
-        let sum = vec3<f32>(hi) * 4294967296.0 + vec3<f32>(lo);
-        l = sum * (m / 16777216.0) * kernel_norm(sc.t2);
+        l = fixed_value(sum) * (m / 16777216.0) * kernel_norm(sc.t2);
     }
     if lid == 0u {
         cache[i] = vec4<f32>(l, 1.0);

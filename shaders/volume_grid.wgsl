@@ -11,28 +11,34 @@ fn volume_stored() -> u32 {
 
 var<workgroup> bounds_lo: array<vec3<f32>, SCAN_BLOCK>;
 var<workgroup> bounds_hi: array<vec3<f32>, SCAN_BLOCK>;
+var<workgroup> bounds_power: array<f32, SCAN_BLOCK>;
 
 // One workgroup: the photons' bounds (each lane a strided share, at most VOLUME_MAX_PHOTONS /
 // SCAN_BLOCK photons, below lavapipe's loop cut), widened by r; the cell size of
-// VolumeMap::build; volume_grid[] = (lo, cell), (hi, r), (table size, photons); and the
-// per-photon kernels' dispatch in counters[1..4].
+// VolumeMap::build; volume_grid[] = (lo, cell), (hi, r), (table size, photons, the largest
+// power channel: the estimates' fixed-point bound); and the per-photon kernels' dispatch in
+// counters[1..4].
 @compute @workgroup_size(SCAN_BLOCK)
 fn size_volume(@builtin(local_invocation_id) lid: vec3<u32>) {
     let n = volume_stored();
     var lo = vec3<f32>(3.0e38);
     var hi = vec3<f32>(-3.0e38);
+    var power = 0.0;
     for (var i = lid.x; i < n; i += SCAN_BLOCK) {
         let p = bitcast<vec3<f32>>(volume[PHOTON_WORDS * i].xyz);
         lo = min(lo, p);
         hi = max(hi, p);
+        power = max(power, max3(bitcast<vec3<f32>>(volume[PHOTON_WORDS * i + 1u].xyz)));
     }
     bounds_lo[lid.x] = lo;
     bounds_hi[lid.x] = hi;
+    bounds_power[lid.x] = power;
     for (var off = SCAN_BLOCK / 2u; off > 0u; off = off / 2u) {
         workgroupBarrier();
         if lid.x < off {
             bounds_lo[lid.x] = min(bounds_lo[lid.x], bounds_lo[lid.x + off]);
             bounds_hi[lid.x] = max(bounds_hi[lid.x], bounds_hi[lid.x + off]);
+            bounds_power[lid.x] = max(bounds_power[lid.x], bounds_power[lid.x + off]);
         }
     }
     workgroupBarrier();
@@ -55,7 +61,7 @@ fn size_volume(@builtin(local_invocation_id) lid: vec3<u32>) {
     map_params.cell_size = cell;
     volume_grid[0] = vec4<f32>(l, cell);
     volume_grid[1] = vec4<f32>(h, r);
-    volume_grid[2] = vec4<f32>(bitcast<f32>(map_params.table_size), bitcast<f32>(n), 0.0, 0.0);
+    volume_grid[2] = vec4<f32>(bitcast<f32>(map_params.table_size), bitcast<f32>(n), bounds_power[0], 0.0);
     let groups = max((n + WG_SIZE - 1u) / WG_SIZE, 1u);
     let x = min(groups, 65535u);
     atomicStore(&counters[1], x);

@@ -12,7 +12,7 @@ pub const FLAG_CAUSTIC: u32 = 1 << 8;
 pub const DEPTH_MASK: u32 = 0xff;
 
 /// Which volume photons a beam estimate takes (twin: the `BEAM_*` codes of the WGSL
-/// prelude, `beam_entry` in `shaders/media_camera.wgsl`).
+/// prelude, `beam_entry` in `shaders/volume_estimate.wgsl`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BeamPhotons {
     /// Every photon (a mode without next-event estimation).

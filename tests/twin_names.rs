@@ -185,6 +185,8 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("common/estimate.wgsl", "kernel_weight", "estimate.rs", "kernel_weight", Caller("gpu_final_gather.rs")),
     ("common/estimate.wgsl", "kernel_norm", "estimate.rs", "kernel_norm", Caller("gpu_final_gather.rs")),
     ("common/estimate.wgsl", "heap_k", "", "", Helper),
+    ("common/estimate.wgsl", "fixed_add", "", "", Helper),
+    ("common/estimate.wgsl", "fixed_value", "", "", Helper),
     ("common/estimate.wgsl", "radius_scan", "", "", Helper),
     ("common/estimate.wgsl", "fixed_radius_estimate", "estimate.rs", "radiance", Caller("gpu_oracle.rs")),
     ("common/estimate.wgsl", "ring_step", "", "", Helper),

@@ -136,21 +136,38 @@ fn heap_k() -> u32 {
     return min(params.k, MAX_HEAP);
 }
 
-// One scan over every photon of map `which` within its radius of x that faces the surface,
-// in cell order. With scale = 2^24 / m (m bounding every term f * power * w): each term,
-// rounded to an integer multiple of m / 2^24, is added into a 64-bit (hi, lo) sum per
-// channel; scale = 0 only counts (n). Integer sums do not depend on the order (which the
-// atomics of tracing and sorting leave free), so the fixed-radius estimate is the same on
-// every run.
-struct RadiusScan {
+// A per-channel sum of non-negative integers in 64 bits (hi, lo). The estimates over photon
+// lists round each term to an integer multiple of a bound's fraction and add it here: integer
+// sums do not depend on the order of their terms, which the atomics of tracing and sorting
+// leave free, so an estimate is the same on every run.
+struct FixedSum {
     hi: vec3<u32>,
     lo: vec3<u32>,
+}
+
+// s + q, carrying into hi.
+fn fixed_add(s: FixedSum, q: vec3<u32>) -> FixedSum {
+    let lo = s.lo + q;
+    return FixedSum(s.hi + select(vec3<u32>(0u), vec3<u32>(1u), lo < q), lo);
+}
+
+// The sum's value, hi 2^32 + lo, in float.
+fn fixed_value(s: FixedSum) -> vec3<f32> {
+    return vec3<f32>(s.hi) * 4294967296.0 + vec3<f32>(s.lo);
+}
+
+// One scan over every photon of map `which` within its radius of x that faces the surface,
+// in cell order. With scale = 2^24 / m (m bounding every term f * power * w): each term,
+// rounded to an integer multiple of m / 2^24, is added into a FixedSum; scale = 0 only
+// counts (n).
+struct RadiusScan {
+    sum: FixedSum,
     // Photons within the radius, facing or not (read by probe_knn).
     n: u32,
 }
 
 fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>, scale: f32) -> RadiusScan {
-    var out = RadiusScan(vec3<u32>(0u), vec3<u32>(0u), 0u);
+    var out = RadiusScan(FixedSum(vec3<u32>(0u), vec3<u32>(0u)), 0u);
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
     var visits = 0u;
@@ -198,10 +215,7 @@ fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f
                 continue;
             }
             let t = f * p.power * kernel_weight(d2, mp.radius2);
-            let q = vec3<u32>(t * scale + 0.5);
-            let sum = out.lo + q;
-            out.hi += select(vec3<u32>(0u), vec3<u32>(1u), sum < q);
-            out.lo = sum;
+            out.sum = fixed_add(out.sum, vec3<u32>(t * scale + 0.5));
         }
     }
     return out;
@@ -221,8 +235,7 @@ fn fixed_radius_estimate(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>,
     }
     let s = radius_scan(which, mp, x, ns, f, 16777216.0 / m);
     last_found = s.n;
-    let sum = vec3<f32>(s.hi) * 4294967296.0 + vec3<f32>(s.lo);
-    return sum * (m / 16777216.0) * kernel_norm(mp.radius2);
+    return fixed_value(s.sum) * (m / 16777216.0) * kernel_norm(mp.radius2);
 }
 
 // What a ring search does with the cell at offset dc from home in ring s.

@@ -250,7 +250,7 @@ pub struct BeamQuery {
     pub photons: BeamPhotons,
 }
 
-/// The device's beam estimate (`beam` in shaders/media_camera.wgsl) over `photons` (spheres
+/// The device's beam estimate (`beam` in shaders/volume_estimate.wgsl) over `photons` (spheres
 /// of `radius`) with `scene`'s media, per query.
 pub fn beam(
     ctx: &GpuContext,

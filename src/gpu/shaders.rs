@@ -14,6 +14,7 @@ pub enum Kernel {
     /// `shaders/volume_grid.wgsl` (the volume map's).
     BuildGrid,
     /// `shaders/gather.wgsl`: the camera pass and the radiance estimate, with
+    /// `shaders/volume_estimate.wgsl` (the volume map's estimates),
     /// `shaders/media_camera.wgsl` (segments through media),
     /// `shaders/glass_branches.wgsl` (the camera path's deferred glass branches),
     /// `shaders/radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
@@ -46,6 +47,7 @@ const CAMERA: &str = include_str!("../../shaders/common/camera.wgsl");
 const TRACE_PHOTONS: &str = include_str!("../../shaders/trace_photons.wgsl");
 const BUILD_GRID: &str = include_str!("../../shaders/build_grid.wgsl");
 const VOLUME_GRID: &str = include_str!("../../shaders/volume_grid.wgsl");
+const VOLUME_ESTIMATE: &str = include_str!("../../shaders/volume_estimate.wgsl");
 const MEDIA_CAMERA: &str = include_str!("../../shaders/media_camera.wgsl");
 const RADIANCE_CACHE: &str = include_str!("../../shaders/radiance_cache.wgsl");
 const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
@@ -58,7 +60,7 @@ const PROBE_GEOMETRY: &str = include_str!("../../shaders/probe_geometry.wgsl");
 const PROBE_SHADING: &str = include_str!("../../shaders/probe_shading.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 34] = [
+pub const WGSL_FILES: [(&str, &str); 35] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -82,6 +84,7 @@ pub const WGSL_FILES: [(&str, &str); 34] = [
     ("trace_photons.wgsl", TRACE_PHOTONS),
     ("build_grid.wgsl", BUILD_GRID),
     ("volume_grid.wgsl", VOLUME_GRID),
+    ("volume_estimate.wgsl", VOLUME_ESTIMATE),
     ("media_camera.wgsl", MEDIA_CAMERA),
     ("radiance_cache.wgsl", RADIANCE_CACHE),
     ("cache_build.wgsl", CACHE_BUILD),
@@ -199,6 +202,7 @@ impl Kernel {
                 &sobol,
                 &camera,
                 ESTIMATE,
+                VOLUME_ESTIMATE,
                 MEDIA_CAMERA,
                 RADIANCE_CACHE,
                 CACHE_BUILD,
@@ -208,6 +212,7 @@ impl Kernel {
             ],
             Kernel::Probes => &[
                 ESTIMATE,
+                VOLUME_ESTIMATE,
                 MEDIA_CAMERA,
                 RADIANCE_CACHE,
                 // Declares the gather group's branch stacks (the probes bind that group).
