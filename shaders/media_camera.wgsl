@@ -238,12 +238,27 @@ fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, 
     if near && skip_direct && (params.terms & TERM_FINAL_GATHER) != 0u && depth < params.max_depth && max3(m.sigma_s) > 0.0 {
         zn = NEAR_GATHER_FRACTION * min(t_max, volume_exit(o, d));
     }
-    if !(zn > 0.0 && zn < 3.0e38) {
-        s.l += beam(o, d, t_max, medium, m, which);
+    // The beams: the whole segment, or its far part (weighed by the transmittance to it)
+    // then the near part's caustic photons. One call site: lavapipe compiles each inlined.
+    let split = zn > 0.0 && zn < 3.0e38;
+    for (var i = 0u; i < select(1u, 2u, split) && spend(); i += 1u) {
+        var bo = o;
+        var bt = t_max;
+        var bw = vec3<f32>(1.0);
+        var bwhich = which;
+        if split && i == 0u {
+            bo = o + d * zn;
+            bt = t_max - zn;
+            bw = medium_transmittance(m, zn);
+        } else if split {
+            bt = zn;
+            bwhich = BEAM_CAUSTIC;
+        }
+        s.l += bw * beam(bo, d, bt, medium, m, bwhich);
+    }
+    if !split {
         return s;
     }
-    s.l += medium_transmittance(m, zn) * beam(o + d * zn, d, t_max - zn, medium, m, which);
-    s.l += beam(o, d, zn, medium, m, BEAM_CAUSTIC);
     let uc = rng_next(rng);
     let ut = rng_next(rng);
     let u1 = rng_next(rng);
