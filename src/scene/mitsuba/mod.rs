@@ -8,7 +8,8 @@
 //! `emitter.rs`); `ref` to any top-level object with an `id`, before or after it; spectra as
 //! Mitsuba's RGB variants convert them (see `spectrum.rs`). Anything else (other plugins,
 //! environment maps, parameters we do not read) is an `unsupported` error: nothing is
-//! skipped silently. Every error is `FILE:LINE: field: message` (the file an element is in,
+//! skipped silently. Files written for Mitsuba 0.x (`version` below 2.0.0) are upgraded
+//! first, as Mitsuba 3 does (see `upgrade.rs`). Every error is `FILE:LINE: field: message` (the file an element is in,
 //! included or not); approximations are warnings.
 
 mod bsdf;
@@ -21,6 +22,7 @@ mod sensor;
 mod shape;
 mod spectrum;
 mod texture;
+mod upgrade;
 mod values;
 
 pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
@@ -104,7 +106,12 @@ pub fn import_with(
     base_dir: &Path,
     defines: &[(String, String)],
 ) -> Result<Imported> {
-    let g = include::gather(text, file, base_dir, defines)?;
+    let mut g = include::gather(text, file, base_dir, defines)?;
+    for source in &mut g.sources {
+        if let Some(text) = upgrade::upgrade(&source.text, &source.name)? {
+            source.text = text;
+        }
+    }
     let docs = g
         .sources
         .iter()

@@ -227,7 +227,8 @@ fn film(
     }
     f.setting(cx, "width", "width", b.settings())?;
     f.setting(cx, "height", "height", b.settings())?;
-    f.ignore(&["pixel_format", "file_format", "component_format"]);
+    // `banner`: Mitsuba 0.6's logo in the image, which Mitsuba 3 accepts and ignores.
+    f.ignore(&["pixel_format", "file_format", "component_format", "banner"]);
     f.done(cx)?;
     let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
     for child in &f.objects {
