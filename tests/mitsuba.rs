@@ -480,8 +480,8 @@ fn malformed_files_name_file_line_and_field() {
             "t.xml:4: shape[0].radius: `one` is not a number",
         ),
         (
-            r#"<shape type="disk"/>"#,
-            "t.xml:4: shape[0]: unsupported shape `disk`",
+            r#"<shape type="serialized"/>"#,
+            "t.xml:4: shape[0]: unsupported shape `serialized`",
         ),
         (
             r#"<shape type="ply"><string name="filename" value="missing.ply"/></shape>"#,

@@ -3,14 +3,15 @@
 //!
 //! Read: `<include>`, `<path>`, `<default>` and `$name` (see `include.rs`); one `perspective`
 //! sensor (with its `hdrfilm` size and `sampler` count as spp) and any `integrator` as a hint
-//! (see `sensor.rs`); `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `obj`,
-//! `ply`, `area` emitters on shapes, `point`, `spot` and `directional` emitters (see
-//! `emitter.rs`); `ref` to any top-level object with an `id`, before or after it; spectra as
-//! Mitsuba's RGB variants convert them (see `spectrum.rs`). Anything else (other plugins,
-//! environment maps, parameters we do not read) is an `unsupported` error: nothing is
-//! skipped silently. Files written for Mitsuba 0.x (`version` below 2.0.0) are upgraded
-//! first, as Mitsuba 3 does (see `upgrade.rs`). Every error is `FILE:LINE: field: message` (the file an element is in,
-//! included or not); approximations are warnings.
+//! (see `sensor.rs`); `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `disk`,
+//! `cylinder` (see `round.rs`), `obj`, `ply`, `area` emitters on shapes, `point`, `spot` and
+//! `directional` emitters (see `emitter.rs`); `ref` to any top-level object with an `id`,
+//! before or after it; spectra as Mitsuba's RGB variants convert them (see `spectrum.rs`).
+//! Anything else (other plugins, environment maps, parameters we do not read) is an
+//! `unsupported` error: nothing is skipped silently. Files written for Mitsuba 0.x
+//! (`version` below 2.0.0) are upgraded first, as Mitsuba 3 does (see `upgrade.rs`). Every
+//! error is `FILE:LINE: field: message` (the file an element is in, included or not);
+//! approximations are warnings.
 
 mod bsdf;
 mod cie;
@@ -18,6 +19,7 @@ mod emitter;
 mod include;
 mod medium;
 mod plugin;
+mod round;
 mod sensor;
 mod shape;
 mod spectrum;

@@ -1,5 +1,7 @@
 //! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
-//! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `obj`
+//! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `disk`
+//! and `cylinder` (`p0`, `p1`, `radius`; both as meshes of `round::SEGMENTS` facets around,
+//! with a warning), `obj`
 //! and `ply` meshes (smooth-shaded with the file's vertex normals unless `face_normals` is
 //! true; the file's texture coordinates with v flipped when `flip_tex_coords`, Mitsuba's
 //! default true for `obj` and false for `ply`), each with its bsdf (nested or `ref`) and
@@ -7,7 +9,7 @@
 
 use super::medium::side;
 use super::plugin::Plugin;
-use super::Importer;
+use super::{round, Importer};
 use crate::error::Result;
 use crate::scene::builder::Surface;
 use crate::scene::media::{interface, MediumId};
@@ -208,6 +210,33 @@ impl<'f> Importer<'f> {
                 normals: None,
                 uvs: None,
             },
+            "disk" | "cylinder" => {
+                let what = format!(
+                    "{}: {}: a `{}` is rendered as {} facets around (its area kept)",
+                    cx.loc(p.node),
+                    p.field,
+                    p.kind,
+                    round::SEGMENTS
+                );
+                self.warnings.push(what);
+                if p.kind == "disk" {
+                    round::disk()
+                } else {
+                    let p0 = p.point(cx, "p0")?.unwrap_or(Vec3::ZERO);
+                    let p1 = p.point(cx, "p1")?.unwrap_or(Vec3::Z);
+                    let radius = p.positive(cx, "radius", 1.0)?;
+                    let Some(frame) = round::cylinder_frame(p0, p1, radius) else {
+                        return Err(cx.err(p.node, &p.at("p1"), "p1 must differ from p0"));
+                    };
+                    let flip = p.boolean(cx, "flip_normals")?;
+                    p.done(cx)?;
+                    let mesh = round::cylinder().transform(m * frame, flip);
+                    let uvs = mesh.uvs.unwrap_or_default();
+                    return self
+                        .b
+                        .add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at);
+                }
+            }
             "obj" | "ply" => {
                 let Some(file) = p.string(cx, "filename")? else {
                     return Err(cx.err(p.node, &p.at("filename"), "missing"));
