@@ -145,13 +145,19 @@ fn calibrate(key: String) -> Result<crate::calibration::Calibration> {
     })
 }
 
-/// Warns that the GPU failed and opens the CPU renderer instead.
+/// How long a fall-back to the CPU waits for the GPU to finish what it was given (a hung
+/// device is left to itself after that).
+const FALLBACK_DRAIN: std::time::Duration = std::time::Duration::from_secs(30);
+
+/// Warns that the GPU failed, lets the device finish what it was given (at most
+/// [`FALLBACK_DRAIN`]) and opens the CPU renderer instead.
 fn fall_back<'s>(
     why: &str,
     scene: &'s Scene,
     settings: &RenderSettings,
 ) -> Result<Box<dyn PassRenderer + 's>> {
     crate::warning::warn(format!("GPU backend failed ({why}); rendering on the CPU"));
+    crate::gpu::context::GpuContext::drain_shared(FALLBACK_DRAIN);
     open_backend(Backend::Cpu, scene, settings)
 }
 

@@ -164,7 +164,7 @@ fn each_fault_under_auto_falls_back_to_the_cpu_saying_so() {
         let out = d.join(format!("{name}.exr"));
         let o = render("auto", Some(name), &d, &out);
         let err = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success(), "{name}: {err}");
+        assert!(o.status.success(), "{name}: {}: {err}", o.status);
         let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
         assert_eq!(warnings.len(), 1, "{name}: {err}");
         let reason = warnings[0]

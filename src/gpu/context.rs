@@ -266,7 +266,6 @@ impl GpuContext {
     /// device is lost. Renders on one context run side by side; an error the device reports
     /// outside an error scope reaches whichever of them checks first.
     pub fn shared() -> Result<Self> {
-        static SHARED: Mutex<Option<GpuContext>> = Mutex::new(None);
         let mut slot = SHARED
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
@@ -276,6 +275,23 @@ impl GpuContext {
         let ctx = GpuContext::new()?;
         *slot = Some(ctx.clone());
         Ok(ctx)
+    }
+
+    /// Waits, at most `limit`, until the process's shared context (if one was opened) has
+    /// finished the work submitted to it; errors are ignored. After a failed render the
+    /// device may still be running what it was given (a wait that timed out) while the
+    /// process goes on without it: this lets that work end before the process does, rather
+    /// than run in the driver's threads while the process exits.
+    pub fn drain_shared(limit: std::time::Duration) {
+        let slot = SHARED
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(ctx) = slot.as_ref().filter(|c| !c.lost.load(Ordering::SeqCst)) {
+            let _ = ctx.device.poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: Some(limit),
+            });
+        }
     }
 
     /// Fails with the first uncaptured device error, if there was one.
@@ -292,6 +308,9 @@ impl GpuContext {
         format!("gpu: {} ({:?}, {:?})", i.name, i.backend, i.device_type)
     }
 }
+
+/// The process's shared context ([`GpuContext::shared`]).
+static SHARED: Mutex<Option<GpuContext>> = Mutex::new(None);
 
 /// Mesa's Vulkan drivers print an error on every device creation when XDG_RUNTIME_DIR is
 /// unset (headless machines); this gives them a private directory instead. Call it at
