@@ -12,6 +12,7 @@
 //!
 //! Attributes are substituted (`$name`) with the parameters known when they are met.
 
+use super::upgrade::upgrade;
 use super::values::{check_name, resolve, substitute, Params};
 use super::{check_nesting, elements, MAX_DEFAULTS_BYTES};
 use crate::error::{Error, Result};
@@ -139,15 +140,21 @@ impl Walk {
     }
 
     /// Reads the top-level `<default>`, `<path>` and `<include>` elements of source `idx`
-    /// (in directory `dir`, `depth` includes deep), in order.
+    /// (in directory `dir`, `depth` includes deep), in order, and keeps the source upgraded
+    /// when it was written for Mitsuba 0.x (`upgrade.rs`; those elements read the same).
     fn walk(&mut self, idx: usize, dir: &Path, depth: usize) -> Result<()> {
         let name = self.g.sources[idx].name.clone();
         let text = std::mem::take(&mut self.g.sources[idx].text);
         let result = self.walk_text(&text, &name, idx, dir, depth);
+        let (text, result) = match result {
+            Ok(upgraded) => (upgraded.unwrap_or(text), Ok(())),
+            Err(e) => (text, Err(e)),
+        };
         self.g.sources[idx].text = text;
         result
     }
 
+    /// [`Self::walk`] over `text`; returns its upgraded text, if it needs one.
     fn walk_text(
         &mut self,
         text: &str,
@@ -155,11 +162,12 @@ impl Walk {
         idx: usize,
         dir: &Path,
         depth: usize,
-    ) -> Result<()> {
+    ) -> Result<Option<String>> {
         let doc = parse(text, name)?;
+        let upgraded = upgrade(text, &doc, name)?;
         let root = doc.root_element();
         if root.tag_name().name() != "scene" {
-            return Ok(());
+            return Ok(upgraded);
         }
         for node in elements(root) {
             match node.tag_name().name() {
@@ -202,7 +210,7 @@ impl Walk {
                 _ => {}
             }
         }
-        Ok(())
+        Ok(upgraded)
     }
 
     /// `<include filename>` in source `idx`: reads the file and walks it.

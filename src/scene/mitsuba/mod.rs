@@ -108,12 +108,7 @@ pub fn import_with(
     base_dir: &Path,
     defines: &[(String, String)],
 ) -> Result<Imported> {
-    let mut g = include::gather(text, file, base_dir, defines)?;
-    for source in &mut g.sources {
-        if let Some(text) = upgrade::upgrade(&source.text, &source.name)? {
-            source.text = text;
-        }
-    }
+    let g = include::gather(text, file, base_dir, defines)?;
     let docs = g
         .sources
         .iter()

@@ -12,9 +12,8 @@
 //! the file's own lines. A version that is not three numbers is an error, as in Mitsuba;
 //! a file without one is read as it is (Mitsuba takes it as the current version).
 
-use super::include::parse;
 use crate::error::{Error, Result};
-use roxmltree::Node;
+use roxmltree::{Document, Node};
 use std::ops::Range;
 
 /// The floats that become a `to_uv` transform, with what each sets: (offset or scale, axis).
@@ -70,10 +69,10 @@ fn version(file: &str, root: Node) -> Result<Option<[u64; 3]>> {
     }
 }
 
-/// `text` (the file `file`) upgraded as Mitsuba 3 upgrades a Mitsuba 0.x scene, or `None`
-/// when its version is 2.0.0 or later, absent, or its root is not a `<scene>`.
-pub(super) fn upgrade(text: &str, file: &str) -> Result<Option<String>> {
-    let doc = parse(text, file)?;
+/// `text` (the file `file`, parsed as `doc`) upgraded as Mitsuba 3 upgrades a Mitsuba 0.x
+/// scene, or `None` when it needs nothing: its version is 2.0.0 or later or absent, its root
+/// is not a `<scene>`, or nothing in it changes.
+pub(super) fn upgrade(text: &str, doc: &Document, file: &str) -> Result<Option<String>> {
     let root = doc.root_element();
     if root.tag_name().name() != "scene" {
         return Ok(None);
@@ -105,7 +104,7 @@ pub(super) fn upgrade(text: &str, file: &str) -> Result<Option<String>> {
         uv_transform(file, text, node, &mut edits)?;
     }
     if edits.is_empty() {
-        return Ok(Some(text.to_string()));
+        return Ok(None);
     }
     edits.sort_by_key(|(r, _)| (r.start, r.end));
     let mut out = String::with_capacity(text.len() + 64);
@@ -131,7 +130,8 @@ fn uv_transform(
     node: Node,
     edits: &mut Vec<(Range<usize>, String)>,
 ) -> Result<()> {
-    let (mut offset, mut scale, mut found) = ([0.0f64; 2], [1.0f64; 2], false);
+    let (mut offset, mut scale) = ([0.0f64; 2], [1.0f64; 2]);
+    let mut blanked = Vec::new();
     for child in node.children().filter(Node::is_element) {
         let name = child.attribute("name").unwrap_or("");
         let Some(&(_, is_scale, axis)) = UV_FLOATS.iter().find(|u| u.0 == name) else {
@@ -153,13 +153,17 @@ fn uv_transform(
             true => scale[axis] = value,
             false => offset[axis] = value,
         }
-        found = true;
         let lines = text[child.range()].matches('\n').count();
-        edits.push((child.range(), "\n".repeat(lines)));
+        blanked.push((child.range(), "\n".repeat(lines)));
     }
-    if !found {
+    if blanked.is_empty() {
         return Ok(());
     }
+    // The element has children, so it has an end tag, where the transform goes.
+    let end = node.range();
+    let Some(close) = text[end.clone()].rfind("</") else {
+        return Ok(());
+    };
     let mut t = String::from(r#"<transform name="to_uv">"#);
     if offset != [0.0; 2] {
         t += &format!(r#"<translate x="{}" y="{}"/>"#, offset[0], offset[1]);
@@ -168,12 +172,8 @@ fn uv_transform(
         t += &format!(r#"<scale x="{}" y="{}"/>"#, scale[0], scale[1]);
     }
     t += "</transform>";
-    // The element has children, so it has an end tag.
-    let end = node.range();
-    let Some(close) = text[end.clone()].rfind("</") else {
-        return Ok(());
-    };
     let at = end.start + close;
+    edits.append(&mut blanked);
     edits.push((at..at, t));
     Ok(())
 }
@@ -181,6 +181,11 @@ fn uv_transform(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`upgrade`] of `text`, parsed here.
+    fn upgrade_text(text: &str) -> Result<Option<String>> {
+        upgrade(text, &Document::parse(text).unwrap(), "a.xml")
+    }
 
     #[test]
     fn names_convert_as_mitsuba_3_converts_them() {
@@ -204,14 +209,14 @@ mod tests {
     #[test]
     fn only_files_before_2_0_0_are_upgraded_and_their_lines_stay() {
         let old = "<scene version=\"0.6.0\">\n<float name=\"farClip\" value=\"1\"/>\n</scene>";
-        let up = upgrade(old, "a.xml").unwrap().unwrap();
+        let up = upgrade_text(old).unwrap().unwrap();
         assert_eq!(up, old.replace("farClip", "far_clip"));
         let new = old.replace("0.6.0", "2.0.0");
-        assert_eq!(upgrade(&new, "a.xml").unwrap(), None);
+        assert_eq!(upgrade_text(&new).unwrap(), None);
         let none = old.replace(" version=\"0.6.0\"", "");
-        assert_eq!(upgrade(&none, "a.xml").unwrap(), None);
+        assert_eq!(upgrade_text(&none).unwrap(), None);
         let bad = old.replace("0.6.0", "0.6");
-        let e = upgrade(&bad, "a.xml").unwrap_err().to_string();
+        let e = upgrade_text(&bad).unwrap_err().to_string();
         assert_eq!(
             e,
             "a.xml:1: scene.version: invalid version `0.6` (expected three numbers, as 3.0.0)"
@@ -223,7 +228,7 @@ mod tests {
         let old = "<scene version=\"0.5.0\"><texture type=\"checkerboard\">\n\
                    <float name=\"vscale\" value=\"3\"/>\n<float name=\"uoffset\" value=\"0.5\"/>\n\
                    </texture></scene>";
-        let up = upgrade(old, "a.xml").unwrap().unwrap();
+        let up = upgrade_text(old).unwrap().unwrap();
         assert_eq!(
             up,
             "<scene version=\"0.5.0\"><texture type=\"checkerboard\">\n\n\n\
