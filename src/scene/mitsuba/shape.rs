@@ -228,13 +228,8 @@ impl<'f> Importer<'f> {
                     let Some(frame) = round::cylinder_frame(p0, p1, radius) else {
                         return Err(cx.err(p.node, &p.at("p1"), "p1 must differ from p0"));
                     };
-                    let flip = p.boolean(cx, "flip_normals")?;
-                    p.done(cx)?;
-                    let mesh = round::cylinder().transform(m * frame, flip);
-                    let uvs = mesh.uvs.unwrap_or_default();
-                    return self
-                        .b
-                        .add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at);
+                    // Placed on its axis here; to_world and flip_normals below, as for all.
+                    round::cylinder().transform(frame, false)
                 }
             }
             "obj" | "ply" => {
