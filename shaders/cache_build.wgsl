@@ -141,7 +141,7 @@ fn take_photon(j: u32, d2: f32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan, out:
 // s_lo..=s_hi of x's cell (cells farther than bound2 skipped), treated per `sc`: the lanes
 // walk the cells together and split each cell's photons.
 fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound2: f32, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
+    var out = LaneScan();
     let mp = g_map;
     let home = cell_of(x, mp.cell_size);
     let side = u32(2 * s_hi + 1);
@@ -178,7 +178,7 @@ fn scan_cells(lid: u32, x: vec3<f32>, ns: vec3<f32>, s_lo: i32, s_hi: i32, bound
 
 // The same over the photons the ring search listed (when they all fitted in `near`).
 fn scan_near(lid: u32, n: u32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
+    var out = LaneScan();
     for (var e = lid; e < n && spend(); e += CACHE_LANES) {
         let v = near[e];
         take_photon(v.y, bitcast<f32>(v.x), x, ns, sc, &out);
@@ -188,7 +188,7 @@ fn scan_near(lid: u32, n: u32, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> La
 
 // The same over the photons SELECT listed: c.x before the K-th's bin, c.y in it.
 fn scan_sel(lid: u32, c: vec2<u32>, x: vec3<f32>, ns: vec3<f32>, sc: CacheScan) -> LaneScan {
-    var out = LaneScan(0.0, FixedSum(vec3<u32>(0u), vec3<u32>(0u)));
+    var out = LaneScan();
     for (var e = lid; e < c.x + c.y && spend(); e += CACHE_LANES) {
         let v = sel[select(e, CACHE_SELECT_LOW + e - c.x, e >= c.x)];
         take_photon(v.y, bitcast<f32>(v.x), x, ns, sc, &out);
@@ -449,7 +449,7 @@ fn build_cache(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         lane_hi[lid] = s.sum.hi;
         lane_lo[lid] = s.sum.lo;
         workgroupBarrier();
-        var sum = FixedSum(vec3<u32>(0u), vec3<u32>(0u));
+        var sum = FixedSum();
         for (var b = 0u; b < CACHE_LANES && spend(); b += 1u) {
             sum = fixed_add(FixedSum(sum.hi + lane_hi[b], sum.lo), lane_lo[b]);
         }

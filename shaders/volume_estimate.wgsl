@@ -154,7 +154,7 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u
         return vec3<f32>(0.0);
     }
     let q = BeamQuery(o, d, t0, t1, r * r, medium, which, m, BEAM_ONE / bound);
-    var sum = FixedSum(vec3<u32>(0u), vec3<u32>(0u));
+    var sum = FixedSum();
     var c = volume_cell(o + d * t0, lo, cell);
     let step = vec3<i32>(sign(d));
     var t_next = vec3<f32>(dda_boundary(c, 0u, step, lo, cell, o, inv), dda_boundary(c, 1u, step, lo, cell, o, inv), dda_boundary(c, 2u, step, lo, cell, o, inv));
@@ -223,7 +223,7 @@ fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32
         return vec3<f32>(0.0);
     }
     let scale = POINT_ONE / bound;
-    var sum = FixedSum(vec3<u32>(0u), vec3<u32>(0u));
+    var sum = FixedSum();
     for (var k = v_cells[h]; k < last && spend(); k += 1u) {
         let e = v_refs[k];
         if any(bitcast<vec3<i32>>(e.yzw) != c) {

@@ -167,7 +167,7 @@ struct RadiusScan {
 }
 
 fn radius_scan(which: u32, mp: MapParams, x: vec3<f32>, ns: vec3<f32>, f: vec3<f32>, scale: f32) -> RadiusScan {
-    var out = RadiusScan(FixedSum(vec3<u32>(0u), vec3<u32>(0u)), 0u);
+    var out = RadiusScan();
     let home = cell_of(x, mp.cell_size);
     let rings = i32(ceil(sqrt(mp.radius2) / mp.cell_size));
     var visits = 0u;
