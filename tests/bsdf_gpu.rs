@@ -10,6 +10,7 @@
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
+mod probes;
 
 use bytemuck::{Pod, Zeroable};
 use common::{gpu, TestRng};
@@ -19,7 +20,8 @@ use gpu_photon::bsdf::{
     fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, MetallicRoughness,
     Microfacet, Plastic, Transport,
 };
-use gpu_photon::gpu::bsdf_params::{pack, probe_source};
+use gpu_photon::gpu::bsdf_params::pack;
+use probes::bsdf::source as probe_source;
 use gpu_photon::gpu::buffers::{read_back, storage_buffer};
 use gpu_photon::gpu::GpuContext;
 use std::collections::BTreeMap;

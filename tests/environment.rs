@@ -16,6 +16,7 @@ use gpu_photon::texture::Texture;
 use std::f64::consts::PI;
 
 mod common;
+mod probes;
 
 const ALBEDO: f32 = 0.5;
 const L: Vec3 = Vec3::new(1.0, 0.5, 0.25);
@@ -510,7 +511,7 @@ fn device_environment_equals_rust() {
         .iter()
         .map(|(d, ns, u)| (d.to_array(), ns.to_array(), *u))
         .collect();
-    let out = gpu_photon::gpu::probe::environment(&ctx, &s, &input).unwrap();
+    let out = probes::environment(&ctx, &s, &input).unwrap();
     // [lookup r, g, b, pdf] at d and at eight directions 3e-4 rad around it.
     let rust = |d: Vec3, ns: Vec3| {
         let l = e.eval(&s.textures, d);

@@ -4,12 +4,13 @@
 //! They run on lavapipe in CI (a missing adapter fails there; elsewhere it skips).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::estimate;
 use gpu_photon::film::Image;
-use gpu_photon::gpu::probe::{self, CacheProbe};
+use probes::CacheProbe;
 use gpu_photon::photon::{Photon, DEPTH_MASK};
 use gpu_photon::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
 use gpu_photon::settings::{Filter, Mode, RenderSettings};
@@ -170,7 +171,7 @@ fn device_radiance_cache_equals_cpu_brute_force() {
         (200, 2.0, 0.5, Filter::Epanechnikov),
     ] {
         let all = if radius > 1.0 { &sparse } else { &dense };
-        let got = probe::radiance_cache(&ctx, all, &qs, (k, radius, cell, filter)).unwrap();
+        let got = probes::radiance_cache(&ctx, all, &qs, (k, radius, cell, filter)).unwrap();
         check_cache(&got, all, k, radius, filter);
         // The lookups: the same cache point as the exhaustive search, and its value.
         let (mut hits, mut misses) = (0, 0);
@@ -215,7 +216,7 @@ fn device_cosine_hemisphere_equals_rust() {
         };
         cases.push((n, [r.f32(), r.f32()]));
     }
-    let got = probe::cosine_hemisphere(&ctx, &cases).unwrap();
+    let got = probes::cosine_hemisphere(&ctx, &cases).unwrap();
     for (i, ((n, u), g)) in cases.iter().zip(&got).enumerate() {
         let want = gpu_photon::sampling::cosine_hemisphere(Vec3::from(*n), u[0], u[1]);
         let err = (Vec3::from(*g) - want).abs().max_element();

@@ -2,13 +2,14 @@
 //! They run on lavapipe in CI (a missing adapter fails there; elsewhere it skips).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::cpu::photon_map::PhotonMap;
 use gpu_photon::estimate;
 use gpu_photon::gpu::grid::{cell_hash, cell_of, counting_sort};
-use gpu_photon::gpu::probe;
+
 use gpu_photon::photon::Photon;
 use gpu_photon::rng::{draw_u32, path_key, pcg_hash, to_unit, Stream};
 use gpu_photon::settings::Filter;
@@ -18,7 +19,7 @@ fn wgsl_rng_equals_rust_rng_bit_for_bit() {
     let Some(ctx) = gpu() else { return };
     let n = 4096;
     let (seed, pass) = (0xdead_beef, 7);
-    let got = probe::rng_values(&ctx, seed, pass, n).unwrap();
+    let got = probes::rng_values(&ctx, seed, pass, n).unwrap();
     let streams = [
         Stream::Photon,
         Stream::Caustic,
@@ -66,7 +67,7 @@ fn device_grid_equals_cpu_counting_sort() {
     let Some(ctx) = gpu() else { return };
     let photons = test_photons(50_000, 1, 0.05);
     let (cell_size, table) = (0.05, 1 << 14);
-    let (starts, sorted) = probe::build_grid(&ctx, &photons, cell_size, table).unwrap();
+    let (starts, sorted) = probes::build_grid(&ctx, &photons, cell_size, table).unwrap();
     let keys: Vec<u32> = photons
         .iter()
         .map(|p| cell_hash(cell_of(p.position, cell_size), table))
@@ -118,7 +119,7 @@ fn device_knn_estimate_equals_kd_tree() {
         (8, 0.5, 0.1),
         (200, 0.05, 0.02),
     ] {
-        let (got, stats) = probe::estimate(&ctx, &photons, &queries, k, radius, cell).unwrap();
+        let (got, stats) = probes::estimate(&ctx, &photons, &queries, k, radius, cell).unwrap();
         assert_eq!(
             stats[..3],
             [0, 0, 0],
@@ -177,7 +178,7 @@ fn truncated_searches_are_counted() {
     // more photons than an estimate may visit.
     let photons = test_photons(30_000, 2, 0.05);
     let queries = vec![([0.32, 0.0, -0.18], [0.0, 1.0, 0.0]); 8];
-    let (_, stats) = probe::estimate(&ctx, &photons, &queries, 50, 0.2, 0.2).unwrap();
+    let (_, stats) = probes::estimate(&ctx, &photons, &queries, 50, 0.2, 0.2).unwrap();
     assert!(
         stats[2] > 0,
         "expected truncated searches to be counted: {stats:?}"
@@ -213,7 +214,7 @@ fn device_fixed_radius_estimate_equals_kd_tree() {
     let mut found = Vec::new();
     let mut dense = 0;
     for (radius, cell) in [(0.05f32, 0.05f32), (0.1, 0.1), (0.15, 0.05)] {
-        let (got, stats) = probe::estimate(&ctx, &photons, &queries, 0, radius, cell).unwrap();
+        let (got, stats) = probes::estimate(&ctx, &photons, &queries, 0, radius, cell).unwrap();
         assert_eq!(stats[..3], [0, 0, 0], "r={radius}: a bound was hit");
         for (qi, ((p, n), (l, count))) in queries.iter().zip(&got).enumerate() {
             map.within(*p, radius * radius, &mut found);

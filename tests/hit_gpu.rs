@@ -15,13 +15,14 @@
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3, Vec4};
 use gpu_photon::bvh::{alpha_passes, alpha_test, uv_tangent, Bvh, SPHERE_BIT};
 use gpu_photon::geometry::{offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray};
-use gpu_photon::gpu::probe_hit::{HitCase, HitProbe};
-use gpu_photon::gpu::probe_light::SceneProbes;
+use probes::hit::{HitCase, HitProbe};
+use probes::light::SceneProbes;
 use gpu_photon::photon::pack_normal;
 use gpu_photon::scene::{
     Alpha, AlphaMode, Material, Origin, Scene, SceneBuilder, Surface, FLAT, NO_TEXTURE,

@@ -11,12 +11,13 @@
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::bvh::{Bvh, SPHERE_BIT};
 use gpu_photon::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
-use gpu_photon::gpu::probe_light::{IntersectProbe, RayCase, SceneProbes};
+use probes::light::{IntersectProbe, RayCase, SceneProbes};
 use gpu_photon::scene::{load_str, Scene};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
@@ -343,7 +344,7 @@ fn device_intersection_equals_the_hosts() {
 #[test]
 fn surface_helpers_equal_the_hosts() {
     use gpu_photon::geometry::{normal_mapped, Facing};
-    use gpu_photon::gpu::probe::{surface, SurfaceCase};
+    use probes::{surface, SurfaceCase};
     let Some(ctx) = gpu() else {
         eprintln!("no GPU adapter: skipped");
         return;

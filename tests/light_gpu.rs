@@ -15,10 +15,11 @@
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::gpu::probe_light::{LightCase, SceneProbes};
+use probes::light::{LightCase, SceneProbes};
 use gpu_photon::light::{aims_at, LightSample, LightTable};
 use gpu_photon::photon::power_ends;
 use gpu_photon::plan::{MapKind, MapPlan};

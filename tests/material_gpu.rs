@@ -1,6 +1,6 @@
 //! Oracle test of the classic materials' device functions (shaders/common/material.wgsl)
 //! against src/material.rs, through the probe `probe_surface` (shaders/probe_geometry.wgsl,
-//! `gpu::probe::surface`): `reflect_dir`, `fresnel_exact` and `fresnel_schlick` entering and
+//! `gpu::probes::surface`): `reflect_dir`, `fresnel_exact` and `fresnel_schlick` entering and
 //! leaving (total internal reflection included), `dielectric` on smooth frames (the render's
 //! default Fresnel formula, exact), `phong_lobe_value` (exponents 0 to 10^4) and
 //! `photon_bounce` of diffuse, glossy, mirror and glass materials (every outcome: absorbed,
@@ -13,6 +13,7 @@
 //! Without a Vulkan adapter the test is skipped (CI fails instead, see common::gpu).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
@@ -20,7 +21,7 @@ use gpu_photon::geometry::Facing;
 use gpu_photon::gpu::codes::{
     material_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
-use gpu_photon::gpu::probe::{surface, SurfaceCase, SurfaceProbe};
+use probes::{surface, SurfaceCase, SurfaceProbe};
 use gpu_photon::material::{
     dielectric_shading, fresnel_exact, fresnel_schlick, phong_lobe_value, photon_bounce_shading,
     reflect, Bounce,

@@ -8,6 +8,7 @@
 //! same power where they go). Tests that need a device skip without one (CI has lavapipe).
 
 mod common;
+mod probes;
 
 use common::gpu;
 use glam::{Vec2, Vec3};
@@ -18,7 +19,7 @@ use gpu_photon::cpu::photons::{trace_map, TraceContext, Traced};
 use gpu_photon::cpu::volume_map::volume_cell;
 use gpu_photon::gpu::codes::{DROP_CAUSTIC, DROP_DIRECT};
 use gpu_photon::gpu::host::drop_flags;
-use gpu_photon::gpu::probe_media::{
+use probes::media::{
     medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons,
 };
 use gpu_photon::light::{Emission, LightTable};
@@ -453,7 +454,7 @@ fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
     use std::collections::BTreeMap;
     let Some(ctx) = gpu() else { return };
     let (photons, r) = (volume_photons(20_000, 3), 0.04f32);
-    let g = gpu_photon::gpu::probe_media::volume_grid(&ctx, &photons, r).unwrap();
+    let g = probes::media::volume_grid(&ctx, &photons, r).unwrap();
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for p in &photons {
         lo = lo.min(p.pos());
@@ -509,7 +510,7 @@ fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
 #[test]
 fn device_beam_estimate_equals_the_cpu_volume_map() {
     use gpu_photon::cpu::volume_map::VolumeMap;
-    use gpu_photon::gpu::probe_media::{beam, BeamQuery};
+    use probes::media::{beam, BeamQuery};
     use gpu_photon::photon::BeamPhotons;
     let Some(ctx) = gpu() else { return };
     let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);

@@ -7,6 +7,7 @@
 //! photon for photon (tests/media_gpu.rs). GPU tests skip without a device (CI has lavapipe).
 
 mod common;
+mod probes;
 
 use glam::Vec3;
 use gpu_photon::bvh::Bvh;
@@ -132,7 +133,7 @@ fn transmittance_through_a_slab_is_beer_lambert_on_the_gpu() {
         ([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], 1.3, m),
         ([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], 3.0e38, m),
     ];
-    let got = gpu_photon::gpu::probe_media::transmittance(&ctx, &scene, &cases).unwrap();
+    let got = probes::media::transmittance(&ctx, &scene, &cases).unwrap();
     let want = |c: usize, len: f64| (-(SIGMA_T[c] as f64) * len).exp();
     for c in 0..3 {
         for (case, len) in [(0, D as f64), (3, D as f64)] {

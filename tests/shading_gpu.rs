@@ -16,6 +16,7 @@
 //! common::gpu).
 
 mod common;
+mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Mat3, Vec2, Vec3};
@@ -24,8 +25,8 @@ use gpu_photon::geometry::offset_origin;
 use gpu_photon::gpu::codes::{
     class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
-use gpu_photon::gpu::probe_light::SceneProbes;
-use gpu_photon::gpu::probe_shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
+use probes::light::SceneProbes;
+use probes::shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
 use gpu_photon::material::Bounce;
 use gpu_photon::rng::{path_key, Rng, Stream};
 use gpu_photon::scene::{Material, MaterialId, Origin, Scene, SceneBuilder, Surface};

@@ -159,7 +159,7 @@ pub const GATHER_GROUP: GroupTable = GroupTable {
 pub fn groups_of(kernel: Kernel) -> [&'static GroupTable; 2] {
     match kernel {
         Kernel::TracePhotons | Kernel::BuildGrid => [&SCENE_GROUP, &MAP_GROUP],
-        Kernel::Gather | Kernel::Probes => [&SCENE_GROUP, &GATHER_GROUP],
+        Kernel::Gather => [&SCENE_GROUP, &GATHER_GROUP],
     }
 }
 

@@ -9,7 +9,6 @@
 //! Until then only the oracle probe (`shaders/probe_bsdf.wgsl`, composed by
 //! [`probe_source`]) uses the library.
 
-use super::codes::wgsl_prelude;
 use crate::bsdf::{
     schlick_mean_table, Bsdf, Distribution, Microfacet, SCHLICK_MEAN_RES, TRANSMITTANCE_RES,
 };
@@ -21,8 +20,6 @@ pub const BSDF_WGSL: &str = include_str!("../../shaders/common/bsdf.wgsl");
 pub const BSDF_GLTF_WGSL: &str = include_str!("../../shaders/common/bsdf_gltf.wgsl");
 /// `shaders/common/bsdf_dispatch.wgsl`: the Bsdf methods, dispatching to the kinds.
 pub const BSDF_DISPATCH_WGSL: &str = include_str!("../../shaders/common/bsdf_dispatch.wgsl");
-/// `shaders/probe_bsdf.wgsl`: the oracle probe's entry point `probe_bsdf`.
-pub const PROBE_BSDF_WGSL: &str = include_str!("../../shaders/probe_bsdf.wgsl");
 
 /// `Bsdf::Diffuse`.
 pub const BSDF_DIFFUSE: u32 = 0;
@@ -101,11 +98,6 @@ pub fn bsdf_library() -> String {
         BSDF_DISPATCH_WGSL,
     ]
     .join("\n")
-}
-
-/// The oracle probe's module: the prelude, the BSDF library, `probe_bsdf.wgsl`.
-pub fn probe_source() -> String {
-    [wgsl_prelude(), bsdf_library(), PROBE_BSDF_WGSL.to_string()].join("\n")
 }
 
 /// WGSL `BsdfParams` (112 bytes, 16-aligned): each kind fills the fields its variant has and

@@ -13,9 +13,8 @@
 //! `buffers`, `branches` (the camera paths' deferred glass branches), `texture_buffers` (the packed textures on the device), `grid`, `host` (plan and settings to kernel parameters), `pipelines`,
 //! `scene_buffers`, `maps`, `volume` (the volume photon map's buffers and grid), `run` (what a render sets up once), `photon_maps`,
 //! `radiance_cache` (final gathering's cache), `pass`,
-//! then `renderer` and `probe` (tests' oracle probes), `probe_media` (those of the media),
-//! `probe_light` (those of the lights and of ray intersection), `probe_hit` (a hit's surface),
-//! `probe_shading` (the shading interface at a hit).
+//! then `renderer`. The oracle probes that compare kernels with their Rust twins are test
+//! code (`tests/probes/`), composed over the same libraries (`shaders::probe_source`).
 
 pub mod bindings;
 pub mod branches;
@@ -32,11 +31,6 @@ pub mod pass;
 pub mod photon_maps;
 pub mod pipeline_cache;
 pub mod pipelines;
-pub mod probe;
-pub mod probe_hit;
-pub mod probe_light;
-pub mod probe_media;
-pub mod probe_shading;
 pub mod radiance_cache;
 pub mod recorder;
 pub mod renderer;

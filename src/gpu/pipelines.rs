@@ -139,9 +139,14 @@ pub struct CachePipelines {
 
 /// The shader module of `kernel`, labelled with its name.
 pub fn shader_module(dev: &wgpu::Device, kernel: Kernel) -> wgpu::ShaderModule {
+    shader_module_of(dev, kernel.name(), kernel.source())
+}
+
+/// A shader module of composed WGSL `source` (a kernel's, or a test's oracle probes').
+pub fn shader_module_of(dev: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
     dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(kernel.name()),
-        source: wgpu::ShaderSource::Wgsl(kernel.source().into()),
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
     })
 }
 

@@ -21,10 +21,6 @@ pub enum Kernel {
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::sobol::wgsl_library`).
     Gather,
-    /// `shaders/probes.wgsl`, `probe_light.wgsl`, `probe_geometry.wgsl` and
-    /// `probe_shading.wgsl`: oracle probes
-    /// for tests (never used by a render).
-    Probes,
 }
 
 const TYPES: &str = include_str!("../../shaders/common/types.wgsl");
@@ -54,13 +50,9 @@ const CACHE_BUILD: &str = include_str!("../../shaders/cache_build.wgsl");
 const CACHE_FIXED: &str = include_str!("../../shaders/cache_fixed.wgsl");
 const GLASS_BRANCHES: &str = include_str!("../../shaders/glass_branches.wgsl");
 const GATHER: &str = include_str!("../../shaders/gather.wgsl");
-const PROBES: &str = include_str!("../../shaders/probes.wgsl");
-const PROBE_LIGHT: &str = include_str!("../../shaders/probe_light.wgsl");
-const PROBE_GEOMETRY: &str = include_str!("../../shaders/probe_geometry.wgsl");
-const PROBE_SHADING: &str = include_str!("../../shaders/probe_shading.wgsl");
 
 /// Every WGSL file of the project, by its path under `shaders/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 35] = [
+pub const WGSL_FILES: [(&str, &str); 30] = [
     ("common/types.wgsl", TYPES),
     ("common/photon.wgsl", PHOTON),
     ("common/rng.wgsl", RNG),
@@ -91,28 +83,18 @@ pub const WGSL_FILES: [(&str, &str); 35] = [
     ("cache_fixed.wgsl", CACHE_FIXED),
     ("glass_branches.wgsl", GLASS_BRANCHES),
     ("gather.wgsl", GATHER),
-    ("probes.wgsl", PROBES),
-    ("probe_light.wgsl", PROBE_LIGHT),
-    ("probe_geometry.wgsl", PROBE_GEOMETRY),
-    ("probe_shading.wgsl", PROBE_SHADING),
-    // The BSDF library and its oracle probe, composed by `bsdf_params::probe_source()` only.
+    // The BSDF library, composed by `bsdf_params::bsdf_library()`.
     ("common/bsdf.wgsl", super::bsdf_params::BSDF_WGSL),
     ("common/bsdf_gltf.wgsl", super::bsdf_params::BSDF_GLTF_WGSL),
     (
         "common/bsdf_dispatch.wgsl",
         super::bsdf_params::BSDF_DISPATCH_WGSL,
     ),
-    ("probe_bsdf.wgsl", super::bsdf_params::PROBE_BSDF_WGSL),
 ];
 
 impl Kernel {
     /// Every kernel family.
-    pub const ALL: [Kernel; 4] = [
-        Kernel::TracePhotons,
-        Kernel::BuildGrid,
-        Kernel::Gather,
-        Kernel::Probes,
-    ];
+    pub const ALL: [Kernel; 3] = [Kernel::TracePhotons, Kernel::BuildGrid, Kernel::Gather];
 
     /// The module's name (its WGSL file's stem; the shader module's label).
     pub fn name(self) -> &'static str {
@@ -120,7 +102,6 @@ impl Kernel {
             Kernel::TracePhotons => "trace_photons",
             Kernel::BuildGrid => "build_grid",
             Kernel::Gather => "gather",
-            Kernel::Probes => "probes",
         }
     }
 
@@ -147,49 +128,11 @@ impl Kernel {
                 "build_cache",
                 "build_cache_fixed",
             ],
-            Kernel::Probes => &[
-                "probe_rng",
-                "probe_knn",
-                "probe_cache",
-                "probe_cosine",
-                "probe_env",
-                "probe_medium",
-                "probe_beam",
-                "probe_transmittance",
-                "probe_light",
-                "probe_paths",
-                "probe_intersect",
-                "probe_surface",
-                "probe_hit",
-                "probe_shading",
-            ],
         }
     }
 
     /// The composed WGSL source of this kernel's module: prelude, libraries, own files.
     pub fn source(self) -> String {
-        let prelude = wgsl_prelude();
-        // crate::bsdf's kinds (bsdf.wgsl with its codes) and the textures (texture.wgsl with
-        // its constants): every kernel declares their scene bindings.
-        let bsdf = super::bsdf_params::bsdf_library();
-        let textures = super::textures::wgsl_library();
-        let libs: &[&str] = &[
-            &prelude,
-            TYPES,
-            PHOTON,
-            RNG,
-            SAMPLING,
-            SCENE,
-            INTERSECT,
-            MATERIAL,
-            LIGHT,
-            ENVIRONMENT,
-            &bsdf,
-            &textures,
-            SHADING,
-            MEDIUM,
-            GRID,
-        ];
         // The gather kernel draws Sobol points (camera jitter, first-hit light and gather
         // samples): the library with its generated direction table, after rng.wgsl.
         let sobol = crate::sobol::wgsl_library();
@@ -210,25 +153,55 @@ impl Kernel {
                 GLASS_BRANCHES,
                 GATHER,
             ],
-            Kernel::Probes => &[
-                ESTIMATE,
-                VOLUME_ESTIMATE,
-                MEDIA_CAMERA,
-                RADIANCE_CACHE,
-                // Declares the gather group's branch stacks (the probes bind that group).
-                GLASS_BRANCHES,
-                PROBES,
-                PROBE_LIGHT,
-                PROBE_GEOMETRY,
-                PROBE_SHADING,
-            ],
         };
-        libs.iter()
-            .chain(own)
-            .copied()
-            .collect::<Vec<_>>()
-            .join("\n")
+        compose(own)
     }
+}
+
+/// The prelude and the libraries every kernel composes, then `own`.
+fn compose(own: &[&str]) -> String {
+    let prelude = wgsl_prelude();
+    // crate::bsdf's kinds (bsdf.wgsl with its codes) and the textures (texture.wgsl with
+    // its constants): every kernel declares their scene bindings.
+    let bsdf = super::bsdf_params::bsdf_library();
+    let textures = super::textures::wgsl_library();
+    let libs: &[&str] = &[
+        &prelude,
+        TYPES,
+        PHOTON,
+        RNG,
+        SAMPLING,
+        SCENE,
+        INTERSECT,
+        MATERIAL,
+        LIGHT,
+        ENVIRONMENT,
+        &bsdf,
+        &textures,
+        SHADING,
+        MEDIUM,
+        GRID,
+    ];
+    libs.iter()
+        .chain(own)
+        .copied()
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A module of oracle probes (tests/probes/, test code only): the libraries, the gather
+/// group's estimates and media functions (the probes bind that group, whose branch stacks
+/// glass_branches.wgsl declares), then the probes' own WGSL `own`.
+pub fn probe_source(own: &[&str]) -> String {
+    let mut all = vec![
+        ESTIMATE,
+        VOLUME_ESTIMATE,
+        MEDIA_CAMERA,
+        RADIANCE_CACHE,
+        GLASS_BRANCHES,
+    ];
+    all.extend_from_slice(own);
+    compose(&all)
 }
 
 /// Parses and validates a composed module with naga (no GPU needed).
@@ -254,12 +227,5 @@ mod tests {
                 panic!("{}: {e}", k.name());
             }
         }
-    }
-
-    #[test]
-    fn bsdf_probe_parses_and_validates() {
-        let src = crate::gpu::bsdf_params::probe_source();
-        let module = validate(&src).unwrap_or_else(|e| panic!("probe_bsdf: {e}"));
-        assert!(module.entry_points.iter().any(|e| e.name == "probe_bsdf"));
     }
 }

@@ -5,17 +5,17 @@
 //! uploaded photons, its beam estimate and the shadow walk's transmittance, for
 //! tests/media_gpu.rs to compare with their Rust twins.
 
-use super::buffers::read_back;
-use super::context::GpuContext;
-use super::probe::{case_buffer, dispatch_probe, probe_cases};
-use super::recorder::Recorder;
-use super::run::GpuRun;
-use super::volume::VolumeBuffers;
-use crate::error::Result;
-use crate::photon::{BeamPhotons, Photon};
-use crate::report::RenderReport;
-use crate::scene::Scene;
-use crate::settings::RenderSettings;
+use gpu_photon::gpu::buffers::read_back;
+use gpu_photon::gpu::context::GpuContext;
+use super::{case_buffer, dispatch_probe, probe_cases};
+use gpu_photon::gpu::recorder::Recorder;
+use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::gpu::volume::VolumeBuffers;
+use gpu_photon::error::Result;
+use gpu_photon::photon::{BeamPhotons, Photon};
+use gpu_photon::report::RenderReport;
+use gpu_photon::scene::Scene;
+use gpu_photon::settings::RenderSettings;
 
 /// One case of [`medium_samplers`]: the free flight's `(u_channel, u, t_max)` and the
 /// phase function's travel direction and `(u1, u2)`.
@@ -121,7 +121,7 @@ pub fn medium_samplers(
 }
 
 /// The photons one pass traced on the device (`GpuRun::record_maps`, pass index `pass`):
-/// each map's surface photons in [`crate::plan::MapKind`] slot order (as traced, before the
+/// each map's surface photons in [`gpu_photon::plan::MapKind`] slot order (as traced, before the
 /// grid's sort) and the volume photons, each list in the device's order.
 #[derive(Clone, Debug, Default)]
 pub struct TracedPhotons {

@@ -6,8 +6,8 @@
 //! `geometry::shading_normal`, `triangle_tangent`, `vertex_tangent`, `bvh::uv_tangent`,
 //! `bvh::alpha_passes`, `Hit::facing`, `geometry::offset_origin` and `photon::pack_normal`.
 
-use super::probe_light::SceneProbes;
-use crate::error::Result;
+use super::light::SceneProbes;
+use gpu_photon::error::Result;
 
 /// One case of [`SceneProbes::hits`]: a primitive, a point on it and a ray.
 #[derive(Clone, Copy, Debug)]

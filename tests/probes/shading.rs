@@ -3,12 +3,12 @@
 //! and every question the integrators ask of the surface (class, emission, the diffuse
 //! part's albedo, store weight, value and estimate BRDF, the lobe's flags, value, density
 //! and sample, a delta bounce, a photon's bounce), the power heuristic and the radiance of
-//! an escaping ray, for tests/shading_gpu.rs to compare with `crate::shading` at the same
+//! an escaping ray, for tests/shading_gpu.rs to compare with `gpu_photon::shading` at the same
 //! hit (the device's hit is read back, so both sides shade the same bits).
 
-use super::probe_light::SceneProbes;
-use crate::bvh::Hit;
-use crate::error::Result;
+use super::light::SceneProbes;
+use gpu_photon::bvh::Hit;
+use gpu_photon::error::Result;
 use glam::{Vec2, Vec3};
 
 /// One case of [`SceneProbes::shading`]: a ray, the directions the surface is asked

@@ -1,20 +1,28 @@
 //! Oracle probes: run single kernels on chosen inputs so tests can compare them with the
 //! Rust functions they mirror (the RNG, the grid build, the K-nearest estimate, the radiance
-//! cache's build and lookup, the environment's lookup and sampling). The probe
-//! entry points live in shaders/probes.wgsl; the set-up is the render's own (`GpuRun`).
+//! cache's build and lookup, the environment's lookup and sampling). The probe entry points
+//! live in `probes.wgsl` beside this file, composed over the kernels' own libraries
+//! (`gpu::shaders::probe_source`); the set-up is the render's own (`GpuRun`). Test code
+//! only: no release build compiles it. Each test that uses probes declares `mod probes;`.
+#![allow(dead_code)]
 
-use super::bindings::GATHER_GROUP;
-use super::buffers::{grid_2d, read_back};
-use super::codes::{STATS_LEN, WG_SIZE};
-use super::context::GpuContext;
-use super::pipelines::{pipeline_layout, shader_module};
-use super::recorder::Recorder;
-use super::run::GpuRun;
-use super::shaders::Kernel;
-use crate::error::{Error, Result};
-use crate::photon::Photon;
-use crate::scene::Scene;
-use crate::settings::{Filter, Mode, RenderSettings};
+pub mod bsdf;
+pub mod hit;
+pub mod light;
+pub mod media;
+pub mod shading;
+
+use gpu_photon::gpu::bindings::GATHER_GROUP;
+use gpu_photon::gpu::buffers::{grid_2d, read_back};
+use gpu_photon::gpu::codes::{STATS_LEN, WG_SIZE};
+use gpu_photon::gpu::context::GpuContext;
+use gpu_photon::gpu::pipelines::{pipeline_layout, shader_module_of};
+use gpu_photon::gpu::recorder::Recorder;
+use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::error::{Error, Result};
+use gpu_photon::photon::Photon;
+use gpu_photon::scene::Scene;
+use gpu_photon::settings::{Filter, Mode, RenderSettings};
 
 /// `(path_key, draw_u32, to_unit bits, pcg_hash(i))` for i < n, from WGSL, with the key's
 /// stream `1 + i % 4` and dimension `i % 9`.
@@ -71,7 +79,7 @@ pub fn estimate(
         ..Default::default()
     };
     let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = super::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table = gpu_photon::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * queries.len()];
     for (i, (p, nrm)) in queries.iter().enumerate() {
@@ -260,7 +268,7 @@ pub fn radiance_cache(
         ..Default::default()
     };
     let mut run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = super::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table = gpu_photon::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * n as usize];
     for (i, (p, nrm)) in queries.iter().enumerate() {
@@ -296,7 +304,7 @@ pub fn radiance_cache(
 
 /// A run over `scene` for `n` probe cases (an image of `n` x 1 pixels): the render's own
 /// set-up.
-pub(super) fn case_run(ctx: &GpuContext, scene: &Scene, n: usize) -> Result<GpuRun> {
+pub fn case_run(ctx: &GpuContext, scene: &Scene, n: usize) -> Result<GpuRun> {
     let settings = RenderSettings {
         width: n as u32,
         height: 1,
@@ -306,7 +314,7 @@ pub(super) fn case_run(ctx: &GpuContext, scene: &Scene, n: usize) -> Result<GpuR
 }
 
 /// The probes' buffer (`accum`) of `run`, holding `init`.
-pub(super) fn case_buffer(run: &GpuRun, init: &[[f32; 4]]) -> wgpu::Buffer {
+pub fn case_buffer(run: &GpuRun, init: &[[f32; 4]]) -> wgpu::Buffer {
     let accum = run.accum_buffer(init.len() as u64 * 16);
     run.ctx
         .queue
@@ -316,7 +324,7 @@ pub(super) fn case_buffer(run: &GpuRun, init: &[[f32; 4]]) -> wgpu::Buffer {
 
 /// Runs probe `entry` over `n` cases of `init` on a fresh run over `scene` (the WGSL
 /// defaults of the override constants) and reads the buffer back.
-pub(super) fn probe_cases(
+pub fn probe_cases(
     ctx: &GpuContext,
     scene: &Scene,
     entry: &str,
@@ -331,7 +339,7 @@ pub(super) fn probe_cases(
 /// (two absent maps and `accum` when `None`) and reads `accum` back. The pipeline is
 /// specialised with `constants` (override constants by name; the WGSL defaults for the
 /// others).
-pub(super) fn dispatch_probe(
+pub fn dispatch_probe(
     run: &GpuRun,
     entry: &str,
     accum: &wgpu::Buffer,
@@ -342,7 +350,7 @@ pub(super) fn dispatch_probe(
     debug_assert_eq!(GATHER_GROUP.group, 1);
     let dev = &run.ctx.device;
     let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = shader_module(dev, Kernel::Probes);
+    let module = shader_module_of(dev, "probes", source());
     let layout = pipeline_layout(
         dev,
         "probe pipeline layout",
@@ -388,4 +396,15 @@ pub(super) fn dispatch_probe(
     }
     run.ctx.queue.submit([enc.finish()]);
     read_back(&run.ctx, accum, accum.size())
+}
+
+/// The probes' composed module: the kernels' libraries, then `probes.wgsl`,
+/// `probe_light.wgsl`, `probe_geometry.wgsl` and `probe_shading.wgsl`.
+pub fn source() -> String {
+    gpu_photon::gpu::shaders::probe_source(&[
+        include_str!("probes.wgsl"),
+        include_str!("probe_light.wgsl"),
+        include_str!("probe_geometry.wgsl"),
+        include_str!("probe_shading.wgsl"),
+    ])
 }

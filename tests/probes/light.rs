@@ -5,15 +5,15 @@
 //! twins (`LightTable::emit` and `sample`, `Budget::light_of`, `photon::power_ends`,
 //! `geometry::intersect_triangle` and `intersect_sphere`, `Bvh::intersect` and `occluded`).
 
-use super::context::GpuContext;
-use super::pipelines::scene_features;
-use super::probe::{case_buffer, dispatch_probe};
-use super::run::GpuRun;
-use crate::error::Result;
-use crate::photon::Budget;
-use crate::plan::MapKind;
-use crate::scene::Scene;
-use crate::settings::RenderSettings;
+use gpu_photon::gpu::context::GpuContext;
+use gpu_photon::gpu::pipelines::scene_features;
+use super::{case_buffer, dispatch_probe};
+use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::error::Result;
+use gpu_photon::photon::Budget;
+use gpu_photon::plan::MapKind;
+use gpu_photon::scene::Scene;
+use gpu_photon::settings::RenderSettings;
 
 /// One case of [`SceneProbes::lights`]: a light, and the random numbers and shading point
 /// it is used with.
@@ -89,7 +89,7 @@ impl SceneProbes {
 
     /// Runs probe `entry` over `n` invocations on `init` (the parameters' width set to `n`)
     /// and reads the buffer back.
-    pub(super) fn dispatch(
+    pub fn dispatch(
         &mut self,
         entry: &str,
         init: &[[f32; 4]],
