@@ -2,7 +2,7 @@
 """Reference values for src/bsdf/ taken from Mitsuba 3.9.1 itself (the scalar_rgb variant).
 
     pip install mitsuba==3.9.1
-    python3 scripts/mitsuba_bsdf_values.py --table   # Rust rows of src/bsdf/ior.rs (named conductors)
+    python3 scripts/mitsuba_bsdf_values.py --table   # Rust rows of src/bsdfs/ior.rs (named conductors)
     python3 scripts/mitsuba_bsdf_values.py           # writes tests/data/bsdf/mitsuba_eval.csv
 
 Naming: in the CSV, `wi` and `wo` use OUR convention (wo = towards the viewer, wi = towards

@@ -1,4 +1,4 @@
-"""Mitsuba 3's `disk` and `cylinder`, which src/scene/mitsuba/round.rs meshes: their areas,
+"""Mitsuba 3's `disk` and `cylinder`, which src/importers/mitsuba/round.rs meshes: their areas,
 normals and texture coordinates at known points (pip install mitsuba==3.9.1).
 
     python3 scripts/mitsuba_round_shapes.py

@@ -1,5 +1,5 @@
 """Reference values for tests/mitsuba_xml.rs and the CIE table of
-src/scene/mitsuba/cie.rs, from Mitsuba 3 itself (pip install mitsuba==3.9.1).
+src/importers/mitsuba/cie.rs, from Mitsuba 3 itself (pip install mitsuba==3.9.1).
 
     python3 scripts/mitsuba_spectra.py table   # the CIE 1931 table, as Rust
     python3 scripts/mitsuba_spectra.py         # the reference colours

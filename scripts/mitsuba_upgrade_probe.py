@@ -1,5 +1,5 @@
 """What Mitsuba 3 does with a scene written for Mitsuba 0.x (`<scene version>` below 2.0.0),
-the behaviour src/scene/mitsuba/upgrade.rs follows (pip install mitsuba==3.9.1):
+the behaviour src/importers/mitsuba/upgrade.rs follows (pip install mitsuba==3.9.1):
 
     python3 scripts/mitsuba_upgrade_probe.py
 

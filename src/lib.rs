@@ -27,79 +27,57 @@ mod api;
 
 pub use api::*;
 pub use error::{Error, Result};
-pub use film::{DiffStats, Image};
-pub use progressive::Flow;
-pub use report::RenderReport as Report;
+pub use render::film::{DiffStats, Image};
+pub use render::progressive::Flow;
+pub use render::report::RenderReport as Report;
 pub use settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler};
 pub use warning::Warning;
 
+// The layout is by concept (docs/architecture.md): the kinds of a closed set (BSDFs, lights,
+// media, textures) each in their folder with their WGSL beside them, every importer feeding
+// the one scene builder, the integrators of both backends, then the render around them.
+
 /// Throughput and speed-against-error measurements (what `gpu-photon bench` runs).
 pub mod bench;
+/// The BSDFs: one union of every scattering model, the shading interface the integrators use.
 #[doc(hidden)]
-pub mod bsdf;
-#[doc(hidden)]
-pub mod budget;
+pub mod bsdfs;
+/// The bounding volume hierarchy, its walk on both backends.
 #[doc(hidden)]
 pub mod bvh;
-#[doc(hidden)]
-pub mod calibration;
+/// The pinhole and thin-lens camera and the pixel filters.
 #[doc(hidden)]
 pub mod camera;
-#[doc(hidden)]
-pub mod choices;
-#[doc(hidden)]
-pub mod cpu;
-#[doc(hidden)]
-pub mod environment;
+/// The library's error type.
 #[doc(hidden)]
 pub mod error;
+/// Scene files of every format, read into the one scene builder.
 #[doc(hidden)]
-pub mod estimate;
+pub mod importers;
+/// Photon tracing, photon maps, estimates and the camera pass on the CPU and the GPU.
 #[doc(hidden)]
-pub mod film;
+pub mod integrators;
+/// The lights: sampling, emission, the photon budget.
 #[doc(hidden)]
-pub mod geometry;
+pub mod lights;
+/// Rays, intersections, random numbers and sample warps.
 #[doc(hidden)]
-pub mod gpu;
+pub mod math;
+/// Participating media and their phase functions.
 #[doc(hidden)]
-pub mod light;
+pub mod media;
+/// A render around the backends: the session, passes, budgets, images and their slices.
 #[doc(hidden)]
-pub mod material;
-#[doc(hidden)]
-pub mod medium;
-#[doc(hidden)]
-pub mod merge;
-#[doc(hidden)]
-pub mod phase;
-#[doc(hidden)]
-pub mod photon;
-#[doc(hidden)]
-pub mod pixel_filter;
-#[doc(hidden)]
-pub mod plan;
-#[doc(hidden)]
-pub mod progressive;
-#[doc(hidden)]
-pub mod read;
-#[doc(hidden)]
-pub mod report;
-#[doc(hidden)]
-pub mod rng;
-#[doc(hidden)]
-pub mod sampling;
+pub mod render;
+/// The backend-neutral scene and its builder.
 #[doc(hidden)]
 pub mod scene;
-#[doc(hidden)]
-pub mod session;
+/// Render settings and their ranges.
 #[doc(hidden)]
 pub mod settings;
+/// Textures: images, checkerboards, their lookups.
 #[doc(hidden)]
-pub mod shading;
-#[doc(hidden)]
-pub mod slice;
-#[doc(hidden)]
-pub mod sobol;
-#[doc(hidden)]
-pub mod texture;
+pub mod textures;
+/// Warnings as values.
 #[doc(hidden)]
 pub mod warning;

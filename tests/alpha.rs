@@ -3,10 +3,10 @@
 //! textured opacity follows its texture, the importer's errors are exact, and the GPU
 //! renders masks as the CPU does.
 
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba::import;
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::mitsuba::import;
 use gpu_photon::scene::{AlphaMode, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f32::consts::PI;
 use std::path::Path;
@@ -119,7 +119,7 @@ fn the_gpu_renders_masks_as_the_cpu_does() {
     };
     let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
-    let mean = |img: &gpu_photon::film::Image| {
+    let mean = |img: &gpu_photon::render::film::Image| {
         img.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / img.pixels.len() as f64
     };
     let (c, g) = (mean(&cpu), mean(&gpu));

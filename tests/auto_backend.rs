@@ -1,4 +1,4 @@
-//! `--backend auto` by measurement (`gpu_photon::calibration`): the first auto render on an
+//! `--backend auto` by measurement (`gpu_photon::render::calibration`): the first auto render on an
 //! adapter times the calibration scene on both backends and keeps the times in the cache file;
 //! later renders follow the stored times, whichever backend they favour. Run as processes
 //! with their own `XDG_CACHE_HOME`. Needs an adapter (lavapipe in CI; elsewhere it skips).

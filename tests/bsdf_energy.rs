@@ -4,7 +4,7 @@
 //! dielectric transmission, two-sidedness, and the diffuse + lobe split.
 
 use glam::Vec3;
-use gpu_photon::bsdf::{Bsdf, Distribution, Microfacet, Plastic, Transport};
+use gpu_photon::bsdfs::{Bsdf, Distribution, Microfacet, Plastic, Transport};
 use std::f32::consts::PI;
 
 mod common;

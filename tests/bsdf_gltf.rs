@@ -1,11 +1,11 @@
-//! glTF's metallic-roughness BSDF (`gpu_photon::bsdf::MetallicRoughness`) against the
+//! glTF's metallic-roughness BSDF (`gpu_photon::bsdfs::MetallicRoughness`) against the
 //! specification's Appendix B written out here on its own: the lobes equal it pointwise, the
 //! diffuse part's albedo towards every viewer equals the specification's (whose
 //! `1 - max F(wo . h)` weight our split replaces by its cosine-weighted mean), sampling
 //! agrees with quadrature, and the `S(mu)` table agrees with a brute-force integral.
 
 use glam::Vec3;
-use gpu_photon::bsdf::{
+use gpu_photon::bsdfs::{
     schlick_mean, Bsdf, Distribution, MetallicRoughness, Microfacet, Transport,
 };
 use std::f32::consts::PI;

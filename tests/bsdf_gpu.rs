@@ -1,5 +1,5 @@
-//! Oracle test of `shaders/common/bsdf.wgsl` against `src/bsdf/`: the probe
-//! `shaders/probe_bsdf.wgsl` runs every BsdfParams function (eval, pdf, the lobe's, sample,
+//! Oracle test of `src/bsdfs/bsdf.wgsl` against `src/bsdf/`: the probe
+//! `tests/probes/probe_bsdf.wgsl` runs every BsdfParams function (eval, pdf, the lobe's, sample,
 //! sample_lobe, diffuse_out, store_weight, and the microfacet, Fresnel and erf helpers) on a
 //! few thousand (wi, wo, u) cases over every kind, and each value is compared with the Rust
 //! method on the same bits: relative error at most 1e-4, looser only for sampled quantities
@@ -15,15 +15,15 @@ mod probes;
 use bytemuck::{Pod, Zeroable};
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3};
-use gpu_photon::bsdf::math::{erf, erfinv, mulsign, square_to_cosine_hemisphere};
-use gpu_photon::bsdf::{
+use gpu_photon::bsdfs::math::{erf, erfinv, mulsign, square_to_cosine_hemisphere};
+use gpu_photon::bsdfs::{
     fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, MetallicRoughness,
     Microfacet, Plastic, Transport,
 };
-use gpu_photon::gpu::bsdf_params::pack;
+use gpu_photon::integrators::gpu::bsdf_params::pack;
 use probes::bsdf::source as probe_source;
-use gpu_photon::gpu::buffers::{read_back, storage_buffer};
-use gpu_photon::gpu::GpuContext;
+use gpu_photon::integrators::gpu::buffers::{read_back, storage_buffer};
+use gpu_photon::integrators::gpu::GpuContext;
 use std::collections::BTreeMap;
 
 /// vec4 slots the probe writes per case (`PROBE_SLOTS` in probe_bsdf.wgsl).
@@ -444,7 +444,7 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
             let (ps, pd) = ((1.0 - t) * ssw, t * (1.0 - ssw));
             let prob = if ps + pd > 0.0 { ps / (ps + pd) } else { 0.0 };
             let reflected = p.microfacet.map(|mf| {
-                gpu_photon::bsdf::math::reflect(
+                gpu_photon::bsdfs::math::reflect(
                     wof,
                     mf.sample_visible(wof, Vec2::new(u[1], u[2])).0,
                 )
@@ -456,7 +456,7 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
             ..
         } => {
             let m = mf.sample_visible(wof, Vec2::new(u[1], u[2])).0;
-            close(gpu_photon::bsdf::math::reflect(wof, m).z)
+            close(gpu_photon::bsdfs::math::reflect(wof, m).z)
         }
         Bsdf::MetallicRoughness(g) => {
             // sample: u[0] against the lobe probability, then (rescaled) against the
@@ -467,7 +467,7 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
             close(u[0] - p)
                 || close(u[0] / p - r)
                 || close(u[0] - r)
-                || close(gpu_photon::bsdf::math::reflect(wof, m).z)
+                || close(gpu_photon::bsdfs::math::reflect(wof, m).z)
         }
         _ => false,
     }
@@ -633,10 +633,10 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
 /// twins `BsdfParams` and `ProbeCase` (naga's layout of the composed probe; no GPU needed).
 #[test]
 fn bsdf_params_layout_matches_gpu_bsdf() {
-    use gpu_photon::gpu::bsdf_params::GpuBsdf;
+    use gpu_photon::integrators::gpu::bsdf_params::GpuBsdf;
     use naga::TypeInner;
     use std::mem::{offset_of, size_of};
-    let module = gpu_photon::gpu::shaders::validate(&probe_source()).expect("probe_bsdf validates");
+    let module = gpu_photon::integrators::gpu::shaders::validate(&probe_source()).expect("probe_bsdf validates");
     let members = |name: &str| -> (u32, Vec<(String, u32)>) {
         let (_, ty) = module
             .types

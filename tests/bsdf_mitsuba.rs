@@ -10,7 +10,7 @@
 //! here, in f32 packets there, and the sampling probability depends on 1 - t).
 
 use glam::Vec3;
-use gpu_photon::bsdf::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, Transport};
+use gpu_photon::bsdfs::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, Transport};
 use std::collections::HashMap;
 
 /// Mitsuba's index of air, the default `ext_ior` of every dielectric-like plugin.

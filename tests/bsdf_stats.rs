@@ -7,7 +7,7 @@
 //! non-delta sample also checks `weight == eval |cos| / pdf` and `pdf == pdf(wi)`.
 
 use glam::Vec3;
-use gpu_photon::bsdf::{
+use gpu_photon::bsdfs::{
     Bsdf, Distribution, LobeSample, MetallicRoughness, Microfacet, Plastic, Transport,
 };
 use std::f64::consts::PI;

@@ -1,10 +1,10 @@
-//! The render's memory against the machine's (`gpu_photon::budget`): a render whose estimate
+//! The render's memory against the machine's (`gpu_photon::render::budget`): a render whose estimate
 //! exceeds the memory available fails before anything of it is allocated, with exit status
 //! 1 and one error naming the parts, the shortfall and how to shrink the largest; one that
 //! fits renders. `GPU_PHOTON_MEMORY` stands in for the machine's figure so the cases do not
 //! depend on this machine.
 
-use gpu_photon::budget::{available, parse_bytes, size, BYTES_PER_PHOTON, STORES_PER_PATH};
+use gpu_photon::render::budget::{available, parse_bytes, size, BYTES_PER_PHOTON, STORES_PER_PATH};
 use std::process::{Command, Output};
 
 /// A classic render on `backend` with `GPU_PHOTON_MEMORY=memory`.

@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 use gpu_photon::bvh::Bvh;
-use gpu_photon::gpu::bvh_layout::{traversal_nodes, GPU_COSTS, LEAF_COUNT_SHIFT};
+use gpu_photon::bvh::gpu_layout::{traversal_nodes, GPU_COSTS, LEAF_COUNT_SHIFT};
 use gpu_photon::scene::{Scene, Triangle};
 use std::path::Path;
 
@@ -78,7 +78,7 @@ fn layout_gives_the_stack_traversal_order_on_every_example_scene() {
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "toml") {
-            let scene = gpu_photon::scene::load(&path).unwrap();
+            let scene = gpu_photon::importers::load(&path).unwrap();
             let name = path.display().to_string();
             check(&name, &Bvh::build(&scene));
             check(&name, &Bvh::build_with(&scene, GPU_COSTS));
@@ -90,7 +90,7 @@ fn layout_gives_the_stack_traversal_order_on_every_example_scene() {
 
 #[test]
 fn layout_gives_the_stack_traversal_order_on_a_deep_mesh() {
-    let mut scene: Scene = gpu_photon::scene::load(
+    let mut scene: Scene = gpu_photon::importers::load(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml"),
     )
     .unwrap();

@@ -12,12 +12,13 @@ use bytemuck::{Pod, Zeroable};
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::camera::{Camera, DEFAULT_FOV_Y};
-use gpu_photon::film::Image;
-use gpu_photon::gpu::GpuContext;
-use gpu_photon::pixel_filter::{concentric_disc, PixelFilter};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, load_str, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::Image;
+use gpu_photon::integrators::gpu::GpuContext;
+use gpu_photon::camera::pixel_filter::{concentric_disc, PixelFilter};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::Scene;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::Path;
 
@@ -179,8 +180,8 @@ fn cpu(q: &Query) -> [f32; 8] {
 
 fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[f32; 8]> {
     let source = [
-        gpu_photon::gpu::codes::wgsl_prelude(),
-        gpu_photon::pixel_filter::wgsl_library(),
+        gpu_photon::integrators::gpu::codes::wgsl_prelude(),
+        gpu_photon::camera::pixel_filter::wgsl_library(),
         PROBE.to_string(),
     ]
     .join("\n");
@@ -582,7 +583,7 @@ fn scene_files_choose_the_filter_and_the_lens() {
 <float name="far_clip" value="250"/>{params}
 <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>{film}</film></sensor></scene>"#
         );
-        gpu_photon::scene::mitsuba::import(&text, "t.xml", Path::new("."))
+        gpu_photon::importers::mitsuba::import(&text, "t.xml", Path::new("."))
     };
     let cam =
         |s: &str, p: &str, f: &str| xml(s, p, f).unwrap_or_else(|e| panic!("{e}")).scene.camera;

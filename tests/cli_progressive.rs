@@ -34,7 +34,7 @@ fn render(out: &Path, extra: &[&str]) -> std::process::Output {
 }
 
 fn tag(path: &Path, key: &str) -> Option<String> {
-    gpu_photon::film::read_tags(path)
+    gpu_photon::render::film::read_tags(path)
         .unwrap()
         .into_iter()
         .find(|t| t.0 == key)

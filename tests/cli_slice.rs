@@ -67,7 +67,7 @@ fn merge(inputs: &[&Path], out: &Path, extra: &[&str]) -> Output {
 }
 
 fn tag(path: &Path, key: &str) -> Option<String> {
-    gpu_photon::film::read_tags(path)
+    gpu_photon::render::film::read_tags(path)
         .unwrap()
         .into_iter()
         .find(|t| t.0 == key)

@@ -13,16 +13,16 @@ mod common;
 use common::{trace_global, TestRng};
 use glam::Vec3;
 use gpu_photon::camera::Camera;
-use gpu_photon::cpu::photon_map::PhotonMap;
-use gpu_photon::geometry::{intersect_triangle, Ray, Shear};
-use gpu_photon::light::{scalar_power, split_budget};
-use gpu_photon::material::{
+use gpu_photon::integrators::cpu::photon_map::PhotonMap;
+use gpu_photon::math::geometry::{intersect_triangle, Ray, Shear};
+use gpu_photon::lights::{scalar_power, split_budget};
+use gpu_photon::bsdfs::classic::{
     dielectric, fresnel, fresnel_exact, fresnel_schlick, photon_bounce, reflect, refract, Bounce,
 };
-use gpu_photon::photon::{Budget, Photon};
-use gpu_photon::report::Progress;
+use gpu_photon::integrators::photon::{Budget, Photon};
+use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Light, LightShape, Material, MaterialKind, Scene, Triangle, NO_LIGHT};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 
 use gpu_photon::settings::{FresnelMode, Mode, RenderSettings};
 use std::f64::consts::PI;
@@ -779,7 +779,7 @@ fn sealed_box(albedo: Vec3) -> Scene {
         spheres: vec![],
         lights: vec![],
         media: vec![],
-        camera_medium: gpu_photon::medium::NO_MEDIUM,
+        camera_medium: gpu_photon::media::NO_MEDIUM,
         settings: RenderSettings::default(),
     }
 }
@@ -1096,7 +1096,7 @@ fn stored_power_over_all_depths_is_the_russian_roulette_series() {
 
 fn tiny_render(seed: u32) -> gpu_photon::Image {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml");
-    let scene = gpu_photon::scene::load(&path).expect("cornell-box.toml loads");
+    let scene = gpu_photon::importers::load(&path).expect("cornell-box.toml loads");
     let settings = RenderSettings {
         width: 24,
         height: 16,

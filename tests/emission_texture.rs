@@ -5,11 +5,11 @@
 //! of one integral; the GPU renders it as the CPU does.
 
 use glam::{Vec2, Vec3};
-use gpu_photon::report::Progress;
+use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
-use gpu_photon::texture::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
+use gpu_photon::textures::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use std::f32::consts::PI;
 
 mod common;
@@ -43,7 +43,7 @@ fn scene(l: f32, up: bool) -> Scene {
     b.camera(eye, target, Vec3::Z, 20.0, &at()).unwrap();
     let texels = TEXELS
         .iter()
-        .map(|t| gpu_photon::texture::pack_rgba8(*t))
+        .map(|t| gpu_photon::textures::pack_rgba8(*t))
         .collect();
     let tex = Texture::from_rgba8("emission", 2, 2, texels, Encoding::Raw)
         .unwrap()
@@ -198,7 +198,7 @@ fn the_gpu_renders_textured_emission_as_the_cpu_does() {
     let settings = direct(&s, 4);
     let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
-    let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+    let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
     assert!(
         d.max_error < 1e-4,
         "emitter seen directly, gpu vs cpu: {d:?}"
@@ -226,7 +226,7 @@ fn mitsuba_area_emitters_take_a_textured_radiance() {
 <rgb name="color0" value="1, 0, 0"/><rgb name="color1" value="0, 0, 1"/></texture></emitter></shape>
 </scene>
 "#;
-    let s = gpu_photon::scene::mitsuba::import(text, "t.xml", std::path::Path::new("."))
+    let s = gpu_photon::importers::mitsuba::import(text, "t.xml", std::path::Path::new("."))
         .unwrap()
         .scene;
     let m = s.materials[s.triangles[0].material as usize];

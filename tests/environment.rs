@@ -4,15 +4,15 @@
 //! environment, and the command line's `--env` and no-light error.
 
 use glam::{Mat3, Vec3};
-use gpu_photon::environment::{self as env, EnvDistribution};
-use gpu_photon::film::Image;
-use gpu_photon::light::LightTable;
-use gpu_photon::photon::Budget;
-use gpu_photon::report::Progress;
+use gpu_photon::lights::environment::sampling::{self as env, EnvDistribution};
+use gpu_photon::render::film::Image;
+use gpu_photon::lights::LightTable;
+use gpu_photon::integrators::photon::Budget;
+use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Environment, Material, Origin, Scene, SceneBuilder, Surface};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
-use gpu_photon::texture::Texture;
+use gpu_photon::textures::Texture;
 use std::f64::consts::PI;
 
 mod common;
@@ -278,7 +278,7 @@ fn sky_integral(scale: f64) -> glam::DVec3 {
         let v = (j as f64 + 0.5) / nv as f64;
         for i in 0..nu {
             let u = (i as f64 + 0.5) / nu as f64;
-            let c = gpu_photon::scene::latlong_lookup(&t, glam::Vec2::new(u as f32, v as f32));
+            let c = gpu_photon::lights::environment::latlong_lookup(&t, glam::Vec2::new(u as f32, v as f32));
             sum += c.as_dvec3() * (PI * v).sin();
         }
     }
@@ -397,7 +397,7 @@ fn envmap_distribution_is_luminance_times_sin_theta() {
         (d.width, d.height, d.grid.len(), d.cdf.len()),
         (8, 4, 9 * 4, 8 * 3)
     );
-    let sun = gpu_photon::scene::luminance(Vec3::new(40.0, 36.0, 30.0));
+    let sun = gpu_photon::lights::environment::luminance(Vec3::new(40.0, 36.0, 30.0));
     let want = sun * (std::f32::consts::PI / 3.0).sin();
     assert!((d.grid[9 + 2] - want).abs() < 1e-4 * want);
     assert_eq!(d.grid[9 + 8], d.grid[9], "column W repeats column 0");
@@ -418,9 +418,9 @@ fn envmap_distribution_is_luminance_times_sin_theta() {
         sum / (n * n) as f64
     );
     // Mitsuba's uv <-> direction: +y is v = 0, -z is u = 0, +x is u = 1/4.
-    let uv = gpu_photon::scene::latlong_uv(Vec3::X);
+    let uv = gpu_photon::lights::environment::latlong_uv(Vec3::X);
     assert!((uv - glam::Vec2::new(0.25, 0.5)).abs().max_element() < 1e-6);
-    let d = gpu_photon::scene::latlong_dir(glam::Vec2::new(0.0, 0.5));
+    let d = gpu_photon::lights::environment::latlong_dir(glam::Vec2::new(0.0, 0.5));
     assert!((d - Vec3::NEG_Z).abs().max_element() < 1e-6);
 }
 
@@ -520,7 +520,7 @@ fn device_environment_equals_rust() {
     let close = |a: f32, b: f32| (a - b).abs() <= 2e-4 * a.abs().max(b.abs()) + 1e-6;
     let mut bad = Vec::new();
     for ((d, ns, u), (look, sample)) in cases.iter().zip(&out) {
-        let (t, b) = gpu_photon::sampling::basis(*d);
+        let (t, b) = gpu_photon::math::sampling::basis(*d);
         let ring = [t, -t, b, -b, t + b, t - b, b - t, -t - b];
         let around = ring.map(|a| rust((*d + 3e-4 * a.normalize()).normalize(), *ns));
         let centre = rust(*d, *ns);
@@ -655,7 +655,7 @@ fn no_light_is_an_error_and_env_lights_the_scene() {
 fn toml_and_mitsuba_constant_environments() {
     let toml = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
                 [environment]\nradiance = [1, 0.5, 0.25]\n";
-    let s = gpu_photon::scene::load_str(toml, "env.toml", std::path::Path::new(".")).unwrap();
+    let s = gpu_photon::importers::load_str(toml, "env.toml", std::path::Path::new(".")).unwrap();
     assert_eq!(s.environment(), Some(&Environment::constant(L)));
     let xml = r#"<scene version="3.0.0">
         <sensor type="perspective"><float name="fov" value="40"/></sensor>
@@ -665,12 +665,12 @@ fn toml_and_mitsuba_constant_environments() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("env.xml");
     std::fs::write(&path, xml).unwrap();
-    let m = gpu_photon::scene::load(&path).unwrap();
+    let m = gpu_photon::importers::load(&path).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(m.environment(), Some(&Environment::constant(L)));
     let both = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
                 [environment]\nradiance = [1, 1, 1]\nfilename = \"sky.exr\"\n";
-    let e = gpu_photon::scene::load_str(both, "env.toml", std::path::Path::new("."))
+    let e = gpu_photon::importers::load_str(both, "env.toml", std::path::Path::new("."))
         .unwrap_err()
         .to_string();
     assert_eq!(
@@ -679,13 +679,13 @@ fn toml_and_mitsuba_constant_environments() {
     );
     let missing = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
                    [environment]\nfilename = \"no-such-sky.exr\"\nscale = 2\n";
-    let e = gpu_photon::scene::load_str(missing, "env.toml", std::path::Path::new("."))
+    let e = gpu_photon::importers::load_str(missing, "env.toml", std::path::Path::new("."))
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("env.toml:7: environment.filename: "), "{e}");
     let negative = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\n\n\
                     [environment]\nradiance = [1, -1, 1]\n";
-    let e = gpu_photon::scene::load_str(negative, "env.toml", std::path::Path::new("."))
+    let e = gpu_photon::importers::load_str(negative, "env.toml", std::path::Path::new("."))
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("env.toml:7: environment.radiance: "), "{e}");
@@ -699,11 +699,11 @@ fn toml_and_mitsuba_constant_environments() {
 #[test]
 fn envlight_default_render_matches_the_mitsuba_reference() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/mitsuba/envlight.xml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/mitsuba/envlight.xml")).unwrap();
     let s = scene.settings.as_default_render();
     let (img, _) = render(&scene, &s, Backend::Cpu, Progress::default()).unwrap();
     let reference = Image::read(&root.join("tests/data/envlight.exr")).unwrap();
-    let d = gpu_photon::film::diff(&img, &reference, 16).unwrap();
+    let d = gpu_photon::render::film::diff(&img, &reference, 16).unwrap();
     eprintln!("envlight, default render vs Mitsuba: {d:?}");
     for (c, r) in d.mean_ratio.iter().enumerate() {
         assert!((r - 1.0).abs() < 0.01, "channel {c}: mean ratio {r}");
@@ -723,7 +723,7 @@ fn a_ground_plane_under_the_sky_on_both_backends() {
                 [[shapes]]\ntype = \"quad\"\nmaterial = \"grey\"\n\
                 corners = [[-2.5, -1, 2.5], [2.5, -1, 2.5], [2.5, -1, -2.5], [-2.5, -1, -2.5]]\n\n\
                 [environment]\nradiance = [1, 0.5, 0.25]\n";
-    let s = gpu_photon::scene::load_str(toml, "ground.toml", std::path::Path::new(".")).unwrap();
+    let s = gpu_photon::importers::load_str(toml, "ground.toml", std::path::Path::new(".")).unwrap();
     let st = settings(&s, 32, 1, Mode::DirectOnly);
     let mut counts = Vec::new();
     for b in [Backend::Cpu, Backend::Gpu] {
@@ -784,7 +784,7 @@ fn mitsuba_environment_errors_are_located() {
             "<scene version=\"3.0.0\">\n  <sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n  {emitter}\n</scene>\n"
         );
         std::fs::write(&path, xml).unwrap();
-        let e = gpu_photon::scene::load(&path).unwrap_err().to_string();
+        let e = gpu_photon::importers::load(&path).unwrap_err().to_string();
         assert!(e.contains(want), "case {i}: {e}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -799,7 +799,7 @@ fn gpu_renders_the_envlight_scene_as_the_cpu_does() {
         return;
     }
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/mitsuba/envlight.xml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/mitsuba/envlight.xml")).unwrap();
     let s = RenderSettings {
         photons: 50_000,
         caustic_photons: 50_000,

@@ -148,14 +148,14 @@ fn each_fault_under_auto_falls_back_to_the_cpu_saying_so() {
     let max_buffer = ctx.device.limits().max_buffer_size;
     let d = common::scratch("auto");
     // A stored calibration in which the GPU is faster: auto picks it without measuring.
-    let adapter = gpu_photon::gpu::preferred_adapter().unwrap();
+    let adapter = gpu_photon::integrators::gpu::preferred_adapter().unwrap();
     let file = d.join("gpu-photon").join("backend-calibration.tsv");
-    let calibration = gpu_photon::calibration::Calibration {
-        key: gpu_photon::calibration::key(&adapter.name, &adapter.driver),
+    let calibration = gpu_photon::render::calibration::Calibration {
+        key: gpu_photon::render::calibration::key(&adapter.name, &adapter.driver),
         cpu_seconds: 1.0,
         gpu_seconds: 0.5,
     };
-    gpu_photon::calibration::write(&file, &calibration).unwrap();
+    gpu_photon::render::calibration::write(&file, &calibration).unwrap();
     let cpu_out = d.join("cpu.exr");
     let o = render("cpu", None, &d, &cpu_out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

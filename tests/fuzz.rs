@@ -14,9 +14,9 @@
 #[path = "fuzz/mutate.rs"]
 mod mutate;
 
-use gpu_photon::report::Progress;
-use gpu_photon::scene::load;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::load;
+use gpu_photon::render::session::{render, Backend};
 use mutate::{mutate, Rng};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

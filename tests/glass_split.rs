@@ -12,12 +12,13 @@
 
 mod common;
 
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load_str, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::Scene;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
-use gpu_photon::shading::GLASS_SPLIT_DEPTH;
+use gpu_photon::bsdfs::shading::GLASS_SPLIT_DEPTH;
 use std::path::Path;
 
 const SLAB: &str = r#"
@@ -140,9 +141,9 @@ fn the_gpu_splits_glass_hits_as_the_cpu_does() {
 /// for bit, as in one band (here three bands of one tile of rows each).
 #[test]
 fn gpu_bands_of_rows_give_the_same_image() {
-    use gpu_photon::gpu::branches::stacks_bytes;
-    use gpu_photon::gpu::run::GpuRun;
-    use gpu_photon::report::RenderReport;
+    use gpu_photon::integrators::gpu::branches::stacks_bytes;
+    use gpu_photon::integrators::gpu::run::GpuRun;
+    use gpu_photon::render::report::RenderReport;
     let Some(ctx) = common::gpu() else { return };
     let scene = slab();
     let s = RenderSettings {

@@ -9,8 +9,9 @@ mod common;
 
 use glam::{Quat, Vec2, Vec3, Vec4};
 use gpu_photon::bvh::Bvh;
-use gpu_photon::geometry::Ray;
-use gpu_photon::scene::{load, Scene};
+use gpu_photon::math::geometry::Ray;
+use gpu_photon::importers::load;
+use gpu_photon::scene::Scene;
 use std::path::{Path, PathBuf};
 
 fn dir() -> PathBuf {
@@ -219,7 +220,7 @@ fn a_mirroring_node_mirrors_the_frame() {
     }
 }
 
-fn mean(img: &gpu_photon::film::Image) -> f32 {
+fn mean(img: &gpu_photon::render::film::Image) -> f32 {
     img.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / img.pixels.len() as f32
 }
 
@@ -240,7 +241,7 @@ fn tangents_render_alike_on_both_backends() {
     );
     for (name, (cpu, gpu)) in [("x", along_x), ("y", along_y), ("mikk", mikk)] {
         if let Some(gpu) = gpu {
-            let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+            let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
             assert!(d.max_error < 2e-3, "{name}: gpu vs cpu: {d:?}");
         }
     }

@@ -8,11 +8,12 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::load;
+use gpu_photon::scene::Scene;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
-use gpu_photon::texture::{
+use gpu_photon::textures::{
     srgb_to_linear, Encoding, Filter, SceneTexture, Texels, UvTransform, Wrap,
 };
 use std::path::{Path, PathBuf};
@@ -341,7 +342,7 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     // The GPU renders the textured glTF scene as the CPU does: same random numbers, the
     // same texels bit for bit (tests/texture_gpu.rs), so only f32 rounding apart.
     if let Some(gpu) = gpu {
-        let d = gpu_photon::film::diff(&gpu, &img, 8).unwrap();
+        let d = gpu_photon::render::film::diff(&gpu, &img, 8).unwrap();
         assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
     }
 }
@@ -374,7 +375,7 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
     assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");
     if let Some(gpu) = gpu {
-        let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+        let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
         assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
     }
 }

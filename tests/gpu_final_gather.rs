@@ -8,11 +8,11 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::estimate;
-use gpu_photon::film::Image;
+use gpu_photon::integrators::estimate;
+use gpu_photon::render::film::Image;
 use probes::CacheProbe;
-use gpu_photon::photon::{Photon, DEPTH_MASK};
-use gpu_photon::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
+use gpu_photon::integrators::photon::{Photon, DEPTH_MASK};
+use gpu_photon::integrators::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
 use gpu_photon::settings::{Filter, Mode, RenderSettings};
 use std::f32::consts::PI;
 
@@ -197,7 +197,7 @@ fn device_radiance_cache_equals_cpu_brute_force() {
     }
 }
 
-/// The gather ray's direction: the device's cosine_hemisphere equals src/sampling.rs's on
+/// The gather ray's direction: the device's cosine_hemisphere equals src/math/sampling.rs's on
 /// the same (normal, u1, u2), normals with a zero z of either sign included (the basis's
 /// sign is Rust's copysign: -0.0 counts as negative), within f32 rounding of sin and cos.
 #[test]
@@ -218,7 +218,7 @@ fn device_cosine_hemisphere_equals_rust() {
     }
     let got = probes::cosine_hemisphere(&ctx, &cases).unwrap();
     for (i, ((n, u), g)) in cases.iter().zip(&got).enumerate() {
-        let want = gpu_photon::sampling::cosine_hemisphere(Vec3::from(*n), u[0], u[1]);
+        let want = gpu_photon::math::sampling::cosine_hemisphere(Vec3::from(*n), u[0], u[1]);
         let err = (Vec3::from(*g) - want).abs().max_element();
         assert!(
             err < 1e-5,
@@ -233,7 +233,7 @@ fn device_cosine_hemisphere_equals_rust() {
 fn gpu_gather_mode_renders_the_cornell_box() {
     let Some(_) = gpu() else { return };
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let settings = RenderSettings {
         width: 32,
         height: 32,
@@ -247,11 +247,11 @@ fn gpu_gather_mode_renders_the_cornell_box() {
         timed_phases: true,
         ..Default::default()
     };
-    let (img, report) = gpu_photon::session::render(
+    let (img, report) = gpu_photon::render::session::render(
         &scene,
         &settings,
-        gpu_photon::session::BackendChoice::Gpu,
-        gpu_photon::report::Progress::default(),
+        gpu_photon::render::session::BackendChoice::Gpu,
+        gpu_photon::render::report::Progress::default(),
     )
     .unwrap();
     assert_eq!(img.non_finite(), 0, "NaN or infinite pixels");
@@ -268,11 +268,11 @@ fn gpu_gather_mode_renders_the_cornell_box() {
         spp: 1,
         ..settings.clone()
     };
-    let (_, direct_report) = gpu_photon::session::render(
+    let (_, direct_report) = gpu_photon::render::session::render(
         &scene,
         &direct,
-        gpu_photon::session::BackendChoice::Gpu,
-        gpu_photon::report::Progress::default(),
+        gpu_photon::render::session::BackendChoice::Gpu,
+        gpu_photon::render::report::Progress::default(),
     )
     .unwrap();
     assert!(
@@ -303,7 +303,7 @@ fn gpu_gather_mode_renders_the_cornell_box() {
 fn gpu_gather_over_glossy_lobes_equals_the_cpu() {
     let Some(_) = gpu() else { return };
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/glossy-sphere.toml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/glossy-sphere.toml")).unwrap();
     let s = RenderSettings {
         width: 32,
         height: 32,
@@ -313,12 +313,12 @@ fn gpu_gather_over_glossy_lobes_equals_the_cpu() {
         ..scene.settings.clone()
     };
     let run = |b| {
-        let p = gpu_photon::report::Progress::default();
-        gpu_photon::session::render(&scene, &s, b, p).unwrap().0
+        let p = gpu_photon::render::report::Progress::default();
+        gpu_photon::render::session::render(&scene, &s, b, p).unwrap().0
     };
-    let cpu = run(gpu_photon::session::BackendChoice::Cpu);
-    let gpu = run(gpu_photon::session::BackendChoice::Gpu);
-    let d = gpu_photon::film::diff(&gpu, &cpu, 8).unwrap();
+    let cpu = run(gpu_photon::render::session::BackendChoice::Cpu);
+    let gpu = run(gpu_photon::render::session::BackendChoice::Gpu);
+    let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
     eprintln!("glossy sphere, gather, GPU vs CPU: {d:?}");
     assert!(d.rmse < 1e-3, "GPU vs CPU RMSE {}", d.rmse);
 }

@@ -13,9 +13,9 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::film::diff;
-use gpu_photon::report::Progress;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::diff;
+use gpu_photon::render::report::Progress;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 
 fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
@@ -73,7 +73,7 @@ fn gpu_matches_cpu_on_every_scene() {
     let Some(_ctx) = gpu() else { return };
     let mut failures = Vec::new();
     for path in common::example_scenes_without_media() {
-        let scene = gpu_photon::scene::load(&path).unwrap();
+        let scene = gpu_photon::importers::load(&path).unwrap();
         let what = path.display().to_string();
         compare_backends(&what, &scene, |seed| settings(&scene, seed), &mut failures);
     }
@@ -89,7 +89,7 @@ fn gpu_matches_cpu_on_every_scene() {
 fn gpu_renders_are_deterministic() {
     let Some(_ctx) = gpu() else { return };
     let scene =
-        gpu_photon::scene::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
     let s = settings(&scene, 5);
     let a = render(&scene, &s, Backend::Gpu, Progress::default())
         .unwrap()
@@ -108,11 +108,11 @@ fn gpu_renders_are_deterministic() {
 /// the report sums the passes' phases under one name each, with the bound counters read back.
 #[test]
 fn one_gpu_renderer_renders_pass_after_pass() {
-    use gpu_photon::gpu::GpuRenderer;
-    use gpu_photon::session::PassRenderer;
+    use gpu_photon::integrators::gpu::GpuRenderer;
+    use gpu_photon::render::session::PassRenderer;
     let Some(_ctx) = gpu() else { return };
     let scene =
-        gpu_photon::scene::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
     let mut s = settings(&scene, 3);
     s.width = 24;
     s.height = 24;
@@ -141,7 +141,7 @@ fn one_gpu_renderer_renders_pass_after_pass() {
 
     // A K the gather's heap cannot hold is an error naming the setting, not a bad image.
     let big = RenderSettings {
-        k: gpu_photon::gpu::codes::MAX_HEAP + 1,
+        k: gpu_photon::integrators::gpu::codes::MAX_HEAP + 1,
         ..s.clone()
     };
     match r.pass(0, &big, &quiet) {
@@ -157,7 +157,7 @@ fn gpu_matches_cpu_in_direct_mode() {
     let Some(_ctx) = gpu() else { return };
     let mut failures = Vec::new();
     for path in common::example_scenes_without_media() {
-        let scene = gpu_photon::scene::load(&path).unwrap();
+        let scene = gpu_photon::importers::load(&path).unwrap();
         let what = format!("{} (direct)", path.display());
         let direct = |seed| RenderSettings {
             mode: gpu_photon::settings::Mode::Direct,
@@ -185,7 +185,7 @@ fn example_scenes_at_their_defaults_hit_no_gpu_bound() {
         return;
     }
     for path in common::example_scenes_without_media() {
-        let scene = gpu_photon::scene::load(&path).unwrap();
+        let scene = gpu_photon::importers::load(&path).unwrap();
         let small = RenderSettings {
             width: 24,
             height: 24,

@@ -6,12 +6,12 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::cpu::photon_map::PhotonMap;
-use gpu_photon::estimate;
-use gpu_photon::gpu::grid::{cell_hash, cell_of, counting_sort};
+use gpu_photon::integrators::cpu::photon_map::PhotonMap;
+use gpu_photon::integrators::estimate;
+use gpu_photon::integrators::gpu::grid::{cell_hash, cell_of, counting_sort};
 
-use gpu_photon::photon::Photon;
-use gpu_photon::rng::{draw_u32, path_key, pcg_hash, to_unit, Stream};
+use gpu_photon::integrators::photon::Photon;
+use gpu_photon::math::rng::{draw_u32, path_key, pcg_hash, to_unit, Stream};
 use gpu_photon::settings::Filter;
 
 #[test]
@@ -233,9 +233,9 @@ fn device_fixed_radius_estimate_equals_kd_tree() {
 /// the host's `grid::cell_size_for` would from the photons actually stored.
 #[test]
 fn device_sizes_grid_cells_as_the_host_rule() {
-    use gpu_photon::gpu::buffers::read_back;
-    use gpu_photon::gpu::grid::cell_size_for;
-    use gpu_photon::gpu::types::GpuMapParams;
+    use gpu_photon::integrators::gpu::buffers::read_back;
+    use gpu_photon::integrators::gpu::grid::cell_size_for;
+    use gpu_photon::integrators::gpu::types::GpuMapParams;
     use gpu_photon::settings::RenderSettings;
     let Some(ctx) = gpu() else { return };
     let s = RenderSettings {
@@ -247,7 +247,7 @@ fn device_sizes_grid_cells_as_the_host_rule() {
     };
     let (run, _, report, _) = common::cornell_gpu_pass(ctx, &s);
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let global = run
         .map_cache
         .iter()

@@ -8,8 +8,8 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::gpu::shaders::Kernel;
-use gpu_photon::report::RenderReport;
+use gpu_photon::integrators::gpu::shaders::Kernel;
+use gpu_photon::render::report::RenderReport;
 use gpu_photon::settings::RenderSettings;
 
 const PHASES: [&str; 4] = ["trace photons", "build grids", "build cache", "gather"];
@@ -118,7 +118,7 @@ fn a_bench_pass_with_timestamps_times_each_kernel_within_its_phases() {
 fn progressive_pipelines_refuse_a_k_nearest_pass() {
     let Some(ctx) = gpu() else { return };
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/cornell-box.toml")).unwrap();
     let s = RenderSettings {
         width: 8,
         height: 8,
@@ -127,13 +127,13 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
         pass_range: Some((0, 2)),
         ..Default::default()
     };
-    let mut run = gpu_photon::gpu::run::GpuRun::new(ctx, &scene, &s, 0).unwrap();
+    let mut run = gpu_photon::integrators::gpu::run::GpuRun::new(ctx, &scene, &s, 0).unwrap();
     assert!(!run.knn);
     let accum = run.accum_buffer(8 * 8 * 16);
-    let progress = gpu_photon::report::Progress::default();
+    let progress = gpu_photon::render::report::Progress::default();
     let mut report = RenderReport::default();
     // A progressive pass (k = 0) renders; the classic settings (k = 100) are refused.
-    let pass = gpu_photon::progressive::pass_settings(&scene, &s, 0);
+    let pass = gpu_photon::render::progressive::pass_settings(&scene, &s, 0);
     assert_eq!(pass.k, 0);
     run.render_pass(&scene, &pass, 0, &accum, &progress, &mut report)
         .unwrap();
@@ -152,7 +152,7 @@ fn progressive_pipelines_refuse_a_k_nearest_pass() {
 #[test]
 fn only_glass_scenes_get_the_glass_rounds() {
     let Some(ctx) = gpu() else { return };
-    use gpu_photon::gpu::branches::stacks_bytes;
+    use gpu_photon::integrators::gpu::branches::stacks_bytes;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let s = RenderSettings {
         width: 8,
@@ -167,13 +167,13 @@ fn only_glass_scenes_get_the_glass_rounds() {
         ("inside-glass.toml", true),
         ("glossy-sphere.toml", false),
     ] {
-        let scene = gpu_photon::scene::load(&root.join("scenes").join(file)).unwrap();
+        let scene = gpu_photon::importers::load(&root.join("scenes").join(file)).unwrap();
         assert_eq!(
-            gpu_photon::gpu::pipelines::glass_split(&scene),
+            gpu_photon::integrators::gpu::pipelines::glass_split(&scene),
             glass,
             "{file}"
         );
-        let run = gpu_photon::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
+        let run = gpu_photon::integrators::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
         assert_eq!(run.pipelines.glass_rounds, glass, "{file}");
         let stacks = if glass { 8 * 8 } else { 1 };
         assert_eq!(run.branch_stacks.size(), stacks_bytes(stacks), "{file}");
@@ -188,11 +188,11 @@ fn a_later_render_reuses_the_pipelines_and_gives_the_same_pixels() {
     if gpu().is_none() {
         return;
     }
-    use gpu_photon::report::Progress;
-    use gpu_photon::session::{render, Backend};
+    use gpu_photon::render::report::Progress;
+    use gpu_photon::render::session::{render, Backend};
     use gpu_photon::settings::Mode;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml");
-    let scene = gpu_photon::scene::load(&path).unwrap();
+    let scene = gpu_photon::importers::load(&path).unwrap();
     let s = RenderSettings {
         width: 16,
         height: 16,

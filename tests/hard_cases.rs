@@ -16,10 +16,11 @@
 
 mod common;
 
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, load_str, LightShape, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -566,7 +567,7 @@ fn total_internal_reflection_camera_inside_a_glass_sphere() {
 #[test]
 fn total_internal_reflection_point_light_inside_a_glass_cube() {
     use glam::Vec3;
-    use gpu_photon::material::dielectric;
+    use gpu_photon::bsdfs::classic::dielectric;
     use gpu_photon::settings::FresnelMode;
 
     // At and around the critical angle the split stays finite, unit and a probability.
@@ -620,7 +621,7 @@ fn total_internal_reflection_point_light_inside_a_glass_cube() {
         ..RenderSettings::default()
     };
     let (_, photons) = common::trace_global(&sc, &settings);
-    let mut first: std::collections::HashMap<u32, &gpu_photon::photon::Photon> = Default::default();
+    let mut first: std::collections::HashMap<u32, &gpu_photon::integrators::photon::Photon> = Default::default();
     for p in &photons {
         let e = first.entry(p.id).or_insert(p);
         if p.depth() < e.depth() {
@@ -900,7 +901,7 @@ fn check_nothing_escapes_the_box(name: &str, pos: [f64; 3]) {
         ..RenderSettings::default()
     };
     let (_, photons) = common::trace_global(&sc, &settings);
-    let off_box = |p: &&gpu_photon::photon::Photon| {
+    let off_box = |p: &&gpu_photon::integrators::photon::Photon| {
         let q = p.pos();
         let inside = q.x.abs() <= 0.5001 && q.z.abs() <= 0.5001 && q.y >= 0.1999 && q.y <= 1.2001;
         let on_wall = q.x.abs() >= 0.4999 || q.z.abs() >= 0.4999 || q.y <= 0.2001 || q.y >= 1.1999;
@@ -990,7 +991,7 @@ fn sealed_box_with_the_light_1e5_from_a_corner() {
     // diagonal (shared) edge of a face's two triangles: the light lies on the plane of the
     // +z face's diagonal, so rays with d_x ~ d_y hit that face on its diagonal, 1.5e-5 away,
     // where f32 rounding puts the hit outside both triangles (in f64, u = 0.0000000 for one
-    // and v = -0.0000000 for the other). Fixed by the watertight test (src/geometry.rs).
+    // and v = -0.0000000 for the other). Fixed by the watertight test (src/math/geometry.rs).
     // 2. In `direct-only` 292 of 1024 ground pixels were lit
     // (max 0.139, both backends): a shadow ray starts at the receiver's offset origin
     // (moved 3e-5 * max|coordinate|, up to 9e-5 on this ground) but keeps the direction

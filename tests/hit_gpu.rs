@@ -1,6 +1,6 @@
-//! Oracle test of a hit's surface on the device (shaders/common/intersect.wgsl) against
-//! src/geometry.rs and src/bvh/surface.rs, through the probe `probe_hit`
-//! (shaders/probe_geometry.wgsl, `gpu::probe_hit`) on scenes built by the scene builder and
+//! Oracle test of a hit's surface on the device (src/bvh/intersect.wgsl) against
+//! src/math/geometry.rs and src/bvh/surface.rs, through the probe `probe_hit`
+//! (tests/probes/probe_geometry.wgsl, `gpu::probe_hit`) on scenes built by the scene builder and
 //! uploaded as a render uploads them (pipelines specialised with their features):
 //! `shading_normal` (smooth triangles, vertex normals that cancel at a point or point
 //! against the face), `triangle_tangent` (flipped and degenerate uv mappings),
@@ -20,15 +20,15 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3, Vec4};
 use gpu_photon::bvh::{alpha_passes, alpha_test, uv_tangent, Bvh, SPHERE_BIT};
-use gpu_photon::geometry::{offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray};
+use gpu_photon::math::geometry::{offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray};
 use probes::hit::{HitCase, HitProbe};
 use probes::light::SceneProbes;
-use gpu_photon::photon::pack_normal;
+use gpu_photon::integrators::photon::pack_normal;
 use gpu_photon::scene::{
     Alpha, AlphaMode, Material, Origin, Scene, SceneBuilder, Surface, FLAT, NO_TEXTURE,
 };
 use gpu_photon::settings::RenderSettings;
-use gpu_photon::texture::{pack_rgba8, Encoding, SceneTexture, Texture};
+use gpu_photon::textures::{pack_rgba8, Encoding, SceneTexture, Texture};
 
 /// Unit normals: the same normalisation of the same sum on both sides, a few roundings
 /// (measured worst on lavapipe in the report line).

@@ -2,7 +2,8 @@
 //! once panicked, aborted, allocated without bound or ran (nearly) forever. Each must now be
 //! a located error, `FILE:LINE: field: message`, checked here in full.
 
-use gpu_photon::scene::{load, read_ply};
+use gpu_photon::importers::load;
+use gpu_photon::importers::ply::read_ply;
 use std::path::{Path, PathBuf};
 
 /// A fresh directory for one test's files.
@@ -412,7 +413,7 @@ fn scene_budgets_stop_triangles_and_texels_at_the_shape_that_crosses_them() {
     use gpu_photon::scene::{
         Material, Origin, SceneBudgets, SceneBuilder, Surface, MAX_TEXTURE_BYTES, MAX_TRIANGLES,
     };
-    use gpu_photon::texture::{Encoding, SceneTexture, Texture};
+    use gpu_photon::textures::{Encoding, SceneTexture, Texture};
     let defaults = SceneBudgets::default();
     assert_eq!(
         (defaults.max_triangles, defaults.max_texture_bytes),

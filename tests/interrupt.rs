@@ -32,7 +32,7 @@ fn render_command(out: &Path, extra: &[&str]) -> Command {
 }
 
 fn tag(path: &Path, key: &str) -> Option<String> {
-    gpu_photon::film::read_tags(path)
+    gpu_photon::render::film::read_tags(path)
         .unwrap()
         .into_iter()
         .find(|t| t.0 == key)

@@ -1,5 +1,5 @@
-//! Oracle test of ray intersection on the device (shaders/common/intersect.wgsl) against
-//! src/geometry.rs and src/bvh/, through the probe `shaders/probe_geometry.wgsl`
+//! Oracle test of ray intersection on the device (src/bvh/intersect.wgsl) against
+//! src/math/geometry.rs and src/bvh/, through the probe `tests/probes/probe_geometry.wgsl`
 //! (`gpu::probe_light::intersect`): each primitive's own test (the watertight
 //! ray-triangle test, the sphere's) and the BVH walk (nearest and any hit) over a small scene
 //! of quads, a box, spheres and a degenerate triangle, on random rays and on the edge cases
@@ -16,9 +16,10 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::bvh::{Bvh, SPHERE_BIT};
-use gpu_photon::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
+use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
 use probes::light::{IntersectProbe, RayCase, SceneProbes};
-use gpu_photon::scene::{load_str, Scene};
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 
@@ -343,7 +344,7 @@ fn device_intersection_equals_the_hosts() {
 /// dp/du, mirrored frames, a flat frame (never leaks), directions in the geometric plane.
 #[test]
 fn surface_helpers_equal_the_hosts() {
-    use gpu_photon::geometry::{normal_mapped, Facing};
+    use gpu_photon::math::geometry::{normal_mapped, Facing};
     use probes::{surface, SurfaceCase};
     let Some(ctx) = gpu() else {
         eprintln!("no GPU adapter: skipped");
@@ -405,7 +406,7 @@ fn surface_helpers_equal_the_hosts() {
             Vec3::from(c.ns),
             Vec3::from(c.d),
         );
-        let lobe = gpu_photon::sampling::phong_lobe(axis, c.exponent, c.u[0], c.u[1]);
+        let lobe = gpu_photon::math::sampling::phong_lobe(axis, c.exponent, c.u[0], c.u[1]);
         // sin = sqrt(1 - cos^2) magnifies pow's last-bit differences in cos by cos / sin
         // near the axis (large exponents).
         let sin = lobe.cross(axis).length().max(1e-6);
@@ -415,7 +416,7 @@ fn surface_helpers_equal_the_hosts() {
             "case {i}: lobe {lobe} vs {:?}",
             g.lobe
         );
-        let uv = gpu_photon::texture::uv::sphere(axis);
+        let uv = gpu_photon::textures::uv::sphere(axis);
         // u wraps at phi = 0: 1 - 1e-7 and 0 name the same point; at a pole every u does
         // (WGSL leaves atan2(0, 0) to the device: lavapipe's gives u = 0.375).
         let du = (uv.x - g.uv[0]).abs();

@@ -1,4 +1,4 @@
-//! The kernel shape chosen per adapter (src/gpu/shape.rs): lavapipe keeps today's widths and
+//! The kernel shape chosen per adapter (src/integrators/gpu/shape.rs): lavapipe keeps today's widths and
 //! loop guard (so its images stay byte for byte what they were), a 32- or 64-wide adapter gets
 //! wider workgroups and cache builds, the cache build's workgroup memory is what Rust thinks,
 //! and four example scenes rendered on lavapipe with the shape a 32-wide adapter gets (forced
@@ -11,13 +11,13 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::film::diff;
-use gpu_photon::gpu::bindings::Layouts;
-use gpu_photon::gpu::pipelines::{feature_constants, Pipelines};
-use gpu_photon::gpu::shaders::{validate, Kernel};
-use gpu_photon::gpu::shape::{cache_build_bytes, AdapterFacts, KernelShape, SHAPE_ENV};
-use gpu_photon::report::Progress;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::diff;
+use gpu_photon::integrators::gpu::bindings::Layouts;
+use gpu_photon::integrators::gpu::pipelines::{feature_constants, Pipelines};
+use gpu_photon::integrators::gpu::shaders::{validate, Kernel};
+use gpu_photon::integrators::gpu::shape::{cache_build_bytes, AdapterFacts, KernelShape, SHAPE_ENV};
+use gpu_photon::render::report::Progress;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 
 fn facts(subgroup_max: u32, cpu: bool, workgroup_storage: u32) -> AdapterFacts {
@@ -150,7 +150,7 @@ fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
 #[test]
 fn a_32_wide_shape_renders_the_same_images() {
     let Some(ctx) = gpu() else { return };
-    let scene = gpu_photon::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    let scene = gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let mut guard_free = ctx.clone();
     guard_free.shape = KernelShape::parse("nvidia", &AdapterFacts::of(&ctx.adapter)).unwrap();
     assert!(!guard_free.shape.loop_guard);
@@ -197,7 +197,7 @@ fn a_32_wide_shape_renders_the_same_images() {
         .collect::<Vec<_>>();
     assert_eq!(paths.len(), wanted.len(), "{paths:?}");
     for path in paths {
-        let scene = gpu_photon::scene::load(&path).unwrap();
+        let scene = gpu_photon::importers::load(&path).unwrap();
         std::env::remove_var(SHAPE_ENV);
         let (d1, d2) = (run(&scene, 1), run(&scene, 2));
         std::env::set_var(SHAPE_ENV, "subgroup:32");

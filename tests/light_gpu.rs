@@ -1,5 +1,5 @@
-//! Oracle test of the lights' device functions (shaders/common/light.wgsl, photon.wgsl)
-//! against src/light.rs and src/photon.rs, through the probe `shaders/probe_light.wgsl`
+//! Oracle test of the lights' device functions (src/lights/light.wgsl, photon.wgsl)
+//! against src/lights/mod.rs and src/integrators/photon.rs, through the probe `tests/probes/probe_light.wgsl`
 //! (`gpu::probe_light`): for every light kind (point, glTF and linear-angle spots,
 //! directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
 //! an image environment) the photon emission (origin, direction, normal, power scale) and the
@@ -20,10 +20,11 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use probes::light::{LightCase, SceneProbes};
-use gpu_photon::light::{aims_at, LightSample, LightTable};
-use gpu_photon::photon::power_ends;
-use gpu_photon::plan::{MapKind, MapPlan};
-use gpu_photon::scene::{load_str, LightShape, Scene, SpotFalloff};
+use gpu_photon::lights::{aims_at, LightSample, LightTable};
+use gpu_photon::integrators::photon::power_ends;
+use gpu_photon::integrators::plan::{MapKind, MapPlan};
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::{LightShape, Scene, SpotFalloff};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 

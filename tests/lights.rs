@@ -8,11 +8,12 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use gpu_photon::camera::Camera;
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba::import;
-use gpu_photon::scene::{load, load_str, LightShape, Scene, SpotCone, SpotFalloff};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::mitsuba::import;
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::{LightShape, Scene, SpotCone, SpotFalloff};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -645,7 +646,7 @@ const SENSOR: &str = r#"<sensor type="perspective"><float name="fov" value="40"/
 <shape type="rectangle"/>
 "#;
 
-fn mitsuba(body: &str) -> Result<gpu_photon::scene::mitsuba::Imported, gpu_photon::Error> {
+fn mitsuba(body: &str) -> Result<gpu_photon::importers::mitsuba::Imported, gpu_photon::Error> {
     let text = format!("<scene version=\"3.0.0\">{SENSOR}{body}\n</scene>\n");
     import(&text, "t.xml", root())
 }

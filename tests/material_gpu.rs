@@ -1,5 +1,5 @@
-//! Oracle test of the classic materials' device functions (shaders/common/material.wgsl)
-//! against src/material.rs, through the probe `probe_surface` (shaders/probe_geometry.wgsl,
+//! Oracle test of the classic materials' device functions (src/bsdfs/classic.wgsl)
+//! against src/bsdfs/classic.rs, through the probe `probe_surface` (tests/probes/probe_geometry.wgsl,
 //! `gpu::probes::surface`): `reflect_dir`, `fresnel_exact` and `fresnel_schlick` entering and
 //! leaving (total internal reflection included), `dielectric` on smooth frames (the render's
 //! default Fresnel formula, exact), `phong_lobe_value` (exponents 0 to 10^4) and
@@ -17,12 +17,12 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::geometry::Facing;
-use gpu_photon::gpu::codes::{
+use gpu_photon::math::geometry::Facing;
+use gpu_photon::integrators::gpu::codes::{
     material_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
 use probes::{surface, SurfaceCase, SurfaceProbe};
-use gpu_photon::material::{
+use gpu_photon::bsdfs::classic::{
     dielectric_shading, fresnel_exact, fresnel_schlick, phong_lobe_value, photon_bounce_shading,
     reflect, Bounce,
 };
@@ -129,7 +129,7 @@ fn host_bounce(c: &SurfaceCase) -> ((u32, Vec3, Vec3), f32) {
     let near = match kind {
         MaterialKind::Diffuse => (u[0] - pd).abs().min((u[0] - total).abs()),
         MaterialKind::Glossy => {
-            let lobe = gpu_photon::sampling::phong_lobe(reflect(d, f.ns), c.exponent, u[1], u[2]);
+            let lobe = gpu_photon::math::sampling::phong_lobe(reflect(d, f.ns), c.exponent, u[1], u[2]);
             (u[0] - pd)
                 .abs()
                 .min((u[0] - total).abs())

@@ -6,11 +6,11 @@
 
 mod common;
 
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba::import;
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::mitsuba::import;
 use gpu_photon::scene::MaterialKind;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 
@@ -18,7 +18,7 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn scene() -> gpu_photon::scene::mitsuba::Imported {
+fn scene() -> gpu_photon::importers::mitsuba::Imported {
     let path = root().join("scenes/mitsuba/materials.xml");
     let text = std::fs::read_to_string(&path).unwrap();
     import(&text, "materials.xml", path.parent().unwrap()).unwrap()

@@ -6,12 +6,13 @@
 mod common;
 
 use glam::Vec3;
-use gpu_photon::medium::{Medium, MediumInterface, NO_MEDIUM};
-use gpu_photon::phase::HenyeyGreenstein;
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba::import;
-use gpu_photon::scene::{load_str, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::media::{Medium, MediumInterface, NO_MEDIUM};
+use gpu_photon::media::phase::HenyeyGreenstein;
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::mitsuba::import;
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::Scene;
+use gpu_photon::render::session::{render, Backend};
 use std::path::Path;
 
 const CAMERA: &str =
@@ -293,7 +294,7 @@ fn gltf_with(material: &str) -> Scene {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("volume-{}.gltf", text.len()));
     std::fs::write(&path, text).unwrap();
-    gpu_photon::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    gpu_photon::importers::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// glTF's `KHR_materials_volume` on a refracting dielectric: an absorbing interior of

@@ -13,20 +13,21 @@ mod probes;
 use common::gpu;
 use glam::{Vec2, Vec3};
 use gpu_photon::bvh::{Bvh, Hit};
-use gpu_photon::cpu::cache::is_cache_point;
-use gpu_photon::cpu::media::{light_medium, medium_after};
-use gpu_photon::cpu::photons::{trace_map, TraceContext, Traced};
-use gpu_photon::cpu::volume_map::volume_cell;
-use gpu_photon::gpu::codes::{DROP_CAUSTIC, DROP_DIRECT};
-use gpu_photon::gpu::host::drop_flags;
+use gpu_photon::integrators::cpu::cache::is_cache_point;
+use gpu_photon::integrators::cpu::media::{light_medium, medium_after};
+use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext, Traced};
+use gpu_photon::integrators::cpu::volume_map::volume_cell;
+use gpu_photon::integrators::gpu::codes::{DROP_CAUSTIC, DROP_DIRECT};
+use gpu_photon::integrators::gpu::host::drop_flags;
 use probes::media::{
     medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons,
 };
-use gpu_photon::light::{Emission, LightTable};
-use gpu_photon::medium::{MediumInterface, NO_MEDIUM};
-use gpu_photon::photon::{Photon, DEPTH_MASK, FLAG_CAUSTIC};
-use gpu_photon::plan::{MapPlan, StoreFilter};
-use gpu_photon::scene::{load_str, Scene, NO_LIGHT};
+use gpu_photon::lights::{Emission, LightTable};
+use gpu_photon::media::{MediumInterface, NO_MEDIUM};
+use gpu_photon::integrators::photon::{Photon, DEPTH_MASK, FLAG_CAUSTIC};
+use gpu_photon::integrators::plan::{MapPlan, StoreFilter};
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::{Scene, NO_LIGHT};
 use gpu_photon::settings::RenderSettings;
 use std::collections::HashMap;
 use std::path::Path;
@@ -34,8 +35,8 @@ use std::path::Path;
 #[test]
 fn the_boundary_crossing_bound_is_the_cpus() {
     assert_eq!(
-        gpu_photon::gpu::codes::MAX_CROSSINGS,
-        gpu_photon::cpu::media::MAX_CROSSINGS
+        gpu_photon::integrators::gpu::codes::MAX_CROSSINGS,
+        gpu_photon::integrators::cpu::media::MAX_CROSSINGS
     );
 }
 
@@ -352,7 +353,7 @@ fn assert_same_photons(cpu: &[Photon], gpu: &[Photon], what: &str, tol: f64) {
 }
 
 fn gpu_trace(
-    ctx: &gpu_photon::gpu::GpuContext,
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
     scene: &Scene,
     s: &RenderSettings,
 ) -> TracedPhotons {
@@ -382,7 +383,7 @@ fn device_photon_paths_through_fog_equal_the_cpus() {
 #[test]
 fn device_volume_caustic_photons_equal_the_cpus() {
     let Some(ctx) = gpu() else { return };
-    let scene = gpu_photon::scene::load(Path::new("scenes/volume-caustic.toml")).unwrap();
+    let scene = gpu_photon::importers::load(Path::new("scenes/volume-caustic.toml")).unwrap();
     let s = RenderSettings {
         photons: 20_000,
         caustic_photons: 20_000,
@@ -416,8 +417,8 @@ fn device_volume_caustic_photons_equal_the_cpus() {
 #[test]
 fn the_volume_grids_cell_sizing_is_the_cpus() {
     assert_eq!(
-        gpu_photon::gpu::codes::VOLUME_PHOTONS_PER_CELL,
-        gpu_photon::cpu::volume_map::PHOTONS_PER_CELL
+        gpu_photon::integrators::gpu::codes::VOLUME_PHOTONS_PER_CELL,
+        gpu_photon::integrators::cpu::volume_map::PHOTONS_PER_CELL
     );
 }
 
@@ -450,7 +451,7 @@ fn volume_photons(n: usize, seed: u64) -> Vec<Photon> {
 /// plus r, its cell the CPU's sizing rule.
 #[test]
 fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
-    use gpu_photon::gpu::grid::cell_hash;
+    use gpu_photon::integrators::gpu::grid::cell_hash;
     use std::collections::BTreeMap;
     let Some(ctx) = gpu() else { return };
     let (photons, r) = (volume_photons(20_000, 3), 0.04f32);
@@ -509,9 +510,9 @@ fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
 /// and without the single-scattering photons) to 1e-4 relative.
 #[test]
 fn device_beam_estimate_equals_the_cpu_volume_map() {
-    use gpu_photon::cpu::volume_map::VolumeMap;
+    use gpu_photon::integrators::cpu::volume_map::VolumeMap;
     use probes::media::{beam, BeamQuery};
-    use gpu_photon::photon::BeamPhotons;
+    use gpu_photon::integrators::photon::BeamPhotons;
     let Some(ctx) = gpu() else { return };
     let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
     let mut other = scene.media[0];
@@ -587,7 +588,7 @@ fn gpu_renders_the_media_scenes_as_the_cpu_does() {
     let mut failures = Vec::new();
     for name in ["fog-cornell", "volume-caustic"] {
         let path = format!("scenes/{name}.toml");
-        let scene = gpu_photon::scene::load(Path::new(&path)).unwrap();
+        let scene = gpu_photon::importers::load(Path::new(&path)).unwrap();
         let s = RenderSettings {
             width: 32,
             height: 32,
@@ -618,11 +619,11 @@ fn gpu_renders_the_media_scenes_as_the_cpu_does() {
 /// run; the beam and point estimates sum in fixed point so that it does not show.
 #[test]
 fn gpu_media_renders_repeat_bit_for_bit() {
-    use gpu_photon::report::Progress;
-    use gpu_photon::session::{render, Backend};
+    use gpu_photon::render::report::Progress;
+    use gpu_photon::render::session::{render, Backend};
     let Some(_ctx) = gpu() else { return };
     for name in ["fog-cornell", "volume-caustic"] {
-        let scene = gpu_photon::scene::load(Path::new(&format!("scenes/{name}.toml"))).unwrap();
+        let scene = gpu_photon::importers::load(Path::new(&format!("scenes/{name}.toml"))).unwrap();
         let s = RenderSettings {
             width: 24,
             height: 24,

@@ -5,8 +5,9 @@
 //! interfaces included), light power, triangle and sphere counts and camera, to 1e-5.
 
 use glam::Vec3;
-use gpu_photon::medium::{MediumInterface, NO_MEDIUM};
-use gpu_photon::scene::{load, Material, MaterialKind, Scene};
+use gpu_photon::media::{MediumInterface, NO_MEDIUM};
+use gpu_photon::importers::load;
+use gpu_photon::scene::{Material, MaterialKind, Scene};
 use std::path::{Path, PathBuf};
 
 const TOL: f32 = 1e-5;

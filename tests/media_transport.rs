@@ -11,14 +11,15 @@ mod probes;
 
 use glam::Vec3;
 use gpu_photon::bvh::Bvh;
-use gpu_photon::cpu::media::{self, transmittance};
-use gpu_photon::cpu::photons::{trace_map, TraceContext};
-use gpu_photon::light::LightTable;
-use gpu_photon::plan::MapPlan;
-use gpu_photon::report::Progress;
-use gpu_photon::rng::{Rng, Stream};
-use gpu_photon::scene::{load_str, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::integrators::cpu::media::{self, transmittance};
+use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext};
+use gpu_photon::lights::LightTable;
+use gpu_photon::integrators::plan::MapPlan;
+use gpu_photon::render::report::Progress;
+use gpu_photon::math::rng::{Rng, Stream};
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::Scene;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::Path;
 

@@ -7,7 +7,8 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::scene::{load, load_str, Scene};
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::Scene;
 use gpu_photon::Error;
 use std::path::Path;
 

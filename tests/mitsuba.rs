@@ -4,13 +4,14 @@
 //! and malformed files give `FILE:LINE: field: message` errors, never a panic.
 
 use glam::{DVec3, Vec3};
-use gpu_photon::bsdf::{named_conductor, Bsdf, Distribution, Microfacet};
+use gpu_photon::bsdfs::{named_conductor, Bsdf, Distribution, Microfacet};
 use gpu_photon::error::Error;
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::mitsuba::{import, Imported};
-use gpu_photon::scene::{load, LightShape, MaterialKind, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::mitsuba::{import, Imported};
+use gpu_photon::importers::load;
+use gpu_photon::scene::{LightShape, MaterialKind, Scene};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 
@@ -275,7 +276,7 @@ fn fov_axis_converts_to_the_vertical_fov() {
         assert!(close(s.scene.camera.right.normalize(), Vec3::NEG_X, 1e-6));
         // No rfilter: Mitsuba's default gaussian (stddev 0.5), no warning.
         assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-        let gaussian = gpu_photon::pixel_filter::PixelFilter::Gaussian { stddev: 0.5 };
+        let gaussian = gpu_photon::camera::pixel_filter::PixelFilter::Gaussian { stddev: 0.5 };
         assert_eq!(s.scene.camera.filter, gaussian);
     }
 }

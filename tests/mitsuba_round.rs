@@ -1,9 +1,9 @@
-//! Mitsuba's `disk` and `cylinder` as meshes (`src/scene/mitsuba/round.rs`): placed as
+//! Mitsuba's `disk` and `cylinder` as meshes (`src/importers/mitsuba/round.rs`): placed as
 //! Mitsuba places them, with their areas (so an area emitter's power is Mitsuba's pi A L),
 //! facing out unless `flip_normals`, one warning each.
 
 use glam::Vec3;
-use gpu_photon::scene::mitsuba::{import, Imported};
+use gpu_photon::importers::mitsuba::{import, Imported};
 use gpu_photon::scene::NO_LIGHT;
 use std::f32::consts::PI;
 use std::path::Path;

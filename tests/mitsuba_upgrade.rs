@@ -4,7 +4,7 @@
 //! transform; Mitsuba 3.9.1's behaviour, `scripts/mitsuba_upgrade_probe.py`), file by file.
 
 use gpu_photon::error::Error;
-use gpu_photon::scene::mitsuba::{import_with, Imported};
+use gpu_photon::importers::mitsuba::{import_with, Imported};
 use std::path::Path;
 
 /// A scene in Mitsuba 3's names, each line as the old one below it will be.

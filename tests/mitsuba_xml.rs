@@ -4,10 +4,11 @@
 //! its own small files.
 
 use glam::Vec3;
-use gpu_photon::bsdf::Bsdf;
+use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::error::Error;
-use gpu_photon::scene::mitsuba::{import, import_with, Imported, MAX_INCLUDE_DEPTH};
-use gpu_photon::scene::{load_with_options, Scene, NO_TEXTURE};
+use gpu_photon::importers::mitsuba::{import, import_with, Imported, MAX_INCLUDE_DEPTH};
+use gpu_photon::importers::load_with_options;
+use gpu_photon::scene::{Scene, NO_TEXTURE};
 use gpu_photon::settings::RenderSettings;
 use std::path::{Path, PathBuf};
 use std::process::Command;

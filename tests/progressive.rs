@@ -4,15 +4,15 @@
 
 mod common;
 
-use gpu_photon::film::{diff, Image};
-use gpu_photon::progressive::{radius2_factor, Flow};
-use gpu_photon::report::Progress;
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::progressive::{radius2_factor, Flow};
+use gpu_photon::render::report::Progress;
 use gpu_photon::scene::Scene;
-use gpu_photon::session::{render_progressive, Backend};
+use gpu_photon::render::session::{render_progressive, Backend};
 use gpu_photon::settings::RenderSettings;
 
 fn load(name: &str) -> Scene {
-    gpu_photon::scene::load(std::path::Path::new(&format!("scenes/{name}.toml"))).unwrap()
+    gpu_photon::importers::load(std::path::Path::new(&format!("scenes/{name}.toml"))).unwrap()
 }
 
 fn small(scene: &Scene) -> RenderSettings {
@@ -228,9 +228,9 @@ fn radius_schedule_follows_knaus_zwicker() {
 /// alone, and the passes differ (so a renderer that ignored the pass index would fail).
 #[test]
 fn cpu_renderer_built_once_renders_every_pass_like_a_fresh_one() {
-    use gpu_photon::cpu::CpuRenderer;
-    use gpu_photon::progressive::pass_settings;
-    use gpu_photon::session::PassRenderer;
+    use gpu_photon::integrators::cpu::CpuRenderer;
+    use gpu_photon::render::progressive::pass_settings;
+    use gpu_photon::render::session::PassRenderer;
     let scene = load("cornell-caustics");
     let s = RenderSettings {
         width: 16,

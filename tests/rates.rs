@@ -5,14 +5,14 @@
 
 mod common;
 
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings, Sampler};
 
 fn caustic_view(backend: Backend, every: u32, caustic_photons: u32) -> Image {
     let scene =
-        gpu_photon::scene::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-caustics.toml")).unwrap();
     let s = RenderSettings {
         width: 48,
         height: 48,
@@ -66,7 +66,7 @@ fn gpu_caustic_estimate_on_fewer_samples_keeps_the_caustic_light() {
 
 /// The Cornell box at 64x64 against the reference averaged down 4x4, classic gather pass.
 fn cornell_rmse(backend: Backend, sampler: Sampler) -> f64 {
-    let scene = gpu_photon::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    let scene = gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let s = RenderSettings {
         width: 64,
         height: 64,

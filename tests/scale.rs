@@ -7,9 +7,9 @@
 mod common;
 
 use common::{gpu, within_seed_noise};
-use gpu_photon::film::diff;
-use gpu_photon::report::Progress;
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::diff;
+use gpu_photon::render::report::Progress;
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 use std::f32::consts::PI;
 use std::io::Write;
@@ -99,7 +99,7 @@ fn half_a_million_triangle_glass_sphere_renders_alike_on_both_backends() {
         .unwrap();
     let scene_path = dir.join("scale.toml");
     std::fs::write(&scene_path, text.replace(sphere, mesh)).unwrap();
-    let scene = gpu_photon::scene::load(&scene_path).unwrap();
+    let scene = gpu_photon::importers::load(&scene_path).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(
         scene.triangles.len(),

@@ -4,7 +4,8 @@
 use glam::Vec3;
 use gpu_photon::camera::Camera;
 use gpu_photon::scene::NO_LIGHT;
-use gpu_photon::scene::{load, load_str, LightShape, Material, MaterialKind, Scene, Triangle};
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::{LightShape, Material, MaterialKind, Scene, Triangle};
 use gpu_photon::scene::{Origin, Part, SceneBuilder, Surface};
 use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
 use gpu_photon::Error;

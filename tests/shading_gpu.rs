@@ -1,5 +1,5 @@
-//! Oracle test of the shading interface on the device (shaders/common/shading.wgsl) against
-//! src/shading.rs, through the probe `probe_shading` (shaders/probe_shading.wgsl,
+//! Oracle test of the shading interface on the device (src/bsdfs/shading.wgsl) against
+//! src/bsdfs/shading.rs, through the probe `probe_shading` (tests/probes/probe_shading.wgsl,
 //! `gpu::probe_shading`) on a scene built by the scene builder and uploaded as a render
 //! uploads it: a sphere of every material kind (the classic ones, crate::bsdf's, a textured
 //! Lambertian, plastic and glTF material, emitters one- and two-sided with a texture) and a
@@ -20,21 +20,21 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Mat3, Vec2, Vec3};
-use gpu_photon::bsdf::{Bsdf, Distribution, MetallicRoughness, Microfacet, Plastic};
-use gpu_photon::geometry::offset_origin;
-use gpu_photon::gpu::codes::{
+use gpu_photon::bsdfs::{Bsdf, Distribution, MetallicRoughness, Microfacet, Plastic};
+use gpu_photon::math::geometry::offset_origin;
+use gpu_photon::integrators::gpu::codes::{
     class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
 use probes::light::SceneProbes;
 use probes::shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
-use gpu_photon::material::Bounce;
-use gpu_photon::rng::{path_key, Rng, Stream};
+use gpu_photon::bsdfs::classic::Bounce;
+use gpu_photon::math::rng::{path_key, Rng, Stream};
 use gpu_photon::scene::{Material, MaterialId, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::settings::RenderSettings;
-use gpu_photon::shading::{
+use gpu_photon::bsdfs::shading::{
     bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
 };
-use gpu_photon::texture::{pack_rgba8, Encoding, SceneTexture, Texture};
+use gpu_photon::textures::{pack_rgba8, Encoding, SceneTexture, Texture};
 use std::collections::BTreeMap;
 
 /// Seed of the cases (and of the random streams the lobe sample and delta bounce draw).
@@ -269,7 +269,7 @@ fn grazing(d: Vec3, dir: Vec3, ns: Vec3) -> f32 {
 
 /// `d` and `d` turned by `NUDGE` about two axes across it, both ways.
 fn nudged(d: Vec3) -> Vec<Vec3> {
-    let (t, b) = gpu_photon::sampling::basis(d);
+    let (t, b) = gpu_photon::math::sampling::basis(d);
     let mut out = vec![d];
     for a in [t, b] {
         for s in [-NUDGE, NUDGE] {

@@ -15,11 +15,12 @@ mod common;
 use common::gpu;
 use glam::{DVec3, Vec3};
 use gpu_photon::bvh::Bvh;
-use gpu_photon::film::{diff, DiffStats, Image};
-use gpu_photon::geometry::Ray;
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load_str, MaterialKind, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, DiffStats, Image};
+use gpu_photon::math::geometry::Ray;
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::load_str;
+use gpu_photon::scene::{MaterialKind, Scene};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -644,7 +645,7 @@ fn mitsuba_face_normals_forces_flat_shading() {
         )
     };
     let import = |text: &str| {
-        gpu_photon::scene::mitsuba::import(text, "t.xml", &dir)
+        gpu_photon::importers::mitsuba::import(text, "t.xml", &dir)
             .unwrap()
             .scene
     };
@@ -684,7 +685,7 @@ fn gltf_normals_go_through_the_inverse_transpose_and_zero_ones_are_refused() {
     let path = dir.join("tri.gltf");
     let n = Vec3::new(1.0, 0.0, 1.0).normalize();
     std::fs::write(&path, gltf([Vec3::Z, n, Vec3::Z])).unwrap();
-    let s = gpu_photon::scene::load(&path).unwrap();
+    let s = gpu_photon::importers::load(&path).unwrap();
     assert!(
         close(
             s.shading_normals[0][1],
@@ -695,7 +696,7 @@ fn gltf_normals_go_through_the_inverse_transpose_and_zero_ones_are_refused() {
     );
     assert!(close(s.shading_normals[0][0], Vec3::Z));
     std::fs::write(&path, gltf([Vec3::Z, Vec3::ZERO, Vec3::Z])).unwrap();
-    let e = gpu_photon::scene::load(&path).unwrap_err().to_string();
+    let e = gpu_photon::importers::load(&path).unwrap_err().to_string();
     assert!(
         e.contains("tri.gltf") && e.contains("NORMAL 1 is zero"),
         "{e}"

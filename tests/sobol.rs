@@ -1,5 +1,5 @@
-//! Oracle test of the low-discrepancy sampler: `shaders/common/sobol.wgsl` on the device against
-//! `gpu_photon::sobol` (the `sobol_burley` crate) on the CPU, bit for bit, over many
+//! Oracle test of the low-discrepancy sampler: `src/math/sobol.wgsl` on the device against
+//! `gpu_photon::math::sobol` (the `sobol_burley` crate) on the CPU, bit for bit, over many
 //! (seed, pass, pixel, spp, sample, dimension) tuples. Runs on lavapipe in CI (a missing
 //! adapter fails there; elsewhere it skips).
 
@@ -7,8 +7,8 @@ mod common;
 
 use bytemuck::{Pod, Zeroable};
 use common::{gpu, TestRng};
-use gpu_photon::gpu::GpuContext;
-use gpu_photon::sobol::{wgsl_library, SobolSampler, INDEX_BITS};
+use gpu_photon::integrators::gpu::GpuContext;
+use gpu_photon::math::sobol::{wgsl_library, SobolSampler, INDEX_BITS};
 
 /// One probe input; the twin of `Query` in [`PROBE`].
 #[repr(C)]
@@ -77,7 +77,7 @@ fn cpu(q: &Query) -> [u32; 7] {
 /// Runs the probe kernel over `queries` on the device.
 fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 7]> {
     let source = [
-        include_str!("../shaders/common/rng.wgsl"),
+        include_str!("../src/math/rng.wgsl"),
         &wgsl_library(),
         PROBE,
     ]
@@ -184,7 +184,7 @@ const INTEGRANDS: [Integrand; 3] = [
 enum Source {
     /// The project's hash RNG, camera stream, index `pixel * n + sample` (today's camera pass).
     Hash,
-    /// `gpu_photon::sobol` (independently scrambled dimension pairs).
+    /// `gpu_photon::math::sobol` (independently scrambled dimension pairs).
     Pairs,
     /// The crate's own dimensions `d`, `d + 1` under one seed per pixel (the alternative the
     /// pairs replaced).
@@ -194,7 +194,7 @@ enum Source {
 /// RMSE over `pixels` independent estimates of `g` at `n` samples each, with dimensions
 /// `dims` from `src`.
 fn rmse(g: &Integrand, n: u32, pixels: u32, src: Source, dims: (u32, u32)) -> f64 {
-    use gpu_photon::rng::{draw_u32, path_key, to_unit, Stream};
+    use gpu_photon::math::rng::{draw_u32, path_key, to_unit, Stream};
     let seed = 2026;
     let mut sq = 0.0;
     for p in 0..pixels {

@@ -3,8 +3,8 @@
 //! unknown or oversized file is an error naming it, refused before its texels are decoded.
 
 use glam::{Vec2, Vec4};
-use gpu_photon::gpu::textures::PackedTextures;
-use gpu_photon::texture::{decode, srgb_to_linear, Encoding, SceneTexture, Texels, Texture};
+use gpu_photon::integrators::gpu::textures::PackedTextures;
+use gpu_photon::textures::{decode, srgb_to_linear, Encoding, SceneTexture, Texels, Texture};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {

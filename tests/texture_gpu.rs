@@ -1,4 +1,4 @@
-//! Oracle test of `shaders/common/texture.wgsl` against `texture::SceneTexture::eval`: a
+//! Oracle test of `src/textures/texture.wgsl` against `texture::SceneTexture::eval`: a
 //! probe kernel of this test's own (the library, the two bindings it expects, one entry
 //! point) evaluates colour and alpha at a few thousand uv per texture: 8-bit sRGB and raw,
 //! float RGB and RGBA, grey+alpha, every wrap mode, both filters, uv transforms, a
@@ -13,11 +13,11 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::gpu::buffers::{empty_buffer, read_back, storage_buffer};
-use gpu_photon::gpu::shaders::validate;
-use gpu_photon::gpu::texture_buffers::layout_entries;
-use gpu_photon::gpu::textures::{wgsl_library, GpuTexture, PackedTextures};
-use gpu_photon::texture::{
+use gpu_photon::integrators::gpu::buffers::{empty_buffer, read_back, storage_buffer};
+use gpu_photon::integrators::gpu::shaders::validate;
+use gpu_photon::integrators::gpu::texture_buffers::layout_entries;
+use gpu_photon::integrators::gpu::textures::{wgsl_library, GpuTexture, PackedTextures};
+use gpu_photon::textures::{
     Checkerboard, Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap,
 };
 use std::path::Path;
@@ -242,8 +242,8 @@ fn ulps(a: f32, b: f32) -> u32 {
 }
 
 fn run_probe(
-    ctx: &gpu_photon::gpu::GpuContext,
-    bufs: &gpu_photon::gpu::texture_buffers::TextureBuffers,
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
+    bufs: &gpu_photon::integrators::gpu::texture_buffers::TextureBuffers,
     input: &[[f32; 4]],
 ) -> Vec<[f32; 4]> {
     let dev = &ctx.device;

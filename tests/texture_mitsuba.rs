@@ -3,7 +3,7 @@
 //! and a `to_uv` transform, the `checkerboard`, and the uv of Mitsuba's analytic shapes.
 
 use glam::{Vec2, Vec3};
-use gpu_photon::texture::{
+use gpu_photon::textures::{
     uv, Checkerboard, Encoding, Filter, Sampler, Texture, UvTransform, Wrap,
 };
 use std::collections::HashMap;

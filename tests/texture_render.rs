@@ -6,11 +6,11 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::report::Progress;
+use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
-use gpu_photon::texture::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
+use gpu_photon::textures::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 
 /// Texels of the 4 x 4 test texture (raw 8-bit, so a channel reads exactly byte / 255).
 fn texel_bytes(x: u32, y: u32) -> [u8; 4] {
@@ -38,7 +38,7 @@ fn scene(dir: Vec3, e: f32) -> Scene {
     b.camera(Vec3::new(0.0, 0.0, EYE_Z), Vec3::ZERO, Vec3::Y, FOV, &at)
         .unwrap();
     let texels = (0..16)
-        .map(|i| gpu_photon::texture::pack_rgba8(texel_bytes(i % 4, i / 4)))
+        .map(|i| gpu_photon::textures::pack_rgba8(texel_bytes(i % 4, i / 4)))
         .collect();
     let tex = Texture::from_rgba8("test", 4, 4, texels, Encoding::Raw)
         .unwrap()

@@ -2,19 +2,19 @@
 //! mean, tagged with its pass range and a fingerprint of scene and settings) and their merge;
 //! and the adapters the GPU backend can use.
 
-use super::Renderer;
+use crate::api::Renderer;
 use crate::error::Result;
-use crate::report::RenderReport;
+use crate::render::report::RenderReport;
 use crate::settings::RenderSettings;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-pub use crate::film::check_output_path;
-pub use crate::gpu::context::AdapterSummary as Adapter;
-pub use crate::gpu::{list_adapters as adapters, quiet_headless_vulkan};
-pub use crate::merge::{merge, parse_range as parse_pass_range, MergeSummary};
+pub use crate::render::film::check_output_path;
+pub use crate::integrators::gpu::context::AdapterSummary as Adapter;
+pub use crate::integrators::gpu::{list_adapters as adapters, quiet_headless_vulkan};
+pub use crate::render::merge::{merge, parse_range as parse_pass_range, MergeSummary};
 pub use crate::settings::MAX_PASSES;
-pub use crate::slice::{parse_spec as parse_slice, pass_range as slice_pass_range, SliceSpec};
+pub use crate::render::slice::{parse_spec as parse_slice, pass_range as slice_pass_range, SliceSpec};
 
 /// Where a progressive render's running mean goes: an EXR (or PNG) whose header records the
 /// passes it holds and a fingerprint of the scene file and settings, so that
@@ -38,7 +38,7 @@ impl SliceFile {
     ) -> Result<SliceFile> {
         Ok(SliceFile {
             output: output.to_path_buf(),
-            signature: crate::merge::signature(scene_path, settings)?,
+            signature: crate::render::merge::signature(scene_path, settings)?,
             total: total_passes,
             exposure: settings.exposure,
         })
@@ -47,7 +47,7 @@ impl SliceFile {
     /// Writes `renderer`'s running mean with the tags of the passes it holds (atomically).
     pub fn write(&self, renderer: &Renderer) -> Result<()> {
         let acc = renderer.accumulator();
-        let tags = crate::merge::slice_tags(acc, &self.signature, self.total);
+        let tags = crate::render::merge::slice_tags(acc, &self.signature, self.total);
         acc.mean().write_tagged(&self.output, self.exposure, &tags)
     }
 }

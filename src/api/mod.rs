@@ -19,4 +19,4 @@ pub use settings::SettingValue;
 /// Which backend renders: `Auto` takes the GPU when this machine's measured rule says it is
 /// faster (else the CPU, with a [`crate::Warning`]); `Cpu` the rayon reference; `Gpu` the
 /// wgpu compute kernels (its failures are errors).
-pub use crate::session::BackendChoice as Backend;
+pub use crate::render::session::BackendChoice as Backend;

@@ -5,12 +5,12 @@
 //! one pass at a time. The caller's thread keeps the running mean, so a progress callback,
 //! a cancellation flag or Python's interpreter are never on the rendering thread.
 
-use super::{Backend, Scene};
+use crate::api::{Backend, Scene};
 use crate::error::{Error, Result};
-use crate::film::Image;
-use crate::progressive::{pass_settings, Accumulator, Flow};
-use crate::report::{Progress, RenderReport};
-use crate::session::open;
+use crate::render::film::Image;
+use crate::render::progressive::{pass_settings, Accumulator, Flow};
+use crate::render::report::{Progress, RenderReport};
+use crate::render::session::open;
 use crate::settings::{validate, RenderSettings, MAX_PASSES};
 use crate::warning::{collect, Warning};
 use std::ops::Range;

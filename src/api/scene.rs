@@ -1,8 +1,8 @@
 //! [`Scene`]: a loaded scene, shared by the renderers opened on it.
 
-use super::{Backend, Renderer, Stop};
+use crate::api::{Backend, Renderer, Stop};
 use crate::error::Result;
-use crate::film::Image;
+use crate::render::film::Image;
 use crate::settings::RenderSettings;
 use crate::warning::{collect, Warning};
 use std::path::{Path, PathBuf};
@@ -25,7 +25,7 @@ pub struct LoadOptions {
 impl LoadOptions {
     /// Parses a `NAME=VALUE` define (the command line's `-D`).
     pub fn parse_define(arg: &str) -> std::result::Result<(String, String), String> {
-        crate::scene::mitsuba::parse_define(arg)
+        crate::importers::mitsuba::parse_define(arg)
     }
 }
 
@@ -52,9 +52,9 @@ impl Scene {
         let path = path.as_ref();
         let (scene, warnings) = collect(|| -> Result<crate::scene::Scene> {
             let camera = options.camera.as_deref();
-            let mut scene = crate::scene::load_with_options(path, camera, &options.defines)?;
+            let mut scene = crate::importers::load_with_options(path, camera, &options.defines)?;
             let env = options.env.as_deref();
-            crate::scene::apply_env_arg(&mut scene, env, options.env_scale, path)?;
+            crate::lights::environment::setup::apply_env_arg(&mut scene, env, options.env_scale, path)?;
             Ok(scene)
         });
         Ok(Scene {
@@ -93,7 +93,7 @@ impl Scene {
         backend: Backend,
     ) -> Result<(Image, Vec<Warning>)> {
         let mut r = Renderer::new(self, settings, backend)?;
-        r.run(&Stop::default(), |_, _| crate::progressive::Flow::Continue)?;
+        r.run(&Stop::default(), |_, _| crate::render::progressive::Flow::Continue)?;
         Ok((r.image(), r.take_warnings()))
     }
 }

@@ -1,13 +1,13 @@
 //! The progressive curve: error against the reference after 1, 2, 4, ... passes and the last,
 //! with the wall time, per backend.
 
-use super::{backend_name, BenchBackends};
+use crate::bench::{backend_name, BenchBackends};
 use crate::error::{Error, Result};
-use crate::film::{diff, Image};
-use crate::progressive::Flow;
-use crate::report::Progress;
+use crate::render::film::{diff, Image};
+use crate::render::progressive::Flow;
+use crate::render::report::Progress;
 use crate::scene::Scene;
-use crate::session::render_progressive;
+use crate::render::session::render_progressive;
 use crate::settings::RenderSettings;
 
 /// One point of the curve.

@@ -1,12 +1,12 @@
 //! The speed-against-error ladder: every rung (photons, samples, K) on every backend, timed
 //! and measured against a reference image; and the reference itself when none is given.
 
-use super::backend_name;
+use crate::bench::backend_name;
 use crate::error::Result;
-use crate::film::Image;
-use crate::report::Progress;
+use crate::render::film::Image;
+use crate::render::report::Progress;
 use crate::scene::Scene;
-use crate::session::{render, Backend};
+use crate::render::session::{render, Backend};
 use crate::settings::{Mode, RenderSettings};
 use std::path::Path;
 
@@ -163,7 +163,7 @@ pub fn ladder(
                 ..base.clone()
             };
             let (img, r) = render(scene, &s, b, Progress::default())?;
-            let d = crate::film::diff(&img, reference, 16).map_err(|m| crate::Error::Setting {
+            let d = crate::render::film::diff(&img, reference, 16).map_err(|m| crate::Error::Setting {
                 field: "reference",
                 message: m,
             })?;

@@ -14,9 +14,9 @@ pub use peer::{PeerCurve, PeerPoint};
 pub use plot::{plot, PLOT_FONT};
 
 use crate::error::{Error, Result};
-use crate::report::{Progress, RenderReport};
+use crate::render::report::{Progress, RenderReport};
 use crate::scene::Scene;
-use crate::session::{render, Backend, BackendChoice};
+use crate::render::session::{render, Backend, BackendChoice};
 use crate::settings::RenderSettings;
 
 /// Which backends a benchmark runs, and whether a GPU failure skips the GPU or ends it.
@@ -314,7 +314,7 @@ pub fn throughputs(
     runs: usize,
     mut on_result: impl FnMut(std::result::Result<&Throughput, &str>),
 ) -> Result<Vec<Throughput>> {
-    let plan = crate::plan::MapPlan::new(scene, &crate::light::LightTable::new(scene), s);
+    let plan = crate::integrators::plan::MapPlan::new(scene, &crate::lights::LightTable::new(scene), s);
     // Every pass traces the first pass's paths (the radius shrinks, the count stays).
     let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
     let paths = passes * plan.total_paths() as f64;

@@ -1,7 +1,7 @@
 //! The ladder's plot: RMSE against wall time, log-log, one curve per backend and mode
 //! (plotters).
 
-use super::LadderRow;
+use crate::bench::LadderRow;
 
 /// Where the plot's font is looked for (Debian's fonts-dejavu-core).
 pub const PLOT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";

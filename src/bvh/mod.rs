@@ -4,10 +4,12 @@
 //! Layout: the left child of interior node `i` is `i + 1`, the right child is `left_first`;
 //! a leaf (`count > 0`) holds `prim_ids[left_first .. left_first + count]`. A primitive id
 //! below [`SPHERE_BIT`] is a triangle index; with the bit set, the rest is a sphere index.
-//! The GPU walks a copy laid out for its traversal (src/gpu/bvh_layout.rs,
-//! `shaders/common/intersect.wgsl`).
+//! The GPU walks a copy laid out for its traversal (src/bvh/gpu_layout.rs,
+//! `src/bvh/intersect.wgsl`).
 
-use crate::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
+pub mod gpu_layout;
+
+use crate::math::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -25,7 +27,7 @@ pub const MAX_DEPTH: usize = 64;
 const SAH_DEPTH: usize = 24;
 const BINS: usize = 12;
 
-/// One flattened node (32 bytes); the GPU reads it in src/gpu/bvh_layout.rs's layout.
+/// One flattened node (32 bytes); the GPU reads it in src/bvh/gpu_layout.rs's layout.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {

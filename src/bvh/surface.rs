@@ -4,14 +4,14 @@
 //! triangle's uv tangent for its normal map.
 //!
 //! Twins: `facing`, `alpha_passes`, `uv_tangent` and `trace_ray`'s hit in
-//! `shaders/common/intersect.wgsl`.
+//! `src/bvh/intersect.wgsl`.
 
-use super::SPHERE_BIT;
-use crate::geometry::{
+use crate::bvh::SPHERE_BIT;
+use crate::math::geometry::{
     inset, normal_mapped, shading_normal, sphere_tangent, triangle_tangent, vertex_tangent, Facing,
     Ray,
 };
-use crate::rng::{pcg_hash, to_unit};
+use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
 use glam::{Vec2, Vec3};
 
@@ -26,7 +26,7 @@ pub struct Hit {
     pub normal: Vec3,
     /// Unit shading normal, on the side of `normal`: the interpolated vertex normals of a
     /// smooth triangle, else `normal` itself; then perturbed by the material's normal map
-    /// when it has one (`crate::geometry::normal_mapped`).
+    /// when it has one (`crate::math::geometry::normal_mapped`).
     pub shading: Vec3,
     /// Index of the primitive's material in `Scene::materials`.
     pub material: u32,
@@ -48,7 +48,7 @@ impl Hit {
 
 /// The hit on primitive `id` of `scene` at distance `t` along `ray` (a triangle's
 /// barycentrics `u`, `v`: the weights of `v1`, `v2`), as the walk found it.
-pub(super) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
+pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
     let mut hit = if id & SPHERE_BIT == 0 {
         let tri = &scene.triangles[id as usize];
         let normal = tri.normal();
@@ -78,7 +78,7 @@ pub(super) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
         let uv = if scene.textures.is_empty() {
             Vec2::ZERO
         } else {
-            crate::texture::uv::sphere(n)
+            crate::textures::uv::sphere(n)
         };
         Hit {
             t,
@@ -110,7 +110,7 @@ pub(super) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
 /// ([`vertex_tangent`]) where it has them and they do not vanish there, else its corner
 /// uvs' ([`triangle_tangent`]); `None` without uvs or for a degenerate mapping (the normal
 /// map then takes the shading normal's basis). Twin: `uv_tangent` in
-/// `shaders/common/intersect.wgsl`.
+/// `src/bvh/intersect.wgsl`.
 pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)> {
     let tri = &scene.triangles[id as usize];
     (scene.tangents.get(id as usize))
@@ -142,7 +142,7 @@ pub fn alpha_test(
     } else {
         let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
         let n = (ray.origin + t * ray.dir - s.center).normalize_or_zero();
-        (s.material, crate::texture::uv::sphere(n))
+        (s.material, crate::textures::uv::sphere(n))
     };
     let m = &scene.materials[material as usize];
     let alpha = m.alpha.filter(|_| !m.is_emissive())?;
@@ -155,7 +155,7 @@ pub fn alpha_test(
 
 /// Whether `ray` passes primitive `id`, hit at `t` (a triangle's barycentrics `u`, `v`):
 /// its material is alpha-tested, not emissive, and its opacity there does not stop the ray
-/// ([`alpha_test`]). Twin: `alpha_passes` in `shaders/common/intersect.wgsl`.
+/// ([`alpha_test`]). Twin: `alpha_passes` in `src/bvh/intersect.wgsl`.
 pub fn alpha_passes(scene: &Scene, id: u32, ray: &Ray, t: f32, u: f32, v: f32) -> bool {
     alpha_test(scene, id, ray, t, u, v).is_some_and(|(a, opacity, r)| !a.stops(opacity, r))
 }

@@ -21,18 +21,18 @@
 //!
 //! The builder never knows the file format. Every call that can fail takes a [`Locate`],
 //! which turns a message about one [`Part`] of what is added into an [`Error::Scene`](crate::Error::Scene) naming
-//! the file, line and field (a TOML table maps each part to its key; [`Origin`](super::Origin) names one
+//! the file, line and field (a TOML table maps each part to its key; [`Origin`](crate::scene::Origin) names one
 //! fixed place).
 
-use super::checks::{check_emission, check_light, check_material, SceneBudgets};
-use super::locate::{unknown_name, Locate, Part};
-use super::normals::{is_flat, unit_normals};
-use super::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
+use crate::scene::checks::{check_emission, check_light, check_material, SceneBudgets};
+use crate::scene::locate::{unknown_name, Locate, Part};
+use crate::scene::normals::{is_flat, unit_normals};
+use crate::scene::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
 use crate::camera::Camera;
 use crate::error::Result;
-use crate::pixel_filter::PixelFilter;
+use crate::camera::pixel_filter::PixelFilter;
 use crate::settings::RenderSettings;
-use crate::texture::SceneTexture;
+use crate::textures::SceneTexture;
 use glam::{Mat3, Vec2, Vec3};
 use std::collections::HashMap;
 use std::f32::consts::PI;
@@ -61,7 +61,7 @@ pub struct Surface {
     /// (`Material::emission_texture`); only for emissive surfaces.
     pub emission_texture: Option<u32>,
     /// The media the shape bounds ([`SceneBuilder::add_medium`]), replacing the material's.
-    pub media: Option<crate::medium::MediumInterface>,
+    pub media: Option<crate::media::MediumInterface>,
 }
 
 impl Surface {
@@ -87,15 +87,15 @@ pub struct SceneBuilder {
     camera: Option<Camera>,
     materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
-    pub(super) triangles: Vec<Triangle>,
+    pub(crate) triangles: Vec<Triangle>,
     shading_normals: Vec<VertexNormals>,
     uvs: Vec<[Vec2; 3]>,
-    pub(super) tangents: Vec<super::VertexTangents>,
+    pub(crate) tangents: Vec<crate::scene::VertexTangents>,
     textures: Vec<SceneTexture>,
-    pub(super) spheres: Vec<Sphere>,
-    pub(super) lights: Vec<Light>,
-    pub(super) environment: Option<super::Environment>,
-    pub(super) media: super::media::Media,
+    pub(crate) spheres: Vec<Sphere>,
+    pub(crate) lights: Vec<Light>,
+    pub(crate) environment: Option<crate::scene::Environment>,
+    pub(crate) media: crate::media::builder::Media,
     settings: RenderSettings,
     optics: Option<(PixelFilter, f32, f32)>,
     budgets: SceneBudgets,
@@ -386,9 +386,9 @@ impl SceneBuilder {
             camera_medium: self.media.camera,
             settings: self.settings,
         };
-        // A textured emitter's power includes its texture's mean (crate::scene::emission).
+        // A textured emitter's power includes its texture's mean (crate::lights::emission).
         for l in 0..scene.lights.len() {
-            let mean = super::emission::texture_mean(&scene, l);
+            let mean = crate::lights::emission::texture_mean(&scene, l);
             scene.lights[l].power *= mean;
         }
         let (_, radius) = scene.bounding_sphere();

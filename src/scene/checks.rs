@@ -1,7 +1,7 @@
 //! The checks the scene builder applies to colours, materials and lights.
 
-use super::locate::{Locate, Part};
-use super::{Material, MaterialKind};
+use crate::scene::locate::{Locate, Part};
+use crate::scene::{Material, MaterialKind};
 use crate::error::Result;
 use glam::Vec3;
 
@@ -16,7 +16,7 @@ pub const MAX_TEXTURE_BYTES: u64 = 1 << 32;
 
 /// What a scene may hold, checked as it is built (see [`SceneBuilder::set_budgets`]).
 ///
-/// [`SceneBuilder::set_budgets`]: super::SceneBuilder::set_budgets
+/// [`SceneBuilder::set_budgets`]: crate::scene::SceneBuilder::set_budgets
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SceneBudgets {
     /// Most triangles, after instancing ([`MAX_TRIANGLES`] by default).
@@ -36,7 +36,7 @@ impl Default for SceneBudgets {
 
 impl SceneBudgets {
     /// `have` triangles so far plus `adding` must stay within the budget.
-    pub(super) fn check_triangles(
+    pub(crate) fn check_triangles(
         &self,
         have: usize,
         adding: usize,
@@ -54,7 +54,7 @@ impl SceneBudgets {
     }
 
     /// `have` bytes of texels so far plus `adding` must stay within the budget.
-    pub(super) fn check_texels(&self, have: u64, adding: u64, at: &dyn Locate) -> Result<()> {
+    pub(crate) fn check_texels(&self, have: u64, adding: u64, at: &dyn Locate) -> Result<()> {
         let (total, max) = (have.saturating_add(adding), self.max_texture_bytes);
         if total > max {
             let message = format!(
@@ -68,12 +68,12 @@ impl SceneBudgets {
 }
 
 /// Emitted radiance or intensity: finite and >= 0 in every channel.
-pub(super) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
+pub(crate) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
     check_color(c, None, Part::Emission, at)
 }
 
 /// A colour: finite, >= 0 and, when given, <= `max` in every channel.
-pub(super) fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
+pub(crate) fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
     if !c.is_finite() {
         return Err(at.error(part, "must be finite".into()));
     }
@@ -89,7 +89,7 @@ pub(super) fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate
 }
 
 /// The rules of [`SceneBuilder::add_material`].
-pub(super) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
+pub(crate) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
     let param = Part::Parameter;
     check_color(m.emission, None, param("radiance"), at)?;
     let unit = Some(1.0);
@@ -113,7 +113,7 @@ pub(super) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
             _ => Err(at.error(param("ior"), "must be positive and finite".into())),
         },
         MaterialKind::Black | MaterialKind::Null => Ok(()),
-        // Built by crate::bsdf from checked parameters (importers check their ranges).
+        // Built by crate::bsdfs from checked parameters (importers check their ranges).
         _ => match m.bsdf {
             Some(_) => Ok(()),
             None => Err(at.error(param("bsdf"), "missing BSDF parameters".into())),
@@ -122,7 +122,7 @@ pub(super) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
 }
 
 /// An area light must have a positive area and finite power.
-pub(super) fn check_light(area: f32, power: Vec3, at: &dyn Locate) -> Result<()> {
+pub(crate) fn check_light(area: f32, power: Vec3, at: &dyn Locate) -> Result<()> {
     if area.is_nan() || area <= 0.0 {
         return Err(at.error(Part::Geometry, "zero-area light".into()));
     }

@@ -1,5 +1,5 @@
 //! Where a scene error points: an importer passes a [`Locate`] with everything it adds to the
-//! [`super::SceneBuilder`], which reports a problem about one [`Part`] of it; the locator
+//! [`crate::scene::SceneBuilder`], which reports a problem about one [`Part`] of it; the locator
 //! turns that into an [`Error::Scene`] naming the file, line and field in the importer's own
 //! terms. [`Origin`] is the simplest locator, one fixed place.
 
@@ -70,7 +70,7 @@ impl Locate for Origin {
 
 /// The message for a reference to `name` that no `kind` of the scene has:
 /// `` unknown KIND `NAME` (defined: `a`, `b`) ``, the names sorted, or `none`.
-pub(super) fn unknown_name<'a>(
+pub(crate) fn unknown_name<'a>(
     kind: &str,
     name: &str,
     defined: impl Iterator<Item = &'a String>,

@@ -2,119 +2,34 @@
 //!
 //! A [`Scene`] is what both backends render. Every importer builds one through a
 //! [`SceneBuilder`], which holds the rules (emission copies, lights and their power, the
-//! checks): [`load()`] reads a TOML description (see `scenes/README.md` for the format) and
-//! its OBJ and PLY meshes; tests may also fill a `Scene` directly. All geometry is flattened into
+//! checks): `crate::importers::load` reads a scene file of any format into one; tests may
+//! also fill a `Scene` directly. All geometry is flattened into
 //! world-space triangles and analytic spheres; emission lives on the primitive's material,
 //! and every emissive primitive belongs to exactly one area [`Light`].
 
-mod builder;
-mod checks;
-pub mod emission;
-mod environment;
-mod file;
-mod gltf;
-mod locate;
-mod material;
-pub mod media;
-mod mesh_file;
-pub mod mitsuba;
-mod normals;
-mod obj;
-mod ply;
-mod ply_place;
-mod punctual;
-mod spot;
-mod tangents;
-mod toml;
-mod toml_media;
-mod toml_table;
+pub mod builder;
+pub mod checks;
+pub mod locate;
+pub mod normals;
+pub mod tangents;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
-pub use environment::{
-    apply_env_arg, latlong_dir, latlong_lookup, latlong_uv, luminance, require_light, Environment,
-};
-pub use gltf::load_gltf;
 pub use locate::{Locate, Origin, Part};
-pub use material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
-pub use ply::{read_ply, PlyError, PlyMesh};
-pub use punctual::SpotLight;
-pub use spot::{SpotCone, SpotFalloff};
-pub use toml::load_str;
-
-use crate::error::{Error, Result};
-use std::path::Path;
-
-/// Reads and loads the scene file at `path`, by its extension: `.toml` (our format, see
-/// `scenes/README.md`), `.xml` (Mitsuba 3, see [`mitsuba`]) or `.gltf`/`.glb` (glTF 2.0, see
-/// [`load_gltf`]). An unreadable file, or one of another extension, is [`Error::Io`];
-/// everything wrong inside it is [`Error::Scene`].
-pub fn load(path: &Path) -> Result<Scene> {
-    load_with_camera(path, None)
-}
-
-/// [`load()`], with `camera` naming the glTF camera to render from (the command line's
-/// `--camera`); a name for a scene of another format, which has one camera, is an
-/// [`Error::Setting`].
-pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<Scene> {
-    load_with_options(path, camera, &[])
-}
-
-/// [`load_with_camera`], with Mitsuba parameters `(NAME, VALUE)` for `$NAME` that override
-/// the file's `<default>`s (the command line's `--define`); defines for a scene of another
-/// format, which has no parameters, are an [`Error::Setting`].
-pub fn load_with_options(
-    path: &Path,
-    camera: Option<&str>,
-    defines: &[(String, String)],
-) -> Result<Scene> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));
-    if let (Some(_), false) = (camera, gltf) {
-        return Err(Error::Setting {
-            field: "camera",
-            message: format!(
-                "{} has one camera; --camera picks among a glTF scene's cameras",
-                path.display()
-            ),
-        });
-    }
-    if let (Some((name, _)), false) = (defines.first(), ext.as_deref() == Some("xml")) {
-        return Err(Error::Setting {
-            field: "define",
-            message: format!(
-                "{} has no parameters: --define {name}=... sets a Mitsuba .xml scene's $name",
-                path.display()
-            ),
-        });
-    }
-    match ext.as_deref() {
-        Some("toml") => toml::load(path),
-        Some("xml") => mitsuba::load_with_defines(path, defines),
-        Some("gltf" | "glb") => gltf::load_gltf(path, camera),
-        _ => Err(Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "unknown scene format (expected .toml, Mitsuba .xml, or glTF .gltf/.glb)",
-            ),
-        }),
-    }
-}
+pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
+pub use crate::lights::environment::Environment;
+pub use crate::lights::spot::{SpotCone, SpotFalloff};
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;
-use crate::texture::SceneTexture;
+use crate::textures::SceneTexture;
 use glam::Vec2;
 use glam::Vec3;
 
 /// A world-space triangle `v0, v1, v2`; front normal = normalize(cross(e1, e2)) with
 /// `e1 = v1 - v0`, `e2 = v2 - v0`. The vertices are kept as given (not as edges) so that two
 /// triangles sharing an edge share its end points bit for bit: the watertight intersection
-/// test (src/geometry.rs) relies on that.
+/// test (src/math/geometry.rs) relies on that.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     /// First vertex.
@@ -297,8 +212,8 @@ pub struct Scene {
     /// Lights, in the order their shapes (then point lights) were added.
     pub lights: Vec<Light>,
     /// Participating media, indexed by `Material::media` and [`Self::camera_medium`].
-    pub media: Vec<crate::medium::Medium>,
-    /// The medium the camera sits in, or `crate::medium::NO_MEDIUM` (vacuum).
+    pub media: Vec<crate::media::Medium>,
+    /// The medium the camera sits in, or `crate::media::NO_MEDIUM` (vacuum).
     pub camera_medium: u32,
     /// Render settings from the file's `[camera]` and `[render]` tables (defaults where
     /// absent).
@@ -316,7 +231,7 @@ impl Scene {
                 up: Vec3::Y,
                 aperture_radius: 0.0,
                 focus_distance: 1.0,
-                filter: crate::pixel_filter::PixelFilter::Box,
+                filter: crate::camera::pixel_filter::PixelFilter::Box,
             },
             materials: vec![],
             triangles: vec![],
@@ -327,7 +242,7 @@ impl Scene {
             spheres: vec![],
             lights: vec![],
             media: vec![],
-            camera_medium: crate::medium::NO_MEDIUM,
+            camera_medium: crate::media::NO_MEDIUM,
             settings: RenderSettings::default(),
         }
     }

@@ -1,7 +1,7 @@
 //! Vertex normals as the scene builder takes them: checked and normalised, and the test that
 //! keeps a triangle whose normals all lie along its face normal flat (no normals stored).
 
-use super::VertexNormals;
+use crate::scene::VertexNormals;
 use glam::Vec3;
 
 /// Vertex normals within this cosine of a triangle's face normal (0.1 degrees) shade it flat.

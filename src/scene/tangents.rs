@@ -2,9 +2,9 @@
 //! MikkTSpace's tangents (the `mikktspace` crate, the algorithm glTF and Blender use) for
 //! meshes that do not. The convention is [`VertexTangents`]'.
 
-use super::builder::{SceneBuilder, Surface};
-use super::locate::{Locate, Part};
-use super::{VertexNormals, VertexTangents};
+use crate::scene::builder::{SceneBuilder, Surface};
+use crate::scene::locate::{Locate, Part};
+use crate::scene::{VertexNormals, VertexTangents};
 use crate::error::Result;
 use glam::{Vec2, Vec3, Vec4};
 
@@ -84,8 +84,8 @@ impl mikktspace::Geometry for Corners<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::mikktspace;
-    use crate::geometry::triangle_tangent;
+    use crate::scene::tangents::mikktspace;
+    use crate::math::geometry::triangle_tangent;
     use glam::{Vec2, Vec3};
 
     /// On a plane MikkTSpace's frame is each triangle's uv frame: the same tangent direction,

@@ -7,11 +7,11 @@
 use glam::DVec3;
 use gpu_photon::bvh::Bvh;
 use gpu_photon::camera::Camera;
-use gpu_photon::cpu::photons::{trace_photons, TraceContext};
-use gpu_photon::film::DiffStats;
-use gpu_photon::gpu::GpuContext;
-use gpu_photon::light::LightTable;
-use gpu_photon::photon::{Budget, Photon};
+use gpu_photon::integrators::cpu::photons::{trace_photons, TraceContext};
+use gpu_photon::render::film::DiffStats;
+use gpu_photon::integrators::gpu::GpuContext;
+use gpu_photon::lights::LightTable;
+use gpu_photon::integrators::photon::{Budget, Photon};
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::f64::consts::PI;
@@ -23,17 +23,17 @@ pub fn cornell_gpu_pass(
     ctx: GpuContext,
     s: &RenderSettings,
 ) -> (
-    gpu_photon::gpu::run::GpuRun,
-    gpu_photon::film::Image,
-    gpu_photon::report::RenderReport,
+    gpu_photon::integrators::gpu::run::GpuRun,
+    gpu_photon::render::film::Image,
+    gpu_photon::render::report::RenderReport,
     f64,
 ) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = gpu_photon::scene::load(&root.join("scenes/cornell-box.toml")).unwrap();
-    let mut run = gpu_photon::gpu::run::GpuRun::new(ctx, &scene, s, 0).unwrap();
+    let scene = gpu_photon::importers::load(&root.join("scenes/cornell-box.toml")).unwrap();
+    let mut run = gpu_photon::integrators::gpu::run::GpuRun::new(ctx, &scene, s, 0).unwrap();
     let accum = run.accum_buffer(s.width as u64 * s.height as u64 * 16);
-    let mut report = gpu_photon::report::RenderReport::default();
-    let progress = gpu_photon::report::Progress::default();
+    let mut report = gpu_photon::render::report::RenderReport::default();
+    let progress = gpu_photon::render::report::Progress::default();
     let t = std::time::Instant::now();
     let img = run
         .render_pass(&scene, s, 0, &accum, &progress, &mut report)
@@ -224,9 +224,9 @@ pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
 
 /// An image (e.g. a reference) averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
 /// times smaller (pixels are box-filtered mean radiance).
-pub fn downsample(img: &gpu_photon::film::Image, f: u32) -> gpu_photon::film::Image {
+pub fn downsample(img: &gpu_photon::render::film::Image, f: u32) -> gpu_photon::render::film::Image {
     let (w, h) = (img.width / f, img.height / f);
-    let mut out = gpu_photon::film::Image::new(w, h);
+    let mut out = gpu_photon::render::film::Image::new(w, h);
     for y in 0..h {
         for x in 0..w {
             let mut s = [0.0f64; 3];
@@ -334,9 +334,9 @@ pub fn run_probe(
 pub fn direct_renders(
     s: &Scene,
     side: u32,
-) -> (gpu_photon::film::Image, Option<gpu_photon::film::Image>) {
-    use gpu_photon::report::Progress;
-    use gpu_photon::session::{render, Backend};
+) -> (gpu_photon::render::film::Image, Option<gpu_photon::render::film::Image>) {
+    use gpu_photon::render::report::Progress;
+    use gpu_photon::render::session::{render, Backend};
     let settings = RenderSettings {
         width: side,
         height: side,
@@ -357,8 +357,8 @@ pub fn direct_renders(
 /// own difference: the yardstick of [`within_seed_noise`] (`(gpu vs cpu seed 2, cpu seed 2
 /// vs seed 1)`, 8 x 8 blocks).
 pub fn gpu_and_seed_diffs(scene: &Scene, s: &RenderSettings) -> (DiffStats, DiffStats) {
-    use gpu_photon::report::Progress;
-    use gpu_photon::session::{render, Backend};
+    use gpu_photon::render::report::Progress;
+    use gpu_photon::render::session::{render, Backend};
     let at = |seed: u32, backend: Backend| {
         let s = RenderSettings { seed, ..s.clone() };
         render(scene, &s, backend, Progress::default()).unwrap().0
@@ -368,8 +368,8 @@ pub fn gpu_and_seed_diffs(scene: &Scene, s: &RenderSettings) -> (DiffStats, Diff
         at(2, Backend::Cpu),
         at(1, Backend::Gpu),
     );
-    let noise = gpu_photon::film::diff(&cpu2, &cpu, 8).unwrap();
-    let d = gpu_photon::film::diff(&gpu, &cpu2, 8).unwrap();
+    let noise = gpu_photon::render::film::diff(&cpu2, &cpu, 8).unwrap();
+    let d = gpu_photon::render::film::diff(&gpu, &cpu2, 8).unwrap();
     (d, noise)
 }
 
@@ -382,7 +382,7 @@ pub fn example_scenes_without_media() -> Vec<std::path::PathBuf> {
             .unwrap()
             .map(|e| e.unwrap().path())
             .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .filter(|p| !gpu_photon::scene::load(p).unwrap().has_media_transport())
+            .filter(|p| !gpu_photon::importers::load(p).unwrap().has_media_transport())
             .collect();
     paths.sort();
     paths

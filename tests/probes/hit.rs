@@ -1,5 +1,5 @@
 //! Oracle probe of a hit's surface on one uploaded scene (`probe_hit` in
-//! shaders/probe_geometry.wgsl, through [`SceneProbes`]): a triangle's shading normal, its uv
+//! tests/probes/probe_geometry.wgsl, through [`SceneProbes`]): a triangle's shading normal, its uv
 //! tangents (from its corner uvs, its vertex tangents, and the choice between them), the
 //! alpha test of a candidate hit, the frame a ray sees at the nearest hit, a ray's offset
 //! origin and its packed direction, for tests/hit_gpu.rs to compare with

@@ -1,17 +1,17 @@
-//! Oracle probes of the lights and of ray intersection (shaders/probe_light.wgsl,
-//! shaders/probe_geometry.wgsl) on one uploaded scene ([`SceneProbes`], its pipelines compiled
+//! Oracle probes of the lights and of ray intersection (tests/probes/probe_light.wgsl,
+//! tests/probes/probe_geometry.wgsl) on one uploaded scene ([`SceneProbes`], its pipelines compiled
 //! once): emission, shadow-ray samples, the owner of a photon path, the end of a spent path,
 //! one primitive's intersection test and the BVH walk, on chosen inputs, for tests/light_gpu.rs and tests/intersect_gpu.rs to compare with their Rust
 //! twins (`LightTable::emit` and `sample`, `Budget::light_of`, `photon::power_ends`,
 //! `geometry::intersect_triangle` and `intersect_sphere`, `Bvh::intersect` and `occluded`).
 
-use gpu_photon::gpu::context::GpuContext;
-use gpu_photon::gpu::pipelines::scene_features;
+use gpu_photon::integrators::gpu::context::GpuContext;
+use gpu_photon::integrators::gpu::pipelines::scene_features;
 use super::{case_buffer, dispatch_probe};
-use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::integrators::gpu::run::GpuRun;
 use gpu_photon::error::Result;
-use gpu_photon::photon::Budget;
-use gpu_photon::plan::MapKind;
+use gpu_photon::integrators::photon::Budget;
+use gpu_photon::integrators::plan::MapKind;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 
@@ -106,7 +106,7 @@ impl SceneProbes {
         dispatch_probe(run, entry, &accum, n as u32, None, &self.features)
     }
 
-    /// The device's `emit` and `sample_light` (shaders/common/light.wgsl) on the scene's
+    /// The device's `emit` and `sample_light` (src/lights/light.wgsl) on the scene's
     /// lights, per case.
     pub fn lights(&mut self, cases: &[LightCase]) -> Result<Vec<LightProbe>> {
         let n = cases.len().max(1);
@@ -135,9 +135,9 @@ impl SceneProbes {
             .collect())
     }
 
-    /// The device's `light_of` (shaders/common/light.wgsl) for every path index below the
+    /// The device's `light_of` (src/lights/light.wgsl) for every path index below the
     /// larger of the two maps' totals (as the settings given to [`SceneProbes::new`] plan
-    /// them), and its `power_ends` (shaders/common/photon.wgsl) for each of `powers`.
+    /// them), and its `power_ends` (src/integrators/gpu/photon.wgsl) for each of `powers`.
     pub fn paths(&mut self, powers: &[[f32; 3]]) -> Result<PathsProbe> {
         let budget = |k| self.run.plan.map(k).map(|m| m.budget.clone());
         let budgets = [budget(MapKind::Global), budget(MapKind::Caustic)];
@@ -163,7 +163,7 @@ impl SceneProbes {
     }
 
     /// The device's `intersect_triangle`, `intersect_sphere` and `trace_ray` (nearest and
-    /// any hit; shaders/common/intersect.wgsl) over the scene for each ray.
+    /// any hit; src/bvh/intersect.wgsl) over the scene for each ray.
     pub fn intersect(&mut self, rays: &[RayCase]) -> Result<Vec<IntersectProbe>> {
         let n = rays.len().max(1);
         let mut init = vec![[0f32; 4]; 7 * n];

@@ -1,19 +1,19 @@
 //! Oracle probes of participating media (issue 24): the free-flight and Henyey-Greenstein
 //! samplers on chosen random numbers with the interface, photon-filter, cache-point and
-//! volume-cell rules on chosen inputs (`probe_medium` in shaders/probes.wgsl), one pass's
+//! volume-cell rules on chosen inputs (`probe_medium` in tests/probes/probes.wgsl), one pass's
 //! photon tracing read back (surface maps and volume photons), the volume grid's build over
 //! uploaded photons, its beam estimate and the shadow walk's transmittance, for
 //! tests/media_gpu.rs to compare with their Rust twins.
 
-use gpu_photon::gpu::buffers::read_back;
-use gpu_photon::gpu::context::GpuContext;
+use gpu_photon::integrators::gpu::buffers::read_back;
+use gpu_photon::integrators::gpu::context::GpuContext;
 use super::{case_buffer, dispatch_probe, probe_cases};
-use gpu_photon::gpu::recorder::Recorder;
-use gpu_photon::gpu::run::GpuRun;
-use gpu_photon::gpu::volume::VolumeBuffers;
+use gpu_photon::integrators::gpu::recorder::Recorder;
+use gpu_photon::integrators::gpu::run::GpuRun;
+use gpu_photon::integrators::gpu::volume::VolumeBuffers;
 use gpu_photon::error::Result;
-use gpu_photon::photon::{BeamPhotons, Photon};
-use gpu_photon::report::RenderReport;
+use gpu_photon::integrators::photon::{BeamPhotons, Photon};
+use gpu_photon::render::report::RenderReport;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 
@@ -75,9 +75,9 @@ pub struct MediumSample {
 }
 
 /// The device's `sample_flight`, `hg_sample`, `hg_eval`, `medium_interface_after`,
-/// `medium_after` and `light_medium` (shaders/common/medium.wgsl) with `scene`'s first
+/// `medium_after` and `light_medium` (src/media/medium.wgsl) with `scene`'s first
 /// medium, materials and lights, and `keep_photon`, `is_cache_point` and `volume_cell`
-/// (shaders/common/grid.wgsl), per case.
+/// (src/integrators/gpu/grid.wgsl), per case.
 pub fn medium_samplers(
     ctx: &GpuContext,
     scene: &Scene,
@@ -121,7 +121,7 @@ pub fn medium_samplers(
 }
 
 /// The photons one pass traced on the device (`GpuRun::record_maps`, pass index `pass`):
-/// each map's surface photons in [`gpu_photon::plan::MapKind`] slot order (as traced, before the
+/// each map's surface photons in [`gpu_photon::integrators::plan::MapKind`] slot order (as traced, before the
 /// grid's sort) and the volume photons, each list in the device's order.
 #[derive(Clone, Debug, Default)]
 pub struct TracedPhotons {
@@ -250,7 +250,7 @@ pub struct BeamQuery {
     pub photons: BeamPhotons,
 }
 
-/// The device's beam estimate (`beam` in shaders/volume_estimate.wgsl) over `photons` (spheres
+/// The device's beam estimate (`beam` in src/integrators/gpu/volume_estimate.wgsl) over `photons` (spheres
 /// of `radius`) with `scene`'s media, per query.
 pub fn beam(
     ctx: &GpuContext,

@@ -12,15 +12,15 @@ pub mod light;
 pub mod media;
 pub mod shading;
 
-use gpu_photon::gpu::bindings::GATHER_GROUP;
-use gpu_photon::gpu::buffers::{grid_2d, read_back};
-use gpu_photon::gpu::codes::{STATS_LEN, WG_SIZE};
-use gpu_photon::gpu::context::GpuContext;
-use gpu_photon::gpu::pipelines::{pipeline_layout, shader_module_of};
-use gpu_photon::gpu::recorder::Recorder;
-use gpu_photon::gpu::run::GpuRun;
+use gpu_photon::integrators::gpu::bindings::GATHER_GROUP;
+use gpu_photon::integrators::gpu::buffers::{grid_2d, read_back};
+use gpu_photon::integrators::gpu::codes::{STATS_LEN, WG_SIZE};
+use gpu_photon::integrators::gpu::context::GpuContext;
+use gpu_photon::integrators::gpu::pipelines::{pipeline_layout, shader_module_of};
+use gpu_photon::integrators::gpu::recorder::Recorder;
+use gpu_photon::integrators::gpu::run::GpuRun;
 use gpu_photon::error::{Error, Result};
-use gpu_photon::photon::Photon;
+use gpu_photon::integrators::photon::Photon;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::{Filter, Mode, RenderSettings};
 
@@ -79,7 +79,7 @@ pub fn estimate(
         ..Default::default()
     };
     let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = gpu_photon::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table = gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * queries.len()];
     for (i, (p, nrm)) in queries.iter().enumerate() {
@@ -100,7 +100,7 @@ pub fn estimate(
     ))
 }
 
-/// The device's `cosine_hemisphere(normal, u1, u2)` (shaders/common/sampling.wgsl) for each
+/// The device's `cosine_hemisphere(normal, u1, u2)` (src/math/sampling.wgsl) for each
 /// `(normal, [u1, u2])`.
 pub fn cosine_hemisphere(
     ctx: &GpuContext,
@@ -120,7 +120,7 @@ pub fn cosine_hemisphere(
 }
 
 /// One case of [`surface`]: the inputs of the surface-frame functions of
-/// shaders/common/intersect.wgsl and sampling.wgsl, and of material.wgsl's.
+/// src/bvh/intersect.wgsl and sampling.wgsl, and of material.wgsl's.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SurfaceCase {
     /// `phong_lobe`'s axis (and `sphere_uv`'s point).
@@ -176,8 +176,8 @@ pub struct SurfaceProbe {
 }
 
 /// The device's Phong lobe, sphere uvs, leak tests, normal mapping and the classic materials'
-/// functions (shaders/common/material.wgsl) for each case (probe `probe_surface` in
-/// shaders/probe_geometry.wgsl).
+/// functions (src/bsdfs/classic.wgsl) for each case (probe `probe_surface` in
+/// tests/probes/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
     let mut init = vec![[0f32; 4]; 18 * n];
@@ -213,7 +213,7 @@ pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfacePro
         .collect())
 }
 
-/// The device's environment functions (shaders/common/environment.wgsl) on `scene`'s
+/// The device's environment functions (src/lights/environment.wgsl) on `scene`'s
 /// environment (its last light) for each `(direction, shading normal, uniforms)`: per case
 /// `(radiance along the direction, env_pdf)` and the shadow-ray sample `(direction, pdf)`.
 pub fn environment(
@@ -268,7 +268,7 @@ pub fn radiance_cache(
         ..Default::default()
     };
     let mut run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = gpu_photon::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table = gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * n as usize];
     for (i, (p, nrm)) in queries.iter().enumerate() {
@@ -401,7 +401,7 @@ pub fn dispatch_probe(
 /// The probes' composed module: the kernels' libraries, then `probes.wgsl`,
 /// `probe_light.wgsl`, `probe_geometry.wgsl` and `probe_shading.wgsl`.
 pub fn source() -> String {
-    gpu_photon::gpu::shaders::probe_source(&[
+    gpu_photon::integrators::gpu::shaders::probe_source(&[
         include_str!("probes.wgsl"),
         include_str!("probe_light.wgsl"),
         include_str!("probe_geometry.wgsl"),

@@ -1,4 +1,4 @@
-// Oracle probe of shaders/common/bsdf.wgsl for tests/bsdf_gpu.rs (never used by a render).
+// Oracle probe of src/bsdfs/bsdf.wgsl for tests/bsdf_gpu.rs (never used by a render).
 // One invocation per case: every BsdfParams function on the case's (wi, wo, u), PROBE_SLOTS vec4s out.
 // Composed by gpu::bsdf_params::probe_source() after the prelude, the generated BSDF codes and bsdf.wgsl;
 // declares the library's `bsdf_tables` (binding 1).

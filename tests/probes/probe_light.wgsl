@@ -1,7 +1,7 @@
 // Oracle probes of the lights (common/light.wgsl, common/photon.wgsl) for tests/light_gpu.rs,
 // never used by a render: emission, shadow-ray samples, the owner of a photon path and the
-// end of a spent path, on chosen random numbers, to compare with src/light.rs and
-// src/photon.rs. Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per
+// end of a spent path, on chosen random numbers, to compare with src/lights/mod.rs and
+// src/integrators/photon.rs. Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per
 // case. Writes: accum[] as each entry point says. Composed after probes.wgsl (its `accum`).
 
 // probe_light: light bitcast(accum[i].w) of the scene for case i < width, with

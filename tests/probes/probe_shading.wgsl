@@ -1,6 +1,6 @@
 // Oracle probe of the shading interface (common/shading.wgsl) for tests/shading_gpu.rs, never
 // used by a render: bsdf_at at the nearest hit of a ray on the bound scene and every question
-// the integrators ask of the Surface, to compare with src/shading.rs at the same hit.
+// the integrators ask of the Surface, to compare with src/bsdfs/shading.rs at the same hit.
 // Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per case. Writes:
 // accum[] as the entry point says. Composed after probes.wgsl (its `accum`).
 

@@ -1,9 +1,9 @@
 //! Oracle probe of the shading interface on one uploaded scene (`probe_shading` in
-//! shaders/probe_shading.wgsl, through [`SceneProbes`]): `bsdf_at` at a ray's nearest hit
+//! tests/probes/probe_shading.wgsl, through [`SceneProbes`]): `bsdf_at` at a ray's nearest hit
 //! and every question the integrators ask of the surface (class, emission, the diffuse
 //! part's albedo, store weight, value and estimate BRDF, the lobe's flags, value, density
 //! and sample, a delta bounce, a photon's bounce), the power heuristic and the radiance of
-//! an escaping ray, for tests/shading_gpu.rs to compare with `gpu_photon::shading` at the same
+//! an escaping ray, for tests/shading_gpu.rs to compare with `gpu_photon::bsdfs::shading` at the same
 //! hit (the device's hit is read back, so both sides shade the same bits).
 
 use super::light::SceneProbes;
@@ -92,7 +92,7 @@ pub struct ShadingProbe {
 const SLOTS: usize = 23;
 
 impl SceneProbes {
-    /// The device's shading functions (shaders/common/shading.wgsl) at each case's nearest
+    /// The device's shading functions (src/bsdfs/shading.wgsl) at each case's nearest
     /// hit (`probe_shading`).
     pub fn shading(&mut self, cases: &[ShadingCase]) -> Result<Vec<ShadingProbe>> {
         let n = cases.len().max(1);

@@ -8,10 +8,11 @@
 use crate::common;
 
 use glam::{Quat, Vec3};
-use gpu_photon::film::{diff, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, load_gltf, load_str, load_with_camera, LightShape, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::{load, load_gltf, load_str, load_with_camera};
+use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::render::session::{render, Backend};
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
@@ -557,7 +558,7 @@ fn materials_map_by_the_documented_rules() {
             r#""pbrMetallicRoughness": {{"baseColorFactor": [{c}, 1], "metallicFactor": {m}, "roughnessFactor": {r}}}"#
         )
     };
-    use gpu_photon::bsdf::{Bsdf, MetallicRoughness};
+    use gpu_photon::bsdfs::{Bsdf, MetallicRoughness};
     let gltf_of = |m: &gpu_photon::scene::Material| match m.bsdf {
         Some(Bsdf::MetallicRoughness(g)) if m.kind == MaterialKind::MetallicRoughness => g,
         _ => panic!("not a metallic-roughness material: {m:?}"),

@@ -14,10 +14,11 @@ mod common;
 mod gltf;
 
 use glam::DVec3;
-use gpu_photon::film::{diff, DiffStats, Image};
-use gpu_photon::report::Progress;
-use gpu_photon::scene::{load, LightShape, Scene};
-use gpu_photon::session::{render, Backend};
+use gpu_photon::render::film::{diff, DiffStats, Image};
+use gpu_photon::render::report::Progress;
+use gpu_photon::importers::load;
+use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 
@@ -500,7 +501,7 @@ fn a_gaussian_film_renders_as_mitsubas_image_of_the_same_scene() {
     for rfilter in [gaussian, r#"<rfilter type="box"/>"#] {
         let xml = text.replace(gaussian, rfilter);
         let scene =
-            gpu_photon::scene::mitsuba::import(&xml, "filter.xml", &root().join("scenes/mitsuba"))
+            gpu_photon::importers::mitsuba::import(&xml, "filter.xml", &root().join("scenes/mitsuba"))
                 .unwrap_or_else(|e| panic!("{e}"))
                 .scene;
         let s = RenderSettings {

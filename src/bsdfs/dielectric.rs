@@ -1,0 +1,176 @@
+//! Dielectric interfaces: the microfacet model (Mitsuba's `roughdielectric`, after Walter et
+//! al. 2007, visible-normal sampling), the smooth interface (`dielectric`) and the thin sheet
+//! (`thindielectric`). `eta` is interior / exterior; `wo.z < 0` means the viewer is inside.
+//!
+//! In [`Transport::Radiance`] transmitted values carry the radiance scale `(eta_o / eta_i)^2`
+//! of the crossing (Mitsuba's `eta_ti^2`); in [`Transport::Importance`] they do not.
+
+use crate::bsdfs::math::{mulsign, reflect, reflect_z, refract};
+use crate::bsdfs::microfacet::{fresnel_dielectric, Microfacet};
+use crate::bsdfs::{LobeSample, Transport};
+use glam::{Vec2, Vec3};
+
+/// The generalised half vector of `(wi, wo)` facing up, whether the pair is a reflection, and
+/// `e`, the index ratio of the far side over `wo`'s side.
+fn half_vector(eta: f32, wi: Vec3, wo: Vec3) -> (Vec3, bool, f32) {
+    let reflect = wo.z * wi.z > 0.0;
+    let e = if wo.z > 0.0 { eta } else { 1.0 / eta };
+    let m = (wo + wi * if reflect { 1.0 } else { e }).normalize();
+    (mulsign(m, m.z), reflect, e)
+}
+
+/// f(wi, wo) of the rough dielectric, reflection and transmission.
+pub fn eval(
+    mf: &Microfacet,
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wi: Vec3,
+    wo: Vec3,
+    transport: Transport,
+) -> Vec3 {
+    if wo.z == 0.0 || wi.z == 0.0 {
+        return Vec3::ZERO;
+    }
+    let (m, reflect, e) = half_vector(eta, wi, wo);
+    let d = mf.d(m);
+    let f = fresnel_dielectric(wo.dot(m), eta).0;
+    let g = mf.g(wo, wi, m);
+    if reflect {
+        reflectance * (f * d * g / (4.0 * wo.z.abs() * wi.z.abs()))
+    } else {
+        let scale = match transport {
+            Transport::Radiance => 1.0 / (e * e),
+            Transport::Importance => 1.0,
+        };
+        let (dot_o, dot_i) = (wo.dot(m), wi.dot(m));
+        let denom = dot_o + e * dot_i;
+        let v = scale * (1.0 - f) * d * g * e * e * dot_o * dot_i / (wo.z * denom * denom);
+        transmittance * (v.abs() / wi.z.abs())
+    }
+}
+
+/// Density of [`sample`]: the visible-normal density of m times the chosen side's Fresnel
+/// probability times the Jacobian of the reflection or refraction mapping.
+pub fn pdf(mf: &Microfacet, eta: f32, wi: Vec3, wo: Vec3) -> f32 {
+    if wo.z == 0.0 {
+        return 0.0;
+    }
+    let (m, reflect, e) = half_vector(eta, wi, wo);
+    let (dot_o, dot_i) = (wo.dot(m), wi.dot(m));
+    if dot_o * wo.z <= 0.0 || dot_i * wi.z <= 0.0 {
+        return 0.0;
+    }
+    let dwh_dwi = if reflect {
+        1.0 / (4.0 * dot_i)
+    } else {
+        e * e * dot_i / (dot_o + e * dot_i).powi(2)
+    };
+    let f = fresnel_dielectric(dot_o, eta).0;
+    let prob = mf.pdf_visible(mulsign(wo, wo.z), m) * if reflect { f } else { 1.0 - f };
+    prob * dwh_dwi.abs()
+}
+
+/// Visible normal m from `u[1], u[2]` (seen from `wo`'s side); reflect when `u[0] <= F(wo . m)`,
+/// else refract. Weight = `G1(wi, m)` times the tint (and the radiance scale when refracting).
+/// `None` when the direction lands on the wrong side of the surface (no energy).
+pub fn sample(
+    mf: &Microfacet,
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wo: Vec3,
+    u: [f32; 3],
+    transport: Transport,
+) -> Option<LobeSample> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let (m, pdf_m) = mf.sample_visible(mulsign(wo, wo.z), Vec2::new(u[1], u[2]));
+    if pdf_m == 0.0 {
+        return None;
+    }
+    let dot_o = wo.dot(m);
+    let (f, cos_t, eta_it, eta_ti) = fresnel_dielectric(dot_o, eta);
+    let (wi, mut weight, pdf) = if u[0] <= f {
+        let wi = reflect(wo, m);
+        (wi, reflectance, pdf_m * f / (4.0 * wi.dot(m)).abs())
+    } else {
+        let wi = refract(wo, m, cos_t, eta_ti);
+        let factor = match transport {
+            Transport::Radiance => eta_ti * eta_ti,
+            Transport::Importance => 1.0,
+        };
+        let dot_i = wi.dot(m);
+        let dwh = eta_it * eta_it * dot_i / (dot_o + eta_it * dot_i).powi(2);
+        (wi, transmittance * factor, pdf_m * (1.0 - f) * dwh.abs())
+    };
+    weight *= mf.smith_g1(wi, m);
+    let right_side = if u[0] <= f {
+        wi.z * wo.z > 0.0
+    } else {
+        wi.z * wo.z < 0.0
+    };
+    (right_side && pdf > 0.0).then_some(LobeSample {
+        wi,
+        weight,
+        pdf,
+        delta: false,
+    })
+}
+
+/// The smooth interface: reflect when `u[0] <= F(cos_o)` (weight: the reflectance tint), else
+/// refract (weight: the transmittance tint, times `eta_ti^2` for radiance). Only `u[0]` read.
+pub fn sample_smooth(
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wo: Vec3,
+    u: [f32; 3],
+    transport: Transport,
+) -> Option<LobeSample> {
+    let (r, cos_t, _, eta_ti) = fresnel_dielectric(wo.z, eta);
+    let (wi, weight) = if u[0] <= r {
+        (reflect_z(wo), reflectance)
+    } else {
+        let factor = match transport {
+            Transport::Radiance => eta_ti * eta_ti,
+            Transport::Importance => 1.0,
+        };
+        (
+            Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, cos_t),
+            transmittance * factor,
+        )
+    };
+    Some(LobeSample {
+        wi,
+        weight,
+        pdf: 0.0,
+        delta: true,
+    })
+}
+
+/// The thin sheet: reflect when `u[0] <= R'` with `R' = 2R / (1 + R)` the inter-reflected
+/// Fresnel reflectance (weight: the reflectance tint), else pass straight through to `-wo`
+/// (weight: the transmittance tint). Only `u[0]` read; either side alike.
+pub fn sample_thin(
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wo: Vec3,
+    u: [f32; 3],
+) -> Option<LobeSample> {
+    let r = fresnel_dielectric(wo.z.abs(), eta).0;
+    let r = r * 2.0 / (1.0 + r);
+    let (wi, weight) = if u[0] <= r {
+        (reflect_z(wo), reflectance)
+    } else {
+        (-wo, transmittance)
+    };
+    Some(LobeSample {
+        wi,
+        weight,
+        pdf: 0.0,
+        delta: true,
+    })
+}

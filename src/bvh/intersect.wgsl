@@ -1,0 +1,429 @@
+// Ray-primitive intersection, BVH traversal and the hit's shading normal (interpolated vertex
+// normals, Facing); twin of src/math/geometry.rs and src/bvh/. OFFSET_SCALE, OFFSET_FLOOR,
+// BOX_SLACK (1 + 2 gamma(3): the slab test's exit distance is widened by its rounding bound)
+// and FLAT come from the generated prelude.
+// Library, no entry point; writes nothing but the loop budget it spends.
+
+struct Hit {
+    t: f32,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    // Shading normal on the side of `normal` (equal to it where flat).
+    shading: vec3<f32>,
+    material: u32,
+    light: u32,
+    // Texture coordinates (zero without textures).
+    uv: vec2<f32>,
+    found: bool,
+}
+
+fn max_abs(p: vec3<f32>) -> f32 {
+    let a = abs(p);
+    return max(a.x, max(a.y, a.z));
+}
+
+fn offset_origin(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    let eps = OFFSET_SCALE * (max_abs(p) + OFFSET_FLOOR);
+    return select(p - n * eps, p + n * eps, dot(dir, n) >= 0.0);
+}
+
+// Moves a point of `tri` towards its centroid by the ray-offset distance (at most half way),
+// so that a hit on an edge does not start its next ray on the plane of the face meeting it
+// there (twin of inset in src/math/geometry.rs).
+fn inset(tri: Triangle, p: vec3<f32>) -> vec3<f32> {
+    let to_c = (tri.v0 + tri.v1 + tri.v2) / 3.0 - p;
+    let len = length(to_c);
+    if len == 0.0 {
+        return p;
+    }
+    let eps = OFFSET_SCALE * (max_abs(p) + OFFSET_FLOOR);
+    return p + to_c * min(eps / len, 0.5);
+}
+
+// The shading normal at (u, v) of a triangle with geometric normal ng and vertex normals i:
+// their normalised interpolation, negated when against ng, ng where it vanishes (twin of
+// shading_normal in src/math/geometry.rs).
+fn shading_normal(ng: vec3<f32>, i: u32, uv: vec2<f32>) -> vec3<f32> {
+    let n = shading_normals[i];
+    let s = (1.0 - uv.x - uv.y) * n.n0 + uv.x * n.n1 + uv.y * n.n2;
+    let len = length(s);
+    if !(len > 0.0) {
+        return ng;
+    }
+    let ns = s / len;
+    return select(ns, -ns, dot(ns, ng) < 0.0);
+}
+
+// A triangle's uv tangent (Mitsuba's dp_du up to its positive scale) in xyz and w = 1 when the
+// parameterisation is flipped (det < 0); w = -1 for a degenerate mapping (twin of
+// triangle_tangent in src/math/geometry.rs).
+fn triangle_tangent(e1: vec3<f32>, e2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>) -> vec4<f32> {
+    let d0 = uv1 - uv0;
+    let d1 = uv2 - uv0;
+    let det = d0.x * d1.y - d0.y * d1.x;
+    if det == 0.0 || !(abs(det) <= 3.4028235e38) {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    let dp_du = (d1.y * e1 - d0.y * e2) * sign(det);
+    return vec4<f32>(dp_du, select(0.0, 1.0, det < 0.0));
+}
+
+// The interpolated vertex tangent at barycentrics bc of the tangents from word r on, as
+// triangle_tangent gives it (xyz, w = 1 when flipped); zero xyz where it vanishes (twin of
+// vertex_tangent in src/math/geometry.rs).
+fn vertex_tangent(r: u32, bc: vec2<f32>) -> vec4<f32> {
+    let m = (1.0 - bc.x - bc.y) * uvs[r] + bc.x * uvs[r + 1u] + bc.y * uvs[r + 2u];
+    return vec4<f32>(m.xyz, select(0.0, 1.0, m.w < 0.0));
+}
+
+// Triangle id's uv tangent at barycentrics bc: its vertex tangents' where it has them, else
+// its corner uvs' (twin of Bvh::intersect's choice). A mesh without uvs reads the
+// placeholder's zeros: degenerate, so normal_mapped takes the basis.
+fn uv_tangent(id: u32, e1: vec3<f32>, e2: vec3<f32>, bc: vec2<f32>) -> vec4<f32> {
+    let r = uv_record(id);
+    if HAS_TANGENTS {
+        let t = vertex_tangent(r + UV_WORDS, bc);
+        if any(t.xyz != vec3<f32>(0.0)) {
+            return t;
+        }
+    }
+    let a = uvs[r];
+    return triangle_tangent(e1, e2, a.xy, a.zw, uvs[r + 1u].xy);
+}
+
+// Mitsuba's normalmap: the shading normal that linear texel c gives at a hit with front normal
+// ng, shading normal ns (side of ng), uv tangent dp_du (zero: none), flipped parameterisation,
+// for a ray along d (twin of normal_mapped in src/math/geometry.rs, which documents the frame).
+fn normal_mapped(ng: vec3<f32>, ns: vec3<f32>, dp_du: vec3<f32>, flipped: bool, c: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let s0 = dp_du - ns * dot(ns, dp_du);
+    let len2 = dot(s0, s0);
+    var s = basis_t(ns);
+    var t = basis_b(ns);
+    if len2 > 0.0 && len2 <= 3.4028235e38 {
+        s = normalize(s0);
+        t = cross(ns, s);
+        if flipped {
+            t = -t;
+        }
+    }
+    var m = 2.0 * c - vec3<f32>(1.0);
+    let wi = -d;
+    if dot(wi, ns) * dot(wi, s * m.x + t * m.y + ns * m.z) <= 0.0 {
+        m = vec3<f32>(-m.x, -m.y, m.z);
+    }
+    let w = s * m.x + t * m.y + ns * m.z;
+    let len = length(w);
+    if !(len > 0.0) {
+        return ns;
+    }
+    let n = w / len;
+    return select(n, -n, dot(n, ng) < 0.0);
+}
+
+// The hit's normals turned to the side a ray arrives from (`front`), twin of Facing in
+// src/math/geometry.rs: ng for sidedness, offsets and leaks, ns for the BSDF.
+struct Facing {
+    ng: vec3<f32>,
+    ns: vec3<f32>,
+    interpolated: bool,
+}
+
+fn facing(hit: Hit, front: bool) -> Facing {
+    let s = select(-1.0, 1.0, front);
+    return Facing(s * hit.normal, s * hit.shading,
+        (HAS_SMOOTH || HAS_NORMAL_MAPS) && any(hit.shading != hit.normal));
+}
+
+// A reflected direction below the geometric surface carries nothing (smooth triangles only).
+fn reflection_leaks(f: Facing, dir: vec3<f32>) -> bool {
+    return f.interpolated && dot(dir, f.ng) <= 0.0;
+}
+
+// A refracted direction that stays on the ray's side carries nothing (smooth triangles only).
+fn refraction_leaks(f: Facing, dir: vec3<f32>) -> bool {
+    return f.interpolated && dot(dir, f.ng) >= 0.0;
+}
+
+// Per-ray constants of the watertight test (twin of Shear in src/math/geometry.rs): the axes
+// (kx, ky, kz) and the shear (sx, sy).
+struct Shear {
+    k: vec3<u32>,
+    s: vec2<f32>,
+}
+
+fn make_shear(d: vec3<f32>) -> Shear {
+    let a = abs(d);
+    var kz = 2u;
+    if a.x > a.y && a.x > a.z {
+        kz = 0u;
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    let kx = (kz + 1u) % 3u;
+    let ky = (kz + 2u) % 3u;
+    return Shear(vec3<u32>(kx, ky, kz), vec2<f32>(d[kx] / d[kz], d[ky] / d[kz]));
+}
+
+fn shear_project(sh: Shear, v: vec3<f32>, o: vec3<f32>) -> vec2<f32> {
+    let p = v - o;
+    return vec2<f32>(p[sh.k.x] - sh.s.x * p[sh.k.z], p[sh.k.y] - sh.s.y * p[sh.k.z]);
+}
+
+// p.x q.y - p.y q.x in one canonical order of the end points: the two triangles sharing an
+// edge get exactly opposite values, even where the compiler fuses the multiply-adds.
+fn edge_function(p: vec2<f32>, q: vec2<f32>) -> f32 {
+    if p.x < q.x || (p.x == q.x && p.y < q.y) {
+        return p.x * q.y - p.y * q.x;
+    }
+    return -(q.x * p.y - q.y * p.x);
+}
+
+// Watertight ray-triangle test (Woop, Benthin and Wald 2013): (t, u, v) with u, v the
+// weights of v1, v2, and t < 0 for a miss.
+fn intersect_triangle(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, o: vec3<f32>, d: vec3<f32>, sh: Shear, t_max: f32) -> vec3<f32> {
+    let miss = vec3<f32>(-1.0, 0.0, 0.0);
+    let a = shear_project(sh, v0, o);
+    let b = shear_project(sh, v1, o);
+    let c = shear_project(sh, v2, o);
+    let e0 = edge_function(c, b);
+    let e1 = edge_function(a, c);
+    let e2 = edge_function(b, a);
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return miss;
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
+        return miss;
+    }
+    // t from the world-space plane equation: exactly 0 for a ray starting on an axis-aligned
+    // plane.
+    let n = cross(v1 - v0, v2 - v0);
+    let t = dot(v0 - o, n) / dot(d, n);
+    if t > 0.0 && t < t_max {
+        return vec3<f32>(t, e1 / det, e2 / det);
+    }
+    return miss;
+}
+
+// Nearest t in (0, t_max), or -1.
+fn intersect_sphere(s: Sphere, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> f32 {
+    let oc = o - s.center;
+    let b = dot(oc, d);
+    let perp = oc - b * d;
+    let disc = s.radius * s.radius - dot(perp, perp);
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let c = dot(oc, oc) - s.radius * s.radius;
+    let sq = sqrt(disc);
+    let q = select(-b + sq, -b - sq, b > 0.0);
+    var t0 = 0.0;
+    var t1 = 0.0;
+    if q != 0.0 {
+        t0 = c / q;
+        t1 = q;
+    }
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    if lo > 0.0 && lo < t_max {
+        return lo;
+    }
+    if hi > 0.0 && hi < t_max {
+        return hi;
+    }
+    return -1.0;
+}
+
+fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max: f32) -> bool {
+    let t0 = (bmin - o) * inv;
+    let t1 = (bmax - o) * inv;
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    let tmin = max(max(lo.x, max(lo.y, lo.z)), 0.0);
+    let tmax = min(min(hi.x, min(hi.y, hi.z)) * BOX_SLACK, t_max);
+    return tmin <= tmax;
+}
+
+// Mitsuba's sphere parameterisation of the unit direction n: u = phi / 2 pi with phi the
+// azimuth from +x towards +y in [0, 2 pi), v = theta / pi from +z (texture::uv::sphere).
+fn sphere_uv(n: vec3<f32>) -> vec2<f32> {
+    var phi = atan2(n.y, n.x);
+    if phi < 0.0 {
+        phi += 2.0 * PI;
+    }
+    return vec2<f32>(phi / (2.0 * PI), atan2(length(n.xy), n.z) / PI);
+}
+
+// Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max.
+// Whether the ray o + t d passes primitive id hit at t (a triangle's barycentrics bc): its
+// material is alpha-tested, not emissive, and its opacity there does not stop the ray; a
+// blend's uniform hashes the primitive, t and d. Twin of alpha_passes in src/bvh/surface.rs.
+fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> bool {
+    var mat = 0u;
+    var uv = vec2<f32>(0.0);
+    if (id & SPHERE_BIT) == 0u {
+        mat = triangles[TRIANGLE_WORDS * id].w;
+        if HAS_TEXTURES {
+            uv = triangle_uv(id, bc);
+        }
+    } else {
+        let s = load_sphere(id & ~SPHERE_BIT);
+        mat = s.material;
+        if HAS_TEXTURES {
+            uv = sphere_uv(normalize(o + t * d - s.center));
+        }
+    }
+    let w = materials[MATERIAL_WORDS * mat + 4u];
+    let mode = w.x & 3u;
+    if mode == ALPHA_NONE {
+        return false;
+    }
+    var tex = 1.0;
+    if HAS_TEXTURES && w.y != NO_TEXTURE {
+        if (w.x & ALPHA_LUMINANCE) != 0u {
+            tex = dot(texture_eval(w.y, uv), vec3<f32>(0.212671, 0.715160, 0.072169));
+        } else {
+            tex = texture_alpha(w.y, uv);
+        }
+    }
+    let opacity = clamp(bitcast<f32>(w.z) * tex, 0.0, 1.0);
+    if mode == ALPHA_MASK {
+        return opacity < bitcast<f32>(w.w);
+    }
+    var key = pcg_hash(id ^ bitcast<u32>(t));
+    key = pcg_hash(key ^ bitcast<u32>(d.x));
+    key = pcg_hash(key ^ bitcast<u32>(d.y));
+    key = pcg_hash(key ^ bitcast<u32>(d.z));
+    return !(to_unit(key) < opacity);
+}
+
+fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false);
+    var best_id = 0u;
+    var best_uv = vec2<f32>(0.0);
+    let inv = 1.0 / d;
+    let sh = make_shear(d);
+    var axis = 2u;
+    if abs(d.x) > abs(d.y) && abs(d.x) > abs(d.z) {
+        axis = 0u;
+    } else if abs(d.y) > abs(d.z) {
+        axis = 1u;
+    }
+    // The BvhFrame's words: (base, nodes per copy), (step, _pad).
+    let f0 = nodes[0];
+    let grid_base = bitcast<vec3<i32>>(f0.xyz);
+    let n_nodes = f0.w;
+    let step = bitcast<vec3<f32>>(nodes[1].xyz);
+    // Stackless: the depth-first order that enters the left child first when the ray runs
+    // up its dominant axis, else the right child first. `nodes` holds every node once per
+    // order, numbered in that order's preorder: entering a node or finishing a leaf goes to
+    // the next node, missing an interior node's box to the end of its subtree (its link).
+    let left_first = d[axis] >= 0.0;
+    let first_word = FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
+    var ni = 0u;
+    // A scene without primitives binds a placeholder node that must not be walked.
+    if params.n_triangles == 0u && !HAS_SPHERES {
+        ni = n_nodes;
+    }
+    // While-while: the inner loop walks nodes only, up to the next leaf whose box the ray
+    // hits; its primitives are tested after it. A SIMD group's lanes then test their leaves
+    // together, instead of every node step waiting on the lanes that are in a leaf. The outer
+    // loop is bounded by the budget too: it ends when the inner one finds no leaf, which it
+    // does once spend() refuses.
+    loop {
+        var first = 0u;
+        var count = 0u;
+        while ni < n_nodes && spend() {
+            let node = nodes[first_word + NODE_WORDS * ni];
+            let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
+            let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
+            let c = node.w >> LEAF_COUNT_SHIFT;
+            if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
+                ni = select(ni + 1u, node.w, c == 0u);
+                continue;
+            }
+            ni += 1u;
+            if c != 0u {
+                first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
+                count = c;
+                break;
+            }
+        }
+        if count == 0u {
+            break;
+        }
+        for (var i = 0u; i < count && spend(); i += 1u) {
+            // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
+            let w = LEAF_PRIM_WORDS * (first + i);
+            let w0 = leaf_prims[w];
+            let id = w0.w;
+            if (id & SPHERE_BIT) == 0u {
+                let v0 = bitcast<vec3<f32>>(w0.xyz);
+                let v1 = bitcast<vec3<f32>>(leaf_prims[w + 1u].xyz);
+                let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
+                let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
+                if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
+                    best.t = h.x;
+                    best.found = true;
+                    best_id = id;
+                    best_uv = h.yz;
+                }
+            } else if HAS_SPHERES {
+                let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
+                if t > 0.0 && !(HAS_ALPHA && alpha_passes(id, t, vec2<f32>(0.0), o, d)) {
+                    best.t = t;
+                    best.found = true;
+                    best_id = id;
+                }
+            }
+        }
+        if any_hit && best.found {
+            return best;
+        }
+    }
+    if best.found {
+        if (best_id & SPHERE_BIT) == 0u {
+            let tri = load_triangle(best_id);
+            let e1 = tri.v1 - tri.v0;
+            let e2 = tri.v2 - tri.v0;
+            best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
+            best.normal = normalize(cross(e1, e2));
+            best.shading = best.normal;
+            if HAS_SMOOTH && tri.shading != FLAT {
+                best.shading = shading_normal(best.normal, tri.shading, best_uv);
+            }
+            best.material = tri.material;
+            best.light = tri.light;
+            if HAS_TEXTURES {
+                best.uv = triangle_uv(best_id, best_uv);
+                if HAS_NORMAL_MAPS {
+                    let nt = materials[MATERIAL_WORDS * tri.material + 3u].w;
+                    if nt != NO_TEXTURE {
+                        let tg = uv_tangent(best_id, e1, e2, best_uv);
+                        best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
+                            tg.w > 0.5, texture_eval(nt, best.uv), d);
+                    }
+                }
+            }
+        } else {
+            let s = load_sphere(best_id & ~SPHERE_BIT);
+            let n = normalize(o + best.t * d - s.center);
+            best.position = s.center + n * s.radius;
+            best.normal = n;
+            best.shading = n;
+            best.material = s.material;
+            best.light = s.light;
+            if HAS_TEXTURES {
+                best.uv = sphere_uv(n);
+                if HAS_NORMAL_MAPS {
+                    let nt = materials[MATERIAL_WORDS * s.material + 3u].w;
+                    if nt != NO_TEXTURE {
+                        best.shading = normal_mapped(n, n, vec3<f32>(-n.y, n.x, 0.0), false,
+                            texture_eval(nt, best.uv), d);
+                    }
+                }
+            }
+        }
+    }
+    return best;
+}

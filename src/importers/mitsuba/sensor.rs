@@ -1,0 +1,259 @@
+//! Mitsuba's `sensor` (a `perspective` or `thinlens` camera with its `hdrfilm`, `rfilter`
+//! and `sampler`) and the `integrator`, which only gives hints: any type renders with our
+//! technique.
+//!
+//! The field of view is converted exactly: Mitsuba's `fov` spans the `fov_axis` (`x`, `y`,
+//! `diagonal`, `smaller` or `larger` of the film) and ours is vertical, so
+//! `tan(fov_y / 2) = tan(fov / 2) * h / s`, `s` the film's extent along that axis (`w`, `h`
+//! or `sqrt(w^2 + h^2)`).
+
+use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::values::Cx;
+use crate::importers::mitsuba::Importer;
+use crate::error::Result;
+use crate::camera::pixel_filter::PixelFilter;
+use crate::scene::builder::SceneBuilder;
+use crate::settings::{split_samples, MAX_BOUNCES};
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+
+impl Importer<'_> {
+    /// `<sensor type="perspective">` with its film and sampler: the camera, image size, spp.
+    pub(crate) fn sensor(&mut self, node: Node, field: &str) -> Result<()> {
+        let cx = &self.cx;
+        let p = Plugin::new(cx, node, field.to_string())?;
+        if p.kind != "perspective" && p.kind != "thinlens" {
+            let message = format!(
+                "unsupported sensor `{}` (`perspective`, `thinlens`)",
+                p.kind
+            );
+            return Err(cx.err(node, field, message));
+        }
+        // Mitsuba's film when the file gives none: its default rfilter is a gaussian.
+        let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
+        // Mitsuba's film size when the file gives none.
+        self.b.settings().width = 768;
+        self.b.settings().height = 576;
+        // The camera's medium, read once the sensor's other parameters are.
+        let mut medium = None;
+        for child in &p.objects {
+            let sub = format!("{field}.{}", child.tag_name().name());
+            match child.tag_name().name() {
+                "film" => filter = film(cx, *child, sub, &mut self.warnings, &mut self.b)?,
+                "sampler" => {
+                    let s = Plugin::new(cx, *child, sub)?;
+                    s.setting(cx, "sample_count", "spp", self.b.settings())?;
+                    // `sample_count` is the author's total per pixel: passes x spp equals
+                    // it exactly (`settings::split_samples`).
+                    let settings = self.b.settings();
+                    (settings.passes, settings.spp) = split_samples(settings.spp, settings.passes);
+                    s.ignore(&["seed"]);
+                    s.done(cx)?;
+                }
+                "medium" | "ref" if medium.is_none() => medium = Some((*child, sub)),
+                other => {
+                    let message = format!("unsupported <{other}> in a sensor");
+                    return Err(cx.err(*child, field, message));
+                }
+            }
+        }
+        // Mitsuba's `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length`
+        // (default 50mm) on the 36 x 24 mm frame's diagonal.
+        let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
+        let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
+            (Some(_), Some(_)) => {
+                let message = "give `fov` or `focal_length`, not both";
+                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+            }
+            (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
+            (None, focal) => {
+                let focal = focal.unwrap_or_else(|| "50mm".into());
+                let mm = focal
+                    .strip_suffix("mm")
+                    .unwrap_or(&focal)
+                    .trim()
+                    .parse::<f32>();
+                let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
+                    let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
+                    return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+                };
+                let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
+                (fov, "diagonal".into())
+            }
+        };
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
+        }
+        // Our pinhole's principal point is the film's centre.
+        for name in ["principal_point_offset_x", "principal_point_offset_y"] {
+            if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
+                let message = "unsupported unless 0 (the principal point is the film's centre)";
+                return Err(cx.err(p.node_of(name), &p.at(name), message));
+            }
+        }
+        let (w, h) = (
+            self.b.settings().width as f32,
+            self.b.settings().height as f32,
+        );
+        let t = (fov.to_radians() / 2.0).tan();
+        let ty = match axis.as_str() {
+            "x" => t * h / w,
+            "y" => t,
+            "diagonal" => t * h / (w * w + h * h).sqrt(),
+            "smaller" if w < h => t * h / w,
+            "larger" if w > h => t * h / w,
+            "smaller" | "larger" => t,
+            other => {
+                let message =
+                    format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
+                return Err(cx.err(node, &p.at("fov_axis"), message));
+            }
+        };
+        let fov_y = 2.0 * ty.atan().to_degrees();
+        let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        // Clipping planes clip nothing for us (a camera in a medium warns below); Mitsuba's
+        // checks on them are kept. A perspective camera's focus distance is read and ignored;
+        // a thin lens's defaults to far_clip (Mitsuba's), its aperture radius is required.
+        let near = p.positive(cx, "near_clip", 1e-2)?;
+        let far = p.float(cx, "far_clip")?.unwrap_or(1e4);
+        if far <= near {
+            let message = format!("must be greater than near_clip ({near})");
+            return Err(cx.err(p.node_of("far_clip"), &p.at("far_clip"), message));
+        }
+        let focus = p.positive(cx, "focus_distance", far)?;
+        let aperture = match p.kind.as_str() {
+            "thinlens" => {
+                let Some(a) = p.float(cx, "aperture_radius")?.filter(|a| *a >= 0.0) else {
+                    let message = "a thinlens needs an aperture_radius >= 0";
+                    let at = p.node_of("aperture_radius");
+                    return Err(cx.err(at, &p.at("aperture_radius"), message));
+                };
+                a
+            }
+            _ => 0.0,
+        };
+        p.done(cx)?;
+        self.b.optics(filter, aperture, focus);
+        let eye = m.transform_point3(Vec3::ZERO);
+        let forward = m.transform_vector3(Vec3::Z);
+        let up = m.transform_vector3(Vec3::Y);
+        let left = m.transform_vector3(Vec3::X).normalize_or_zero();
+        if left.dot(up.cross(forward).normalize_or_zero()) < 0.999 {
+            let message = "unsupported camera to_world (only rotation, translation, uniform scale)";
+            return Err(cx.err(node, &p.at("to_world"), message));
+        }
+        let near_at = format!("{}: {}", cx.loc(p.node_of("near_clip")), p.at("near_clip"));
+        if let Some((child, sub)) = medium {
+            let m = self.medium_child(child, &sub)?;
+            self.b.set_camera_medium(m);
+            // Mitsuba's rays start on the near clip plane, at near_clip / cos(theta) from the
+            // eye; ours at the eye. In a medium that skips some of it: warn past 1e-4.
+            let depth = near * self.b.medium(m).sigma_t.max_element();
+            if depth > 1e-4 {
+                self.warnings.push(format!(
+                    "{near_at}: near_clip {near} in the camera's medium: Mitsuba's camera rays \
+                     start on the near clip plane, skipping an optical depth of {depth:.2e} on \
+                     the axis (up to {:.2}% more light), ours start at the eye",
+                    100.0 * depth.exp_m1()
+                ));
+            }
+        }
+        let at = self.origin(node, field);
+        self.b.camera(eye, eye + forward, up, fov_y, &at)
+    }
+
+    /// `<integrator>` of any type: one warning saying that our technique renders it.
+    /// Mitsuba's `max_depth` M (path segments, -1 for no bound) caps our path lengths:
+    /// photon paths at M - 1 bounces and camera mirror/glass chains at M - 2 (exact in the
+    /// photon and direct modes, where a camera path ends at its first diffuse hit; final
+    /// gathering can add one bounce). `rr_depth` changes no expected value (our photons'
+    /// Russian roulette works by reflectance from the first bounce): read and named.
+    pub(crate) fn integrator(&mut self, node: Node, field: &str) -> Result<()> {
+        let kind = self.cx.attr(node, field, "type")?.unwrap_or_default();
+        let mut notes = Vec::new();
+        for child in node.children().filter(Node::is_element) {
+            let name = child.attribute("name").unwrap_or_default();
+            if !matches!(name, "max_depth" | "rr_depth") {
+                continue;
+            }
+            let at = format!("{field}.{name}");
+            let text = self.cx.need_attr(child, &at, "value")?;
+            let depth = match text.trim().parse::<i64>() {
+                Ok(v) if v == -1 || (v >= 1 && v <= i64::from(u32::MAX)) => v,
+                _ => {
+                    let message = format!("must be -1 or a positive integer (got `{text}`)");
+                    return Err(self.cx.err(child, &at, message));
+                }
+            };
+            if name == "rr_depth" {
+                notes.push(format!("rr_depth {depth} changes only noise, not used"));
+            } else if depth > 0 {
+                let s = self.b.settings();
+                let m = depth.min(i64::from(MAX_BOUNCES) + 2) as u32;
+                s.max_photon_bounces = s.max_photon_bounces.min((m - 1).max(1));
+                s.max_depth = s.max_depth.min((m.max(2) - 2).max(1));
+                if m == 1 {
+                    notes.push("max_depth 1 (emitters only) rendered as 2".to_string());
+                }
+            }
+        }
+        let notes = match notes.is_empty() {
+            true => String::new(),
+            false => format!("; {}", notes.join(", ")),
+        };
+        self.warnings.push(format!(
+            "{}: {field}: integrator `{kind}` rendered with our photon mapping (the render \
+             mode: [render] mode, --mode){notes}",
+            self.cx.loc(node)
+        ));
+        Ok(())
+    }
+}
+
+/// `<film type="hdrfilm">`: the image size and the pixel filter: `box`, `tent` (`radius`,
+/// default 1), `gaussian` (`stddev`, default 0.5, also without an `rfilter`); another
+/// `rfilter` is approximated by our box, with a warning.
+fn film(
+    cx: &Cx,
+    node: Node,
+    field: String,
+    warnings: &mut Vec<String>,
+    b: &mut SceneBuilder,
+) -> Result<PixelFilter> {
+    let f = Plugin::new(cx, node, field)?;
+    if f.kind != "hdrfilm" {
+        let message = format!("unsupported film `{}` (only `hdrfilm`)", f.kind);
+        return Err(cx.err(node, &f.field, message));
+    }
+    f.setting(cx, "width", "width", b.settings())?;
+    f.setting(cx, "height", "height", b.settings())?;
+    // `banner`: Mitsuba 0.6's logo in the image, which Mitsuba 3 accepts and ignores.
+    f.ignore(&["pixel_format", "file_format", "component_format", "banner"]);
+    f.done(cx)?;
+    let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
+    for child in &f.objects {
+        let sub = format!("{}.{}", f.field, child.tag_name().name());
+        if child.tag_name().name() != "rfilter" {
+            let message = format!("unsupported <{}> in a film", child.tag_name().name());
+            return Err(cx.err(*child, &f.field, message));
+        }
+        let r = Plugin::new(cx, *child, sub.clone())?;
+        filter = match r.kind.as_str() {
+            "box" => PixelFilter::Box,
+            "tent" => PixelFilter::Tent {
+                radius: r.positive(cx, "radius", 1.0)?,
+            },
+            "gaussian" => PixelFilter::Gaussian {
+                stddev: r.positive(cx, "stddev", 0.5)?,
+            },
+            other => {
+                r.ignore(&["radius", "B", "C", "lobes"]);
+                let what = format!("pixel filter `{other}` approximated by a one-pixel box");
+                warnings.push(format!("{}: {sub}: {what}", cx.loc(*child)));
+                PixelFilter::Box
+            }
+        };
+        r.done(cx)?;
+    }
+    Ok(filter)
+}

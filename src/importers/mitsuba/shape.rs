@@ -1,0 +1,274 @@
+//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
+//! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `disk`
+//! and `cylinder` (`p0`, `p1`, `radius`; both as meshes of `round::SEGMENTS` facets around,
+//! with a warning), `obj`
+//! and `ply` meshes (smooth-shaded with the file's vertex normals unless `face_normals` is
+//! true; the file's texture coordinates with v flipped when `flip_tex_coords`, Mitsuba's
+//! default true for `obj` and false for `ply`), each with its bsdf (nested or `ref`) and
+//! optionally an `area` emitter.
+
+use crate::importers::mitsuba::medium::side;
+use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::{round, Importer};
+use crate::error::Result;
+use crate::scene::builder::Surface;
+use crate::media::builder::{interface, MediumId};
+use crate::importers::mesh_file::{self, MeshData, MeshFormat};
+use crate::textures::uv;
+use crate::textures::SceneTexture;
+use glam::{Mat4, Vec3};
+use roxmltree::Node;
+
+/// The outward faces of the cube [-1,1]^3: the normal and two edges `u`, `v` with
+/// `cross(u, v)` = normal.
+const CUBE_FACES: [[Vec3; 3]; 6] = [
+    [Vec3::X, Vec3::Y, Vec3::Z],
+    [Vec3::NEG_X, Vec3::Z, Vec3::Y],
+    [Vec3::Y, Vec3::Z, Vec3::X],
+    [Vec3::NEG_Y, Vec3::X, Vec3::Z],
+    [Vec3::Z, Vec3::X, Vec3::Y],
+    [Vec3::NEG_Z, Vec3::Y, Vec3::X],
+];
+
+/// The two triangles of the quad with `normal`, edges `u`, `v` (corners `n -/+ u -/+ v` in
+/// order around the edge), front face along `normal`.
+fn quad(normal: Vec3, u: Vec3, v: Vec3) -> [[Vec3; 3]; 2] {
+    let c = [
+        normal - u - v,
+        normal + u - v,
+        normal + u + v,
+        normal - u + v,
+    ];
+    [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
+}
+
+impl<'f> Importer<'f> {
+    /// A `<shape>` element: its surface, then its geometry.
+    pub(crate) fn shape(&mut self, node: Node, field: &str) -> Result<()> {
+        let p = Plugin::new(&self.cx, node, field.to_string())?;
+        let mut material = None;
+        let mut emission = None;
+        let mut emission_texture = None;
+        let mut media: [Option<MediumId>; 2] = [None, None];
+        for child in &p.objects {
+            let tag = child.tag_name().name();
+            let sub = format!("{field}.{tag}");
+            let found = match tag {
+                "bsdf" => Some(self.add_bsdf(*child, &sub)?),
+                "medium" => {
+                    self.shape_medium(*child, &sub, &mut media)?;
+                    None
+                }
+                "ref" => {
+                    let (id, target) = self.referenced(*child, &sub)?;
+                    match target.tag_name().name() {
+                        "medium" => {
+                            self.shape_medium(*child, &sub, &mut media)?;
+                            None
+                        }
+                        "bsdf" => Some(self.bsdf_by_id(&id, target)?),
+                        "emitter" => {
+                            let (radiance, t) = self.area(target, &format!("emitter[{id}]"))?;
+                            emission_texture = t;
+                            if emission.replace(radiance).is_some() {
+                                return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
+                            }
+                            None
+                        }
+                        other => {
+                            let message =
+                                format!("`{id}` is a <{other}>, not a bsdf, emitter or medium");
+                            return Err(self.cx.err(*child, &sub, message));
+                        }
+                    }
+                }
+                "emitter" => {
+                    let (radiance, t) = self.area(*child, &sub)?;
+                    emission_texture = t;
+                    if emission.replace(radiance).is_some() {
+                        return Err(self.cx.err(*child, &sub, "a shape has one emitter"));
+                    }
+                    None
+                }
+                other => {
+                    let message = format!("unsupported <{other}> in a shape");
+                    return Err(self.cx.err(*child, field, message));
+                }
+            };
+            if let Some(id) = found {
+                if material.replace(id).is_some() {
+                    return Err(self.cx.err(*child, &sub, "a shape has one bsdf"));
+                }
+            }
+        }
+        let material = match material {
+            Some(m) => m,
+            None => {
+                let at = self.origin(node, field);
+                self.default_material(&at)?
+            }
+        };
+        let emission_texture = match emission_texture {
+            Some(t) => Some(self.b.add_texture(t, &self.origin(node, field))?),
+            None => None,
+        };
+        let surface = Surface {
+            media: interface(media[0], media[1]),
+            material: Some(material),
+            emission,
+            two_sided: None,
+            emission_texture,
+        };
+        self.geometry(&p, surface)
+    }
+
+    /// The `<medium>` or `<ref>` `child` of a shape, into `media` (interior, exterior) by
+    /// its `name`; each side once.
+    fn shape_medium(
+        &mut self,
+        child: Node,
+        field: &str,
+        media: &mut [Option<MediumId>; 2],
+    ) -> Result<()> {
+        let interior = side(&self.cx, child, field)?;
+        let m = self.medium_child(child, field)?;
+        let slot = &mut media[usize::from(!interior)];
+        if slot.replace(m).is_some() {
+            return Err(self
+                .cx
+                .err(child, field, "a shape has one medium on each side"));
+        }
+        Ok(())
+    }
+
+    /// An `area` emitter's radiance, and its texture when `radiance` is a `<texture>` (the
+    /// radiance is then one and the texture's colour gives it, as Mitsuba evaluates it).
+    fn area(&self, node: Node, field: &str) -> Result<(Vec3, Option<SceneTexture>)> {
+        let e = Plugin::new(&self.cx, node, field.to_string())?;
+        if e.kind != "area" {
+            let message = format!("unsupported emitter `{}` on a shape", e.kind);
+            return Err(self.cx.err(node, field, message));
+        }
+        if let Some(extra) = e.objects.first() {
+            let message = format!("unsupported <{}> in an emitter", extra.tag_name().name());
+            return Err(self.cx.err(*extra, field, message));
+        }
+        if let Some(t) = e.texture_param("radiance") {
+            let texture = crate::importers::mitsuba::texture::texture(&self.cx, t, &e.at("radiance"))?;
+            e.done(&self.cx)?;
+            return Ok((Vec3::ONE, Some(texture)));
+        }
+        let Some(radiance) = e.emission(&self.cx, "radiance")? else {
+            return Err(self.cx.err(node, &e.at("radiance"), "missing"));
+        };
+        e.done(&self.cx)?;
+        Ok((radiance, None))
+    }
+
+    /// Adds the shape `p` is, of `surface`.
+    fn geometry(&mut self, p: &Plugin, surface: Surface) -> Result<()> {
+        let cx = &self.cx;
+        let at = self.origin(p.node, &p.field);
+        let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
+        let mesh = match p.kind.as_str() {
+            "sphere" => {
+                let center = p.point(cx, "center")?.unwrap_or(Vec3::ZERO);
+                let radius = p.positive(cx, "radius", 1.0)?;
+                if p.boolean(cx, "flip_normals")? {
+                    let message = "unsupported: an inward-facing sphere";
+                    return Err(cx.err(p.node, &p.at("flip_normals"), message));
+                }
+                p.done(cx)?;
+                // A uniform scale keeps the sphere a sphere.
+                let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| c.truncate());
+                let s = cols[0].length();
+                let uniform = cols.iter().all(|c| (c.length() - s).abs() <= 1e-4 * s)
+                    && cols[0].dot(cols[1]).abs() <= 1e-4 * s * s
+                    && cols[1].dot(cols[2]).abs() <= 1e-4 * s * s
+                    && cols[0].dot(cols[2]).abs() <= 1e-4 * s * s;
+                if !uniform {
+                    let message = "unsupported: a sphere's to_world must scale uniformly";
+                    return Err(cx.err(p.node, &p.at("to_world"), message));
+                }
+                let center = m.transform_point3(center);
+                return self.b.add_sphere(center, radius * s, surface, &at);
+            }
+            "rectangle" => {
+                let tris = quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec();
+                let uvs = tris.iter().map(|t| t.map(uv::rectangle)).collect();
+                MeshData {
+                    tris,
+                    normals: None,
+                    uvs: Some(uvs),
+                }
+            }
+            "cube" => MeshData {
+                tris: CUBE_FACES
+                    .iter()
+                    .flat_map(|&[n, u, v]| quad(n, u, v))
+                    .collect(),
+                normals: None,
+                uvs: None,
+            },
+            "disk" | "cylinder" => {
+                let what = format!(
+                    "{}: {}: a `{}` is rendered as {} facets around (its area kept)",
+                    cx.loc(p.node),
+                    p.field,
+                    p.kind,
+                    round::SEGMENTS
+                );
+                self.warnings.push(what);
+                if p.kind == "disk" {
+                    round::disk()
+                } else {
+                    let p0 = p.point(cx, "p0")?.unwrap_or(Vec3::ZERO);
+                    let p1 = p.point(cx, "p1")?.unwrap_or(Vec3::Z);
+                    let radius = p.positive(cx, "radius", 1.0)?;
+                    let Some(frame) = round::cylinder_frame(p0, p1, radius) else {
+                        return Err(cx.err(p.node, &p.at("p1"), "p1 must differ from p0"));
+                    };
+                    // Placed on its axis here; to_world and flip_normals below, as for all.
+                    round::cylinder().transform(frame, false)
+                }
+            }
+            "obj" | "ply" => {
+                let Some(file) = p.string(cx, "filename")? else {
+                    return Err(cx.err(p.node, &p.at("filename"), "missing"));
+                };
+                let path = self.cx.resolve(&file);
+                let node = p
+                    .node
+                    .children()
+                    .find(|c| c.attribute("name") == Some("filename"));
+                let node = node.unwrap_or(p.node);
+                let format = if p.kind == "obj" {
+                    MeshFormat::Obj
+                } else {
+                    MeshFormat::Ply
+                };
+                // Mitsuba's `flip_tex_coords`: v to 1 - v, by default for OBJ only.
+                let flip_v = p.boolean_or(cx, "flip_tex_coords", format.flips_tex_coords())?;
+                let mesh = mesh_file::load_mesh(&path, format, flip_v)
+                    .map_err(|m| cx.err(node, &p.at("filename"), m))?;
+                // Mitsuba's `face_normals`: flat shading even where the file has normals.
+                mesh.flat_if(p.boolean(cx, "face_normals")?)
+            }
+            other => {
+                let message = format!("unsupported shape `{other}`");
+                return Err(cx.err(p.node, &p.field, message));
+            }
+        };
+        let flip = p.boolean(cx, "flip_normals")?;
+        p.done(cx)?;
+        let mesh = mesh.transform(m, flip);
+        match mesh.uvs {
+            Some(uvs) => self
+                .b
+                .add_uv_mesh(mesh.tris, mesh.normals, uvs, surface, &at),
+            None => self
+                .b
+                .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! Transport through participating media on the CPU (issue 24): which medium a path is in
+//! (`MediumInterface::after` at every surface, the light's medium at emission), shadow rays'
+//! transmittance across index-matched boundaries, and single scattering along a camera
+//! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
+//! its beam estimate in `volume_map.rs`. Scenes without media never call these.
+
+use crate::bvh::{Bvh, Hit};
+use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
+use crate::lights::{Emission, LightTable};
+use crate::media::{sample_equiangular, NO_MEDIUM};
+use crate::math::rng::Rng;
+use crate::scene::{LightShape, Scene};
+use crate::bsdfs::shading::{class_of, SurfaceClass};
+use glam::Vec3;
+
+/// Index-matched boundaries a shadow ray may cross before it counts as blocked (a bound on
+/// the work of one ray through nested media).
+pub const MAX_CROSSINGS: u32 = 64;
+
+/// The medium a ray that was in `current` is in after the surface of `hit` sent it along
+/// `dir` (`MediumInterface::after`: unchanged at a surface that bounds no medium, so scenes
+/// without media stay in `NO_MEDIUM`).
+#[inline]
+pub fn medium_after(scene: &Scene, hit: &Hit, current: u32, dir: Vec3) -> u32 {
+    scene.materials[hit.material as usize]
+        .media
+        .after(current, hit.normal, dir)
+}
+
+/// The medium a photon of light `l` starts in: an area light's shape's medium on the side it
+/// emits towards; point, spot, directional and environment lights sit in the camera's
+/// medium (a scene filled with fog has them in it; our file formats give such lights no
+/// medium of their own).
+pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
+    let material = match scene.lights[l].shape {
+        LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
+        LightShape::Sphere { index } => scene.spheres[index as usize].material,
+        _ => return scene.camera_medium,
+    };
+    let media = scene.materials[material as usize].media;
+    media.after(scene.camera_medium, e.normal, e.dir)
+}
+
+/// The fraction of light that travels from `origin` along unit `dir` over `t_max` (infinite:
+/// to the scene's end) starting in `medium`: the media's Beer-Lambert transmittance, through
+/// index-matched boundaries (changing medium there); zero when any other surface is in the
+/// way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
+pub fn transmittance(
+    scene: &Scene,
+    bvh: &Bvh,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+    medium: u32,
+) -> Vec3 {
+    let (mut ray, mut left, mut medium) = (Ray { origin, dir }, t_max, medium);
+    let mut tr = Vec3::ONE;
+    // Runs are measured between the true points (hits, the ends), not the offset origins.
+    let end = origin + dir * t_max;
+    let mut at = origin;
+    for _ in 0..MAX_CROSSINGS {
+        let hit = bvh.intersect(scene, &ray, left);
+        let run = match (&hit, t_max.is_finite()) {
+            (Some(h), _) => (h.position - at).length(),
+            (None, true) => (end - at).length(),
+            (None, false) => f32::INFINITY,
+        };
+        if medium != NO_MEDIUM {
+            tr *= scene.media[medium as usize].transmittance(run);
+        }
+        let Some(hit) = hit else {
+            return tr;
+        };
+        if class_of(scene.materials[hit.material as usize].kind) != SurfaceClass::Null {
+            return Vec3::ZERO;
+        }
+        medium = medium_after(scene, &hit, medium, dir);
+        at = hit.position;
+        let origin = offset_origin(hit.position, hit.normal, dir);
+        left -= (origin - ray.origin).dot(dir);
+        if left <= 0.0 {
+            return tr;
+        }
+        ray.origin = origin;
+    }
+    Vec3::ZERO
+}
+
+/// Single scattering along a camera segment from `origin` along unit `dir`, `t_seg` long
+/// (infinite: the ray left the scene), in `medium`: for each light, a point on it (three
+/// uniform numbers, as the surfaces' shadow rays draw them), one distance drawn in the
+/// segment towards that point (equiangular, [`sample_equiangular`], so a segment passing near
+/// a light is not noise; by transmittance, `Medium::sample_in_segment`, for a directional
+/// light or a segment through the point) and one shadow ray, weighed by the phase function,
+/// `sigma_s` and the transmittance along the segment and the shadow ray. The environment's
+/// direction is drawn from the phase function. Each light takes `samples` such estimates
+/// (the render's `shadow_samples`, for delta lights too: the distance is drawn either way),
+/// averaged; light by light, so one sample draws the random numbers of the light loop.
+#[allow(clippy::too_many_arguments)]
+pub fn single_scattering(
+    scene: &Scene,
+    bvh: &Bvh,
+    lights: &LightTable,
+    origin: Vec3,
+    dir: Vec3,
+    t_seg: f32,
+    medium: u32,
+    samples: u32,
+    rng: &mut Rng,
+) -> Vec3 {
+    let m = &scene.media[medium as usize];
+    let sigma_s = m.sigma_s();
+    let mut l = Vec3::ZERO;
+    let lights_samples = (0..scene.lights.len()).flat_map(|li| (0..samples).map(move |_| li));
+    for li in lights_samples {
+        let light = &scene.lights[li];
+        let u = [rng.next(), rng.next(), rng.next()];
+        let (uc, ut) = (rng.next(), rng.next());
+        let p = match lights.anchor(scene, li, u) {
+            Some(y) => sample_equiangular(origin, dir, t_seg, y, ut),
+            None => None,
+        };
+        let Some(p) = p.or_else(|| m.sample_in_segment(uc, ut, t_seg)) else {
+            continue;
+        };
+        let x = origin + dir * p.t;
+        if let LightShape::Environment(e) = light.shape {
+            // A direction drawn from the phase function (which then cancels): the
+            // environment's own sampling covers a surface's hemisphere.
+            let wi = m.phase.sample(dir, u[1], u[2]);
+            let tr = transmittance(scene, bvh, x, wi, f32::INFINITY, medium);
+            l += (m.transmittance(p.t) / p.pdf) * e.eval(&scene.textures, wi) * tr;
+            continue;
+        }
+        let ls = lights.sample(scene, li, x, -dir, u);
+        if ls.weight == Vec3::ZERO {
+            continue;
+        }
+        let to_light = ls.point - x;
+        let dist = to_light.length();
+        if !(dist > 0.0) {
+            continue;
+        }
+        let wi = to_light / dist;
+        // Light travels along -wi, then on towards the camera (along -dir).
+        let phase = m.phase.eval(wi.dot(dir));
+        // Stop short of an area light's own surface (as the surfaces' shadow rays do).
+        let t_max = match (ls.distant, light.shape.is_delta()) {
+            (true, _) => f32::INFINITY,
+            (false, true) => dist,
+            (false, false) => {
+                dist - OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0
+            }
+        };
+        let tr = transmittance(scene, bvh, x, wi, t_max, medium);
+        l += (m.transmittance(p.t) / p.pdf) * ls.weight * phase * tr;
+    }
+    sigma_s * l / samples.max(1) as f32
+}

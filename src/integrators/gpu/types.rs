@@ -1,0 +1,500 @@
+//! Rust twins of the WGSL structs in `src/integrators/gpu/types.wgsl`: `GpuX` mirrors WGSL `X`
+//! field for field (`Photon` lives in src/integrators/photon.rs, the BVH's in src/bvh/gpu_layout.rs).
+//! tests/gpu_layout.rs checks every size and offset against naga's reflection.
+
+use crate::integrators::gpu::codes::{
+    material_code, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT,
+    LIGHT_TRIANGLES,
+};
+use crate::scene::{LightShape, Material, Scene, Sphere, Triangle, VertexNormals};
+use bytemuck::{Pod, Zeroable};
+
+/// Twin of WGSL `Triangle`: a triangle's vertices, material, light (NO_LIGHT if none) and
+/// vertex normals (FLAT if none).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangle {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// Index into the materials.
+    pub material: u32,
+    /// Second vertex.
+    pub v1: [f32; 3],
+    /// Index of its light, or NO_LIGHT.
+    pub light: u32,
+    /// Third vertex.
+    pub v2: [f32; 3],
+    /// Index into the shading normals, or FLAT.
+    pub shading: u32,
+}
+
+/// Twin of WGSL `ShadingNormals`: the unit vertex normals of one smooth-shaded triangle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadingNormals {
+    /// Normal at `v0`.
+    pub n0: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// Normal at `v1`.
+    pub n1: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
+    /// Normal at `v2`.
+    pub n2: [f32; 3],
+    /// Padding.
+    pub _pad2: u32,
+}
+
+impl From<&VertexNormals> for GpuShadingNormals {
+    fn from(n: &VertexNormals) -> Self {
+        GpuShadingNormals {
+            n0: n[0].to_array(),
+            n1: n[1].to_array(),
+            n2: n[2].to_array(),
+            ..Self::default()
+        }
+    }
+}
+
+/// Twin of WGSL `Sphere`: an analytic sphere with its material and light.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuSphere {
+    /// Centre.
+    pub center: [f32; 3],
+    /// Radius.
+    pub radius: f32,
+    /// Index into the materials.
+    pub material: u32,
+    /// Index of its light, or NO_LIGHT.
+    pub light: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// Twin of WGSL `Material`: the BSDF parameters; `kind` is a MAT_* code.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    /// Diffuse reflectance.
+    pub kd: [f32; 3],
+    /// A MAT_* code.
+    pub kind: u32,
+    /// Specular (glossy, mirror) reflectance.
+    pub ks: [f32; 3],
+    /// Phong exponent of the glossy lobe.
+    pub exponent: f32,
+    /// Emitted radiance.
+    pub emission: [f32; 3],
+    /// Index of refraction (glass).
+    pub ior: f32,
+    /// 1 when both sides emit.
+    pub two_sided: u32,
+    /// Index into `bsdfs` of its `crate::bsdfs` parameters, or `NO_BSDF`.
+    pub bsdf: u32,
+    /// Index into `tex_table` of kd's texture, or `NO_TEXTURE`.
+    pub kd_texture: u32,
+    /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE`.
+    pub normal_texture: u32,
+    /// `ALPHA_NONE`, `ALPHA_MASK` or `ALPHA_BLEND`, plus `ALPHA_LUMINANCE` when the
+    /// texture's luminance (not its alpha) is the opacity (`crate::scene::Alpha`).
+    pub alpha_mode: u32,
+    /// Index into `tex_table` of the opacity's texture, or `NO_TEXTURE`.
+    pub alpha_texture: u32,
+    /// The opacity's constant factor.
+    pub alpha_factor: f32,
+    /// A mask's cutoff.
+    pub alpha_cutoff: f32,
+}
+
+/// Twin of WGSL `Light`: a light's sampling data (`kind` a LIGHT_* code) and its photon budgets.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    /// Point and spot light: position; directional light: centre of the scene's bounding
+    /// sphere.
+    pub position: [f32; 3],
+    /// A LIGHT_* code.
+    pub kind: u32,
+    /// Point light: radiant intensity; spot light: on-axis intensity; directional light:
+    /// irradiance.
+    pub intensity: [f32; 3],
+    /// Triangle light: first triangle; sphere light: sphere index.
+    pub first: u32,
+    /// Power each global path carries.
+    pub global_power: [f32; 3],
+    /// Triangle light: number of triangles.
+    pub count: u32,
+    /// Power each caustic path carries.
+    pub caustic_power: [f32; 3],
+    /// Triangle light: start of its area CDF in the light CDF.
+    pub cdf_start: u32,
+    /// Emitting area.
+    pub area: f32,
+    /// First global path index of this light.
+    pub global_offset: u32,
+    /// Global paths of this light.
+    pub global_count: u32,
+    /// First caustic path index of this light.
+    pub caustic_offset: u32,
+    /// Caustic paths (attempts) of this light.
+    pub caustic_count: u32,
+    /// Spot light: cosine of the inner half-angle.
+    pub cos_inner: f32,
+    /// Spot light: cosine of the outer half-angle.
+    pub cos_outer: f32,
+    /// Directional light: radius of the scene's bounding sphere (its photons' disc).
+    pub radius: f32,
+    /// Spot light: unit axis; directional light: unit direction of travel.
+    pub direction: [f32; 3],
+    /// Area light: index into `tex_table` of its emission texture, or `NO_TEXTURE`.
+    pub emission_texture: u32,
+    /// Area light: the emission texture's mean over its surface (`LightTable::texture_mean`).
+    pub texture_mean: [f32; 3],
+    /// Spot light: its falloff (`SpotFalloff::code`).
+    pub spot_profile: u32,
+}
+
+/// Twin of WGSL `Aabb`: a specular surface's bounds that caustic photons aim at.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuAabb {
+    /// Lower corner.
+    pub bmin: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// Upper corner.
+    pub bmax: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// Twin of WGSL `Params`: a pass's parameters, one read-only storage slot per dispatch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuParams {
+    /// Camera position.
+    pub eye: [f32; 3],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Camera forward axis.
+    pub forward: [f32; 3],
+    /// Image height in pixels.
+    pub height: u32,
+    /// Camera right axis (scaled by the field of view).
+    pub right: [f32; 3],
+    /// Camera samples per pixel.
+    pub spp: u32,
+    /// Camera up axis (scaled by the field of view).
+    pub up: [f32; 3],
+    /// The camera sample this slot's dispatch gathers.
+    pub sample: u32,
+    /// RNG seed.
+    pub seed: u32,
+    /// RNG pass index (with the batch in its high bits).
+    pub pass_index: u32,
+    /// Photons per K-nearest estimate (0: fixed radius).
+    pub k: u32,
+    /// A FILTER_* code.
+    pub filter_kind: u32,
+    /// The render mode (`settings::Mode as u32`).
+    pub mode: u32,
+    /// Camera path depth.
+    pub max_depth: u32,
+    /// Photon path bounces.
+    pub max_photon_bounces: u32,
+    /// Shadow rays per area light.
+    pub shadow_samples: u32,
+    /// A FRESNEL_* code.
+    pub fresnel: u32,
+    /// Number of lights.
+    pub n_lights: u32,
+    /// Number of specular bounds caustic photons aim at.
+    pub n_bounds: u32,
+    /// Number of triangles.
+    pub n_triangles: u32,
+    /// TERM_* bits of the mode.
+    pub terms: u32,
+    /// This sample's weight of the caustic-map estimate (`plan::caustic_weight`; 0: skip).
+    pub caustic_weight: f32,
+    /// A SAMPLER_* code.
+    pub sampler: u32,
+    /// The camera's pixel filter (`PixelFilter::code`).
+    pub pixel_filter: u32,
+    /// Its parameter (`PixelFilter::param`).
+    pub filter_param: f32,
+    /// The camera's aperture radius (0: a pinhole).
+    pub aperture_radius: f32,
+    /// The camera's focus distance.
+    pub focus_distance: f32,
+    /// The medium the camera sits in (`Scene::camera_medium`; `NO_MEDIUM` for vacuum).
+    pub camera_medium: u32,
+    /// The first image row of a gather dispatch's band of rows (`gpu::branches`).
+    pub first_row: u32,
+    /// 0: a sample's gather dispatch; `r + 1`: its round `r` of glass branches.
+    pub branch_round: u32,
+    /// Padding to 16 bytes.
+    pub _pad: [u32; 2],
+}
+
+/// Twin of WGSL `Medium`: a homogeneous medium (`crate::media::Medium`) as the kernels use
+/// it, `sigma_s = albedo sigma_t` precomputed.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMedium {
+    /// Extinction per channel per scene unit.
+    pub sigma_t: [f32; 3],
+    /// The Henyey-Greenstein asymmetry.
+    pub g: f32,
+    /// Scattering per channel per scene unit.
+    pub sigma_s: [f32; 3],
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// Twin of WGSL `MapParams`: what one photon map traces and how its hash grid is laid out.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMapParams {
+    /// RNG stream of the map's paths (`rng::Stream`).
+    pub stream: u32,
+    /// Photon paths to trace (0: absent map).
+    pub paths: u32,
+    /// Photons the map's buffer holds.
+    pub capacity: u32,
+    /// Hash-table slots (a power of two).
+    pub table_size: u32,
+    /// Grid cell edge.
+    pub cell_size: f32,
+    /// 1 for the caustic map.
+    pub is_caustic: u32,
+    /// DROP_* bits: photons the grid leaves out.
+    pub drop_flags: u32,
+    /// Squared search radius.
+    pub radius2: f32,
+    /// K of the map's K-nearest estimates (0: fixed radius), for sizing the cells.
+    pub k: u32,
+    /// The area the map's photons are expected on (the scene's storing area times the map's
+    /// concentration), for sizing the cells on the device; 0 keeps `cell_size` (an uploaded
+    /// map's cells are the host's).
+    pub storing_area: f32,
+    /// The largest power channel of the photons in the grid, written on the device by the
+    /// grid build (`scan_sums`; the host writes 0): the fixed-radius estimates' scale.
+    pub max_power: f32,
+    /// VOLUME_* bits: whether the map's paths store volume photons (participating media)
+    /// and whether they leave the L S+ V ones to the caustic map's paths.
+    pub volume_flags: u32,
+}
+
+// The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
+const _: () = {
+    use crate::integrators::gpu::codes::{
+        LIGHT_WORDS, MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
+    };
+    use std::mem::size_of;
+    assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
+    assert!(size_of::<GpuSphere>() == 16 * SPHERE_WORDS as usize);
+    assert!(size_of::<GpuMaterial>() == 16 * MATERIAL_WORDS as usize);
+    assert!(size_of::<GpuMedium>() == 16 * MEDIUM_WORDS as usize);
+    assert!(size_of::<GpuLight>() == 16 * LIGHT_WORDS as usize);
+    assert!(size_of::<crate::integrators::photon::Photon>() == 16 * PHOTON_WORDS as usize);
+};
+
+impl From<&Triangle> for GpuTriangle {
+    fn from(t: &Triangle) -> Self {
+        GpuTriangle {
+            v0: t.v0.to_array(),
+            material: t.material,
+            v1: t.v1.to_array(),
+            light: t.light,
+            v2: t.v2.to_array(),
+            shading: t.shading,
+        }
+    }
+}
+
+impl From<&Sphere> for GpuSphere {
+    fn from(s: &Sphere) -> Self {
+        GpuSphere {
+            center: s.center.to_array(),
+            radius: s.radius,
+            material: s.material,
+            light: s.light,
+            _pad0: 0,
+            _pad1: 0,
+        }
+    }
+}
+
+impl From<&Material> for GpuMaterial {
+    fn from(m: &Material) -> Self {
+        GpuMaterial {
+            kd: m.kd.to_array(),
+            kind: material_code(m.kind),
+            ks: m.ks.to_array(),
+            exponent: m.exponent,
+            emission: m.emission.to_array(),
+            ior: m.ior,
+            two_sided: m.two_sided_emission as u32,
+            bsdf: crate::integrators::gpu::codes::NO_BSDF,
+            kd_texture: m.kd_texture,
+            normal_texture: m.normal_texture,
+            alpha_mode: alpha_code(m),
+            alpha_texture: m.alpha.map_or(crate::scene::NO_TEXTURE, |a| a.texture),
+            alpha_factor: m.alpha.map_or(1.0, |a| a.factor),
+            alpha_cutoff: match m.alpha.map(|a| a.mode) {
+                Some(crate::scene::AlphaMode::Mask(c)) => c,
+                _ => 0.0,
+            },
+        }
+    }
+}
+
+/// The `ALPHA_*` code of `m`'s alpha test; emitters are opaque (as on the CPU).
+fn alpha_code(m: &Material) -> u32 {
+    use crate::integrators::gpu::codes::{ALPHA_BLEND, ALPHA_LUMINANCE, ALPHA_MASK, ALPHA_NONE};
+    match m.alpha.filter(|_| !m.is_emissive()) {
+        None => ALPHA_NONE,
+        Some(a) => {
+            let mode = match a.mode {
+                crate::scene::AlphaMode::Mask(_) => ALPHA_MASK,
+                crate::scene::AlphaMode::Blend => ALPHA_BLEND,
+            };
+            mode | if a.luminance { ALPHA_LUMINANCE } else { 0 }
+        }
+    }
+}
+
+/// The materials, each of `crate::bsdfs`'s kinds pointing at its entry of the second list,
+/// and the rough plastics' tables (`bsdf_params::pack`); one zeroed entry stands in for an
+/// empty list (a binding cannot be empty).
+pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<crate::integrators::gpu::bsdf_params::GpuBsdf>, Vec<f32>) {
+    let mut list = Vec::new();
+    let mut textures = Vec::new();
+    let mats = scene
+        .materials
+        .iter()
+        .map(|m| {
+            let mut g = GpuMaterial::from(m);
+            if let Some(b) = m.bsdf {
+                g.bsdf = list.len() as u32;
+                list.push(b);
+                let [t, s, c] = m.gltf_textures;
+                textures.push([m.mr_texture, t, s, c]);
+            }
+            g
+        })
+        .collect();
+    let (mut bsdfs, tables) = crate::integrators::gpu::bsdf_params::pack(&list);
+    // A metallic-roughness material's textures ride in its BsdfParams.
+    for (b, t) in bsdfs.iter_mut().zip(textures) {
+        if b.kind == crate::integrators::gpu::bsdf_params::BSDF_GLTF {
+            b.textures = t;
+        }
+    }
+    if bsdfs.is_empty() {
+        bsdfs.push(Default::default());
+    }
+    (mats, bsdfs, tables)
+}
+
+/// Each triangle's uv record: corner uvs as vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`
+/// (`UV_WORDS`), then with vertex tangents its corners' `(x, y, z, w)` (`UV_TANGENT_WORDS` in
+/// all); one zeroed record when the scene has none or no texture reads them.
+pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 4]> {
+    let words = if scene.tangents.is_empty() {
+        crate::integrators::gpu::codes::UV_WORDS
+    } else {
+        crate::integrators::gpu::codes::UV_TANGENT_WORDS
+    } as usize;
+    // Without textures no kernel reads them (HAS_TEXTURES is false).
+    if scene.textures.is_empty() || scene.uvs.is_empty() {
+        return vec![[0.0; 4]; words];
+    }
+    let mut out = Vec::with_capacity(words * scene.uvs.len());
+    for (i, c) in scene.uvs.iter().enumerate() {
+        out.push([c[0].x, c[0].y, c[1].x, c[1].y]);
+        out.push([c[2].x, c[2].y, 0.0, 0.0]);
+        if let Some(t) = scene.tangents.get(i) {
+            out.extend(t.map(|t| t.to_array()));
+        }
+    }
+    out
+}
+
+/// The lights with their sampling data; budgets are filled in by the renderer.
+pub fn lights(scene: &Scene, table: &crate::lights::LightTable) -> Vec<GpuLight> {
+    scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut g = GpuLight {
+                cdf_start: table.cdf_start[i],
+                area: table.area[i],
+                emission_texture: crate::lights::emission::texture_of(scene, i),
+                texture_mean: table.texture_mean[i].to_array(),
+                ..Default::default()
+            };
+            match l.shape {
+                LightShape::Point {
+                    position,
+                    intensity,
+                } => {
+                    g.kind = LIGHT_POINT;
+                    g.position = position.to_array();
+                    g.intensity = intensity.to_array();
+                }
+                LightShape::Triangles { first, count } => {
+                    g.kind = LIGHT_TRIANGLES;
+                    g.first = first;
+                    g.count = count;
+                }
+                LightShape::Sphere { index } => {
+                    g.kind = LIGHT_SPHERE;
+                    g.first = index;
+                }
+                LightShape::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cone,
+                } => {
+                    g.kind = LIGHT_SPOT;
+                    g.position = position.to_array();
+                    g.direction = direction.to_array();
+                    g.intensity = intensity.to_array();
+                    g.cos_inner = cone.cos_inner;
+                    g.cos_outer = cone.cos_outer;
+                    g.spot_profile = cone.profile.code();
+                }
+                LightShape::Directional {
+                    direction,
+                    irradiance,
+                } => {
+                    g.kind = LIGHT_DIRECTIONAL;
+                    g.position = table.bounds.0.to_array();
+                    g.radius = table.bounds.1;
+                    g.direction = direction.to_array();
+                    g.intensity = irradiance.to_array();
+                }
+                LightShape::Environment(e) => {
+                    // Its distribution follows the triangle CDFs in light_cdf; texture_mean
+                    // holds power / (pi R^2) (a photon's scale is L / (pdf texture_mean)).
+                    g.kind = LIGHT_ENVIRONMENT;
+                    g.position = table.bounds.0.to_array();
+                    g.radius = table.bounds.1;
+                    g.intensity = e.radiance.to_array();
+                    g.emission_texture = e.texture;
+                    g.cdf_start = table.tri_cdf.len() as u32;
+                    let disc = std::f32::consts::PI * table.bounds.1 * table.bounds.1;
+                    g.texture_mean = (l.power / disc).to_array();
+                }
+            }
+            g
+        })
+        .collect()
+}

@@ -1,0 +1,244 @@
+// volume_estimate: the volume photon map's estimates over its grid (HAS_MEDIA only), twin of
+// src/integrators/cpu/volume_map.rs: the beam estimate along a camera segment, the point estimate of a
+// final-gather ray and the photons' exit distance. Sums are exact in fixed point, so an
+// estimate does not depend on the order the grid lists its photons in. Library of the gather
+// and probe kernels; reads the volume map's bindings, writes nothing but the loop budget.
+
+// The volume map: its photons (as traced), the grid's (photon, cell) entries by slot, each
+// slot's first entry ([table size] = all), and its layout (volume_grid in common/map.wgsl).
+@group(1) @binding(9) var<storage, read> v_photons: array<vec4<u32>>;
+@group(1) @binding(10) var<storage, read> v_refs: array<vec4<u32>>;
+@group(1) @binding(11) var<storage, read> v_cells: array<u32>;
+@group(1) @binding(12) var<storage, read> v_grid: array<vec4<f32>>;
+
+// Where the DDA leaves cell c along `axis` (infinite where the ray runs parallel to it).
+fn dda_boundary(c: vec3<i32>, axis: u32, step: vec3<i32>, lo: vec3<f32>, cell: f32, o: vec3<f32>, inv: vec3<f32>) -> f32 {
+    if step[axis] == 0 {
+        return 3.4e38;
+    }
+    let edge = lo[axis] + f32(c[axis] + select(0, 1, step[axis] > 0)) * cell;
+    return (edge - o[axis]) * inv[axis];
+}
+
+// One beam query's constants: the ray, its part in the photons' bounds [t0, t1), r^2,
+// which photons count (those of `medium` that `which` keeps) and the fixed-point scale.
+struct BeamQuery {
+    o: vec3<f32>,
+    d: vec3<f32>,
+    t0: f32,
+    t1: f32,
+    r2: f32,
+    medium: u32,
+    which: u32,
+    m: Medium,
+    scale: f32,
+}
+
+// The volume estimates' terms T p power are at most the phase's largest value (forward for
+// g > 0; float operations are monotone, so no term exceeds it) times the map's largest power
+// channel (size_volume). Their fixed-point sums (FixedSum) count multiples of bound / one.
+fn volume_bound(m: Medium) -> f32 {
+    return hg_eval(m.g, sign(m.g)) * v_grid[2].z;
+}
+// The beam's unit: a term is at most 2^27 of them, so 16 add up within a u32.
+const BEAM_ONE: f32 = 134217728.0;
+// The point estimate's unit, 2^30 (terms are added one by one).
+const POINT_ONE: f32 = 1073741824.0;
+
+// v s rounded to an integer (v s below 2^31): through i32, which CPUs convert to natively.
+fn fixed_term(v: vec3<f32>, s: f32) -> vec3<u32> {
+    return bitcast<vec3<u32>>(vec3<i32>(v * s + 0.5));
+}
+
+// BeamPhotons::keeps: whether a photon of these flags counts in a beam of kind `which`.
+fn beam_keeps(which: u32, flags: u32) -> bool {
+    if which == BEAM_SKIP_DIRECT {
+        return (flags & DEPTH_MASK) != 0u;
+    }
+    if which == BEAM_CAUSTIC {
+        return (flags & FLAG_CAUSTIC) != 0u;
+    }
+    return true;
+}
+
+// Grid entry k's share of the beam in cell c, whose part of the ray is [t_enter, t_exit), in
+// units of q.scale: zero for another cell's entry hashed to the same slot, a photon of another
+// medium or one the beam's kind leaves out (beam_keeps), or one whose nearest point on the ray
+// lies outside that part (it counts in the cell holding that point) or farther than r.
+fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
+    let e = v_refs[k];
+    if any(bitcast<vec3<i32>>(e.yzw) != c) {
+        return vec3<u32>(0u);
+    }
+    let a = v_photons[PHOTON_WORDS * e.x];
+    let w = v_photons[PHOTON_WORDS * e.x + 2u];
+    if w.w != q.medium || !beam_keeps(q.which, a.w) {
+        return vec3<u32>(0u);
+    }
+    let to = bitcast<vec3<f32>>(a.xyz) - q.o;
+    let t = dot(to, q.d);
+    if t < t_enter || t >= t_exit || t < q.t0 || t >= q.t1 {
+        return vec3<u32>(0u);
+    }
+    let v = to - q.d * t;
+    if dot(v, v) >= q.r2 {
+        return vec3<u32>(0u);
+    }
+    let phase = hg_eval(q.m.g, dot(bitcast<vec3<f32>>(w.xyz), -q.d));
+    let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
+    return fixed_term(medium_transmittance(q.m, t) * power, phase * q.scale);
+}
+
+// Entries k..k+4 (those before `last`) of beam_entry.
+fn beam_four(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
+    var sum = vec3<u32>(0u);
+    if k < last {
+        sum += beam_entry(q, k, c, t_enter, t_exit);
+    }
+    if k + 1u < last {
+        sum += beam_entry(q, k + 1u, c, t_enter, t_exit);
+    }
+    if k + 2u < last {
+        sum += beam_entry(q, k + 2u, c, t_enter, t_exit);
+    }
+    if k + 3u < last {
+        sum += beam_entry(q, k + 3u, c, t_enter, t_exit);
+    }
+    return sum;
+}
+
+// Entries k..k+16 (those before `last`) of beam_entry.
+fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
+    var sum = beam_four(q, k, last, c, t_enter, t_exit);
+    if k + 4u < last {
+        sum += beam_four(q, k + 4u, last, c, t_enter, t_exit);
+    }
+    if k + 8u < last {
+        sum += beam_four(q, k + 8u, last, c, t_enter, t_exit);
+    }
+    if k + 12u < last {
+        sum += beam_four(q, k + 12u, last, c, t_enter, t_exit);
+    }
+    return sum;
+}
+
+// VolumeMap::beam: the sum over the volume photons of `medium` whose sphere the segment from
+// o along unit d (t_max long) passes through, each at its nearest point t on the ray, of
+// T(t) p(cos) power / (pi r^2), over the photons `which` (a BEAM_* code) keeps. A 3D DDA over
+// the cells the segment crosses, each photon taken in the cell holding its nearest point, summed
+// in fixed point (volume_bound). A cell's entries are read 64 a loop step: lavapipe's loop cut
+// counts steps, not work.
+fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u32) -> vec3<f32> {
+    let g2 = v_grid[2];
+    if bitcast<u32>(g2.y) == 0u {
+        return vec3<f32>(0.0);
+    }
+    let table = bitcast<u32>(g2.x);
+    let lo = v_grid[0].xyz;
+    let cell = v_grid[0].w;
+    let hi = v_grid[1].xyz;
+    let r = v_grid[1].w;
+    // Clip the segment to the photons' bounds (slab test).
+    let inv = 1.0 / d;
+    let ta = (lo - o) * inv;
+    let tb = (hi - o) * inv;
+    let tn = min(ta, tb);
+    let tf = max(ta, tb);
+    let t0 = max(max(max(tn.x, tn.y), tn.z), 0.0);
+    let t1 = min(min(min(tf.x, tf.y), tf.z), t_max);
+    if !(t0 < t1) {
+        return vec3<f32>(0.0);
+    }
+    let bound = volume_bound(m);
+    if !(bound > 1e-30) {
+        return vec3<f32>(0.0);
+    }
+    let q = BeamQuery(o, d, t0, t1, r * r, medium, which, m, BEAM_ONE / bound);
+    var sum = FixedSum();
+    var c = volume_cell(o + d * t0, lo, cell);
+    let step = vec3<i32>(sign(d));
+    var t_next = vec3<f32>(dda_boundary(c, 0u, step, lo, cell, o, inv), dda_boundary(c, 1u, step, lo, cell, o, inv), dda_boundary(c, 2u, step, lo, cell, o, inv));
+    let t_delta = abs(cell * inv);
+    var t_enter = t0;
+    while spend() {
+        var axis = 2u;
+        if t_next.x <= t_next.y && t_next.x <= t_next.z {
+            axis = 0u;
+        } else if t_next.y <= t_next.z {
+            axis = 1u;
+        }
+        let t_exit = min(t_next[axis], t1);
+        let h = cell_hash(c, table);
+        let last = v_cells[h + 1u];
+        for (var k = v_cells[h]; k < last && spend(); k += 64u) {
+            sum = fixed_add(sum, beam_sixteen(q, k, last, c, t_enter, t_exit));
+            if k + 16u < last {
+                sum = fixed_add(sum, beam_sixteen(q, k + 16u, last, c, t_enter, t_exit));
+            }
+            if k + 32u < last {
+                sum = fixed_add(sum, beam_sixteen(q, k + 32u, last, c, t_enter, t_exit));
+            }
+            if k + 48u < last {
+                sum = fixed_add(sum, beam_sixteen(q, k + 48u, last, c, t_enter, t_exit));
+            }
+        }
+        if t_exit >= t1 {
+            break;
+        }
+        t_enter = t_exit;
+        c[axis] += step[axis];
+        t_next[axis] += t_delta[axis];
+    }
+    return fixed_value(sum) * (bound / BEAM_ONE) / (PI * q.r2);
+}
+
+// VolumeMap::exit: where the ray from o along unit d leaves the volume photons' bounds (0
+// where there are none or it never meets them).
+fn volume_exit(o: vec3<f32>, d: vec3<f32>) -> f32 {
+    if bitcast<u32>(v_grid[2].y) == 0u {
+        return 0.0;
+    }
+    let inv = 1.0 / d;
+    let tf = max((v_grid[0].xyz - o) * inv, (v_grid[1].xyz - o) * inv);
+    return max(min(min(tf.x, tf.y), tf.z), 0.0);
+}
+
+// VolumeMap::point: the sum over the volume photons of `medium` within r of x of
+// p(cos) power / (4/3 pi r^3), cos between the photon's travel and wo; one cell's entries
+// (every photon within r of x is listed in x's cell), summed in fixed point (volume_bound).
+fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32> {
+    let g2 = v_grid[2];
+    let lo = v_grid[0].xyz;
+    let hi = v_grid[1].xyz;
+    if bitcast<u32>(g2.y) == 0u || any(x < lo) || any(x > hi) {
+        return vec3<f32>(0.0);
+    }
+    let cell = v_grid[0].w;
+    let r = v_grid[1].w;
+    let c = volume_cell(x, lo, cell);
+    let h = cell_hash(c, bitcast<u32>(g2.x));
+    let last = v_cells[h + 1u];
+    let bound = volume_bound(m);
+    if !(bound > 1e-30) {
+        return vec3<f32>(0.0);
+    }
+    let scale = POINT_ONE / bound;
+    var sum = FixedSum();
+    for (var k = v_cells[h]; k < last && spend(); k += 1u) {
+        let e = v_refs[k];
+        if any(bitcast<vec3<i32>>(e.yzw) != c) {
+            continue;
+        }
+        let a = v_photons[PHOTON_WORDS * e.x];
+        let w = v_photons[PHOTON_WORDS * e.x + 2u];
+        let v = bitcast<vec3<f32>>(a.xyz) - x;
+        if w.w != medium || dot(v, v) >= r * r {
+            continue;
+        }
+        let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
+        let phase = hg_eval(m.g, dot(bitcast<vec3<f32>>(w.xyz), wo));
+        sum = fixed_add(sum, fixed_term(power, phase * scale));
+    }
+    return fixed_value(sum) * (bound / POINT_ONE) * (3.0 / (4.0 * PI * r * r * r));
+}
+

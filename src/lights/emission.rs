@@ -1,0 +1,88 @@
+//! Textured emission (glTF `emissiveTexture`, Mitsuba's area emitter with a textured
+//! `radiance`): the emitted radiance at a point is the material's `emission` times the
+//! texture's colour there. Lights are sampled uniformly by area, so each sample is weighed
+//! by the texel it lands on; a light's power, which shares the photon budget, includes the
+//! texture's mean over its surface ([`texture_mean`]), and a photon leaving a point carries
+//! that texel over the same mean, so the photons' total is unbiased whatever the mean's
+//! accuracy.
+
+use crate::scene::{LightShape, Scene, NO_TEXTURE};
+use crate::math::sampling::uniform_triangle;
+use glam::{Vec2, Vec3};
+
+/// Stratified samples per triangle (a 4 x 4 grid of the unit square, mapped uniformly).
+const PER_TRIANGLE: u32 = 4;
+/// At most this many texture lookups per light; larger meshes take one per triangle.
+const MAX_LOOKUPS: usize = 1 << 20;
+
+/// The emission texture of light `l`'s material, or [`NO_TEXTURE`] (and for point, spot
+/// and directional lights).
+pub fn texture_of(scene: &Scene, l: usize) -> u32 {
+    let material = match scene.lights[l].shape {
+        LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
+        LightShape::Sphere { index } => scene.spheres[index as usize].material,
+        _ => return NO_TEXTURE,
+    };
+    scene.materials[material as usize].emission_texture
+}
+
+/// The uv of point `(b1, b2)` (barycentrics of v1 and v2) of triangle `t`; zero without uvs.
+pub fn triangle_uv(scene: &Scene, t: usize, b1: f32, b2: f32) -> Vec2 {
+    match scene.uvs.get(t) {
+        Some(c) => (1.0 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2],
+        None => Vec2::ZERO,
+    }
+}
+
+/// The area-weighted mean of light `l`'s emission texture over its surface (one when it has
+/// none), by stratified samples.
+pub fn texture_mean(scene: &Scene, l: usize) -> Vec3 {
+    let t = texture_of(scene, l);
+    if t == NO_TEXTURE {
+        return Vec3::ONE;
+    }
+    let tex = &scene.textures[t as usize];
+    let k = PER_TRIANGLE;
+    let grid = |k: u32| {
+        (0..k * k)
+            .map(move |i| ((i % k) as f32 + 0.5, (i / k) as f32 + 0.5))
+            .map(move |(x, y)| (x / k as f32, y / k as f32))
+    };
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
+    match scene.lights[l].shape {
+        LightShape::Triangles { first, count } => {
+            let k = if count as usize * (k * k) as usize > MAX_LOOKUPS {
+                1
+            } else {
+                k
+            };
+            for i in first..first + count {
+                let area = scene.triangles[i as usize].area();
+                let mut s = Vec3::ZERO;
+                for (u1, u2) in grid(k) {
+                    let (b1, b2) = uniform_triangle(u1, u2);
+                    s += tex.eval(triangle_uv(scene, i as usize, b1, b2));
+                }
+                sum += s * (area / (k * k) as f32);
+                weight += area;
+            }
+        }
+        LightShape::Sphere { .. } => {
+            // Uniform in (cos theta, phi): equal areas of the sphere.
+            for (u1, u2) in grid(32) {
+                let z = 1.0 - 2.0 * u1;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let phi = 2.0 * std::f32::consts::PI * u2;
+                let n = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+                sum += tex.eval(crate::textures::uv::sphere(n));
+                weight += 1.0;
+            }
+        }
+        _ => return Vec3::ONE,
+    }
+    if weight > 0.0 {
+        sum / weight
+    } else {
+        Vec3::ONE
+    }
+}

@@ -1,0 +1,96 @@
+// Participating media (issue 24): twin of src/media/mod.rs (transmittance, free flights, a
+// distance in a camera segment), src/media/phase.rs (Henyey-Greenstein) and the medium rules of
+// src/integrators/cpu/media.rs (MediumInterface::after at a surface, the medium a light's photons start
+// in). Every caller is behind HAS_MEDIA, so scenes without media compile none of it.
+// Library, no entry point; writes nothing.
+
+// Medium i from its MEDIUM_WORDS words.
+fn load_medium(i: u32) -> Medium {
+    let a = media[MEDIUM_WORDS * i];
+    let b = media[MEDIUM_WORDS * i + 1u];
+    return Medium(a.xyz, a.w, b.xyz, 0u);
+}
+
+// MediumInterface::after (Mitsuba's volpath rule): the medium a ray that was in `current` is
+// in after a surface with interface `iface` (interior, exterior) and geometric normal `n`
+// sent it along `dir`; a surface that bounds no medium leaves `current`.
+fn medium_interface_after(iface: vec2<u32>, current: u32, n: vec3<f32>, dir: vec3<f32>) -> u32 {
+    if iface.x == NO_MEDIUM && iface.y == NO_MEDIUM {
+        return current;
+    }
+    return select(iface.x, iface.y, dot(dir, n) > 0.0);
+}
+
+// cpu::media::medium_after: the medium after the surface of `hit` sent a ray along `dir`.
+fn medium_after(hit: Hit, current: u32, dir: vec3<f32>) -> u32 {
+    return medium_interface_after(material_media[hit.material], current, hit.normal, dir);
+}
+
+// cpu::media::light_medium: an area light's photons start in its shape's medium on the side
+// they leave towards; point, spot, directional and environment lights sit in the camera's.
+fn light_medium(l: Light, e: Emission) -> u32 {
+    var material = 0u;
+    if l.kind == LIGHT_TRIANGLES {
+        material = load_triangle(l.first).material;
+    } else if HAS_SPHERES && l.kind == LIGHT_SPHERE {
+        material = load_sphere(l.first).material;
+    } else {
+        return params.camera_medium;
+    }
+    return medium_interface_after(material_media[material], params.camera_medium, e.normal, e.dir);
+}
+
+// Medium::transmittance: exp(-sigma_t t) per channel; a clear channel transmits everything
+// (also over an endless run).
+fn medium_transmittance(m: Medium, t: f32) -> vec3<f32> {
+    return select(vec3<f32>(1.0), exp(-m.sigma_t * t), m.sigma_t > vec3<f32>(0.0));
+}
+
+// Medium::sample_flight's result: the distance, whether it ended in the medium, the weight.
+struct Flight {
+    t: f32,
+    in_medium: bool,
+    weight: vec3<f32>,
+}
+
+// Medium::sample_flight: one channel chosen by u_channel draws the distance from u; an event
+// before the surface t_max away (a miss passes a t_max beyond every flight) is weighed
+// sigma_s T(t) / pdf(t), the surface T(t_max) / P(t >= t_max), pdfs the channels' mean.
+fn sample_flight(m: Medium, u_channel: f32, u: f32, t_max: f32) -> Flight {
+    let c = min(u32(u_channel * 3.0), 2u);
+    let sigma = m.sigma_t[c];
+    let t = -log(max(1.0 - u, F32_MIN_POSITIVE)) / sigma;
+    if sigma > 0.0 && t < t_max {
+        let tr = medium_transmittance(m, t);
+        let st = m.sigma_t * tr;
+        let pdf = (st.x + st.y + st.z) / 3.0;
+        return Flight(t, true, select(vec3<f32>(0.0), m.sigma_s * tr / pdf, pdf > 0.0));
+    }
+    let tr = medium_transmittance(m, t_max);
+    let p = (tr.x + tr.y + tr.z) / 3.0;
+    return Flight(t_max, false, select(vec3<f32>(0.0), tr / p, p > 0.0));
+}
+
+// HenyeyGreenstein::eval: the density per steradian at cosine `c` between the travel
+// directions before and after scattering (the floor on the denominator as in phase.rs).
+fn hg_eval(g: f32, c: f32) -> f32 {
+    let denom = max(1.0 + g * g - 2.0 * g * c, 1e-12);
+    return (1.0 - g * g) / (4.0 * PI * denom * sqrt(denom));
+}
+
+// HenyeyGreenstein::sample_cos: the inverse CDF (isotropic below HG_ISOTROPIC_BELOW).
+fn hg_sample_cos(g: f32, u: f32) -> f32 {
+    if abs(g) < HG_ISOTROPIC_BELOW {
+        return 1.0 - 2.0 * u;
+    }
+    let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
+    return clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+}
+
+// HenyeyGreenstein::sample: a direction to leave in after travelling along unit `dir`.
+fn hg_sample(g: f32, dir: vec3<f32>, u1: f32, u2: f32) -> vec3<f32> {
+    let c = hg_sample_cos(g, u1);
+    let s = sqrt(max(1.0 - c * c, 0.0));
+    let phi = 2.0 * PI * u2;
+    return to_world(vec3<f32>(s * cos(phi), s * sin(phi), c), dir);
+}

@@ -1,0 +1,12 @@
+//! A render around the backends: the session that opens a backend (and `--backend auto`'s
+//! rule), the memory budget, progressive passes and their accumulation, slices and their
+//! merge, the report and progress, the signals that end a render early, and images.
+
+pub mod budget;
+pub mod calibration;
+pub mod film;
+pub mod merge;
+pub mod progressive;
+pub mod report;
+pub mod session;
+pub mod slice;
