@@ -4,6 +4,7 @@
 //! dielectric transmission, two-sidedness, and the diffuse + lobe split.
 
 use glam::Vec3;
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{Bsdf, Distribution, Microfacet, Plastic, Transport};
 use std::f32::consts::PI;
 
@@ -27,20 +28,10 @@ fn beckmann(au: f32, av: f32) -> Option<Microfacet> {
 /// White versions of every kind.
 fn white() -> Vec<(&'static str, Bsdf)> {
     let one = Vec3::ONE;
-    let mirror = |microfacet| Bsdf::Conductor {
-        eta: Vec3::ZERO,
-        k: one,
-        specular: one,
-        microfacet,
-    };
-    let glass = |microfacet| Bsdf::Dielectric {
-        eta: 1.5,
-        specular_reflectance: one,
-        specular_transmittance: one,
-        microfacet,
-    };
+    let mirror = |microfacet| Bsdf::conductor(Vec3::ZERO, one, one, microfacet);
+    let glass = |microfacet| Bsdf::dielectric(1.5, one, one, microfacet);
     vec![
-        ("diffuse", Bsdf::Diffuse { albedo: one }),
+        ("diffuse", Bsdf::diffuse(one)),
         ("mirror", mirror(None)),
         ("rough mirror ggx", mirror(ggx(0.4))),
         ("rough mirror beckmann aniso", mirror(beckmann(0.2, 0.6))),
@@ -49,11 +40,7 @@ fn white() -> Vec<(&'static str, Bsdf)> {
         ("rough glass beckmann aniso", glass(beckmann(0.1, 0.4))),
         (
             "thin",
-            Bsdf::ThinDielectric {
-                eta: 1.5,
-                specular_reflectance: one,
-                specular_transmittance: one,
-            },
+            Bsdf::thin_dielectric(1.5, one, one),
         ),
         (
             "plastic",
@@ -151,12 +138,7 @@ fn lossless_limits() {
     // more roughness loses more.
     let mut last = 1.0;
     for a in [0.02, 0.2, 0.5, 1.0] {
-        let b = Bsdf::Conductor {
-            eta: Vec3::ZERO,
-            k: one,
-            specular: one,
-            microfacet: ggx(a),
-        };
+        let b = Bsdf::conductor(Vec3::ZERO, one, one, ggx(a));
         let (e, err) = albedo_sampled(&b, wo_at(45.0, 0.0), Transport::Radiance, 40_000, 3);
         if a < 0.05 {
             assert!(e > 0.995, "alpha {a}: {e}");
@@ -166,12 +148,7 @@ fn lossless_limits() {
     }
     // A slightly rough glass: R + T close to 1 from either side (importance: no eta^2).
     for mf in [ggx(0.02), beckmann(0.02, 0.03)] {
-        let b = Bsdf::Dielectric {
-            eta: 1.5,
-            specular_reflectance: one,
-            specular_transmittance: one,
-            microfacet: mf,
-        };
+        let b = Bsdf::dielectric(1.5, one, one, mf);
         for wo in [wo_at(30.0, 0.0), -wo_at(30.0, 0.0), wo_at(70.0, 40.0)] {
             let (e, _) = albedo_sampled(&b, wo, Transport::Importance, 20_000, 9);
             assert!(e > 0.99 && e < 1.003, "{mf:?} wo {wo}: {e}");
@@ -179,17 +156,8 @@ fn lossless_limits() {
     }
     // Smooth glass and the thin sheet: every importance sample carries exactly 1; radiance
     // entering the glass is scaled by 1/eta^2 on transmission.
-    let glass = Bsdf::Dielectric {
-        eta: 1.5,
-        specular_reflectance: one,
-        specular_transmittance: one,
-        microfacet: None,
-    };
-    let thin = Bsdf::ThinDielectric {
-        eta: 1.5,
-        specular_reflectance: one,
-        specular_transmittance: one,
-    };
+    let glass = Bsdf::dielectric(1.5, one, one, None);
+    let thin = Bsdf::thin_dielectric(1.5, one, one);
     for u0 in [0.0, 0.03, 0.5, 0.99] {
         for b in [glass, thin] {
             let s = b
@@ -206,16 +174,9 @@ fn lossless_limits() {
 }
 
 fn reflective() -> Vec<Bsdf> {
-    let c = |mf| Bsdf::Conductor {
-        eta: Vec3::new(0.2, 0.9, 1.5),
-        k: Vec3::new(3.9, 2.4, 1.6),
-        specular: Vec3::new(0.9, 0.8, 0.7),
-        microfacet: mf,
-    };
+    let c = |mf| Bsdf::conductor(Vec3::new(0.2, 0.9, 1.5), Vec3::new(3.9, 2.4, 1.6), Vec3::new(0.9, 0.8, 0.7), mf);
     vec![
-        Bsdf::Diffuse {
-            albedo: Vec3::new(0.8, 0.5, 0.2),
-        },
+        Bsdf::diffuse(Vec3::new(0.8, 0.5, 0.2)),
         c(ggx(0.3)),
         c(beckmann(0.1, 0.5)),
         Bsdf::Plastic(Plastic::new(
@@ -275,12 +236,7 @@ fn reflective_kinds_are_reciprocal_and_two_sided() {
 fn dielectric_transmission_follows_the_eta2_rule() {
     let mut rng = TestRng(99);
     for mf in [ggx(0.3), beckmann(0.2, 0.5)] {
-        let b = Bsdf::Dielectric {
-            eta: 1.5,
-            specular_reflectance: Vec3::ONE,
-            specular_transmittance: Vec3::ONE,
-            microfacet: mf,
-        };
+        let b = Bsdf::dielectric(1.5, Vec3::ONE, Vec3::ONE, mf);
         let n = |w: Vec3| if w.z < 0.0 { 1.5f32 } else { 1.0 };
         let mut checked = 0;
         for _ in 0..4000 {
@@ -337,7 +293,7 @@ fn diffuse_plus_lobe_is_the_whole() {
         }
         assert_eq!(
             b.has_diffuse(),
-            matches!(b, Bsdf::Diffuse { .. } | Bsdf::Plastic(_))
+            matches!(b, Bsdf::Diffuse(_) | Bsdf::Plastic(_))
         );
         if !b.has_diffuse() {
             assert_eq!(b.diffuse_out(wo_at(30.0, 0.0)), Vec3::ZERO);

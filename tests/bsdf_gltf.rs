@@ -5,6 +5,7 @@
 //! agrees with quadrature, and the `S(mu)` table agrees with a brute-force integral.
 
 use glam::Vec3;
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
     schlick_mean, Bsdf, Distribution, MetallicRoughness, Microfacet, Transport,
 };
@@ -25,13 +26,8 @@ fn unit_vector(r: &mut common::TestRng) -> Vec3 {
 }
 
 fn materials() -> Vec<(&'static str, MetallicRoughness)> {
-    let g = |base: Vec3, metallic, roughness, f0: Vec3, f90, transmission| MetallicRoughness {
-        base,
-        metallic,
-        roughness,
-        f0,
-        f90,
-        transmission,
+    let g = |base: Vec3, metallic, roughness, f0: Vec3, f90, transmission| {
+        MetallicRoughness::new(base, metallic, roughness, f0, f90, transmission)
     };
     let orange = Vec3::new(0.9, 0.5, 0.1);
     vec![
@@ -75,7 +71,7 @@ fn materials() -> Vec<(&'static str, MetallicRoughness)> {
 /// Appendix B (with KHR_materials_specular and a thin-walled transmission), transcribed:
 /// f(wi, wo) for `wo.z > 0`, the base's Fresnel weight at `wo . h` as the specification has it.
 fn appendix_b(g: &MetallicRoughness, wi: Vec3, wo: Vec3) -> Vec3 {
-    let mf = Microfacet::isotropic(Distribution::Ggx, g.roughness * g.roughness);
+    let mf = Microfacet::isotropic(Distribution::Ggx, g.roughness.float() * g.roughness.float());
     let through = wi.z < 0.0;
     let wr = if through {
         Vec3::new(wi.x, wi.y, -wi.z)
@@ -89,14 +85,14 @@ fn appendix_b(g: &MetallicRoughness, wi: Vec3, wo: Vec3) -> Vec3 {
     let c = wo.dot(h);
     let k = (1.0 - c).clamp(0.0, 1.0).powi(5);
     let spec = mf.d(h) * mf.smith_g1(wr, h) * mf.smith_g1(wo, h) / (4.0 * wr.z * wo.z);
-    let fd = g.f0 + (Vec3::splat(g.f90) - g.f0) * k;
-    let fm = g.base + (Vec3::ONE - g.base) * k;
+    let fd = g.f0.get() + (Vec3::splat(g.f90) - g.f0.get()) * k;
+    let fm = g.base.get() + (Vec3::ONE - g.base.get()) * k;
     let rest = 1.0 - fd.max_element();
-    let (m, t) = (g.metallic, g.transmission);
+    let (m, t) = (g.metallic.float(), g.transmission.float());
     if through {
-        return (1.0 - m) * rest * t * g.base * spec;
+        return (1.0 - m) * rest * t * g.base.get() * spec;
     }
-    let dielectric = fd * spec + rest * (1.0 - t) * g.base / PI;
+    let dielectric = fd * spec + rest * (1.0 - t) * g.base.get() / PI;
     dielectric * (1.0 - m) + fm * spec * m
 }
 
@@ -136,8 +132,8 @@ fn lobes_equal_appendix_b_and_the_diffuse_albedo_is_its_own() {
             let mut want = appendix_b(&g, wi, wo);
             if wi.z > 0.0 {
                 let c = wo.dot((wi + wo).normalize());
-                let fmax = (g.f0 + (Vec3::splat(g.f90) - g.f0) * (1.0 - c).powi(5)).max_element();
-                want -= (1.0 - g.metallic) * (1.0 - g.transmission) * (1.0 - fmax) * g.base / PI;
+                let fmax = (g.f0.get() + (Vec3::splat(g.f90) - g.f0.get()) * (1.0 - c).powi(5)).max_element();
+                want -= (1.0 - g.metallic.float()) * (1.0 - g.transmission.float()) * (1.0 - fmax) * g.base.get() / PI;
             }
             let got = b.eval_lobe(wi, wo, Transport::Radiance);
             let tol = 1e-4 * want.max_element().max(1.0);

@@ -10,6 +10,7 @@
 //! here, in f32 packets there, and the sampling probability depends on 1 - t).
 
 use glam::Vec3;
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, Transport};
 use std::collections::HashMap;
 
@@ -39,32 +40,16 @@ fn build(params: &str) -> Bsdf {
     let rough = kind.starts_with("rough");
     let microfacet = rough.then_some(mf);
     match kind {
-        "diffuse" => Bsdf::Diffuse {
-            albedo: c("reflectance", Vec3::splat(0.5)),
-        },
+        "diffuse" => Bsdf::diffuse(c("reflectance", Vec3::splat(0.5))),
         "conductor" | "roughconductor" => {
             let (eta, k) = match p.get("material") {
                 Some(name) => named_conductor(name).unwrap(),
                 None => (c("eta", Vec3::ZERO), c("k", Vec3::ONE)),
             };
-            Bsdf::Conductor {
-                eta,
-                k,
-                specular: c("specular_reflectance", Vec3::ONE),
-                microfacet,
-            }
+            Bsdf::conductor(eta, k, c("specular_reflectance", Vec3::ONE), microfacet)
         }
-        "dielectric" | "roughdielectric" => Bsdf::Dielectric {
-            eta: f("int_ior", 1.5046) / AIR,
-            specular_reflectance: c("specular_reflectance", Vec3::ONE),
-            specular_transmittance: c("specular_transmittance", Vec3::ONE),
-            microfacet,
-        },
-        "thindielectric" => Bsdf::ThinDielectric {
-            eta: f("int_ior", 1.5046) / AIR,
-            specular_reflectance: c("specular_reflectance", Vec3::ONE),
-            specular_transmittance: c("specular_transmittance", Vec3::ONE),
-        },
+        "dielectric" | "roughdielectric" => Bsdf::dielectric(f("int_ior", 1.5046) / AIR, c("specular_reflectance", Vec3::ONE), c("specular_transmittance", Vec3::ONE), microfacet),
+        "thindielectric" => Bsdf::thin_dielectric(f("int_ior", 1.5046) / AIR, c("specular_reflectance", Vec3::ONE), c("specular_transmittance", Vec3::ONE)),
         "plastic" | "roughplastic" => Bsdf::Plastic(Plastic::new(
             c("diffuse_reflectance", Vec3::splat(0.5)),
             c("specular_reflectance", Vec3::ONE),

@@ -7,6 +7,7 @@
 //! non-delta sample also checks `weight == eval |cos| / pdf` and `pdf == pdf(wi)`.
 
 use glam::Vec3;
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
     Bsdf, Distribution, LobeSample, MetallicRoughness, Microfacet, Plastic, Transport,
 };
@@ -253,9 +254,7 @@ fn roughness() -> Vec<(&'static str, Microfacet)> {
 
 #[test]
 fn chi2_diffuse() {
-    let b = Bsdf::Diffuse {
-        albedo: Vec3::new(0.8, 0.5, 0.2),
-    };
+    let b = Bsdf::diffuse(Vec3::new(0.8, 0.5, 0.2));
     check("diffuse", &b, wo_at(30.0, 10.0), Transport::Radiance);
     check("diffuse back", &b, -wo_at(30.0, 10.0), Transport::Radiance);
 }
@@ -263,12 +262,7 @@ fn chi2_diffuse() {
 #[test]
 fn chi2_rough_conductor() {
     for (name, mf) in roughness() {
-        let b = Bsdf::Conductor {
-            eta: Vec3::new(0.2, 0.9, 1.5),
-            k: Vec3::new(3.9, 2.4, 1.6),
-            specular: Vec3::ONE,
-            microfacet: Some(mf),
-        };
+        let b = Bsdf::conductor(Vec3::new(0.2, 0.9, 1.5), Vec3::new(3.9, 2.4, 1.6), Vec3::ONE, Some(mf));
         for deg in ANGLES {
             check(
                 &format!("conductor {name} {mf:?}"),
@@ -289,12 +283,7 @@ fn chi2_rough_conductor() {
 #[test]
 fn chi2_rough_dielectric() {
     for (name, mf) in roughness() {
-        let b = Bsdf::Dielectric {
-            eta: 1.5,
-            specular_reflectance: Vec3::ONE,
-            specular_transmittance: Vec3::ONE,
-            microfacet: Some(mf),
-        };
+        let b = Bsdf::dielectric(1.5, Vec3::ONE, Vec3::ONE, Some(mf));
         for deg in ANGLES {
             let wo = wo_at(deg, 30.0);
             check(
@@ -349,14 +338,8 @@ fn chi2_plastic() {
 #[test]
 fn chi2_metallic_roughness() {
     let g = |metallic, roughness, transmission| {
-        Bsdf::MetallicRoughness(MetallicRoughness {
-            base: Vec3::new(0.8, 0.5, 0.2),
-            metallic,
-            roughness,
-            f0: Vec3::new(0.04, 0.05, 0.03),
-            f90: 1.0,
-            transmission,
-        })
+        let (base, f0) = (Vec3::new(0.8, 0.5, 0.2), Vec3::new(0.04, 0.05, 0.03));
+        Bsdf::MetallicRoughness(MetallicRoughness::new(base, metallic, roughness, f0, 1.0, transmission))
     };
     for (name, b) in [
         ("dielectric", g(0.0, 0.5, 0.0)),
@@ -373,18 +356,8 @@ fn chi2_metallic_roughness() {
 #[test]
 fn chi2_catches_a_wrong_pdf() {
     // The test must be able to fail: a GGX sampler judged by the Beckmann density.
-    let ggx = Bsdf::Conductor {
-        eta: Vec3::ZERO,
-        k: Vec3::ONE,
-        specular: Vec3::ONE,
-        microfacet: Some(Microfacet::isotropic(Distribution::Ggx, 0.3)),
-    };
-    let beckmann = Bsdf::Conductor {
-        eta: Vec3::ZERO,
-        k: Vec3::ONE,
-        specular: Vec3::ONE,
-        microfacet: Some(Microfacet::isotropic(Distribution::Beckmann, 0.3)),
-    };
+    let ggx = Bsdf::conductor(Vec3::ZERO, Vec3::ONE, Vec3::ONE, Some(Microfacet::isotropic(Distribution::Ggx, 0.3)));
+    let beckmann = Bsdf::conductor(Vec3::ZERO, Vec3::ONE, Vec3::ONE, Some(Microfacet::isotropic(Distribution::Beckmann, 0.3)));
     let wo = wo_at(45.0, 0.0);
     let r = std::panic::catch_unwind(|| {
         chi2(

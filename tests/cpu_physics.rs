@@ -16,12 +16,17 @@ use gpu_photon::camera::Camera;
 use gpu_photon::integrators::cpu::photon_map::PhotonMap;
 use gpu_photon::math::geometry::{intersect_triangle, Ray, Shear};
 use gpu_photon::lights::{scalar_power, split_budget};
-use gpu_photon::bsdfs::classic::{
-    dielectric, fresnel, fresnel_exact, fresnel_schlick, photon_bounce, reflect, refract, Bounce,
-};
+use gpu_photon::bsdfs::fresnel::{dielectric, fresnel, fresnel_exact, fresnel_schlick, reflect, refract};
+use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
+use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::integrators::photon::{Budget, Photon};
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::{Light, LightShape, Material, MaterialKind, Scene, Triangle, NO_LIGHT};
+use gpu_photon::scene::{Light, LightShape, Material, Scene, Triangle, NO_LIGHT};
+
+/// A photon's bounce at a flat surface of normal `n`.
+fn photon_bounce(m: &Material, d: Vec3, n: Vec3, mode: FresnelMode, u: [f32; 3]) -> Bounce {
+    photon_bounce_at(m, d, n, n, mode, u)
+}
 use gpu_photon::render::session::{render, Backend};
 
 use gpu_photon::settings::{FresnelMode, Mode, RenderSettings};
@@ -382,16 +387,16 @@ fn sample_bounces(
             Bounce::Specular { dir, weight, delta } => {
                 assert!((dir.length() - 1.0).abs() < 1e-4);
                 specular += 1;
-                match m.kind {
-                    MaterialKind::Mirror => {
+                match m.bsdf {
+                    Bsdf::Mirror(_) => {
                         assert!(delta);
                         assert!((dir - reflect(d, ns)).length() < 1e-5);
                     }
-                    MaterialKind::Glossy => {
+                    Bsdf::Phong(_) => {
                         assert!(!delta);
                         assert!(dir.dot(ns) > 0.0, "glossy bounce into the surface");
                     }
-                    MaterialKind::Glass => assert!(delta),
+                    Bsdf::Glass(_) => assert!(delta),
                     _ => panic!("{m:?} returned a specular bounce"),
                 }
                 weight

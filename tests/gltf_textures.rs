@@ -202,7 +202,11 @@ fn base_colour_texture_loads_from_a_file_a_data_uri_and_a_glb_view() {
     assert_eq!(file.uvs, quad_corner_uvs(&quad().uvs));
     assert_eq!(file.textures.len(), 1);
     assert_eq!(
-        file.materials[file.triangles[0].material as usize].kd_texture,
+        file.materials[file.triangles[0].material as usize]
+            .bsdf
+            .base_colour()
+            .expect("a base colour")
+            .texture,
         0
     );
     let SceneTexture::Bitmap(t) = &file.textures[0] else {
@@ -363,14 +367,13 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     );
     let s = loaded(&f.write("mr.gltf"));
     let m = s.materials[s.triangles[0].material as usize];
-    assert_eq!(m.kind, gpu_photon::scene::MaterialKind::MetallicRoughness);
-    let none = gpu_photon::scene::NO_TEXTURE;
-    assert!(m.kd_texture != none && m.mr_texture != none && m.normal_texture != none);
-    assert!(
-        m.gltf_textures.iter().all(|&t| t != none),
-        "{:?}",
-        m.gltf_textures
-    );
+    let gpu_photon::bsdfs::Bsdf::MetallicRoughness(mr) = m.bsdf else {
+        panic!("not metallic-roughness: {:?}", m.bsdf)
+    };
+    let none = gpu_photon::textures::NO_TEXTURE;
+    assert!(m.normal_texture != none);
+    let slots = [mr.base, mr.metallic, mr.roughness, mr.f0, mr.transmission, mr.specular];
+    assert!(slots.iter().all(|p| p.texture != none), "{slots:?}");
     let (cpu, gpu) = common::direct_renders(&s, 24);
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
     assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");

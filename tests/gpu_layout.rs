@@ -20,9 +20,9 @@ use gpu_photon::integrators::gpu::bindings::{
 };
 use gpu_photon::integrators::gpu::branches::{GpuBranch, GpuBranchStack};
 use gpu_photon::bvh::gpu_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
-use gpu_photon::integrators::gpu::codes::{self, material_code, shared_constants, WgslValue};
+use gpu_photon::integrators::gpu::codes::{self, shared_constants, WgslValue};
 use gpu_photon::integrators::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
-use gpu_photon::integrators::gpu::shaders::{validate, Kernel, WGSL_FILES};
+use gpu_photon::integrators::gpu::shaders::{self, validate, Kernel};
 use gpu_photon::integrators::gpu::shape::KernelShape;
 use gpu_photon::integrators::gpu::types::{
     GpuAabb, GpuLight, GpuMapParams, GpuMaterial, GpuMedium, GpuParams, GpuShadingNormals,
@@ -30,7 +30,7 @@ use gpu_photon::integrators::gpu::types::{
 };
 use gpu_photon::integrators::photon::{self, Photon};
 use gpu_photon::math::rng::Stream;
-use gpu_photon::scene::{MaterialKind, FLAT, NO_LIGHT};
+use gpu_photon::scene::{FLAT, NO_LIGHT};
 use naga::proc::Layouter;
 use naga::{AddressSpace, Expression, Literal, Module, StorageAccess, TypeInner};
 use std::collections::BTreeMap;
@@ -173,7 +173,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Material",
-            fields!(GpuMaterial: kd, kind, ks, exponent, emission, ior, two_sided, bsdf, kd_texture, normal_texture,
+            fields!(GpuMaterial: emission, two_sided, kind, textured, _pad, normal_texture,
                 alpha_mode, alpha_texture, alpha_factor, alpha_cutoff),
         ),
         (
@@ -595,11 +595,6 @@ fn shared_constants_agree() {
         "STAT_PHOTON_OVERFLOW",
         "STAT_LOOP_BUDGET",
         "STAT_GATHER_TRUNCATED",
-        "MAT_DIFFUSE",
-        "MAT_GLOSSY",
-        "MAT_MIRROR",
-        "MAT_GLASS",
-        "MAT_BLACK",
         "STREAM_PHOTON",
         "STREAM_CAUSTIC",
         "STREAM_CAMERA",
@@ -657,26 +652,6 @@ fn shared_constants_agree() {
         ("STREAM_PHOTON", Literal::U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", Literal::U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", Literal::U32(Stream::Camera as u32)),
-        (
-            "MAT_DIFFUSE",
-            Literal::U32(material_code(MaterialKind::Diffuse)),
-        ),
-        (
-            "MAT_GLOSSY",
-            Literal::U32(material_code(MaterialKind::Glossy)),
-        ),
-        (
-            "MAT_MIRROR",
-            Literal::U32(material_code(MaterialKind::Mirror)),
-        ),
-        (
-            "MAT_GLASS",
-            Literal::U32(material_code(MaterialKind::Glass)),
-        ),
-        (
-            "MAT_BLACK",
-            Literal::U32(material_code(MaterialKind::Black)),
-        ),
         ("MAX_HEAP", Literal::U32(codes::MAX_HEAP)),
         ("TERM_FINAL_GATHER", Literal::U32(codes::TERM_FINAL_GATHER)),
         ("CACHE_STRIDE", Literal::U32(gpu_photon::integrators::plan::CACHE_STRIDE)),
@@ -728,6 +703,11 @@ fn shared_constants_agree() {
         }
         for &(name, rust) in &expected {
             check(kernel, name, rust);
+        }
+        // Every BSDF kind's code is its place in the Rust list of kinds.
+        for (i, kind) in gpu_photon::bsdfs::KINDS.iter().enumerate() {
+            let name = format!("BSDF_{}", gpu_photon::bsdfs::gpu::upper(kind.name));
+            check(kernel, &name, Literal::U32(i as u32));
         }
     }
 
@@ -796,15 +776,16 @@ fn wgsl_files() -> Vec<(String, String)> {
 fn no_wgsl_file_declares_a_prelude_constant() {
     let shared = shared_constants();
     let files = wgsl_files();
+    let composed = shaders::wgsl_files();
     assert!(
-        files.len() >= WGSL_FILES.len(),
+        files.len() >= composed.len(),
         "WGSL files not found: {files:?}"
     );
     let mut errors = Vec::new();
     for (path, text) in &files {
-        if !WGSL_FILES.iter().any(|(p, _)| p == path) {
+        if !composed.iter().any(|(p, _)| p == path) {
             errors.push(format!(
-                "src/{path} is not composed (shaders::WGSL_FILES)"
+                "src/{path} is not composed (shaders::wgsl_files())"
             ));
         }
         for (n, line) in text.lines().enumerate() {

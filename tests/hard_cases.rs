@@ -567,7 +567,7 @@ fn total_internal_reflection_camera_inside_a_glass_sphere() {
 #[test]
 fn total_internal_reflection_point_light_inside_a_glass_cube() {
     use glam::Vec3;
-    use gpu_photon::bsdfs::classic::dielectric;
+    use gpu_photon::bsdfs::fresnel::dielectric;
     use gpu_photon::settings::FresnelMode;
 
     // At and around the critical angle the split stays finite, unit and a probability.

@@ -18,15 +18,13 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::math::geometry::Facing;
-use gpu_photon::integrators::gpu::codes::{
-    material_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
-};
+use gpu_photon::integrators::gpu::codes::{BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE};
 use probes::{surface, SurfaceCase, SurfaceProbe};
-use gpu_photon::bsdfs::classic::{
-    dielectric_shading, fresnel_exact, fresnel_schlick, phong_lobe_value, photon_bounce_shading,
-    reflect, Bounce,
-};
-use gpu_photon::scene::{Material, MaterialKind};
+use gpu_photon::bsdfs::fresnel::{dielectric_shading, fresnel_exact, fresnel_schlick, reflect};
+use gpu_photon::bsdfs::phong::phong_lobe_value;
+use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
+use gpu_photon::bsdfs::Bsdf;
+use gpu_photon::scene::Material;
 use gpu_photon::settings::FresnelMode;
 
 /// Directions: a normalisation or a square root and a few products (measured worst on
@@ -41,12 +39,15 @@ const LOBE_REL: f32 = 1e-6;
 /// Decisions closer than this to their threshold on the host are not compared.
 const KNIFE: f32 = 1e-4;
 
-const KINDS: [MaterialKind; 4] = [
-    MaterialKind::Diffuse,
-    MaterialKind::Glossy,
-    MaterialKind::Mirror,
-    MaterialKind::Glass,
-];
+/// The classic kinds, by index (the cases cycle through them).
+fn classic(k: usize, kd: Vec3, ks: Vec3, exponent: f32, ior: f32) -> Bsdf {
+    match k {
+        0 => Material::diffuse(kd).bsdf,
+        1 => Material::glossy(kd, ks, exponent).bsdf,
+        2 => Material::mirror(ks).bsdf,
+        _ => Material::glass(ior).bsdf,
+    }
+}
 
 fn cases(r: &mut TestRng) -> Vec<SurfaceCase> {
     (0..3000)
@@ -65,20 +66,18 @@ fn cases(r: &mut TestRng) -> Vec<SurfaceCase> {
             };
             let kd = Vec3::new(r.f32(), r.f32(), r.f32()) * 0.5;
             let ks = Vec3::new(r.f32(), r.f32(), r.f32()) * 0.45;
+            let exponent = [0.0, 1.0, 20.0, 1e4][i % 4] * r.f32();
+            let ior = [1.5, 1.33, 2.4, r.range(1.0, 3.0)][i % 4];
             SurfaceCase {
                 axis: r.dir().to_array(),
-                exponent: [0.0, 1.0, 20.0, 1e4][i % 4] * r.f32(),
+                exponent,
                 u: [r.f32(), r.f32()],
                 ng: ng.to_array(),
                 ns: ns.to_array(),
                 c: [r.f32(), 0.0, 0.0],
                 d: d.to_array(),
-                ior: [1.5, 1.33, 2.4, r.range(1.0, 3.0)][i % 4],
-                material: (
-                    material_code(KINDS[i % 7 % 4]),
-                    kd.to_array(),
-                    ks.to_array(),
-                ),
+                ior,
+                material: classic(i % 7 % 4, kd, ks, exponent, ior),
                 u3: r.f32(),
                 ..Default::default()
             }
@@ -94,19 +93,16 @@ fn dir_close(what: &str, got: [f32; 3], want: Vec3, tol: f32) -> f32 {
 
 /// The host's bounce as (kind code, direction, weight) and how near a decision it was made.
 fn host_bounce(c: &SurfaceCase) -> ((u32, Vec3, Vec3), f32) {
-    let (code, kd, ks) = c.material;
-    let kind = *KINDS.iter().find(|k| material_code(**k) == code).unwrap();
-    let m = Material {
-        kind,
-        kd: Vec3::from(kd),
-        ks: Vec3::from(ks),
-        exponent: c.exponent,
-        ior: c.ior,
-        ..Material::black()
+    let m = Material::of(c.material);
+    let (kd, ks) = match c.material {
+        Bsdf::Diffuse(d) => (d.reflectance.get(), Vec3::ZERO),
+        Bsdf::Phong(p) => (p.kd.get(), p.ks.get()),
+        Bsdf::Mirror(r) => (Vec3::ZERO, r.reflectance.get()),
+        _ => (Vec3::ZERO, Vec3::ZERO),
     };
     let (d, ng, ns) = (Vec3::from(c.d), Vec3::from(c.ng), Vec3::from(c.ns));
     let u = [c.u[0], c.u[1], c.u3];
-    let b = photon_bounce_shading(&m, d, ng, ns, FresnelMode::Exact, u);
+    let b = photon_bounce_at(&m, d, ng, ns, FresnelMode::Exact, u);
     let out = match b {
         Bounce::Absorb => (BOUNCE_ABSORB, Vec3::ZERO, Vec3::ZERO),
         Bounce::Diffuse { dir, weight } => (BOUNCE_DIFFUSE, dir, weight),
@@ -117,8 +113,8 @@ fn host_bounce(c: &SurfaceCase) -> ((u32, Vec3, Vec3), f32) {
     };
     // The roulette's thresholds, and the signs the outcome's direction was tested by.
     let f = Facing::new(ng, ns, d.dot(ng) < 0.0);
-    let total = (m.kd + m.ks).max_element();
-    let (sd, ss) = (m.kd.element_sum(), m.ks.element_sum());
+    let total = (kd + ks).max_element();
+    let (sd, ss) = (kd.element_sum(), ks.element_sum());
     let pd = total * sd / (sd + ss);
     // The lobe's and the dielectric's directions are kept by sign tests against the normals.
     let signs = |dirs: &[Vec3]| {
@@ -126,16 +122,16 @@ fn host_bounce(c: &SurfaceCase) -> ((u32, Vec3, Vec3), f32) {
             .map(|v| v.dot(f.ns).abs().min(v.dot(f.ng).abs()))
             .fold(f32::INFINITY, f32::min)
     };
-    let near = match kind {
-        MaterialKind::Diffuse => (u[0] - pd).abs().min((u[0] - total).abs()),
-        MaterialKind::Glossy => {
+    let near = match c.material {
+        Bsdf::Diffuse(_) => (u[0] - pd).abs().min((u[0] - total).abs()),
+        Bsdf::Phong(_) => {
             let lobe = gpu_photon::math::sampling::phong_lobe(reflect(d, f.ns), c.exponent, u[1], u[2]);
             (u[0] - pd)
                 .abs()
                 .min((u[0] - total).abs())
                 .min(signs(&[lobe]))
         }
-        MaterialKind::Mirror => (u[0] - m.ks.max_element()).abs(),
+        Bsdf::Mirror(_) => (u[0] - ks.max_element()).abs(),
         _ => {
             let g = dielectric_shading(d, ng, ns, c.ior, FresnelMode::Exact);
             let dirs = [g.reflected, g.refracted.unwrap_or(g.reflected)];

@@ -9,7 +9,7 @@ mod common;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
 use gpu_photon::importers::mitsuba::import;
-use gpu_photon::scene::MaterialKind;
+use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
@@ -32,14 +32,10 @@ fn the_materials_file_imports_exactly() {
     let hint = ": integrator[0]: integrator `path` rendered with our photon mapping";
     let only_hint = im.warnings.len() == 1 && im.warnings[0].contains(hint);
     assert!(only_hint, "{:?}", im.warnings);
-    let kinds: Vec<MaterialKind> = im.scene.materials.iter().map(|m| m.kind).collect();
-    for k in [
-        MaterialKind::RoughConductor,
-        MaterialKind::RoughPlastic,
-        MaterialKind::RoughDielectric,
-    ] {
-        assert!(kinds.contains(&k), "{k:?} missing from {kinds:?}");
-    }
+    let has = |f: fn(&Bsdf) -> bool| im.scene.materials.iter().any(|m| f(&m.bsdf));
+    assert!(has(|b| matches!(b, Bsdf::RoughConductor(_))), "no rough conductor");
+    assert!(has(|b| matches!(b, Bsdf::Plastic(p) if p.microfacet.is_some())), "no rough plastic");
+    assert!(has(|b| matches!(b, Bsdf::RoughDielectric(_))), "no rough dielectric");
     // The floor's reflectance is the bitmap, looked up through the rectangle's uvs.
     assert_eq!(im.scene.textures.len(), 1);
     assert_eq!(im.scene.uvs.len(), im.scene.triangles.len());
@@ -137,7 +133,8 @@ fn plastic_floor(textured: bool) -> gpu_photon::scene::Scene {
 fn a_textured_plastic_renders_its_texture_on_both_backends() {
     let textured = plastic_floor(true);
     let floor = textured.materials.iter().find(|m| {
-        m.kind == MaterialKind::RoughPlastic && m.kd_texture != gpu_photon::scene::NO_TEXTURE
+        matches!(&m.bsdf, Bsdf::Plastic(p)
+            if p.microfacet.is_some() && p.diffuse_reflectance.texture != gpu_photon::textures::NO_TEXTURE)
     });
     assert!(floor.is_some(), "the floor is a textured rough plastic");
     let s = RenderSettings {

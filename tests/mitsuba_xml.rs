@@ -78,7 +78,7 @@ fn assert_close(a: Vec3, b: [f32; 3], tol: f32) {
 
 /// The diffuse albedo of the first triangle's material.
 fn albedo(s: &Scene) -> Vec3 {
-    s.materials[s.triangles[0].material as usize].kd
+    s.materials[s.triangles[0].material as usize].bsdf.base_colour().map_or(Vec3::ZERO, |p| p.get())
 }
 
 const RECT: &str = r#"<shape type="rectangle"><ref id="white"/></shape>"#;
@@ -284,11 +284,14 @@ fn refs_reach_any_top_level_object_in_any_order() {
     );
     let s = &im.scene;
     let first = &s.materials[s.triangles[0].material as usize];
-    assert_eq!(first.kd, Vec3::splat(0.3));
+    assert_eq!(first.bsdf.base_colour().map(|p| p.get()), Some(Vec3::splat(0.3)));
     assert_eq!(first.emission, Vec3::new(2.0, 3.0, 4.0));
     assert_eq!(s.lights.len(), 1);
     assert_ne!(
-        s.materials[s.triangles[2].material as usize].kd_texture,
+        s.materials[s.triangles[2].material as usize]
+            .bsdf
+            .base_colour()
+            .map_or(NO_TEXTURE, |p| p.texture),
         NO_TEXTURE
     );
     // The bsdfs are added once each, however often they are referenced.
@@ -356,7 +359,7 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
     let im = ok(
         r#"<shape type="rectangle"><bsdf type="conductor"><spectrum name="eta" value="400:1.5, 700:1.8"/><spectrum name="k" value="0"/></bsdf></shape>"#,
     );
-    let Some(Bsdf::Conductor { eta, k, .. }) = im.scene.materials[0].bsdf else {
+    let Bsdf::Conductor(gpu_photon::bsdfs::conductor::Conductor { eta, k, .. }) = im.scene.materials[0].bsdf else {
         panic!("not a conductor");
     };
     assert_close(eta, [1.73426, 1.64257, 1.53318], 2e-5);

@@ -5,7 +5,8 @@ use glam::Vec3;
 use gpu_photon::camera::Camera;
 use gpu_photon::scene::NO_LIGHT;
 use gpu_photon::importers::{load, load_str};
-use gpu_photon::scene::{LightShape, Material, MaterialKind, Scene, Triangle};
+use gpu_photon::bsdfs::KINDS;
+use gpu_photon::scene::{LightShape, Material, Scene, Triangle};
 use gpu_photon::scene::{Origin, Part, SceneBuilder, Surface};
 use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
 use gpu_photon::Error;
@@ -653,9 +654,8 @@ fn every_scene_file_loads() {
 #[test]
 fn example_scenes_are_what_they_say() {
     let s = scene("cornell-caustics.toml");
-    let kind = |m: u32| s.materials[m as usize].kind;
-    let kinds: Vec<MaterialKind> = s.spheres.iter().map(|sp| kind(sp.material)).collect();
-    assert_eq!(kinds, [MaterialKind::Mirror, MaterialKind::Glass]);
+    let kinds: Vec<&str> = s.spheres.iter().map(|sp| kind_of(&s, sp.material)).collect();
+    assert_eq!(kinds, ["Mirror", "Glass"]);
     assert!(
         s.spheres
             .iter()
@@ -664,10 +664,7 @@ fn example_scenes_are_what_they_say() {
     );
 
     let s = scene("glossy-sphere.toml");
-    assert_eq!(
-        s.materials[s.spheres[0].material as usize].kind,
-        MaterialKind::Glossy
-    );
+    assert_eq!(kind_of(&s, s.spheres[0].material), "Phong");
 
     let s = scene("coloured-lights.toml");
     assert_eq!(s.lights.len(), 4);
@@ -701,7 +698,7 @@ fn example_scenes_are_what_they_say() {
     let glass = s
         .spheres
         .iter()
-        .find(|sp| kind_of(&s, sp.material) == MaterialKind::Glass)
+        .find(|sp| kind_of(&s, sp.material) == "Glass")
         .unwrap();
     assert!(
         glass.center.distance(s.camera.eye) < glass.radius,
@@ -709,8 +706,9 @@ fn example_scenes_are_what_they_say() {
     );
 }
 
-fn kind_of(s: &Scene, material: u32) -> MaterialKind {
-    s.materials[material as usize].kind
+/// The name of a material's BSDF kind (`Glass`).
+fn kind_of(s: &Scene, material: u32) -> &'static str {
+    KINDS[s.materials[material as usize].bsdf.code() as usize].name
 }
 
 fn corners(tris: &[Triangle]) -> Vec<Vec3> {
@@ -826,8 +824,8 @@ fn emissive_shapes_and_materials() {
     // The emissive quad has its own copy of `w`; the plain quad uses `w` itself.
     let own = s.material_of_triangle(0);
     assert_eq!(
-        (own.kind, own.kd),
-        (MaterialKind::Diffuse, Vec3::splat(0.5))
+        own.bsdf,
+        gpu_photon::bsdfs::Bsdf::diffuse(Vec3::splat(0.5))
     );
     assert_eq!((own.emission, own.two_sided_emission), (Vec3::X, true));
     assert_eq!(

@@ -20,14 +20,14 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Mat3, Vec2, Vec3};
-use gpu_photon::bsdfs::{Bsdf, Distribution, MetallicRoughness, Microfacet, Plastic};
+use gpu_photon::bsdfs::{Bsdf, BsdfKind, Channel, Distribution, MetallicRoughness, Microfacet, Param, Plastic};
 use gpu_photon::math::geometry::offset_origin;
 use gpu_photon::integrators::gpu::codes::{
     class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
 };
 use probes::light::SceneProbes;
 use probes::shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
-use gpu_photon::bsdfs::classic::Bounce;
+use gpu_photon::bsdfs::interface::Bounce;
 use gpu_photon::math::rng::{path_key, Rng, Stream};
 use gpu_photon::scene::{Material, MaterialId, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::settings::RenderSettings;
@@ -98,28 +98,29 @@ fn scene(r: &mut TestRng) -> Scene {
     b.set_environment(Vec3::splat(0.8), Some(texture(r, 8, 5)), turn, &at)
         .unwrap();
     let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.45, 2.14));
-    let cond = |microfacet| Bsdf::Conductor {
-        eta,
-        k,
-        specular: Vec3::new(0.95, 0.9, 1.0),
-        microfacet,
-    };
+    let cond = |microfacet| Bsdf::conductor(eta, k, Vec3::new(0.95, 0.9, 1.0), microfacet);
     let ggx = |a| Some(Microfacet::isotropic(Distribution::Ggx, a));
     let beckmann = Some(Microfacet::isotropic(Distribution::Beckmann, 0.3));
     let (kd, ks) = (Vec3::new(0.5, 0.3, 0.2), Vec3::new(1.0, 0.9, 0.8));
     let gltf = |metallic, roughness, transmission| {
-        Bsdf::MetallicRoughness(MetallicRoughness {
-            base: Vec3::new(0.8, 0.45, 0.2),
-            metallic,
-            roughness,
-            f0: Vec3::new(0.04, 0.06, 0.03),
-            f90: 0.9,
-            transmission,
-        })
+        let (base, f0) = (Vec3::new(0.8, 0.45, 0.2), Vec3::new(0.04, 0.06, 0.03));
+        Bsdf::MetallicRoughness(MetallicRoughness::new(base, metallic, roughness, f0, 0.9, transmission))
     };
-    let textured = |m: Material| Material {
-        kd_texture: tex,
-        ..m
+    let textured = |mut m: Material| {
+        *m.bsdf.base_colour_mut().unwrap() = Param::texture(tex);
+        m
+    };
+    // Every glTF parameter texture on one material: its channels as the importer reads them.
+    let gltf_textured = |b: Bsdf| {
+        let Bsdf::MetallicRoughness(g) = b else { unreachable!() };
+        textured(Material::from_bsdf(Bsdf::MetallicRoughness(MetallicRoughness {
+            metallic: g.metallic.times(tex, Channel::B),
+            roughness: g.roughness.times(tex, Channel::G),
+            transmission: g.transmission.times(tex, Channel::R),
+            specular: g.specular.times(tex, Channel::A),
+            f0: g.f0.times(tex, Channel::Rgb),
+            ..g
+        })))
     };
     let materials = [
         Material::diffuse(Vec3::new(0.6, 0.5, 0.4)),
@@ -131,26 +132,13 @@ fn scene(r: &mut TestRng) -> Scene {
         Material::black(),
         Material::from_bsdf(cond(None)),
         Material::from_bsdf(cond(ggx(0.3))),
-        Material::from_bsdf(Bsdf::Dielectric {
-            eta: 1.5,
-            specular_reflectance: Vec3::new(0.9, 1.0, 0.95),
-            specular_transmittance: Vec3::new(1.0, 0.8, 0.9),
-            microfacet: ggx(0.2),
-        }),
-        Material::from_bsdf(Bsdf::ThinDielectric {
-            eta: 1.5,
-            specular_reflectance: Vec3::new(0.9, 1.0, 0.95),
-            specular_transmittance: Vec3::new(1.0, 0.8, 0.9),
-        }),
+        Material::from_bsdf(Bsdf::dielectric(1.5, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9), ggx(0.2))),
+        Material::from_bsdf(Bsdf::thin_dielectric(1.5, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9))),
         textured(Material::from_bsdf(Bsdf::Plastic(Plastic::new(
             kd, ks, 1.5, false, None,
         )))),
         Material::from_bsdf(Bsdf::Plastic(Plastic::new(kd, ks, 1.5, true, beckmann))),
-        Material {
-            mr_texture: tex,
-            gltf_textures: [tex; 3],
-            ..textured(Material::from_bsdf(gltf(0.4, 0.6, 0.7)))
-        },
+        gltf_textured(gltf(0.4, 0.6, 0.7)),
         Material::from_bsdf(gltf(1.0, 0.3, 0.0)),
         Material::from_bsdf(gltf(0.0, 0.5, 0.0)),
     ];
@@ -329,11 +317,10 @@ fn wgsl_shading_equals_rust_shading() {
         let hit = g.hit;
         let s = bsdf_at(&scene, &hit);
         let f = hit.facing(c.dir);
-        let m = &scene.materials[hit.material as usize];
         assert_eq!(g.class, class_code(s.class()), "case {i}: class");
         *classes.entry(format!("{:?}", s.class())).or_insert(0) += 1;
         let flags = [
-            m.bsdf.is_some(),
+            s.bsdf().splits(),
             s.has_lobe(),
             s.lobe_takes_point_lights(),
             s.lobe_is_glossy(),

@@ -19,7 +19,8 @@ use gpu_photon::render::film::{diff, DiffStats, Image};
 use gpu_photon::math::geometry::Ray;
 use gpu_photon::render::report::Progress;
 use gpu_photon::importers::load_str;
-use gpu_photon::scene::{MaterialKind, Scene};
+use gpu_photon::bsdfs::Bsdf;
+use gpu_photon::scene::Scene;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
@@ -369,7 +370,7 @@ fn glass_regions(scene: &Scene, s: &RenderSettings) -> [Vec<usize>; 2] {
                 continue;
             };
             let i = (py * s.width + px) as usize;
-            if scene.materials[hit.material as usize].kind == MaterialKind::Glass {
+            if matches!(scene.materials[hit.material as usize].bsdf, Bsdf::Glass(_)) {
                 regions[0].push(i);
             } else if hit.position.y < -0.999 && hit.position.distance(caustic) < 0.3 {
                 regions[1].push(i);
@@ -486,10 +487,8 @@ fn gpu_matches_cpu_on_a_smooth_mesh_scene() {
         materials: scene
             .materials
             .iter()
-            .map(|m| match m.kind {
-                gpu_photon::scene::MaterialKind::Glass => {
-                    gpu_photon::scene::Material::diffuse(Vec3::splat(0.7))
-                }
+            .map(|m| match m.bsdf {
+                Bsdf::Glass(_) => gpu_photon::scene::Material::diffuse(Vec3::splat(0.7)),
                 _ => *m,
             })
             .collect(),

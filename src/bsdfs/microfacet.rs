@@ -20,6 +20,19 @@ pub enum Distribution {
     Beckmann,
 }
 
+/// The GPU code of [`Distribution::Ggx`] (`MF_GGX` in WGSL).
+pub const MF_GGX: u32 = 0;
+/// The GPU code of [`Distribution::Beckmann`] (`MF_BECKMANN` in WGSL).
+pub const MF_BECKMANN: u32 = 1;
+
+/// A distribution's GPU code.
+pub fn distribution_code(d: Distribution) -> u32 {
+    match d {
+        Distribution::Ggx => MF_GGX,
+        Distribution::Beckmann => MF_BECKMANN,
+    }
+}
+
 /// A microfacet distribution with roughness `alpha_u` along x and `alpha_v` along y.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Microfacet {

@@ -7,7 +7,7 @@
 //! visible-normal integral of `G1 (1 - F)` at [`TRANSMITTANCE_RES`] cosines, looked up
 //! linearly. Fdr is `fresnel_diffuse_reflectance(1/eta)` when smooth and, when rough, the
 //! coating's internal reflectance integrated as Mitsuba does.
-//! Front side only (`wo.z > 0`); [`Bsdf`](crate::bsdfs::Bsdf) mirrors a back-side `wo`.
+//! Two-sided: a back-side `wo` is mirrored to the front. Twin: `plastic.wgsl`.
 
 use crate::bsdfs::math::{
     cosine_hemisphere_pdf, gauss_legendre, reflect, reflect_z, refract,
@@ -17,9 +17,20 @@ use crate::bsdfs::microfacet::{
     beckmann_slope_x, beckmann_slope_y, fresnel_dielectric, fresnel_diffuse_reflectance,
     ggx_slopes, Distribution, Microfacet,
 };
-use crate::bsdfs::LobeSample;
+use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
+use crate::bsdfs::microfacet::distribution_code;
+use crate::bsdfs::param::{GpuWords, Param};
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
+use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
+
+/// The WGSL twin.
+pub const WGSL: &str = include_str!("plastic.wgsl");
+/// The words its parameters take on the GPU.
+pub const WORDS: usize = 4;
+/// Its class.
+pub const CLASS: SurfaceClass = SurfaceClass::Shaded;
 
 /// Number of cosines (0 to 1, evenly spaced) of the rough coating's transmittance table.
 pub const TRANSMITTANCE_RES: usize = 64;
@@ -28,9 +39,9 @@ pub const TRANSMITTANCE_RES: usize = 64;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plastic {
     /// Reflectance kd of the diffuse base.
-    pub diffuse_reflectance: Vec3,
+    pub diffuse_reflectance: Param,
     /// Tint of the coating's reflection.
-    pub specular_reflectance: Vec3,
+    pub specular_reflectance: Param,
     /// Relative index of the coating, interior / exterior.
     pub eta: f32,
     /// Whether the base's inter-reflections tint the colour (`kd / (1 - kd Fdr)`).
@@ -185,8 +196,8 @@ impl Plastic {
             }
         };
         Self {
-            diffuse_reflectance: diffuse,
-            specular_reflectance: specular,
+            diffuse_reflectance: Param::rgb(diffuse),
+            specular_reflectance: Param::rgb(specular),
             eta,
             nonlinear,
             microfacet,
@@ -200,9 +211,9 @@ impl Plastic {
     /// coating's tables do not depend on it, only the sampling weight does.
     pub fn with_diffuse(&self, diffuse: Vec3) -> Plastic {
         let d_mean = diffuse.element_sum() / 3.0;
-        let s_mean = self.specular_reflectance.element_sum() / 3.0;
+        let s_mean = self.specular_reflectance.get().element_sum() / 3.0;
         Plastic {
-            diffuse_reflectance: diffuse,
+            diffuse_reflectance: Param::rgb(diffuse),
             specular_sampling_weight: s_mean / (d_mean + s_mean),
             ..*self
         }
@@ -223,8 +234,8 @@ impl Plastic {
     }
 
     /// `kd' t(cos_o) / eta^2`: the diffuse part's factor on the viewer's side.
-    pub fn diffuse_out(&self, cos_o: f32) -> Vec3 {
-        let kd = self.diffuse_reflectance;
+    pub fn front_diffuse_out(&self, cos_o: f32) -> Vec3 {
+        let kd = self.diffuse_reflectance.get();
         let ri = self.internal_reflectance;
         let denom = if self.nonlinear {
             Vec3::ONE - kd * ri
@@ -247,7 +258,7 @@ impl Plastic {
     }
 
     /// The rough coating's value `ks F D G / (4 cos_o cos_i)` (zero when smooth).
-    pub fn eval_lobe(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+    pub fn front_eval_lobe(&self, wi: Vec3, wo: Vec3) -> Vec3 {
         let Some(mf) = self.microfacet else {
             return Vec3::ZERO;
         };
@@ -256,11 +267,11 @@ impl Plastic {
         }
         let h = (wi + wo).normalize();
         let f = fresnel_dielectric(wo.dot(h), self.eta).0;
-        self.specular_reflectance * (f * mf.d(h) * mf.g(wo, wi, h) / (4.0 * wo.z * wi.z))
+        self.specular_reflectance.get() * (f * mf.d(h) * mf.g(wo, wi, h) / (4.0 * wo.z * wi.z))
     }
 
-    /// Density of [`sample_lobe`](Self::sample_lobe): `D(h) G1(wo, h) / (4 cos_o)`.
-    pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+    /// Density of [`front_sample_lobe`](Self::front_sample_lobe): `D(h) G1(wo, h) / (4 cos_o)`.
+    pub fn front_pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
         let Some(mf) = self.microfacet else {
             return 0.0;
         };
@@ -273,8 +284,8 @@ impl Plastic {
 
     /// The coating alone: smooth, the mirror direction with weight `ks F(cos_o)` (no uniforms
     /// read); rough, a visible normal from `u[1], u[2]`, weight `ks F G1(wi, m)`.
-    pub fn sample_lobe(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
-        let ks = self.specular_reflectance;
+    pub fn front_sample_lobe(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
+        let ks = self.specular_reflectance.get();
         let Some(mf) = self.microfacet else {
             let f = fresnel_dielectric(wo.z, self.eta).0;
             return Some(LobeSample {
@@ -299,15 +310,15 @@ impl Plastic {
         })
     }
 
-    /// Density of [`sample`](Self::sample) (non-delta part): the coating's density times its
+    /// Density of [`front_sample`](Self::front_sample) (non-delta part): the coating's density times its
     /// probability plus the cosine-weighted base's.
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    pub fn front_pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
         let ps = self.prob_specular(wo.z);
         let spec = if self.microfacet.is_some() {
-            ps * self.pdf_lobe(wi, wo)
+            ps * self.front_pdf_lobe(wi, wo)
         } else {
             0.0
         };
@@ -317,10 +328,10 @@ impl Plastic {
     /// Mitsuba's strategy: the coating when `u[0] < P` (P from the coating's reflectance and
     /// the sampling weight), else the base; `u[1], u[2]` give the coating's visible normal or
     /// the cosine-weighted direction.
-    pub fn sample(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
+    pub fn front_sample(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
         let ps = self.prob_specular(wo.z);
         if u[0] < ps && self.microfacet.is_none() {
-            let mut s = self.sample_lobe(wo, u)?;
+            let mut s = self.front_sample_lobe(wo, u)?;
             s.weight /= ps;
             return Some(s);
         }
@@ -330,12 +341,12 @@ impl Plastic {
         } else {
             square_to_cosine_hemisphere(Vec2::new(u[1], u[2]))
         };
-        let pdf = self.pdf(wi, wo);
+        let pdf = self.front_pdf(wi, wo);
         if pdf <= 0.0 {
             return None;
         }
-        let diffuse = self.diffuse_out(wo.z) * (self.transmittance(wi.z) * FRAC_1_PI);
-        let weight = (diffuse + self.eval_lobe(wi, wo)) * wi.z / pdf;
+        let diffuse = self.front_diffuse_out(wo.z) * (self.transmittance(wi.z) * FRAC_1_PI);
+        let weight = (diffuse + self.front_eval_lobe(wi, wo)) * wi.z / pdf;
         Some(LobeSample {
             wi,
             weight,
@@ -343,6 +354,95 @@ impl Plastic {
             delta: false,
         })
     }
+}
+
+impl BsdfKind for Plastic {
+    fn class(&self) -> SurfaceClass {
+        CLASS
+    }
+    fn resolve(&self, t: &[SceneTexture], uv: Vec2) -> Self {
+        let specular = self.specular_reflectance.resolved(t, uv);
+        let p = Plastic {
+            specular_reflectance: specular,
+            ..*self
+        };
+        // The coating's tables do not depend on the textures, the sampling weight does.
+        if self.diffuse_reflectance.is_textured() || self.specular_reflectance.is_textured() {
+            p.with_diffuse(self.diffuse_reflectance.eval(t, uv))
+        } else {
+            p
+        }
+    }
+    fn base_colour_mut(&mut self) -> Option<&mut Param> {
+        Some(&mut self.diffuse_reflectance)
+    }
+    fn gpu_words(&self, out: &mut GpuWords) {
+        out.slot(&self.diffuse_reflectance);
+        out.slot(&self.specular_reflectance);
+        // The table's offset (word 2's z) is written by the packer.
+        out.raw([
+            self.eta.to_bits(),
+            self.nonlinear as u32,
+            0,
+            self.specular_sampling_weight.to_bits(),
+        ]);
+        let (distribution, alpha) = match self.microfacet {
+            Some(mf) => (distribution_code(mf.distribution), mf.alpha_u),
+            None => (NO_MICROFACET, 0.0),
+        };
+        out.raw([self.internal_reflectance.to_bits(), distribution, alpha.to_bits(), 0]);
+        if self.microfacet.is_some() {
+            out.table = self.external_transmittance.to_vec();
+            out.table_at = Some((2, 2));
+        }
+    }
+    fn diffuse_out(&self, wo: Vec3) -> Vec3 {
+        if wo.z != 0.0 {
+            self.front_diffuse_out(wo.z.abs())
+        } else {
+            Vec3::ZERO
+        }
+    }
+    fn store_weight(&self, wi: Vec3) -> f32 {
+        if wi.z != 0.0 {
+            self.transmittance(wi.z.abs())
+        } else {
+            0.0
+        }
+    }
+    fn eval_lobe(&self, wi: Vec3, wo: Vec3, _: Transport) -> Vec3 {
+        to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| self.front_eval_lobe(wi, wo))
+    }
+    fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+        to_front(wi, wo).map_or(0.0, |(wi, wo, _)| self.front_pdf_lobe(wi, wo))
+    }
+    fn sample_lobe(&self, wo: Vec3, u: [f32; 3], _: Transport) -> Option<LobeSample> {
+        let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+        back_to_side(self.front_sample_lobe(wo, u), flipped)
+    }
+    fn has_diffuse(&self) -> bool {
+        true
+    }
+    fn lobe_is_delta(&self) -> bool {
+        self.microfacet.is_none()
+    }
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        to_front(wi, wo).map_or(0.0, |(wi, wo, _)| self.front_pdf(wi, wo))
+    }
+    fn sample(&self, wo: Vec3, u: [f32; 3], _: Transport) -> Option<LobeSample> {
+        let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+        back_to_side(self.front_sample(wo, u), flipped)
+    }
+}
+
+/// The GPU's distribution code of a smooth coating.
+pub const NO_MICROFACET: u32 = u32::MAX;
+
+/// The WGSL constants the twin reads: the table's length and the smooth coating's code.
+pub fn wgsl_consts() -> String {
+    format!(
+        "const BSDF_TABLE_RES: u32 = {TRANSMITTANCE_RES}u;\nconst PLASTIC_NO_MICROFACET: u32 = {NO_MICROFACET}u;\n"
+    )
 }
 
 #[cfg(test)]

@@ -273,7 +273,7 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
             uv = sphere_uv(normalize(o + t * d - s.center));
         }
     }
-    let w = materials[MATERIAL_WORDS * mat + 4u];
+    let w = materials[MATERIAL_WORDS * mat + MATERIAL_ALPHA_WORD];
     let mode = w.x & 3u;
     if mode == ALPHA_NONE {
         return false;
@@ -397,7 +397,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             if HAS_TEXTURES {
                 best.uv = triangle_uv(best_id, best_uv);
                 if HAS_NORMAL_MAPS {
-                    let nt = materials[MATERIAL_WORDS * tri.material + 3u].w;
+                    let nt = materials[MATERIAL_WORDS * tri.material + MATERIAL_NORMAL_WORD].w;
                     if nt != NO_TEXTURE {
                         let tg = uv_tangent(best_id, e1, e2, best_uv);
                         best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
@@ -416,7 +416,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             if HAS_TEXTURES {
                 best.uv = sphere_uv(n);
                 if HAS_NORMAL_MAPS {
-                    let nt = materials[MATERIAL_WORDS * s.material + 3u].w;
+                    let nt = materials[MATERIAL_WORDS * s.material + MATERIAL_NORMAL_WORD].w;
                     if nt != NO_TEXTURE {
                         best.shading = normal_mapped(n, n, vec3<f32>(-n.y, n.x, 0.0), false,
                             texture_eval(nt, best.uv), d);

@@ -14,8 +14,10 @@ use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+pub mod hit;
 mod surface;
-pub use surface::{alpha_passes, alpha_test, uv_tangent, Hit};
+pub use hit::Hit;
+pub use surface::{alpha_passes, alpha_test, uv_tangent};
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;

@@ -6,6 +6,7 @@
 //! Twins: `facing`, `alpha_passes`, `uv_tangent` and `trace_ray`'s hit in
 //! `src/bvh/intersect.wgsl`.
 
+use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
     inset, normal_mapped, shading_normal, sphere_tangent, triangle_tangent, vertex_tangent, Facing,
@@ -14,37 +15,6 @@ use crate::math::geometry::{
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
 use glam::{Vec2, Vec3};
-
-/// A ray-surface intersection.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit {
-    /// Distance along the ray.
-    pub t: f32,
-    /// The hit point.
-    pub position: Vec3,
-    /// Unit geometric front normal of the primitive (not flipped towards the ray).
-    pub normal: Vec3,
-    /// Unit shading normal, on the side of `normal`: the interpolated vertex normals of a
-    /// smooth triangle, else `normal` itself; then perturbed by the material's normal map
-    /// when it has one (`crate::math::geometry::normal_mapped`).
-    pub shading: Vec3,
-    /// Index of the primitive's material in `Scene::materials`.
-    pub material: u32,
-    /// Index of the primitive's light in `Scene::lights`, or `scene::NO_LIGHT`.
-    pub light: u32,
-    /// Texture coordinates: a triangle's interpolated corner uvs (`Scene::uvs`), a sphere's
-    /// Mitsuba parameterisation; zero when the scene has no textures.
-    pub uv: Vec2,
-}
-
-impl Hit {
-    /// The normals turned towards a ray along `d` that arrives from the front when
-    /// `d . normal < 0` (see [`Facing`]).
-    #[inline]
-    pub fn facing(&self, d: Vec3) -> Facing {
-        Facing::new(self.normal, self.shading, d.dot(self.normal) < 0.0)
-    }
-}
 
 /// The hit on primitive `id` of `scene` at distance `t` along `ray` (a triangle's
 /// barycentrics `u`, `v`: the weights of `v1`, `v2`), as the walk found it.

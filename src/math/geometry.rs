@@ -2,7 +2,7 @@
 //!
 //! Twin: `src/bvh/intersect.wgsl`.
 
-use crate::scene::{Sphere, Triangle, VertexNormals};
+use crate::scene::shapes::{Sphere, Triangle, VertexNormals};
 use glam::{Vec2, Vec3};
 
 /// 1 + 2 gamma(3), gamma(n) = n u / (1 - n u) with u = 2^-24: the relative error bound of
@@ -84,12 +84,12 @@ pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, boo
 }
 
 /// The uv tangent at barycentric `(1 - u - v, u, v)` of a triangle with vertex tangents
-/// ([`crate::scene::VertexTangents`]): the interpolated tangent and whether the frame is
+/// ([`crate::scene::shapes::VertexTangents`]): the interpolated tangent and whether the frame is
 /// flipped (the interpolated `w` is negative), as [`triangle_tangent`] gives them; `None`
 /// where the interpolated tangent vanishes. Twin: `vertex_tangent` in
 /// `src/bvh/intersect.wgsl`.
 #[inline]
-pub fn vertex_tangent(t: &crate::scene::VertexTangents, u: f32, v: f32) -> Option<(Vec3, bool)> {
+pub fn vertex_tangent(t: &crate::scene::shapes::VertexTangents, u: f32, v: f32) -> Option<(Vec3, bool)> {
     let m = (1.0 - u - v) * t[0] + u * t[1] + v * t[2];
     let dir = m.truncate();
     (dir != Vec3::ZERO && dir.is_finite()).then_some((dir, m.w < 0.0))

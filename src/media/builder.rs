@@ -139,13 +139,13 @@ impl crate::scene::Scene {
     }
 
     /// Whether rays must be carried through media: the scene uses a medium
-    /// ([`Self::uses_media`]) or has an index-matched boundary (`MaterialKind::Null`), which
+    /// ([`Self::uses_media`]) or has an index-matched boundary (`Bsdf::Null`), which
     /// only media transport passes.
     pub fn has_media_transport(&self) -> bool {
         self.uses_media()
             || self
                 .materials
                 .iter()
-                .any(|m| m.kind == crate::scene::MaterialKind::Null)
+                .any(|m| matches!(m.bsdf, crate::bsdfs::Bsdf::Null(_)))
     }
 }

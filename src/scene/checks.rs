@@ -1,7 +1,8 @@
 //! The checks the scene builder applies to colours, materials and lights.
 
 use crate::scene::locate::{Locate, Part};
-use crate::scene::{Material, MaterialKind};
+use crate::bsdfs::BsdfKind;
+use crate::scene::Material;
 use crate::error::Result;
 use glam::Vec3;
 
@@ -72,53 +73,12 @@ pub(crate) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
     check_color(c, None, Part::Emission, at)
 }
 
-/// A colour: finite, >= 0 and, when given, <= `max` in every channel.
-pub(crate) fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
-    if !c.is_finite() {
-        return Err(at.error(part, "must be finite".into()));
-    }
-    if c.min_element() < 0.0 {
-        return Err(at.error(part, "components must be >= 0".into()));
-    }
-    match max {
-        Some(m) if c.max_element() > m => {
-            Err(at.error(part, format!("components must be in [0, {m}]")))
-        }
-        _ => Ok(()),
-    }
-}
+pub(crate) use crate::scene::locate::check_color;
 
-/// The rules of [`SceneBuilder::add_material`].
+/// The rules of [`SceneBuilder::add_material`]: its emission, then its kind's own checks.
 pub(crate) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
-    let param = Part::Parameter;
-    check_color(m.emission, None, param("radiance"), at)?;
-    let unit = Some(1.0);
-    match m.kind {
-        MaterialKind::Diffuse => check_color(m.kd, unit, param("albedo"), at),
-        MaterialKind::Mirror => check_color(m.ks, unit, param("reflectance"), at),
-        MaterialKind::Glossy => {
-            check_color(m.kd, unit, param("kd"), at)?;
-            check_color(m.ks, unit, param("ks"), at)?;
-            if (m.kd + m.ks).max_element() > 1.0 {
-                let message = "kd + ks must be at most 1 in every channel (energy conservation)";
-                return Err(at.error(param("ks"), message.into()));
-            }
-            match m.exponent {
-                e if e.is_finite() && e >= 0.0 => Ok(()),
-                _ => Err(at.error(param("exponent"), "must be >= 0 and finite".into())),
-            }
-        }
-        MaterialKind::Glass => match m.ior {
-            ior if ior.is_finite() && ior > 0.0 => Ok(()),
-            _ => Err(at.error(param("ior"), "must be positive and finite".into())),
-        },
-        MaterialKind::Black | MaterialKind::Null => Ok(()),
-        // Built by crate::bsdfs from checked parameters (importers check their ranges).
-        _ => match m.bsdf {
-            Some(_) => Ok(()),
-            None => Err(at.error(param("bsdf"), "missing BSDF parameters".into())),
-        },
-    }
+    check_color(m.emission, None, Part::Parameter("radiance"), at)?;
+    m.bsdf.check(at)
 }
 
 /// An area light must have a positive area and finite power.

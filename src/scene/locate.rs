@@ -3,7 +3,8 @@
 //! turns that into an [`Error::Scene`] naming the file, line and field in the importer's own
 //! terms. [`Origin`] is the simplest locator, one fixed place.
 
-use crate::error::Error;
+use crate::error::{Error, Result};
+use glam::Vec3;
 
 /// Which part of an added item an error is about; the importer's [`Locate`] maps it to the
 /// line and field of its own format.
@@ -83,3 +84,20 @@ pub(crate) fn unknown_name<'a>(
     };
     format!("unknown {kind} `{name}` (defined: {known})")
 }
+
+/// A colour: finite, >= 0 and, when given, <= `max` in every channel.
+pub fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Result<()> {
+    if !c.is_finite() {
+        return Err(at.error(part, "must be finite".into()));
+    }
+    if c.min_element() < 0.0 {
+        return Err(at.error(part, "components must be >= 0".into()));
+    }
+    match max {
+        Some(m) if c.max_element() > m => {
+            Err(at.error(part, format!("components must be in [0, {m}]")))
+        }
+        _ => Ok(()),
+    }
+}
+

@@ -11,12 +11,14 @@ pub mod builder;
 pub mod checks;
 pub mod locate;
 pub mod normals;
+pub mod shapes;
 pub mod tangents;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
 pub use locate::{Locate, Origin, Part};
-pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
+pub use shapes::{Sphere, Triangle, VertexNormals, VertexTangents, FLAT, NO_LIGHT};
+pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
 pub use crate::lights::environment::Environment;
 pub use crate::lights::spot::{SpotCone, SpotFalloff};
 
@@ -26,93 +28,6 @@ use crate::textures::SceneTexture;
 use glam::Vec2;
 use glam::Vec3;
 
-/// A world-space triangle `v0, v1, v2`; front normal = normalize(cross(e1, e2)) with
-/// `e1 = v1 - v0`, `e2 = v2 - v0`. The vertices are kept as given (not as edges) so that two
-/// triangles sharing an edge share its end points bit for bit: the watertight intersection
-/// test (src/math/geometry.rs) relies on that.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Triangle {
-    /// First vertex.
-    pub v0: Vec3,
-    /// Second vertex.
-    pub v1: Vec3,
-    /// Third vertex.
-    pub v2: Vec3,
-    /// Index into [`Scene::materials`].
-    pub material: u32,
-    /// Index into [`Scene::lights`] when the triangle is emissive, else [`NO_LIGHT`].
-    pub light: u32,
-    /// Index into [`Scene::shading_normals`] of its vertex normals (smooth shading), or
-    /// [`FLAT`].
-    pub shading: u32,
-}
-
-impl Triangle {
-    /// The triangle `a, b, c` of `material`, flat-shaded, not a light.
-    pub fn new(a: Vec3, b: Vec3, c: Vec3, material: u32) -> Self {
-        Self {
-            v0: a,
-            v1: b,
-            v2: c,
-            material,
-            light: NO_LIGHT,
-            shading: FLAT,
-        }
-    }
-    /// The edge `v1 - v0`.
-    pub fn e1(&self) -> Vec3 {
-        self.v1 - self.v0
-    }
-    /// The edge `v2 - v0`.
-    pub fn e2(&self) -> Vec3 {
-        self.v2 - self.v0
-    }
-    /// Its area.
-    pub fn area(&self) -> f32 {
-        0.5 * self.e1().cross(self.e2()).length()
-    }
-    /// Unit front normal (zero for a degenerate triangle).
-    pub fn normal(&self) -> Vec3 {
-        self.e1().cross(self.e2()).normalize_or_zero()
-    }
-    /// The point with barycentric coordinates `(1 - u - v, u, v)`.
-    pub fn point(&self, u: f32, v: f32) -> Vec3 {
-        self.v0 + u * self.e1() + v * self.e2()
-    }
-}
-
-/// An analytic sphere with outward normal.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sphere {
-    /// Centre.
-    pub center: Vec3,
-    /// Radius (> 0).
-    pub radius: f32,
-    /// Index into [`Scene::materials`].
-    pub material: u32,
-    /// Index into [`Scene::lights`] when the sphere is emissive, else [`NO_LIGHT`].
-    pub light: u32,
-}
-
-/// Marks a primitive that is not a light.
-pub const NO_LIGHT: u32 = u32::MAX;
-
-/// Marks a flat-shaded triangle ([`Triangle::shading`]): its shading normal is its
-/// geometric normal.
-pub const FLAT: u32 = u32::MAX;
-
-/// The unit vertex normals of one smooth-shaded triangle, world space, at `v0, v1, v2`;
-/// the shading normal at barycentric `(1 - u - v, u, v)` is their normalised interpolation
-/// (see `geometry::shading_normal`).
-pub type VertexNormals = [Vec3; 3];
-
-/// The vertex tangents of one normal-mapped triangle, world space, at `v0, v1, v2` (glTF's
-/// `TANGENT` or MikkTSpace's, `scene::tangents`). `xyz`: the tangent, along increasing u
-/// (any length; zero: none, the triangle's own uv tangent is used). `w`: -1 where the
-/// frame's second axis `n x t` is negated to point along increasing v (Mitsuba's
-/// `FaceUVFlipped`), +1 otherwise: the axis along which a normal map's green is read. At
-/// barycentric `(1 - u - v, u, v)` the frame interpolates them (`geometry::vertex_tangent`).
-pub type VertexTangents = [glam::Vec4; 3];
 
 /// What a light is made of.
 #[derive(Clone, Debug, PartialEq)]
@@ -269,10 +184,6 @@ impl Scene {
         tris + spheres
     }
 
-    /// Whether some material is glass.
-    pub fn has_glass(&self) -> bool {
-        self.materials.iter().any(|m| m.kind == MaterialKind::Glass)
-    }
     /// Whether some triangle is smooth-shaded.
     pub fn has_smooth(&self) -> bool {
         !self.shading_normals.is_empty()

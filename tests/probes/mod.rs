@@ -6,7 +6,6 @@
 //! only: no release build compiles it. Each test that uses probes declares `mod probes;`.
 #![allow(dead_code)]
 
-pub mod bsdf;
 pub mod hit;
 pub mod light;
 pub mod media;
@@ -139,9 +138,9 @@ pub struct SurfaceCase {
     pub flipped: bool,
     /// `dielectric`'s and the Fresnel functions' index of refraction (and the bounce's).
     pub ior: f32,
-    /// `photon_bounce`'s material: kind (`codes::MAT_*`, a classic one), kd and ks (its
-    /// exponent and ior are the case's).
-    pub material: (u32, [f32; 3], [f32; 3]),
+    /// `photon_bounce`'s BSDF (a classic kind: Lambert, Phong, mirror, glass), packed as
+    /// the scene buffers pack it (at most three words).
+    pub material: gpu_photon::bsdfs::Bsdf,
     /// `photon_bounce`'s third uniform (the first two are `u`).
     pub u3: f32,
     /// A normal map's texel (in [0, 1]^3).
@@ -180,14 +179,19 @@ pub struct SurfaceProbe {
 /// tests/probes/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
-    let mut init = vec![[0f32; 4]; 18 * n];
+    let mut init = vec![[0f32; 4]; 20 * n];
     let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.axis[0], c.axis[1], c.axis[2], c.exponent];
         init[n + i] = [c.u[0], c.u[1], c.flipped as u32 as f32, c.ior];
-        let (kind, kd, ks) = c.material;
-        init[14 * n + i] = [kd[0], kd[1], kd[2], f32::from_bits(kind)];
-        init[15 * n + i] = [ks[0], ks[1], ks[2], c.u3];
+        use gpu_photon::bsdfs::BsdfKind;
+        let mut w = gpu_photon::bsdfs::param::GpuWords::default();
+        c.material.gpu_words(&mut w);
+        w.words.resize(3, [0; 4]);
+        for (k, slot) in [14, 15, 18].into_iter().enumerate() {
+            init[slot * n + i] = w.words[k].map(f32::from_bits);
+        }
+        init[19 * n + i] = [f32::from_bits(c.material.code()), c.u3, 0.0, 0.0];
         for (k, x) in [c.ng, c.ns, c.dp_du, c.c, c.d].into_iter().enumerate() {
             init[(2 + k) * n + i] = v(x);
         }
@@ -406,5 +410,6 @@ pub fn source() -> String {
         include_str!("probe_light.wgsl"),
         include_str!("probe_geometry.wgsl"),
         include_str!("probe_shading.wgsl"),
+        include_str!("probe_bsdf.wgsl"),
     ])
 }

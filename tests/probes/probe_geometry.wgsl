@@ -47,10 +47,10 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
 // material.wgsl's functions: dielectric(d, ng, ns, ior) as (reflected, reflectance) and
 // (refracted, 0) to accum[10, 11 w + i], fresnel_exact and fresnel_schlick at cosine c.x
 // entering (1 to ior) and leaving (ior to 1) to accum[12 w + i], (reflect_dir(d, ns),
-// phong_lobe_value(axis, -d, ns, exponent)) to accum[13 w + i], and with (kd, kind as bits)
-// = accum[14 w + i], (ks, u3) = accum[15 w + i], photon_bounce of that material (exponent,
-// ior) at a hit of normals (ng, ns) on (u1, u2, u3) as (dir, kind), (weight, 0) to
-// accum[16, 17 w + i].
+// phong_lobe_value(axis, -d, ns, exponent)) to accum[13 w + i], and with a BSDF's words 0-2
+// = accum[14, 15, 18 w + i] (bits) and (its kind, u3) = accum[19 w + i], its
+// surface_photon_bounce at a hit of normals (ng, ns) on (u1, u2, u3) as (dir, kind),
+// (weight, 0) to accum[16, 17 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -73,18 +73,17 @@ fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(12u, i)] = vec4<f32>(fresnel_exact(ci, 1.0, u.w), fresnel_exact(ci, u.w, 1.0),
         fresnel_schlick(ci, 1.0, u.w), fresnel_schlick(ci, u.w, 1.0));
     accum[slot(13u, i)] = vec4<f32>(reflect_dir(d, ns), phong_lobe_value(a.xyz, -d, ns, a.w));
-    let kd = accum[slot(14u, i)];
-    let ks = accum[slot(15u, i)];
-    var m: Material;
-    m.kd = kd.xyz;
-    m.kind = bitcast<u32>(kd.w);
-    m.ks = ks.xyz;
-    m.exponent = a.w;
-    m.ior = u.w;
+    let kind = accum[slot(19u, i)];
+    var s: Surface;
+    s.b.kind = bitcast<u32>(kind.x);
+    s.b.w0 = bitcast<vec4<u32>>(accum[slot(14u, i)]);
+    s.b.w1 = bitcast<vec4<u32>>(accum[slot(15u, i)]);
+    s.b.w2 = bitcast<vec4<u32>>(accum[slot(18u, i)]);
+    s.n = ns;
     var h: Hit;
     h.normal = ng;
     h.shading = ns;
-    let b = photon_bounce(m, d, h, vec3<f32>(u.x, u.y, ks.w));
+    let b = surface_photon_bounce(s, d, h, vec3<f32>(u.x, u.y, kind.y));
     accum[slot(16u, i)] = vec4<f32>(b.dir, f32(b.kind));
     accum[slot(17u, i)] = vec4<f32>(b.weight, 0.0);
 }

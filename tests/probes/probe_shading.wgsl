@@ -1,13 +1,13 @@
-// Oracle probe of the shading interface (common/shading.wgsl) for tests/shading_gpu.rs, never
+// Oracle probe of the shading interface (src/bsdfs/shading.wgsl) for tests/shading_gpu.rs, never
 // used by a render: bsdf_at at the nearest hit of a ray on the bound scene and every question
 // the integrators ask of the Surface, to compare with src/bsdfs/shading.rs at the same hit.
 // Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per case. Writes:
 // accum[] as the entry point says. Composed after probes.wgsl (its `accum`).
 
-// The flags of slot 8, one bit each: surface_is_bsdf, surface_has_lobe,
+// The flags of slot 8, one bit each: surface_splits, surface_has_lobe,
 // surface_lobe_takes_point_lights, surface_lobe_is_glossy, surface_stores_photons.
 fn shading_flags(s: Surface) -> u32 {
-    return select(0u, 1u, surface_is_bsdf(s)) | select(0u, 2u, surface_has_lobe(s))
+    return select(0u, 1u, surface_splits(s)) | select(0u, 2u, surface_has_lobe(s))
         | select(0u, 4u, surface_lobe_takes_point_lights(s))
         | select(0u, 8u, surface_lobe_is_glossy(s)) | select(0u, 16u, surface_stores_photons(s));
 }

@@ -195,7 +195,7 @@ fn check_point_light_scene(scene: &Scene) {
     assert!(scene
         .materials
         .iter()
-        .any(|m| (m.kd.as_dvec3() - DVec3::splat(ALBEDO)).length() < 1e-6));
+        .any(|m| m.bsdf.base_colour().is_some_and(|kd| (kd.get().as_dvec3() - DVec3::splat(ALBEDO)).length() < 1e-6)));
 }
 
 #[test]

@@ -16,8 +16,9 @@
 //! The metallic-roughness BSDF also reads the transmission, specular and specular colour
 //! textures, and an emissive material its emissive texture (`crate::lights::emission`).
 
-use crate::scene::Material;
+use crate::bsdfs::rough_dielectric::RoughDielectric;
 use crate::bsdfs::{Bsdf, Distribution, MetallicRoughness, Microfacet};
+use crate::scene::Material;
 use glam::Vec3;
 
 /// Our material for glTF material `m`, and a note when it is only an approximation.
@@ -58,18 +59,8 @@ pub(crate) fn map(m: &gltf::Material) -> (Material, Option<String>) {
             (s.specular_factor().clamp(0.0, 1.0), c.max(Vec3::ZERO))
         });
         let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
-        let g = MetallicRoughness {
-            base,
-            metallic,
-            roughness,
-            f0: (f0_ior * colour).min(Vec3::ONE) * specular,
-            f90: specular,
-            transmission,
-        };
-        Material {
-            kd: base,
-            ..Material::from_bsdf(Bsdf::MetallicRoughness(g))
-        }
+        let f0 = (f0_ior * colour).min(Vec3::ONE) * specular;
+        Material::of(MetallicRoughness::new(base, metallic, roughness, f0, specular, transmission))
     };
     (
         Material {
@@ -90,9 +81,8 @@ pub(crate) fn absorption(
     m: &gltf::Material,
     material: &Material,
 ) -> Option<crate::media::builder::MediumParams> {
-    use crate::scene::MaterialKind as K;
     let v = m.volume().filter(|v| v.thickness_factor() > 0.0)?;
-    if !matches!(material.kind, K::Glass | K::RoughDielectric) {
+    if !matches!(material.bsdf, Bsdf::Glass(_) | Bsdf::RoughDielectric(_)) {
         return None;
     }
     let d = v.attenuation_distance();
@@ -115,12 +105,8 @@ fn dielectric(ior: f32, base: Vec3, roughness: f32) -> Material {
         return Material::glass(ior);
     }
     let alpha = roughness * roughness;
-    Material::from_bsdf(Bsdf::Dielectric {
-        eta: ior,
-        specular_reflectance: Vec3::ONE,
-        specular_transmittance: base,
-        microfacet: Some(Microfacet::isotropic(Distribution::Ggx, alpha)),
-    })
+    let mf = Microfacet::isotropic(Distribution::Ggx, alpha);
+    Material::of(RoughDielectric::new(ior, Vec3::ONE, base, mf))
 }
 
 /// Whether `m` is exactly Lambertian: metallic 0, `KHR_materials_specular` 0 (no dielectric
@@ -134,8 +120,7 @@ fn is_lambertian(m: &gltf::Material) -> bool {
 
 /// Whether `material`'s kind reads a base colour texture (diffuse, metallic-roughness).
 pub(crate) fn reads_base_colour(material: &Material) -> bool {
-    use crate::scene::MaterialKind as K;
-    matches!(material.kind, K::Diffuse | K::MetallicRoughness)
+    matches!(material.bsdf, Bsdf::Diffuse(_) | Bsdf::MetallicRoughness(_))
 }
 
 /// The texture whose uv set a primitive of `m` reads: the base colour's, else the
@@ -150,7 +135,7 @@ pub(crate) fn uv_texture<'a>(m: &gltf::Material<'a>) -> Option<(u32, &'static st
         .map(|i| (crate::importers::gltf::texture::uv_set(&i), "baseColorTexture"));
     let mr = pbr
         .metallic_roughness_texture()
-        .filter(|_| material.kind == crate::scene::MaterialKind::MetallicRoughness)
+        .filter(|_| matches!(material.bsdf, Bsdf::MetallicRoughness(_)))
         .map(|i| (crate::importers::gltf::texture::uv_set(&i), "metallicRoughnessTexture"));
     let normal = m.normal_texture().map(|n| (n.tex_coord(), "normalTexture"));
     let emissive = m
@@ -186,7 +171,7 @@ pub(crate) fn textures(m: &gltf::Material) -> Vec<(String, &'static str)> {
             "emissive (emissiveFactor is black)",
         );
     }
-    if material.kind == crate::scene::MaterialKind::MetallicRoughness {
+    if matches!(material.bsdf, Bsdf::MetallicRoughness(_)) {
         return out;
     }
     if let Some(t) = m.transmission() {

@@ -5,7 +5,8 @@ use crate::importers::gltf::{material, texture, Importer};
 use crate::error::Result;
 use crate::scene::builder::MaterialId;
 use crate::scene::locate::Part;
-use crate::scene::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
+use crate::bsdfs::{Bsdf, BsdfKind, Channel, Param};
+use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use glam::Vec3;
 
 /// Which field of a material a texture read for it fills.
@@ -40,7 +41,7 @@ impl Importer<'_> {
             }
         };
         let (buffers, dir) = (&self.buffers, self.base_dir);
-        let gltf_kind = material.kind == MaterialKind::MetallicRoughness;
+        let gltf_kind = matches!(material.bsdf, Bsdf::MetallicRoughness(_));
         let mut read = Vec::new();
         if let Some(info) = pbr.base_color_texture() {
             if material::reads_base_colour(material) {
@@ -48,7 +49,6 @@ impl Importer<'_> {
                 let t = texture::TexRef::info(&info);
                 warn_set(&t);
                 let t = texture::base_colour(&t, Vec3::new(r, g, b), buffers, dir).map_err(err)?;
-                material.kd = t.mean();
                 read.push((Slot::BaseColour, t));
             }
         }
@@ -93,12 +93,27 @@ impl Importer<'_> {
         let budget = |_: Part, m: String| err(("texture".into(), m));
         for (slot, t) in read {
             let id = self.b.add_texture(t, &budget)?;
-            match slot {
-                Slot::BaseColour => material.kd_texture = id,
-                Slot::Emission => material.emission_texture = id,
-                Slot::MetallicRoughness => material.mr_texture = id,
-                Slot::Normal => material.normal_texture = id,
-                Slot::Param(i) => material.gltf_textures[i] = id,
+            match (slot, &mut material.bsdf) {
+                (Slot::BaseColour, b) => {
+                    if let Some(p) = b.base_colour_mut() {
+                        *p = Param::texture(id);
+                    }
+                }
+                (Slot::Emission, _) => material.emission_texture = id,
+                (Slot::Normal, _) => material.normal_texture = id,
+                // The metallic-roughness texture: metalness in blue, roughness in green.
+                (Slot::MetallicRoughness, Bsdf::MetallicRoughness(g)) => {
+                    g.metallic = g.metallic.times(id, Channel::B);
+                    g.roughness = g.roughness.times(id, Channel::G);
+                }
+                (Slot::Param(0), Bsdf::MetallicRoughness(g)) => {
+                    g.transmission = g.transmission.times(id, Channel::R);
+                }
+                (Slot::Param(1), Bsdf::MetallicRoughness(g)) => {
+                    g.specular = g.specular.times(id, Channel::A);
+                }
+                (Slot::Param(_), Bsdf::MetallicRoughness(g)) => g.f0 = g.f0.times(id, Channel::Rgb),
+                _ => {}
             }
         }
         Ok(())
@@ -114,7 +129,8 @@ impl Importer<'_> {
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
         let factor = m.pbr_metallic_roughness().base_color_factor()[3].clamp(0.0, 1.0);
-        let texture = match material.kd_texture {
+        let base = material.bsdf.clone().base_colour_mut().map(|p| p.texture);
+        let texture = match base.unwrap_or(NO_TEXTURE) {
             NO_TEXTURE => NO_TEXTURE,
             t if self.b.texture(t).has_alpha() => t,
             _ => NO_TEXTURE,

@@ -7,7 +7,11 @@
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
-use crate::bsdfs::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, METAL_NAMES};
+use crate::bsdfs::conductor::Conductor;
+use crate::bsdfs::rough_conductor::RoughConductor;
+use crate::bsdfs::rough_dielectric::RoughDielectric;
+use crate::bsdfs::thin_dielectric::ThinDielectric;
+use crate::bsdfs::{named_conductor, Distribution, Microfacet, Param, Plastic, METAL_NAMES};
 use crate::error::Result;
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use crate::textures::SceneTexture;
@@ -17,12 +21,12 @@ use roxmltree::Node;
 /// Mitsuba's default `ext_ior` (air).
 const AIR: f32 = 1.000277;
 
-/// A material read from a `<bsdf>`, with the textures its `kd` and its normal take (the
-/// caller adds them to the scene and sets `kd_texture` and `normal_texture`).
+/// A material read from a `<bsdf>`, with the textures its base colour and its normal take (the
+/// caller adds them to the scene and sets the base colour's texture and `normal_texture`).
 pub(crate) struct Read {
     /// The material.
     pub material: Material,
-    /// A textured diffuse reflectance.
+    /// A textured diffuse reflectance (the kind's base colour).
     pub kd_texture: Option<SceneTexture>,
     /// The tangent-space normal map of a `normalmap` bsdf.
     pub normal_texture: Option<SceneTexture>,
@@ -182,10 +186,9 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
                 let tex = texture(cx, t, &p.at("reflectance"))?;
-                let mut m = Material::diffuse(tex.mean());
-                m.kd_texture = 0;
                 kd_texture = Some(tex);
-                m
+                // The texture's index is set when the caller adds it.
+                Material::diffuse(Vec3::ONE)
             }
             None => {
                 let albedo = p.albedo(cx, "reflectance", 0.5)?;
@@ -213,12 +216,14 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     alpha_texture: None,
                 });
             }
-            Material::from_bsdf(Bsdf::Conductor {
-                eta,
-                k,
-                specular,
-                microfacet,
-            })
+            match microfacet {
+                None => Material::of(Conductor {
+                    eta,
+                    k,
+                    specular: Param::rgb(specular),
+                }),
+                Some(mf) => Material::of(RoughConductor::new(eta, k, specular, mf)),
+            }
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {
             let int_ior = p.ior(cx, "int_ior", 1.5046)?;
@@ -235,17 +240,17 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     return Err(cx.err(node, field, message));
                 }
                 "dielectric" => Material::glass(eta),
-                "thindielectric" => Material::from_bsdf(Bsdf::ThinDielectric {
+                "thindielectric" => Material::of(ThinDielectric::new(
                     eta,
                     specular_reflectance,
                     specular_transmittance,
-                }),
-                _ => Material::from_bsdf(Bsdf::Dielectric {
+                )),
+                _ => Material::of(RoughDielectric::new(
                     eta,
                     specular_reflectance,
                     specular_transmittance,
-                    microfacet: Some(microfacet(cx, &p)?),
-                }),
+                    microfacet(cx, &p)?,
+                )),
             }
         }
         "plastic" | "roughplastic" => {
@@ -265,13 +270,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 "plastic" => None,
                 _ => Some(microfacet(cx, &p)?),
             };
-            let mut m = Material::from_bsdf(Bsdf::Plastic(Plastic::new(
-                kd, specular, eta, nonlinear, microfacet,
-            )));
-            if kd_texture.is_some() {
-                m.kd_texture = 0;
-            }
-            m
+            Material::of(Plastic::new(kd, specular, eta, nonlinear, microfacet))
         }
         // Mitsuba 3's `null`: an index-matched boundary that only bounds media.
         "null" => Material::null(),

@@ -32,6 +32,7 @@ pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 use crate::scene::builder::{MaterialId, SceneBuilder};
 use crate::scene::locate::Origin;
 use crate::scene::{Material, Scene};
+use crate::bsdfs::BsdfKind;
 use crate::error::{Error, Result};
 use crate::importers::file;
 use glam::Vec3;
@@ -253,7 +254,10 @@ impl<'f> Importer<'f> {
         let mut material = read.material;
         let at = self.origin(node, field);
         if let Some(t) = read.kd_texture {
-            material.kd_texture = self.b.add_texture(t, &at)?;
+            let id = self.b.add_texture(t, &at)?;
+            if let Some(p) = material.bsdf.base_colour_mut() {
+                *p = crate::bsdfs::Param::texture(id);
+            }
         }
         if let Some(t) = read.normal_texture {
             material.normal_texture = self.b.add_texture(t, &at)?;

@@ -25,8 +25,9 @@ use crate::math::rng::Rng;
 use crate::scene::Scene;
 use crate::scene::NO_LIGHT;
 use crate::settings::{RenderSettings, Sampler};
+use crate::bsdfs::BsdfKind;
 use crate::bsdfs::shading::{
-    bsdf_at, class_of, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
+    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
     GLASS_SPLIT_DEPTH,
 };
 use crate::math::sobol::{
@@ -142,7 +143,7 @@ impl Gatherer<'_> {
         // The near part's gather ray runs where nothing else draws numbers before the next
         // shading (the GPU's camera path takes it after its chain of mirrors and glass).
         let near = hit.as_ref().is_none_or(|h| {
-            class_of(self.scene.materials[h.material as usize].kind) == SurfaceClass::Shaded
+            self.scene.materials[h.material as usize].bsdf.class() == SurfaceClass::Shaded
         });
         let scattered = self.in_scattered(
             ray,

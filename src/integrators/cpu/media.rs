@@ -10,7 +10,7 @@ use crate::lights::{Emission, LightTable};
 use crate::media::{sample_equiangular, NO_MEDIUM};
 use crate::math::rng::Rng;
 use crate::scene::{LightShape, Scene};
-use crate::bsdfs::shading::{class_of, SurfaceClass};
+use crate::bsdfs::{BsdfKind, SurfaceClass};
 use glam::Vec3;
 
 /// Index-matched boundaries a shadow ray may cross before it counts as blocked (a bound on
@@ -71,7 +71,7 @@ pub fn transmittance(
         let Some(hit) = hit else {
             return tr;
         };
-        if class_of(scene.materials[hit.material as usize].kind) != SurfaceClass::Null {
+        if scene.materials[hit.material as usize].bsdf.class() != SurfaceClass::Null {
             return Vec3::ZERO;
         }
         medium = medium_after(scene, &hit, medium, dir);

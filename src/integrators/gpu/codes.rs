@@ -1,40 +1,13 @@
-//! The numbers Rust and WGSL share: material, light, filter, Fresnel and bounce codes, the
+//! The numbers Rust and WGSL share: surface-class, light, filter, Fresnel and bounce codes, the
 //! bits of `Params.terms` and `MapParams.drop_flags`, stats indices, workgroup sizes and the
 //! gather's bounds. Each is declared here once; [`wgsl_prelude`] writes them as WGSL `const`
 //! declarations that `shaders.rs` puts before every kernel, so no WGSL file types one by hand
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
 use crate::camera::pixel_filter::PixelFilter;
-use crate::scene::MaterialKind;
 use crate::settings::{Filter, FresnelMode, Sampler};
-use crate::bsdfs::shading::{class_of, SurfaceClass};
+use crate::bsdfs::SurfaceClass;
 
-/// `Material.kind` of a diffuse surface.
-pub const MAT_DIFFUSE: u32 = 0;
-/// `Material.kind` of a glossy (Phong lobe) surface.
-pub const MAT_GLOSSY: u32 = 1;
-/// `Material.kind` of a perfect mirror.
-pub const MAT_MIRROR: u32 = 2;
-/// `Material.kind` of a dielectric.
-pub const MAT_GLASS: u32 = 3;
-/// `Material.kind` of an absorber.
-pub const MAT_BLACK: u32 = 4;
-/// `Material.kind` of a smooth conductor.
-pub const MAT_CONDUCTOR: u32 = 5;
-/// `Material.kind` of a microfacet conductor.
-pub const MAT_ROUGH_CONDUCTOR: u32 = 6;
-/// `Material.kind` of a microfacet dielectric.
-pub const MAT_ROUGH_DIELECTRIC: u32 = 7;
-/// `Material.kind` of a thin dielectric.
-pub const MAT_THIN_DIELECTRIC: u32 = 8;
-/// `Material.kind` of a smooth plastic.
-pub const MAT_PLASTIC: u32 = 9;
-/// `Material.kind` of a rough plastic.
-pub const MAT_ROUGH_PLASTIC: u32 = 10;
-/// glTF's metallic-roughness material (`crate::bsdfs::MetallicRoughness`).
-pub const MAT_METALLIC_ROUGHNESS: u32 = 11;
-/// `Material.kind` of an index-matched boundary (media scenes: the CPU backend only).
-pub const MAT_NULL: u32 = 12;
 
 /// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
 pub const CLASS_BLACK: u32 = 0;
@@ -45,8 +18,6 @@ pub const CLASS_SHADED: u32 = 2;
 /// Surface class of an index-matched boundary (the CPU backend only, for now).
 pub const CLASS_NULL: u32 = 3;
 
-/// `Material.bsdf` of a material without `crate::bsdfs` parameters.
-pub const NO_BSDF: u32 = u32::MAX;
 /// `Material.alpha_mode` of an opaque surface.
 pub const ALPHA_NONE: u32 = 0;
 /// `Material.alpha_mode` of a mask: opaque where the opacity reaches the cutoff.
@@ -183,7 +154,11 @@ pub const TRIANGLE_WORDS: u32 = 3;
 /// Words per `Sphere`.
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
-pub const MATERIAL_WORDS: u32 = 5;
+pub const MATERIAL_WORDS: u32 = 3;
+/// The word of a `Material` whose last member is its normal map (the intersection's read).
+pub const MATERIAL_NORMAL_WORD: u32 = 1;
+/// The word of a `Material` that is its alpha test: mode, texture, factor, cutoff.
+pub const MATERIAL_ALPHA_WORD: u32 = 2;
 /// 16-byte words of a `Medium` (`types::GpuMedium`).
 pub const MEDIUM_WORDS: u32 = 2;
 /// Words per `Light`.
@@ -201,25 +176,6 @@ pub const MAX_HEAP: u32 = 256;
 /// Grid cells one K-nearest search may visit: rings 0..=MAX_RINGS, 11^3 (the radius fits in
 /// them).
 pub const MAX_CELLS: u32 = (2 * MAX_RINGS + 1).pow(3);
-
-/// The WGSL code of a material kind.
-pub fn material_code(kind: MaterialKind) -> u32 {
-    match kind {
-        MaterialKind::Diffuse => MAT_DIFFUSE,
-        MaterialKind::Glossy => MAT_GLOSSY,
-        MaterialKind::Mirror => MAT_MIRROR,
-        MaterialKind::Glass => MAT_GLASS,
-        MaterialKind::Black => MAT_BLACK,
-        MaterialKind::Conductor => MAT_CONDUCTOR,
-        MaterialKind::RoughConductor => MAT_ROUGH_CONDUCTOR,
-        MaterialKind::RoughDielectric => MAT_ROUGH_DIELECTRIC,
-        MaterialKind::ThinDielectric => MAT_THIN_DIELECTRIC,
-        MaterialKind::Plastic => MAT_PLASTIC,
-        MaterialKind::RoughPlastic => MAT_ROUGH_PLASTIC,
-        MaterialKind::MetallicRoughness => MAT_METALLIC_ROUGHNESS,
-        MaterialKind::Null => MAT_NULL,
-    }
-}
 
 /// The WGSL code of a density-estimation filter.
 pub fn filter_code(filter: Filter) -> u32 {
@@ -271,19 +227,6 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
     use crate::math::rng::Stream;
     use WgslValue::{F32, U32};
     vec![
-        ("MAT_DIFFUSE", U32(MAT_DIFFUSE)),
-        ("MAT_GLOSSY", U32(MAT_GLOSSY)),
-        ("MAT_MIRROR", U32(MAT_MIRROR)),
-        ("MAT_GLASS", U32(MAT_GLASS)),
-        ("MAT_BLACK", U32(MAT_BLACK)),
-        ("MAT_CONDUCTOR", U32(MAT_CONDUCTOR)),
-        ("MAT_ROUGH_CONDUCTOR", U32(MAT_ROUGH_CONDUCTOR)),
-        ("MAT_ROUGH_DIELECTRIC", U32(MAT_ROUGH_DIELECTRIC)),
-        ("MAT_THIN_DIELECTRIC", U32(MAT_THIN_DIELECTRIC)),
-        ("MAT_PLASTIC", U32(MAT_PLASTIC)),
-        ("MAT_ROUGH_PLASTIC", U32(MAT_ROUGH_PLASTIC)),
-        ("MAT_METALLIC_ROUGHNESS", U32(MAT_METALLIC_ROUGHNESS)),
-        ("MAT_NULL", U32(MAT_NULL)),
         ("CLASS_BLACK", U32(CLASS_BLACK)),
         ("CLASS_DELTA", U32(CLASS_DELTA)),
         ("CLASS_SHADED", U32(CLASS_SHADED)),
@@ -365,6 +308,8 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("TRIANGLE_WORDS", U32(TRIANGLE_WORDS)),
         ("SPHERE_WORDS", U32(SPHERE_WORDS)),
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
+        ("MATERIAL_NORMAL_WORD", U32(MATERIAL_NORMAL_WORD)),
+        ("MATERIAL_ALPHA_WORD", U32(MATERIAL_ALPHA_WORD)),
         ("MEDIUM_WORDS", U32(MEDIUM_WORDS)),
         ("F32_MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
         ("F32_EPSILON", F32(f32::EPSILON)),
@@ -377,7 +322,6 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),
         ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
-        ("NO_BSDF", U32(NO_BSDF)),
         ("ALPHA_NONE", U32(ALPHA_NONE)),
         ("ALPHA_MASK", U32(ALPHA_MASK)),
         ("ALPHA_BLEND", U32(ALPHA_BLEND)),
@@ -436,24 +380,8 @@ pub fn class_code(class: SurfaceClass) -> u32 {
     }
 }
 
-/// WGSL `material_class(kind)`, generated from the Rust table `shading::class_of` over
-/// every material kind, so the two dispatches cannot drift.
-pub fn wgsl_material_class() -> String {
-    let mut out = String::from(
-        "// How the integrators treat a material kind (generated from shading::class_of).\n\
-         fn material_class(kind: u32) -> u32 {\n    switch kind {\n",
-    );
-    for kind in MaterialKind::ALL {
-        let (code, class) = (material_code(kind), class_code(class_of(kind)));
-        out.push_str(&format!("        case {code}u: {{ return {class}u; }}\n"));
-    }
-    out.push_str("        default: { return CLASS_BLACK; }\n    }\n}\n");
-    out
-}
-
 /// The WGSL prelude: one `const` declaration per shared constant, the kernel shape's override
-/// constants with the default shape's values (`shape::KernelShape::DEFAULT`), then the
-/// generated dispatch tables.
+/// constants with the default shape's values (`shape::KernelShape::DEFAULT`).
 pub fn wgsl_prelude() -> String {
     let mut out = String::from(
         "// Generated from src/integrators/gpu/codes.rs (shared_constants): do not declare these in WGSL.\n",
@@ -468,6 +396,5 @@ pub fn wgsl_prelude() -> String {
          override CACHE_LANES: u32 = {CACHE_LANES}u;\n\
          override LOOP_GUARD: bool = true;\n"
     ));
-    out.push_str(&wgsl_material_class());
     out
 }

@@ -72,20 +72,12 @@ fn queue_reset(dispatch: u32) {
 // weight, the other pushed on the pixel's stack (unless it leaks); deeper, one draw u <
 // reflectance reflects. Final-gather rays always choose one branch (surface_delta).
 fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: u32, medium: u32, rng: ptr<function, Rng>) -> bool {
-    let m = s.m;
-    let thin = HAS_BSDFS && m.kind == MAT_THIN_DIELECTRIC;
-    if !GLASS_SPLIT || (!thin && !(HAS_GLASS && m.kind == MAT_GLASS)) {
+    if !GLASS_SPLIT || !surface_splits(s) {
         return surface_delta(hit, s, d, o, t, rng);
     }
     let f = facing(hit, dot(*d, hit.normal) < 0.0);
-    var g: Dielectric;
-    if thin {
-        let r = fresnel_dielectric_mi(abs(dot(*d, f.ns)), s.b.eta).f;
-        g = Dielectric(reflect_dir(*d, f.ns), *d, select(1.0, 2.0 * r / (1.0 + r), r < 1.0));
-    } else {
-        g = dielectric(*d, hit.normal, hit.shading, m.ior);
-    }
-    let refracts = thin || any(g.refracted != vec3<f32>(0.0));
+    let g = surface_split(hit, s, f, *d);
+    let refracts = any(g.refracted != vec3<f32>(0.0));
     var reflects = true;
     if refracts && depth < GLASS_SPLIT_DEPTH {
         reflects = g.reflectance >= 0.5;

@@ -4,7 +4,7 @@
 //!
 //! Layers, each module importing only those above it in this list:
 //! `bvh_layout` (the BVH as the traversal reads it), `codes` (shared constants, the WGSL
-//! prelude), `bsdf_params` (the BSDF twin `GpuBsdf` and the BSDF library's codes),
+//! prelude), 
 //! `textures` (the scene's textures packed into words, the texture library's constants),
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `faults` (the device's
@@ -18,7 +18,6 @@
 
 pub mod bindings;
 pub mod branches;
-pub mod bsdf_params;
 pub mod buffers;
 pub mod codes;
 pub mod context;

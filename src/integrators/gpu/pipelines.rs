@@ -39,8 +39,15 @@ pub fn feature_constants(
 /// pipeline-overridable constants a render's pipelines, and the probes on its scene, are
 /// specialised with.
 pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
-    vec![
-        ("HAS_GLASS", scene.has_glass() as u32 as f64),
+    // One flag per kind of BSDF: the dispatch compiles the kinds the scene has.
+    let kinds = crate::bsdfs::gpu::kind_flags()
+        .iter()
+        .enumerate()
+        .map(|(code, flag)| {
+            let has = scene.materials.iter().any(|m| m.bsdf.code() == code as u32);
+            (flag.as_str(), has as u32 as f64)
+        });
+    let mut features = vec![
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
         // The WGSL name covers every delta light: point, spot and directional.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
@@ -49,10 +56,6 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
         (
             "HAS_ENVIRONMENT",
             scene.environment().is_some() as u32 as f64,
-        ),
-        (
-            "HAS_BSDFS",
-            scene.materials.iter().any(|m| m.bsdf.is_some()) as u32 as f64,
         ),
         ("HAS_TEXTURES", !scene.textures.is_empty() as u32 as f64),
         (
@@ -70,15 +73,16 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
         ("KNN", knn as u32 as f64),
         ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
         ("GLASS_SPLIT", glass_split(scene) as u32 as f64),
-    ]
+    ];
+    features.extend(kinds);
+    features
 }
 
 /// Whether a camera path may split at a dielectric (glass, or a thin dielectric sheet):
 /// only then do the gather's glass branch stacks and rounds exist (`GLASS_SPLIT`).
 pub fn glass_split(scene: &Scene) -> bool {
-    use crate::scene::MaterialKind;
-    let split = |k: MaterialKind| matches!(k, MaterialKind::Glass | MaterialKind::ThinDielectric);
-    scene.materials.iter().any(|m| split(m.kind))
+    use crate::bsdfs::BsdfKind;
+    scene.materials.iter().any(|m| m.bsdf.splits())
 }
 
 /// Whether some spot light has Mitsuba's falloff (its sampling code is compiled only then:

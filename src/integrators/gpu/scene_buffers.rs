@@ -46,7 +46,7 @@ impl SceneBuffers {
         let none = wgpu::BufferUsages::empty();
         let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
         let spheres: Vec<GpuSphere> = scene.spheres.iter().map(GpuSphere::from).collect();
-        let (mats, bsdfs, bsdf_tables) = materials(scene);
+        let (mats, packed) = materials(scene);
         let uvs = triangle_uvs(scene);
         let textures = PackedTextures::pack(&scene.textures, ctx.max_binding)?;
         // One placeholder when every triangle is flat (a binding cannot be empty).
@@ -96,8 +96,8 @@ impl SceneBuffers {
         let light_cdf = storage_buffer(dev, "light cdf", &cdf, none);
         let spec_bounds = storage_buffer(dev, "specular bounds", bounds, none);
         let shading_normals = storage_buffer(dev, "shading normals", &normals, none);
-        let bsdfs = storage_buffer(dev, "bsdfs", &bsdfs, none);
-        let bsdf_tables = storage_buffer(dev, "bsdf tables", &bsdf_tables, none);
+        let bsdfs = storage_buffer(dev, "bsdfs", &packed.words, none);
+        let bsdf_tables = storage_buffer(dev, "bsdf tables", &packed.tables, none);
         let uvs = storage_buffer(dev, "triangle uvs", &uvs, none);
         let textures = textures.upload(ctx)?;
         // Placeholders (a binding cannot be empty) when the scene has no media.

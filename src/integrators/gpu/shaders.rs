@@ -30,10 +30,8 @@ const RNG: &str = include_str!("../../math/rng.wgsl");
 const SAMPLING: &str = include_str!("../../math/sampling.wgsl");
 const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
-const MATERIAL: &str = include_str!("../../bsdfs/classic.wgsl");
 const LIGHT: &str = include_str!("../../lights/light.wgsl");
 const ENVIRONMENT: &str = include_str!("../../lights/environment/environment.wgsl");
-const SHADING: &str = include_str!("../../bsdfs/shading.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
 const GRID: &str = include_str!("grid.wgsl");
@@ -52,18 +50,17 @@ const CACHE_FIXED: &str = include_str!("cache_fixed.wgsl");
 const GLASS_BRANCHES: &str = include_str!("glass_branches.wgsl");
 const GATHER: &str = include_str!("gather.wgsl");
 
-/// Every WGSL file the kernels compose, by its path under `src/` (for tests that read them).
-pub const WGSL_FILES: [(&str, &str); 30] = [
+/// The WGSL files outside `src/bsdfs/` the kernels compose, by their paths under `src/`
+/// ([`wgsl_files`] adds the BSDFs').
+const WGSL_FILES: [(&str, &str); 25] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
     ("math/sampling.wgsl", SAMPLING),
     ("integrators/gpu/scene.wgsl", SCENE),
     ("bvh/intersect.wgsl", INTERSECT),
-    ("bsdfs/classic.wgsl", MATERIAL),
     ("lights/light.wgsl", LIGHT),
     ("lights/environment/environment.wgsl", ENVIRONMENT),
-    ("bsdfs/shading.wgsl", SHADING),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
     ("media/medium.wgsl", MEDIUM),
@@ -84,14 +81,17 @@ pub const WGSL_FILES: [(&str, &str); 30] = [
     ("integrators/gpu/cache_fixed.wgsl", CACHE_FIXED),
     ("integrators/gpu/glass_branches.wgsl", GLASS_BRANCHES),
     ("integrators/gpu/gather.wgsl", GATHER),
-    // The BSDF library, composed by `bsdf_params::bsdf_library()`.
-    ("bsdfs/bsdf.wgsl", crate::integrators::gpu::bsdf_params::BSDF_WGSL),
-    ("bsdfs/bsdf_gltf.wgsl", crate::integrators::gpu::bsdf_params::BSDF_GLTF_WGSL),
-    (
-        "bsdfs/bsdf_dispatch.wgsl",
-        crate::integrators::gpu::bsdf_params::BSDF_DISPATCH_WGSL,
-    ),
 ];
+
+/// Every WGSL file the kernels compose, by its path under `src/` (for tests that read them).
+pub fn wgsl_files() -> Vec<(String, &'static str)> {
+    let mut out: Vec<(String, &'static str)> = WGSL_FILES
+        .iter()
+        .map(|&(p, t)| (p.to_string(), t))
+        .collect();
+    out.extend(crate::bsdfs::gpu::wgsl_files());
+    out
+}
 
 impl Kernel {
     /// Every kernel family.
@@ -162,9 +162,9 @@ impl Kernel {
 /// The prelude and the libraries every kernel composes, then `own`.
 fn compose(own: &[&str]) -> String {
     let prelude = wgsl_prelude();
-    // crate::bsdfs's kinds (bsdf.wgsl with its codes) and the textures (texture.wgsl with
-    // its constants): every kernel declares their scene bindings.
-    let bsdf = crate::integrators::gpu::bsdf_params::bsdf_library();
+    // The BSDFs (every kind's file, the shading interface and their generated dispatch) and
+    // the textures (texture.wgsl with its constants): every kernel declares their bindings.
+    let bsdfs = crate::bsdfs::gpu::wgsl_library();
     let textures = crate::integrators::gpu::textures::wgsl_library();
     let libs: &[&str] = &[
         &prelude,
@@ -174,12 +174,10 @@ fn compose(own: &[&str]) -> String {
         SAMPLING,
         SCENE,
         INTERSECT,
-        MATERIAL,
         LIGHT,
         ENVIRONMENT,
-        &bsdf,
+        &bsdfs,
         &textures,
-        SHADING,
         MEDIUM,
         GRID,
     ];

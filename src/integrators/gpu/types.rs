@@ -3,7 +3,7 @@
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
 use crate::integrators::gpu::codes::{
-    material_code, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT,
+    LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT,
     LIGHT_TRIANGLES,
 };
 use crate::scene::{LightShape, Material, Scene, Sphere, Triangle, VertexNormals};
@@ -75,32 +75,28 @@ pub struct GpuSphere {
     pub _pad1: u32,
 }
 
-/// Twin of WGSL `Material`: the BSDF parameters; `kind` is a MAT_* code.
+/// Twin of WGSL `Material`: what wraps a material's BSDF (its emission, normal map and mask)
+/// and the BSDF's kind (a `BSDF_*` code) with the mask of its textured words; the BSDF's own
+/// words are the `bsdfs` buffer's (`crate::bsdfs::gpu::pack`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
-    /// Diffuse reflectance.
-    pub kd: [f32; 3],
-    /// A MAT_* code.
-    pub kind: u32,
-    /// Specular (glossy, mirror) reflectance.
-    pub ks: [f32; 3],
-    /// Phong exponent of the glossy lobe.
-    pub exponent: f32,
     /// Emitted radiance.
     pub emission: [f32; 3],
-    /// Index of refraction (glass).
-    pub ior: f32,
     /// 1 when both sides emit.
     pub two_sided: u32,
-    /// Index into `bsdfs` of its `crate::bsdfs` parameters, or `NO_BSDF`.
-    pub bsdf: u32,
-    /// Index into `tex_table` of kd's texture, or `NO_TEXTURE`.
-    pub kd_texture: u32,
-    /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE`.
+    /// The BSDF's kind: its code in the list of kinds (`BSDF_*`).
+    pub kind: u32,
+    /// Bit i: the BSDF's word i is a slot with a texture.
+    pub textured: u32,
+    /// Padding.
+    pub _pad: u32,
+    /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE` (the last of
+    /// word `MATERIAL_NORMAL_WORD`, which the intersection reads alone).
     pub normal_texture: u32,
     /// `ALPHA_NONE`, `ALPHA_MASK` or `ALPHA_BLEND`, plus `ALPHA_LUMINANCE` when the
-    /// texture's luminance (not its alpha) is the opacity (`crate::scene::Alpha`).
+    /// texture's luminance (not its alpha) is the opacity (`crate::scene::Alpha`); the
+    /// alpha test's word `MATERIAL_ALPHA_WORD` starts here.
     pub alpha_mode: u32,
     /// Index into `tex_table` of the opacity's texture, or `NO_TEXTURE`.
     pub alpha_texture: u32,
@@ -292,12 +288,19 @@ pub struct GpuMapParams {
 // The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
 const _: () = {
     use crate::integrators::gpu::codes::{
-        LIGHT_WORDS, MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
+        LIGHT_WORDS, MATERIAL_ALPHA_WORD, MATERIAL_NORMAL_WORD, MATERIAL_WORDS, MEDIUM_WORDS,
+        PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
     };
     use std::mem::size_of;
     assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
     assert!(size_of::<GpuSphere>() == 16 * SPHERE_WORDS as usize);
     assert!(size_of::<GpuMaterial>() == 16 * MATERIAL_WORDS as usize);
+    // The intersection reads the normal map as the last member of one word, and the alpha
+    // test as one whole word (intersect.wgsl).
+    assert!(std::mem::offset_of!(GpuMaterial, normal_texture) % 16 == 12);
+    assert!(std::mem::offset_of!(GpuMaterial, normal_texture) / 16 == MATERIAL_NORMAL_WORD as usize);
+    assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) % 16 == 0);
+    assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) / 16 == MATERIAL_ALPHA_WORD as usize);
     assert!(size_of::<GpuMedium>() == 16 * MEDIUM_WORDS as usize);
     assert!(size_of::<GpuLight>() == 16 * LIGHT_WORDS as usize);
     assert!(size_of::<crate::integrators::photon::Photon>() == 16 * PHOTON_WORDS as usize);
@@ -329,18 +332,14 @@ impl From<&Sphere> for GpuSphere {
     }
 }
 
-impl From<&Material> for GpuMaterial {
-    fn from(m: &Material) -> Self {
+impl GpuMaterial {
+    /// `m`'s header, its BSDF of kind `kind` with textured words `textured`.
+    pub fn new(m: &Material, kind: u32, textured: u32) -> Self {
         GpuMaterial {
-            kd: m.kd.to_array(),
-            kind: material_code(m.kind),
-            ks: m.ks.to_array(),
-            exponent: m.exponent,
             emission: m.emission.to_array(),
-            ior: m.ior,
             two_sided: m.two_sided_emission as u32,
-            bsdf: crate::integrators::gpu::codes::NO_BSDF,
-            kd_texture: m.kd_texture,
+            kind,
+            textured,
             normal_texture: m.normal_texture,
             alpha_mode: alpha_code(m),
             alpha_texture: m.alpha.map_or(crate::scene::NO_TEXTURE, |a| a.texture),
@@ -349,6 +348,7 @@ impl From<&Material> for GpuMaterial {
                 Some(crate::scene::AlphaMode::Mask(c)) => c,
                 _ => 0.0,
             },
+            _pad: 0,
         }
     }
 }
@@ -368,37 +368,16 @@ fn alpha_code(m: &Material) -> u32 {
     }
 }
 
-/// The materials, each of `crate::bsdfs`'s kinds pointing at its entry of the second list,
-/// and the rough plastics' tables (`bsdf_params::pack`); one zeroed entry stands in for an
-/// empty list (a binding cannot be empty).
-pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, Vec<crate::integrators::gpu::bsdf_params::GpuBsdf>, Vec<f32>) {
-    let mut list = Vec::new();
-    let mut textures = Vec::new();
+/// The materials' headers and their BSDFs' words and tables (`crate::bsdfs::gpu::pack`).
+pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, crate::bsdfs::gpu::PackedBsdfs) {
+    let packed = crate::bsdfs::gpu::pack(scene.materials.iter().map(|m| &m.bsdf));
     let mats = scene
         .materials
         .iter()
-        .map(|m| {
-            let mut g = GpuMaterial::from(m);
-            if let Some(b) = m.bsdf {
-                g.bsdf = list.len() as u32;
-                list.push(b);
-                let [t, s, c] = m.gltf_textures;
-                textures.push([m.mr_texture, t, s, c]);
-            }
-            g
-        })
+        .zip(&packed.headers)
+        .map(|(m, &(kind, textured))| GpuMaterial::new(m, kind, textured))
         .collect();
-    let (mut bsdfs, tables) = crate::integrators::gpu::bsdf_params::pack(&list);
-    // A metallic-roughness material's textures ride in its BsdfParams.
-    for (b, t) in bsdfs.iter_mut().zip(textures) {
-        if b.kind == crate::integrators::gpu::bsdf_params::BSDF_GLTF {
-            b.textures = t;
-        }
-    }
-    if bsdfs.is_empty() {
-        bsdfs.push(Default::default());
-    }
-    (mats, bsdfs, tables)
+    (mats, packed)
 }
 
 /// Each triangle's uv record: corner uvs as vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`

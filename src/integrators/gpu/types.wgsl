@@ -61,17 +61,12 @@ struct LeafPrim {
 }
 
 struct Material {
-    kd: vec3<f32>,
-    kind: u32,
-    ks: vec3<f32>,
-    exponent: f32,
     emission: vec3<f32>,
-    ior: f32,
     two_sided: u32,
-    // Index into bsdfs (crate::bsdf's kinds), or NO_BSDF.
-    bsdf: u32,
-    // Index into tex_table of kd's texture, or NO_TEXTURE.
-    kd_texture: u32,
+    // The BSDF's kind (BSDF_*, generated from the list of kinds) and its textured words.
+    kind: u32,
+    textured: u32,
+    _pad: u32,
     // Index into tex_table of the tangent-space normal map, or NO_TEXTURE.
     normal_texture: u32,
     // ALPHA_NONE, ALPHA_MASK or ALPHA_BLEND, plus ALPHA_LUMINANCE (crate::scene::Alpha).
@@ -186,7 +181,7 @@ struct MapParams {
     volume_flags: u32,
 }
 
-// The codes these structs carry (MAT_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)
+// The codes these structs carry (BSDF_*, LIGHT_*, TERM_*, FILTER_*, FRESNEL_*, STAT_*, flags)
 // are generated from src/integrators/gpu/codes.rs into the prelude every kernel starts with.
 
 // A camera path's glass branch waiting on its pixel's stack (glass_branches.wgsl; twin of

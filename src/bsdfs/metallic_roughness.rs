@@ -25,12 +25,18 @@
 //! unless both directions are within 25 degrees of the horizon.
 //!
 //! Front side: both sides of the surface behave alike (a thin sheet), so a `wo` below is
-//! mirrored to the front by [`crate::bsdfs::Bsdf`]; here `wo.z > 0`, `wi.z > 0` reflects and
-//! `wi.z < 0` transmits.
+//! mirrored to the front; the `front_*` methods take `wo.z > 0`, `wi.z > 0` reflects and
+//! `wi.z < 0` transmits. The parameters' textures are glTF's: the base colour's, the
+//! metallic-roughness texture's blue (metalness) and green (roughness), the transmission
+//! texture's red, the specular colour texture (F0's colour, `f0 = min(f0 c, f90)`) and the
+//! specular texture's alpha (both F0 and F90). Twin: `metallic_roughness.wgsl`.
 
 use crate::bsdfs::math::{cosine_hemisphere_pdf, gauss_legendre, reflect, square_to_cosine_hemisphere};
 use crate::bsdfs::microfacet::{Distribution, Microfacet};
-use crate::bsdfs::LobeSample;
+use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
+use crate::bsdfs::param::{GpuWords, Param};
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
+use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use std::sync::OnceLock;
@@ -38,21 +44,31 @@ use std::sync::OnceLock;
 /// Intervals of the table of [`schlick_mean`] over `cos_o` in [0, 1] (one more entry).
 pub const SCHLICK_MEAN_RES: usize = 32;
 
-/// A resolved metallic-roughness material (textures already looked up).
+/// The WGSL twin.
+pub const WGSL: &str = include_str!("metallic_roughness.wgsl");
+/// The words its parameters take on the GPU.
+pub const WORDS: usize = 7;
+/// Its class.
+pub const CLASS: SurfaceClass = SurfaceClass::Shaded;
+
+/// A metallic-roughness material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MetallicRoughness {
     /// Base colour (linear): the diffuse albedo, the metal's F0 and the transmission tint.
-    pub base: Vec3,
+    pub base: Param,
     /// Metalness in [0, 1].
-    pub metallic: f32,
+    pub metallic: Param,
     /// Perceptual roughness in [0, 1]; the GGX alpha is its square.
-    pub roughness: f32,
-    /// The dielectric's F0: `min(((ior - 1) / (ior + 1))^2 specular_colour, 1) specular`.
-    pub f0: Vec3,
+    pub roughness: Param,
+    /// The dielectric's F0: `min(((ior - 1) / (ior + 1))^2 specular_colour, 1) specular`;
+    /// its texture is the specular colour's.
+    pub f0: Param,
     /// The dielectric's F90: the specular factor.
     pub f90: f32,
     /// `KHR_materials_transmission`'s factor in [0, 1] (thin-walled).
-    pub transmission: f32,
+    pub transmission: Param,
+    /// One, or the specular texture's alpha, which scales F0 and F90 at each hit.
+    pub specular: Param,
 }
 
 /// `(1 - c)^5` for `c` clamped to [0, 1].
@@ -103,6 +119,17 @@ pub fn schlick_mean_table() -> &'static [f32; SCHLICK_MEAN_RES + 1] {
     })
 }
 
+/// The WGSL constants the twin reads: S(mu)'s table as Rust computed it (Debug prints the
+/// shortest decimal that reads back to the same f32).
+pub fn wgsl_consts() -> String {
+    let table: Vec<String> = schlick_mean_table().iter().map(|v| format!("{v:?}f")).collect();
+    format!(
+        "const GLTF_MEAN_RES: u32 = {SCHLICK_MEAN_RES}u;\nconst BSDF_GLTF_MEAN = array<f32, {}>({});\n",
+        SCHLICK_MEAN_RES + 1,
+        table.join(", ")
+    )
+}
+
 /// `S(cos_o)`: [`schlick_mean_table`] looked up linearly (twin: `gltf_schlick_mean`).
 pub fn schlick_mean(cos_o: f32) -> f32 {
     let t = schlick_mean_table();
@@ -113,40 +140,54 @@ pub fn schlick_mean(cos_o: f32) -> f32 {
 }
 
 impl MetallicRoughness {
+    /// An untextured material.
+    pub fn new(base: Vec3, metallic: f32, roughness: f32, f0: Vec3, f90: f32, transmission: f32) -> Self {
+        Self {
+            base: Param::rgb(base),
+            metallic: Param::constant(metallic),
+            roughness: Param::constant(roughness),
+            f0: Param::rgb(f0),
+            f90,
+            transmission: Param::constant(transmission),
+            specular: Param::constant(1.0),
+        }
+    }
+
     /// The GGX distribution of `alpha = roughness^2` (at least 1e-4, as Mitsuba clamps).
     pub fn microfacet(&self) -> Microfacet {
-        Microfacet::isotropic(Distribution::Ggx, self.roughness * self.roughness)
+        Microfacet::isotropic(Distribution::Ggx, self.roughness.float() * self.roughness.float())
     }
 
     /// Weight of the base's diffuse reflection: `(1 - metallic)(1 - transmission)`.
     fn diffuse_weight(&self) -> f32 {
-        (1.0 - self.metallic) * (1.0 - self.transmission)
+        (1.0 - self.metallic.float()) * (1.0 - self.transmission.float())
     }
 
     /// The dielectric's largest Fresnel channel at `c`: `max f0 + (f90 - max f0)(1 - c)^5`.
     fn dielectric_max(&self, c: f32) -> f32 {
-        let f0 = self.f0.max_element();
+        let f0 = self.f0.get().max_element();
         f0 + (self.f90 - f0) * schlick_weight(c)
     }
 
     /// The reflection lobe's tint at `c = wo . h`: `(1 - metallic) F_d + metallic F_m`.
     fn reflect_tint(&self, c: f32) -> Vec3 {
         let w = schlick_weight(c);
-        let fd = self.f0 + (Vec3::splat(self.f90) - self.f0) * w;
-        let fm = self.base + (Vec3::ONE - self.base) * w;
-        fd * (1.0 - self.metallic) + fm * self.metallic
+        let (f0, base, metallic) = (self.f0.get(), self.base.get(), self.metallic.float());
+        let fd = f0 + (Vec3::splat(self.f90) - f0) * w;
+        let fm = base + (Vec3::ONE - base) * w;
+        fd * (1.0 - metallic) + fm * metallic
     }
 
     /// The transmission lobe's tint at `c = wo . h`: `(1 - metallic) t (1 - max F_d) base`.
     fn transmit_tint(&self, c: f32) -> Vec3 {
-        let w = (1.0 - self.metallic) * self.transmission * (1.0 - self.dielectric_max(c));
-        self.base * w.max(0.0)
+        let w = (1.0 - self.metallic.float()) * self.transmission.float() * (1.0 - self.dielectric_max(c));
+        self.base.get() * w.max(0.0)
     }
 
     /// The probability of following reflection rather than transmission at `c = wo . m`
     /// (by the tints' means; 1 without transmission).
     pub fn reflect_probability(&self, c: f32) -> f32 {
-        if self.transmission <= 0.0 || self.metallic >= 1.0 {
+        if self.transmission.float() <= 0.0 || self.metallic.float() >= 1.0 {
             return 1.0;
         }
         let r = mean(self.reflect_tint(c));
@@ -160,14 +201,14 @@ impl MetallicRoughness {
 
     /// The diffuse part's factor towards `wo` (`wo.z > 0`): `(1 - metallic)(1 - t) base
     /// g(cos_o)`, see the module documentation.
-    pub fn diffuse_out(&self, cos_o: f32) -> Vec3 {
-        let f0 = self.f0.max_element();
+    pub fn front_diffuse_out(&self, cos_o: f32) -> Vec3 {
+        let f0 = self.f0.get().max_element();
         let g = 1.0 - f0 - (self.f90 - f0) * schlick_mean(cos_o);
-        self.base * (self.diffuse_weight() * g.max(0.0))
+        self.base.get() * (self.diffuse_weight() * g.max(0.0))
     }
 
     /// Whether the base reflects diffusely anywhere (the material stores photons).
-    pub fn has_diffuse(&self) -> bool {
+    pub fn base_is_diffuse(&self) -> bool {
         self.diffuse_weight() > 0.0
     }
 
@@ -180,7 +221,7 @@ impl MetallicRoughness {
     }
 
     /// The lobes' value f(wi, wo) without the cosine (`wo.z > 0`).
-    pub fn eval_lobe(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+    pub fn front_eval_lobe(&self, wi: Vec3, wo: Vec3) -> Vec3 {
         let Some(h) = Self::half(wi, wo) else {
             return Vec3::ZERO;
         };
@@ -196,9 +237,9 @@ impl MetallicRoughness {
         tint * spec
     }
 
-    /// Density of [`sample_lobe`](Self::sample_lobe) (`wo.z > 0`): the visible normal's
+    /// Density of [`front_sample_lobe`](Self::front_sample_lobe) (`wo.z > 0`): the visible normal's
     /// density over `4 wo . h`, times the chosen branch's probability.
-    pub fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+    pub fn front_pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
         let Some(h) = Self::half(wi, wo) else {
             return 0.0;
         };
@@ -213,7 +254,7 @@ impl MetallicRoughness {
 
     /// A visible normal from `u[1], u[2]`; `u[0]` picks reflection or transmission (the
     /// mirror direction flipped through the surface). Weight `tint G1(wi) / p`.
-    pub fn sample_lobe(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
+    pub fn front_sample_lobe(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
         let mf = self.microfacet();
         let (m, pdf_m) = mf.sample_visible(wo, Vec2::new(u[1], u[2]));
         let wr = reflect(wo, m);
@@ -237,11 +278,11 @@ impl MetallicRoughness {
         })
     }
 
-    /// The probability with which a photon (or [`sample`](Self::sample)) follows the lobes
+    /// The probability with which a photon (or [`front_sample`](Self::front_sample)) follows the lobes
     /// rather than the diffuse base: the lobes' mean albedo estimate at normal incidence of
     /// the view against the base's, kept inside [0.05, 0.95] when both exist.
-    pub fn lobe_probability(&self, cos_o: f32) -> f32 {
-        let d = mean(self.diffuse_out(cos_o));
+    pub fn front_lobe_probability(&self, cos_o: f32) -> f32 {
+        let d = mean(self.front_diffuse_out(cos_o));
         if d <= 0.0 {
             return 1.0;
         }
@@ -249,14 +290,14 @@ impl MetallicRoughness {
         (l / (l + d)).clamp(0.05, 0.95)
     }
 
-    /// Samples the whole BSDF: the lobes with [`lobe_probability`](Self::lobe_probability)
+    /// Samples the whole BSDF: the lobes with [`front_lobe_probability`](Self::front_lobe_probability)
     /// (`u[0]` rescaled for the lobe's own choice), else a cosine-weighted diffuse direction.
-    pub fn sample(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
-        let p = self.lobe_probability(wo.z);
+    pub fn front_sample(&self, wo: Vec3, u: [f32; 3]) -> Option<LobeSample> {
+        let p = self.front_lobe_probability(wo.z);
         if u[0] < p {
-            let s = self.sample_lobe(wo, [u[0] / p, u[1], u[2]])?;
-            let pdf = self.pdf(s.wi, wo);
-            let f = self.eval_lobe(s.wi, wo) + self.diffuse_value(s.wi, wo);
+            let s = self.front_sample_lobe(wo, [u[0] / p, u[1], u[2]])?;
+            let pdf = self.front_pdf(s.wi, wo);
+            let f = self.front_eval_lobe(s.wi, wo) + self.front_diffuse_value(s.wi, wo);
             return (pdf > 0.0).then(|| LobeSample {
                 weight: f * s.wi.z.abs() / pdf,
                 pdf,
@@ -264,8 +305,8 @@ impl MetallicRoughness {
             });
         }
         let wi = square_to_cosine_hemisphere(Vec2::new(u[1], u[2]));
-        let pdf = self.pdf(wi, wo);
-        let f = self.eval_lobe(wi, wo) + self.diffuse_value(wi, wo);
+        let pdf = self.front_pdf(wi, wo);
+        let f = self.front_eval_lobe(wi, wo) + self.front_diffuse_value(wi, wo);
         (pdf > 0.0 && wi.z > 0.0).then(|| LobeSample {
             wi,
             weight: f * wi.z / pdf,
@@ -274,17 +315,98 @@ impl MetallicRoughness {
         })
     }
 
-    /// Density of [`sample`](Self::sample).
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        let p = self.lobe_probability(wo.z);
-        p * self.pdf_lobe(wi, wo) + (1.0 - p) * cosine_hemisphere_pdf(wi)
+    /// Density of [`front_sample`](Self::front_sample).
+    pub fn front_pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        let p = self.front_lobe_probability(wo.z);
+        p * self.front_pdf_lobe(wi, wo) + (1.0 - p) * cosine_hemisphere_pdf(wi)
     }
 
     /// The diffuse part's value (zero across the surface).
-    fn diffuse_value(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+    fn front_diffuse_value(&self, wi: Vec3, wo: Vec3) -> Vec3 {
         if wi.z <= 0.0 {
             return Vec3::ZERO;
         }
-        self.diffuse_out(wo.z) * FRAC_1_PI
+        self.front_diffuse_out(wo.z) * FRAC_1_PI
+    }
+}
+
+impl BsdfKind for MetallicRoughness {
+    fn class(&self) -> SurfaceClass {
+        CLASS
+    }
+    fn resolve(&self, t: &[SceneTexture], uv: Vec2) -> Self {
+        let mut f0 = self.f0.eval(t, uv);
+        if self.f0.is_textured() {
+            f0 = f0.min(Vec3::splat(self.f90));
+        }
+        let mut f90 = self.f90;
+        if self.specular.is_textured() {
+            let a = self.specular.eval(t, uv).x;
+            f0 *= a;
+            f90 *= a;
+        }
+        Self {
+            base: self.base.resolved(t, uv),
+            metallic: self.metallic.resolved(t, uv),
+            roughness: self.roughness.resolved(t, uv),
+            f0: Param::rgb(f0),
+            f90,
+            transmission: self.transmission.resolved(t, uv),
+            specular: Param::constant(1.0),
+        }
+    }
+    fn base_colour_mut(&mut self) -> Option<&mut Param> {
+        Some(&mut self.base)
+    }
+    fn gpu_words(&self, out: &mut GpuWords) {
+        out.slot(&self.base);
+        out.slot(&self.f0);
+        out.slot(&self.metallic);
+        out.slot(&self.roughness);
+        out.slot(&self.transmission);
+        out.slot(&self.specular);
+        out.floats([self.f90, 0.0, 0.0, 0.0]);
+    }
+    fn diffuse_out(&self, wo: Vec3) -> Vec3 {
+        if wo.z != 0.0 {
+            self.front_diffuse_out(wo.z.abs())
+        } else {
+            Vec3::ZERO
+        }
+    }
+    fn store_weight(&self, wi: Vec3) -> f32 {
+        if wi.z != 0.0 && self.base_is_diffuse() {
+            1.0
+        } else {
+            0.0
+        }
+    }
+    fn eval_lobe(&self, wi: Vec3, wo: Vec3, _: Transport) -> Vec3 {
+        to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| self.front_eval_lobe(wi, wo))
+    }
+    fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+        to_front(wi, wo).map_or(0.0, |(wi, wo, _)| self.front_pdf_lobe(wi, wo))
+    }
+    fn sample_lobe(&self, wo: Vec3, u: [f32; 3], _: Transport) -> Option<LobeSample> {
+        let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+        back_to_side(self.front_sample_lobe(wo, u), flipped)
+    }
+    fn has_diffuse(&self) -> bool {
+        self.base_is_diffuse()
+    }
+    fn lobe_probability(&self, wo: Vec3) -> f32 {
+        self.front_lobe_probability(wo.z.abs())
+    }
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        to_front(wi, wo).map_or(0.0, |(wi, wo, _)| self.front_pdf(wi, wo))
+    }
+    fn sample(&self, wo: Vec3, u: [f32; 3], _: Transport) -> Option<LobeSample> {
+        let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
+        back_to_side(self.front_sample(wo, u), flipped)
+    }
+    /// Asked of the material's (unresolved) kind: a textured metalness or transmission may
+    /// leave some base diffuse anywhere on it.
+    fn stores_photons(&self) -> bool {
+        self.metallic.is_textured() || self.transmission.is_textured() || self.base_is_diffuse()
     }
 }

@@ -1,0 +1,218 @@
+//! A microfacet dielectric interface (Mitsuba's `roughdielectric`, after Walter et al. 2007,
+//! visible-normal sampling): reflection and transmission, `eta` interior over exterior,
+//! `wo.z < 0` meaning the viewer is inside. In [`Transport::Radiance`] transmitted values
+//! carry the radiance scale `(eta_o / eta_i)^2` of the crossing (Mitsuba's `eta_ti^2`); in
+//! [`Transport::Importance`] they do not. Twin: `rough_dielectric.wgsl`.
+
+use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
+use crate::bsdfs::math::{mulsign, reflect, refract};
+use crate::bsdfs::microfacet::{distribution_code, fresnel_dielectric, Distribution, Microfacet};
+use crate::bsdfs::param::{GpuWords, Param};
+use crate::bsdfs::interface::{LobeSample, Transport};
+use crate::textures::SceneTexture;
+use glam::{Vec2, Vec3};
+
+/// The WGSL twin.
+pub const WGSL: &str = include_str!("rough_dielectric.wgsl");
+/// The words its parameters take on the GPU.
+pub const WORDS: usize = 5;
+/// Its class.
+pub const CLASS: SurfaceClass = SurfaceClass::Shaded;
+
+/// A microfacet dielectric interface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoughDielectric {
+    /// Relative index of refraction, interior / exterior.
+    pub eta: f32,
+    /// Tint of the reflected part.
+    pub specular_reflectance: Param,
+    /// Tint of the transmitted part.
+    pub specular_transmittance: Param,
+    /// The normal distribution.
+    pub distribution: Distribution,
+    /// Roughness along the tangent (clamped to at least 1e-4).
+    pub alpha_u: Param,
+    /// Roughness along the bitangent (clamped to at least 1e-4).
+    pub alpha_v: Param,
+}
+
+impl RoughDielectric {
+    /// An untextured interface of distribution `mf` (its clamped roughness).
+    pub fn new(eta: f32, reflectance: Vec3, transmittance: Vec3, mf: Microfacet) -> Self {
+        Self {
+            eta,
+            specular_reflectance: Param::rgb(reflectance),
+            specular_transmittance: Param::rgb(transmittance),
+            distribution: mf.distribution,
+            alpha_u: Param::constant(mf.alpha_u),
+            alpha_v: Param::constant(mf.alpha_v),
+        }
+    }
+
+    /// The microfacet distribution of a resolved interface.
+    pub fn microfacet(&self) -> Microfacet {
+        Microfacet {
+            distribution: self.distribution,
+            alpha_u: self.alpha_u.float(),
+            alpha_v: self.alpha_v.float(),
+        }
+    }
+}
+
+impl BsdfKind for RoughDielectric {
+    fn class(&self) -> SurfaceClass {
+        CLASS
+    }
+    fn resolve(&self, t: &[SceneTexture], uv: Vec2) -> Self {
+        let clamped = |p: &Param| Param::constant(p.eval(t, uv).x.max(1e-4));
+        Self {
+            specular_reflectance: self.specular_reflectance.resolved(t, uv),
+            specular_transmittance: self.specular_transmittance.resolved(t, uv),
+            alpha_u: if self.alpha_u.is_textured() { clamped(&self.alpha_u) } else { self.alpha_u },
+            alpha_v: if self.alpha_v.is_textured() { clamped(&self.alpha_v) } else { self.alpha_v },
+            ..*self
+        }
+    }
+    fn gpu_words(&self, out: &mut GpuWords) {
+        out.raw([self.eta.to_bits(), distribution_code(self.distribution), 0, 0]);
+        out.slot(&self.specular_reflectance);
+        out.slot(&self.specular_transmittance);
+        out.slot(&self.alpha_u);
+        out.slot(&self.alpha_v);
+    }
+    fn eval_lobe(&self, wi: Vec3, wo: Vec3, t: Transport) -> Vec3 {
+        eval(
+            &self.microfacet(),
+            self.eta,
+            self.specular_reflectance.get(),
+            self.specular_transmittance.get(),
+            wi,
+            wo,
+            t,
+        )
+    }
+    fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+        pdf(&self.microfacet(), self.eta, wi, wo)
+    }
+    fn sample_lobe(&self, wo: Vec3, u: [f32; 3], t: Transport) -> Option<LobeSample> {
+        sample(
+            &self.microfacet(),
+            self.eta,
+            self.specular_reflectance.get(),
+            self.specular_transmittance.get(),
+            wo,
+            u,
+            t,
+        )
+    }
+}
+
+/// The generalised half vector of `(wi, wo)` facing up, whether the pair is a reflection, and
+/// `e`, the index ratio of the far side over `wo`'s side.
+fn half_vector(eta: f32, wi: Vec3, wo: Vec3) -> (Vec3, bool, f32) {
+    let reflect = wo.z * wi.z > 0.0;
+    let e = if wo.z > 0.0 { eta } else { 1.0 / eta };
+    let m = (wo + wi * if reflect { 1.0 } else { e }).normalize();
+    (mulsign(m, m.z), reflect, e)
+}
+
+/// f(wi, wo) of the rough dielectric, reflection and transmission.
+pub fn eval(
+    mf: &Microfacet,
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wi: Vec3,
+    wo: Vec3,
+    transport: Transport,
+) -> Vec3 {
+    if wo.z == 0.0 || wi.z == 0.0 {
+        return Vec3::ZERO;
+    }
+    let (m, reflect, e) = half_vector(eta, wi, wo);
+    let d = mf.d(m);
+    let f = fresnel_dielectric(wo.dot(m), eta).0;
+    let g = mf.g(wo, wi, m);
+    if reflect {
+        reflectance * (f * d * g / (4.0 * wo.z.abs() * wi.z.abs()))
+    } else {
+        let scale = match transport {
+            Transport::Radiance => 1.0 / (e * e),
+            Transport::Importance => 1.0,
+        };
+        let (dot_o, dot_i) = (wo.dot(m), wi.dot(m));
+        let denom = dot_o + e * dot_i;
+        let v = scale * (1.0 - f) * d * g * e * e * dot_o * dot_i / (wo.z * denom * denom);
+        transmittance * (v.abs() / wi.z.abs())
+    }
+}
+
+/// Density of [`sample`]: the visible-normal density of m times the chosen side's Fresnel
+/// probability times the Jacobian of the reflection or refraction mapping.
+pub fn pdf(mf: &Microfacet, eta: f32, wi: Vec3, wo: Vec3) -> f32 {
+    if wo.z == 0.0 {
+        return 0.0;
+    }
+    let (m, reflect, e) = half_vector(eta, wi, wo);
+    let (dot_o, dot_i) = (wo.dot(m), wi.dot(m));
+    if dot_o * wo.z <= 0.0 || dot_i * wi.z <= 0.0 {
+        return 0.0;
+    }
+    let dwh_dwi = if reflect {
+        1.0 / (4.0 * dot_i)
+    } else {
+        e * e * dot_i / (dot_o + e * dot_i).powi(2)
+    };
+    let f = fresnel_dielectric(dot_o, eta).0;
+    let prob = mf.pdf_visible(mulsign(wo, wo.z), m) * if reflect { f } else { 1.0 - f };
+    prob * dwh_dwi.abs()
+}
+
+/// Visible normal m from `u[1], u[2]` (seen from `wo`'s side); reflect when `u[0] <= F(wo . m)`,
+/// else refract. Weight = `G1(wi, m)` times the tint (and the radiance scale when refracting).
+/// `None` when the direction lands on the wrong side of the surface (no energy).
+pub fn sample(
+    mf: &Microfacet,
+    eta: f32,
+    reflectance: Vec3,
+    transmittance: Vec3,
+    wo: Vec3,
+    u: [f32; 3],
+    transport: Transport,
+) -> Option<LobeSample> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let (m, pdf_m) = mf.sample_visible(mulsign(wo, wo.z), Vec2::new(u[1], u[2]));
+    if pdf_m == 0.0 {
+        return None;
+    }
+    let dot_o = wo.dot(m);
+    let (f, cos_t, eta_it, eta_ti) = fresnel_dielectric(dot_o, eta);
+    let (wi, mut weight, pdf) = if u[0] <= f {
+        let wi = reflect(wo, m);
+        (wi, reflectance, pdf_m * f / (4.0 * wi.dot(m)).abs())
+    } else {
+        let wi = refract(wo, m, cos_t, eta_ti);
+        let factor = match transport {
+            Transport::Radiance => eta_ti * eta_ti,
+            Transport::Importance => 1.0,
+        };
+        let dot_i = wi.dot(m);
+        let dwh = eta_it * eta_it * dot_i / (dot_o + eta_it * dot_i).powi(2);
+        (wi, transmittance * factor, pdf_m * (1.0 - f) * dwh.abs())
+    };
+    weight *= mf.smith_g1(wi, m);
+    let right_side = if u[0] <= f {
+        wi.z * wo.z > 0.0
+    } else {
+        wi.z * wo.z < 0.0
+    };
+    (right_side && pdf > 0.0).then_some(LobeSample {
+        wi,
+        weight,
+        pdf,
+        delta: false,
+    })
+}
+
