@@ -419,12 +419,13 @@ fn regressions_stay_fixed() {
         QUIET.store(true, Ordering::SeqCst);
         let outcome = run_case(case.join(entry));
         QUIET.store(false, Ordering::SeqCst);
-        // The issue's own cases (`issue26-*`) are all invalid: each must be refused.
+        // The issues' own cases (`issue26-*`, `issue44-*`) are all invalid: each must be
+        // refused.
         let must_refuse = case
             .file_name()
             .unwrap()
             .to_string_lossy()
-            .starts_with("issue26-");
+            .starts_with("issue");
         match outcome {
             Outcome::Located(m) if m.is_empty() => {
                 failed.push(format!("{}: empty", case.display()))

@@ -203,11 +203,9 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     out.push(' ');
                     let mut parts = corner.split('/');
                     let v = parts.next().unwrap_or(corner);
-                    let valid = v.parse::<i64>().is_ok_and(|i| match i {
-                        1.. => i <= n_positions,
-                        ..=-1 => -i <= positions,
-                        0 => false,
-                    });
+                    let valid = v
+                        .parse::<i64>()
+                        .is_ok_and(|i| counts_back(i, positions) || (1..=n_positions).contains(&i));
                     if !valid || corner.split('/').count() > 3 {
                         return Err(at(format!(
                             "OBJ face corner `{corner}`: vertex index out of range or \
@@ -217,7 +215,9 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     out.push_str(v);
                     if has_normals {
                         let n = parts.nth(1).unwrap_or("");
-                        let valid = n.parse::<i64>().is_ok_and(|i| i != 0 && i.abs() <= seen);
+                        let valid = n
+                            .parse::<i64>()
+                            .is_ok_and(|i| counts_back(i, seen) || (1..=seen).contains(&i));
                         if !valid {
                             return Err(at(format!(
                                 "OBJ face corner `{corner}`: normal index out of range \
@@ -294,6 +294,12 @@ fn parse_vt(line: &str) -> Result<Vec2, String> {
     Ok(uv)
 }
 
+/// Whether `i` is a negative index naming one of the `records` before it (-1 the last).
+/// i64::MIN is not: its magnitude does not fit an i64 (negating it overflowed here once).
+fn counts_back(i: i64, records: i64) -> bool {
+    i < 0 && i.unsigned_abs() <= records.unsigned_abs()
+}
+
 /// The uv a face corner names (`v/vt`, `v/vt/vn`; negative indices count back from the last
 /// `vt` so far), or (0, 0) for a corner that names none.
 fn corner_uv(corner: &str, vts: &[Vec2]) -> Result<Vec2, String> {
@@ -307,7 +313,7 @@ fn corner_uv(corner: &str, vts: &[Vec2]) -> Result<Vec2, String> {
         .ok()
         .and_then(|i| match i {
             1.. if i <= n => Some(i - 1),
-            ..=-1 if -i <= n => Some(n + i),
+            _ if counts_back(i, n) => Some(n + i),
             _ => None,
         })
         .ok_or_else(|| {

@@ -528,7 +528,14 @@ fn extreme_integer(b: &mut Vec<u8>, rng: &mut Rng) {
 /// Control characters as XML writes them in an attribute: character references (a literal
 /// tab or newline there reads as a space), C1 controls and DEL included.
 const XML_CONTROLS: &[&str] = &[
-    "&#9;", "&#10;", "&#13;", "&#9;&#10;", "&#x85;", "&#x7f;", "&#x9b;", "&#x1b;",
+    "&#9;",
+    "&#10;",
+    "&#13;",
+    "&#9;&#10;",
+    "&#x85;",
+    "&#x7f;",
+    "&#x9b;",
+    "&#x1b;",
 ];
 
 /// Control characters as JSON and TOML strings write them: escapes.
