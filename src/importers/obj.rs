@@ -36,13 +36,13 @@ pub(crate) struct ObjTriangles {
 /// (`PATH:LINE: message`): the file cannot be read, a record does not parse, a face refers
 /// to a missing vertex or normal, a vertex is not finite, a normal (`vn`) is zero or not
 /// finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or there are no
-/// triangles (at the file's last line).
-pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, String> {
+/// triangles (at the file's last line), or more than `room` (at the face that passes it).
+pub(crate) fn load_triangles(path: &Path, flip_v: bool, room: u64) -> Result<ObjTriangles, String> {
     let bytes = crate::importers::read::regular_file(path)
         .map_err(|e| format!("cannot read mesh {}: {e}", path.display()))?;
     let text = crate::importers::read::utf8(bytes)
         .map_err(|bad| format!("{}:{}: {bad}", path.display(), bad.line))?;
-    match parse_triangles(&text, flip_v) {
+    match parse_triangles(&text, flip_v, room) {
         Ok(obj) if obj.tris.is_empty() => Err(format!(
             "{}:{}: the mesh has no triangles",
             path.display(),
@@ -56,8 +56,8 @@ pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, 
 
 /// Parses OBJ `text` into triangles; see [`load_triangles`]. Errors carry the 1-based line
 /// of the record (0: none).
-fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, (usize, String)> {
-    let kept = strip_attributes(text, flip_v)?;
+fn parse_triangles(text: &str, flip_v: bool, room: u64) -> Result<ObjTriangles, (usize, String)> {
+    let kept = strip_attributes(text, flip_v, room)?;
     let mut reader = BufReader::new(kept.as_bytes());
     // Single index, triangulated (fans), points and lines ignored. Material libraries are
     // never opened: materials come from the scene file.
@@ -145,8 +145,9 @@ impl Kept {
 /// has three finite numbers, a used `vn` three numbers neither all zero nor infinite, a face
 /// three or more corners whose indices name existing records (a normal, or a negative
 /// index, one before it). The `vt` records named by the corners are read here instead (v
-/// flipped when `flip_v`), checked the same way.
-fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
+/// flipped when `flip_v`), checked the same way. The faces' triangles are counted as they
+/// come: past `room`, the face that passes it is an error (before tobj builds them).
+fn strip_attributes(text: &str, flip_v: bool, room: u64) -> Result<Kept, (usize, String)> {
     let records = |kind: &'static str| {
         text.lines()
             .filter(move |l| l.split_whitespace().next() == Some(kind))
@@ -162,6 +163,7 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
     let mut positions = 0i64; // `v` records so far: a negative index counts back from here
     let mut vts: Vec<Vec2> = Vec::new();
     let mut uvs = Vec::new();
+    let mut triangles = 0u64;
     for (i, line) in text.lines().enumerate() {
         let at = |e: String| (i + 1, e);
         let mut words = line.split_whitespace();
@@ -231,6 +233,13 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                 if count < 3 {
                     let message = format!("OBJ face has {count} corners; a face needs 3 or more");
                     return Err(at(message));
+                }
+                triangles += count - 2;
+                if triangles > room {
+                    return Err(at(format!(
+                        "the faces so far make {triangles} triangles, more than the {room} the \
+                         scene's budget has room for"
+                    )));
                 }
                 for k in 2..face_uvs.len() {
                     uvs.push([face_uvs[0], face_uvs[k - 1], face_uvs[k]]);

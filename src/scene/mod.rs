@@ -9,12 +9,15 @@
 
 pub mod builder;
 pub mod checks;
+pub mod cost;
+pub mod geometry_budget;
 pub mod locate;
 pub mod normals;
 pub mod tangents;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
-pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
+pub use checks::{SceneBudgets, MAX_SCENE_BYTES, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
+pub use cost::MeshCost;
 pub use locate::{Locate, Origin, Part};
 pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, MaterialKind, NO_TEXTURE};
 pub use crate::lights::environment::Environment;

@@ -113,6 +113,26 @@ fn elements<'d>(
     buffers: &'d [Vec<u8>],
     size: usize,
 ) -> Result<Vec<&'d [u8]>, String> {
+    let (data, start, stride) = placed(accessor, buffers, size)?;
+    let count = accessor.count();
+    Ok((0..count)
+        .map(|i| &data[start + i * stride..start + i * stride + size])
+        .collect())
+}
+
+/// Whether `accessor`'s elements (of its own size) are all in its view and buffer, so that
+/// its count can be believed before its data is read.
+pub(super) fn fits(accessor: &Accessor, buffers: &[Vec<u8>]) -> bool {
+    placed(accessor, buffers, accessor.size()).is_ok()
+}
+
+/// `accessor`'s buffer, its first element's offset and the stride between elements of `size`
+/// bytes, once every element is checked to lie in its view and the view in its buffer.
+fn placed<'d>(
+    accessor: &Accessor,
+    buffers: &'d [Vec<u8>],
+    size: usize,
+) -> Result<(&'d [u8], usize, usize), String> {
     if accessor.sparse().is_some() {
         return Err("sparse accessors are not supported".into());
     }
@@ -144,10 +164,7 @@ fn elements<'d>(
             view.index()
         ));
     }
-    let start = view.offset() + accessor.offset();
-    Ok((0..count)
-        .map(|i| &data[start + i * stride..start + i * stride + size])
-        .collect())
+    Ok((data, view.offset() + accessor.offset(), stride))
 }
 
 /// The `POSITION` accessor's points: VEC3 of FLOAT, all finite.

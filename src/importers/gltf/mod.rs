@@ -20,6 +20,7 @@
 //! uv sets) go to stderr.
 
 mod data;
+mod instances;
 mod json_line;
 mod material;
 mod refs;
@@ -103,6 +104,8 @@ pub fn load_slice(
         warned: Vec::new(),
         instances: 0,
     };
+    // What every node instance will cost, checked before the first is built.
+    im.check_instances(&scene)?;
     for node in scene.nodes() {
         im.node(&node, Mat4::IDENTITY, 0)?;
     }

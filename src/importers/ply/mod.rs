@@ -90,6 +90,13 @@ fn shown_place(line: Option<usize>, byte: Option<usize>) -> String {
 /// wrong type, a face has fewer than 3 vertices or refers to a missing vertex, a position
 /// or texture coordinate is not finite, or there are no faces.
 pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
+    read_ply_within(path, u64::MAX)
+}
+
+/// [`read_ply`], refusing a mesh of more than `room` triangles (what the scene's budget has
+/// room for) before they are built: a `face` element of more rows at its header line, before
+/// the payload is parsed, and polygons that triangulate to more at the row that passes it.
+pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyError> {
     let at = |place: Option<Place>, message: String| PlyError {
         path: path.to_path_buf(),
         line: match place {
@@ -166,6 +173,13 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
             )))
         }
     }
+    if face_def.count as u64 > room {
+        return Err(fail(format!(
+            "{} faces make at least as many triangles, more than the {room} the scene's \
+             budget has room for",
+            face_def.count
+        )));
+    }
 
     // A binary payload has no lines: the parser's line is then the header's last.
     let ascii = matches!(header.encoding, Encoding::Ascii);
@@ -232,6 +246,13 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
                     )))
                 }
             }
+        }
+        if (triangles.len() + corner.len() - 2) as u64 > room {
+            return Err(fail(format!(
+                "the faces so far make {} triangles, more than the {room} the scene's budget \
+                 has room for",
+                triangles.len() + corner.len() - 2
+            )));
         }
         for k in 1..corner.len() - 1 {
             triangles.push([corner[0], corner[k], corner[k + 1]]);
