@@ -97,6 +97,18 @@ fn gltf_node_references_are_counted_before_any_is_built() {
             path.display()
         )
     );
+    // Within the budget it renders, the copies at the one place left out but the first.
+    let (path, _) = spheres(&d, 3);
+    let (stderr, code) = render(&path, "256M");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains("nodes[0]: instanced again at the place of an earlier instance"),
+        "{stderr}"
+    );
+    let one = load(&spheres(&d, 1).0).unwrap();
+    let three = load(&spheres(&d, 3).0).unwrap();
+    assert_eq!(one.triangles.len(), 4096);
+    assert_eq!(three.triangles, one.triangles);
 }
 
 /// A TOML scene naming the mesh file `mesh` twice (lines 10 and 14).

@@ -103,6 +103,7 @@ pub fn load_slice(
         has_camera: false,
         warned: Vec::new(),
         instances: 0,
+        placed: Default::default(),
     };
     // What every node instance will cost, checked before the first is built.
     im.check_instances(&scene)?;
@@ -193,6 +194,9 @@ struct Importer<'a> {
     warned: Vec<String>,
     /// Node instances visited so far (bounded by [`MAX_NODE_INSTANCES`]).
     instances: usize,
+    /// The places of the instances built so far, and the nodes warned about a copy
+    /// (`instances.rs`).
+    placed: instances::Placed,
 }
 
 impl Importer<'_> {
@@ -214,15 +218,18 @@ impl Importer<'_> {
         if !world.is_finite() {
             return Err(self.cx.err(&field, "the transform is not finite".into()));
         }
-        if let Some(camera) = node.camera() {
-            self.camera(&camera, world)?;
-        }
-        if let Some(light) = node.light() {
-            self.light(&light, world)?;
-        }
-        if let Some(mesh) = node.mesh() {
-            for primitive in mesh.primitives() {
-                self.primitive(&mesh, &primitive, world)?;
+        // A copy of an earlier instance, at its very place, adds nothing but work.
+        if self.first_at(node, world) {
+            if let Some(camera) = node.camera() {
+                self.camera(&camera, world)?;
+            }
+            if let Some(light) = node.light() {
+                self.light(&light, world)?;
+            }
+            if let Some(mesh) = node.mesh() {
+                for primitive in mesh.primitives() {
+                    self.primitive(&mesh, &primitive, world)?;
+                }
             }
         }
         for child in node.children() {
