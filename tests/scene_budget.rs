@@ -111,6 +111,35 @@ fn gltf_node_references_are_counted_before_any_is_built() {
     assert_eq!(three.triangles, one.triangles);
 }
 
+#[test]
+fn gltf_buffers_are_counted_however_often_one_is_named() {
+    // The external fuzzer's glTF naming its 1.8 MB buffer file 10,000 times aborted.
+    let d = dir("gltf-buffers");
+    let (path, _) = spheres(&d, 1);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let buffer = json["buffers"][0].clone();
+    json["buffers"] = serde_json::Value::Array(vec![buffer; 3]);
+    let text = serde_json::to_string_pretty(&json).unwrap();
+    std::fs::write(&path, &text).unwrap();
+    let buffers = text
+        .lines()
+        .position(|l| l.contains("\"buffers\""))
+        .unwrap();
+    // The third: 3 x 100,632 bytes, past half of 400 KiB.
+    let (stderr, code) = render(&path, "400K");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: {}:{}: buffers[2]: the buffers so far take 301896 bytes, more than the \
+             scene's budget of 204800 bytes\n",
+            path.display(),
+            buffers + 10
+        )
+    );
+    assert_eq!(code, Some(1));
+}
+
 /// A TOML scene naming the mesh file `mesh` twice (lines 10 and 14).
 fn two_meshes(d: &Path, mesh: &str) -> PathBuf {
     let text = format!(

@@ -86,7 +86,8 @@ pub fn load_slice(
         refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?;
     }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| cx.parse_error(e))?;
-    let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir)
+    let budget = crate::scene::SceneBudgets::default().max_bytes;
+    let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir, budget)
         .map_err(|(field, m)| cx.err(&field, m))?;
     let doc = &gltf.document;
     let scene = doc
