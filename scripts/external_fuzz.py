@@ -71,7 +71,8 @@ def sphere(segments, rings):
 
 
 def sphere_gltf(segments, rings, bin_name):
-    """A glTF document (dict) and its buffer for a sphere lit by a point light, with a camera."""
+    """A glTF document (dict) and its buffer for a Lambertian sphere lit by a point light,
+    with a camera."""
     pos, idx = sphere(segments, rings)
     p = b"".join(struct.pack("<3f", *v) for v in pos)
     n = p  # unit sphere: the normal is the position
@@ -80,7 +81,7 @@ def sphere_gltf(segments, rings, bin_name):
     doc = {
         "asset": {"version": "2.0"},
         "scene": 0,
-        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"type": "point", "color": [1, 1, 1], "intensity": 50}]}},
         "scenes": [{"nodes": [0, 1, 2]}],
@@ -91,8 +92,10 @@ def sphere_gltf(segments, rings, bin_name):
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1,
                                                              "aspectRatio": 1.0}}],
+        # Lambertian (no specular lobe): no caustic map to aim at it, so each case is cheap.
         "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
-                                                "metallicFactor": 0.0}}],
+                                                "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0}}}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1},
                                     "indices": 2, "material": 0}]}],
         "buffers": [{"byteLength": len(buf)} | ({"uri": bin_name} if bin_name else {})],
