@@ -600,7 +600,7 @@ fn control_char(b: &mut Vec<u8>, rng: &mut Rng) {
     let at = x + rng.below(y - x + 1);
     let xml = b.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'<');
     let piece: &[u8] = match (raw, xml) {
-        (true, _) => *rng.pick(RAW_CONTROLS),
+        (true, _) => RAW_CONTROLS[rng.below(RAW_CONTROLS.len())],
         (false, true) => rng.pick(XML_CONTROLS).as_bytes(),
         (false, false) => rng.pick(ESCAPED_CONTROLS).as_bytes(),
     };
