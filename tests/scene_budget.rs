@@ -4,18 +4,13 @@
 //! allocation under a 4 GiB address-space limit. `GPU_PHOTON_MEMORY` stands in for the
 //! machine's memory in the command-line cases, so their messages do not depend on it.
 
+mod common;
+
+use common::{bin, scratch as dir};
 use glam::Vec3;
 use gpu_photon::importers::load;
 use gpu_photon::scene::{Material, MeshCost, Origin, SceneBudgets, SceneBuilder, Surface};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-/// A fresh directory for one test's files.
-fn dir(test: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gpu-photon-budget-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// The fuzzer's glTF sphere seed (4,096 smooth triangles) in `d`, its root list naming the
 /// sphere's node `copies` times (then the camera's and the light's); the scene file's path
@@ -46,7 +41,7 @@ fn spheres(d: &Path, copies: usize) -> (PathBuf, usize) {
 /// status.
 fn render(file: &Path, memory: &str) -> (String, Option<i32>) {
     let out = file.with_extension("png");
-    let o = Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+    let o = bin()
         .arg("render")
         .arg(file)
         .args([
@@ -241,36 +236,20 @@ fn shapes_and_textures_share_one_byte_budget() {
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
     b.add_mesh(vec![tri; 10], Surface::of(white), &at(3, "shapes[0]"))
         .unwrap();
+    let refused = |r: gpu_photon::Result<()>, at: &str, n: usize, bytes: usize| {
+        let want = format!(
+            "t.toml:{at}: this shape would need {n} triangles / {bytes} bytes, over the \
+             scene's budget of 564 bytes; the scene holds 480 bytes already"
+        );
+        assert_eq!(r.unwrap_err().to_string(), want);
+    };
     let normals = Some(vec![[Vec3::Z, Vec3::Y, Vec3::X]; 2]);
-    let e = b
-        .add_smooth_mesh(
-            vec![tri; 2],
-            normals,
-            Surface::of(white),
-            &at(5, "shapes[1]"),
-        )
-        .unwrap_err();
-    assert_eq!(
-        e.to_string(),
-        "t.toml:5: shapes[1]: this shape would need 2 triangles / 168 bytes, over the scene's \
-         budget of 564 bytes; the scene holds 480 bytes already"
-    );
+    let smooth = b.add_smooth_mesh(vec![tri; 2], normals, Surface::of(white), &at(5, "s[1]"));
+    refused(smooth, "5: s[1]", 2, 168);
     // Texture coordinates are kept for every triangle once one has them: 11 x 24 more.
     let uvs = vec![[glam::Vec2::ZERO; 3]];
-    let e = b
-        .add_uv_mesh(
-            vec![tri],
-            None,
-            uvs,
-            Surface::of(white),
-            &at(7, "shapes[2]"),
-        )
-        .unwrap_err();
-    assert_eq!(
-        e.to_string(),
-        "t.toml:7: shapes[2]: this shape would need 1 triangles / 312 bytes, over the scene's \
-         budget of 564 bytes; the scene holds 480 bytes already"
-    );
+    let textured = b.add_uv_mesh(vec![tri], None, uvs, Surface::of(white), &at(7, "s[2]"));
+    refused(textured, "7: s[2]", 1, 312);
     // An instance list is checked by the same function, before it is built.
     let mesh = MeshCost::mesh(77_792, true, false, false);
     let e = b
