@@ -179,8 +179,9 @@ fn mesh_files_are_refused_before_their_triangles_are_built() {
         )) && stderr.contains("t.toml:14: shapes[1].file: "),
         "{stderr}"
     );
-    // PLY: more faces than the room, refused at the element's header line before the
-    // payload is read; polygons that triangulate past it, at the row that passes it.
+    // PLY: rows the parser would keep past the room (416 bytes a vertex of three floats,
+    // 224 a face), refused at the element's header line before the payload is read;
+    // polygons that triangulate past the room, at the row that passes it.
     let ply = |faces: usize, corners: usize| {
         let mut t = format!(
             "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n\
@@ -188,7 +189,7 @@ fn mesh_files_are_refused_before_their_triangles_are_built() {
              end_header\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n"
         );
         for _ in 0..faces {
-            let list: Vec<String> = (0..corners).map(|i| i.to_string()).collect();
+            let list: Vec<String> = (0..corners).map(|i| (i % 5).to_string()).collect();
             t += &format!("{corners} {}\n", list.join(" "));
         }
         std::fs::write(d.join("m.ply"), t).unwrap();
@@ -198,17 +199,18 @@ fn mesh_files_are_refused_before_their_triangles_are_built() {
     let (stderr, _) = render(&two_meshes(&d, "m.ply"), "800");
     assert!(
         stderr.ends_with(&format!(
-            "{}:7: 9 faces make at least as many triangles, more than the 8 the scene's \
-             budget has room for\n",
+            "{}:3: element `vertex` has 5 rows: read, the elements so far take about 2.0 KiB, \
+             more than the 384 bytes the scene's budget has room for\n",
             mesh.display()
         )),
         "{stderr}"
     );
-    ply(3, 5);
-    let (stderr, _) = render(&two_meshes(&d, "m.ply"), "800");
+    // One face of 100 corners, 98 triangles; half of 8000 bytes is room for 83.
+    ply(1, 100);
+    let (stderr, _) = render(&two_meshes(&d, "m.ply"), "8000");
     assert!(
         stderr.ends_with(&format!(
-            "{}:17: the faces so far make 9 triangles, more than the 8 the scene's budget \
+            "{}:15: the faces so far make 98 triangles, more than the 83 the scene's budget \
              has room for\n",
             mesh.display()
         )),
