@@ -81,9 +81,14 @@ pub fn load_slice(
         json: json_text(bytes),
     };
     // Indices and camera types are checked on the raw JSON first: the crate panics on some
-    // and wraps others. Text that is not JSON is left to the crate to report.
-    if let Ok(json) = serde_json::from_str(&cx.json) {
-        refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?;
+    // and wraps others. JSON that does not parse is refused here, with its line, as the
+    // crate would: it reads some such text (a number past f64 in a member it skips, as a
+    // misspelt `accessors`), unchecked, and then panicked in its validation. A GLB whose
+    // container hides its JSON is left to the crate to report.
+    match serde_json::from_str(&cx.json) {
+        Ok(json) => refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?,
+        Err(e) if !cx.json.is_empty() => return Err(cx.parse_error(gltf::Error::Deserialize(e))),
+        Err(_) => {}
     }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| cx.parse_error(e))?;
     let budget = crate::scene::SceneBudgets::default().max_bytes;
