@@ -51,6 +51,9 @@ pub mod camera;
 /// The library's error type.
 #[doc(hidden)]
 pub mod error;
+/// Control characters of echoed input, escaped so every message is one line of plain text.
+#[doc(hidden)]
+pub mod escape;
 /// Scene files of every format, read into the one scene builder.
 #[doc(hidden)]
 pub mod importers;

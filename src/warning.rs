@@ -26,7 +26,8 @@ thread_local! {
 
 /// Reports `message`: kept by the enclosing [`collect`], else printed to stderr.
 pub fn warn(message: impl Into<String>) {
-    let message = message.into();
+    // The values it echoes of a scene file, escaped as errors' are (`crate::escape`).
+    let message = crate::escape::escape(&message.into()).into_owned();
     let unheard = SINK.with(|sink| match sink.borrow_mut().as_mut() {
         Some(list) => {
             list.push(Warning { message });

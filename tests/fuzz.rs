@@ -59,6 +59,9 @@ enum Outcome {
     Located(String),
     /// Refused with an error that does not.
     Unlocated(String),
+    /// An error or warning that holds a control character (a value echoed unescaped: a
+    /// newline in an id splits the message).
+    Unescaped(String),
     /// A panic, with its message and place.
     Panic(String),
     /// Still running at the deadline.
@@ -181,9 +184,30 @@ fn limit_address_space() {
     }
 }
 
+/// Loads the scene at `entry` and renders it small (see [`load_and_render_quietly`]); a
+/// warning with a control character in it makes the case [`Outcome::Unescaped`].
+fn load_and_render(entry: &Path) -> Outcome {
+    let (outcome, warnings) = gpu_photon::warning::collect(|| load_and_render_quietly(entry));
+    match warnings.into_iter().find(|w| unescaped(&w.message)) {
+        Some(w) => Outcome::Unescaped(format!("warning: {}", w.message)),
+        None => outcome,
+    }
+}
+
+/// Whether a message holds a character that must be escaped: a control character (C0, DEL or
+/// C1; a newline included), a line or paragraph separator, a bidirectional formatting one.
+fn unescaped(message: &str) -> bool {
+    message.chars().any(|c| {
+        c.is_control()
+            || matches!(c, '\u{2028}' | '\u{2029}' | '\u{200e}' | '\u{200f}')
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    })
+}
+
 /// Loads the scene at `entry` and renders it small: 8x8, 1 spp, at most 2,000 photons
 /// (1,000 caustic) and two progressive passes, on the CPU.
-fn load_and_render(entry: &Path) -> Outcome {
+fn load_and_render_quietly(entry: &Path) -> Outcome {
     let scene = match load(entry) {
         Ok(scene) => scene,
         Err(e) => return classify(e.to_string(), entry.parent().unwrap()),
@@ -205,7 +229,9 @@ fn classify(message: String, dir: &Path) -> Outcome {
     if std::env::var_os("GPU_PHOTON_FUZZ_VERBOSE").is_some() {
         eprintln!("{message}");
     }
-    if located(&message, dir) {
+    if unescaped(&message) {
+        Outcome::Unescaped(message)
+    } else if located(&message, dir) {
         Outcome::Located(message)
     } else {
         Outcome::Unlocated(message)
@@ -263,6 +289,7 @@ struct Tally {
     rendered: u64,
     located: u64,
     unlocated: u64,
+    unescaped: u64,
     panics: u64,
     hangs: u64,
     failures: Vec<String>,
@@ -329,6 +356,10 @@ fn mutated_scenes_fail_cleanly() {
                 Outcome::Unlocated(m) => {
                     (t.unlocated += 1, Some(format!("error without place: {m}"))).1
                 }
+                Outcome::Unescaped(m) => {
+                    let why = format!("control character in a message: {m:?}");
+                    (t.unescaped += 1, Some(why)).1
+                }
                 Outcome::Panic(m) => (t.panics += 1, Some(format!("panic: {m}"))).1,
                 Outcome::Hang => (t.hangs += 1, Some("hang".to_string())).1,
             };
@@ -346,12 +377,13 @@ fn mutated_scenes_fail_cleanly() {
         }
         eprintln!(
             "fuzz {format}: {} cases in {:.1} s: {} rendered, {} located errors, {} unlocated, \
-             {} panics, {} hangs; slowest case {} ({:.2} s)",
-            t.rendered + t.located + t.unlocated + t.panics + t.hangs,
+             {} unescaped, {} panics, {} hangs; slowest case {} ({:.2} s)",
+            t.rendered + t.located + t.unlocated + t.unescaped + t.panics + t.hangs,
             start.elapsed().as_secs_f64(),
             t.rendered,
             t.located,
             t.unlocated,
+            t.unescaped,
             t.panics,
             t.hangs,
             t.slowest.1,
@@ -387,12 +419,13 @@ fn regressions_stay_fixed() {
         QUIET.store(true, Ordering::SeqCst);
         let outcome = run_case(case.join(entry));
         QUIET.store(false, Ordering::SeqCst);
-        // The issue's own cases (`issue26-*`) are all invalid: each must be refused.
+        // The issues' own cases (`issue26-*`, `issue44-*`) are all invalid: each must be
+        // refused.
         let must_refuse = case
             .file_name()
             .unwrap()
             .to_string_lossy()
-            .starts_with("issue26-");
+            .starts_with("issue");
         match outcome {
             Outcome::Located(m) if m.is_empty() => {
                 failed.push(format!("{}: empty", case.display()))

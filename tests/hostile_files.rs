@@ -428,6 +428,8 @@ fn scene_budgets_stop_triangles_and_texels_at_the_shape_that_crosses_them() {
     b.set_budgets(SceneBudgets {
         max_triangles: 13,
         max_texture_bytes: 100,
+        max_bytes: u64::MAX,
+        memory: None,
     });
     let white = b
         .add_material(None, Material::diffuse(Vec3::ONE), &at(1, "materials.w"))

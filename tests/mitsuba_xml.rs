@@ -314,6 +314,37 @@ fn refs_reach_any_top_level_object_in_any_order() {
     assert_eq!(got, "t.xml:4: bsdf[a]: duplicate id `a` (first at t.xml:3)");
 }
 
+#[test]
+fn echoed_ids_and_names_have_their_control_characters_escaped() {
+    // Issue 44: a tab and a newline in an id (character references: literal ones read as
+    // spaces in an attribute) split the message over two lines.
+    let text = scene(
+        "<shape type=\"rectangle\"><ref id=\"&#9;&#10;1\"/></shape>\n\
+         <bsdf type=\"diffuse\" id=\"white&#x9b;2J\"/>",
+    );
+    let got = error(import(&text, "t.xml", Path::new(".")));
+    assert_eq!(
+        got,
+        "t.xml:3: shape[0].ref: unknown id `\\t\\n1` (the scene's ids: `white\\u{9b}2J`)"
+    );
+    // In the field path too, and in a warning.
+    let text = scene(
+        "<bsdf type=\"diffuse\" id=\"w\"><rgb name=\"reflect&#13;ance\" value=\"1\"/></bsdf>",
+    );
+    let got = error(import(&text, "t.xml", Path::new(".")));
+    assert_eq!(
+        got,
+        "t.xml:3: bsdf[w].reflect\\rance: unsupported parameter of `diffuse`"
+    );
+    let (_, warnings) = gpu_photon::warning::collect(|| {
+        gpu_photon::warning::warn("pixel filter `gaussian\r\u{85}` approximated");
+    });
+    assert_eq!(
+        warnings[0].message,
+        "pixel filter `gaussian\\r\\u{85}` approximated"
+    );
+}
+
 /// The colour Mitsuba gives `<spectrum value>` as a diffuse reflectance.
 fn reflectance(value: &str) -> Vec3 {
     let im = ok(&format!(

@@ -912,6 +912,26 @@ fn broken_obj_files() {
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/-99999999999 3/1\n",
             "vt-out-of-range.obj:5: OBJ face corner `2/-99999999999`: texture coordinate index",
         ),
+        // i64::MIN, whose negation overflows (issue 44), in each slot of a corner: a panic
+        // (vt), an error without a line (v, from tobj) and a mesh rendered (vn) before.
+        (
+            "min-vt.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/-9223372036854775808\n",
+            "min-vt.obj:5: OBJ face corner `3/-9223372036854775808`: texture coordinate index \
+             out of range (1 vt records before it)",
+        ),
+        (
+            "min-v.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775808\n",
+            "min-v.obj:4: OBJ face corner `-9223372036854775808`: vertex index out of range or \
+             malformed (3 v records before it, 3 in all)",
+        ),
+        (
+            "min-vn.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//-9223372036854775808\n",
+            "min-vn.obj:5: OBJ face corner `3//-9223372036854775808`: normal index out of range \
+             (1 vn records before it)",
+        ),
     ];
     for (name, obj, needle) in bad {
         std::fs::write(dir.join(name), obj).unwrap();

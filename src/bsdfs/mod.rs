@@ -49,7 +49,6 @@ pub mod rough_dielectric;
 pub mod thin_dielectric;
 
 pub use interface::{BsdfKind, LobeSample, SurfaceClass, Transport};
-use interface::{back_to_side, flip_z, to_front};
 pub use metallic_roughness::{schlick_mean, schlick_mean_table, MetallicRoughness, SCHLICK_MEAN_RES};
 pub use microfacet::{
     fresnel_conductor, fresnel_dielectric, fresnel_diffuse_reflectance, named_conductor,

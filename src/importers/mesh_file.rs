@@ -110,11 +110,18 @@ fn transform_normals(mut ns: Vec<VertexNormals>, map: Mat3, swap: bool) -> Vec<V
 /// to `1 - v` when `flip_v` (Mitsuba's `flip_tex_coords`; an OBJ corner without `vt` keeps
 /// (0, 0) either way). Errors are messages naming the resolved path (for PLY, the
 /// [`ply::PlyError`]); a vertex normal that is zero or not finite is one, naming its field
-/// (`vn`, or `nx, ny, nz` and the vertex).
-pub(crate) fn load_mesh(path: &Path, format: MeshFormat, flip_v: bool) -> Result<MeshData, String> {
+/// (`vn`, or `nx, ny, nz` and the vertex). A file with more than `room` triangles (what the
+/// scene's budget has room for, `SceneBuilder::triangle_room`) is refused as it is read,
+/// before they are built.
+pub(crate) fn load_mesh(
+    path: &Path,
+    format: MeshFormat,
+    flip_v: bool,
+    room: u64,
+) -> Result<MeshData, String> {
     match format {
         MeshFormat::Obj => {
-            let obj = obj::load_triangles(path, flip_v)?;
+            let obj = obj::load_triangles(path, flip_v, room)?;
             Ok(MeshData {
                 tris: obj.tris,
                 normals: obj.normals,
@@ -122,7 +129,7 @@ pub(crate) fn load_mesh(path: &Path, format: MeshFormat, flip_v: bool) -> Result
             })
         }
         MeshFormat::Ply => {
-            let mesh = ply::read_ply(path).map_err(|e| e.to_string())?;
+            let mesh = ply::read_ply_within(path, room).map_err(|e| e.to_string())?;
             let normals = match &mesh.normals {
                 None => None,
                 Some(ns) => {
@@ -184,7 +191,8 @@ pub(crate) fn add_mesh_file(
     at: &dyn Locate,
 ) -> Result<()> {
     let format = MeshFormat::of_path(path);
-    let mesh = load_mesh(path, format, format.flips_tex_coords())
+    let room = builder.triangle_room();
+    let mesh = load_mesh(path, format, format.flips_tex_coords(), room)
         .map_err(|m| at.error(Part::Geometry, m))?
         .flat_if(smooth == Some(false));
     if smooth == Some(true) && mesh.normals.is_none() {

@@ -36,13 +36,13 @@ pub(crate) struct ObjTriangles {
 /// (`PATH:LINE: message`): the file cannot be read, a record does not parse, a face refers
 /// to a missing vertex or normal, a vertex is not finite, a normal (`vn`) is zero or not
 /// finite, a `vt` is malformed or not finite, a corner names a missing `vt`, or there are no
-/// triangles (at the file's last line).
-pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, String> {
+/// triangles (at the file's last line), or more than `room` (at the face that passes it).
+pub(crate) fn load_triangles(path: &Path, flip_v: bool, room: u64) -> Result<ObjTriangles, String> {
     let bytes = crate::importers::read::regular_file(path)
         .map_err(|e| format!("cannot read mesh {}: {e}", path.display()))?;
     let text = crate::importers::read::utf8(bytes)
         .map_err(|bad| format!("{}:{}: {bad}", path.display(), bad.line))?;
-    match parse_triangles(&text, flip_v) {
+    match parse_triangles(&text, flip_v, room) {
         Ok(obj) if obj.tris.is_empty() => Err(format!(
             "{}:{}: the mesh has no triangles",
             path.display(),
@@ -56,8 +56,8 @@ pub(crate) fn load_triangles(path: &Path, flip_v: bool) -> Result<ObjTriangles, 
 
 /// Parses OBJ `text` into triangles; see [`load_triangles`]. Errors carry the 1-based line
 /// of the record (0: none).
-fn parse_triangles(text: &str, flip_v: bool) -> Result<ObjTriangles, (usize, String)> {
-    let kept = strip_attributes(text, flip_v)?;
+fn parse_triangles(text: &str, flip_v: bool, room: u64) -> Result<ObjTriangles, (usize, String)> {
+    let kept = strip_attributes(text, flip_v, room)?;
     let mut reader = BufReader::new(kept.as_bytes());
     // Single index, triangulated (fans), points and lines ignored. Material libraries are
     // never opened: materials come from the scene file.
@@ -145,8 +145,9 @@ impl Kept {
 /// has three finite numbers, a used `vn` three numbers neither all zero nor infinite, a face
 /// three or more corners whose indices name existing records (a normal, or a negative
 /// index, one before it). The `vt` records named by the corners are read here instead (v
-/// flipped when `flip_v`), checked the same way.
-fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
+/// flipped when `flip_v`), checked the same way. The faces' triangles are counted as they
+/// come: past `room`, the face that passes it is an error (before tobj builds them).
+fn strip_attributes(text: &str, flip_v: bool, room: u64) -> Result<Kept, (usize, String)> {
     let records = |kind: &'static str| {
         text.lines()
             .filter(move |l| l.split_whitespace().next() == Some(kind))
@@ -162,6 +163,7 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
     let mut positions = 0i64; // `v` records so far: a negative index counts back from here
     let mut vts: Vec<Vec2> = Vec::new();
     let mut uvs = Vec::new();
+    let mut triangles = 0u64;
     for (i, line) in text.lines().enumerate() {
         let at = |e: String| (i + 1, e);
         let mut words = line.split_whitespace();
@@ -203,11 +205,9 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     out.push(' ');
                     let mut parts = corner.split('/');
                     let v = parts.next().unwrap_or(corner);
-                    let valid = v.parse::<i64>().is_ok_and(|i| match i {
-                        1.. => i <= n_positions,
-                        ..=-1 => -i <= positions,
-                        0 => false,
-                    });
+                    let valid = v
+                        .parse::<i64>()
+                        .is_ok_and(|i| counts_back(i, positions) || (1..=n_positions).contains(&i));
                     if !valid || corner.split('/').count() > 3 {
                         return Err(at(format!(
                             "OBJ face corner `{corner}`: vertex index out of range or \
@@ -217,7 +217,9 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                     out.push_str(v);
                     if has_normals {
                         let n = parts.nth(1).unwrap_or("");
-                        let valid = n.parse::<i64>().is_ok_and(|i| i != 0 && i.abs() <= seen);
+                        let valid = n
+                            .parse::<i64>()
+                            .is_ok_and(|i| counts_back(i, seen) || (1..=seen).contains(&i));
                         if !valid {
                             return Err(at(format!(
                                 "OBJ face corner `{corner}`: normal index out of range \
@@ -231,6 +233,13 @@ fn strip_attributes(text: &str, flip_v: bool) -> Result<Kept, (usize, String)> {
                 if count < 3 {
                     let message = format!("OBJ face has {count} corners; a face needs 3 or more");
                     return Err(at(message));
+                }
+                triangles += count - 2;
+                if triangles > room {
+                    return Err(at(format!(
+                        "the faces so far make {triangles} triangles, more than the {room} the \
+                         scene's budget has room for"
+                    )));
                 }
                 for k in 2..face_uvs.len() {
                     uvs.push([face_uvs[0], face_uvs[k - 1], face_uvs[k]]);
@@ -294,6 +303,12 @@ fn parse_vt(line: &str) -> Result<Vec2, String> {
     Ok(uv)
 }
 
+/// Whether `i` is a negative index naming one of the `records` before it (-1 the last).
+/// i64::MIN is not: its magnitude does not fit an i64 (negating it overflowed here once).
+fn counts_back(i: i64, records: i64) -> bool {
+    i < 0 && i.unsigned_abs() <= records.unsigned_abs()
+}
+
 /// The uv a face corner names (`v/vt`, `v/vt/vn`; negative indices count back from the last
 /// `vt` so far), or (0, 0) for a corner that names none.
 fn corner_uv(corner: &str, vts: &[Vec2]) -> Result<Vec2, String> {
@@ -307,7 +322,7 @@ fn corner_uv(corner: &str, vts: &[Vec2]) -> Result<Vec2, String> {
         .ok()
         .and_then(|i| match i {
             1.. if i <= n => Some(i - 1),
-            ..=-1 if -i <= n => Some(n + i),
+            _ if counts_back(i, n) => Some(n + i),
             _ => None,
         })
         .ok_or_else(|| {

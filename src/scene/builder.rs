@@ -25,6 +25,7 @@
 //! fixed place).
 
 use crate::scene::checks::{check_emission, check_light, check_material, SceneBudgets};
+use crate::scene::cost::MeshCost;
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::normals::{is_flat, unit_normals};
 use crate::scene::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
@@ -88,17 +89,17 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
     pub(crate) triangles: Vec<Triangle>,
-    shading_normals: Vec<VertexNormals>,
-    uvs: Vec<[Vec2; 3]>,
+    pub(super) shading_normals: Vec<VertexNormals>,
+    pub(super) uvs: Vec<[Vec2; 3]>,
     pub(crate) tangents: Vec<crate::scene::VertexTangents>,
-    textures: Vec<SceneTexture>,
+    pub(super) textures: Vec<SceneTexture>,
     pub(crate) spheres: Vec<Sphere>,
     pub(crate) lights: Vec<Light>,
     pub(crate) environment: Option<crate::scene::Environment>,
     pub(crate) media: crate::media::builder::Media,
     settings: RenderSettings,
     optics: Option<(PixelFilter, f32, f32)>,
-    budgets: SceneBudgets,
+    pub(super) budgets: SceneBudgets,
 }
 
 impl SceneBuilder {
@@ -276,8 +277,8 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
-        let have = self.triangles.len();
-        self.budgets.check_triangles(have, tris.len(), at)?;
+        let cost = MeshCost::mesh(tris.len() as u64, normals.is_some(), false, false);
+        self.check_geometry(cost, "this shape", at)?;
         let surface = self.resolve(surface, at)?;
         if tris.iter().flatten().any(|p| !p.is_finite()) {
             return Err(at.error(Part::Geometry, "vertices must be finite".into()));
@@ -334,6 +335,8 @@ impl SceneBuilder {
             let message = "texture coordinates must be finite, one set per triangle";
             return Err(at.error(Part::Geometry, message.into()));
         }
+        let cost = MeshCost::mesh(tris.len() as u64, normals.is_some(), true, false);
+        self.check_geometry(cost, "this shape", at)?;
         let first = self.triangles.len();
         self.add_smooth_mesh(tris, normals, surface, at)?;
         self.uvs.resize(first, [Vec2::ZERO; 3]);
@@ -345,7 +348,7 @@ impl SceneBuilder {
     /// texture budget ([`SceneBudgets::max_texture_bytes`]) it is an error at `at`.
     pub fn add_texture(&mut self, texture: SceneTexture, at: &dyn Locate) -> Result<u32> {
         let have = self.textures.iter().map(SceneTexture::bytes).sum();
-        self.budgets.check_texels(have, texture.bytes(), at)?;
+        (self.budgets).check_texels(have, texture.bytes(), self.geometry(), at)?;
         self.textures.push(texture);
         Ok(self.textures.len() as u32 - 1)
     }

@@ -9,13 +9,16 @@
 
 pub mod builder;
 pub mod checks;
+pub mod cost;
+pub mod geometry_budget;
 pub mod locate;
 pub mod normals;
 pub mod shapes;
 pub mod tangents;
 
 pub use builder::{MaterialId, SceneBuilder, Surface};
-pub use checks::{SceneBudgets, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
+pub use checks::{SceneBudgets, MAX_SCENE_BYTES, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
+pub use cost::MeshCost;
 pub use locate::{Locate, Origin, Part};
 pub use shapes::{Sphere, Triangle, VertexNormals, VertexTangents, FLAT, NO_LIGHT};
 pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};

@@ -25,6 +25,8 @@ impl SceneBuilder {
             let message = "vertex tangents must be finite, one set per triangle";
             return Err(at.error(Part::Geometry, message.into()));
         }
+        let cost = super::MeshCost::mesh(tris.len() as u64, normals.is_some(), true, true);
+        self.check_geometry(cost, "this shape", at)?;
         let first = self.triangles.len();
         self.add_uv_mesh(tris, normals, uvs, surface, at)?;
         self.tangents.resize(first, VertexTangents::default());

@@ -66,7 +66,10 @@ pub fn decode(name: &str, bytes: &[u8], encoding: Encoding) -> Result<Texture> {
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_SIDE);
     limits.max_image_height = Some(MAX_SIDE);
-    limits.max_alloc = Some(MAX_TEXELS * 16 + (1 << 20));
+    // Within a quarter of the memory left (the decoded image is converted, a copy or two),
+    // so that a large image fails here rather than aborting on a failed allocation.
+    let room = crate::render::memory::available().map_or(u64::MAX, |(bytes, _)| bytes / 4);
+    limits.max_alloc = Some((MAX_TEXELS * 16 + (1 << 20)).min(room));
     reader.limits(limits);
     let img = reader.decode().map_err(err)?;
     let (w, h) = (img.width(), img.height());

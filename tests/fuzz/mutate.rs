@@ -57,6 +57,10 @@ const NUMBERS: &[&str] = &[
     "9223372036854775807",
     "18446744073709551616",
     "-2147483648",
+    "-9223372036854775808",
+    "-9223372036854775809",
+    "18446744073709551615",
+    "-0",
     "1e30",
     "-1e30",
     "1e-30",
@@ -64,6 +68,12 @@ const NUMBERS: &[&str] = &[
     "3.5e38",
     "1e308",
     "1e400",
+    "-1e400",
+    "1e-400",
+    "4.9e-324",
+    "1.7976931348623157e308",
+    "1e99999",
+    "1e-99999",
     "nan",
     "NaN",
     "inf",
@@ -154,7 +164,7 @@ pub fn mutate(bytes: &[u8], donor: &[u8], rng: &mut Rng) -> Vec<u8> {
 
 /// One edit of a text file: mostly of a number, an index or a name, which keep the syntax.
 fn text_edit(b: &mut Vec<u8>, donor: &[u8], rng: &mut Rng) {
-    match rng.below(20) {
+    match rng.below(27) {
         0..=5 => number(b, rng),
         6..=8 => small_index(b, rng),
         9 | 10 => swap_word(b, rng),
@@ -164,7 +174,10 @@ fn text_edit(b: &mut Vec<u8>, donor: &[u8], rng: &mut Rng) {
         16 => flip(b, rng),
         17 => delete(b, rng),
         18 => splice(b, donor, rng),
-        _ => set_byte(b, rng),
+        19 => set_byte(b, rng),
+        20 | 21 => extreme_integer(b, rng),
+        22 | 23 => control_char(b, rng),
+        _ => node_list(b, rng),
     }
 }
 
@@ -466,4 +479,199 @@ fn nest(b: &mut Vec<u8>, rng: &mut Rng) {
         }
         b.splice(x..y, nested);
     }
+}
+
+/// Integers at the bounds of the types parsers read them into, and just past them. i64::MIN,
+/// whose negation and absolute value overflow, comes up most often.
+const EXTREME_INTEGERS: &[&str] = &[
+    "-9223372036854775808",
+    "-9223372036854775808",
+    "-9223372036854775808",
+    "-9223372036854775807",
+    "9223372036854775807",
+    "-9223372036854775809",
+    "9223372036854775808",
+    "18446744073709551615",
+    "18446744073709551616",
+    "-18446744073709551615",
+    "-2147483648",
+    "2147483647",
+    "4294967295",
+    "-0",
+];
+
+/// Replaces an integer (an index, a count, a size) by an extreme one, half the time every
+/// integer on its line (all of a face's corner indices, all of a list's numbers).
+fn extreme_integer(b: &mut Vec<u8>, rng: &mut Rng) {
+    let ints: Vec<(usize, usize)> = numbers(b)
+        .into_iter()
+        .filter(|&(x, y)| b[x..y].iter().all(|&c| c.is_ascii_digit() || c == b'-'))
+        .collect();
+    if ints.is_empty() {
+        return number(b, rng);
+    }
+    let (x, y) = *rng.pick(&ints);
+    let value = rng.pick(EXTREME_INTEGERS).as_bytes();
+    let targets: Vec<(usize, usize)> = if rng.one_in(2) {
+        let (start, end) = line_at(b, x);
+        ints.into_iter()
+            .filter(|&(p, q)| p >= start && q <= end)
+            .collect()
+    } else {
+        vec![(x, y)]
+    };
+    for &(p, q) in targets.iter().rev() {
+        b.splice(p..q, value.iter().copied());
+    }
+}
+
+/// Control characters as XML writes them in an attribute: character references (a literal
+/// tab or newline there reads as a space), C1 controls and DEL included.
+const XML_CONTROLS: &[&str] = &[
+    "&#9;",
+    "&#10;",
+    "&#13;",
+    "&#9;&#10;",
+    "&#x85;",
+    "&#x7f;",
+    "&#x9b;",
+    "&#x1b;",
+];
+
+/// Control characters as JSON and TOML strings write them: escapes.
+const ESCAPED_CONTROLS: &[&str] = &[
+    "\\t", "\\n", "\\r", "\\t\\n", "\\u0000", "\\u0001", "\\u001b", "\\u007f", "\\u0085",
+    "\\u2028", "\\u202e",
+];
+
+/// Control characters and invalid UTF-8 as raw bytes: C0 and C1 controls, DEL, a bidi
+/// override, a lone continuation byte, a truncated sequence, a surrogate, a code point past
+/// U+10FFFF.
+const RAW_CONTROLS: &[&[u8]] = &[
+    b"\t",
+    b"\n",
+    b"\r",
+    b"\0",
+    b"\x01",
+    b"\x1b",
+    b"\x7f",
+    b"\xc2\x85",
+    b"\xe2\x80\xae",
+    b"\xff",
+    b"\xc3",
+    b"\x80",
+    b"\xed\xa0\x80",
+    b"\xf4\x90\x80\x80",
+];
+
+/// The spans inside double quotes (a string, an attribute's value) that do not cross a line.
+fn quoted(b: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut open = None;
+    for (i, &c) in b.iter().enumerate() {
+        match (c, open) {
+            (b'"', None) => open = Some(i + 1),
+            (b'"', Some(x)) => {
+                out.push((x, i));
+                open = None;
+            }
+            (b'\n', _) => open = None,
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Puts a control character or invalid UTF-8 into a name, an id or another string: in the
+/// form the file's format reads as that character (XML character references, JSON and TOML
+/// escapes) three times in four, else as raw bytes (the only form in OBJ and PLY).
+fn control_char(b: &mut Vec<u8>, rng: &mut Rng) {
+    let strings = quoted(b);
+    let raw = strings.is_empty() || rng.one_in(4);
+    let spans = if strings.is_empty() || rng.one_in(4) {
+        words(b)
+    } else {
+        strings
+    };
+    if spans.is_empty() {
+        return set_byte(b, rng);
+    }
+    let (x, y) = *rng.pick(&spans);
+    let at = x + rng.below(y - x + 1);
+    let xml = b.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'<');
+    let piece: &[u8] = match (raw, xml) {
+        (true, _) => RAW_CONTROLS[rng.below(RAW_CONTROLS.len())],
+        (false, true) => rng.pick(XML_CONTROLS).as_bytes(),
+        (false, false) => rng.pick(ESCAPED_CONTROLS).as_bytes(),
+    };
+    b.splice(at..at, piece.iter().copied());
+}
+
+/// The insides of a glTF file's node lists (a scene's `nodes`, a node's `children`): flat
+/// arrays of integers after those keys.
+fn node_lists(b: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    for key in [&b"\"nodes\""[..], b"\"children\""] {
+        for at in (0..b.len()).filter(|&i| b[i..].starts_with(key)) {
+            let rest = &b[at + key.len()..];
+            let skip = |s: &[u8]| s.iter().take_while(|c| c.is_ascii_whitespace()).count();
+            let colon = skip(rest);
+            if rest.get(colon) != Some(&b':') {
+                continue;
+            }
+            let open = colon + 1 + skip(&rest[colon + 1..]);
+            if rest.get(open) != Some(&b'[') {
+                continue;
+            }
+            let Some(len) = rest[open + 1..].iter().position(|&c| c == b']') else {
+                continue;
+            };
+            let inside = &rest[open + 1..open + 1 + len];
+            if inside
+                .iter()
+                .all(|&c| c.is_ascii_digit() || c == b',' || c.is_ascii_whitespace())
+            {
+                let x = at + key.len() + open + 1;
+                out.push((x, x + len));
+            }
+        }
+    }
+    out
+}
+
+/// Repeats or shares glTF nodes: a node list becomes itself repeated, one of its nodes
+/// repeated, or another node of the file (shared with its own parent, or a cycle) repeated,
+/// a few times or 20,000 or 50,000 times: 20,000 copies of the 4,096-triangle sphere seed
+/// are more triangles than a scene may have (and more bytes than 4 GiB), a few copies a
+/// small scene; none in between, whose render would only make the run slower. Other formats
+/// get an extreme integer instead.
+fn node_list(b: &mut Vec<u8>, rng: &mut Rng) {
+    let lists = node_lists(b);
+    if lists.is_empty() {
+        return extreme_integer(b, rng);
+    }
+    let (x, y) = *rng.pick(&lists);
+    let items = |s: &[u8]| -> Vec<Vec<u8>> {
+        s.split(|&c| c == b',')
+            .map(|i| i.trim_ascii().to_vec())
+            .filter(|i| !i.is_empty())
+            .collect()
+    };
+    let mine = items(&b[x..y]);
+    let all: Vec<Vec<u8>> = lists.iter().flat_map(|&(p, q)| items(&b[p..q])).collect();
+    let piece: Vec<Vec<u8>> = match rng.below(3) {
+        0 if !mine.is_empty() => mine,
+        1 if !mine.is_empty() => vec![rng.pick(&mine).clone()],
+        _ if !all.is_empty() => vec![rng.pick(&all).clone()],
+        _ => vec![b"0".to_vec()],
+    };
+    let piece = piece.join(&b","[..]);
+    let times = *rng.pick(&[2usize, 3, 10, 20_000, 50_000]);
+    let times = times.min(GROWTH / (piece.len() + 1)).max(1);
+    let mut list = piece.clone();
+    for _ in 1..times {
+        list.push(b',');
+        list.extend_from_slice(&piece);
+    }
+    b.splice(x..y, list);
 }

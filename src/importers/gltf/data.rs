@@ -8,16 +8,33 @@ use gltf::buffer::Source;
 use gltf::Accessor;
 use std::path::Path;
 
-/// The data of every buffer of `doc`, in order.
+/// The data of every buffer of `doc`, in order. Each buffer's size (the BIN chunk's, a file's
+/// on disk, its declared `byteLength` for a `data:` URI) is added up before it is read: past
+/// `budget` bytes (the scene's, `SceneBudgets::max_bytes`), however often the same file or
+/// chunk is named, the buffer that passes it is an error.
 pub(crate) fn load_buffers(
     doc: &gltf::Document,
     blob: Option<&[u8]>,
     base_dir: &Path,
+    budget: u64,
 ) -> Result<Vec<Vec<u8>>, (String, String)> {
     let mut out = Vec::new();
+    let mut total = 0u64;
     for buffer in doc.buffers() {
         let field = format!("buffers[{}]", buffer.index());
         let fail = |m: String| (field.clone(), m);
+        let size = match buffer.source() {
+            Source::Bin => blob.map_or(0, |b| b.len() as u64),
+            Source::Uri(uri) if uri.starts_with("data:") => buffer.length() as u64,
+            Source::Uri(uri) => std::fs::metadata(base_dir.join(uri)).map_or(0, |m| m.len()),
+        };
+        total = total.saturating_add(size);
+        if total > budget {
+            return Err(fail(format!(
+                "the buffers so far take {total} bytes, more than the scene's budget of \
+                 {budget} bytes"
+            )));
+        }
         let data = match buffer.source() {
             Source::Bin => blob
                 .map(<[u8]>::to_vec)
@@ -113,6 +130,26 @@ fn elements<'d>(
     buffers: &'d [Vec<u8>],
     size: usize,
 ) -> Result<Vec<&'d [u8]>, String> {
+    let (data, start, stride) = placed(accessor, buffers, size)?;
+    let count = accessor.count();
+    Ok((0..count)
+        .map(|i| &data[start + i * stride..start + i * stride + size])
+        .collect())
+}
+
+/// Whether `accessor`'s elements (of its own size) are all in its view and buffer, so that
+/// its count can be believed before its data is read.
+pub(super) fn fits(accessor: &Accessor, buffers: &[Vec<u8>]) -> bool {
+    placed(accessor, buffers, accessor.size()).is_ok()
+}
+
+/// `accessor`'s buffer, its first element's offset and the stride between elements of `size`
+/// bytes, once every element is checked to lie in its view and the view in its buffer.
+fn placed<'d>(
+    accessor: &Accessor,
+    buffers: &'d [Vec<u8>],
+    size: usize,
+) -> Result<(&'d [u8], usize, usize), String> {
     if accessor.sparse().is_some() {
         return Err("sparse accessors are not supported".into());
     }
@@ -144,10 +181,7 @@ fn elements<'d>(
             view.index()
         ));
     }
-    let start = view.offset() + accessor.offset();
-    Ok((0..count)
-        .map(|i| &data[start + i * stride..start + i * stride + size])
-        .collect())
+    Ok((data, view.offset() + accessor.offset(), stride))
 }
 
 /// The `POSITION` accessor's points: VEC3 of FLOAT, all finite.

@@ -20,6 +20,7 @@
 //! uv sets) go to stderr.
 
 mod data;
+mod instances;
 mod json_line;
 mod material;
 mod refs;
@@ -80,12 +81,18 @@ pub fn load_slice(
         json: json_text(bytes),
     };
     // Indices and camera types are checked on the raw JSON first: the crate panics on some
-    // and wraps others. Text that is not JSON is left to the crate to report.
-    if let Ok(json) = serde_json::from_str(&cx.json) {
-        refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?;
+    // and wraps others. JSON that does not parse is refused here, with its line, as the
+    // crate would: it reads some such text (a number past f64 in a member it skips, as a
+    // misspelt `accessors`), unchecked, and then panicked in its validation. A GLB whose
+    // container hides its JSON is left to the crate to report.
+    match serde_json::from_str(&cx.json) {
+        Ok(json) => refs::check(&json).map_err(|(field, m)| cx.err(&field, m))?,
+        Err(e) if !cx.json.is_empty() => return Err(cx.parse_error(gltf::Error::Deserialize(e))),
+        Err(_) => {}
     }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| cx.parse_error(e))?;
-    let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir)
+    let budget = crate::scene::SceneBudgets::default().max_bytes;
+    let buffers = data::load_buffers(&gltf.document, gltf.blob.as_deref(), base_dir, budget)
         .map_err(|(field, m)| cx.err(&field, m))?;
     let doc = &gltf.document;
     let scene = doc
@@ -102,7 +109,10 @@ pub fn load_slice(
         has_camera: false,
         warned: Vec::new(),
         instances: 0,
+        placed: Default::default(),
     };
+    // What every node instance will cost, checked before the first is built.
+    im.check_instances(&scene)?;
     for node in scene.nodes() {
         im.node(&node, Mat4::IDENTITY, 0)?;
     }
@@ -190,6 +200,9 @@ struct Importer<'a> {
     warned: Vec<String>,
     /// Node instances visited so far (bounded by [`MAX_NODE_INSTANCES`]).
     instances: usize,
+    /// The places of the instances built so far, and the nodes warned about a copy
+    /// (`instances.rs`).
+    placed: instances::Placed,
 }
 
 impl Importer<'_> {
@@ -211,15 +224,18 @@ impl Importer<'_> {
         if !world.is_finite() {
             return Err(self.cx.err(&field, "the transform is not finite".into()));
         }
-        if let Some(camera) = node.camera() {
-            self.camera(&camera, world)?;
-        }
-        if let Some(light) = node.light() {
-            self.light(&light, world)?;
-        }
-        if let Some(mesh) = node.mesh() {
-            for primitive in mesh.primitives() {
-                self.primitive(&mesh, &primitive, world)?;
+        // A copy of an earlier instance, at its very place, adds nothing but work.
+        if self.first_at(node, world) {
+            if let Some(camera) = node.camera() {
+                self.camera(&camera, world)?;
+            }
+            if let Some(light) = node.light() {
+                self.light(&light, world)?;
+            }
+            if let Some(mesh) = node.mesh() {
+                for primitive in mesh.primitives() {
+                    self.primitive(&mesh, &primitive, world)?;
+                }
             }
         }
         for child in node.children() {

@@ -249,7 +249,8 @@ impl<'f> Importer<'f> {
                 };
                 // Mitsuba's `flip_tex_coords`: v to 1 - v, by default for OBJ only.
                 let flip_v = p.boolean_or(cx, "flip_tex_coords", format.flips_tex_coords())?;
-                let mesh = mesh_file::load_mesh(&path, format, flip_v)
+                let room = self.b.triangle_room();
+                let mesh = mesh_file::load_mesh(&path, format, flip_v, room)
                     .map_err(|m| cx.err(node, &p.at("filename"), m))?;
                 // Mitsuba's `face_normals`: flat shading even where the file has normals.
                 mesh.flat_if(p.boolean(cx, "face_normals")?)

@@ -90,6 +90,14 @@ fn shown_place(line: Option<usize>, byte: Option<usize>) -> String {
 /// wrong type, a face has fewer than 3 vertices or refers to a missing vertex, a position
 /// or texture coordinate is not finite, or there are no faces.
 pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
+    read_ply_within(path, u64::MAX)
+}
+
+/// [`read_ply`], refusing a mesh of more than `room` triangles (what the scene's budget has
+/// room for) before they are built: elements whose rows would take the parser more than
+/// `room` triangles' bytes at the header line of the one that passes it, before the payload
+/// is parsed, and polygons that triangulate to more triangles at the row that passes it.
+pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyError> {
     let at = |place: Option<Place>, message: String| PlyError {
         path: path.to_path_buf(),
         line: match place {
@@ -126,6 +134,12 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
     }
     check_counts(&header, head, rest)
         .map_err(|(line, message)| at(Some(Place::Line(line)), message))?;
+    check_parse_room(
+        &header,
+        head,
+        room.saturating_mul(crate::scene::cost::TRIANGLE_BYTES),
+    )
+    .map_err(|(line, message)| at(Some(Place::Line(line)), message))?;
     let elements = &header.elements;
     let line_of = |name: &str| Some(Place::Line(element_line(head, name)));
     let fail = |message: String| at(line_of("vertex"), message);
@@ -233,6 +247,13 @@ pub fn read_ply(path: &Path) -> Result<PlyMesh, PlyError> {
                 }
             }
         }
+        if (triangles.len() + corner.len() - 2) as u64 > room {
+            return Err(fail(format!(
+                "the faces so far make {} triangles, more than the {room} the scene's budget \
+                 has room for",
+                triangles.len() + corner.len() - 2
+            )));
+        }
         for k in 1..corner.len() - 1 {
             triangles.push([corner[0], corner[k], corner[k + 1]]);
         }
@@ -318,6 +339,33 @@ fn check_counts(header: &Header, head: &[u8], rest: &[u8]) -> Result<(), (usize,
                 rest.len()
             );
             return Err((line, message));
+        }
+    }
+    Ok(())
+}
+
+/// Bytes the parser takes per row, and per property of a row: it keeps each row as a map of
+/// its properties (measured: 450 bytes a vertex of three floats, 38 times the binary row).
+const PARSED_ROW_BYTES: u64 = 128;
+/// See [`PARSED_ROW_BYTES`].
+const PARSED_PROPERTY_BYTES: u64 = 96;
+
+/// Checks that the parser's rows fit in `room` bytes (what the scene's budget has room for)
+/// before the payload is read: else the element that passes it, at its header line.
+fn check_parse_room(header: &Header, head: &[u8], room: u64) -> Result<(), (usize, String)> {
+    let mut bytes = 0u64;
+    for e in header.elements.values() {
+        let row = PARSED_ROW_BYTES + PARSED_PROPERTY_BYTES * e.properties.len() as u64;
+        bytes = bytes.saturating_add((e.count as u64).saturating_mul(row));
+        if bytes > room {
+            let (name, count) = (&e.name, e.count);
+            let message = format!(
+                "element `{name}` has {count} rows: read, the elements so far take about {}, \
+                 more than the {} the scene's budget has room for",
+                crate::render::memory::size(bytes),
+                crate::render::memory::size(room)
+            );
+            return Err((element_line(head, name), message));
         }
     }
     Ok(())
