@@ -31,6 +31,12 @@ def renderer_settings(props, width, height):
                 width=width, height=height)
 
 
+def cancelled(engine):
+    """Whether the user asked the render to stop (Esc): Blender's ``test_break``. A function
+    of its own so that the tests can stand in for the key press."""
+    return engine.test_break()
+
+
 def _rect(image):
     """A (H, W, 3) top-row-first image as Blender's bottom-row-first RGBA rows."""
     h, w, _ = image.shape
@@ -98,7 +104,7 @@ class GpuPhotonEngine(bpy.types.RenderEngine):
         combined = result.layers[0].passes["Combined"]
         planned = settings["passes"]
         limited = planned < UNLIMITED_PASSES
-        done, cancelled = 0, False
+        done, stopped = 0, False
         while True:
             if not renderer.render_pass():
                 break
@@ -113,14 +119,14 @@ class GpuPhotonEngine(bpy.types.RenderEngine):
                               f"{triangles} triangles")
             if limited:
                 self.update_progress(done / planned)
-            if self.test_break():
-                cancelled = True
+            if cancelled(self):
+                stopped = True
                 break
             if props.time_limit > 0 and elapsed >= props.time_limit:
                 break
             if props.noise_target > 0 and noise is not None and noise <= props.noise_target:
                 break
-        if props.denoising_data and not cancelled:
+        if props.denoising_data and not stopped:
             self.update_stats("", "gpu-photon: denoising passes")
             aovs = gp_scene.aovs(["albedo", "normal"], props.aov_samples, seed=props.seed,
                                  width=width, height=height)

@@ -6,7 +6,7 @@ The surface shader linked to the Material Output (Cycles' target) is translated 
   dielectric's F0 and the thin-walled transmission); with transmission 1 and metallic 0 a
   dielectric boundary (smooth glass when smooth and white). Cycles 3.x reads F0 as
   ``0.08 specular mix(1, tint, specular_tint)``, 4.x as ``((ior - 1)/(ior + 1))^2 2 level``
-  times the specular tint. Emission colour x strength, alpha (stochastic), a normal map;
+  times the specular tint (F90 1 in 3.x, ``min(2 level, 1)`` in 4.x). Emission colour x strength, alpha (stochastic), a normal map;
   subsurface, sheen, clearcoat and anisotropy are not rendered (a warning says so);
 - Diffuse: Lambertian (its roughness, Oren-Nayar, is not rendered); Glossy: a conductor of
   Fresnel 1 tinted by its colour (GGX, alpha = roughness^2); Glass and Refraction: a
@@ -241,7 +241,8 @@ class Materials:
             lum = grey(b)
             tint = [x / lum for x in b] if lum > 0.0 else [1.0, 1.0, 1.0]
             f0 = [min(0.08 * specular * (1.0 - spec_tint + spec_tint * c), 1.0) for c in tint]
-            f90 = min(2.0 * specular, 1.0)
+            # Cycles 3.x's Fresnel goes to white at grazing angles whatever the specular.
+            f90 = 1.0
         spec = {}
         const = lambda v: v if not isinstance(v, Driven) else None  # noqa: E731
         if const(transmission) == 1.0 and const(metallic) == 0.0:

@@ -8,9 +8,13 @@ import bpy
 
 
 def empty_scene(width, height):
-    """Removes every object and sets the resolution (100%) and a black world."""
+    """Removes every object (and the data of earlier test scenes) and sets the resolution
+    (100%) and a black world."""
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
+    for data in (bpy.data.meshes, bpy.data.materials, bpy.data.lights, bpy.data.cameras):
+        for block in list(data):
+            data.remove(block)
     scene = bpy.context.scene
     scene.render.resolution_x = width
     scene.render.resolution_y = height
@@ -141,7 +145,8 @@ def cornell_box(width=64, height=64, principled=False, light="area"):
             return material(name, "principled", **{"Base Color": (*c, 1.0), "Specular": 0.0,
                                                    "Roughness": 1.0})
         glass = material("Glass", "principled", **{"Transmission": 1.0, "Roughness": 0.0,
-                                                   "IOR": 1.5, "Specular": 0.5})
+                                                   "IOR": 1.5, "Specular": 0.5,
+                                                   "Base Color": (1.0, 1.0, 1.0, 1.0)})
         _gltf_thickness(glass, 0.7)
         mirror = material("Mirror", "principled", **{"Metallic": 1.0, "Roughness": 0.0,
                                                      "Base Color": (1.0, 1.0, 1.0, 1.0)})
@@ -161,13 +166,28 @@ def cornell_box(width=64, height=64, principled=False, light="area"):
     sphere("GlassSphere", (0.4, -0.25, 0.35), 0.35, glass)
     sphere("MirrorSphere", (-0.4, 0.3, 0.35), 0.35, mirror)
     if light == "area":
-        area_light("Light", (0.0, 0.0, 1.98), 0.5, 40.0)
+        lamp = area_light("Light", (0.0, 0.0, 1.98), 0.5, 40.0)
+        lamp.visible_camera = True  # as ours: gpu-photon's emitters are seen by the camera
     else:
-        emit = material("Lamp", "emission", strength=40.0)
-        quad("Lamp", [(-0.25, -0.25, 1.98), (-0.25, 0.25, 1.98), (0.25, 0.25, 1.98),
-                      (0.25, -0.25, 1.98)], emit)
+        # Its black is an Emission of strength 0: black in Blender and in glTF alike.
+        black = material("LampBlack", "emission", strength=0.0)
+        lamp_box(black, material("Lamp", "emission", strength=40.0))
     camera((0.0, -3.6, 1.0), (0.0, 0.0, 1.0), lens=35.0)
     return scene
+
+
+def lamp_box(black, emit):
+    """A 0.5 x 0.5 x 0.02 m box under the ceiling, black but for its emissive bottom face: a
+    lamp that glTF's one-sided emission and Cycles' two-sided one render alike."""
+    lo, hi, h = -0.25, 0.25, 1.96
+    top = 1.98
+    verts = [(lo, lo, h), (hi, lo, h), (hi, hi, h), (lo, hi, h),
+             (lo, lo, top), (hi, lo, top), (hi, hi, top), (lo, hi, top)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    obj = mesh_object("Lamp", verts, faces, black)
+    obj.data.materials.append(emit)
+    obj.data.polygons[0].material_index = 1
+    return obj
 
 
 def _gltf_thickness(mat, thickness):
