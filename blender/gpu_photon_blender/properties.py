@@ -61,7 +61,7 @@ class GpuPhotonRenderSettings(bpy.types.PropertyGroup):
     photons: IntProperty(
         name="Photons",
         description="Photon paths for the global map, per pass",
-        default=200_000,
+        default=50_000,
         min=1,
         soft_max=10_000_000,
     )
@@ -69,7 +69,7 @@ class GpuPhotonRenderSettings(bpy.types.PropertyGroup):
         name="Caustic Photons",
         description="Photons aimed at specular surfaces for the caustic map, per pass "
         "(0: none)",
-        default=100_000,
+        default=25_000,
         min=0,
         soft_max=10_000_000,
     )

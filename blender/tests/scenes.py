@@ -137,8 +137,8 @@ def cornell_box(width=64, height=64, principled=False, light="area"):
     """The Cornell box: [-1, 1] x [-1, 1] x [0, 2], open towards -Y where the camera is,
     white floor, ceiling and back wall, red left and green right wall; a glass sphere and a
     mirror sphere on the floor. ``light`` "area": a 0.5 m square area light of 40 W under
-    the ceiling; "quad": an emissive quad of the same size and strength 40 (radiance 40)
-    instead. ``principled``: every material a Principled BSDF (what glTF exports)."""
+    the ceiling; "lamp": a box of the same size under the ceiling whose bottom face emits
+    radiance 40; "point": a 100 W point light at z = 1.8. ``principled``: every material a Principled BSDF (what glTF exports)."""
     scene = empty_scene(width, height)
     if principled:
         def diffuse(name, c):
@@ -168,6 +168,12 @@ def cornell_box(width=64, height=64, principled=False, light="area"):
     if light == "area":
         lamp = area_light("Light", (0.0, 0.0, 1.98), 0.5, 40.0)
         lamp.visible_camera = True  # as ours: gpu-photon's emitters are seen by the camera
+    elif light == "point":
+        point = bpy.data.lights.new("Light", "POINT")
+        point.energy, point.shadow_soft_size = 100.0, 0.0
+        obj = bpy.data.objects.new("Light", point)
+        bpy.context.scene.collection.objects.link(obj)
+        obj.location = (0.0, 0.0, 1.8)
     else:
         # Its black is an Emission of strength 0: black in Blender and in glTF alike.
         black = material("LampBlack", "emission", strength=0.0)
