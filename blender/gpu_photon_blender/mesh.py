@@ -51,11 +51,11 @@ def mesh_data(obj, want_tangents):
         loops = _get(tris, "loops", t, 3, np.int64).reshape(-1)
         slots = _get(tris, "material_index", t, 1, np.int64)
         uv_layer = next((u for u in mesh.uv_layers if u.active_render), None)
-        uv_layer = uv_layer or mesh.uv_layers.active
+        uv_name = (uv_layer or mesh.uv_layers.active).name if len(mesh.uv_layers) else None
         tangents = None
-        if want_tangents and uv_layer is not None:
+        if want_tangents and uv_name is not None:
             try:
-                mesh.calc_tangents(uvmap=uv_layer.name)
+                mesh.calc_tangents(uvmap=uv_name)
                 tan = _get(mesh.loops, "tangent", len(mesh.loops), 3)
                 sign = _get(mesh.loops, "bitangent_sign", len(mesh.loops), 1)
                 tangents = np.concatenate([tan, sign[:, None]], axis=1)[loops]
@@ -69,8 +69,10 @@ def mesh_data(obj, want_tangents):
             normals = _get(mesh.loops, "normal", len(mesh.loops), 3)
         normals = normals[loops]
         uvs = None
-        if uv_layer is not None:
-            uvs = _get(uv_layer.data, "uv", len(mesh.loops), 2)[loops]
+        if uv_name is not None:
+            # Looked up again: computing normals or tangents reallocates the loop layers, and
+            # a layer's earlier Python reference then reads stale memory.
+            uvs = _get(mesh.uv_layers[uv_name].data, "uv", len(mesh.loops), 2)[loops]
         return MeshData(positions, triangles, slots, np.ascontiguousarray(normals), uvs,
                         None if tangents is None else np.ascontiguousarray(tangents,
                                                                            dtype=np.float32))

@@ -46,7 +46,7 @@ run_test() {
     fi
     grep -E '^(PASS|FAIL)|^Warning: gpu-photon|passes of|spp:' "$out/$name.log" || true
 }
-for name in test_install test_lights test_engine test_cornell; do
+for name in test_install test_lights test_translate test_engine test_cornell; do
     run_test "$name"
 done
 
