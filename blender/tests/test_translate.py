@@ -31,6 +31,18 @@ def lit_scene(size=32):
     return scene
 
 
+def uv_plane(mat):
+    """The plane [-1, 1]^2 at z = 0, uv (0, 0) at (-1, -1) and (1, 1) at (1, 1), of ``mat``.
+    Its uvs are set before the object enters the scene (and the depsgraph)."""
+    mesh = bpy.data.meshes.new("Plane")
+    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop, (u, v) in zip(uv.data, [(0, 0), (1, 0), (1, 1), (0, 1)]):
+        loop.uv = (u, v)
+    mesh.materials.append(mat)
+    bpy.context.scene.collection.objects.link(bpy.data.objects.new("Plane", mesh))
+
+
 def test_modifiers_are_applied_and_instances_placed():
     lit_scene()
     white = scenes.material("White", "diffuse", colour=(0.8, 0.8, 0.8))
@@ -71,14 +83,7 @@ def test_image_texture_reads_through_the_uvs_the_right_way_up():
     tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
     tex.image, tex.interpolation = image, "Closest"
     mat.node_tree.links.new(tex.outputs["Color"], mat.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
-    # The uvs are set before the object enters the scene (and the depsgraph).
-    mesh = bpy.data.meshes.new("Plane")
-    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
-    uv = mesh.uv_layers.new(name="UVMap")
-    for loop, (u, v) in zip(uv.data, [(0, 0), (1, 0), (1, 1), (0, 1)]):
-        loop.uv = (u, v)
-    mesh.materials.append(mat)
-    bpy.context.scene.collection.objects.link(bpy.data.objects.new("Plane", mesh))
+    uv_plane(mat)
     scenes.camera((0, 0, 2.2), (0, 0, 0), lens=35.0)  # looking down, +Y up in the image
     scene, _, _ = build()
     albedo = scene.aovs(["albedo"], width=32, height=32)["albedo"]
@@ -102,13 +107,7 @@ def test_normal_map_tilts_the_shading_normal():
     nmap = nodes.new("ShaderNodeNormalMap")
     links.new(tex.outputs["Color"], nmap.inputs["Color"])
     links.new(nmap.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
-    mesh = bpy.data.meshes.new("Plane")
-    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
-    uv = mesh.uv_layers.new(name="UVMap")
-    for loop, (u, v) in zip(uv.data, [(0, 0), (1, 0), (1, 1), (0, 1)]):
-        loop.uv = (u, v)
-    mesh.materials.append(mat)
-    bpy.context.scene.collection.objects.link(bpy.data.objects.new("Plane", mesh))
+    uv_plane(mat)
     scenes.camera((0, 0, 2), (0, 0, 0))
     built, _, report = build()
     normal = built.aovs(["normal"], width=16, height=16)["normal"][8, 8]
