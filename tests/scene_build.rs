@@ -88,6 +88,7 @@ fn camera() -> CameraSpec {
         fov_y: 45.0,
         aperture_radius: 0.0,
         focus_distance: 3.0,
+        orthographic_height: None,
     }
 }
 

@@ -1,7 +1,8 @@
 """The scene's camera and image size as Cycles reads them (``intern/cycles/blender/camera.cpp``):
 the output size is the render resolution times its percentage; the sensor fits the image's
 wider side (``AUTO``: horizontal when width > height) or the side ``sensor_fit`` names, its
-field of view ``2 atan(sensor / (2 lens))``; depth of field's aperture radius is
+field of view ``2 atan(sensor / (2 lens))`` (an orthographic camera's view ``ortho_scale``
+wide on that side); depth of field's aperture radius is
 ``lens / (2 f-stop)`` (lens in metres), focused at ``focus_distance`` or at the focus
 object's depth along the view axis. The camera looks along its object's -Z axis, +Y up."""
 
@@ -25,9 +26,9 @@ def camera_args(scene, camera_obj, width, height, report):
     r = scene.render
     xratio = width * r.pixel_aspect_x
     yratio = height * r.pixel_aspect_y
-    if cam.type != "PERSP":
-        report.warn(f"camera {cam.name}: a {cam.type.lower()} camera is rendered as a "
-                    "perspective one of the same lens")
+    if cam.type == "PANO":
+        report.warn(f"camera {cam.name}: a panoramic camera is rendered as a perspective one "
+                    "of the same lens")
     if cam.shift_x != 0.0 or cam.shift_y != 0.0:
         report.warn(f"camera {cam.name}: lens shift is not rendered")
     if cam.sensor_fit == "AUTO":
@@ -40,6 +41,14 @@ def camera_args(scene, camera_obj, width, height, report):
     if horizontal:
         tan_half *= yratio / xratio
     fov_y = math.degrees(2.0 * math.atan(tan_half))
+    ortho = None
+    if cam.type == "ORTHO":
+        ortho = cam.ortho_scale * (yratio / xratio if horizontal else 1.0)
+        if cam.dof.use_dof:
+            report.warn(f"camera {cam.name}: an orthographic camera's depth of field is not "
+                        "rendered")
+        return dict(eye=eye, forward=forward, up=up, fov_y=fov_y, width=width, height=height,
+                    orthographic_height=ortho)
     aperture, focus = 0.0, 1.0
     if cam.dof.use_dof:
         fstop = max(cam.dof.aperture_fstop, 1e-5)

@@ -117,6 +117,21 @@ def test_normal_map_tilts_the_shading_normal():
     common.check(report.seen == [], f"nothing to warn about ({report.seen})")
 
 
+def test_orthographic_camera_sees_ortho_scale_across():
+    scene = lit_scene(32)
+    white = scenes.material("White", "diffuse", colour=(0.5, 0.5, 0.5))
+    scenes.quad("Plane", [(-0.5, -0.5, 0), (0.5, -0.5, 0), (0.5, 0.5, 0), (-0.5, 0.5, 0)], white)
+    cam = scenes.camera((0, 0, 7), (0, 0, 0))
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 2.0
+    scene.render.resolution_x = 64  # 64 x 32: the sensor fits the width, 2 units across
+    built, _, report = build()
+    albedo = built.aovs(["albedo"], width=64, height=32)["albedo"][:, :, 0]
+    covered = float((albedo > 0.25).mean())
+    # The unit plane: 32 of 64 columns, all 32 rows: half the image.
+    common.check(abs(covered - 0.5) < 1.0 / 32, f"the plane covers {covered} of the image")
+    common.check(report.seen == [], f"nothing to warn about ({report.seen})")
+
+
 def test_world_colour_and_principled_parameters():
     scene = lit_scene(16)
     bg = scene.world.node_tree.nodes["Background"]
@@ -142,4 +157,5 @@ if __name__ == "__main__":
     common.run([test_modifiers_are_applied_and_instances_placed,
                 test_image_texture_reads_through_the_uvs_the_right_way_up,
                 test_normal_map_tilts_the_shading_normal,
+                test_orthographic_camera_sees_ortho_scale_across,
                 test_world_colour_and_principled_parameters])

@@ -363,8 +363,9 @@ impl PySceneBuilder {
     }
 
     /// Sets the camera (a pinhole, or a thin lens of `aperture_radius` focused at
-    /// `focus_distance`) and the image size.
-    #[pyo3(signature = (eye, forward, up, fov_y, width, height, aperture_radius = 0.0, focus_distance = 1.0))]
+    /// `focus_distance`; with `orthographic_height`, an orthographic camera whose view is that
+    /// many scene units high) and the image size.
+    #[pyo3(signature = (eye, forward, up, fov_y, width, height, aperture_radius = 0.0, focus_distance = 1.0, orthographic_height = None))]
     #[allow(clippy::too_many_arguments)]
     fn set_camera(
         &mut self,
@@ -377,8 +378,10 @@ impl PySceneBuilder {
         height: u32,
         aperture_radius: f32,
         focus_distance: f32,
+        orthographic_height: Option<f32>,
     ) -> PyResult<()> {
         let c = gp::CameraSpec {
+            orthographic_height,
             eye,
             forward,
             up,

@@ -59,6 +59,9 @@ pub struct CameraSpec {
     pub aperture_radius: f32,
     /// Distance to the plane in focus along `forward`, > 0.
     pub focus_distance: f32,
+    /// `Some(h)`: an orthographic camera whose view is `h` scene units high (`fov_y`,
+    /// `aperture_radius` and `focus_distance` then unused).
+    pub orthographic_height: Option<f32>,
 }
 
 /// A texture of a [`SceneBuild`].
@@ -363,13 +366,14 @@ impl SceneBuild {
     pub fn set_camera(&mut self, c: &CameraSpec, width: u32, height: u32) -> Result<()> {
         let at = self.at("camera");
         let eye = Vec3::from(c.eye);
-        self.b.camera(
-            eye,
-            eye + Vec3::from(c.forward),
-            Vec3::from(c.up),
-            c.fov_y,
-            &at,
-        )?;
+        let (target, up) = (eye + Vec3::from(c.forward), Vec3::from(c.up));
+        if let Some(h) = c.orthographic_height {
+            self.b.orthographic_camera(eye, target, up, 0.5 * h, &at)?;
+            let s = self.b.settings();
+            (s.width, s.height) = (width, height);
+            return Ok(());
+        }
+        self.b.camera(eye, target, up, c.fov_y, &at)?;
         if !(c.aperture_radius.is_finite() && c.aperture_radius >= 0.0) {
             return Err(self.err("camera", "aperture_radius: must be >= 0 and finite".into()));
         }
