@@ -22,6 +22,9 @@ def empty_scene(width, height):
     world = scene.world or bpy.data.worlds.new("World")
     scene.world = world
     world.use_nodes = True
+    for node in list(world.node_tree.nodes):
+        if node.type not in ("BACKGROUND", "OUTPUT_WORLD"):
+            world.node_tree.nodes.remove(node)
     bg = world.node_tree.nodes.get("Background")
     bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     bg.inputs["Strength"].default_value = 0.0

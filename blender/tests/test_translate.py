@@ -132,6 +132,39 @@ def test_orthographic_camera_sees_ortho_scale_across():
     common.check(report.seen == [], f"nothing to warn about ({report.seen})")
 
 
+def test_environment_texture_is_oriented_as_cycles_reads_it():
+    scene = scenes.empty_scene(24, 24)
+    # A 64x32 equirectangular image of 8x4 blocks of distinct colours: the renderers filter
+    # texels differently (gpu-photon's lat-long is always bilinear), so pixels near a block's
+    # edge may differ; elsewhere both see the block's colour.
+    rng = np.random.default_rng(3)
+    blocks = rng.uniform(0.1, 1.0, (4, 8, 3))
+    rgb = np.repeat(np.repeat(blocks, 8, axis=0), 8, axis=1)
+    texels = np.concatenate([rgb, np.ones((32, 64, 1))], axis=2)
+    image = bpy.data.images.new("Sky", 64, 32, float_buffer=True)
+    image.pixels = texels.astype(np.float32).ravel()
+    nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.image = image
+    links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
+    nodes["Background"].inputs["Strength"].default_value = 1.0
+    cam = scenes.camera((0, 0, 0), (1, 0.3, 0.2), lens=18.0)
+    mod = common.enable()
+    for look in [(1, 0.3, 0.2), (-0.4, 1, -0.3), (0.2, -1, 0.6), (-1, -0.2, 0.1)]:
+        cam.rotation_euler = __import__("mathutils").Vector(look).to_track_quat("-Z", "Y").to_euler()
+        bpy.context.view_layer.update()
+        built, _, _ = build()
+        ours = built.aovs(["albedo"], samples=1, width=24, height=24)["albedo"]
+        common.use_cycles(scene, 1)
+        scene.cycles.pixel_filter_type = "BOX"
+        cycles, _ = common.render(scene, "environment")
+        # Texel colours seen: the same texel at most pixels (edges may round either way).
+        same = np.all(np.abs(ours - cycles) < 1e-3, axis=2).mean()
+        common.check(same > 0.6, f"looking along {look}: {same:.3f} of the pixels see the "
+                     "colour Cycles sees")
+    _ = mod
+
+
 def test_world_colour_and_principled_parameters():
     scene = lit_scene(16)
     bg = scene.world.node_tree.nodes["Background"]
@@ -158,4 +191,5 @@ if __name__ == "__main__":
                 test_image_texture_reads_through_the_uvs_the_right_way_up,
                 test_normal_map_tilts_the_shading_normal,
                 test_orthographic_camera_sees_ortho_scale_across,
+                test_environment_texture_is_oriented_as_cycles_reads_it,
                 test_world_colour_and_principled_parameters])
