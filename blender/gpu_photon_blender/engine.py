@@ -101,6 +101,22 @@ class GpuPhotonEngine(bpy.types.RenderEngine):
             for name, _, chan, _ in DENOISING_PASSES:
                 self.add_pass(name, 3, chan)
         result = self.begin_result(0, 0, width, height)
+        try:
+            done = self._passes(renderer, gp_scene, props, result, settings,
+                                f"{triangles} triangles", started)
+        except gpu_photon.Error as e:
+            self.report({"ERROR"}, f"gpu-photon: {e}")
+            done = None
+        finally:
+            # The result is Blender's until ended, whatever happened to the passes.
+            self.end_result(result)
+        if done is not None:
+            seconds = time.monotonic() - started
+            self.update_stats("", f"gpu-photon: {done} passes in {seconds:.1f} s")
+
+    def _passes(self, renderer, gp_scene, props, result, settings, size, started):
+        """Renders passes into ``result`` until a stop, then the denoising passes; ``size``
+        ends the status line. Returns the passes rendered."""
         combined = result.layers[0].passes["Combined"]
         planned = settings["passes"]
         limited = planned < UNLIMITED_PASSES
@@ -116,7 +132,7 @@ class GpuPhotonEngine(bpy.types.RenderEngine):
             noise_text = f", noise {100.0 * noise:.1f}%" if noise is not None else ""
             of = f"/{planned}" if limited else ""
             self.update_stats("", f"gpu-photon: pass {done}{of}{noise_text}, {elapsed:.1f} s, "
-                              f"{triangles} triangles")
+                              f"{size}")
             if limited:
                 self.update_progress(done / planned)
             if cancelled(self):
@@ -129,12 +145,11 @@ class GpuPhotonEngine(bpy.types.RenderEngine):
         if props.denoising_data and not stopped:
             self.update_stats("", "gpu-photon: denoising passes")
             aovs = gp_scene.aovs(["albedo", "normal"], props.aov_samples, seed=props.seed,
-                                 width=width, height=height)
+                                 width=settings["width"], height=settings["height"])
             passes = result.layers[0].passes
             for name, key, _, _ in DENOISING_PASSES:
                 _set_pass(passes[name], aovs[key])
-        self.end_result(result)
-        self.update_stats("", f"gpu-photon: {done} passes in {time.monotonic() - started:.1f} s")
+        return done
 
     def _black(self, scene):
         width, height = _size(scene)

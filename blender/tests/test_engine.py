@@ -165,6 +165,31 @@ def test_denoising_passes():
     scene.use_nodes = False
 
 
+def test_a_failing_pass_is_reported_and_ends_the_result():
+    import gpu_photon
+
+    class FailingRenderer(CountingRenderer):
+        def render_pass(self):
+            if len(CountingRenderer.ends) == 1:
+                raise gpu_photon.Error("the device was lost (a test's stand-in)")
+            return super().render_pass()
+
+    scene = scenes.cornell_box(16, 16)
+    common.use_engine(scene, passes=4, spp=1, photons=5_000, caustic_photons=0)
+    undo = patched(gpu_photon, "Renderer", FailingRenderer)
+    try:
+        image, _ = common.render(scene, "failing")
+        raised = None
+    except RuntimeError as e:  # the operator reports the engine's error
+        raised, image = e, None
+    finally:
+        undo()
+    print("operator:", raised)
+    common.check(raised is not None and "the device was lost" in str(raised),
+                 "the pass's error reaches Blender's report as an error")
+    common.check(len(CountingRenderer.ends) == 1, "after the one pass that was rendered")
+
+
 def test_no_light_renders_black():
     scene = scenes.cornell_box(16, 16)
     bpy.data.objects.remove(bpy.data.objects["Light"])
@@ -176,4 +201,5 @@ def test_no_light_renders_black():
 
 if __name__ == "__main__":
     common.run([test_cancel_within_one_pass, test_unsupported_node_is_reported,
-                test_denoising_passes, test_no_light_renders_black])
+                test_denoising_passes, test_a_failing_pass_is_reported_and_ends_the_result,
+                test_no_light_renders_black])
