@@ -27,7 +27,8 @@ mod api;
 
 pub use api::*;
 pub use error::{Error, Result};
-pub use render::film::{DiffStats, Image};
+pub use integrators::aov::Aov;
+pub use render::film::{add_exr_layers, DiffStats, Image};
 pub use render::progressive::Flow;
 pub use render::report::RenderReport as Report;
 pub use settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler};

@@ -3,7 +3,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use gpu_photon::{
-    Backend, Filter, Flow, FresnelMode, Image, LoadOptions, Mode, RenderSettings, Renderer,
+    Aov, Backend, Filter, Flow, FresnelMode, Image, LoadOptions, Mode, RenderSettings, Renderer,
     Sampler, Scene, SliceFile, Stop, Warning, MAX_PASSES,
 };
 use std::io::IsTerminal;
@@ -205,10 +205,38 @@ struct RenderArgs {
     /// Global-map radius of the first progressive pass (default: chosen from the scene).
     #[arg(long)]
     initial_radius: Option<f32>,
+    /// Feature images for denoisers, written as extra layers of the .exr output:
+    /// `albedo`, `normal` (camera space) or both, `albedo,normal` (as Cycles' denoising passes).
+    #[arg(long, value_name = "LIST", value_parser = parse_aovs)]
+    aov: Option<AovList>,
     /// No progress bars or timings.
     #[arg(short, long)]
     quiet: bool,
 }
+
+/// `--aov`'s list (a type of its own: clap reads an `Option<Vec<_>>` as repeated values).
+#[derive(Clone)]
+struct AovList(Vec<Aov>);
+
+fn parse_aovs(text: &str) -> std::result::Result<AovList, String> {
+    Aov::parse_list(text)
+        .map(AovList)
+        .map_err(|e| e.to_string())
+}
+
+/// Adds `--aov`'s layers to the image the render wrote.
+fn write_aovs(args: &RenderArgs, scene: &Scene, settings: &RenderSettings) -> Result<()> {
+    let Some(AovList(aovs)) = &args.aov else {
+        return Ok(());
+    };
+    let images = scene.aovs(settings, aovs, AOV_SAMPLES)?;
+    let layers: Vec<(&str, &Image)> = aovs.iter().map(|a| a.name()).zip(&images).collect();
+    gpu_photon::add_exr_layers(&args.output, &layers)?;
+    Ok(())
+}
+
+/// Camera samples per pixel of `--aov`'s feature images.
+const AOV_SAMPLES: u32 = 16;
 
 impl RenderArgs {
     fn apply(&self, s: &mut RenderSettings) -> Result<()> {
@@ -285,6 +313,16 @@ fn print_warnings(warnings: &[Warning]) {
 /// Renders; returns the exit status (see `run_progressive`).
 fn run_render(args: &RenderArgs) -> Result<u8> {
     gpu_photon::check_output_path(&args.output)?;
+    let exr = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if args.aov.is_some() && !exr {
+        bail!(
+            "--aov writes layers of an .exr image: {} is not one",
+            args.output.display()
+        );
+    }
     let options = LoadOptions {
         camera: args.camera.clone(),
         defines: args.define.clone(),
@@ -306,6 +344,7 @@ fn run_render(args: &RenderArgs) -> Result<u8> {
     print_warnings(&r.take_warnings());
     let report = r.report()?;
     r.image().write(&args.output, settings.exposure)?;
+    write_aovs(args, &scene, &settings)?;
     warn_if_incomplete(&args.output, &report);
     if !args.quiet {
         for line in report.summary(&args.output, &settings) {
@@ -358,6 +397,7 @@ fn run_progressive(
         return Err(e.into());
     }
     file.write(&r)?;
+    write_aovs(args, scene, settings)?;
     let report = r.report()?;
     warn_if_incomplete(&args.output, &report);
     let stopped = signals::received();

@@ -115,6 +115,8 @@ struct Query {
     py: f32,
     lens: [f32; 2],
     size: [f32; 2],
+    ortho: u32,
+    pad: [u32; 3],
 }
 
 const PROBE: &str = r#"
@@ -132,6 +134,10 @@ struct Query {
     py: f32,
     lens: vec2<f32>,
     size: vec2<f32>,
+    ortho: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<storage, read> queries: array<Query>;
@@ -145,7 +151,7 @@ fn probe_camera(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let q = queries[i];
     let j = filter_jitter(q.kind, q.param, q.u);
-    let r = camera_ray(q.eye.xyz, q.forward.xyz, q.right.xyz, q.up.xyz, q.aperture, q.focus, q.px, q.py, q.size.x, q.size.y, q.lens);
+    let r = camera_ray(q.eye.xyz, q.forward.xyz, q.right.xyz, q.up.xyz, q.aperture, q.focus, q.ortho, q.px, q.py, q.size.x, q.size.y, q.lens);
     results[i] = array<f32, 8>(j.x, j.y, r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z);
 }
 "#;
@@ -172,6 +178,7 @@ fn cpu(q: &Query) -> [f32; 8] {
         aperture_radius: q.aperture,
         focus_distance: q.focus,
         filter: f,
+        orthographic: q.ortho != 0,
     };
     let (w, h) = (q.size[0] as u32, q.size[1] as u32);
     let (o, d) = cam.ray(q.px, q.py, w, h, (q.lens[0], q.lens[1]));
@@ -209,20 +216,22 @@ fn device_jitter_and_camera_rays_equal_the_rust_ones() {
             0 => [edges[(i / 7 % 6) as usize], edges[(i / 42 % 6) as usize]],
             _ => [rng.f32(), rng.f32()],
         };
-        let cam = Camera::look_at(
-            Vec3::new(
-                rng.range(-5.0, 5.0),
-                rng.range(-5.0, 5.0),
-                rng.range(-5.0, 5.0),
-            ),
-            Vec3::new(
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-            ),
-            Vec3::Y,
-            rng.range(10.0, 120.0),
-        )
+        let eye = Vec3::new(
+            rng.range(-5.0, 5.0),
+            rng.range(-5.0, 5.0),
+            rng.range(-5.0, 5.0),
+        );
+        let target = Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        // One query in five orthographic (its fov's number as the half-height).
+        let (ortho, size) = (i % 5 == 4, rng.range(10.0, 120.0));
+        let cam = match ortho {
+            true => Camera::orthographic(eye, target, Vec3::Y, size / 20.0),
+            false => Camera::look_at(eye, target, Vec3::Y, size),
+        }
         .unwrap();
         let p4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
         let (w, h) = (64.0, 48.0);
@@ -240,6 +249,8 @@ fn device_jitter_and_camera_rays_equal_the_rust_ones() {
             py: rng.range(0.0, h),
             lens: [rng.f32(), rng.f32()],
             size: [w, h],
+            ortho: ortho as u32,
+            pad: [0; 3],
         });
     }
     let got = gpu_values(&ctx, &queries);
@@ -627,4 +638,32 @@ fn scene_files_choose_the_filter_and_the_lens() {
     let w = xml("perspective", "", r#"<rfilter type="mitchell"/>"#).unwrap();
     assert_eq!(w.scene.camera.filter, PixelFilter::Box);
     assert!(w.warnings[0].contains("pixel filter `mitchell` approximated by a one-pixel box"));
+}
+
+#[test]
+fn an_orthographic_camera_sees_the_same_width_from_any_distance_on_both_backends() {
+    // A strip x in [-1, 0] of the emitter plane, seen by an orthographic camera whose view is
+    // 2 * 2 units high and, at aspect 2, 8 units wide: 1/8 of every row, at 5 or 15 units (a
+    // perspective camera would see it a third as wide from 15).
+    let (w, h) = (64, 32);
+    for backend in backends() {
+        for distance in [5.0, 15.0] {
+            let mut scene = edge_scene(w, h, "");
+            // The emitter's corners moved in to x = -1 (it is seen, not lit by).
+            for t in scene.triangles.iter_mut().filter(|t| t.light != u32::MAX) {
+                for v in [&mut t.v0, &mut t.v1, &mut t.v2] {
+                    v.x = v.x.max(-1.0);
+                }
+            }
+            scene.camera =
+                Camera::orthographic(Vec3::new(0.0, 0.0, distance), Vec3::ZERO, Vec3::Y, 2.0)
+                    .unwrap();
+            let img = run(&scene, &edge_settings(&scene, 16), backend);
+            let covered: f64 = profile(&img).iter().sum::<f64>() / w as f64;
+            assert!(
+                (covered - 0.125).abs() < 0.25 / w as f64,
+                "{backend:?} at {distance}: {covered} of the width"
+            );
+        }
+    }
 }

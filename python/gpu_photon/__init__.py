@@ -5,6 +5,21 @@
     image = scene.render(spp=16, passes=4, backend="auto", seed=1)  # float32 (H, W, 3)
     gpu_photon.write_exr("cornell.exr", image)
 
+A scene can also be built in memory from NumPy arrays and dicts, without a file (the Blender
+add-on does so); every value goes through the same scene builder as the file importers::
+
+    b = gpu_photon.SceneBuilder("room")
+    white = b.add_material("white", {"kind": "diffuse", "colour": (0.8, 0.8, 0.8)})
+    lamp = b.add_material("lamp", {"kind": "black", "emission": (20, 20, 20)})
+    b.add_mesh("floor", positions, triangles, np.array([white], np.uint32))  # (N,3), (T,3)
+    b.add_mesh("lamp", quad, two_triangles, np.array([lamp], np.uint32), transform=matrix)
+    b.set_camera(eye, forward, up, fov_y, width, height)
+    scene = b.finish()
+    features = scene.aovs(["albedo", "normal"])  # for denoisers, as Cycles defines them
+
+Material kinds: black, diffuse, mirror, dielectric, conductor, phong, metallic_roughness,
+transparent; each with emission, textures (``add_texture``: linear RGBA (H, W, 4)) and alpha.
+
 Settings are keywords with the command line's names (``caustic_photons`` for
 ``--caustic-photons``) and ranges; ``gpu_photon.setting_names`` lists them. Errors are
 ``gpu_photon.Error`` (``SceneError`` with ``file``, ``line``, ``field``; ``SettingError``) or
@@ -19,6 +34,7 @@ from ._gpu_photon import (
     GpuPhotonWarning,
     Renderer,
     Scene,
+    SceneBuilder,
     SceneError,
     SettingError,
     load,
@@ -31,6 +47,7 @@ __all__ = [
     "GpuPhotonWarning",
     "Renderer",
     "Scene",
+    "SceneBuilder",
     "SceneError",
     "SettingError",
     "diff",

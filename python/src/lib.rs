@@ -13,6 +13,8 @@ use pyo3::types::{PyDict, PyDictMethods};
 use std::ffi::CString;
 use std::sync::Mutex;
 
+mod build;
+
 create_exception!(_gpu_photon, Error, PyException, "An error of gpu-photon.");
 create_exception!(
     _gpu_photon,
@@ -160,6 +162,29 @@ impl PyScene {
         let mut r = PyRenderer::open(py, &self.scene, backend, settings)?;
         r.run_passes(py, None, None, None)?;
         to_array(py, r.inner.get_mut().map_err(poisoned)?.image())
+    }
+
+    /// Feature images for denoisers (`albedo`, `normal`: Cycles' Denoising Albedo and
+    /// Denoising Normal, the normal in camera space) at the settings' size, camera and seed,
+    /// `samples` first-hit samples per pixel on the CPU; a dict of float32 arrays (H, W, 3).
+    #[pyo3(signature = (names = vec!["albedo".to_string(), "normal".to_string()], samples = 4, **settings))]
+    fn aovs<'py>(
+        &self,
+        py: Python<'py>,
+        names: Vec<String>,
+        samples: u32,
+        settings: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let which = gp::Aov::parse_list(&names.join(",")).map_err(|e| to_py(py, e))?;
+        let settings = apply(py, self.scene.settings(), settings)?;
+        let images = py
+            .detach(|| self.scene.aovs(&settings, &which, samples))
+            .map_err(|e| to_py(py, e))?;
+        let d = PyDict::new(py);
+        for (aov, image) in which.iter().zip(images) {
+            d.set_item(aov.name(), to_array(py, image)?)?;
+        }
+        Ok(d)
     }
 
     fn __repr__(&self) -> String {
@@ -416,6 +441,7 @@ fn _gpu_photon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gp::quiet_headless_vulkan();
     m.add_class::<PyScene>()?;
     m.add_class::<PyRenderer>()?;
+    m.add_class::<build::PySceneBuilder>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(diff, m)?)?;
     m.add_function(wrap_pyfunction!(write_exr, m)?)?;

@@ -1,12 +1,18 @@
 //! The facade: the few types a program needs to load a scene, set render settings, render
 //! and save images. `lib.rs` re-exports all of it at the crate root.
 
+mod build;
+mod build_material;
 mod files;
 mod image;
 mod renderer;
 mod scene;
 mod settings;
 
+pub use crate::textures::Wrap as TextureWrap;
+pub use build::{
+    AlphaSpec, CameraSpec, MaterialSpec, MeshSpec, Scattering, SceneBuild, TextureSpec,
+};
 pub use files::{
     adapters, check_output_path, merge, parse_pass_range, parse_slice, progressive_summary,
     quiet_headless_vulkan, slice_pass_range, Adapter, MergeSummary, SliceFile, SliceSpec,

@@ -64,7 +64,16 @@ impl Scene {
         })
     }
 
-    /// The file the scene was read from.
+    /// A scene built in memory ([`super::SceneBuild`]), `path` naming it.
+    pub(super) fn built(scene: crate::scene::Scene, path: PathBuf) -> Scene {
+        Scene {
+            inner: Arc::new(scene),
+            path,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The file the scene was read from (a built scene's name).
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -84,6 +93,24 @@ impl Scene {
         self.inner.clone()
     }
 
+    /// The feature images `which` (albedo, normal) of the scene at `settings`' size, camera
+    /// and seed, for denoisers: `samples` stratified first-hit samples per pixel, on the CPU,
+    /// as Cycles defines its denoising passes (see [`crate::Aov`]).
+    pub fn aovs(
+        &self,
+        settings: &RenderSettings,
+        which: &[crate::Aov],
+        samples: u32,
+    ) -> Result<Vec<Image>> {
+        crate::settings::validate(settings)?;
+        Ok(crate::integrators::aov::render(
+            &self.inner,
+            settings,
+            which,
+            samples,
+        ))
+    }
+
     /// Renders the scene with `settings` on `backend`, as `gpu-photon render` does: the
     /// mean of progressive passes `0..settings.passes`, or one classic pass when `passes`
     /// is 0. Returns the image and the warnings of the render.
@@ -93,7 +120,9 @@ impl Scene {
         backend: Backend,
     ) -> Result<(Image, Vec<Warning>)> {
         let mut r = Renderer::new(self, settings, backend)?;
-        r.run(&Stop::default(), |_, _| crate::render::progressive::Flow::Continue)?;
+        r.run(&Stop::default(), |_, _| {
+            crate::render::progressive::Flow::Continue
+        })?;
         Ok((r.image(), r.take_warnings()))
     }
 }

@@ -62,10 +62,14 @@ struct CameraRay {
 }
 
 // The ray through raster (px, py) of a w x h image; `lens` picks the aperture point of a thin
-// lens (aperture > 0), whose rays through (px, py) meet at depth `focus` along `forward`.
-fn camera_ray(eye: vec3<f32>, forward: vec3<f32>, right: vec3<f32>, up: vec3<f32>, aperture: f32, focus: f32, px: f32, py: f32, w: f32, h: f32, lens: vec2<f32>) -> CameraRay {
+// lens (aperture > 0), whose rays through (px, py) meet at depth `focus` along `forward`. An
+// orthographic camera (ortho != 0) sends every ray along `forward` from its point of the view.
+fn camera_ray(eye: vec3<f32>, forward: vec3<f32>, right: vec3<f32>, up: vec3<f32>, aperture: f32, focus: f32, ortho: u32, px: f32, py: f32, w: f32, h: f32, lens: vec2<f32>) -> CameraRay {
     let sx = (2.0 * px / w - 1.0) * (w / h);
     let sy = 1.0 - 2.0 * py / h;
+    if ortho != 0u {
+        return CameraRay(eye + sx * right + sy * up, forward);
+    }
     let film = forward + sx * right + sy * up;
     if !(aperture > 0.0) {
         return CameraRay(eye, normalize(film));

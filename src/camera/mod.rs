@@ -1,8 +1,11 @@
 //! The camera with the reference conventions: raster (px, py) in `[0,W]x[0,H]`, row 0 at the
 //! top, maps to `forward + (2px/W - 1) tan(fov/2) (W/H) right + (1 - 2py/H) tan(fov/2) up`.
 //! A pinhole by default; with an aperture, a thin lens (Mitsuba's `thinlens`) focused on the
-//! plane `focus_distance` along `forward`. Its pixel filter says where in (and around) the
-//! pixel samples fall ([`crate::camera::pixel_filter`]). Twin: `src/camera/camera.wgsl`.
+//! plane `focus_distance` along `forward`. An orthographic camera's rays all travel along
+//! `forward`, from `eye + (2px/W - 1) (W/H) right + (1 - 2py/H) up` (`right` and `up` then
+//! being the view's half-height in scene units, along each axis). Its pixel filter says where
+//! in (and around) the pixel samples fall ([`crate::camera::pixel_filter`]). Twin:
+//! `src/camera/camera.wgsl`.
 
 pub mod pixel_filter;
 
@@ -26,6 +29,8 @@ pub struct Camera {
     pub focus_distance: f32,
     /// The reconstruction filter the pixel jitter follows.
     pub filter: PixelFilter,
+    /// Parallel rays along `forward` (no lens), `right` and `up` the view's half-height.
+    pub orthographic: bool,
 }
 
 impl Camera {
@@ -48,6 +53,24 @@ impl Camera {
             aperture_radius: 0.0,
             focus_distance: (target - eye).length(),
             filter: PixelFilter::Box,
+            orthographic: false,
+        })
+    }
+
+    /// An orthographic camera at `eye` looking at `target` whose view is `half_height` scene
+    /// units from its centre to its top edge (the width follows the image's aspect). `None`
+    /// when the frame is degenerate or `half_height` is not positive and finite.
+    pub fn orthographic(eye: Vec3, target: Vec3, up: Vec3, half_height: f32) -> Option<Self> {
+        if !(half_height.is_finite() && half_height > 0.0) {
+            return None;
+        }
+        let forward = (target - eye).try_normalize()?;
+        let right = forward.cross(up).try_normalize()?;
+        Some(Self {
+            right: right * half_height,
+            up: right.cross(forward) * half_height,
+            orthographic: true,
+            ..Self::look_at(eye, target, up, 90.0)?
         })
     }
 
@@ -59,8 +82,7 @@ impl Camera {
 
     /// The unnormalised direction through (px, py): its `forward` component is 1.
     fn film_direction(&self, px: f32, py: f32, width: u32, height: u32) -> Vec3 {
-        let sx = (2.0 * px / width as f32 - 1.0) * (width as f32 / height as f32);
-        let sy = 1.0 - 2.0 * py / height as f32;
+        let (sx, sy) = film_xy(px, py, width, height);
         self.forward + sx * self.right + sy * self.up
     }
 
@@ -73,6 +95,10 @@ impl Camera {
     /// [0, 1)^2 picks the point on the aperture (unused by a pinhole). A thin lens's rays
     /// through (px, py) all meet at the pinhole ray's point at depth `focus_distance`.
     pub fn ray(&self, px: f32, py: f32, width: u32, height: u32, lens: (f32, f32)) -> (Vec3, Vec3) {
+        if self.orthographic {
+            let (sx, sy) = film_xy(px, py, width, height);
+            return (self.eye + sx * self.right + sy * self.up, self.forward);
+        }
         if !self.is_thin_lens() {
             return (self.eye, self.direction(px, py, width, height));
         }
@@ -81,6 +107,13 @@ impl Camera {
         let on_lens = self.aperture_radius * (a * self.right.normalize() + b * self.up.normalize());
         (self.eye + on_lens, (focus - on_lens).normalize())
     }
+}
+
+/// Raster (px, py) of a `width` x `height` image as film coordinates: x in `[-W/H, W/H]`
+/// rightwards, y in `[-1, 1]` upwards.
+fn film_xy(px: f32, py: f32, width: u32, height: u32) -> (f32, f32) {
+    let sx = (2.0 * px / width as f32 - 1.0) * (width as f32 / height as f32);
+    (sx, 1.0 - 2.0 * py / height as f32)
 }
 
 /// The vertical field of view, degrees, of the default view of a scene without a camera: the

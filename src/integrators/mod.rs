@@ -1,7 +1,9 @@
 //! The integrators: the backend-neutral plan of a render (which photon maps, which terms),
-//! the photon record and the radiance estimate, and the two backends that trace photons,
-//! build their maps and run the camera pass (`cpu/`, `gpu/` with its kernels beside it).
+//! the photon record and the radiance estimate, the first-hit feature images (AOVs) for
+//! denoisers, and the two backends that trace photons, build their maps and run the camera
+//! pass (`cpu/`, `gpu/` with its kernels beside it).
 
+pub mod aov;
 pub mod cpu;
 pub mod estimate;
 pub mod gpu;

@@ -478,3 +478,70 @@ pub fn diff(a: &Image, b: &Image, block: u32) -> std::result::Result<DiffStats, 
         max_error: max,
     })
 }
+
+/// Rewrites the EXR file at `path` (an image `gpu-photon render` wrote, its header's tags
+/// kept) with `layers` after its RGB layer: each a layer of that name with channels R, G, B
+/// (`albedo.R`, ...). Atomic, as every image write.
+pub fn add_exr_layers(path: &Path, layers: &[(&str, &Image)]) -> Result<()> {
+    let main = Image::read(path)?;
+    let tags = read_tags(path)?;
+    for (name, image) in layers {
+        if (image.width, image.height) != (main.width, main.height) {
+            return Err(Error::Image {
+                path: path.to_path_buf(),
+                message: format!(
+                    "layer {name} is {}x{}, the image {}x{}",
+                    image.width, image.height, main.width, main.height
+                ),
+            });
+        }
+    }
+    let mut all = vec![("", &main)];
+    all.extend(layers.iter().copied());
+    let tags: Vec<(&str, String)> = tags.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+    write_exr_layers(path, &all, &tags)
+}
+
+/// Writes the images of `layers` (same size) as one EXR image, atomically, in OpenEXR's
+/// layer convention: each `(name, image)` the channels `name.R`, `name.G`, `name.B` (an
+/// empty name: plain R, G, B, what readers take for the image), `tags` in the header as
+/// `Image::write_tagged` puts them.
+fn write_exr_layers(path: &Path, layers: &[(&str, &Image)], tags: &[(&str, String)]) -> Result<()> {
+    write_atomically(path, |out| {
+        use exr::prelude::*;
+        let Some((_, first)) = layers.first() else {
+            return Err("no layer to write".to_string());
+        };
+        let size = (first.width as usize, first.height as usize);
+        let mut channels = SmallVec::new();
+        for (name, image) in layers {
+            for (c, n) in ["R", "G", "B"].into_iter().enumerate() {
+                let samples = FlatSamples::F32(image.pixels.iter().map(|p| p[c]).collect());
+                let full = match name.is_empty() {
+                    true => n.to_string(),
+                    false => format!("{name}.{n}"),
+                };
+                channels.push(AnyChannel::new(full.as_str(), samples));
+            }
+        }
+        let mut attributes = LayerAttributes::default();
+        if !tags.is_empty() {
+            let text: Vec<String> = tags.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            attributes.other.insert(
+                Text::from(TAGS_ATTRIBUTE),
+                AttributeValue::Text(Text::from(text.join("\n").as_str())),
+            );
+        }
+        let layer = Layer::new(
+            size,
+            attributes,
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(channels),
+        );
+        exr::image::Image::from_layer(layer)
+            .write()
+            .non_parallel()
+            .to_buffered(out)
+            .map_err(|e| e.to_string())
+    })
+}

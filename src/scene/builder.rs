@@ -148,6 +148,28 @@ impl SceneBuilder {
         Ok(())
     }
 
+    /// Sets an orthographic camera (`Camera::orthographic`: parallel rays along the view) at
+    /// `eye` looking at `target`, its view `half_height` scene units from the centre to the top
+    /// edge (> 0; the width follows the image's aspect). Errors as [`SceneBuilder::camera`]'s,
+    /// the half-height's on [`Part::Fov`].
+    pub fn orthographic_camera(
+        &mut self,
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        half_height: f32,
+        at: &dyn Locate,
+    ) -> Result<()> {
+        if !(half_height.is_finite() && half_height > 0.0) {
+            let message = format!("the view's half-height must be positive (got {half_height})");
+            return Err(at.error(Part::Fov, message));
+        }
+        // The frame's checks and messages are the perspective camera's.
+        self.camera(eye, target, up, 90.0, at)?;
+        self.camera = Camera::orthographic(eye, target, up, half_height);
+        Ok(())
+    }
+
     /// The camera's pixel filter, aperture radius (0: a pinhole) and focus distance, which
     /// `finish` gives the camera (checked by the importer that read them).
     pub fn optics(&mut self, filter: PixelFilter, aperture_radius: f32, focus_distance: f32) {

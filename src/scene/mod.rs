@@ -150,6 +150,7 @@ impl Scene {
                 aperture_radius: 0.0,
                 focus_distance: 1.0,
                 filter: crate::camera::pixel_filter::PixelFilter::Box,
+                orthographic: false,
             },
             materials: vec![],
             triangles: vec![],

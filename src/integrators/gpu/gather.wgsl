@@ -291,7 +291,7 @@ fn camera_sample(px: u32, py: u32, rng: ptr<function, Rng>, sob: SobolStream, fi
             lens.y = rng_next(rng);
         }
     }
-    return camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
+    return camera_ray(params.eye, params.forward, params.right, params.up, params.aperture_radius, params.focus_distance, params.orthographic, f32(px) + j.x, f32(py) + j.y, f32(params.width), f32(params.height), lens);
 }
 
 // A camera path (the camera's ray, or a glass branch popped from the pixel's stack) from o

@@ -67,6 +67,7 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
         filter_param: c.filter.param(),
         aperture_radius: c.aperture_radius,
         focus_distance: c.focus_distance,
+        orthographic: c.orthographic as u32,
         camera_medium: scene.camera_medium,
         ..Default::default()
     }

@@ -232,8 +232,10 @@ pub struct GpuParams {
     pub first_row: u32,
     /// 0: a sample's gather dispatch; `r + 1`: its round `r` of glass branches.
     pub branch_round: u32,
+    /// 1: an orthographic camera (`Camera::orthographic`), else 0.
+    pub orthographic: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// Twin of WGSL `Medium`: a homogeneous medium (`crate::media::Medium`) as the kernels use

@@ -153,7 +153,9 @@ struct Params {
     // Which of a sample's gather dispatches this is: 0 the gather, r + 1 its round r of glass
     // branches (glass_branches.wgsl's queue).
     branch_round: u32,
-    _pad: array<u32, 2>,
+    // 1: an orthographic camera.
+    orthographic: u32,
+    _pad: u32,
 }
 
 // A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).
