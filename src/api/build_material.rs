@@ -4,7 +4,7 @@
 //! by whoever builds them) and turned into a `crate::scene::Material` by the constructors the
 //! importers use.
 
-use crate::bsdfs::{Bsdf, Distribution, MetallicRoughness, Microfacet};
+use crate::bsdfs::{Bsdf, BsdfKind, Channel, Distribution, MetallicRoughness, Microfacet, Param};
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use glam::Vec3;
 
@@ -167,12 +167,7 @@ pub(super) fn material(spec: &MaterialSpec) -> Result<Material, String> {
             if roughness == 0.0 && tint == Vec3::ONE {
                 Material::glass(ior)
             } else {
-                Material::from_bsdf(Bsdf::Dielectric {
-                    eta: ior,
-                    specular_reflectance: Vec3::ONE,
-                    specular_transmittance: tint,
-                    microfacet: Some(ggx(roughness)),
-                })
+                Material::from_bsdf(Bsdf::dielectric(ior, Vec3::ONE, tint, Some(ggx(roughness))))
             }
         }
         Scattering::Conductor { colour, roughness } => {
@@ -182,13 +177,13 @@ pub(super) fn material(spec: &MaterialSpec) -> Result<Material, String> {
             );
             match roughness {
                 0.0 => Material::mirror(colour),
-                r => Material::from_bsdf(Bsdf::Conductor {
-                    // Mitsuba's `none`: eta 0, k 1 reflects everything at every angle.
-                    eta: Vec3::ZERO,
-                    k: Vec3::ONE,
-                    specular: colour,
-                    microfacet: Some(ggx(r)),
-                }),
+                // Mitsuba's `none`: eta 0, k 1 reflects everything at every angle.
+                r => Material::from_bsdf(Bsdf::conductor(
+                    Vec3::ZERO,
+                    Vec3::ONE,
+                    colour,
+                    Some(ggx(r)),
+                )),
             }
         }
         Scattering::Phong { kd, ks, exponent } => {
@@ -203,19 +198,15 @@ pub(super) fn material(spec: &MaterialSpec) -> Result<Material, String> {
             f90,
             transmission,
         } => {
-            let base = unit_colour(base, "base")?;
-            let g = MetallicRoughness {
-                base,
-                metallic: unit(metallic, "metallic")?,
-                roughness: unit(roughness, "roughness")?,
-                f0: unit_colour(f0, "f0")?,
-                f90: unit(f90, "f90")?,
-                transmission: unit(transmission, "transmission")?,
-            };
-            Material {
-                kd: base,
-                ..Material::from_bsdf(Bsdf::MetallicRoughness(g))
-            }
+            let g = MetallicRoughness::new(
+                unit_colour(base, "base")?,
+                unit(metallic, "metallic")?,
+                unit(roughness, "roughness")?,
+                unit_colour(f0, "f0")?,
+                unit(f90, "f90")?,
+                unit(transmission, "transmission")?,
+            );
+            Material::from_bsdf(Bsdf::MetallicRoughness(g))
         }
         Scattering::Transparent => Material::null(),
     };
@@ -242,9 +233,20 @@ pub(super) fn material(spec: &MaterialSpec) -> Result<Material, String> {
             return Err(format!("{field}: a {kind} material has no such texture"));
         }
     }
-    m.kd_texture = texture(spec.colour_texture);
-    m.mr_texture = texture(spec.metallic_roughness_texture);
-    m.gltf_textures[0] = texture(spec.transmission_texture);
+    // As glTF's importer: the colour texture replaces the colour, metalness is the blue and
+    // roughness the green channel of theirs, transmission the red.
+    if let (Some(id), Some(p)) = (spec.colour_texture, m.bsdf.base_colour_mut()) {
+        *p = Param::texture(id);
+    }
+    if let Bsdf::MetallicRoughness(g) = &mut m.bsdf {
+        if let Some(id) = spec.metallic_roughness_texture {
+            g.metallic = g.metallic.times(id, Channel::B);
+            g.roughness = g.roughness.times(id, Channel::G);
+        }
+        if let Some(id) = spec.transmission_texture {
+            g.transmission = g.transmission.times(id, Channel::R);
+        }
+    }
     m.normal_texture = texture(spec.normal_texture);
     if spec.emission_texture.is_some() && !m.is_emissive() {
         return Err("emission_texture: the material emits nothing".into());
