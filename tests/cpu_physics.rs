@@ -791,10 +791,10 @@ fn sealed_box(albedo: Vec3) -> Scene {
 
 fn add_point_light(s: &mut Scene, position: Vec3, intensity: Vec3) {
     s.lights.push(Light {
-        shape: LightShape::Point {
+        shape: LightShape::Point(gpu_photon::lights::point::Point {
             position,
             intensity,
-        },
+        }),
         power: 4.0 * std::f32::consts::PI * intensity,
     });
 }
@@ -818,7 +818,7 @@ fn add_area_light(s: &mut Scene, y: f32, h: f32, cx: f32, cz: f32, radiance: Vec
     }
     let area = 4.0 * h * h;
     s.lights.push(Light {
-        shape: LightShape::Triangles { first, count: 2 },
+        shape: LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count: 2 }),
         power: std::f32::consts::PI * area * radiance,
     });
 }

@@ -6,7 +6,7 @@
 use glam::{Mat3, Vec3};
 use gpu_photon::lights::environment::sampling::{self as env, EnvDistribution};
 use gpu_photon::render::film::Image;
-use gpu_photon::lights::LightTable;
+use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::photon::Budget;
 use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Environment, Material, Origin, Scene, SceneBuilder, Surface};

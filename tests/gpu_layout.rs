@@ -178,9 +178,8 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Light",
-            fields!(GpuLight: position, kind, intensity, first, global_power, count, caustic_power, cdf_start,
-                area, global_offset, global_count, caustic_offset, caustic_count, cos_inner, cos_outer,
-                radius, direction, emission_texture, texture_mean, spot_profile),
+            fields!(GpuLight: kind, global_offset, global_count, caustic_offset, global_power, caustic_count,
+                caustic_power, area, texture_mean, emission_texture, p0, p1, p2, p3),
         ),
         ("Aabb", fields!(GpuAabb: bmin, _pad0, bmax, _pad1)),
         (
@@ -609,11 +608,6 @@ fn shared_constants_agree() {
         "TERM_FINAL_GATHER",
         "CACHE_STRIDE",
         "CACHE_NORMAL_COS",
-        "LIGHT_POINT",
-        "LIGHT_TRIANGLES",
-        "LIGHT_SPHERE",
-        "LIGHT_SPOT",
-        "LIGHT_DIRECTIONAL",
         "BOUNCE_ABSORB",
         "BOUNCE_DELTA",
         "FILTER_CONE",
@@ -629,9 +623,6 @@ fn shared_constants_agree() {
         "PIXEL_FILTER_TENT",
         "PIXEL_FILTER_GAUSSIAN",
         "ERF_2_SQRT_2",
-        "LIGHT_SPOT",
-        "LIGHT_DIRECTIONAL",
-        "SPOT_MIN_RAMP",
         "LEAF_COUNT_SHIFT",
     ] {
         if !shared.iter().any(|(n, _)| *n == name) {
@@ -705,9 +696,13 @@ fn shared_constants_agree() {
         for &(name, rust) in &expected {
             check(kernel, name, rust);
         }
-        // Every BSDF kind's code is its place in the Rust list of kinds.
+        // Every BSDF and light kind's code is its place in the Rust list of kinds.
         for (i, kind) in gpu_photon::bsdfs::KINDS.iter().enumerate() {
             let name = format!("BSDF_{}", gpu_photon::bsdfs::gpu::upper(kind.name));
+            check(kernel, &name, Literal::U32(i as u32));
+        }
+        for (i, flag) in gpu_photon::lights::gpu::kind_flags().iter().enumerate() {
+            let name = flag.replace("HAS_LIGHT_", "LIGHT_");
             check(kernel, &name, Literal::U32(i as u32));
         }
     }

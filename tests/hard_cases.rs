@@ -348,10 +348,10 @@ fn white_furnace_lossless_objects_change_nothing() {
 /// The exact mean of the point-light plane's image at `w` x `h` (the scene's own quad, 10
 /// units to each side): `common::point_lit_plane_mean` with the scene's light and camera.
 fn analytic_plane_mean(scene: &Scene, albedo: f64, w: u32, h: u32) -> [f64; 3] {
-    let LightShape::Point {
+    let LightShape::Point(gpu_photon::lights::point::Point {
         position,
         intensity,
-    } = scene.lights[0].shape
+    }) = scene.lights[0].shape
     else {
         panic!("a point light")
     };

@@ -20,11 +20,13 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use probes::light::{LightCase, SceneProbes};
-use gpu_photon::lights::{aims_at, LightSample, LightTable};
+use gpu_photon::lights::table::{aims_at, LightTable};
+use gpu_photon::lights::interface::{LightSample};
 use gpu_photon::integrators::photon::power_ends;
 use gpu_photon::integrators::plan::{MapKind, MapPlan};
 use gpu_photon::importers::load_str;
-use gpu_photon::scene::{LightShape, Scene, SpotFalloff};
+use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::lights::spot::SpotFalloff;
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 
@@ -190,6 +192,20 @@ fn settings() -> RenderSettings {
     }
 }
 
+/// The probed scene has a light of every kind of the list (`lights::KINDS`), so a new kind
+/// is compared with its Rust twin once it is in the scene format.
+#[test]
+fn every_light_kind_is_probed() {
+    let scene = scene();
+    for (code, kind) in gpu_photon::lights::KINDS.iter().enumerate() {
+        assert!(
+            scene.lights.iter().any(|l| l.shape.code() as usize == code),
+            "no {} light in the probed scene",
+            kind.name
+        );
+    }
+}
+
 /// Both checks on one upload of the scene (its pipelines compile once: most of the time).
 #[test]
 fn device_lights_equal_the_hosts() {
@@ -211,7 +227,7 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         let mut us: Vec<f32> = (0..200).map(|_| r.f32()).collect();
         us.extend([0.0, 0.5, 1.0 - f32::EPSILON / 2.0]);
         // A triangle light: u0 at, below and above every value of its CDF.
-        if let LightShape::Triangles { count, .. } = light.shape {
+        if let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { count, .. }) = light.shape {
             let start = table.cdf_start[l] as usize;
             for &c in &table.tri_cdf[start..start + count as usize] {
                 us.extend(
@@ -270,7 +286,7 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         n_aimed += aims as usize;
         let (x, ns) = (v(c.x), v(c.ns));
         let s = table.sample(scene, l, x, ns, [c.u[0], c.u[3], c.u[4]]);
-        if let LightShape::Triangles { .. } = scene.lights[l].shape {
+        if let LightShape::Triangles(_) = scene.lights[l].shape {
             let want = table.pick_triangle(scene, l, c.u[0]) as u32;
             assert_eq!(
                 g.triangle,
@@ -307,14 +323,14 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
 
 fn kind_of(s: &LightShape) -> &'static str {
     match s {
-        LightShape::Point { .. } => "point",
-        LightShape::Spot { cone, .. } => match cone.profile {
+        LightShape::Point(_) => "point",
+        LightShape::Spot(gpu_photon::lights::spot::Spot { cone, .. }) => match cone.profile {
             SpotFalloff::Gltf => "spot gltf",
             SpotFalloff::LinearAngle => "spot linear-angle",
         },
-        LightShape::Directional { .. } => "directional",
-        LightShape::Triangles { .. } => "triangles",
-        LightShape::Sphere { .. } => "sphere",
+        LightShape::Directional(_) => "directional",
+        LightShape::Triangles(_) => "triangles",
+        LightShape::Sphere(_) => "sphere",
         LightShape::Environment(_) => "environment",
     }
 }
@@ -331,7 +347,7 @@ fn host_pdf(
     s: &LightSample,
 ) -> f32 {
     match scene.lights[l].shape {
-        LightShape::Triangles { .. } | LightShape::Sphere { .. } => {
+        LightShape::Triangles(_) | LightShape::Sphere(_) => {
             if s.weight == Vec3::ZERO {
                 0.0
             } else {

@@ -12,7 +12,8 @@ use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
 use gpu_photon::importers::mitsuba::import;
 use gpu_photon::importers::{load, load_str};
-use gpu_photon::scene::{LightShape, Scene, SpotCone, SpotFalloff};
+use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::lights::spot::{SpotCone, SpotFalloff};
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
@@ -275,7 +276,7 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
 
 fn spot_on_a_plane(f: SpotFalloff) {
     let s = spot_plane(f);
-    let LightShape::Spot { intensity, .. } = s.lights[0].shape else {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot { intensity, .. }) = s.lights[0].shape else {
         panic!("a spot")
     };
     let size = 40;
@@ -413,12 +414,12 @@ falloff = "{}"
         f.name()
     ));
     let omega = falloff_integral(f, 15.0, 40.0, -1.0, 1.0);
-    let LightShape::Spot {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot {
         position,
         direction,
         intensity,
         cone,
-    } = s.lights[0].shape
+    }) = s.lights[0].shape
     else {
         panic!("a spot")
     };
@@ -602,12 +603,12 @@ fn gltf_spot_and_directional_lights_load_in_watts() {
     let spot = r#""spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}"#;
     let s = load(&write("lights.gltf", &gltf_lights(spot))).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.lights.len(), 2);
-    let LightShape::Spot {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot {
         position,
         direction,
         intensity,
         cone,
-    } = s.lights[0].shape
+    }) = s.lights[0].shape
     else {
         panic!("a spot: {:?}", s.lights[0])
     };
@@ -622,10 +623,10 @@ fn gltf_spot_and_directional_lights_load_in_watts() {
     assert!((cone.cos_outer - 0.5f32.cos()).abs() < 1e-6);
     let omega = SpotCone::solid_angle(&cone) as f32;
     assert!((s.lights[0].power - intensity * omega).abs().max_element() < 1e-5);
-    let LightShape::Directional {
+    let LightShape::Directional(gpu_photon::lights::directional::Directional {
         direction,
         irradiance,
-    } = s.lights[1].shape
+    }) = s.lights[1].shape
     else {
         panic!("directional: {:?}", s.lights[1])
     };
@@ -634,7 +635,7 @@ fn gltf_spot_and_directional_lights_load_in_watts() {
     assert_eq!(direction, Vec3::NEG_Z);
     // The default cone: inner 0, outer pi/4.
     let s = load(&write("default-spot.gltf", &gltf_lights(r#""spot": {}"#))).unwrap();
-    let LightShape::Spot { cone, .. } = s.lights[0].shape else {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot { cone, .. }) = s.lights[0].shape else {
         panic!("a spot")
     };
     assert_eq!(cone.cos_inner, 1.0);
@@ -662,12 +663,12 @@ fn mitsuba_spot_and_directional_emitters_load() {
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let s = &im.scene;
-    let LightShape::Spot {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot {
         position,
         direction,
         intensity,
         cone,
-    } = s.lights[0].shape
+    }) = s.lights[0].shape
     else {
         panic!("a spot")
     };
@@ -676,18 +677,18 @@ fn mitsuba_spot_and_directional_emitters_load() {
     assert_eq!(intensity, Vec3::new(4.0, 3.0, 2.0));
     let linear = SpotFalloff::LinearAngle;
     assert_eq!(cone, SpotCone::with_profile(10.0, 30.0, linear));
-    let LightShape::Directional {
+    let LightShape::Directional(gpu_photon::lights::directional::Directional {
         direction,
         irradiance,
-    } = s.lights[1].shape
+    }) = s.lights[1].shape
     else {
         panic!("directional")
     };
     assert_eq!((direction, irradiance), (Vec3::NEG_Y, Vec3::splat(5.0)));
     // Mitsuba's defaults: cutoff 20 degrees, beam width 3/4 of it, along +Z from the origin.
-    let LightShape::Spot {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot {
         direction, cone, ..
-    } = s.lights[2].shape
+    }) = s.lights[2].shape
     else {
         panic!("a spot")
     };

@@ -22,7 +22,8 @@ use gpu_photon::integrators::gpu::host::drop_flags;
 use probes::media::{
     medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons,
 };
-use gpu_photon::lights::{Emission, LightTable};
+use gpu_photon::lights::table::{LightTable};
+use gpu_photon::lights::interface::{Emission};
 use gpu_photon::media::{MediumInterface, NO_MEDIUM};
 use gpu_photon::integrators::photon::{Photon, DEPTH_MASK, FLAG_CAUSTIC};
 use gpu_photon::integrators::plan::{MapPlan, StoreFilter};

@@ -13,7 +13,7 @@ use glam::Vec3;
 use gpu_photon::bvh::Bvh;
 use gpu_photon::integrators::cpu::media::{self, transmittance};
 use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext};
-use gpu_photon::lights::LightTable;
+use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::plan::MapPlan;
 use gpu_photon::render::report::Progress;
 use gpu_photon::math::rng::{Rng, Stream};

@@ -188,10 +188,10 @@ fn point_light_plane_xml_is_the_analytic_image() {
     let xml = load_path(&data("point-light-plane.xml"));
     let toml = load_path(&root().join("scenes/point-light-plane.toml"));
     assert_same_scene(&xml, &toml);
-    let LightShape::Point {
+    let LightShape::Point(gpu_photon::lights::point::Point {
         position,
         intensity,
-    } = xml.lights[0].shape
+    }) = xml.lights[0].shape
     else {
         panic!("a point light")
     };
@@ -350,7 +350,7 @@ fn cube_sphere_obj_and_point_light_to_world() {
     assert!(s.triangles[12..]
         .iter()
         .all(|t| close(t.normal(), Vec3::NEG_Y, 1e-6) && (t.v0.y - 0.5).abs() < 1e-6));
-    let LightShape::Point { position, .. } = s.lights[0].shape else {
+    let LightShape::Point(gpu_photon::lights::point::Point { position, .. }) = s.lights[0].shape else {
         panic!("a point light")
     };
     assert!(close(position, Vec3::new(0.0, 4.0, 0.0), 1e-6));

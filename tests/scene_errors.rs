@@ -547,10 +547,10 @@ fn cornell_reference_scene() {
     );
     assert_eq!(
         s.lights[0].shape,
-        LightShape::Triangles {
+        LightShape::Triangles(gpu_photon::lights::triangles::Triangles {
             first: 30,
             count: 2
-        }
+        })
     );
     let l = Vec3::new(17.0, 12.0, 4.0);
     assert!(
@@ -607,10 +607,10 @@ fn point_light_reference_scene() {
     let (position, intensity) = (Vec3::new(0.25, 1.0, -0.25), Vec3::new(12.0, 10.0, 8.0));
     assert_eq!(
         s.lights[0].shape,
-        LightShape::Point {
+        LightShape::Point(gpu_photon::lights::point::Point {
             position,
             intensity
-        }
+        })
     );
     assert!(close(s.lights[0].power, 4.0 * PI * intensity, 1e-6));
     assert_eq!(s.materials, vec![Material::diffuse(Vec3::splat(0.8))]);
@@ -668,7 +668,7 @@ fn example_scenes_are_what_they_say() {
 
     let s = scene("coloured-lights.toml");
     assert_eq!(s.lights.len(), 4);
-    assert!(matches!(s.lights[3].shape, LightShape::Point { .. }));
+    assert!(matches!(s.lights[3].shape, LightShape::Point(_)));
     let colours: Vec<usize> = s.lights[..3]
         .iter()
         .map(|l| l.power.max_position())
@@ -677,7 +677,7 @@ fn example_scenes_are_what_they_say() {
 
     let s = scene("mesh-light.toml");
     assert_eq!(s.lights.len(), 1);
-    let LightShape::Triangles { first, count } = s.lights[0].shape else {
+    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) = s.lights[0].shape else {
         panic!("not a mesh light")
     };
     assert_eq!(count, 6);
@@ -805,7 +805,7 @@ fn emissive_shapes_and_materials() {
     assert_eq!(s.lights.len(), 2);
     assert_eq!(
         (s.lights[0].shape.clone(), s.spheres[0].light),
-        (LightShape::Sphere { index: 0 }, 0)
+        (LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 }), 0)
     );
     assert!(close(
         s.lights[0].power,
@@ -814,7 +814,7 @@ fn emissive_shapes_and_materials() {
     ));
     assert_eq!(
         s.lights[1].shape,
-        LightShape::Triangles { first: 0, count: 2 }
+        LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first: 0, count: 2 })
     );
     let two_sided = Vec3::new(2.0 * PI * 4.0, 0.0, 0.0);
     assert!(
@@ -1173,7 +1173,7 @@ fn the_builder_without_a_file_format() {
         (Vec3::splat(2.0), true)
     );
     assert_eq!(s.lights.len(), 2);
-    assert_eq!(s.lights[0].shape, LightShape::Sphere { index: 0 });
+    assert_eq!(s.lights[0].shape, LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 }));
     let sphere_power = PI * 4.0 * PI * 0.25 * 2.0 * 2.0;
     assert!(close(s.lights[0].power, Vec3::splat(sphere_power), 1e-6));
     assert!(close(s.lights[1].power, Vec3::splat(4.0 * PI), 1e-6));

@@ -10,6 +10,8 @@
 //! row as listed here (the twin and the check included).
 
 use gpu_photon::bsdfs::{gpu::method_suffixes, KINDS};
+use gpu_photon::lights::gpu::method_suffixes as light_method_suffixes;
+use gpu_photon::lights::KINDS as LIGHT_KINDS;
 use gpu_photon::integrators::gpu::shaders::wgsl_files;
 use std::path::Path;
 
@@ -39,19 +41,22 @@ const UNCHECKED: &[(&str, &str)] = &[];
 /// (WGSL file under src/, WGSL function, Rust file under src/, Rust function, check).
 #[rustfmt::skip]
 const TWINS: &[(&str, &str, &str, &str, Check)] = &[
-    ("lights/light.wgsl", "is_delta_light", "scene/mod.rs", "is_delta", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "spot_falloff", "lights/spot.rs", "falloff", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "spot_linear_mass", "lights/spot.rs", "linear_ramp_mass", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "spot_cos", "lights/spot.rs", "sample_cos", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "spot_cos_linear", "lights/spot.rs", "sample_cos", Oracle("light_gpu.rs")),
+    ("lights/light.wgsl", "light_vec", "", "", Helper),
     ("lights/light.wgsl", "light_of", "integrators/photon.rs", "light_of", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "pick_triangle", "lights/mod.rs", "pick_triangle", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "light_point", "lights/mod.rs", "surface_point", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "light_disc", "lights/mod.rs", "disc", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "emit", "lights/mod.rs", "emit", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "light_solid_angle_pdf", "lights/mod.rs", "solid_angle_pdf", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "sample_light", "lights/mod.rs", "sample", Oracle("light_gpu.rs")),
-    ("lights/light.wgsl", "aims_at", "lights/mod.rs", "aims_at", Oracle("light_gpu.rs")),
+    ("lights/light.wgsl", "light_disc", "lights/interface.rs", "disc", Caller("light_gpu.rs")),
+    ("lights/light.wgsl", "light_solid_angle_pdf", "lights/area.rs", "solid_angle_pdf", Oracle("light_gpu.rs")),
+    ("lights/light.wgsl", "aims_at", "lights/table.rs", "aims_at", Oracle("light_gpu.rs")),
+    ("lights/area.wgsl", "area_texel", "lights/area.rs", "texel", Caller("light_gpu.rs")),
+    ("lights/area.wgsl", "area_emit", "lights/area.rs", "emit", Caller("light_gpu.rs")),
+    ("lights/area.wgsl", "area_sample", "lights/area.rs", "sample", Caller("light_gpu.rs")),
+    ("lights/triangles.wgsl", "triangles_pick", "lights/triangles.rs", "pick", Oracle("light_gpu.rs")),
+    ("lights/triangles.wgsl", "triangles_point", "lights/triangles.rs", "point", Caller("light_gpu.rs")),
+    ("lights/sphere.wgsl", "sphere_point", "lights/sphere.rs", "point", Caller("light_gpu.rs")),
+    ("lights/spot/spot.wgsl", "spot_cone", "", "", Helper),
+    ("lights/spot/spot.wgsl", "spot_falloff", "lights/spot/mod.rs", "falloff", Oracle("light_gpu.rs")),
+    ("lights/spot/spot.wgsl", "spot_linear_mass", "lights/spot/mod.rs", "linear_ramp_mass", Oracle("light_gpu.rs")),
+    ("lights/spot/spot.wgsl", "spot_cos", "lights/spot/mod.rs", "sample_cos", Oracle("light_gpu.rs")),
+    ("lights/spot/spot.wgsl", "spot_cos_linear", "lights/spot/mod.rs", "sample_cos", Oracle("light_gpu.rs")),
     ("bvh/intersect.wgsl", "max_abs", "", "", Helper),
     ("bvh/intersect.wgsl", "offset_origin", "math/geometry.rs", "offset_origin", Oracle("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "inset", "math/geometry.rs", "inset", Oracle("intersect_gpu.rs")),
@@ -288,13 +293,30 @@ fn wgsl(path: &str) -> &'static str {
         .1
 }
 
-/// Whether `name` in the BSDF file `path` implements a method of the BSDF interface: a
+/// Whether `name` in the BSDF or light file `path` implements a method of its interface: a
+/// light kind's (`spot_emit` in `lights/spot/spot.wgsl`, checked for every kind of
+/// `lights::KINDS` by `tests/light_gpu.rs`) or its default (`light_default_emit`), or for the
+/// BSDFs
 /// default (`default_eval_lobe` in `bsdfs/interface.wgsl`, `default_surface_delta` in
 /// `bsdfs/shading.wgsl`) or a kind's own (`plastic_eval_lobe` in `bsdfs/plastic.wgsl`). The
 /// generated dispatch calls them, and `tests/bsdf_gpu.rs` (the BSDF's methods) and
 /// `tests/shading_gpu.rs` (the surface's) compare them with the Rust union's for every kind
 /// of `bsdfs::KINDS`: they need no row of their own.
 fn implements_interface(path: &str, name: &str) -> bool {
+    let light_method = |suffix: &str| light_method_suffixes().contains(&suffix);
+    if let Some(suffix) = name.strip_prefix("light_default_") {
+        return path == "lights/light.wgsl" && light_method(suffix);
+    }
+    let light_kind = LIGHT_KINDS.iter().any(|k| {
+        path == k.path
+            && name
+                .strip_prefix(k.prefix)
+                .and_then(|rest| rest.strip_prefix('_'))
+                .is_some_and(light_method)
+    });
+    if light_kind {
+        return true;
+    }
     let method = |suffix: &str| method_suffixes().contains(&suffix);
     if let Some(suffix) = name.strip_prefix("default_") {
         return path.starts_with("bsdfs/") && method(suffix);

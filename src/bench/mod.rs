@@ -314,7 +314,7 @@ pub fn throughputs(
     runs: usize,
     mut on_result: impl FnMut(std::result::Result<&Throughput, &str>),
 ) -> Result<Vec<Throughput>> {
-    let plan = crate::integrators::plan::MapPlan::new(scene, &crate::lights::LightTable::new(scene), s);
+    let plan = crate::integrators::plan::MapPlan::new(scene, &crate::lights::table::LightTable::new(scene), s);
     // Every pass traces the first pass's paths (the radius shrinks, the count stays).
     let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
     let paths = passes * plan.total_paths() as f64;

@@ -44,7 +44,7 @@ pub fn pack<'a>(bsdfs: impl IntoIterator<Item = &'a Bsdf>) -> PackedBsdfs {
     out
 }
 
-/// The WGSL name of a kind's code and flag: `RoughConductor` -> `ROUGH_CONDUCTOR`.
+/// The WGSL name of a kind's code and flag: `MetallicRoughness` -> `METALLIC_ROUGHNESS`.
 pub fn upper(name: &str) -> String {
     let mut out = String::new();
     for (i, c) in name.chars().enumerate() {

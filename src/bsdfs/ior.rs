@@ -1,5 +1,5 @@
 //! Named conductors: the RGB complex index of refraction (eta, k) that Mitsuba 3.9.1's RGB
-//! variants use for each `material="..."` name of its `conductor` and `roughconductor`
+//! variants use for each `material="..."` name of its smooth and rough conductor
 //! plugins (Mitsuba turns the measured spectra of `data/ior/NAME.{eta,k}.spd` into unbounded
 //! sRGB colours). The rows are the output of `scripts/mitsuba_bsdf_values.py --table`, read
 //! back from Mitsuba itself with `mi.traverse`; `none` is Mitsuba's default (eta 0, k 1: a

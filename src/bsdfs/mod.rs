@@ -69,7 +69,7 @@ use glam::{Vec2, Vec3};
 /// One kind of the list, as the GPU's generated dispatch needs it.
 #[derive(Clone, Copy, Debug)]
 pub struct KindInfo {
-    /// The variant's name (`RoughConductor`).
+    /// The variant's name (`MetallicRoughness`).
     pub name: &'static str,
     /// Its module, the prefix of its WGSL functions (`rough_conductor_eval_lobe`).
     pub prefix: &'static str,

@@ -3,7 +3,8 @@
 //! diffuse or glossy hit. Both backends read this plan; neither re-derives it.
 
 use crate::math::geometry::Aabb;
-use crate::lights::{scalar_power, specular_bounds, split_budget, LightTable};
+use crate::lights::table::{specular_bounds, LightTable};
+use crate::lights::{scalar_power, split_budget};
 use crate::integrators::photon::{Budget, Photon};
 use crate::math::rng::Stream;
 use crate::scene::Scene;
@@ -221,7 +222,7 @@ fn aim_fraction(scene: &Scene, table: &LightTable, l: usize, bounds: &[Aabb], se
                 l,
                 [rng.next(), rng.next(), rng.next(), rng.next(), rng.next()],
             );
-            crate::lights::aims_at(bounds, e.origin, e.dir)
+            crate::lights::table::aims_at(bounds, e.origin, e.dir)
         })
         .count();
     hits as f64 / PILOT_PHOTONS as f64
@@ -230,10 +231,10 @@ fn aim_fraction(scene: &Scene, table: &LightTable, l: usize, bounds: &[Aabb], se
 /// Which terms a mode adds at a diffuse or glossy hit.
 #[derive(Clone, Copy, Debug)]
 pub struct Terms {
-    /// Shadow rays: the kd part of area lights and the whole BRDF for delta lights (point,
-    /// spot and directional: no ray sampled from a lobe can hit them).
+    /// Shadow rays: the kd part of area lights and the whole BRDF for delta lights (no ray
+    /// sampled from a lobe can hit them).
     pub direct: bool,
-    /// The glossy lobe for delta lights (point, spot, directional) by shadow rays (always
+    /// The glossy lobe for delta lights by shadow rays (always
     /// wanted unless a debug view).
     pub point_lobe: bool,
     /// A ray sampled from the glossy lobe (it sees area lights and everything else).

@@ -6,31 +6,24 @@
 //! that texel over the same mean, so the photons' total is unbiased whatever the mean's
 //! accuracy.
 
-use crate::scene::{LightShape, Scene, NO_TEXTURE};
+use crate::lights::area::triangle_uv;
+use crate::lights::interface::LightKind;
+use crate::lights::LightShape;
+use crate::scene::{Scene, NO_TEXTURE};
 use crate::math::sampling::uniform_triangle;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 /// Stratified samples per triangle (a 4 x 4 grid of the unit square, mapped uniformly).
 const PER_TRIANGLE: u32 = 4;
 /// At most this many texture lookups per light; larger meshes take one per triangle.
 const MAX_LOOKUPS: usize = 1 << 20;
 
-/// The emission texture of light `l`'s material, or [`NO_TEXTURE`] (and for point, spot
-/// and directional lights).
+/// The emission texture of light `l`'s material, or [`NO_TEXTURE`] (also for lights without
+/// a surface).
 pub fn texture_of(scene: &Scene, l: usize) -> u32 {
-    let material = match scene.lights[l].shape {
-        LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
-        LightShape::Sphere { index } => scene.spheres[index as usize].material,
-        _ => return NO_TEXTURE,
-    };
-    scene.materials[material as usize].emission_texture
-}
-
-/// The uv of point `(b1, b2)` (barycentrics of v1 and v2) of triangle `t`; zero without uvs.
-pub fn triangle_uv(scene: &Scene, t: usize, b1: f32, b2: f32) -> Vec2 {
-    match scene.uvs.get(t) {
-        Some(c) => (1.0 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2],
-        None => Vec2::ZERO,
+    match scene.lights[l].shape.material(&scene.triangles, &scene.spheres) {
+        Some(m) => scene.materials[m as usize].emission_texture,
+        None => NO_TEXTURE,
     }
 }
 
@@ -50,7 +43,8 @@ pub fn texture_mean(scene: &Scene, l: usize) -> Vec3 {
     };
     let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
     match scene.lights[l].shape {
-        LightShape::Triangles { first, count } => {
+        LightShape::Triangles(t) => {
+            let (first, count) = (t.first, t.count);
             let k = if count as usize * (k * k) as usize > MAX_LOOKUPS {
                 1
             } else {
@@ -61,13 +55,13 @@ pub fn texture_mean(scene: &Scene, l: usize) -> Vec3 {
                 let mut s = Vec3::ZERO;
                 for (u1, u2) in grid(k) {
                     let (b1, b2) = uniform_triangle(u1, u2);
-                    s += tex.eval(triangle_uv(scene, i as usize, b1, b2));
+                    s += tex.eval(triangle_uv(&scene.uvs, i as usize, b1, b2));
                 }
                 sum += s * (area / (k * k) as f32);
                 weight += area;
             }
         }
-        LightShape::Sphere { .. } => {
+        LightShape::Sphere(_) => {
             // Uniform in (cos theta, phi): equal areas of the sphere.
             for (u1, u2) in grid(32) {
                 let z = 1.0 - 2.0 * u1;

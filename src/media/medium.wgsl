@@ -27,17 +27,13 @@ fn medium_after(hit: Hit, current: u32, dir: vec3<f32>) -> u32 {
 }
 
 // cpu::media::light_medium: an area light's photons start in its shape's medium on the side
-// they leave towards; point, spot, directional and environment lights sit in the camera's.
+// they leave towards; lights without a surface sit in the camera's.
 fn light_medium(l: Light, e: Emission) -> u32 {
-    var material = 0u;
-    if l.kind == LIGHT_TRIANGLES {
-        material = load_triangle(l.first).material;
-    } else if HAS_SPHERES && l.kind == LIGHT_SPHERE {
-        material = load_sphere(l.first).material;
-    } else {
+    let s = light_material(l);
+    if !s.ok {
         return params.camera_medium;
     }
-    return medium_interface_after(material_media[material], params.camera_medium, e.normal, e.dir);
+    return medium_interface_after(material_media[s.material], params.camera_medium, e.normal, e.dir);
 }
 
 // Medium::transmittance: exp(-sigma_t t) per channel; a clear channel transmits everything

@@ -9,10 +9,10 @@
 //!   of the material, appended to the materials;
 //! - every emissive shape becomes **one** area light, in the order shapes are added: a
 //!   sphere's light is the sphere, any other shape's is its triangles, stored contiguously;
-//!   the light's power is `pi * area * radiance` (doubled when two-sided), a point light's
-//!   `4 pi * intensity`, a spot light's `intensity * SpotCone::solid_angle`, a directional
-//!   light's `irradiance * pi R^2` with R the radius of the finished scene's
-//!   [`Scene::bounding_sphere`];
+//!   the light's power is `pi * area * radiance` (doubled when two-sided); the lights without
+//!   a surface are added by their kinds' calls (`src/lights/*/build.rs`), which set their
+//!   power, a directional light's here once the scene's extent is known (`irradiance * pi R^2`
+//!   with R the radius of the finished scene's [`Scene::bounding_sphere`]);
 //! - a mesh may come with vertex normals (smooth shading): each set is normalised and stored
 //!   in [`Scene::shading_normals`], unless it lies along the face normal (then flat);
 //! - an emissive shape must have a positive area and finite power; vertices must be finite;
@@ -232,7 +232,7 @@ impl SceneBuilder {
             let power = PI * area * radiance;
             check_light(area, power, at)?;
             let index = self.spheres.len() as u32;
-            let shape = LightShape::Sphere { index };
+            let shape = LightShape::Sphere(crate::lights::sphere::SphereLight { index });
             light = Some(Light { shape, power });
         }
         let material = self.commit(&surface);
@@ -320,7 +320,7 @@ impl SceneBuilder {
             check_light(area, power, at)?;
             let first = self.triangles.len() as u32;
             let count = tris.len() as u32;
-            let shape = LightShape::Triangles { first, count };
+            let shape = LightShape::Triangles(crate::lights::triangles::Triangles { first, count });
             light = Some(Light { shape, power });
         }
         let material = self.commit(&surface);
@@ -418,7 +418,8 @@ impl SceneBuilder {
         }
         let (_, radius) = scene.bounding_sphere();
         for l in &mut scene.lights {
-            if let LightShape::Directional { irradiance, .. } = l.shape {
+            if let LightShape::Directional(d) = l.shape {
+                let irradiance = d.irradiance;
                 l.power = irradiance * (PI * radius * radius);
             }
         }

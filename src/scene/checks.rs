@@ -133,6 +133,19 @@ pub(crate) fn check_emission(c: Vec3, at: &dyn Locate) -> Result<()> {
 
 pub(crate) use crate::scene::locate::check_color;
 
+/// A light's direction: finite and not zero; returned normalised.
+pub(crate) fn check_direction(d: Vec3, at: &dyn Locate) -> Result<Vec3> {
+    let part = Part::Parameter("direction");
+    if !d.is_finite() {
+        return Err(at.error(part, "must be finite".into()));
+    }
+    let n = d.normalize_or_zero();
+    if n == Vec3::ZERO || !n.is_finite() {
+        return Err(at.error(part, "must not be zero".into()));
+    }
+    Ok(n)
+}
+
 /// The rules of [`SceneBuilder::add_material`]: its emission, then its kind's own checks.
 pub(crate) fn check_material(m: &Material, at: &dyn Locate) -> Result<()> {
     check_color(m.emission, None, Part::Parameter("radiance"), at)?;

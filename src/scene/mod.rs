@@ -23,7 +23,7 @@ pub use locate::{Locate, Origin, Part};
 pub use shapes::{Sphere, Triangle, VertexNormals, VertexTangents, FLAT, NO_LIGHT};
 pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
 pub use crate::lights::environment::Environment;
-pub use crate::lights::spot::{SpotCone, SpotFalloff};
+pub use crate::lights::{Light, LightShape};
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;
@@ -31,79 +31,6 @@ use crate::textures::SceneTexture;
 use glam::Vec2;
 use glam::Vec3;
 
-
-/// What a light is made of.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LightShape {
-    /// Isotropic point source, `intensity` in W/sr per channel; invisible to the camera.
-    Point {
-        /// Where it is.
-        position: Vec3,
-        /// Radiant intensity, W/sr per channel.
-        intensity: Vec3,
-    },
-    /// Emissive triangles `first..first + count` of [`Scene::triangles`] (one emissive shape),
-    /// with the radiance of their material.
-    Triangles {
-        /// Index of the first triangle.
-        first: u32,
-        /// Number of triangles.
-        count: u32,
-    },
-    /// Emissive sphere `index` of [`Scene::spheres`].
-    Sphere {
-        /// Index into [`Scene::spheres`].
-        index: u32,
-    },
-    /// Spot light: a point source whose intensity in direction `w` is `intensity` times the
-    /// falloff of [`SpotCone`] at `cos = dot(direction, w)`; invisible to the camera.
-    Spot {
-        /// Where it is.
-        position: Vec3,
-        /// Unit axis of the cone, the direction it shines in.
-        direction: Vec3,
-        /// Radiant intensity on the axis, W/sr per channel.
-        intensity: Vec3,
-        /// Its cone (full intensity inside the inner half-angle, none outside the outer).
-        cone: SpotCone,
-    },
-    /// Directional (distant) light: parallel light travelling along `direction`, delivering
-    /// `irradiance` to a surface facing it; invisible to the camera. Its photons start on a
-    /// disc of the radius of [`Scene::bounding_sphere`] outside the scene.
-    Directional {
-        /// Unit direction the light travels in.
-        direction: Vec3,
-        /// Irradiance on a surface facing the light, W/m^2 per channel.
-        irradiance: Vec3,
-    },
-    /// The environment ([`Environment`]): radiance from every direction a ray leaves the
-    /// scene in; the scene's last light. Its photons start as a directional light's do.
-    Environment(Environment),
-}
-
-impl LightShape {
-    /// Point, spot and directional lights: a point or a direction, no surface. Shadow rays
-    /// reach them exactly (one sample), nothing else can hit them, and they light every BRDF
-    /// lobe through shadow rays.
-    pub fn is_delta(&self) -> bool {
-        matches!(
-            self,
-            LightShape::Point { .. } | LightShape::Spot { .. } | LightShape::Directional { .. }
-        )
-    }
-}
-
-/// A light source: a point, spot or directional light, or an emissive shape.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Light {
-    /// What it is made of.
-    pub shape: LightShape,
-    /// Emitted power per channel (W): 4 pi I for a point light, pi A L for a one-sided
-    /// emitter, I [`SpotCone::solid_angle`] for a spot light, E pi R^2 for a directional light
-    /// (R the radius of [`Scene::bounding_sphere`]), pi R^2 times the radiance's integral
-    /// over directions for the environment.
-    pub power: Vec3,
-}
 
 /// A loaded scene, ready for either backend.
 #[derive(Clone, Debug)]
@@ -192,7 +119,7 @@ impl Scene {
     pub fn has_smooth(&self) -> bool {
         !self.shading_normals.is_empty()
     }
-    /// Whether some light is a point, spot or directional light ([`LightShape::is_delta`]).
+    /// Whether some light is a delta light ([`LightShape::is_delta`]).
     pub fn has_delta_lights(&self) -> bool {
         self.lights.iter().any(|l| l.shape.is_delta())
     }

@@ -10,7 +10,7 @@ use gpu_photon::camera::Camera;
 use gpu_photon::integrators::cpu::photons::{trace_photons, TraceContext};
 use gpu_photon::render::film::DiffStats;
 use gpu_photon::integrators::gpu::GpuContext;
-use gpu_photon::lights::LightTable;
+use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::photon::{Budget, Photon};
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;

@@ -22,7 +22,7 @@ fn probe_light(@builtin(global_invocation_id) gid: vec3<u32>) {
     let e = emit(l, a.xyz, b.w, c.w);
     var tri = -1.0;
     if l.kind == LIGHT_TRIANGLES {
-        tri = f32(pick_triangle(l, a.x));
+        tri = f32(triangles_pick(l, a.x));
     }
     accum[slot(3u, i)] = vec4<f32>(e.origin, tri);
     accum[slot(4u, i)] = vec4<f32>(e.dir, 0.0);

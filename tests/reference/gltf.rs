@@ -313,7 +313,7 @@ fn cornell_box_gltf_builds_and_renders_as_its_toml_twin() {
     let t = toml_box();
     compare(&g, &t, "cornell-box.gltf");
     // The light is the same one-sided quad, facing down.
-    let LightShape::Triangles { first, count } = g.lights[0].shape else {
+    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) = g.lights[0].shape else {
         panic!("area light")
     };
     assert_eq!((g.lights.len(), count), (1, 2));
@@ -369,10 +369,10 @@ fn point_light_gltf_matches_its_toml_twin() {
     );
     let t = load_str(&twin, "twin.toml", &root().join("scenes")).unwrap();
     assert_eq!(g.triangles.len(), t.triangles.len());
-    let LightShape::Point {
+    let LightShape::Point(gpu_photon::lights::point::Point {
         position: p,
         intensity: i,
-    } = g.lights[0].shape
+    }) = g.lights[0].shape
     else {
         panic!("point")
     };

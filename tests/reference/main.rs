@@ -183,10 +183,10 @@ fn check_point_light_scene(scene: &Scene) {
     assert!((c.forward.as_dvec3() - (-EYE).normalize()).length() < 1e-6);
     assert!((c.up.length() as f64 - (FOV_Y_DEG.to_radians() / 2.0).tan()).abs() < 1e-6);
     assert_eq!(scene.lights.len(), 1);
-    let LightShape::Point {
+    let LightShape::Point(gpu_photon::lights::point::Point {
         position,
         intensity,
-    } = scene.lights[0].shape
+    }) = scene.lights[0].shape
     else {
         panic!("a point light")
     };

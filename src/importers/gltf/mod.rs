@@ -30,8 +30,9 @@ mod texture;
 
 use crate::scene::builder::{MaterialId, SceneBuilder, Surface};
 use crate::scene::locate::Part;
-use crate::lights::punctual::SpotLight;
-use crate::scene::{Scene, SpotFalloff};
+use crate::lights::spot::SpotLight;
+use crate::scene::Scene;
+use crate::lights::spot::SpotFalloff;
 use crate::camera::{fit_view, DEFAULT_FOV_Y};
 use crate::error::{Error, Result};
 use crate::importers::file;

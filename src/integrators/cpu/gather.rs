@@ -18,7 +18,7 @@ use crate::integrators::cpu::media::{medium_after, transmittance};
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::integrators::cpu::volume_map::VolumeMap;
 use crate::math::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
-use crate::lights::LightTable;
+use crate::lights::table::LightTable;
 use crate::media::NO_MEDIUM;
 use crate::integrators::plan::{caustic_weight, Terms, VolumeSpec};
 use crate::math::rng::Rng;
@@ -376,7 +376,7 @@ impl Gatherer<'_> {
     }
 
     /// Direct light by shadow rays. With `terms.direct`: area lights through the diffuse part
-    /// and delta lights (point, spot, directional) through the whole BRDF; otherwise only
+    /// and delta lights (`LightKind::is_delta`) through the whole BRDF; otherwise only
     /// delta lights' glossy lobe. A directional light's shadow ray has no end.
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives

@@ -6,9 +6,11 @@
 
 use crate::bvh::{Bvh, Hit};
 use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
-use crate::lights::{Emission, LightTable};
+use crate::lights::interface::Emission;
+use crate::lights::table::LightTable;
 use crate::media::{sample_equiangular, NO_MEDIUM};
 use crate::math::rng::Rng;
+use crate::lights::interface::LightKind;
 use crate::scene::{LightShape, Scene};
 use crate::bsdfs::{BsdfKind, SurfaceClass};
 use glam::Vec3;
@@ -28,14 +30,12 @@ pub fn medium_after(scene: &Scene, hit: &Hit, current: u32, dir: Vec3) -> u32 {
 }
 
 /// The medium a photon of light `l` starts in: an area light's shape's medium on the side it
-/// emits towards; point, spot, directional and environment lights sit in the camera's
+/// emits towards; lights without a surface sit in the camera's
 /// medium (a scene filled with fog has them in it; our file formats give such lights no
 /// medium of their own).
 pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
-    let material = match scene.lights[l].shape {
-        LightShape::Triangles { first, .. } => scene.triangles[first as usize].material,
-        LightShape::Sphere { index } => scene.spheres[index as usize].material,
-        _ => return scene.camera_medium,
+    let Some(material) = scene.lights[l].shape.material(&scene.triangles, &scene.spheres) else {
+        return scene.camera_medium;
     };
     let media = scene.materials[material as usize].media;
     media.after(scene.camera_medium, e.normal, e.dir)

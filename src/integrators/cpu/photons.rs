@@ -4,7 +4,7 @@
 use crate::bvh::Bvh;
 use crate::integrators::cpu::media::{light_medium, medium_after, MAX_CROSSINGS};
 use crate::math::geometry::{offset_origin, Ray};
-use crate::lights::{aims_at, LightTable};
+use crate::lights::table::{aims_at, LightTable};
 use crate::bsdfs::interface::Bounce;
 use crate::media::NO_MEDIUM;
 use crate::integrators::photon::{power_ends, Budget, Photon};

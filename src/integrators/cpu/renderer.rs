@@ -11,7 +11,7 @@ use crate::integrators::cpu::photons::{trace_map, TraceContext};
 use crate::integrators::cpu::volume_map::VolumeMap;
 use crate::error::Result;
 use crate::render::film::Image;
-use crate::lights::LightTable;
+use crate::lights::table::LightTable;
 use crate::integrators::photon::Photon;
 use crate::integrators::plan::{MapPlan, Terms};
 use crate::render::report::{PassRenderer, Progress, RenderReport};

@@ -27,19 +27,6 @@ pub const ALPHA_BLEND: u32 = 2;
 /// Flag of `Material.alpha_mode`: the texture's luminance is the opacity (else its alpha).
 pub const ALPHA_LUMINANCE: u32 = 4;
 
-/// `Light.kind` of a point light.
-pub const LIGHT_POINT: u32 = 0;
-/// `Light.kind` of an emitting triangle group.
-pub const LIGHT_TRIANGLES: u32 = 1;
-/// `Light.kind` of an emitting sphere.
-pub const LIGHT_SPHERE: u32 = 2;
-/// `Light.kind` of a spot light.
-pub const LIGHT_SPOT: u32 = 3;
-/// `Light.kind` of a directional light.
-pub const LIGHT_DIRECTIONAL: u32 = 4;
-/// `Light.kind` of the environment.
-pub const LIGHT_ENVIRONMENT: u32 = 5;
-
 /// `Params.filter_kind` of the disc (constant) kernel.
 pub const FILTER_DISC: u32 = 0;
 /// `Params.filter_kind` of the cone kernel.
@@ -68,7 +55,7 @@ pub const BOUNCE_DELTA: u32 = 3;
 
 /// `Params.terms` bit: shadow rays (`plan::Terms::direct`).
 pub const TERM_DIRECT: u32 = 1;
-/// `Params.terms` bit: the glossy lobe for point, spot and directional lights
+/// `Params.terms` bit: the glossy lobe for delta lights
 /// (`plan::Terms::point_lobe`).
 pub const TERM_POINT_LOBE: u32 = 2;
 /// `Params.terms` bit: a ray sampled from the glossy lobe (`plan::Terms::lobe_ray`).
@@ -231,22 +218,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CLASS_DELTA", U32(CLASS_DELTA)),
         ("CLASS_SHADED", U32(CLASS_SHADED)),
         ("CLASS_NULL", U32(CLASS_NULL)),
-        ("LIGHT_POINT", U32(LIGHT_POINT)),
-        ("LIGHT_TRIANGLES", U32(LIGHT_TRIANGLES)),
-        ("LIGHT_SPHERE", U32(LIGHT_SPHERE)),
-        ("LIGHT_SPOT", U32(LIGHT_SPOT)),
-        ("LIGHT_DIRECTIONAL", U32(LIGHT_DIRECTIONAL)),
-        ("LIGHT_ENVIRONMENT", U32(LIGHT_ENVIRONMENT)),
         (
             "ENV_HEADER_WORDS",
             U32(crate::lights::environment::sampling::ENV_HEADER_WORDS),
-        ),
-        ("SPOT_MIN_RAMP", F32(crate::scene::SpotCone::MIN_RAMP)),
-        ("SPOT_BISECTIONS", U32(crate::scene::SpotCone::BISECTIONS)),
-        ("SPOT_GLTF", U32(crate::scene::SpotFalloff::Gltf.code())),
-        (
-            "SPOT_LINEAR_ANGLE",
-            U32(crate::scene::SpotFalloff::LinearAngle.code()),
         ),
         ("FILTER_DISC", U32(FILTER_DISC)),
         ("FILTER_CONE", U32(FILTER_CONE)),

@@ -6,7 +6,7 @@
 
 @group(1) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 
-// Shadow-ray direct light: area lights through kd/pi, delta lights (point, spot, directional)
+// Shadow-ray direct light: area lights through kd/pi, delta lights (is_delta_light)
 // through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 // The BRDF and cosine use the shading normal f.ns; a light below the geometric surface

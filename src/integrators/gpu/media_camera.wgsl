@@ -131,27 +131,6 @@ fn sample_equiangular(o: vec3<f32>, d: vec3<f32>, t_max: f32, endless: bool, y: 
     return SegmentPoint(t, pdf, pdf > 0.0 && pdf <= 3.0e38 && t <= 3.0e38);
 }
 
-// LightTable::anchor: the point sample_light picks on l for u whatever the shading point
-// (a point or spot light's position, an area light's point by area); not ok for
-// directional and environment lights.
-struct Anchor {
-    y: vec3<f32>,
-    ok: bool,
-}
-
-fn light_anchor(l: Light, u: vec3<f32>) -> Anchor {
-    if HAS_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
-        return Anchor(vec3<f32>(0.0), false);
-    }
-    if HAS_POINT_LIGHTS && (l.kind == LIGHT_POINT || l.kind == LIGHT_SPOT) {
-        return Anchor(l.position, true);
-    }
-    if HAS_POINT_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
-        return Anchor(vec3<f32>(0.0), false);
-    }
-    return Anchor(light_point(l, u).p, true);
-}
-
 // cpu::media::single_scattering: for each light, a point on it and one distance in the
 // segment from o along d (t_seg long, or endless) in `medium` drawn towards that point
 // (equiangular; by transmittance for directional lights or a ray through the point), then

@@ -49,9 +49,8 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
         });
     let mut features = vec![
         ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
-        // The WGSL name covers every delta light: point, spot and directional.
+        // Some light is a delta light (LightKind::is_delta): the gather's shadow rays for them.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
-        ("HAS_LINEAR_SPOTS", has_linear_spots(scene) as u32 as f64),
         ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
         (
             "HAS_ENVIRONMENT",
@@ -75,6 +74,8 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
         ("GLASS_SPLIT", glass_split(scene) as u32 as f64),
     ];
     features.extend(kinds);
+    // One flag per kind of light, and the kinds' own constants.
+    features.extend(crate::lights::gpu::overrides(&scene.lights));
     features
 }
 
@@ -83,14 +84,6 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
 pub fn glass_split(scene: &Scene) -> bool {
     use crate::bsdfs::BsdfKind;
     scene.materials.iter().any(|m| m.bsdf.splits())
-}
-
-/// Whether some spot light has Mitsuba's falloff (its sampling code is compiled only then:
-/// the bisection loop slowed lavapipe's photon tracing by a quarter even where unused).
-fn has_linear_spots(scene: &Scene) -> bool {
-    use crate::scene::{LightShape, SpotFalloff};
-    let linear = |shape: &LightShape| matches!(shape, LightShape::Spot { cone, .. } if cone.profile == SpotFalloff::LinearAngle);
-    scene.lights.iter().any(|l| linear(&l.shape))
 }
 
 /// The compute pipelines of a render, each created once.

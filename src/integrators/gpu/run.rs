@@ -17,7 +17,7 @@ use crate::integrators::gpu::types::{GpuAabb, GpuMapParams, GpuParams};
 use crate::integrators::gpu::volume::{volume_capacity, VolumeBuffers};
 use crate::bvh::Bvh;
 use crate::error::Result;
-use crate::lights::LightTable;
+use crate::lights::table::LightTable;
 use crate::integrators::photon::Photon;
 use crate::integrators::plan::MapPlan;
 use crate::scene::Scene;

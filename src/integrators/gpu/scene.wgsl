@@ -38,8 +38,6 @@
 // lacks folds away when the pipeline is compiled.
 override HAS_SPHERES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
-// Some spot light has Mitsuba's falloff, linear in the angle (light.wgsl's spot_cos_linear).
-override HAS_LINEAR_SPOTS: bool = true;
 // The scene has an environment light (its last light).
 override HAS_ENVIRONMENT: bool = true;
 // Some triangle is smooth-shaded: without, the shading normal is the geometric one.
@@ -121,14 +119,10 @@ fn load_light(i: u32) -> Light {
     let b = lights[LIGHT_WORDS * i + 1u];
     let c = lights[LIGHT_WORDS * i + 2u];
     let d = lights[LIGHT_WORDS * i + 3u];
-    let e = lights[LIGHT_WORDS * i + 4u];
-    let f = lights[LIGHT_WORDS * i + 5u];
-    let g = lights[LIGHT_WORDS * i + 6u];
-    let h = lights[LIGHT_WORDS * i + 7u];
-    return Light(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w,
-        bitcast<vec3<f32>>(c.xyz), c.w, bitcast<vec3<f32>>(d.xyz), d.w,
-        bitcast<f32>(e.x), e.y, e.z, e.w, f.x, bitcast<f32>(f.y), bitcast<f32>(f.z), bitcast<f32>(f.w),
-        bitcast<vec3<f32>>(g.xyz), g.w, bitcast<vec3<f32>>(h.xyz), h.w);
+    return Light(a.x, a.y, a.z, a.w, bitcast<vec3<f32>>(b.xyz), b.w,
+        bitcast<vec3<f32>>(c.xyz), bitcast<f32>(c.w), bitcast<vec3<f32>>(d.xyz), d.w,
+        lights[LIGHT_WORDS * i + 4u], lights[LIGHT_WORDS * i + 5u],
+        lights[LIGHT_WORDS * i + 6u], lights[LIGHT_WORDS * i + 7u]);
 }
 
 // The first word of triangle id's uv record (gpu::types::triangle_uvs).

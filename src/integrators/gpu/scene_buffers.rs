@@ -11,7 +11,7 @@ use crate::integrators::gpu::textures::PackedTextures;
 use crate::integrators::gpu::types::*;
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
-use crate::lights::LightTable;
+use crate::lights::table::LightTable;
 use crate::scene::Scene;
 
 /// The scene in device buffers, with the group-0 bind group.

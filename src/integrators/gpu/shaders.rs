@@ -30,8 +30,6 @@ const RNG: &str = include_str!("../../math/rng.wgsl");
 const SAMPLING: &str = include_str!("../../math/sampling.wgsl");
 const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
-const LIGHT: &str = include_str!("../../lights/light.wgsl");
-const ENVIRONMENT: &str = include_str!("../../lights/environment/environment.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
 const GRID: &str = include_str!("grid.wgsl");
@@ -50,17 +48,15 @@ const CACHE_FIXED: &str = include_str!("cache_fixed.wgsl");
 const GLASS_BRANCHES: &str = include_str!("glass_branches.wgsl");
 const GATHER: &str = include_str!("gather.wgsl");
 
-/// The WGSL files outside `src/bsdfs/` the kernels compose, by their paths under `src/`
-/// ([`wgsl_files`] adds the BSDFs').
-const WGSL_FILES: [(&str, &str); 25] = [
+/// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
+/// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
+const WGSL_FILES: [(&str, &str); 23] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
     ("math/sampling.wgsl", SAMPLING),
     ("integrators/gpu/scene.wgsl", SCENE),
     ("bvh/intersect.wgsl", INTERSECT),
-    ("lights/light.wgsl", LIGHT),
-    ("lights/environment/environment.wgsl", ENVIRONMENT),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
     ("media/medium.wgsl", MEDIUM),
@@ -90,6 +86,7 @@ pub fn wgsl_files() -> Vec<(String, &'static str)> {
         .map(|&(p, t)| (p.to_string(), t))
         .collect();
     out.extend(crate::bsdfs::gpu::wgsl_files());
+    out.extend(crate::lights::gpu::wgsl_files());
     out
 }
 
@@ -165,6 +162,7 @@ fn compose(own: &[&str]) -> String {
     // The BSDFs (every kind's file, the shading interface and their generated dispatch) and
     // the textures (texture.wgsl with its constants): every kernel declares their bindings.
     let bsdfs = crate::bsdfs::gpu::wgsl_library();
+    let lights = crate::lights::gpu::wgsl_library();
     let textures = crate::integrators::gpu::textures::wgsl_library();
     let libs: &[&str] = &[
         &prelude,
@@ -174,8 +172,7 @@ fn compose(own: &[&str]) -> String {
         SAMPLING,
         SCENE,
         INTERSECT,
-        LIGHT,
-        ENVIRONMENT,
+        &lights,
         &bsdfs,
         &textures,
         MEDIUM,

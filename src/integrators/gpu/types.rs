@@ -2,11 +2,7 @@
 //! field for field (`Photon` lives in src/integrators/photon.rs, the BVH's in src/bvh/gpu_layout.rs).
 //! tests/gpu_layout.rs checks every size and offset against naga's reflection.
 
-use crate::integrators::gpu::codes::{
-    LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPHERE, LIGHT_SPOT,
-    LIGHT_TRIANGLES,
-};
-use crate::scene::{LightShape, Material, Scene, Sphere, Triangle, VertexNormals};
+use crate::scene::{Material, Scene, Sphere, Triangle, VertexNormals};
 use bytemuck::{Pod, Zeroable};
 
 /// Twin of WGSL `Triangle`: a triangle's vertices, material, light (NO_LIGHT if none) and
@@ -106,52 +102,40 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
 }
 
-/// Twin of WGSL `Light`: a light's sampling data (`kind` a LIGHT_* code) and its photon budgets.
+/// Twin of WGSL `Light`: a light's kind (its code in `lights::KINDS`) and photon budgets,
+/// the emission texture of an area light, and the kind's own parameter words
+/// (`LightKind::gpu_words`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
-    /// Point and spot light: position; directional light: centre of the scene's bounding
-    /// sphere.
-    pub position: [f32; 3],
-    /// A LIGHT_* code.
+    /// The kind's code (`LIGHT_*` in WGSL).
     pub kind: u32,
-    /// Point light: radiant intensity; spot light: on-axis intensity; directional light:
-    /// irradiance.
-    pub intensity: [f32; 3],
-    /// Triangle light: first triangle; sphere light: sphere index.
-    pub first: u32,
-    /// Power each global path carries.
-    pub global_power: [f32; 3],
-    /// Triangle light: number of triangles.
-    pub count: u32,
-    /// Power each caustic path carries.
-    pub caustic_power: [f32; 3],
-    /// Triangle light: start of its area CDF in the light CDF.
-    pub cdf_start: u32,
-    /// Emitting area.
-    pub area: f32,
-    /// First global path index of this light.
+    /// First global path index of this light (word 0 `.y`: `light_of` bisects it).
     pub global_offset: u32,
     /// Global paths of this light.
     pub global_count: u32,
-    /// First caustic path index of this light.
+    /// First caustic path index of this light (word 0 `.w`).
     pub caustic_offset: u32,
+    /// Power each global path carries.
+    pub global_power: [f32; 3],
     /// Caustic paths (attempts) of this light.
     pub caustic_count: u32,
-    /// Spot light: cosine of the inner half-angle.
-    pub cos_inner: f32,
-    /// Spot light: cosine of the outer half-angle.
-    pub cos_outer: f32,
-    /// Directional light: radius of the scene's bounding sphere (its photons' disc).
-    pub radius: f32,
-    /// Spot light: unit axis; directional light: unit direction of travel.
-    pub direction: [f32; 3],
-    /// Area light: index into `tex_table` of its emission texture, or `NO_TEXTURE`.
-    pub emission_texture: u32,
+    /// Power each caustic path carries.
+    pub caustic_power: [f32; 3],
+    /// Emitting area.
+    pub area: f32,
     /// Area light: the emission texture's mean over its surface (`LightTable::texture_mean`).
     pub texture_mean: [f32; 3],
-    /// Spot light: its falloff (`SpotFalloff::code`).
-    pub spot_profile: u32,
+    /// Area light: index into `tex_table` of its emission texture, or `NO_TEXTURE`.
+    pub emission_texture: u32,
+    /// The kind's parameters, word 4.
+    pub p0: [u32; 4],
+    /// Word 5.
+    pub p1: [u32; 4],
+    /// Word 6.
+    pub p2: [u32; 4],
+    /// Word 7.
+    pub p3: [u32; 4],
 }
 
 /// Twin of WGSL `Aabb`: a specular surface's bounds that caustic photons aim at.
@@ -407,75 +391,26 @@ pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 4]> {
 }
 
 /// The lights with their sampling data; budgets are filled in by the renderer.
-pub fn lights(scene: &Scene, table: &crate::lights::LightTable) -> Vec<GpuLight> {
+pub fn lights(scene: &Scene, table: &crate::lights::table::LightTable) -> Vec<GpuLight> {
+    use crate::lights::interface::LightKind;
     scene
         .lights
         .iter()
         .enumerate()
         .map(|(i, l)| {
-            let mut g = GpuLight {
-                cdf_start: table.cdf_start[i],
-                area: table.area[i],
-                emission_texture: crate::lights::emission::texture_of(scene, i),
-                texture_mean: table.texture_mean[i].to_array(),
+            let c = table.context(scene, i);
+            let [p0, p1, p2, p3] = l.shape.gpu_words(&c);
+            GpuLight {
+                kind: l.shape.code(),
+                area: c.area,
+                emission_texture: c.emission_texture,
+                texture_mean: c.texture_mean.to_array(),
+                p0,
+                p1,
+                p2,
+                p3,
                 ..Default::default()
-            };
-            match l.shape {
-                LightShape::Point {
-                    position,
-                    intensity,
-                } => {
-                    g.kind = LIGHT_POINT;
-                    g.position = position.to_array();
-                    g.intensity = intensity.to_array();
-                }
-                LightShape::Triangles { first, count } => {
-                    g.kind = LIGHT_TRIANGLES;
-                    g.first = first;
-                    g.count = count;
-                }
-                LightShape::Sphere { index } => {
-                    g.kind = LIGHT_SPHERE;
-                    g.first = index;
-                }
-                LightShape::Spot {
-                    position,
-                    direction,
-                    intensity,
-                    cone,
-                } => {
-                    g.kind = LIGHT_SPOT;
-                    g.position = position.to_array();
-                    g.direction = direction.to_array();
-                    g.intensity = intensity.to_array();
-                    g.cos_inner = cone.cos_inner;
-                    g.cos_outer = cone.cos_outer;
-                    g.spot_profile = cone.profile.code();
-                }
-                LightShape::Directional {
-                    direction,
-                    irradiance,
-                } => {
-                    g.kind = LIGHT_DIRECTIONAL;
-                    g.position = table.bounds.0.to_array();
-                    g.radius = table.bounds.1;
-                    g.direction = direction.to_array();
-                    g.intensity = irradiance.to_array();
-                }
-                LightShape::Environment(e) => {
-                    // Its distribution follows the triangle CDFs in light_cdf; texture_mean
-                    // holds power / (pi R^2) (a photon's scale is L / (pdf texture_mean)).
-                    g.kind = LIGHT_ENVIRONMENT;
-                    g.position = table.bounds.0.to_array();
-                    g.radius = table.bounds.1;
-                    g.intensity = e.radiance.to_array();
-                    g.emission_texture = e.texture;
-                    g.cdf_start = table.tri_cdf.len() as u32;
-                    let disc = std::f32::consts::PI * table.bounds.1 * table.bounds.1;
-                    g.texture_mean = (l.power / disc).to_array();
-                }
             }
-            g
         })
         .collect()
 }

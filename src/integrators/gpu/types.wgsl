@@ -78,27 +78,23 @@ struct Material {
 }
 
 struct Light {
-    position: vec3<f32>,
+    // Its kind (LIGHT_*, generated from lights::KINDS) and photon budgets.
     kind: u32,
-    intensity: vec3<f32>,
-    first: u32,
-    global_power: vec3<f32>,
-    count: u32,
-    caustic_power: vec3<f32>,
-    cdf_start: u32,
-    area: f32,
     global_offset: u32,
     global_count: u32,
     caustic_offset: u32,
+    global_power: vec3<f32>,
     caustic_count: u32,
-    cos_inner: f32,
-    cos_outer: f32,
-    radius: f32,
-    direction: vec3<f32>,
-    // Area light: its emission texture (NO_TEXTURE: none) and that texture's mean.
-    emission_texture: u32,
+    caustic_power: vec3<f32>,
+    area: f32,
+    // Area light: its emission texture's mean and the texture (NO_TEXTURE: none).
     texture_mean: vec3<f32>,
-    spot_profile: u32,
+    emission_texture: u32,
+    // The kind's own parameters (each kind's WGSL file reads them).
+    p0: vec4<u32>,
+    p1: vec4<u32>,
+    p2: vec4<u32>,
+    p3: vec4<u32>,
 }
 
 struct Aabb {

@@ -1,6 +1,6 @@
-// The environment light: its radiance along a direction leaving the scene, and its direction
-// sampling for shadow rays and photons; twin of src/lights/environment.rs (lookup) and
-// src/lights/environment_sampling.rs (sampling). An image's distribution (EnvDistribution::gpu_words) lies in
+// The environment light: its radiance along a direction leaving the scene, its direction
+// sampling for shadow rays and photons, and the light kind's methods; twin of
+// src/lights/environment/mod.rs (lookup), sampling.rs (sampling) and kind.rs (the kind). An image's distribution (EnvDistribution::gpu_words) lies in
 // light_cdf from the light's cdf_start: ENV_HEADER_WORDS of header, the cell CDF, the grid.
 // Library, no entry point; writes nothing.
 
@@ -10,11 +10,11 @@ struct EnvDir {
 }
 
 fn env_is_map(l: Light) -> bool {
-    return HAS_TEXTURES && l.emission_texture != NO_TEXTURE;
+    return HAS_TEXTURES && l.p2.w != NO_TEXTURE;
 }
 
 fn env_word(l: Light, i: u32) -> f32 {
-    return light_cdf[l.cdf_start + i];
+    return light_cdf[l.p1.w + i];
 }
 
 // The 3x3 matrix stored column-major at word w, times d.
@@ -60,9 +60,9 @@ fn env_lookup(id: u32, uv: vec2<f32>) -> vec3<f32> {
 // Radiance arriving from world direction d (Environment::eval).
 fn env_radiance(l: Light, d: vec3<f32>) -> vec3<f32> {
     if !env_is_map(l) {
-        return l.intensity;
+        return light_vec(l.p1);
     }
-    return l.intensity * env_lookup(l.emission_texture, latlong_uv(env_mat(l, 13u, d)));
+    return light_vec(l.p1) * env_lookup(l.p2.w, latlong_uv(env_mat(l, 13u, d)));
 }
 
 // Grid vertex (x, y) of the map's distribution.
@@ -176,4 +176,33 @@ fn env_emit_dir(l: Light, u: vec3<f32>) -> EnvDir {
         return env_sample_map(l, u);
     }
     return EnvDir(uniform_sphere(u.y, u.z), 0.25 / PI);
+}
+
+// The environment as a light kind (twin of src/lights/environment/kind.rs): p0 the scene's
+// bounding sphere (centre, radius), p1 = (radiance scale, start of its distribution in
+// light_cdf), p2 = (power / (pi R^2), its map or NO_TEXTURE).
+fn environment_emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
+    // From the disc two radii out towards w; an image's photon carries
+    // L pi R^2 / (pdf power) = L / (pdf mean).
+    let s = env_emit_dir(l, vec3<f32>(u0.x, u3, u4));
+    let r = bitcast<f32>(l.p0.w);
+    var e = Emission(light_vec(l.p0) + 2.0 * r * s.dir + light_disc(r, -s.dir, u0.y, u0.z), -s.dir, vec3<f32>(0.0), vec3<f32>(1.0));
+    if env_is_map(l) {
+        let tm = light_vec(l.p2) * s.pdf;
+        e.scale = select(vec3<f32>(0.0), env_radiance(l, s.dir) / tm, tm > vec3<f32>(0.0));
+    }
+    return e;
+}
+
+// ns: the shading normal at x (the constant environment samples a cosine about it).
+fn environment_sample(l: Light, x: vec3<f32>, ns: vec3<f32>, u: vec3<f32>) -> LightSample {
+    let s = env_sample(l, ns, u);
+    if s.pdf <= 0.0 {
+        return LightSample(x + s.dir, vec3<f32>(0.0), true, 0.0);
+    }
+    return LightSample(x + s.dir, env_radiance(l, s.dir) / s.pdf, true, s.pdf);
+}
+
+fn environment_anchor(l: Light, u: vec3<f32>) -> Anchor {
+    return Anchor(vec3<f32>(0.0), false);
 }

@@ -101,5 +101,6 @@ pub fn image_integral(t: &Texture) -> Vec3 {
     (sum * (2.0 * std::f64::consts::PI.powi(2) / (nu as f64 * nv as f64))).as_vec3()
 }
 
+mod kind;
 pub mod sampling;
 pub mod setup;

@@ -1,4 +1,4 @@
-//! Sampling the environment light (`crate::scene::Environment`). Twin:
+//! Sampling the environment light (`crate::lights::environment::Environment`). Twin:
 //! `src/lights/environment.wgsl`.
 //!
 //! A constant environment is sampled by a cosine-weighted direction about the shading normal
@@ -12,7 +12,8 @@
 
 use crate::math::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::lights::environment::{latlong_dir, latlong_uv, luminance};
-use crate::scene::{Environment, NO_TEXTURE};
+use crate::lights::environment::Environment;
+use crate::textures::NO_TEXTURE;
 use crate::textures::{SceneTexture, Texture};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;

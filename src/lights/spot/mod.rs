@@ -1,7 +1,8 @@
 //! The spot light's cone: its angular falloff, the falloff's integral over the sphere (the
 //! light's power is its on-axis intensity times that), and directions sampled in proportion
-//! to it. Used by the scene builder (power) and `src/lights/mod.rs` (shadow rays, photons); the
-//! WGSL twin is `spot_falloff` / `spot_cos` in `src/lights/light.wgsl`.
+//! to it; the spot light itself ([`Spot`]: its photons, shadow rays and GPU words). WGSL twin:
+//! `spot.wgsl` beside it (`spot_falloff`, `spot_cos`, `spot_emit`, ...); the scene builder's
+//! call is in `build.rs`.
 //!
 //! Two falloffs ([`SpotFalloff`]), 1 inside the inner cone and 0 outside the outer one:
 //! - glTF's `KHR_lights_punctual` reference form: with `cd` the cosine between the spot axis
@@ -16,6 +17,85 @@
 //! and `x = outer - theta` (the integral of `(outer - s) sin s` from `theta` to `outer`); it has
 //! no closed-form inverse, so sampling bisects it [`SpotCone::BISECTIONS`] times.
 
+mod build;
+
+pub use build::SpotLight;
+
+use crate::lights::interface::{word, Emission, LightContext, LightKind, LightSample, ParamWords};
+use crate::math::sampling::to_world;
+use glam::Vec3;
+
+/// A spot light: a point source whose intensity in direction `w` is `intensity` times the
+/// falloff of its [`SpotCone`] at `cos = dot(direction, w)`; invisible to the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spot {
+    /// Where it is.
+    pub position: Vec3,
+    /// Unit axis of the cone, the direction it shines in.
+    pub direction: Vec3,
+    /// Radiant intensity on the axis, W/sr per channel.
+    pub intensity: Vec3,
+    /// Its cone (full intensity inside the inner half-angle, none outside the outer).
+    pub cone: SpotCone,
+}
+
+impl LightKind for Spot {
+    fn is_delta(&self) -> bool {
+        true
+    }
+    /// Photons by the falloff (`u[3]` the cosine to the axis, `u[4]` the azimuth), so that
+    /// every photon carries the same power.
+    fn emit(&self, _c: &LightContext, u: [f32; 5]) -> Emission {
+        let c = self.cone.sample_cos(u[3]);
+        let s = (1.0 - c * c).max(0.0).sqrt();
+        let phi = 2.0 * std::f32::consts::PI * u[4];
+        let local = Vec3::new(s * phi.cos(), s * phi.sin(), c);
+        Emission {
+            origin: self.position,
+            dir: to_world(local, self.direction),
+            normal: Vec3::ZERO,
+            scale: Vec3::ONE,
+        }
+    }
+    fn sample(&self, _c: &LightContext, x: Vec3, _ns: Vec3, _u: [f32; 3]) -> LightSample {
+        let to_x = x - self.position;
+        let d2 = to_x.length_squared().max(1e-20);
+        let att = self.cone.falloff(self.direction.dot(to_x) / d2.sqrt());
+        LightSample::delta(self.position, self.intensity * (att / d2), false)
+    }
+    fn anchor(&self, _c: &LightContext, _u: [f32; 3]) -> Option<Vec3> {
+        Some(self.position)
+    }
+    fn gpu_words(&self, _c: &LightContext) -> ParamWords {
+        [
+            word(self.position, self.cone.profile.code()),
+            word(self.direction, self.cone.cos_inner.to_bits()),
+            word(self.intensity, self.cone.cos_outer.to_bits()),
+            [0; 4],
+        ]
+    }
+}
+
+/// Whether some spot light of `lights` has Mitsuba's falloff: the override `HAS_LINEAR_SPOTS`
+/// compiles its sampling code only then.
+pub fn gpu_overrides(lights: &[crate::lights::Light]) -> Vec<(&'static str, f64)> {
+    let linear = lights.iter().any(|l| {
+        matches!(l.shape, crate::lights::LightShape::Spot(s) if s.cone.profile == SpotFalloff::LinearAngle)
+    });
+    vec![("HAS_LINEAR_SPOTS", linear as u32 as f64)]
+}
+
+/// The falloffs' constants the WGSL twin uses.
+pub fn wgsl_consts() -> String {
+    format!(
+        "const SPOT_MIN_RAMP: f32 = {:?};\nconst SPOT_BISECTIONS: u32 = {}u;\n\
+         const SPOT_GLTF: u32 = {}u;\nconst SPOT_LINEAR_ANGLE: u32 = {}u;\n",
+        SpotCone::MIN_RAMP,
+        SpotCone::BISECTIONS,
+        SpotFalloff::Gltf.code(),
+        SpotFalloff::LinearAngle.code()
+    )
+}
 use std::f64::consts::PI;
 
 /// How a spot's intensity falls off between its inner and outer half-angles.
