@@ -1,0 +1,439 @@
+//! The wide hierarchy's walks, written once over a [`Kernel`] (a node's eight box tests and a
+//! block's four triangle tests) and compiled for each instruction set; [`Isa`] picks one at
+//! run time.
+//!
+//! Per ray: the slab test's planes are chosen by the direction's signs (no min/max of the
+//! two distances), with `1 / d` kept finite (`+-f32::MAX` where `d` is zero) so that a box
+//! face through the origin gives 0, never `0 * inf`; the exit distance is widened by
+//! `BOX_SLACK` as in [`crate::math::geometry::Aabb::hit`]. The triangle test is
+//! [`crate::math::geometry::intersect_triangle`]'s arithmetic, operation for operation.
+
+mod scalar;
+#[cfg(target_arch = "x86_64")]
+mod x86;
+
+use super::wide::{Closest, WideBvh, LEAF_BIT};
+use super::{alpha_passes, SPHERE_BIT};
+use crate::math::geometry::{intersect_sphere, Ray, Shear};
+use crate::scene::Scene;
+use std::mem::MaybeUninit;
+
+/// An instruction set the walks are compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    /// Portable Rust, one lane at a time.
+    Scalar,
+    /// x86-64's baseline: two 4-lane halves per node.
+    Sse2,
+    /// 8 lanes per node.
+    Avx2,
+    /// 8 lanes with mask registers and compress.
+    Avx512,
+}
+
+impl Isa {
+    /// Every instruction set, best last.
+    pub const ALL: [Isa; 4] = [Isa::Scalar, Isa::Sse2, Isa::Avx2, Isa::Avx512];
+
+    /// The best this CPU has.
+    pub fn detect() -> Isa {
+        Self::ALL
+            .into_iter()
+            .rev()
+            .find(|i| i.available())
+            .unwrap_or(Isa::Scalar)
+    }
+
+    /// Whether this CPU can run it.
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Scalar => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse2 => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => {
+                std::arch::is_x86_feature_detected!("avx512f")
+                    && std::arch::is_x86_feature_detected!("avx512vl")
+                    && std::arch::is_x86_feature_detected!("avx2")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// Its name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Scalar => "scalar",
+            Isa::Sse2 => "sse2",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+}
+
+/// What a walk needs of a ray, computed once.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Prepared {
+    /// Origin.
+    pub o: [f32; 3],
+    /// `1 / d`, finite.
+    pub inv: [f32; 3],
+    /// Row of `Node8::bounds` the ray enters each slab by (the lower plane where `d >= 0`).
+    pub near_row: [usize; 3],
+    /// Row it leaves each slab by.
+    pub far_row: [usize; 3],
+    /// Shear axes `[kx, ky, kz]` of the triangle test.
+    pub k: [usize; 3],
+    /// The shear.
+    pub s: [f32; 2],
+    /// Direction.
+    pub d: [f32; 3],
+}
+
+impl Prepared {
+    pub fn new(ray: &Ray) -> Self {
+        let mut inv = [0.0; 3];
+        let (mut near_row, mut far_row) = ([0; 3], [0; 3]);
+        for a in 0..3 {
+            let i = 1.0 / ray.dir[a];
+            inv[a] = if i.is_finite() {
+                i
+            } else {
+                f32::MAX.copysign(i)
+            };
+            let neg = inv[a].is_sign_negative() as usize;
+            near_row[a] = a + 3 * neg;
+            far_row[a] = a + 3 * (1 - neg);
+        }
+        let (k, s) = Shear::new(ray.dir).axes();
+        Prepared {
+            o: ray.origin.to_array(),
+            inv,
+            near_row,
+            far_row,
+            k,
+            s: s.to_array(),
+            d: ray.dir.to_array(),
+        }
+    }
+}
+
+/// The lanes of a block the ray hits before `t_max`, with what `intersect_triangle` returns
+/// for them: `t`, and `u = e1 / det`, `v = e2 / det`.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct TriHits {
+    pub t: [f32; 4],
+    pub e1: [f32; 4],
+    pub e2: [f32; 4],
+    pub det: [f32; 4],
+}
+
+/// A node test and a block test for one instruction set.
+pub(super) trait Kernel {
+    /// The ray, splatted into registers.
+    type Ray: Copy;
+    /// Splats `p`.
+    unsafe fn ray(p: &Prepared) -> Self::Ray;
+    /// The children of `node` whose boxes the ray enters before `t_max`, compacted into
+    /// `near` (entry distance) and `child`; returns how many.
+    unsafe fn node(
+        node: &super::wide::Node8,
+        r: &Self::Ray,
+        t_max: f32,
+        near: &mut [f32; 8],
+        child: &mut [u32; 8],
+    ) -> usize;
+    /// The lanes of `block` hit in (0, t_max) as a bit mask; fills `out` when any.
+    unsafe fn block(
+        block: &super::wide::TriBlock,
+        r: &Self::Ray,
+        t_max: f32,
+        out: &mut TriHits,
+    ) -> u32;
+}
+
+/// Stack entries: up to seven deferred children per level of a tree at most
+/// `super::MAX_DEPTH` deep.
+const STACK: usize = 7 * super::MAX_DEPTH + 8;
+
+/// What a walk does at a leaf.
+trait Visit {
+    /// Tests leaf `index` against the ray up to `t_max`; returns a new `t_max` on a hit
+    /// (negative stops the walk).
+    unsafe fn leaf(&mut self, index: usize, t_max: f32) -> Option<f32>;
+}
+
+/// Visits the leaves whose boxes the ray enters, nearest box first.
+#[inline(always)]
+unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut impl Visit) {
+    let mut t_max = t_max;
+    let mut stack_node = [MaybeUninit::<u32>::uninit(); STACK];
+    let mut stack_t = [MaybeUninit::<f32>::uninit(); STACK];
+    let mut sp = 0usize;
+    let mut near = [0.0f32; 8];
+    let mut child = [0u32; 8];
+    let mut cur = 0u32;
+    loop {
+        if cur & LEAF_BIT == 0 {
+            let node = bvh.nodes.get_unchecked(cur as usize);
+            let k = K::node(node, r, t_max, &mut near, &mut child);
+            if k == 1 {
+                cur = child[0];
+                continue;
+            }
+            if k > 1 {
+                // Sort by entry distance, farthest first; push all but the nearest.
+                for i in 1..k {
+                    let (t, c) = (near[i], child[i]);
+                    let mut j = i;
+                    while j > 0 && near[j - 1] < t {
+                        near[j] = near[j - 1];
+                        child[j] = child[j - 1];
+                        j -= 1;
+                    }
+                    near[j] = t;
+                    child[j] = c;
+                }
+                for i in 0..k - 1 {
+                    if sp < STACK {
+                        stack_node[sp].write(child[i]);
+                        stack_t[sp].write(near[i]);
+                        sp += 1;
+                    }
+                }
+                cur = child[k - 1];
+                continue;
+            }
+        } else {
+            match visit.leaf((cur & !LEAF_BIT) as usize, t_max) {
+                Some(t) if t < 0.0 => return,
+                Some(t) => t_max = t,
+                None => {}
+            }
+        }
+        loop {
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            if stack_t[sp].assume_init() <= t_max {
+                cur = stack_node[sp].assume_init();
+                break;
+            }
+        }
+    }
+}
+
+/// The ray and hierarchy a leaf test reads.
+struct LeafTest<'a, K: Kernel> {
+    bvh: &'a WideBvh,
+    scene: &'a Scene,
+    ray: &'a Ray,
+    r: K::Ray,
+}
+
+impl<'a, K: Kernel> LeafTest<'a, K> {
+    #[inline(always)]
+    unsafe fn blocks(&self, li: usize) -> (&'a [super::wide::TriBlock], &'a [u32]) {
+        let leaf = self.bvh.leaves.get_unchecked(li);
+        let (b, s) = (leaf.first_block as usize, leaf.first_sphere as usize);
+        (
+            self.bvh.blocks.get_unchecked(b..b + leaf.blocks as usize),
+            self.bvh.spheres.get_unchecked(s..s + leaf.spheres as usize),
+        )
+    }
+
+    /// Whether the alpha test lets the ray through primitive `id` hit at `t` (`u`, `v`).
+    #[inline(always)]
+    fn passes(&self, id: u32, t: f32, u: f32, v: f32) -> bool {
+        self.bvh.alpha && alpha_passes(self.scene, id, self.ray, t, u, v)
+    }
+}
+
+/// The closest-hit walk's leaf test.
+struct ClosestVisit<'a, K: Kernel> {
+    test: LeafTest<'a, K>,
+    best: Option<Closest>,
+}
+
+impl<K: Kernel> Visit for ClosestVisit<'_, K> {
+    #[inline(always)]
+    unsafe fn leaf(&mut self, li: usize, t_max: f32) -> Option<f32> {
+        let (blocks, spheres) = self.test.blocks(li);
+        let mut hits = TriHits::default();
+        let mut t_lim = t_max;
+        let mut found = false;
+        for b in blocks {
+            let mut m = K::block(b, &self.test.r, t_lim, &mut hits);
+            while m != 0 {
+                // The nearest lane, the first of equal ones.
+                let mut lane = m.trailing_zeros() as usize;
+                let mut rest = m & (m - 1);
+                while rest != 0 {
+                    let j = rest.trailing_zeros() as usize;
+                    if hits.t[j] < hits.t[lane] {
+                        lane = j;
+                    }
+                    rest &= rest - 1;
+                }
+                let (id, t) = (b.id[lane], hits.t[lane]);
+                let (u, v) = (hits.e1[lane] / hits.det[lane], hits.e2[lane] / hits.det[lane]);
+                if self.test.passes(id, t, u, v) {
+                    m &= !(1 << lane);
+                    continue;
+                }
+                self.best = Some((id, t, u, v));
+                t_lim = t;
+                found = true;
+                break;
+            }
+        }
+        for &s in spheres {
+            let sphere = &self.test.scene.spheres[s as usize];
+            if let Some(t) = intersect_sphere(sphere, self.test.ray, t_lim) {
+                let id = s | SPHERE_BIT;
+                if !self.test.passes(id, t, 0.0, 0.0) {
+                    self.best = Some((id, t, 0.0, 0.0));
+                    t_lim = t;
+                    found = true;
+                }
+            }
+        }
+        found.then_some(t_lim)
+    }
+}
+
+/// The any-hit walk's leaf test.
+struct OccludedVisit<'a, K: Kernel> {
+    test: LeafTest<'a, K>,
+    hit: bool,
+}
+
+impl<K: Kernel> Visit for OccludedVisit<'_, K> {
+    #[inline(always)]
+    unsafe fn leaf(&mut self, li: usize, t_max: f32) -> Option<f32> {
+        let (blocks, spheres) = self.test.blocks(li);
+        let mut hits = TriHits::default();
+        for b in blocks {
+            let mut m = K::block(b, &self.test.r, t_max, &mut hits);
+            while m != 0 {
+                let lane = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let (t, det) = (hits.t[lane], hits.det[lane]);
+                let (u, v) = (hits.e1[lane] / det, hits.e2[lane] / det);
+                if !self.test.passes(b.id[lane], t, u, v) {
+                    self.hit = true;
+                    return Some(-1.0);
+                }
+            }
+        }
+        for &s in spheres {
+            let sphere = &self.test.scene.spheres[s as usize];
+            if let Some(t) = intersect_sphere(sphere, self.test.ray, t_max) {
+                if !self.test.passes(s | SPHERE_BIT, t, 0.0, 0.0) {
+                    self.hit = true;
+                    return Some(-1.0);
+                }
+            }
+        }
+        None
+    }
+}
+
+/// The closest hit, walked with kernel `K`.
+#[inline(always)]
+unsafe fn closest_with<K: Kernel>(
+    bvh: &WideBvh,
+    scene: &Scene,
+    ray: &Ray,
+    t_max: f32,
+) -> Option<Closest> {
+    let r = K::ray(&Prepared::new(ray));
+    let test = LeafTest::<K> {
+        bvh,
+        scene,
+        ray,
+        r,
+    };
+    let mut v = ClosestVisit { test, best: None };
+    walk::<K>(bvh, &r, t_max, &mut v);
+    v.best
+}
+
+/// Whether anything blocks the ray, walked with kernel `K`.
+#[inline(always)]
+unsafe fn occluded_with<K: Kernel>(bvh: &WideBvh, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
+    let r = K::ray(&Prepared::new(ray));
+    let test = LeafTest::<K> {
+        bvh,
+        scene,
+        ray,
+        r,
+    };
+    let mut v = OccludedVisit { test, hit: false };
+    walk::<K>(bvh, &r, t_max, &mut v);
+    v.hit
+}
+
+/// Entry points compiled for one instruction set.
+macro_rules! entry_points {
+    ($closest:ident, $occluded:ident, $kernel:ty, $($feature:tt)*) => {
+        $($feature)*
+        pub(super) unsafe fn $closest(
+            bvh: &crate::bvh::wide::WideBvh,
+            scene: &crate::scene::Scene,
+            ray: &crate::math::geometry::Ray,
+            t_max: f32,
+        ) -> Option<crate::bvh::wide::Closest> {
+            crate::bvh::simd::closest_with::<$kernel>(bvh, scene, ray, t_max)
+        }
+        $($feature)*
+        pub(super) unsafe fn $occluded(
+            bvh: &crate::bvh::wide::WideBvh,
+            scene: &crate::scene::Scene,
+            ray: &crate::math::geometry::Ray,
+            t_max: f32,
+        ) -> bool {
+            crate::bvh::simd::occluded_with::<$kernel>(bvh, scene, ray, t_max)
+        }
+    };
+}
+use entry_points;
+
+/// The closest hit on `bvh` with its instruction set.
+#[inline]
+pub(super) fn closest(bvh: &WideBvh, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Closest> {
+    // SAFETY: `bvh.isa` is only ever set to an instruction set this CPU has
+    // (`WideBvh::with_isa`, `Isa::detect`); the walks index only what the build made.
+    unsafe {
+        match bvh.isa {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => x86::closest_avx512(bvh, scene, ray, t_max),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => x86::closest_avx2(bvh, scene, ray, t_max),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse2 => x86::closest_sse2(bvh, scene, ray, t_max),
+            _ => scalar::closest_scalar(bvh, scene, ray, t_max),
+        }
+    }
+}
+
+/// Whether anything on `bvh` blocks the ray, with its instruction set.
+#[inline]
+pub(super) fn occluded(bvh: &WideBvh, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
+    // SAFETY: as in `closest`.
+    unsafe {
+        match bvh.isa {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => x86::occluded_avx512(bvh, scene, ray, t_max),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => x86::occluded_avx2(bvh, scene, ray, t_max),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse2 => x86::occluded_sse2(bvh, scene, ray, t_max),
+            _ => scalar::occluded_scalar(bvh, scene, ray, t_max),
+        }
+    }
+}
