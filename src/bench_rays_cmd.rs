@@ -47,6 +47,7 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
         json_builds.insert("binary_bytes_per_prim".into(), (bin_bytes as f64 / prims).into());
         json_builds.insert("wide_bytes_per_prim".into(), (wide as f64 / prims).into());
     }
+    #[allow(unused_mut)] // extended only with the embree feature
     let mut tracers: Vec<&dyn Tracer> = ours.iter().map(|(t, _)| t.as_ref()).collect();
     #[cfg(feature = "embree")]
     let embree = embree_tracers(&scene, &mut builds, &mut json_builds);

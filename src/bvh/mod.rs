@@ -26,6 +26,9 @@ pub use simd::Isa;
 pub use surface::{alpha_passes, alpha_test, uv_tangent};
 pub use wide::WideBvh;
 
+/// The hierarchy the CPU backend traces: the 8-wide one.
+pub type CpuBvh = WideBvh;
+
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
 /// Maximum primitives in a leaf of the CPU's hierarchy.
