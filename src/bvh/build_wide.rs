@@ -2,15 +2,13 @@
 //! two children and keeps opening the largest (by surface area) until it has eight; a
 //! subtree of at most [`LEAF_PRIMS`] primitives becomes one leaf (its triangles one block).
 
-use super::wide::{Leaf, Node8, TriBlock, WideBvh, BLOCK, LEAF_BIT, WIDTH};
-use super::{BuildCosts, Bvh, BvhNode, SPHERE_BIT};
+use super::wide::{leaf_blocks, Node8, TriBlock, WideBvh};
+use super::wide::{BLOCK, LEAF_BIT, LEAF_COUNT_SHIFT, MAX_LEAF_BLOCKS, NO_PRIM, WIDTH};
+use super::{Bvh, BvhNode, SPHERE_BIT};
 use crate::math::geometry::Aabb;
 use crate::scene::Scene;
 use glam::Vec3;
 
-/// The binary tree's costs for the wide walk (leaves as the CPU's; small subtrees are merged
-/// into leaf blocks here).
-pub const WIDE_COSTS: BuildCosts = BuildCosts::CPU;
 /// A subtree of at most this many primitives becomes one leaf.
 pub const LEAF_PRIMS: u32 = BLOCK as u32;
 
@@ -41,9 +39,7 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
         count,
         out: WideBvh {
             nodes: Vec::with_capacity(n / 4 + 1),
-            leaves: Vec::with_capacity(n / 2 + 1),
             blocks: Vec::with_capacity(n / 2 + 1),
-            spheres: Vec::new(),
             alpha: bin.alpha,
             isa: super::simd::Isa::detect(),
         },
@@ -124,51 +120,64 @@ impl Collapse<'_> {
         }
         let start = self.bin.nodes[first].left_first as usize;
         let ids = &self.bin.prim_ids[start..start + self.count[i] as usize];
-        let leaf = Leaf {
-            first_block: self.out.blocks.len() as u32,
-            blocks: 0,
-            first_sphere: self.out.spheres.len() as u32,
-            spheres: 0,
-        };
-        let mut block = empty_block();
-        let mut lane = 0;
-        for &id in ids {
-            if id & SPHERE_BIT != 0 {
-                self.out.spheres.push(id & !SPHERE_BIT);
-                continue;
-            }
-            let t = &self.scene.triangles[id as usize];
-            let n = t.e1().cross(t.e2());
-            for axis in 0..3 {
-                block.v0[axis][lane] = t.v0[axis];
-                block.v1[axis][lane] = t.v1[axis];
-                block.v2[axis][lane] = t.v2[axis];
-                block.n[axis][lane] = n[axis];
-            }
-            block.id[lane] = id;
-            lane += 1;
-            if lane == BLOCK {
-                self.out.blocks.push(block);
-                block = empty_block();
-                lane = 0;
-            }
+        let max = MAX_LEAF_BLOCKS * BLOCK;
+        if ids.len() <= max {
+            return self.blocks(ids);
         }
-        if lane > 0 {
+        // Larger than a leaf can be: a node of leaves (by index) instead.
+        assert!(ids.len() <= WIDTH * max, "a leaf of {} primitives", ids.len());
+        let at = self.out.nodes.len();
+        self.out.nodes.push(Node8::EMPTY);
+        for (slot, chunk) in ids.chunks(max).enumerate() {
+            let b = (chunk.iter())
+                .map(|&id| prim_box(self.scene, id))
+                .fold(Aabb::EMPTY, Aabb::union);
+            let child = self.blocks(chunk);
+            set_child(&mut self.out.nodes[at], slot, b, child);
+        }
+        at as u32
+    }
+
+    /// Packs `ids` (at most `MAX_LEAF_BLOCKS` blocks' worth) into blocks; returns the leaf
+    /// reference.
+    fn blocks(&mut self, ids: &[u32]) -> u32 {
+        let first = self.out.blocks.len();
+        for chunk in ids.chunks(BLOCK) {
+            let mut block = empty_block();
+            for (lane, &id) in chunk.iter().enumerate() {
+                block.id[lane] = id;
+                if id & SPHERE_BIT != 0 {
+                    continue;
+                }
+                let t = &self.scene.triangles[id as usize];
+                let n = t.e1().cross(t.e2());
+                for axis in 0..3 {
+                    block.v0[axis][lane] = t.v0[axis];
+                    block.v1[axis][lane] = t.v1[axis];
+                    block.v2[axis][lane] = t.v2[axis];
+                    block.n[axis][lane] = n[axis];
+                }
+            }
             self.out.blocks.push(block);
         }
-        let leaf = Leaf {
-            blocks: self.out.blocks.len() as u32 - leaf.first_block,
-            spheres: self.out.spheres.len() as u32 - leaf.first_sphere,
-            ..leaf
-        };
-        self.out.leaves.push(leaf);
-        LEAF_BIT | (self.out.leaves.len() - 1) as u32
+        let count = (self.out.blocks.len() - first) as u32;
+        let r = LEAF_BIT | ((count - 1) << LEAF_COUNT_SHIFT) | first as u32;
+        debug_assert_eq!(leaf_blocks(r), (first, count as usize));
+        r
+    }
+}
+
+/// The bounds of primitive `id` of `scene`.
+fn prim_box(scene: &Scene, id: u32) -> Aabb {
+    match id & SPHERE_BIT {
+        0 => Aabb::of_triangle(&scene.triangles[id as usize]),
+        _ => Aabb::of_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize]),
     }
 }
 
 fn empty_block() -> TriBlock {
     TriBlock {
-        id: [u32::MAX; BLOCK],
+        id: [NO_PRIM; BLOCK],
         ..TriBlock::default()
     }
 }
@@ -210,9 +219,9 @@ mod tests {
                     assert_eq!(b.union(cb), b, "a child's box inside its parent's");
                 }
                 if c & LEAF_BIT != 0 {
-                    let leaf = w.leaves[(c & !LEAF_BIT) as usize];
-                    for blk in &w.blocks[leaf.first_block as usize..][..leaf.blocks as usize] {
-                        for &id in blk.id.iter().filter(|&&id| id != u32::MAX) {
+                    let (first, count) = leaf_blocks(c);
+                    for blk in &w.blocks[first..first + count] {
+                        for &id in blk.id.iter().filter(|&&id| id != NO_PRIM) {
                             seen[id as usize] += 1;
                             let tb = Aabb::of_triangle(&scene.triangles[id as usize]);
                             assert_eq!(cb.union(tb), cb, "a triangle inside its leaf's box");

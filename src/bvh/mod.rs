@@ -14,6 +14,7 @@ use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+mod build_binned;
 mod build_wide;
 pub mod hit;
 // std::arch intrinsics and the run-time choice between them.

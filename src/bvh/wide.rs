@@ -18,8 +18,15 @@ use crate::scene::Scene;
 pub const WIDTH: usize = 8;
 /// Triangles per leaf block.
 pub const BLOCK: usize = 4;
-/// Marks a leaf in [`Node8::child`]: the rest is an index into [`WideBvh::leaves`].
+/// Marks a leaf in [`Node8::child`]: bits 0..27 are its first block in
+/// [`WideBvh::blocks`], bits 27..31 its number of blocks less one.
 pub const LEAF_BIT: u32 = 0x8000_0000;
+/// Where a leaf reference keeps its block count.
+pub const LEAF_COUNT_SHIFT: u32 = 27;
+/// Most blocks in a leaf.
+pub const MAX_LEAF_BLOCKS: usize = 16;
+/// The id of an unused lane of a block.
+pub const NO_PRIM: u32 = 0x7fff_ffff;
 /// An unused child slot (its box is empty: `min = +inf`, `max = -inf`, which no ray enters).
 pub const EMPTY: u32 = u32::MAX;
 /// Row of [`Node8::bounds`] holding the children's lower x; +3 for the upper.
@@ -32,7 +39,7 @@ pub const MIN_X: usize = 0;
 pub struct Node8 {
     /// `bounds[axis][lane]` lower corners (rows 0..3), `bounds[3 + axis][lane]` upper ones.
     pub bounds: [[f32; WIDTH]; 6],
-    /// A node index, [`LEAF_BIT`] | a leaf index, or [`EMPTY`].
+    /// A node index, a leaf reference ([`LEAF_BIT`]), or [`EMPTY`].
     pub child: [u32; WIDTH],
 }
 
@@ -51,9 +58,10 @@ impl Node8 {
     };
 }
 
-/// Four triangles, structure of arrays: `v0[axis][lane]` and so on; `n` is each triangle's
-/// unnormalised normal `(v1 - v0) x (v2 - v0)` as `intersect_triangle` computes it. Unused
-/// lanes are degenerate (all corners zero), which the test never hits.
+/// Four primitives, structure of arrays: triangles' corners `v0[axis][lane]` and so on,
+/// `n` each triangle's unnormalised normal `(v1 - v0) x (v2 - v0)` as `intersect_triangle`
+/// computes it. A sphere's lane has its id (with `SPHERE_BIT`) and degenerate corners (all
+/// zero), as has an unused lane (id [`NO_PRIM`]): the triangle test never hits them.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriBlock {
@@ -65,21 +73,28 @@ pub struct TriBlock {
     pub v2: [[f32; BLOCK]; 3],
     /// Unnormalised normals.
     pub n: [[f32; BLOCK]; 3],
-    /// Triangle indices into `Scene::triangles` (unused lanes: `u32::MAX`).
+    /// Primitive ids as in [`Bvh::prim_ids`], or [`NO_PRIM`].
     pub id: [u32; BLOCK],
 }
 
-/// A leaf: its triangle blocks and its spheres.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Leaf {
-    /// First block in [`WideBvh::blocks`].
-    pub first_block: u32,
-    /// Number of blocks.
-    pub blocks: u32,
-    /// First entry of [`WideBvh::spheres`].
-    pub first_sphere: u32,
-    /// Number of spheres.
-    pub spheres: u32,
+impl TriBlock {
+    /// The lanes holding spheres, as a bit mask.
+    #[inline(always)]
+    pub fn sphere_lanes(&self) -> u32 {
+        let mut m = 0;
+        for (i, id) in self.id.iter().enumerate() {
+            m |= (id >> 31) << i;
+        }
+        m
+    }
+}
+
+/// The blocks of leaf reference `child`: (first, count).
+#[inline(always)]
+pub fn leaf_blocks(child: u32) -> (usize, usize) {
+    let first = child & ((1 << LEAF_COUNT_SHIFT) - 1);
+    let count = ((child & !LEAF_BIT) >> LEAF_COUNT_SHIFT) + 1;
+    (first as usize, count as usize)
 }
 
 /// The 8-wide hierarchy.
@@ -87,12 +102,8 @@ pub struct Leaf {
 pub struct WideBvh {
     /// Nodes; node 0 is the root.
     pub nodes: Vec<Node8>,
-    /// Leaves.
-    pub leaves: Vec<Leaf>,
-    /// Triangle blocks, each leaf's contiguous.
+    /// Primitive blocks, each leaf's contiguous.
     pub blocks: Vec<TriBlock>,
-    /// Sphere indices into `Scene::spheres`, each leaf's contiguous.
-    pub spheres: Vec<u32>,
     /// Whether some material is alpha-tested (as [`Bvh::alpha`]).
     pub alpha: bool,
     /// The instruction set the walks use.
@@ -107,10 +118,11 @@ impl WideBvh {
     /// Builds the hierarchy over every triangle and sphere of `scene`, walked with the best
     /// instruction set this CPU has.
     pub fn build(scene: &Scene) -> Self {
-        Self::from_binary(&Bvh::build_with(scene, super::build_wide::WIDE_COSTS), scene)
+        Self::from_binary(&super::build_binned::build(scene), scene)
     }
 
-    /// Collapses the binary hierarchy `bvh` of `scene`.
+    /// Collapses the binary hierarchy `bvh` of `scene` (whose leaves hold at most
+    /// `MAX_LEAF_BLOCKS * BLOCK` primitives each: larger ones are split by index).
     pub fn from_binary(bvh: &Bvh, scene: &Scene) -> Self {
         super::build_wide::collapse(bvh, scene)
     }
@@ -122,13 +134,10 @@ impl WideBvh {
         self
     }
 
-    /// Bytes the hierarchy takes (nodes, leaves, blocks, sphere lists).
+    /// Bytes the hierarchy takes (nodes and blocks).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
-        self.nodes.len() * size_of::<Node8>()
-            + self.leaves.len() * size_of::<Leaf>()
-            + self.blocks.len() * size_of::<TriBlock>()
-            + self.spheres.len() * 4
+        self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>()
     }
 
     /// The closest hit along `ray` before `t_max`, without assembling the surface.

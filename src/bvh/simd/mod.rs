@@ -12,7 +12,7 @@ mod scalar;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
-use super::wide::{Closest, WideBvh, LEAF_BIT};
+use super::wide::{leaf_blocks, Closest, TriBlock, WideBvh, LEAF_BIT};
 use super::{alpha_passes, SPHERE_BIT};
 use crate::math::geometry::{intersect_sphere, Ray, Shear};
 use crate::scene::Scene;
@@ -94,6 +94,7 @@ pub(super) struct Prepared {
 }
 
 impl Prepared {
+    #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
         let mut inv = [0.0; 3];
         let (mut near_row, mut far_row) = ([0; 3], [0; 3]);
@@ -161,9 +162,9 @@ const STACK: usize = 7 * super::MAX_DEPTH + 8;
 
 /// What a walk does at a leaf.
 trait Visit {
-    /// Tests leaf `index` against the ray up to `t_max`; returns a new `t_max` on a hit
-    /// (negative stops the walk).
-    unsafe fn leaf(&mut self, index: usize, t_max: f32) -> Option<f32>;
+    /// Tests the leaf of `blocks` against the ray up to `t_max`; returns a new `t_max` on
+    /// a hit (negative stops the walk).
+    unsafe fn leaf(&mut self, blocks: &[TriBlock], t_max: f32) -> Option<f32>;
 }
 
 /// Visits the leaves whose boxes the ray enters, nearest box first.
@@ -208,7 +209,8 @@ unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut imp
                 continue;
             }
         } else {
-            match visit.leaf((cur & !LEAF_BIT) as usize, t_max) {
+            let (first, count) = leaf_blocks(cur);
+            match visit.leaf(bvh.blocks.get_unchecked(first..first + count), t_max) {
                 Some(t) if t < 0.0 => return,
                 Some(t) => t_max = t,
                 None => {}
@@ -235,17 +237,7 @@ struct LeafTest<'a, K: Kernel> {
     r: K::Ray,
 }
 
-impl<'a, K: Kernel> LeafTest<'a, K> {
-    #[inline(always)]
-    unsafe fn blocks(&self, li: usize) -> (&'a [super::wide::TriBlock], &'a [u32]) {
-        let leaf = self.bvh.leaves.get_unchecked(li);
-        let (b, s) = (leaf.first_block as usize, leaf.first_sphere as usize);
-        (
-            self.bvh.blocks.get_unchecked(b..b + leaf.blocks as usize),
-            self.bvh.spheres.get_unchecked(s..s + leaf.spheres as usize),
-        )
-    }
-
+impl<K: Kernel> LeafTest<'_, K> {
     /// Whether the alpha test lets the ray through primitive `id` hit at `t` (`u`, `v`).
     #[inline(always)]
     fn passes(&self, id: u32, t: f32, u: f32, v: f32) -> bool {
@@ -261,8 +253,7 @@ struct ClosestVisit<'a, K: Kernel> {
 
 impl<K: Kernel> Visit for ClosestVisit<'_, K> {
     #[inline(always)]
-    unsafe fn leaf(&mut self, li: usize, t_max: f32) -> Option<f32> {
-        let (blocks, spheres) = self.test.blocks(li);
+    unsafe fn leaf(&mut self, blocks: &[TriBlock], t_max: f32) -> Option<f32> {
         let mut hits = TriHits::default();
         let mut t_lim = t_max;
         let mut found = false;
@@ -290,15 +281,17 @@ impl<K: Kernel> Visit for ClosestVisit<'_, K> {
                 found = true;
                 break;
             }
-        }
-        for &s in spheres {
-            let sphere = &self.test.scene.spheres[s as usize];
-            if let Some(t) = intersect_sphere(sphere, self.test.ray, t_lim) {
-                let id = s | SPHERE_BIT;
-                if !self.test.passes(id, t, 0.0, 0.0) {
-                    self.best = Some((id, t, 0.0, 0.0));
-                    t_lim = t;
-                    found = true;
+            let mut spheres = b.sphere_lanes();
+            while spheres != 0 {
+                let id = b.id[spheres.trailing_zeros() as usize];
+                spheres &= spheres - 1;
+                let sphere = &self.test.scene.spheres[(id & !SPHERE_BIT) as usize];
+                if let Some(t) = intersect_sphere(sphere, self.test.ray, t_lim) {
+                    if !self.test.passes(id, t, 0.0, 0.0) {
+                        self.best = Some((id, t, 0.0, 0.0));
+                        t_lim = t;
+                        found = true;
+                    }
                 }
             }
         }
@@ -314,8 +307,7 @@ struct OccludedVisit<'a, K: Kernel> {
 
 impl<K: Kernel> Visit for OccludedVisit<'_, K> {
     #[inline(always)]
-    unsafe fn leaf(&mut self, li: usize, t_max: f32) -> Option<f32> {
-        let (blocks, spheres) = self.test.blocks(li);
+    unsafe fn leaf(&mut self, blocks: &[TriBlock], t_max: f32) -> Option<f32> {
         let mut hits = TriHits::default();
         for b in blocks {
             let mut m = K::block(b, &self.test.r, t_max, &mut hits);
@@ -329,13 +321,16 @@ impl<K: Kernel> Visit for OccludedVisit<'_, K> {
                     return Some(-1.0);
                 }
             }
-        }
-        for &s in spheres {
-            let sphere = &self.test.scene.spheres[s as usize];
-            if let Some(t) = intersect_sphere(sphere, self.test.ray, t_max) {
-                if !self.test.passes(s | SPHERE_BIT, t, 0.0, 0.0) {
-                    self.hit = true;
-                    return Some(-1.0);
+            let mut spheres = b.sphere_lanes();
+            while spheres != 0 {
+                let id = b.id[spheres.trailing_zeros() as usize];
+                spheres &= spheres - 1;
+                let sphere = &self.test.scene.spheres[(id & !SPHERE_BIT) as usize];
+                if let Some(t) = intersect_sphere(sphere, self.test.ray, t_max) {
+                    if !self.test.passes(id, t, 0.0, 0.0) {
+                        self.hit = true;
+                        return Some(-1.0);
+                    }
                 }
             }
         }

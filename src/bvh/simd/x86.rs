@@ -1,6 +1,10 @@
 //! The x86-64 kernels: a node's eight box tests in two SSE2 halves, one AVX2 register, or
 //! AVX-512's mask compare and compress; a block's four triangle tests in SSE registers
 //! (VEX- or EVEX-encoded inside the wider kernels' functions).
+//!
+//! Every helper is `#[inline(always)]` without target features of its own: it is only ever
+//! inlined into the entry points at the end, whose `#[target_feature]` its intrinsics then
+//! run under (LLVM declines to inline a `#[target_feature]` helper as large as a node test).
 
 use super::{entry_points, Kernel, Prepared, TriHits};
 use crate::bvh::wide::{Node8, TriBlock};
@@ -192,8 +196,7 @@ pub(super) struct Ray8 {
     tri: TriRay,
 }
 
-#[inline]
-#[target_feature(enable = "avx2")]
+#[inline(always)]
 unsafe fn ray8(p: &Prepared) -> Ray8 {
     Ray8 {
         o: p.o.map(|v| _mm256_set1_ps(v)),
@@ -204,9 +207,9 @@ unsafe fn ray8(p: &Prepared) -> Ray8 {
     }
 }
 
-/// Entry and exit distances of the eight boxes of `node`.
-#[inline]
-#[target_feature(enable = "avx2")]
+/// Entry and exit distances of the eight boxes of `node` (always inlined into the AVX2
+/// and AVX-512 node tests, whose target features its intrinsics then run under).
+#[inline(always)]
 unsafe fn slabs8(node: &Node8, r: &Ray8, t_max: f32) -> (__m256, __m256) {
     let t = |row: usize, a: usize| {
         let b = _mm256_load_ps(node.bounds[row].as_ptr());
@@ -228,8 +231,7 @@ unsafe fn slabs8(node: &Node8, r: &Ray8, t_max: f32) -> (__m256, __m256) {
     (tnear, tfar)
 }
 
-#[inline]
-#[target_feature(enable = "avx2")]
+#[inline(always)]
 unsafe fn node_avx2(
     node: &Node8,
     r: &Ray8,
@@ -275,8 +277,7 @@ impl Kernel for Avx2 {
     }
 }
 
-#[inline]
-#[target_feature(enable = "avx512f,avx512vl,avx2")]
+#[inline(always)]
 unsafe fn node_avx512(
     node: &Node8,
     r: &Ray8,

@@ -1,0 +1,254 @@
+//! The wide hierarchy's binary tree, built fast: binned SAH over [`BINS`] bins on all three
+//! axes in one pass per node, the children's centroid bounds gathered while partitioning,
+//! subtrees of more than [`PARALLEL`] primitives built on rayon's threads. Leaf costs count
+//! blocks of four triangles (a block costs one test, as a node does), so leaves of up to
+//! [`MAX_LEAF`] primitives stay whole where splitting them does not pay.
+//!
+//! The result has [`Bvh`]'s layout (depth-first, left child next), for
+//! `build_wide::collapse`; the GPU's hierarchy keeps `Bvh::build_with`.
+
+use super::wide::BLOCK;
+use super::{Bvh, BvhNode, MAX_DEPTH, SPHERE_BIT};
+use crate::math::geometry::Aabb;
+use crate::scene::Scene;
+use glam::{Vec3, Vec3A};
+
+/// Bins per axis.
+const BINS: usize = 16;
+/// Most primitives in a leaf.
+pub const MAX_LEAF: usize = 4 * BLOCK;
+/// Subtrees above this size are built in parallel.
+const PARALLEL: usize = 16 * 1024;
+/// Depth up to which splits follow the SAH; past it, halves by index (the tree stays within
+/// `MAX_DEPTH` for up to 2^26 primitives, `scene::MAX_TRIANGLES`).
+const SAH_DEPTH: usize = MAX_DEPTH - 28;
+/// Cost of a node step, in block tests.
+const NODE_COST: f32 = 1.0;
+
+/// One primitive's bounds and id (32 bytes).
+#[derive(Clone, Copy, Debug)]
+struct Prim {
+    min: Vec3,
+    id: u32,
+    max: Vec3,
+    _pad: u32,
+}
+
+impl Prim {
+    /// Twice the centroid (the binning needs only ratios).
+    #[inline(always)]
+    fn c2(&self) -> Vec3A {
+        Vec3A::from(self.min) + Vec3A::from(self.max)
+    }
+}
+
+/// Bounds and centroid bounds (doubled) of a range of primitives.
+#[derive(Clone, Copy, Debug)]
+struct Extent {
+    bounds: Aabb,
+    cmin: Vec3A,
+    cmax: Vec3A,
+}
+
+impl Extent {
+    const EMPTY: Extent = Extent {
+        bounds: Aabb::EMPTY,
+        cmin: Vec3A::splat(f32::INFINITY),
+        cmax: Vec3A::splat(f32::NEG_INFINITY),
+    };
+    #[inline(always)]
+    fn grow(&mut self, p: &Prim) {
+        self.bounds = self.bounds.union(Aabb {
+            min: p.min,
+            max: p.max,
+        });
+        let c = p.c2();
+        self.cmin = self.cmin.min(c);
+        self.cmax = self.cmax.max(c);
+    }
+}
+
+/// The binary tree over every triangle and sphere of `scene` for the wide hierarchy.
+pub fn build(scene: &Scene) -> Bvh {
+    let mut prims: Vec<Prim> = Vec::with_capacity(scene.triangles.len() + scene.spheres.len());
+    let boxes = (scene.triangles.iter().map(Aabb::of_triangle))
+        .zip(0u32..)
+        .chain((scene.spheres.iter().map(Aabb::of_sphere)).zip((0u32..).map(|i| i | SPHERE_BIT)));
+    for (b, id) in boxes {
+        prims.push(Prim {
+            min: b.min,
+            id,
+            max: b.max,
+            _pad: 0,
+        });
+    }
+    let alpha = scene.materials.iter().any(|m| m.alpha.is_some());
+    if prims.is_empty() {
+        return Bvh {
+            alpha,
+            ..Bvh::build(scene)
+        };
+    }
+    let mut extent = Extent::EMPTY;
+    prims.iter().for_each(|p| extent.grow(p));
+    let mut nodes = Vec::with_capacity(prims.len() / 2);
+    subtree(&mut prims, 0, 1, extent, &mut nodes);
+    Bvh {
+        nodes,
+        prim_ids: prims.iter().map(|p| p.id).collect(),
+        alpha,
+    }
+}
+
+/// Appends the subtree over `prims` (at `offset` in the final order) to `out`, depth first.
+fn subtree(prims: &mut [Prim], offset: usize, depth: usize, e: Extent, out: &mut Vec<BvhNode>) {
+    let idx = out.len();
+    out.push(BvhNode {
+        bmin: e.bounds.min.to_array(),
+        bmax: e.bounds.max.to_array(),
+        left_first: offset as u32,
+        count: prims.len() as u32,
+    });
+    if prims.len() <= 1 {
+        return;
+    }
+    let split = match depth < SAH_DEPTH {
+        true => sah_split(prims, &e),
+        false => None,
+    };
+    let (mid, le, re) = match split {
+        Some(s) => s,
+        None if prims.len() <= MAX_LEAF && depth < SAH_DEPTH => return,
+        None => halves(prims),
+    };
+    let (left, right) = prims.split_at_mut(mid);
+    let right_index = if prims_len(left, right) > PARALLEL {
+        let build = |p: &mut [Prim], off, e| {
+            let mut v = Vec::with_capacity(p.len() / 2);
+            subtree(p, off, depth + 1, e, &mut v);
+            v
+        };
+        let (lv, rv) = rayon::join(|| build(left, offset, le), || build(right, offset + mid, re));
+        append(out, lv);
+        let r = out.len();
+        append(out, rv);
+        r
+    } else {
+        subtree(left, offset, depth + 1, le, out);
+        let r = out.len();
+        subtree(right, offset + mid, depth + 1, re, out);
+        r
+    };
+    out[idx].left_first = right_index as u32;
+    out[idx].count = 0;
+}
+
+fn prims_len(a: &[Prim], b: &[Prim]) -> usize {
+    a.len() + b.len()
+}
+
+/// Appends a subtree built on its own, moving its interior nodes' child indices.
+fn append(out: &mut Vec<BvhNode>, nodes: Vec<BvhNode>) {
+    let base = out.len() as u32;
+    out.extend(nodes.into_iter().map(|mut n| {
+        if n.count == 0 {
+            n.left_first += base;
+        }
+        n
+    }));
+}
+
+/// Blocks of four a leaf of `n` primitives takes.
+#[inline(always)]
+fn blocks(n: usize) -> f32 {
+    n.div_ceil(BLOCK) as f32
+}
+
+/// The binned SAH split of `prims` (reordered): the split position and both sides'
+/// extents, or `None` when a leaf is cheaper or the centroids do not spread.
+fn sah_split(prims: &mut [Prim], e: &Extent) -> Option<(usize, Extent, Extent)> {
+    let extent = e.cmax - e.cmin;
+    let scale = Vec3A::select(
+        extent.cmpgt(Vec3A::ZERO),
+        Vec3A::splat(BINS as f32 * (1.0 - f32::EPSILON)) / extent,
+        Vec3A::ZERO,
+    );
+    if scale == Vec3A::ZERO || !scale.is_finite() {
+        return None;
+    }
+    let bin_of = |p: &Prim| -> [usize; 3] {
+        let b = ((p.c2() - e.cmin) * scale).as_uvec3();
+        [b.x as usize, b.y as usize, b.z as usize].map(|i| i.min(BINS - 1))
+    };
+    let mut lo = [[Vec3A::splat(f32::INFINITY); BINS]; 3];
+    let mut hi = [[Vec3A::splat(f32::NEG_INFINITY); BINS]; 3];
+    let mut count = [[0u32; BINS]; 3];
+    for p in prims.iter() {
+        let (pmin, pmax) = (Vec3A::from(p.min), Vec3A::from(p.max));
+        let b = bin_of(p);
+        for a in 0..3 {
+            lo[a][b[a]] = lo[a][b[a]].min(pmin);
+            hi[a][b[a]] = hi[a][b[a]].max(pmax);
+            count[a][b[a]] += 1;
+        }
+    }
+    let area = |lo: Vec3A, hi: Vec3A| {
+        let d = (hi - lo).max(Vec3A::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    };
+    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, first right bin)
+    for a in 0..3 {
+        if scale[a] == 0.0 {
+            continue;
+        }
+        let mut right_cost = [0.0f32; BINS];
+        let (mut l, mut h, mut n) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY, 0usize);
+        for i in (1..BINS).rev() {
+            l = l.min(lo[a][i]);
+            h = h.max(hi[a][i]);
+            n += count[a][i] as usize;
+            right_cost[i] = area(l, h) * blocks(n);
+        }
+        let (mut l, mut h, mut n) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY, 0usize);
+        for i in 0..BINS - 1 {
+            l = l.min(lo[a][i]);
+            h = h.max(hi[a][i]);
+            n += count[a][i] as usize;
+            if n == 0 || n == prims.len() {
+                continue;
+            }
+            let cost = area(l, h) * blocks(n) + right_cost[i + 1];
+            if best.is_none_or(|b| cost < b.0) {
+                best = Some((cost, a, i + 1));
+            }
+        }
+    }
+    let (cost, axis, split) = best?;
+    let parent = e.bounds.half_area();
+    if prims.len() <= MAX_LEAF && parent > 0.0 && NODE_COST + cost / parent >= blocks(prims.len())
+    {
+        return None;
+    }
+    // Partition by the same bins, gathering both sides' extents.
+    let (mut le, mut re) = (Extent::EMPTY, Extent::EMPTY);
+    let mut i = 0;
+    for j in 0..prims.len() {
+        if bin_of(&prims[j])[axis] < split {
+            le.grow(&prims[j]);
+            prims.swap(i, j);
+            i += 1;
+        } else {
+            re.grow(&prims[j]);
+        }
+    }
+    Some((i, le, re))
+}
+
+/// Splits in two halves by index (past the SAH's depth, or when the centroids coincide).
+fn halves(prims: &mut [Prim]) -> (usize, Extent, Extent) {
+    let mid = prims.len() / 2;
+    let (mut le, mut re) = (Extent::EMPTY, Extent::EMPTY);
+    prims[..mid].iter().for_each(|p| le.grow(p));
+    prims[mid..].iter().for_each(|p| re.grow(p));
+    (mid, le, re)
+}
