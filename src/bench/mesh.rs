@@ -37,7 +37,8 @@ pub fn displaced_sphere(triangles: usize, center: Vec3, radius: f32, material: u
 }
 
 /// `scene` with a displaced sphere of about `triangles` triangles added at the centre of its
-/// bounds (a third of their smallest extent across), of its first material.
+/// bounds (three fifths of their smallest extent across, so that most rays meet it), of its
+/// first material.
 pub fn with_mesh(scene: &Scene, triangles: usize) -> Scene {
     let mut s = scene.clone();
     let bounds = (s.triangles.iter().map(crate::math::geometry::Aabb::of_triangle))
@@ -45,7 +46,7 @@ pub fn with_mesh(scene: &Scene, triangles: usize) -> Scene {
         .fold(crate::math::geometry::Aabb::EMPTY, |a, b| a.union(b));
     let (center, radius) = match bounds.is_empty() {
         true => (Vec3::ZERO, 1.0),
-        false => (bounds.centroid(), (bounds.max - bounds.min).min_element().max(1e-3) / 6.0),
+        false => (bounds.centroid(), (bounds.max - bounds.min).min_element().max(1e-3) * 0.3),
     };
     let mesh = displaced_sphere(triangles, center, radius, 0);
     if !s.uvs.is_empty() {

@@ -147,6 +147,10 @@ pub(super) trait Kernel {
         near: &mut [f32; 8],
         child: &mut [u32; 8],
     ) -> usize;
+    /// Asks for the cache lines `at..at + bytes` before they are read (a no-op where the
+    /// kernel has no prefetch).
+    #[inline(always)]
+    unsafe fn prefetch(_at: *const u8, _bytes: usize) {}
     /// The lanes of `block` hit in (0, t_max) as a bit mask; fills `out` when any.
     unsafe fn block(
         block: &super::wide::TriBlock,
@@ -169,7 +173,12 @@ trait Visit {
 
 /// Visits the leaves whose boxes the ray enters, nearest box first.
 #[inline(always)]
-unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut impl Visit) {
+unsafe fn walk<K: Kernel, const NEAR_FIRST: bool>(
+    bvh: &WideBvh,
+    r: &K::Ray,
+    t_max: f32,
+    visit: &mut impl Visit,
+) {
     let mut t_max = t_max;
     let mut stack_node = [MaybeUninit::<u32>::uninit(); STACK];
     let mut stack_t = [MaybeUninit::<f32>::uninit(); STACK];
@@ -185,12 +194,24 @@ unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut imp
                 cur = child[0];
                 continue;
             }
-            if k > 1 {
+            if k == 2 {
+                // The common case: defer one child.
+                let far = ((near[0] <= near[1]) == NEAR_FIRST) as usize;
+                defer::<K>(bvh, child[far]);
+                if sp < STACK {
+                    stack_node[sp].write(child[far]);
+                    stack_t[sp].write(near[far]);
+                    sp += 1;
+                }
+                cur = child[1 - far];
+                continue;
+            }
+            if k > 2 {
                 // Sort by entry distance, farthest first; push all but the nearest.
                 for i in 1..k {
                     let (t, c) = (near[i], child[i]);
                     let mut j = i;
-                    while j > 0 && near[j - 1] < t {
+                    while j > 0 && (near[j - 1] < t) == NEAR_FIRST {
                         near[j] = near[j - 1];
                         child[j] = child[j - 1];
                         j -= 1;
@@ -199,6 +220,7 @@ unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut imp
                     child[j] = c;
                 }
                 for i in 0..k - 1 {
+                    defer::<K>(bvh, child[i]);
                     if sp < STACK {
                         stack_node[sp].write(child[i]);
                         stack_t[sp].write(near[i]);
@@ -226,6 +248,19 @@ unsafe fn walk<K: Kernel>(bvh: &WideBvh, r: &K::Ray, t_max: f32, visit: &mut imp
                 break;
             }
         }
+    }
+}
+
+/// A deferred child is likely visited: starts its loads now.
+#[inline(always)]
+unsafe fn defer<K: Kernel>(bvh: &WideBvh, c: u32) {
+    if c & LEAF_BIT == 0 {
+        let at = bvh.nodes.as_ptr().add(c as usize) as *const u8;
+        K::prefetch(at, std::mem::size_of::<super::wide::Node8>());
+    } else {
+        let (first, count) = leaf_blocks(c);
+        let at = bvh.blocks.as_ptr().add(first) as *const u8;
+        K::prefetch(at, count * std::mem::size_of::<TriBlock>());
     }
 }
 
@@ -354,7 +389,7 @@ unsafe fn closest_with<K: Kernel>(
         r,
     };
     let mut v = ClosestVisit { test, best: None };
-    walk::<K>(bvh, &r, t_max, &mut v);
+    walk::<K, true>(bvh, &r, t_max, &mut v);
     v.best
 }
 
@@ -369,7 +404,7 @@ unsafe fn occluded_with<K: Kernel>(bvh: &WideBvh, scene: &Scene, ray: &Ray, t_ma
         r,
     };
     let mut v = OccludedVisit { test, hit: false };
-    walk::<K>(bvh, &r, t_max, &mut v);
+    walk::<K, false>(bvh, &r, t_max, &mut v);
     v.hit
 }
 

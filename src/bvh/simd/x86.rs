@@ -111,6 +111,16 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
     mask
 }
 
+/// Prefetches the cache lines of `at..at + bytes`.
+#[inline(always)]
+unsafe fn prefetch(at: *const u8, bytes: usize) {
+    let mut off = 0;
+    while off < bytes {
+        _mm_prefetch::<_MM_HINT_T0>(at.add(off) as *const i8);
+        off += 64;
+    }
+}
+
 /// Compacts the lanes of `mask` into `near` and `child`.
 #[inline(always)]
 fn compact(mask: u32, tn: &[f32; 8], node: &Node8, near: &mut [f32; 8], child: &mut [u32; 8]) -> usize {
@@ -178,6 +188,11 @@ impl Kernel for Sse2 {
             _mm_storeu_ps(tn.as_mut_ptr().add(4 * h), tnear);
         }
         compact(mask, &tn, node, near, child)
+    }
+
+    #[inline(always)]
+    unsafe fn prefetch(at: *const u8, bytes: usize) {
+        prefetch(at, bytes)
     }
 
     #[inline(always)]
@@ -272,6 +287,11 @@ impl Kernel for Avx2 {
     }
 
     #[inline(always)]
+    unsafe fn prefetch(at: *const u8, bytes: usize) {
+        prefetch(at, bytes)
+    }
+
+    #[inline(always)]
     unsafe fn block(b: &TriBlock, r: &Ray8, t_max: f32, out: &mut TriHits) -> u32 {
         block4(b, &r.tri, t_max, out)
     }
@@ -320,6 +340,11 @@ impl Kernel for Avx512 {
         child: &mut [u32; 8],
     ) -> usize {
         node_avx512(node, r, t_max, near, child)
+    }
+
+    #[inline(always)]
+    unsafe fn prefetch(at: *const u8, bytes: usize) {
+        prefetch(at, bytes)
     }
 
     #[inline(always)]
