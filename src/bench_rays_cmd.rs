@@ -27,30 +27,27 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
         t.elapsed().as_secs_f64(),
         args.runs,
     );
-    let ours = rays::our_tracers(&scene);
+    let ours = rays::our_tracers(&scene, 3);
     let prims = (scene.triangles.len() + scene.spheres.len()).max(1) as f64;
     let mut builds: Vec<String> = Vec::new();
     let mut json_builds = serde_json::Map::new();
-    {
-        use gpu_photon::bvh::{Bvh, WideBvh};
-        let bin = Bvh::build(&scene);
-        let bin_bytes = bin.nodes.len() * 32 + bin.prim_ids.len() * 4;
-        let wide = WideBvh::from_binary(&bin, &scene).memory_bytes();
-        let (bs, ws) = (ours[0].1, ours.get(1).map_or(0.0, |o| o.1));
-        builds.push(format!(
-            "binary {bs:.3} s, {:.0} B/prim; wide (binary + collapse) {ws:.3} s, {:.0} B/prim",
-            bin_bytes as f64 / prims,
-            wide as f64 / prims
-        ));
-        json_builds.insert("binary_s".into(), bs.into());
-        json_builds.insert("wide_s".into(), ws.into());
-        json_builds.insert("binary_bytes_per_prim".into(), (bin_bytes as f64 / prims).into());
-        json_builds.insert("wide_bytes_per_prim".into(), (wide as f64 / prims).into());
+    let mut report = |name: &str, c: &rays::BuildCost| {
+        // Embree's size is not asked for (0).
+        let size = match c.bytes {
+            0 => String::new(),
+            b => format!(", {:.0} B/prim", b as f64 / prims),
+        };
+        builds.push(format!("{name} {:.3} s ({:.3} s CPU){size}", c.wall_s, c.cpu_s));
+        let v = serde_json::json!({"wall_s": c.wall_s, "cpu_s": c.cpu_s, "bytes": c.bytes});
+        json_builds.insert(name.to_string(), v);
+    };
+    report("binary", &ours[0].1);
+    if let Some((_, c)) = ours.get(1) {
+        report("wide", c);
     }
-    #[allow(unused_mut)] // extended only with the embree feature
     let mut tracers: Vec<&dyn Tracer> = ours.iter().map(|(t, _)| t.as_ref()).collect();
     #[cfg(feature = "embree")]
-    let embree = embree_tracers(&scene, &mut builds, &mut json_builds);
+    let embree = embree_tracers(&scene, &mut report);
     #[cfg(feature = "embree")]
     tracers.extend(embree.iter().map(|t| t as &dyn Tracer));
     println!("build: {}", builds.join("; "));
@@ -85,18 +82,15 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
 #[cfg(feature = "embree")]
 fn embree_tracers(
     scene: &gpu_photon::scene::Scene,
-    builds: &mut Vec<String>,
-    json: &mut serde_json::Map<String, serde_json::Value>,
+    report: &mut impl FnMut(&str, &rays::BuildCost),
 ) -> Vec<gpu_photon::bench::embree::EmbreeTracer> {
     use gpu_photon::bench::embree::{EmbreeTracer, Quality};
     let mut out = Vec::new();
     for q in [Quality::Medium, Quality::High] {
-        let t = Instant::now();
-        match EmbreeTracer::new(scene, q) {
+        let (e, cost) = rays::timed(3, || EmbreeTracer::new(scene, q), |_| 0);
+        match e {
             Some(e) => {
-                let s = t.elapsed().as_secs_f64();
-                builds.push(format!("{} {s:.3} s (its own threads)", e.name()));
-                json.insert(format!("{}_s", e.name().replace(' ', "_")), s.into());
+                report(&e.name(), &cost);
                 out.push(e);
             }
             None => eprintln!("warning: Embree failed to build the scene ({q:?})"),

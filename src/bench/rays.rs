@@ -194,18 +194,51 @@ impl Tracer for WideTracer<'_> {
     }
 }
 
-/// Our tracers: the binary hierarchy and the wide one with each instruction set this CPU
-/// has (best first), with their build times in seconds.
-pub fn our_tracers(scene: &Scene) -> Vec<(Box<dyn Tracer + '_>, f64)> {
-    let t = Instant::now();
-    let bin = Bvh::build(scene);
-    let bin_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let wide = WideBvh::build(scene);
-    let wide_s = t.elapsed().as_secs_f64();
-    let mut out: Vec<(Box<dyn Tracer>, f64)> = vec![(Box::new(BinaryTracer(scene, bin)), bin_s)];
+/// How long a hierarchy took to build (medians of `runs` builds) and its size.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuildCost {
+    /// Wall-clock seconds.
+    pub wall_s: f64,
+    /// CPU seconds of the whole process (all threads).
+    pub cpu_s: f64,
+    /// Bytes of the hierarchy.
+    pub bytes: usize,
+}
+
+/// Builds with `build` `runs` times; returns the last result and the median costs.
+pub fn timed<T>(runs: usize, mut build: impl FnMut() -> T, bytes: impl Fn(&T) -> usize) -> (T, BuildCost) {
+    let (mut walls, mut cpus) = (Vec::new(), Vec::new());
+    let mut out = None;
+    for _ in 0..runs.max(1) {
+        let (w, c) = (Instant::now(), cpu_seconds(CpuClock::Process));
+        out = Some(build());
+        walls.push(w.elapsed().as_secs_f64());
+        cpus.push(cpu_seconds(CpuClock::Process) - c);
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let out = out.expect("one build at least");
+    let cost = BuildCost {
+        wall_s: median(walls),
+        cpu_s: median(cpus),
+        bytes: bytes(&out),
+    };
+    (out, cost)
+}
+
+/// Our tracers with their build costs (medians of `runs` builds): the binary hierarchy,
+/// then the wide one with each instruction set this CPU has, best first.
+pub fn our_tracers(scene: &Scene, runs: usize) -> Vec<(Box<dyn Tracer + '_>, BuildCost)> {
+    let (bin, bin_cost) = timed(runs, || Bvh::build(scene), |b| {
+        b.nodes.len() * std::mem::size_of::<crate::bvh::BvhNode>() + b.prim_ids.len() * 4
+    });
+    let (wide, wide_cost) = timed(runs, || WideBvh::build(scene), WideBvh::memory_bytes);
+    let mut out: Vec<(Box<dyn Tracer>, BuildCost)> =
+        vec![(Box::new(BinaryTracer(scene, bin)), bin_cost)];
     for isa in Isa::ALL.into_iter().rev().filter(|i| i.available()) {
-        out.push((Box::new(WideTracer(scene, wide.clone().with_isa(isa))), wide_s));
+        out.push((Box::new(WideTracer(scene, wide.clone().with_isa(isa))), wide_cost));
     }
     out
 }
@@ -237,9 +270,9 @@ pub fn measure(sets: &[RaySet], tracers: &[&dyn Tracer], rounds: usize) -> Vec<R
         let mut times = vec![Vec::new(); tracers.len()];
         for _ in 0..rounds.max(1) {
             for (i, t) in tracers.iter().enumerate() {
-                let start = thread_cpu_seconds();
+                let start = cpu_seconds(CpuClock::Thread);
                 let n = trace(*t, set);
-                times[i].push(thread_cpu_seconds() - start);
+                times[i].push(cpu_seconds(CpuClock::Thread) - start);
                 std::hint::black_box(n);
             }
         }
@@ -280,17 +313,30 @@ fn trace(t: &dyn Tracer, set: &RaySet) -> usize {
     }
 }
 
-/// The calling thread's CPU time in seconds (wall time where the platform has no such clock).
+/// Which CPU time [`cpu_seconds`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CpuClock {
+    /// The calling thread's.
+    Thread,
+    /// The whole process's (all threads).
+    Process,
+}
+
+/// CPU time in seconds (wall time where the platform has no such clock).
 #[allow(unsafe_code)]
-fn thread_cpu_seconds() -> f64 {
+pub fn cpu_seconds(clock: CpuClock) -> f64 {
     #[cfg(unix)]
     {
+        let id = match clock {
+            CpuClock::Thread => libc::CLOCK_THREAD_CPUTIME_ID,
+            CpuClock::Process => libc::CLOCK_PROCESS_CPUTIME_ID,
+        };
         let mut ts = libc::timespec {
             tv_sec: 0,
             tv_nsec: 0,
         };
         // SAFETY: clock_gettime writes one timespec, which lives on this stack frame.
-        if unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) } == 0 {
+        if unsafe { libc::clock_gettime(id, &mut ts) } == 0 {
             return ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9;
         }
     }

@@ -11,7 +11,7 @@ use super::wide::BLOCK;
 use super::{Bvh, BvhNode, MAX_DEPTH, SPHERE_BIT};
 use crate::math::geometry::Aabb;
 use crate::scene::Scene;
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec4};
 
 /// Bins per axis.
 const BINS: usize = 16;
@@ -26,63 +26,75 @@ const SAH_DEPTH: usize = MAX_DEPTH - 28;
 /// than 4 with larger leaves, on the 1M-triangle benchmark mesh).
 const NODE_COST: f32 = 3.0;
 
-/// One primitive's bounds and id (32 bytes).
+/// One primitive's bounds (32 bytes, two SSE registers on x86): `min.w` holds its id's bits
+/// plus [`ID_BIAS`] (a normal float, so that no arithmetic on the lane meets a denormal).
 #[derive(Clone, Copy, Debug)]
 struct Prim {
-    min: Vec3,
-    id: u32,
-    max: Vec3,
-    _pad: u32,
+    min: Vec4,
+    max: Vec4,
 }
 
 impl Prim {
-    /// Twice the centroid (the binning needs only ratios).
+    /// Twice the centroid (the binning needs only ratios); `w` is meaningless.
     #[inline(always)]
-    fn c2(&self) -> Vec3A {
-        Vec3A::from(self.min) + Vec3A::from(self.max)
+    fn c2(&self) -> Vec4 {
+        self.min + self.max
+    }
+    fn id(&self) -> u32 {
+        self.min.w.to_bits() - ID_BIAS
     }
 }
 
-/// Bounds and centroid bounds (doubled) of a range of primitives.
+/// Added to an id's bits in `Prim::min.w`: the smallest normal float's.
+const ID_BIAS: u32 = 0x0080_0000;
+
+/// Bounds and centroid bounds (doubled) of a range of primitives (`w` lanes meaningless).
 #[derive(Clone, Copy, Debug)]
 struct Extent {
-    bounds: Aabb,
-    cmin: Vec3A,
-    cmax: Vec3A,
+    min: Vec4,
+    max: Vec4,
+    cmin: Vec4,
+    cmax: Vec4,
 }
 
 impl Extent {
     const EMPTY: Extent = Extent {
-        bounds: Aabb::EMPTY,
-        cmin: Vec3A::splat(f32::INFINITY),
-        cmax: Vec3A::splat(f32::NEG_INFINITY),
+        min: Vec4::INFINITY,
+        max: Vec4::NEG_INFINITY,
+        cmin: Vec4::INFINITY,
+        cmax: Vec4::NEG_INFINITY,
     };
     #[inline(always)]
     fn grow(&mut self, p: &Prim) {
-        self.bounds = self.bounds.union(Aabb {
-            min: p.min,
-            max: p.max,
-        });
+        self.min = self.min.min(p.min);
+        self.max = self.max.max(p.max);
         let c = p.c2();
         self.cmin = self.cmin.min(c);
         self.cmax = self.cmax.max(c);
     }
+    fn half_area(&self) -> f32 {
+        half_area(self.min, self.max)
+    }
+}
+
+/// Half the surface area of the box `lo..hi` (0 when empty).
+#[inline(always)]
+fn half_area(lo: Vec4, hi: Vec4) -> f32 {
+    let d = (hi - lo).max(Vec4::ZERO);
+    d.x * d.y + d.y * d.z + d.z * d.x
 }
 
 /// The binary tree over every triangle and sphere of `scene` for the wide hierarchy.
 pub fn build(scene: &Scene) -> Bvh {
-    let mut prims: Vec<Prim> = Vec::with_capacity(scene.triangles.len() + scene.spheres.len());
     let boxes = (scene.triangles.iter().map(Aabb::of_triangle))
         .zip(0u32..)
         .chain((scene.spheres.iter().map(Aabb::of_sphere)).zip((0u32..).map(|i| i | SPHERE_BIT)));
-    for (b, id) in boxes {
-        prims.push(Prim {
-            min: b.min,
-            id,
-            max: b.max,
-            _pad: 0,
-        });
-    }
+    let prims: Vec<Prim> = boxes
+        .map(|(b, id)| Prim {
+            min: b.min.extend(f32::from_bits(id + ID_BIAS)),
+            max: b.max.extend(0.0),
+        })
+        .collect();
     let alpha = scene.materials.iter().any(|m| m.alpha.is_some());
     if prims.is_empty() {
         return Bvh {
@@ -90,13 +102,14 @@ pub fn build(scene: &Scene) -> Bvh {
             ..Bvh::build(scene)
         };
     }
+    let mut prims = prims;
     let mut extent = Extent::EMPTY;
     prims.iter().for_each(|p| extent.grow(p));
     let mut nodes = Vec::with_capacity(prims.len() / 2);
     subtree(&mut prims, 0, 1, extent, &mut nodes);
     Bvh {
         nodes,
-        prim_ids: prims.iter().map(|p| p.id).collect(),
+        prim_ids: prims.iter().map(Prim::id).collect(),
         alpha,
     }
 }
@@ -105,8 +118,8 @@ pub fn build(scene: &Scene) -> Bvh {
 fn subtree(prims: &mut [Prim], offset: usize, depth: usize, e: Extent, out: &mut Vec<BvhNode>) {
     let idx = out.len();
     out.push(BvhNode {
-        bmin: e.bounds.min.to_array(),
-        bmax: e.bounds.max.to_array(),
+        bmin: e.min.truncate().to_array(),
+        bmax: e.max.truncate().to_array(),
         left_first: offset as u32,
         count: prims.len() as u32,
     });
@@ -168,49 +181,46 @@ fn blocks(n: usize) -> f32 {
 /// The binned SAH split of `prims` (reordered): the split position and both sides'
 /// extents, or `None` when a leaf is cheaper or the centroids do not spread.
 fn sah_split(prims: &mut [Prim], e: &Extent) -> Option<(usize, Extent, Extent)> {
-    let extent = e.cmax - e.cmin;
-    let scale = Vec3A::select(
-        extent.cmpgt(Vec3A::ZERO),
-        Vec3A::splat(BINS as f32 * (1.0 - f32::EPSILON)) / extent,
-        Vec3A::ZERO,
+    let extent = (e.cmax - e.cmin).truncate();
+    let scale = Vec3::select(
+        extent.cmpgt(Vec3::ZERO),
+        Vec3::splat(BINS as f32 * (1.0 - f32::EPSILON)) / extent,
+        Vec3::ZERO,
     );
-    if scale == Vec3A::ZERO || !scale.is_finite() {
+    if scale == Vec3::ZERO || !scale.is_finite() {
         return None;
     }
+    let (scale, cmin) = (scale.extend(0.0), e.cmin);
     let bin_of = |p: &Prim| -> [usize; 3] {
-        let b = ((p.c2() - e.cmin) * scale).as_uvec3();
+        let b = ((p.c2() - cmin) * scale).as_uvec4();
         [b.x as usize, b.y as usize, b.z as usize].map(|i| i.min(BINS - 1))
     };
-    let mut lo = [[Vec3A::splat(f32::INFINITY); BINS]; 3];
-    let mut hi = [[Vec3A::splat(f32::NEG_INFINITY); BINS]; 3];
+    let mut lo = [[Vec4::INFINITY; BINS]; 3];
+    let mut hi = [[Vec4::NEG_INFINITY; BINS]; 3];
     let mut count = [[0u32; BINS]; 3];
     for p in prims.iter() {
-        let (pmin, pmax) = (Vec3A::from(p.min), Vec3A::from(p.max));
         let b = bin_of(p);
         for a in 0..3 {
-            lo[a][b[a]] = lo[a][b[a]].min(pmin);
-            hi[a][b[a]] = hi[a][b[a]].max(pmax);
+            lo[a][b[a]] = lo[a][b[a]].min(p.min);
+            hi[a][b[a]] = hi[a][b[a]].max(p.max);
             count[a][b[a]] += 1;
         }
     }
-    let area = |lo: Vec3A, hi: Vec3A| {
-        let d = (hi - lo).max(Vec3A::ZERO);
-        d.x * d.y + d.y * d.z + d.z * d.x
-    };
+    let area = half_area;
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, first right bin)
     for a in 0..3 {
         if scale[a] == 0.0 {
             continue;
         }
         let mut right_cost = [0.0f32; BINS];
-        let (mut l, mut h, mut n) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY, 0usize);
+        let (mut l, mut h, mut n) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0usize);
         for i in (1..BINS).rev() {
             l = l.min(lo[a][i]);
             h = h.max(hi[a][i]);
             n += count[a][i] as usize;
             right_cost[i] = area(l, h) * blocks(n);
         }
-        let (mut l, mut h, mut n) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY, 0usize);
+        let (mut l, mut h, mut n) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0usize);
         for i in 0..BINS - 1 {
             l = l.min(lo[a][i]);
             h = h.max(hi[a][i]);
@@ -225,7 +235,7 @@ fn sah_split(prims: &mut [Prim], e: &Extent) -> Option<(usize, Extent, Extent)> 
         }
     }
     let (cost, axis, split) = best?;
-    let parent = e.bounds.half_area();
+    let parent = e.half_area();
     if prims.len() <= MAX_LEAF && parent > 0.0 && NODE_COST + cost / parent >= blocks(prims.len())
     {
         return None;

@@ -17,6 +17,8 @@ struct Collapse<'a> {
     scene: &'a Scene,
     /// Primitives under each binary node.
     count: Vec<u32>,
+    /// Each block's primitives: (first index into `bin.prim_ids`, how many).
+    sources: Vec<(u32, u32)>,
     out: WideBvh,
 }
 
@@ -37,9 +39,10 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
         bin,
         scene,
         count,
+        sources: Vec::with_capacity(n / 2 + 1),
         out: WideBvh {
             nodes: Vec::with_capacity(n / 4 + 1),
-            blocks: Vec::with_capacity(n / 2 + 1),
+            blocks: Vec::new(),
             alpha: bin.alpha,
             isa: super::simd::Isa::detect(),
         },
@@ -53,7 +56,37 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
             c.interior(0, 0);
         }
     }
+    // The blocks' contents, in parallel (their triangles are read in tree order, not
+    // the scene's: mostly cache misses).
+    use rayon::prelude::*;
+    let (ids, scene) = (&bin.prim_ids, scene);
+    c.out.blocks = (c.sources.par_iter())
+        .map(|&(first, n)| block(scene, &ids[first as usize..(first + n) as usize]))
+        .collect();
     c.out
+}
+
+/// The block of primitives `ids` of `scene`.
+fn block(scene: &Scene, ids: &[u32]) -> TriBlock {
+    let mut block = TriBlock {
+        id: [NO_PRIM; BLOCK],
+        ..TriBlock::default()
+    };
+    for (lane, &id) in ids.iter().enumerate() {
+        block.id[lane] = id;
+        if id & SPHERE_BIT != 0 {
+            continue;
+        }
+        let t = &scene.triangles[id as usize];
+        let n = t.e1().cross(t.e2());
+        for axis in 0..3 {
+            block.v0[axis][lane] = t.v0[axis];
+            block.v1[axis][lane] = t.v1[axis];
+            block.v2[axis][lane] = t.v2[axis];
+            block.n[axis][lane] = n[axis];
+        }
+    }
+    block
 }
 
 fn node_box(n: &BvhNode) -> Aabb {
@@ -122,7 +155,7 @@ impl Collapse<'_> {
         let ids = &self.bin.prim_ids[start..start + self.count[i] as usize];
         let max = MAX_LEAF_BLOCKS * BLOCK;
         if ids.len() <= max {
-            return self.blocks(ids);
+            return self.blocks(start, ids.len());
         }
         // Larger than a leaf can be: a node of leaves (by index) instead.
         assert!(ids.len() <= WIDTH * max, "a leaf of {} primitives", ids.len());
@@ -132,35 +165,20 @@ impl Collapse<'_> {
             let b = (chunk.iter())
                 .map(|&id| prim_box(self.scene, id))
                 .fold(Aabb::EMPTY, Aabb::union);
-            let child = self.blocks(chunk);
+            let child = self.blocks(start + slot * max, chunk.len());
             set_child(&mut self.out.nodes[at], slot, b, child);
         }
         at as u32
     }
 
-    /// Packs `ids` (at most `MAX_LEAF_BLOCKS` blocks' worth) into blocks; returns the leaf
-    /// reference.
-    fn blocks(&mut self, ids: &[u32]) -> u32 {
-        let first = self.out.blocks.len();
-        for chunk in ids.chunks(BLOCK) {
-            let mut block = empty_block();
-            for (lane, &id) in chunk.iter().enumerate() {
-                block.id[lane] = id;
-                if id & SPHERE_BIT != 0 {
-                    continue;
-                }
-                let t = &self.scene.triangles[id as usize];
-                let n = t.e1().cross(t.e2());
-                for axis in 0..3 {
-                    block.v0[axis][lane] = t.v0[axis];
-                    block.v1[axis][lane] = t.v1[axis];
-                    block.v2[axis][lane] = t.v2[axis];
-                    block.n[axis][lane] = n[axis];
-                }
-            }
-            self.out.blocks.push(block);
+    /// Blocks for the `n` primitives at `start` in `prim_ids` (at most `MAX_LEAF_BLOCKS`
+    /// blocks' worth; filled at the end); returns the leaf reference.
+    fn blocks(&mut self, start: usize, n: usize) -> u32 {
+        let first = self.sources.len();
+        for s in (start..start + n).step_by(BLOCK) {
+            self.sources.push((s as u32, (start + n - s).min(BLOCK) as u32));
         }
-        let count = (self.out.blocks.len() - first) as u32;
+        let count = (self.sources.len() - first) as u32;
         let r = LEAF_BIT | ((count - 1) << LEAF_COUNT_SHIFT) | first as u32;
         debug_assert_eq!(leaf_blocks(r), (first, count as usize));
         r
@@ -172,13 +190,6 @@ fn prim_box(scene: &Scene, id: u32) -> Aabb {
     match id & SPHERE_BIT {
         0 => Aabb::of_triangle(&scene.triangles[id as usize]),
         _ => Aabb::of_sphere(&scene.spheres[(id & !SPHERE_BIT) as usize]),
-    }
-}
-
-fn empty_block() -> TriBlock {
-    TriBlock {
-        id: [NO_PRIM; BLOCK],
-        ..TriBlock::default()
     }
 }
 
