@@ -111,13 +111,13 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
     mask
 }
 
-/// Prefetches the cache lines of `at..at + bytes`.
+/// Prefetches the cache lines of `at..at + bytes` (at most four).
 #[inline(always)]
 unsafe fn prefetch(at: *const u8, bytes: usize) {
-    let mut off = 0;
-    while off < bytes {
-        _mm_prefetch::<_MM_HINT_T0>(at.add(off) as *const i8);
-        off += 64;
+    for line in 0..4 {
+        if line * 64 < bytes {
+            _mm_prefetch::<_MM_HINT_T0>(at.add(line * 64) as *const i8);
+        }
     }
 }
 
