@@ -135,31 +135,57 @@ fn compact(mask: u32, tn: &[f32; 8], node: &Node8, near: &mut [f32; 8], child: &
     k
 }
 
+/// What every x86 kernel does alike: prefetch, and the block test in SSE registers.
+macro_rules! x86_kernel_methods {
+    ($ray:ty) => {
+        #[inline(always)]
+        unsafe fn prefetch(at: *const u8, bytes: usize) {
+            prefetch(at, bytes)
+        }
+
+        #[inline(always)]
+        unsafe fn block(b: &TriBlock, r: &$ray, t_max: f32, out: &mut TriHits) -> u32 {
+            block4(b, &r.tri, t_max, out)
+        }
+    };
+}
+
 /// Two 4-lane halves per node.
 pub(super) struct Sse2;
 
-/// A ray splatted into 4-lane registers.
+/// A ray splatted into registers of lanes `V` for the box tests.
 #[derive(Clone, Copy)]
-pub(super) struct Ray4 {
-    o: [__m128; 3],
-    inv: [__m128; 3],
+pub(super) struct RayN<V> {
+    o: [V; 3],
+    inv: [V; 3],
     near_row: [usize; 3],
     far_row: [usize; 3],
     tri: TriRay,
 }
+
+/// The ray `p` with its origin and inverse direction splatted by `splat`.
+#[inline(always)]
+unsafe fn ray_n<V>(p: &Prepared, splat: impl Fn(f32) -> V) -> RayN<V> {
+    RayN {
+        o: p.o.map(&splat),
+        inv: p.inv.map(&splat),
+        near_row: p.near_row,
+        far_row: p.far_row,
+        tri: tri_ray(p),
+    }
+}
+
+/// A ray splatted into 4-lane registers.
+pub(super) type Ray4 = RayN<__m128>;
+/// A ray splatted into 8-lane registers.
+pub(super) type Ray8 = RayN<__m256>;
 
 impl Kernel for Sse2 {
     type Ray = Ray4;
 
     #[inline(always)]
     unsafe fn ray(p: &Prepared) -> Ray4 {
-        Ray4 {
-            o: p.o.map(|v| _mm_set1_ps(v)),
-            inv: p.inv.map(|v| _mm_set1_ps(v)),
-            near_row: p.near_row,
-            far_row: p.far_row,
-            tri: tri_ray(p),
-        }
+        ray_n(p, |v| _mm_set1_ps(v))
     }
 
     #[inline(always)]
@@ -190,36 +216,7 @@ impl Kernel for Sse2 {
         compact(mask, &tn, node, near, child)
     }
 
-    #[inline(always)]
-    unsafe fn prefetch(at: *const u8, bytes: usize) {
-        prefetch(at, bytes)
-    }
-
-    #[inline(always)]
-    unsafe fn block(b: &TriBlock, r: &Ray4, t_max: f32, out: &mut TriHits) -> u32 {
-        block4(b, &r.tri, t_max, out)
-    }
-}
-
-/// A ray splatted into 8-lane registers.
-#[derive(Clone, Copy)]
-pub(super) struct Ray8 {
-    o: [__m256; 3],
-    inv: [__m256; 3],
-    near_row: [usize; 3],
-    far_row: [usize; 3],
-    tri: TriRay,
-}
-
-#[inline(always)]
-unsafe fn ray8(p: &Prepared) -> Ray8 {
-    Ray8 {
-        o: p.o.map(|v| _mm256_set1_ps(v)),
-        inv: p.inv.map(|v| _mm256_set1_ps(v)),
-        near_row: p.near_row,
-        far_row: p.far_row,
-        tri: tri_ray(p),
-    }
+    x86_kernel_methods!(Ray4);
 }
 
 /// Entry and exit distances of the eight boxes of `node` (always inlined into the AVX2
@@ -264,39 +261,6 @@ unsafe fn node_avx2(
     compact(mask, &tn, node, near, child)
 }
 
-/// One 8-lane register per node.
-pub(super) struct Avx2;
-
-impl Kernel for Avx2 {
-    type Ray = Ray8;
-
-    #[inline(always)]
-    unsafe fn ray(p: &Prepared) -> Ray8 {
-        ray8(p)
-    }
-
-    #[inline(always)]
-    unsafe fn node(
-        node: &Node8,
-        r: &Ray8,
-        t_max: f32,
-        near: &mut [f32; 8],
-        child: &mut [u32; 8],
-    ) -> usize {
-        node_avx2(node, r, t_max, near, child)
-    }
-
-    #[inline(always)]
-    unsafe fn prefetch(at: *const u8, bytes: usize) {
-        prefetch(at, bytes)
-    }
-
-    #[inline(always)]
-    unsafe fn block(b: &TriBlock, r: &Ray8, t_max: f32, out: &mut TriHits) -> u32 {
-        block4(b, &r.tri, t_max, out)
-    }
-}
-
 #[inline(always)]
 unsafe fn node_avx512(
     node: &Node8,
@@ -320,15 +284,16 @@ unsafe fn node_avx512(
     mask.count_ones() as usize
 }
 
-/// 8 lanes with mask registers and compress.
-pub(super) struct Avx512;
+/// One 8-lane register per node: AVX2's movemask (`MASKS` false) or AVX-512's mask compare
+/// and compress.
+pub(super) struct Lanes8<const MASKS: bool>;
 
-impl Kernel for Avx512 {
+impl<const MASKS: bool> Kernel for Lanes8<MASKS> {
     type Ray = Ray8;
 
     #[inline(always)]
     unsafe fn ray(p: &Prepared) -> Ray8 {
-        ray8(p)
+        ray_n(p, |v| _mm256_set1_ps(v))
     }
 
     #[inline(always)]
@@ -339,25 +304,20 @@ impl Kernel for Avx512 {
         near: &mut [f32; 8],
         child: &mut [u32; 8],
     ) -> usize {
-        node_avx512(node, r, t_max, near, child)
+        match MASKS {
+            true => node_avx512(node, r, t_max, near, child),
+            false => node_avx2(node, r, t_max, near, child),
+        }
     }
 
-    #[inline(always)]
-    unsafe fn prefetch(at: *const u8, bytes: usize) {
-        prefetch(at, bytes)
-    }
-
-    #[inline(always)]
-    unsafe fn block(b: &TriBlock, r: &Ray8, t_max: f32, out: &mut TriHits) -> u32 {
-        block4(b, &r.tri, t_max, out)
-    }
+    x86_kernel_methods!(Ray8);
 }
 
 entry_points!(closest_sse2, occluded_sse2, Sse2,);
-entry_points!(closest_avx2, occluded_avx2, Avx2, #[target_feature(enable = "avx2")]);
+entry_points!(closest_avx2, occluded_avx2, Lanes8<false>, #[target_feature(enable = "avx2")]);
 entry_points!(
     closest_avx512,
     occluded_avx512,
-    Avx512,
+    Lanes8<true>,
     #[target_feature(enable = "avx512f,avx512vl,avx2")]
 );
