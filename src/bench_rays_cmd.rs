@@ -45,6 +45,7 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
     if let Some((_, c)) = ours.get(1) {
         report("wide", c);
     }
+    #[allow(unused_mut)] // extended only with the embree feature
     let mut tracers: Vec<&dyn Tracer> = ours.iter().map(|(t, _)| t.as_ref()).collect();
     #[cfg(feature = "embree")]
     let embree = embree_tracers(&scene, &mut report);

@@ -7,7 +7,7 @@
 //! The result has [`Bvh`]'s layout (depth-first, left child next), for
 //! `build_wide::collapse`; the GPU's hierarchy keeps `Bvh::build_with`.
 
-use super::wide::BLOCK;
+use super::wide_layout::BLOCK;
 use super::{Bvh, BvhNode, MAX_DEPTH, SPHERE_BIT};
 use crate::math::geometry::Aabb;
 use crate::scene::Scene;

@@ -2,8 +2,8 @@
 //! two children and keeps opening the largest (by surface area) until it has eight; a
 //! subtree of at most [`LEAF_PRIMS`] primitives becomes one leaf (its triangles one block).
 
-use super::wide::{leaf_blocks, Node8, TriBlock, WideBvh};
-use super::wide::{BLOCK, LEAF_BIT, LEAF_COUNT_SHIFT, MAX_LEAF_BLOCKS, NO_PRIM, WIDTH};
+use super::wide_layout::{leaf_blocks, Node8, TriBlock, WideBvh};
+use super::wide_layout::{BLOCK, LEAF_BIT, LEAF_COUNT_SHIFT, MAX_LEAF_BLOCKS, NO_PRIM, WIDTH};
 use super::{Bvh, BvhNode, SPHERE_BIT};
 use crate::math::geometry::Aabb;
 use crate::scene::Scene;
@@ -44,7 +44,7 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
             nodes: Vec::with_capacity(n / 4 + 1),
             blocks: Vec::new(),
             alpha: bin.alpha,
-            isa: super::simd::Isa::detect(),
+            isa: super::isa::Isa::detect(),
         },
     };
     c.out.nodes.push(Node8::EMPTY);
@@ -196,7 +196,7 @@ fn prim_box(scene: &Scene, id: u32) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bvh::wide::EMPTY;
+    use crate::bvh::wide_layout::EMPTY;
     use crate::scene::Triangle;
 
     #[test]
@@ -213,7 +213,7 @@ mod tests {
             let c = a + Vec3::new(r(), r(), r()) * 0.1;
             scene.triangles.push(Triangle::new(a, b, c, 0));
         }
-        let w = WideBvh::build(&scene);
+        let w = crate::bvh::WideBvh::build(&scene);
         let mut seen = vec![0; 1000];
         fn walk(w: &WideBvh, scene: &Scene, node: usize, b: Option<Aabb>, seen: &mut [u32]) {
             let n = &w.nodes[node];

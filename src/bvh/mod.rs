@@ -17,13 +17,15 @@ use glam::Vec3;
 mod build_binned;
 mod build_wide;
 pub mod hit;
+mod isa;
 // std::arch intrinsics and the run-time choice between them.
 #[allow(unsafe_code)]
 mod simd;
 mod surface;
 pub mod wide;
+mod wide_layout;
 pub use hit::Hit;
-pub use simd::Isa;
+pub use isa::Isa;
 pub use surface::{alpha_passes, alpha_test, uv_tangent};
 pub use wide::WideBvh;
 

@@ -12,67 +12,12 @@ mod scalar;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
-use super::wide::{leaf_blocks, Closest, TriBlock, WideBvh, LEAF_BIT};
+pub use super::isa::Isa;
+use super::wide_layout::{leaf_blocks, Closest, TriBlock, WideBvh, LEAF_BIT};
 use super::{alpha_passes, SPHERE_BIT};
 use crate::math::geometry::{intersect_sphere, Ray, Shear};
 use crate::scene::Scene;
 use std::mem::MaybeUninit;
-
-/// An instruction set the walks are compiled for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Isa {
-    /// Portable Rust, one lane at a time.
-    Scalar,
-    /// x86-64's baseline: two 4-lane halves per node.
-    Sse2,
-    /// 8 lanes per node.
-    Avx2,
-    /// 8 lanes with mask registers and compress.
-    Avx512,
-}
-
-impl Isa {
-    /// Every instruction set, best last.
-    pub const ALL: [Isa; 4] = [Isa::Scalar, Isa::Sse2, Isa::Avx2, Isa::Avx512];
-
-    /// The best this CPU has.
-    pub fn detect() -> Isa {
-        Self::ALL
-            .into_iter()
-            .rev()
-            .find(|i| i.available())
-            .unwrap_or(Isa::Scalar)
-    }
-
-    /// Whether this CPU can run it.
-    pub fn available(self) -> bool {
-        match self {
-            Isa::Scalar => true,
-            #[cfg(target_arch = "x86_64")]
-            Isa::Sse2 => true,
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => {
-                std::arch::is_x86_feature_detected!("avx512f")
-                    && std::arch::is_x86_feature_detected!("avx512vl")
-                    && std::arch::is_x86_feature_detected!("avx2")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => false,
-        }
-    }
-
-    /// Its name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Isa::Scalar => "scalar",
-            Isa::Sse2 => "sse2",
-            Isa::Avx2 => "avx2",
-            Isa::Avx512 => "avx512",
-        }
-    }
-}
 
 /// What a walk needs of a ray, computed once.
 #[derive(Clone, Copy, Debug)]
@@ -137,7 +82,7 @@ pub(super) trait Kernel {
     /// The children of `node` whose boxes the ray enters before `t_max`, compacted into
     /// `near` (entry distance) and `child`; returns how many.
     unsafe fn node(
-        node: &super::wide::Node8,
+        node: &super::wide_layout::Node8,
         r: &Self::Ray,
         t_max: f32,
         near: &mut [f32; 8],
@@ -149,7 +94,7 @@ pub(super) trait Kernel {
     unsafe fn prefetch(_at: *const u8, _bytes: usize) {}
     /// The lanes of `block` hit in (0, t_max) as a bit mask; fills `out` when any.
     unsafe fn block(
-        block: &super::wide::TriBlock,
+        block: &super::wide_layout::TriBlock,
         r: &Self::Ray,
         t_max: f32,
         out: &mut TriHits,
@@ -255,7 +200,7 @@ unsafe fn walk<K: Kernel, const NEAR_FIRST: bool>(
 unsafe fn defer<K: Kernel>(bvh: &WideBvh, c: u32) {
     if c & LEAF_BIT == 0 {
         let at = bvh.nodes.as_ptr().add(c as usize) as *const u8;
-        K::prefetch(at, std::mem::size_of::<super::wide::Node8>());
+        K::prefetch(at, std::mem::size_of::<super::wide_layout::Node8>());
     } else {
         // The first block (a leaf's further blocks follow it in memory).
         let at = bvh.blocks.as_ptr().add(leaf_blocks(c).0) as *const u8;
@@ -412,16 +357,16 @@ macro_rules! entry_points {
     ($closest:ident, $occluded:ident, $kernel:ty, $($feature:tt)*) => {
         $($feature)*
         pub(super) unsafe fn $closest(
-            bvh: &crate::bvh::wide::WideBvh,
+            bvh: &crate::bvh::wide_layout::WideBvh,
             scene: &crate::scene::Scene,
             ray: &crate::math::geometry::Ray,
             t_max: f32,
-        ) -> Option<crate::bvh::wide::Closest> {
+        ) -> Option<crate::bvh::wide_layout::Closest> {
             crate::bvh::simd::closest_with::<$kernel>(bvh, scene, ray, t_max)
         }
         $($feature)*
         pub(super) unsafe fn $occluded(
-            bvh: &crate::bvh::wide::WideBvh,
+            bvh: &crate::bvh::wide_layout::WideBvh,
             scene: &crate::scene::Scene,
             ray: &crate::math::geometry::Ray,
             t_max: f32,

@@ -2,7 +2,7 @@
 //! fallback off x86-64, and their reference in tests).
 
 use super::{entry_points, Kernel, Prepared, TriHits};
-use crate::bvh::wide::{Node8, TriBlock, BLOCK, WIDTH};
+use crate::bvh::wide_layout::{Node8, TriBlock, BLOCK, WIDTH};
 use crate::math::geometry::BOX_SLACK;
 
 /// The portable kernel.

@@ -7,7 +7,7 @@
 //! run under (LLVM declines to inline a `#[target_feature]` helper as large as a node test).
 
 use super::{entry_points, Kernel, Prepared, TriHits};
-use crate::bvh::wide::{Node8, TriBlock};
+use crate::bvh::wide_layout::{Node8, TriBlock};
 use crate::math::geometry::BOX_SLACK;
 use std::arch::x86_64::*;
 
