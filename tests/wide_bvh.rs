@@ -168,7 +168,7 @@ fn wide_hits_what_the_binary_hierarchy_hits_on_the_example_scenes() {
         "scenes/mesh-light.toml",
         "scenes/mitsuba/materials.xml",
     ] {
-        let scene = gpu_photon::scene::load(&root.join(name)).expect(name);
+        let scene = gpu_photon::importers::load(&root.join(name)).expect(name);
         let hits = check(name, &scene, &rays(&scene, 4000, 9));
         assert!(hits > 1000, "{name}: {hits} hits");
     }
