@@ -7,6 +7,9 @@ use gpu_photon::{Image, Mode, RenderSettings, Scene};
 
 pub(crate) fn run_bench(args: &BenchArgs) -> Result<()> {
     use gpu_photon::bench::{self, BenchBackends};
+    if args.rays {
+        return crate::bench_rays_cmd::run(args);
+    }
     let scene = Scene::load(&args.scene)?;
     print_warnings(scene.warnings());
     let sizes = (args.photons, args.spp, args.width, args.height);

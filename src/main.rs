@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 mod bench_cmd;
+mod bench_rays_cmd;
 mod signals;
 
 #[derive(Parser)]
@@ -97,6 +98,14 @@ pub(crate) struct BenchArgs {
     /// name, driver, limits and subgroup size.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// Ray throughput instead: the renderer's camera, shadow, gather and photon rays at
+    /// --width x --height, traced one thread by our BVHs (and Embree when built with the
+    /// `embree` feature), in rays per second per core.
+    #[arg(long)]
+    rays: bool,
+    /// With --rays: add a generated displaced sphere of about N triangles to the scene.
+    #[arg(long, value_name = "N")]
+    mesh: Option<usize>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

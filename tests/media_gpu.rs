@@ -12,7 +12,7 @@ mod probes;
 
 use common::gpu;
 use glam::{Vec2, Vec3};
-use gpu_photon::bvh::{Bvh, Hit};
+use gpu_photon::bvh::{CpuBvh, Hit};
 use gpu_photon::integrators::cpu::cache::is_cache_point;
 use gpu_photon::integrators::cpu::media::{light_medium, medium_after};
 use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext, Traced};
@@ -290,7 +290,7 @@ fn cell_case(r: &mut common::TestRng, i: usize) -> ([f32; 3], [f32; 3], f32) {
 
 /// The CPU's traced photons of the plan's global map (and its volume photons).
 fn cpu_trace(scene: &Scene, s: &RenderSettings) -> Traced {
-    let (bvh, lights) = (Bvh::build(scene), LightTable::new(scene));
+    let (bvh, lights) = (CpuBvh::build(scene), LightTable::new(scene));
     let plan = MapPlan::new(scene, &lights, s);
     let ctx = TraceContext {
         scene,

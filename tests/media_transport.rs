@@ -10,7 +10,7 @@ mod common;
 mod probes;
 
 use glam::Vec3;
-use gpu_photon::bvh::Bvh;
+use gpu_photon::bvh::CpuBvh;
 use gpu_photon::integrators::cpu::media::{self, transmittance};
 use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext};
 use gpu_photon::lights::table::LightTable;
@@ -95,7 +95,7 @@ fn single_scattering(c: usize) -> f64 {
 #[test]
 fn transmittance_through_a_slab_is_beer_lambert() {
     let scene = slab(10.0);
-    let bvh = Bvh::build(&scene);
+    let bvh = CpuBvh::build(&scene);
     // From the camera's side, through both faces, to well beyond the slab.
     let tr = transmittance(
         &scene,
@@ -286,7 +286,7 @@ fn balance(scene: &Scene) -> (f64, f64, f64) {
         photons: 200_000,
         ..scene.settings.clone()
     };
-    let (bvh, lights) = (Bvh::build(scene), LightTable::new(scene));
+    let (bvh, lights) = (CpuBvh::build(scene), LightTable::new(scene));
     let plan = MapPlan::new(scene, &lights, &s);
     let ctx = TraceContext {
         scene,
@@ -358,7 +358,7 @@ intensity = [{intensity}, {intensity}, {intensity}]
         SIGMA_T[0], SIGMA_T[1], SIGMA_T[2], y.x, y.y, y.z
     );
     let scene = load_str(&text, "point.toml", Path::new(".")).expect("the scene loads");
-    let (bvh, lights) = (Bvh::build(&scene), LightTable::new(&scene));
+    let (bvh, lights) = (CpuBvh::build(&scene), LightTable::new(&scene));
     let (o, d) = (
         Vec3::new(0.0, 0.0, 1.0),
         Vec3::new(0.1, 0.0, -1.0).normalize(),

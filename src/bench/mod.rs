@@ -4,9 +4,14 @@
 //! when a GPU failure only skips the GPU, and how a missing reference is rendered.
 
 pub mod curve;
+#[cfg(feature = "embree")]
+#[allow(unsafe_code)]
+pub mod embree;
 pub mod ladder;
+pub mod mesh;
 pub mod peer;
 pub mod plot;
+pub mod rays;
 
 pub use curve::{curve_csv, progressive_curve, CurvePoint};
 pub use ladder::{ladder, ladder_csv, plot_title, reference_settings, LadderRow, LADDER};

@@ -14,10 +14,23 @@ use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+mod build_binned;
+mod build_wide;
 pub mod hit;
+mod isa;
+// std::arch intrinsics and the run-time choice between them.
+#[allow(unsafe_code)]
+mod simd;
 mod surface;
+pub mod wide;
+mod wide_layout;
 pub use hit::Hit;
+pub use isa::Isa;
 pub use surface::{alpha_passes, alpha_test, uv_tangent};
+pub use wide::WideBvh;
+
+/// The hierarchy the CPU backend traces: the 8-wide one.
+pub type CpuBvh = WideBvh;
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
@@ -167,6 +180,13 @@ impl Bvh {
 
     /// Nearest hit along `ray` before `t_max`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (id, t, u, v) = self.closest(scene, ray, t_max)?;
+        Some(surface::hit_at(scene, ray, id, t, u, v))
+    }
+
+    /// The nearest hit along `ray` before `t_max` as (primitive id, `t`, barycentric `u`,
+    /// `v`), without assembling the surface.
+    pub fn closest(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<wide::Closest> {
         let mut best_t = t_max;
         let mut best: Option<(u32, f32, f32)> = None; // (prim id, u, v)
         let shear = Shear::new(ray.dir);
@@ -199,7 +219,7 @@ impl Bvh {
             t_max,
         );
         let (id, u, v) = best?;
-        Some(surface::hit_at(scene, ray, id, best_t, u, v))
+        Some((id, best_t, u, v))
     }
 
     /// Whether anything blocks `ray` before `t_max`.

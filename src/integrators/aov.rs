@@ -19,7 +19,7 @@
 //! and the pixel. Both the Blender add-on and `gpu-photon render --aov` use it.
 
 use crate::bsdfs::shading::{bsdf_at, escape, DeltaEvent, SurfaceClass};
-use crate::bvh::Bvh;
+use crate::bvh::CpuBvh;
 use crate::error::{Error, Result};
 use crate::math::geometry::{offset_origin, Facing, Ray};
 use crate::math::rng::{Rng, Stream};
@@ -86,7 +86,7 @@ struct Features {
 }
 
 /// The features seen along the camera ray `ray` (module documentation).
-fn trace(scene: &Scene, bvh: &Bvh, mut ray: Ray, rng: &mut Rng, s: &RenderSettings) -> Features {
+fn trace(scene: &Scene, bvh: &CpuBvh, mut ray: Ray, rng: &mut Rng, s: &RenderSettings) -> Features {
     let mut throughput = Vec3::ONE;
     let mut albedo = Vec3::ZERO;
     for _ in 0..=MAX_DELTA_BOUNCES {
@@ -154,7 +154,7 @@ fn trace(scene: &Scene, bvh: &Bvh, mut ray: Ray, rng: &mut Rng, s: &RenderSettin
 /// stratified camera samples per pixel, in the order asked.
 pub fn render(scene: &Scene, settings: &RenderSettings, which: &[Aov], samples: u32) -> Vec<Image> {
     let (w, h) = (settings.width, settings.height);
-    let bvh = Bvh::build(scene);
+    let bvh = CpuBvh::build(scene);
     let n = (samples.max(1) as f32).sqrt().ceil() as u32;
     let cam = &scene.camera;
     let (right, up, forward) = (cam.right.normalize(), cam.up.normalize(), cam.forward);

@@ -214,6 +214,12 @@ impl Shear {
         }
     }
 
+    /// The axes `[kx, ky, kz]` (`kz` where the direction is largest) and the shear
+    /// `(d[kx] / d[kz], d[ky] / d[kz])`, for tests that project many vertices at once.
+    pub fn axes(&self) -> ([usize; 3], Vec2) {
+        ([self.kx, self.ky, self.kz], self.s)
+    }
+
     /// A vertex relative to the ray's origin, projected along the ray (sheared x and y).
     #[inline]
     fn project(&self, v: Vec3, origin: Vec3) -> Vec2 {

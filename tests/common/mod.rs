@@ -5,7 +5,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use gpu_photon::bvh::Bvh;
+use gpu_photon::bvh::CpuBvh;
 use gpu_photon::camera::Camera;
 use gpu_photon::integrators::cpu::photons::{trace_photons, TraceContext};
 use gpu_photon::render::film::DiffStats;
@@ -93,7 +93,7 @@ impl TestRng {
 /// Traces the global photon paths of `settings` (pass 0) in `scene` on the CPU, with the
 /// BVH, light table and budget built here: the budget and every stored photon.
 pub fn trace_global(scene: &Scene, settings: &RenderSettings) -> (Budget, Vec<Photon>) {
-    let bvh = Bvh::build(scene);
+    let bvh = CpuBvh::build(scene);
     let lights = LightTable::new(scene);
     let ctx = TraceContext {
         scene,

@@ -12,7 +12,7 @@
 //! dimension [`DIM_LIGHT_THIRD`], and the gather direction takes pair [`crate::math::sobol::PAIR_GATHER`]. Those
 //! numbers are not drawn from the hash `Rng` at all; every other draw stays on it, in order.
 
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::{CpuBvh, Hit};
 use crate::integrators::cpu::cache::RadianceCache;
 use crate::integrators::cpu::media::{medium_after, transmittance};
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
@@ -54,7 +54,7 @@ pub struct Gatherer<'a> {
     /// The scene rendered.
     pub scene: &'a Scene,
     /// Its BVH.
-    pub bvh: &'a Bvh,
+    pub bvh: &'a CpuBvh,
     /// Its lights' sampling tables (shadow rays).
     pub lights: &'a LightTable,
     /// The pass's settings (size, samples, K, radii, filter).

@@ -4,7 +4,7 @@
 //! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
 //! its beam estimate in `volume_map.rs`. Scenes without media never call these.
 
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::{CpuBvh, Hit};
 use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::lights::interface::Emission;
 use crate::lights::table::LightTable;
@@ -47,7 +47,7 @@ pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
 /// way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
 pub fn transmittance(
     scene: &Scene,
-    bvh: &Bvh,
+    bvh: &CpuBvh,
     origin: Vec3,
     dir: Vec3,
     t_max: f32,
@@ -99,7 +99,7 @@ pub fn transmittance(
 #[allow(clippy::too_many_arguments)]
 pub fn single_scattering(
     scene: &Scene,
-    bvh: &Bvh,
+    bvh: &CpuBvh,
     lights: &LightTable,
     origin: Vec3,
     dir: Vec3,

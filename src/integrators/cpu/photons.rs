@@ -1,7 +1,7 @@
 //! Photon tracing on the CPU (twin: `src/integrators/gpu/trace_photons.wgsl`): one path per index, keyed
 //! by (seed, stream, pass, index) so the result does not depend on thread scheduling.
 
-use crate::bvh::Bvh;
+use crate::bvh::CpuBvh;
 use crate::integrators::cpu::media::{light_medium, medium_after, MAX_CROSSINGS};
 use crate::math::geometry::{offset_origin, Ray};
 use crate::lights::table::{aims_at, LightTable};
@@ -21,7 +21,7 @@ pub struct TraceContext<'a> {
     /// The scene traced.
     pub scene: &'a Scene,
     /// Its BVH.
-    pub bvh: &'a Bvh,
+    pub bvh: &'a CpuBvh,
     /// Its lights' sampling tables.
     pub lights: &'a LightTable,
     /// The pass's settings (seed, bounces, Fresnel mode).

@@ -3,7 +3,7 @@
 //! kd-trees (and in `gather` mode the radiance cache over the global map) and gathers every
 //! pixel.
 
-use crate::bvh::Bvh;
+use crate::bvh::CpuBvh;
 use crate::integrators::cpu::cache::RadianceCache;
 use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::photon_map::PhotonMap;
@@ -24,7 +24,7 @@ use std::time::Instant;
 /// once in `new`.
 pub struct CpuRenderer<'s> {
     scene: &'s Scene,
-    bvh: Bvh,
+    bvh: CpuBvh,
     lights: LightTable,
     /// Built from the render's settings: a pass's settings differ only in `k` and the radii,
     /// which the plan does not read.
@@ -41,7 +41,7 @@ impl<'s> CpuRenderer<'s> {
             ..Default::default()
         };
         let t = Instant::now();
-        let bvh = Bvh::build(scene);
+        let bvh = CpuBvh::build(scene);
         let lights = LightTable::new(scene);
         report.phase("build BVH", t);
         let plan = MapPlan::new(scene, &lights, settings);
