@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 use gpu_photon::importers::mitsuba::{import, Imported};
+use gpu_photon::scene::{Scene, FLAT};
 use std::path::Path;
 
 const SENSOR: &str = r#"<sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
@@ -63,4 +64,72 @@ fn rotate_uses_its_axis_as_written() {
     // A unit axis is a rotation: rotate([1, 0, 0], 90).
     let rows = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];
     assert_mapped(&rotated_corners(r#"x="1""#, 90.0), rows);
+}
+
+/// Mitsuba's vertex normals of the fan meshes scaled by (1, 2, 0.5): position, normal.
+const FAN: [([f32; 3], [f32; 3]); 5] = [
+    ([0.0, 0.0, 0.5], [0.104846, -0.057708, 0.992813]),
+    ([1.0, 0.0, 0.0], [0.446829, -0.041473, 0.893658]),
+    ([0.0, 4.0, 0.0], [0.123779, 0.123081, 0.984647]),
+    ([-1.0, 0.0, 0.25], [-0.242295, -0.044562, 0.969179]),
+    ([0.0, -2.0, 0.0], [0.122847, -0.240699, 0.962794]),
+];
+
+/// The fan file `name` (of type `kind`) scaled as the probe scales it.
+fn fan(kind: &str, name: &str, extra: &str) -> Scene {
+    body(&format!(
+        r#"<shape type="{kind}"><string name="filename" value="{name}"/>{extra}<transform name="to_world"><scale x="1" y="2" z="0.5"/></transform></shape>"#
+    ))
+    .scene
+}
+
+/// Each triangle's corners with their shading normals.
+fn corner_normals(s: &Scene) -> Vec<(usize, Vec3, Vec3)> {
+    let mut out = Vec::new();
+    for (i, t) in s.triangles.iter().enumerate() {
+        assert_ne!(t.shading, FLAT, "triangle {i} is flat");
+        let n = s.shading_normals[t.shading as usize];
+        for (k, v) in [t.v0, t.v1, t.v2].into_iter().enumerate() {
+            out.push((i, v, n[k]));
+        }
+    }
+    out
+}
+
+#[test]
+fn meshes_without_normals_are_smooth_as_in_mitsuba() {
+    for (kind, name) in [("obj", "fan.obj"), ("ply", "fan.ply")] {
+        let s = fan(kind, name, "");
+        assert_eq!(s.triangles.len(), 4, "{name}");
+        for (i, v, n) in corner_normals(&s) {
+            let (_, want) = FAN
+                .iter()
+                .find(|(p, _)| close(Vec3::from(*p), v, 1e-5))
+                .unwrap_or_else(|| panic!("{name}: corner {v} of triangle {i} is not in the file"));
+            assert!(close(n, Vec3::from(*want), 2e-5), "{name}: {v}: {n} against {want:?}");
+        }
+    }
+    // face_normals: flat, as asked.
+    let s = fan("obj", "fan.obj", r#"<boolean name="face_normals" value="true"/>"#);
+    assert!(s.triangles.iter().all(|t| t.shading == FLAT));
+}
+
+#[test]
+fn a_uv_seam_splits_an_obj_vertex() {
+    // fan_seam.obj: the apex has texture coordinate 1 in the first two faces and 5 in the
+    // last two; Mitsuba smooths each half on its own.
+    let s = fan("obj", "fan_seam.obj", "");
+    let apex = Vec3::new(0.0, 0.0, 0.5);
+    let halves = [
+        Vec3::new(0.105447, 0.123343, 0.986746),
+        Vec3::new(0.100659, -0.241304, 0.965215),
+    ];
+    for (i, v, n) in corner_normals(&s) {
+        let want = match FAN.iter().find(|(p, _)| close(Vec3::from(*p), v, 1e-5)) {
+            _ if close(v, apex, 1e-5) => halves[i / 2],
+            Some((_, want)) => Vec3::from(*want),
+            None => panic!("corner {v} of triangle {i} is not in the file"),
+        };
+        assert!(close(n, want, 2e-5), "triangle {i} corner {v}: {n} against {want}");
+    }
 }
