@@ -1,0 +1,409 @@
+//! Mitsuba 3's own render-regression suite (`tests/data/mitsuba-suite/`: mitsuba-data's
+//! `tests/scenes/`, the 41 scenes Mitsuba's `src/render/tests/test_renders.py` renders, with
+//! their RGB references and variance images; README.md there names the commit).
+//!
+//! Every scene is loaded by our importer (a refusal is reported with its error) and rendered
+//! at its film's resolution in a fixed budget of progressive passes, each pass an independent
+//! estimate, so our own noise is measured from pass to pass. The mean of the passes is then
+//! judged against Mitsuba's reference by two checks that fail on bias:
+//! - **means**: each channel's image mean within 2% of the reference's, or within 4 standard
+//!   errors (ours from pass to pass, the reference's from its variance image) when that is
+//!   larger;
+//! - **blocks**: a Z-test of every 4 x 4-block mean per channel, the difference over the
+//!   standard error of ours (pass to pass: P - 1 degrees of freedom, hence Student's t with
+//!   Welch-Satterthwaite's degrees of freedom) and of the reference's (its per-sample variance
+//!   image over its sample count, floored at 1e-4 per sample as Mitsuba's test floors it);
+//!   Sidak-corrected at 1% over the blocks, and passed, as Mitsuba's test passes a render,
+//!   when at least 99.75% of the block-channel tests are above that level.
+//!
+//! Renders are deterministic (fixed seeds and pass counts), so a scene's verdict changes only
+//! with the code. The ratchet: [`PASSING_CPU`] / [`PASSING_GPU`] list the scenes that pass
+//! today; a listed scene that fails fails the test, and a scene that passes but is not listed
+//! fails it too, asking for it to be added (a conformance gain is recorded, never lost
+//! silently). `MITSUBA_SUITE=substring` runs only the scenes whose path contains it (the ratchet
+//! then checks those alone); `MITSUBA_SUITE_OUT=DIR` writes each render there as EXR.
+
+mod common;
+
+use gpu_photon::importers::load;
+use gpu_photon::render::film::Image;
+use gpu_photon::render::progressive::pass_settings;
+use gpu_photon::render::report::Progress;
+use gpu_photon::render::session::{open, BackendChoice};
+use gpu_photon::settings::{RenderSettings, MIN_PASS_SPP};
+use statrs::distribution::{ContinuousCDF, StudentsT};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Scenes (paths below `tests/scenes/`) the CPU backend passes today.
+const PASSING_CPU: &[&str] = &[];
+
+/// Scenes the GPU backend passes today, in its smaller budget.
+const PASSING_GPU: &[&str] = &[];
+
+/// A render's budget: `passes` progressive passes of `spp` camera samples and `photons`
+/// global (and `photons / 2` caustic) photon paths each.
+#[derive(Clone, Copy, Debug)]
+struct Budget {
+    passes: u32,
+    spp: u32,
+    photons: u32,
+}
+
+/// The CPU budget: a few minutes for the whole suite on 2 cores.
+const CPU_BUDGET: Budget = Budget {
+    passes: 8,
+    spp: 16,
+    photons: 100_000,
+};
+
+/// The GPU budget: smaller, for lavapipe on 2 cores in CI.
+const GPU_BUDGET: Budget = Budget {
+    passes: 6,
+    spp: 8,
+    photons: 50_000,
+};
+
+/// Samples per pixel of Mitsuba's references (test_renders.py's `--spp` default): the
+/// reference pixel's own variance is its per-sample variance image over this.
+const REFERENCE_SPP: f64 = 32_000.0;
+/// Mitsuba's test floors the per-sample variance image at this.
+const VARIANCE_FLOOR: f64 = 1e-4;
+/// The block side of the Z-test, in pixels.
+const BLOCK: u32 = 4;
+/// Mitsuba's significance level, Sidak-corrected over the blocks.
+const SIGNIFICANCE: f64 = 0.01;
+/// Mitsuba's test passes when at least this fraction of the tests do.
+const PASS_FRACTION: f64 = 0.9975;
+/// A channel mean may be this far off, relatively (or 4 standard errors if more).
+const MEAN_TOLERANCE: f64 = 0.02;
+
+/// One render at a time: the CPU and GPU suites would otherwise share the 2 cores and each
+/// other's render times.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+fn suite_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-suite/tests/scenes")
+}
+
+/// The suite's scenes: `tests/scenes/*/*.xml` (not the fragments and includes below them),
+/// as Mitsuba's test lists them, sorted.
+fn scenes() -> Vec<String> {
+    let root = suite_root();
+    let mut out = Vec::new();
+    for dir in std::fs::read_dir(&root).expect("tests/data/mitsuba-suite is missing") {
+        let dir = dir.unwrap().path();
+        if !dir.is_dir() {
+            continue;
+        }
+        for f in std::fs::read_dir(&dir).unwrap() {
+            let f = f.unwrap().path();
+            if f.extension().is_some_and(|e| e == "xml") {
+                out.push(f.strip_prefix(&root).unwrap().display().to_string());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The reference and variance images of `scene` (test_renders.py's `get_ref_fname`:
+/// `refs/<name without its _integrator suffix>_ref_rgb.exr`).
+fn reference_of(scene: &Path) -> (PathBuf, PathBuf) {
+    let stem = scene.file_stem().unwrap().to_str().unwrap();
+    let name = stem.rsplit_once('_').map_or(stem, |(a, _)| a);
+    let refs = scene.parent().unwrap().join("refs");
+    (
+        refs.join(format!("{name}_ref_rgb.exr")),
+        refs.join(format!("{name}_ref_rgb_var.exr")),
+    )
+}
+
+/// What became of one scene.
+enum Status {
+    /// The importer refused it: its error.
+    Refused(String),
+    /// Rendered; the reason it failed, if it did.
+    Rendered(Option<String>),
+    /// Loaded, but the render failed: its error.
+    Error(String),
+}
+
+struct Outcome {
+    scene: String,
+    status: Status,
+    /// Our channel means over the reference's.
+    ratio: [f64; 3],
+    /// The block Z-test: fraction of block-channel tests passed, and the smallest p-value.
+    z: Option<(f64, f64)>,
+    seconds: f64,
+}
+
+/// Renders `settings`' progressive passes one by one: each pass's image.
+fn render_passes(
+    scene: &gpu_photon::scene::Scene,
+    settings: &RenderSettings,
+    backend: BackendChoice,
+    passes: u32,
+) -> gpu_photon::Result<Vec<Image>> {
+    let quiet = Progress { enabled: false };
+    let mut renderer = open(backend, scene, settings)?;
+    (0..passes)
+        .map(|p| renderer.pass(p, &pass_settings(scene, settings, p), &quiet))
+        .collect()
+}
+
+/// Mean and variance of the mean of `xs` (sample variance over n).
+fn mean_and_var(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len() as f64;
+    let m = xs.iter().sum::<f64>() / n;
+    let v = xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0) / n;
+    (m, v)
+}
+
+/// Two-sided p-value of the difference `d` between our estimate (variance `ours`, from
+/// `dof` degrees of freedom) and the reference's (variance `theirs`, known): Student's t with
+/// Welch-Satterthwaite's degrees of freedom.
+fn p_value(d: f64, ours: f64, theirs: f64, dof: f64) -> f64 {
+    let var = ours + theirs;
+    if var <= 0.0 {
+        return if d == 0.0 { 1.0 } else { 0.0 };
+    }
+    let nu = if ours > 0.0 {
+        (var * var * dof / (ours * ours)).min(1e6)
+    } else {
+        1e6
+    };
+    let t = StudentsT::new(0.0, 1.0, nu).unwrap();
+    2.0 * t.cdf(-(d.abs() / var.sqrt()))
+}
+
+/// Sums of `f` over each `BLOCK` x `BLOCK` block of a `w` x `h` image per channel, the
+/// blocks row by row (a partial block at the right or bottom edge is left out).
+fn block_sums(w: u32, h: u32, f: impl Fn(usize, usize) -> f64) -> Vec<[f64; 3]> {
+    let (bw, bh) = (w / BLOCK, h / BLOCK);
+    let mut out = vec![[0.0; 3]; (bw * bh) as usize];
+    for y in 0..bh * BLOCK {
+        for x in 0..bw * BLOCK {
+            let b = &mut out[((y / BLOCK) * bw + x / BLOCK) as usize];
+            for (c, v) in b.iter_mut().enumerate() {
+                *v += f((y * w + x) as usize, c);
+            }
+        }
+    }
+    out
+}
+
+/// Judges the passes against the reference: the failure, if any; the mean ratios; the
+/// block test's pass fraction and smallest p-value.
+fn judge(
+    passes: &[Image],
+    reference: &Image,
+    variance: &Image,
+) -> (Option<String>, [f64; 3], (f64, f64)) {
+    let (w, h) = (reference.width, reference.height);
+    let n_px = (w * h) as f64;
+    let dof = (passes.len() - 1) as f64;
+    let ref_mean = reference.mean();
+    let ref_var =
+        |i: usize, c: usize| (variance.pixels[i][c] as f64).max(VARIANCE_FLOOR) / REFERENCE_SPP;
+    let mut failures = Vec::new();
+    let mut ratio = [0.0; 3];
+    for c in 0..3 {
+        let means: Vec<f64> = passes.iter().map(|p| p.mean()[c]).collect();
+        let (m, v) = mean_and_var(&means);
+        let v_ref = (0..(w * h) as usize).map(|i| ref_var(i, c)).sum::<f64>() / (n_px * n_px);
+        ratio[c] = m / ref_mean[c];
+        let allowed = (MEAN_TOLERANCE * ref_mean[c].abs()).max(4.0 * (v + v_ref).sqrt());
+        if (m - ref_mean[c]).abs() > allowed {
+            failures.push(format!(
+                "channel {c} mean {m:.5} against {:.5} (ratio {:.4}; allowed +-{allowed:.5})",
+                ref_mean[c], ratio[c]
+            ));
+        }
+    }
+    let area = f64::from(BLOCK * BLOCK);
+    let theirs = block_sums(w, h, |i, c| reference.pixels[i][c] as f64 / area);
+    let theirs_var = block_sums(w, h, |i, c| ref_var(i, c) / (area * area));
+    let ours: Vec<Vec<[f64; 3]>> = passes
+        .iter()
+        .map(|p| block_sums(w, h, |i, c| p.pixels[i][c] as f64 / area))
+        .collect();
+    let blocks = theirs.len();
+    let alpha = 1.0 - (1.0 - SIGNIFICANCE).powf(1.0 / blocks as f64);
+    let (mut passed, mut min_p) = (0usize, 1.0f64);
+    for b in 0..blocks {
+        for c in 0..3 {
+            let xs: Vec<f64> = ours.iter().map(|o| o[b][c]).collect();
+            let (m, v) = mean_and_var(&xs);
+            let p = p_value(m - theirs[b][c], v, theirs_var[b][c], dof);
+            min_p = min_p.min(p);
+            passed += usize::from(p > alpha);
+        }
+    }
+    let fraction = passed as f64 / (3 * blocks) as f64;
+    if fraction < PASS_FRACTION {
+        failures.push(format!(
+            "{:.2}% of the {} block tests passed at the Sidak level {alpha:.2e} (min p {min_p:.2e})",
+            100.0 * fraction,
+            3 * blocks
+        ));
+    }
+    let failure = (!failures.is_empty()).then(|| failures.join("; "));
+    (failure, ratio, (fraction, min_p))
+}
+
+/// Loads, renders and judges one scene.
+fn run_scene(name: &str, backend: BackendChoice, budget: Budget) -> Outcome {
+    let path = suite_root().join(name);
+    let start = Instant::now();
+    let mut outcome = Outcome {
+        scene: name.to_string(),
+        status: Status::Refused(String::new()),
+        ratio: [f64::NAN; 3],
+        z: None,
+        seconds: 0.0,
+    };
+    let scene = match load(&path) {
+        Ok(s) => s,
+        Err(e) => {
+            outcome.status = Status::Refused(e.to_string());
+            return outcome;
+        }
+    };
+    let settings = RenderSettings {
+        spp: budget.spp,
+        photons: budget.photons,
+        caustic_photons: budget.photons / 2,
+        passes: budget.passes,
+        seed: 1,
+        ..scene.settings.clone()
+    }
+    .as_default_render();
+    let passes = render_passes(&scene, &settings, backend, budget.passes);
+    outcome.seconds = start.elapsed().as_secs_f64();
+    let passes = match passes {
+        Ok(p) => p,
+        Err(e) => {
+            outcome.status = Status::Error(e.to_string());
+            return outcome;
+        }
+    };
+    if let Some(dir) = std::env::var_os("MITSUBA_SUITE_OUT") {
+        let mut mean = Image::new(settings.width, settings.height);
+        for p in &passes {
+            for (m, q) in mean.pixels.iter_mut().zip(&p.pixels) {
+                for c in 0..3 {
+                    m[c] += q[c] / passes.len() as f32;
+                }
+            }
+        }
+        let file = name.replace(['/', '.'], "_") + ".exr";
+        mean.write(&Path::new(&dir).join(file), 0.0).unwrap();
+    }
+    let (ref_file, var_file) = reference_of(&path);
+    let reference = Image::read(&ref_file).unwrap();
+    let variance = Image::read(&var_file).unwrap();
+    if (reference.width, reference.height) != (settings.width, settings.height) {
+        outcome.status = Status::Error(format!(
+            "rendered {}x{}, the reference is {}x{}",
+            settings.width, settings.height, reference.width, reference.height
+        ));
+        return outcome;
+    }
+    let (failure, ratio, z) = judge(&passes, &reference, &variance);
+    outcome.status = Status::Rendered(failure);
+    outcome.ratio = ratio;
+    outcome.z = Some(z);
+    outcome
+}
+
+/// Runs the suite on `backend` and applies the ratchet of `passing`.
+fn run_suite(label: &str, backend: BackendChoice, budget: Budget, passing: &[&str]) {
+    let filter = std::env::var("MITSUBA_SUITE").unwrap_or_default();
+    let names: Vec<String> = scenes().into_iter().filter(|s| s.contains(&filter)).collect();
+    if filter.is_empty() {
+        assert_eq!(names.len(), 41, "the suite has 41 scenes: {names:?}");
+    }
+    assert!(budget.spp * budget.passes >= MIN_PASS_SPP);
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let mut outcomes = Vec::new();
+    for name in &names {
+        let o = run_scene(name, backend, budget);
+        eprintln!("{label}: {name}: {:.1} s", o.seconds);
+        outcomes.push(o);
+    }
+    println!(
+        "\nMitsuba 3 suite on the {label} backend ({} passes x {} spp, {} photons per pass)",
+        budget.passes, budget.spp, budget.photons
+    );
+    println!(
+        "{:<58} {:<8} {:>7} {:>7} {:>7} {:>8} {:>9} {:>7}",
+        "scene", "status", "R", "G", "B", "blocks", "min p", "time s"
+    );
+    let (mut pass, mut refused, mut total_s) = (Vec::new(), 0, 0.0);
+    let mut problems = Vec::new();
+    for o in &outcomes {
+        total_s += o.seconds;
+        let (status, note) = match &o.status {
+            Status::Refused(e) => {
+                refused += 1;
+                ("refused", e.clone())
+            }
+            Status::Error(e) => ("error", e.clone()),
+            Status::Rendered(None) => {
+                pass.push(o.scene.as_str());
+                ("pass", String::new())
+            }
+            Status::Rendered(Some(why)) => ("fail", why.clone()),
+        };
+        let (frac, min_p) = o.z.unwrap_or((f64::NAN, f64::NAN));
+        println!(
+            "{:<58} {:<8} {:>7.4} {:>7.4} {:>7.4} {:>7.2}% {:>9.2e} {:>7.1}",
+            o.scene,
+            status,
+            o.ratio[0],
+            o.ratio[1],
+            o.ratio[2],
+            100.0 * frac,
+            min_p,
+            o.seconds
+        );
+        if !note.is_empty() {
+            println!("    {note}");
+        }
+        let listed = passing.contains(&o.scene.as_str());
+        if listed && status != "pass" {
+            problems.push(format!("{} is listed as passing but now fails: {note}", o.scene));
+        }
+        if !listed && status == "pass" {
+            problems.push(format!(
+                "{} now passes: add it to the {label} list of passing scenes in tests/mitsuba_suite.rs",
+                o.scene
+            ));
+        }
+    }
+    println!(
+        "{label}: {} of {} scenes pass, {} refused, {} rendered and off; {:.0} s in all",
+        pass.len(),
+        outcomes.len(),
+        refused,
+        outcomes.len() - pass.len() - refused,
+        total_s
+    );
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn mitsuba_suite_cpu() {
+    run_suite("CPU", BackendChoice::Cpu, CPU_BUDGET, PASSING_CPU);
+}
+
+#[test]
+fn mitsuba_suite_gpu() {
+    if common::gpu().is_none() {
+        return;
+    }
+    run_suite("GPU", BackendChoice::Gpu, GPU_BUDGET, PASSING_GPU);
+}
