@@ -17,11 +17,18 @@
 //!   when at least 99.75% of the block-channel tests are above that level.
 //!
 //! Renders are deterministic (fixed seeds and pass counts), so a scene's verdict changes only
-//! with the code. The ratchet: [`PASSING_CPU`] / [`PASSING_GPU`] list the scenes that pass
-//! today; a listed scene that fails fails the test, and a scene that passes but is not listed
-//! fails it too, asking for it to be added (a conformance gain is recorded, never lost
-//! silently). `MITSUBA_SUITE=substring` runs only the scenes whose path contains it (the ratchet
-//! then checks those alone); `MITSUBA_SUITE_OUT=DIR` writes each render there as EXR.
+//! with the code. The ratchet: [`KNOWN_CPU`] lists every scene that does not pass yet, each
+//! with what was measured (the importer's refusal, or the worst channel-mean error). A scene
+//! not listed must pass; a listed scene that passes, or that is refused when listed as
+//! rendered (or loads when listed as refused), fails the test and asks for the list to be
+//! updated; a listed scene whose mean error grows past its recorded one (by more than a
+//! quarter of it plus 1%) fails as a regression. The figures are in docs/conformance.md.
+//! `MITSUBA_SUITE=substring` runs only the scenes whose path contains it (the ratchet then
+//! checks those alone); `MITSUBA_SUITE_OUT=DIR` writes each render there as EXR.
+//!
+//! The GPU suite is `#[ignore]`d: on lavapipe a scene takes about a minute (67 s for
+//! test_arealight on 2 shared cores), too long for CI; on a real GPU run it with
+//! `cargo test --release --test mitsuba_suite -- --ignored`. It reports without a ratchet.
 
 mod common;
 
@@ -36,11 +43,63 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
 
-/// Scenes (paths below `tests/scenes/`) the CPU backend passes today.
-const PASSING_CPU: &[&str] = &[];
+/// What was measured for a scene that does not pass yet.
+#[derive(Clone, Copy, Debug)]
+enum Known {
+    /// The importer refuses it: a part of its error message (the feature we lack).
+    Refused(&'static str),
+    /// Rendered but off: the worst channel's |our mean / the reference's - 1| measured
+    /// (a scene off only in the block test has a small one).
+    Off(f64),
+}
 
-/// Scenes the GPU backend passes today, in its smaller budget.
-const PASSING_GPU: &[&str] = &[];
+/// The scenes (paths below `tests/scenes/`) the CPU backend does not pass yet, in the
+/// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
+const KNOWN_CPU: &[(&str, Known)] = &[
+    ("bsdf_spheres/test_arealight_path.xml", Known::Off(0.0143)),
+    ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
+    ("bsdf_spheres/test_constant_path.xml", Known::Off(0.0011)),
+    (
+        "bsdf_spheres/test_normalmap_identity_roughconductor_path.xml",
+        Known::Refused("`rawconstant`"),
+    ),
+    ("bsdf_spheres/test_normalmap_path.xml", Known::Off(0.0117)),
+    ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
+    ("bsdf_spheres/test_pointlight_path.xml", Known::Off(0.0265)),
+    ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0016)),
+    ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Refused("alpha_u")),
+    ("bsdf_spheres/test_texturedprincipled1_path.xml", Known::Refused("`principled`")),
+    ("bsdf_spheres/test_texturedprincipled2_path.xml", Known::Refused("`principled`")),
+    ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
+    ("instancing/test_instancing_path.xml", Known::Refused("<shape> in a shape")),
+    ("mesh_attributes/test_mesh_attributes_1_face_direct.xml", Known::Refused("`blendbsdf`")),
+    ("mesh_attributes/test_mesh_attributes_3_face_direct.xml", Known::Refused("`mesh_attribute`")),
+    ("mesh_attributes/test_mesh_attributes_3_vertex_direct.xml", Known::Refused("`mesh_attribute`")),
+    ("orthographic_sensor/test_orthographic_path.xml", Known::Refused("`orthographic`")),
+    ("participating_media/test_hetero_sigmat_albedo_volpath.xml", Known::Refused("`heterogeneous`")),
+    ("participating_media/test_hetero_sigmat_volpath.xml", Known::Refused("`heterogeneous`")),
+    (
+        "participating_media/test_hetero_spectral_sigmat_no_scattering_volpath.xml",
+        Known::Refused("`heterogeneous`"),
+    ),
+    (
+        "participating_media/test_hetero_spectral_sigmat_volpathmis.xml",
+        Known::Refused("`heterogeneous`"),
+    ),
+    ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0978)),
+    ("participating_media/test_homo_dielectric_envmap_volpath.xml", Known::Off(0.1635)),
+    ("participating_media/test_homo_emitter_inside_medium_volpath.xml", Known::Off(0.2006)),
+    ("participating_media/test_homo_null_envmap_volpath.xml", Known::Off(0.0349)),
+    ("participating_media/test_homo_obj_inside_medium_volpath.xml", Known::Off(0.1105)),
+    ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.9998)),
+    ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", Known::Off(0.0525)),
+    ("projector/test_projector_constant_direct.xml", Known::Refused("`projector`")),
+    ("projector/test_projector_textured_direct.xml", Known::Refused("`projector`")),
+    ("spot_light/test_spot_direct.xml", Known::Refused("texture")),
+    ("texture_interp/test_texture_interp_direct.xml", Known::Off(0.0003)),
+    ("various_emitters/test_various_emitters_ptracer.xml", Known::Refused("texture")),
+    ("various_shapes/test_various_shapes_path.xml", Known::Refused("`serialized`")),
+];
 
 /// A render's budget: `passes` progressive passes of `spp` camera samples and `photons`
 /// global (and `photons / 2` caustic) photon paths each.
@@ -319,8 +378,40 @@ fn run_scene(name: &str, backend: BackendChoice, budget: Budget) -> Outcome {
     outcome
 }
 
-/// Runs the suite on `backend` and applies the ratchet of `passing`.
-fn run_suite(label: &str, backend: BackendChoice, budget: Budget, passing: &[&str]) {
+/// The worst channel's |ratio - 1| of an outcome (NaN when it did not render).
+fn mean_error(o: &Outcome) -> f64 {
+    o.ratio.iter().map(|r| (r - 1.0).abs()).fold(f64::NAN, f64::max)
+}
+
+/// What is wrong with `o` given what `known` recorded for it (`None`: must pass).
+fn ratchet(o: &Outcome, known: Option<Known>) -> Option<String> {
+    let list = "KNOWN_CPU in tests/mitsuba_suite.rs (and docs/conformance.md)";
+    let err = mean_error(o);
+    match (&o.status, known) {
+        (Status::Rendered(None), None) => None,
+        (Status::Rendered(None), Some(k)) => Some(format!(
+            "{} now passes (mean error {err:.4}; listed as {k:?}): remove it from {list}",
+            o.scene
+        )),
+        (Status::Refused(e), Some(Known::Refused(part))) if e.contains(part) => None,
+        (Status::Refused(e), _) => Some(format!("{} is refused: {e}", o.scene)),
+        (_, Some(Known::Refused(part))) => Some(format!(
+            "{} loads now (listed as refused for {part}; mean error {err:.4}): update {list}",
+            o.scene
+        )),
+        (Status::Rendered(Some(why)), Some(Known::Off(was))) => {
+            // Deterministic renders: a growth past noise-free slack is the code's.
+            (!(err <= was + 0.25 * was + 0.01)).then(|| {
+                format!("{} regressed: mean error {err:.4}, recorded {was:.4}: {why}", o.scene)
+            })
+        }
+        (Status::Rendered(Some(why)), None) => Some(format!("{} fails: {why}", o.scene)),
+        (Status::Error(e), _) => Some(format!("{} failed to render: {e}", o.scene)),
+    }
+}
+
+/// Runs the suite on `backend`, prints its table, and returns its outcomes.
+fn run_suite(label: &str, backend: BackendChoice, budget: Budget) -> Vec<Outcome> {
     let filter = std::env::var("MITSUBA_SUITE").unwrap_or_default();
     let names: Vec<String> = scenes().into_iter().filter(|s| s.contains(&filter)).collect();
     if filter.is_empty() {
@@ -342,8 +433,7 @@ fn run_suite(label: &str, backend: BackendChoice, budget: Budget, passing: &[&st
         "{:<58} {:<8} {:>7} {:>7} {:>7} {:>8} {:>9} {:>7}",
         "scene", "status", "R", "G", "B", "blocks", "min p", "time s"
     );
-    let (mut pass, mut refused, mut total_s) = (Vec::new(), 0, 0.0);
-    let mut problems = Vec::new();
+    let (mut pass, mut refused, mut total_s) = (0, 0, 0.0);
     for o in &outcomes {
         total_s += o.seconds;
         let (status, note) = match &o.status {
@@ -353,7 +443,7 @@ fn run_suite(label: &str, backend: BackendChoice, budget: Budget, passing: &[&st
             }
             Status::Error(e) => ("error", e.clone()),
             Status::Rendered(None) => {
-                pass.push(o.scene.as_str());
+                pass += 1;
                 ("pass", String::new())
             }
             Status::Rendered(Some(why)) => ("fail", why.clone()),
@@ -373,37 +463,37 @@ fn run_suite(label: &str, backend: BackendChoice, budget: Budget, passing: &[&st
         if !note.is_empty() {
             println!("    {note}");
         }
-        let listed = passing.contains(&o.scene.as_str());
-        if listed && status != "pass" {
-            problems.push(format!("{} is listed as passing but now fails: {note}", o.scene));
-        }
-        if !listed && status == "pass" {
-            problems.push(format!(
-                "{} now passes: add it to the {label} list of passing scenes in tests/mitsuba_suite.rs",
-                o.scene
-            ));
-        }
     }
     println!(
-        "{label}: {} of {} scenes pass, {} refused, {} rendered and off; {:.0} s in all",
-        pass.len(),
+        "{label}: {pass} of {} scenes pass, {refused} refused, {} rendered and off; {total_s:.0} s in all",
         outcomes.len(),
-        refused,
-        outcomes.len() - pass.len() - refused,
-        total_s
+        outcomes.len() - pass - refused,
     );
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    outcomes
 }
 
 #[test]
 fn mitsuba_suite_cpu() {
-    run_suite("CPU", BackendChoice::Cpu, CPU_BUDGET, PASSING_CPU);
+    let outcomes = run_suite("CPU", BackendChoice::Cpu, CPU_BUDGET);
+    for (name, _) in KNOWN_CPU {
+        assert!(scenes().iter().any(|s| s == name), "KNOWN_CPU lists {name}, not in the suite");
+    }
+    let problems: Vec<String> = outcomes
+        .iter()
+        .filter_map(|o| {
+            let known = KNOWN_CPU.iter().find(|(n, _)| *n == o.scene).map(|(_, k)| *k);
+            ratchet(o, known)
+        })
+        .collect();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
+/// The suite on the GPU backend, reported without a ratchet (see the module's docs).
 #[test]
+#[ignore = "about a minute a scene on lavapipe; run on a real GPU with --ignored"]
 fn mitsuba_suite_gpu() {
     if common::gpu().is_none() {
         return;
     }
-    run_suite("GPU", BackendChoice::Gpu, GPU_BUDGET, PASSING_GPU);
+    run_suite("GPU", BackendChoice::Gpu, GPU_BUDGET);
 }
