@@ -30,7 +30,10 @@ fn rotated_corners(axis: &str, angle: f32) -> Vec<Vec3> {
         r#"<shape type="rectangle"><transform name="to_world"><rotate {axis} angle="{angle}"/></transform></shape>"#
     ))
     .scene;
-    s.triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2]).collect()
+    s.triangles
+        .iter()
+        .flat_map(|t| [t.v0, t.v1, t.v2])
+        .collect()
 }
 
 /// Every corner is the image of one of the rectangle's by `rows` (a 3 x 3 matrix, row major),
@@ -41,10 +44,16 @@ fn assert_mapped(corners: &[Vec3], rows: [[f32; 3]; 3]) {
         .map(|&(x, y)| Vec3::from(rows.map(|r| r[0] * x + r[1] * y)))
         .collect();
     for c in corners {
-        assert!(images.iter().any(|i| close(*i, *c, 1e-5)), "{c} not in {images:?}");
+        assert!(
+            images.iter().any(|i| close(*i, *c, 1e-5)),
+            "{c} not in {images:?}"
+        );
     }
     for i in &images {
-        assert!(corners.iter().any(|c| close(*i, *c, 1e-5)), "{i} missing from {corners:?}");
+        assert!(
+            corners.iter().any(|c| close(*i, *c, 1e-5)),
+            "{i} missing from {corners:?}"
+        );
     }
 }
 
@@ -106,11 +115,18 @@ fn meshes_without_normals_are_smooth_as_in_mitsuba() {
                 .iter()
                 .find(|(p, _)| close(Vec3::from(*p), v, 1e-5))
                 .unwrap_or_else(|| panic!("{name}: corner {v} of triangle {i} is not in the file"));
-            assert!(close(n, Vec3::from(*want), 2e-5), "{name}: {v}: {n} against {want:?}");
+            assert!(
+                close(n, Vec3::from(*want), 2e-5),
+                "{name}: {v}: {n} against {want:?}"
+            );
         }
     }
     // face_normals: flat, as asked.
-    let s = fan("obj", "fan.obj", r#"<boolean name="face_normals" value="true"/>"#);
+    let s = fan(
+        "obj",
+        "fan.obj",
+        r#"<boolean name="face_normals" value="true"/>"#,
+    );
     assert!(s.triangles.iter().all(|t| t.shading == FLAT));
 }
 
@@ -130,6 +146,57 @@ fn a_uv_seam_splits_an_obj_vertex() {
             Some((_, want)) => Vec3::from(*want),
             None => panic!("corner {v} of triangle {i} is not in the file"),
         };
-        assert!(close(n, want, 2e-5), "triangle {i} corner {v}: {n} against {want}");
+        assert!(
+            close(n, want, 2e-5),
+            "triangle {i} corner {v}: {n} against {want}"
+        );
     }
+}
+
+/// The render settings a scene with `integrator` (its XML) gets.
+fn integrator_settings(integrator: &str) -> gpu_photon::settings::RenderSettings {
+    body(integrator).scene.settings
+}
+
+#[test]
+fn short_max_depth_caps_paths_in_the_direct_mode() {
+    use gpu_photon::settings::{Mode, RenderSettings};
+    let default = RenderSettings::default();
+    // Mitsuba's suite nests the renderer in `moment`: max_depth 2 is direct light only (no
+    // photon past its first bounce, no mirror chain past one).
+    let s = integrator_settings(
+        r#"<integrator type="moment"><integrator type="path"><integer name="max_depth" value="2"/></integrator></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 1, 1)
+    );
+    let s = integrator_settings(r#"<integrator type="direct"/>"#);
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 1, 1)
+    );
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="4"/></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 3, 2)
+    );
+    // A long max_depth caps the lengths and keeps the mode.
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="6"/></integrator>"#,
+    );
+    assert_eq!(s.mode, default.mode);
+    assert_eq!(
+        (s.max_photon_bounces, s.max_depth),
+        (5.min(default.max_photon_bounces), 4.min(default.max_depth))
+    );
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="-1"/></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (default.mode, default.max_photon_bounces, default.max_depth)
+    );
 }

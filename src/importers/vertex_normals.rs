@@ -14,7 +14,12 @@ use glam::{DVec3, Vec3};
 /// triangle, unit length. A vertex whose faces' normals cancel (or are all degenerate) takes
 /// its triangle's own face normal (+z for a degenerate triangle), so every normal is valid.
 pub(crate) fn from_faces(tris: &[[Vec3; 3]], ids: &[[u32; 3]]) -> Vec<VertexNormals> {
-    let count = ids.iter().flatten().map(|&i| i as usize + 1).max().unwrap_or(0);
+    let count = ids
+        .iter()
+        .flatten()
+        .map(|&i| i as usize + 1)
+        .max()
+        .unwrap_or(0);
     let mut sums = vec![DVec3::ZERO; count];
     let faces: Vec<DVec3> = tris.iter().map(|t| face_normal(t)).collect();
     for ((t, ids), n) in tris.iter().zip(ids).zip(&faces) {
