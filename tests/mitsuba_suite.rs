@@ -481,8 +481,9 @@ fn ratchet(o: &Outcome, known: Option<Known>) -> Option<String> {
             o.scene
         )),
         (Status::Rendered(Some(why)), Some(Known::Off(was))) => {
-            // Deterministic renders: a growth past noise-free slack is the code's.
-            (!(err <= was + 0.25 * was + 0.01)).then(|| {
+            // Deterministic renders: a growth past this slack is the code's (NaN is one).
+            let worse = err.is_nan() || err > was + 0.25 * was + 0.01;
+            worse.then(|| {
                 format!(
                     "{} regressed: mean error {err:.4}, recorded {was:.4}: {why}",
                     o.scene

@@ -21,7 +21,7 @@ pub(crate) fn from_faces(tris: &[[Vec3; 3]], ids: &[[u32; 3]]) -> Vec<VertexNorm
         .max()
         .unwrap_or(0);
     let mut sums = vec![DVec3::ZERO; count];
-    let faces: Vec<DVec3> = tris.iter().map(|t| face_normal(t)).collect();
+    let faces: Vec<DVec3> = tris.iter().map(face_normal).collect();
     for ((t, ids), n) in tris.iter().zip(ids).zip(&faces) {
         if *n == DVec3::ZERO {
             continue;
