@@ -55,128 +55,42 @@ enum Known {
 
 /// The scenes (paths below `tests/scenes/`) the CPU backend does not pass yet, in the
 /// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
+#[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_arealight_path.xml", Known::Off(0.0143)),
-    (
-        "bsdf_spheres/test_bumpmap_path.xml",
-        Known::Refused("`bumpmap`"),
-    ),
+    ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
     ("bsdf_spheres/test_constant_path.xml", Known::Off(0.0011)),
-    (
-        "bsdf_spheres/test_normalmap_identity_roughconductor_path.xml",
-        Known::Refused("`rawconstant`"),
-    ),
+    ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", Known::Refused("`rawconstant`")),
     ("bsdf_spheres/test_normalmap_path.xml", Known::Off(0.0117)),
-    (
-        "bsdf_spheres/test_normalmap_roughconductor_path.xml",
-        Known::Off(0.1006),
-    ),
+    ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
     ("bsdf_spheres/test_pointlight_path.xml", Known::Off(0.0265)),
-    (
-        "bsdf_spheres/test_roughplastic_nonlinear_path.xml",
-        Known::Off(0.0016),
-    ),
-    (
-        "bsdf_spheres/test_textured_roughconductor_path.xml",
-        Known::Refused("alpha_u"),
-    ),
-    (
-        "bsdf_spheres/test_texturedprincipled1_path.xml",
-        Known::Refused("`principled`"),
-    ),
-    (
-        "bsdf_spheres/test_texturedprincipled2_path.xml",
-        Known::Refused("`principled`"),
-    ),
-    (
-        "bsdf_spheres/test_texturedprincipledthin_path.xml",
-        Known::Refused("`principledthin`"),
-    ),
-    (
-        "instancing/test_instancing_path.xml",
-        Known::Refused("<shape> in a shape"),
-    ),
-    (
-        "mesh_attributes/test_mesh_attributes_1_face_direct.xml",
-        Known::Refused("`blendbsdf`"),
-    ),
-    (
-        "mesh_attributes/test_mesh_attributes_3_face_direct.xml",
-        Known::Refused("`mesh_attribute`"),
-    ),
-    (
-        "mesh_attributes/test_mesh_attributes_3_vertex_direct.xml",
-        Known::Refused("`mesh_attribute`"),
-    ),
-    (
-        "orthographic_sensor/test_orthographic_path.xml",
-        Known::Refused("`orthographic`"),
-    ),
-    (
-        "participating_media/test_hetero_sigmat_albedo_volpath.xml",
-        Known::Refused("`heterogeneous`"),
-    ),
-    (
-        "participating_media/test_hetero_sigmat_volpath.xml",
-        Known::Refused("`heterogeneous`"),
-    ),
-    (
-        "participating_media/test_hetero_spectral_sigmat_no_scattering_volpath.xml",
-        Known::Refused("`heterogeneous`"),
-    ),
-    (
-        "participating_media/test_hetero_spectral_sigmat_volpathmis.xml",
-        Known::Refused("`heterogeneous`"),
-    ),
-    (
-        "participating_media/test_homo_area_light_volpath.xml",
-        Known::Off(0.0944),
-    ),
-    (
-        "participating_media/test_homo_dielectric_envmap_volpath.xml",
-        Known::Off(0.1635),
-    ),
-    (
-        "participating_media/test_homo_emitter_inside_medium_volpath.xml",
-        Known::Off(0.1990),
-    ),
-    (
-        "participating_media/test_homo_null_envmap_volpath.xml",
-        Known::Off(0.0469),
-    ),
-    (
-        "participating_media/test_homo_obj_inside_medium_volpath.xml",
-        Known::Off(0.1187),
-    ),
-    (
-        "participating_media/test_homo_roughdielectric_spot_volpath.xml",
-        Known::Off(0.9998),
-    ),
-    (
-        "participating_media/test_homo_spectral_sigmat_volpathmis.xml",
-        Known::Off(0.0614),
-    ),
-    (
-        "projector/test_projector_constant_direct.xml",
-        Known::Refused("`projector`"),
-    ),
-    (
-        "projector/test_projector_textured_direct.xml",
-        Known::Refused("`projector`"),
-    ),
+    ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0016)),
+    ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Refused("alpha_u")),
+    ("bsdf_spheres/test_texturedprincipled1_path.xml", Known::Refused("`principled`")),
+    ("bsdf_spheres/test_texturedprincipled2_path.xml", Known::Refused("`principled`")),
+    ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
+    ("instancing/test_instancing_path.xml", Known::Refused("<shape> in a shape")),
+    ("mesh_attributes/test_mesh_attributes_1_face_direct.xml", Known::Refused("`blendbsdf`")),
+    ("mesh_attributes/test_mesh_attributes_3_face_direct.xml", Known::Refused("`mesh_attribute`")),
+    ("mesh_attributes/test_mesh_attributes_3_vertex_direct.xml", Known::Refused("`mesh_attribute`")),
+    ("orthographic_sensor/test_orthographic_path.xml", Known::Refused("`orthographic`")),
+    ("participating_media/test_hetero_sigmat_albedo_volpath.xml", Known::Refused("`heterogeneous`")),
+    ("participating_media/test_hetero_sigmat_volpath.xml", Known::Refused("`heterogeneous`")),
+    ("participating_media/test_hetero_spectral_sigmat_no_scattering_volpath.xml", Known::Refused("`heterogeneous`")),
+    ("participating_media/test_hetero_spectral_sigmat_volpathmis.xml", Known::Refused("`heterogeneous`")),
+    ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0944)),
+    ("participating_media/test_homo_dielectric_envmap_volpath.xml", Known::Off(0.1635)),
+    ("participating_media/test_homo_emitter_inside_medium_volpath.xml", Known::Off(0.1990)),
+    ("participating_media/test_homo_null_envmap_volpath.xml", Known::Off(0.0469)),
+    ("participating_media/test_homo_obj_inside_medium_volpath.xml", Known::Off(0.1187)),
+    ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.9998)),
+    ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", Known::Off(0.0614)),
+    ("projector/test_projector_constant_direct.xml", Known::Refused("`projector`")),
+    ("projector/test_projector_textured_direct.xml", Known::Refused("`projector`")),
     ("spot_light/test_spot_direct.xml", Known::Refused("texture")),
-    (
-        "texture_interp/test_texture_interp_direct.xml",
-        Known::Off(0.0003),
-    ),
-    (
-        "various_emitters/test_various_emitters_ptracer.xml",
-        Known::Refused("texture"),
-    ),
-    (
-        "various_shapes/test_various_shapes_path.xml",
-        Known::Refused("`serialized`"),
-    ),
+    ("texture_interp/test_texture_interp_direct.xml", Known::Off(0.0003)),
+    ("various_emitters/test_various_emitters_ptracer.xml", Known::Refused("texture")),
+    ("various_shapes/test_various_shapes_path.xml", Known::Refused("`serialized`")),
 ];
 
 /// A render's budget: `passes` progressive passes of `spp` camera samples and `photons`

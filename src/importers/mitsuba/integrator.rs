@@ -66,7 +66,8 @@ impl Importer<'_> {
             "{}: {field}: integrator `{}` rendered with our photon mapping (the render \
              mode: [render] mode, --mode){notes}",
             self.cx.loc(node),
-            nest.kinds.join("` in `")
+            // Innermost first: "`path` in `moment`".
+            nest.kinds.iter().rev().cloned().collect::<Vec<_>>().join("` in `")
         ));
         Ok(())
     }
