@@ -505,7 +505,10 @@ fn any_integrator_is_one_warning() {
             r#"<integrator type="path"><integer name="max_depth" value="8"/><integer name="rr_depth" value="3"/></integrator>"#,
             "; rr_depth 3 changes only noise, not used",
         ),
-        (r#"<integrator type="direct"/>"#, ""),
+        (
+            r#"<integrator type="direct"/>"#,
+            "; paths capped at 2 segments: mode `direct`",
+        ),
         (
             r#"<integrator type="aov"><string name="aovs" value="dd.y:depth"/><integrator type="ptracer"/></integrator>"#,
             "",
@@ -516,7 +519,13 @@ fn any_integrator_is_one_warning() {
         ),
     ] {
         let im = ok(integrator);
-        let kind = integrator.split('"').nth(1).unwrap();
+        // A nest is named innermost first: `path` in `moment`.
+        let types: Vec<&str> = integrator
+            .split("type=\"")
+            .skip(1)
+            .map(|t| t.split('"').next().unwrap())
+            .collect();
+        let kind = types.iter().rev().copied().collect::<Vec<_>>().join("` in `");
         let want = format!(
             "t.xml:3: integrator[0]: integrator `{kind}` rendered with our photon mapping (the render mode: [render] mode, --mode){hint}"
         );

@@ -56,6 +56,10 @@ pub(crate) struct MeshData {
     pub normals: Option<Vec<VertexNormals>>,
     /// The corners' texture coordinates, parallel to `tris`; `None` without.
     pub uvs: Option<Vec<[Vec2; 3]>>,
+    /// The corners' vertices in the file (a PLY vertex; an OBJ `v` with its `vt`), parallel
+    /// to `tris`, for normals computed from the faces ([`MeshData::smooth_from_faces`]);
+    /// `None` for a shape that is not a mesh file.
+    pub vertices: Option<Vec<[u32; 3]>>,
 }
 
 impl MeshData {
@@ -73,6 +77,12 @@ impl MeshData {
         });
         let normal_map = Mat3::from_mat4(m).inverse().transpose();
         MeshData {
+            vertices: self.vertices.map(|mut vs| {
+                if swap {
+                    vs.iter_mut().for_each(|t| t.swap(1, 2));
+                }
+                vs
+            }),
             tris: tris.collect(),
             normals: self
                 .normals
@@ -86,11 +96,26 @@ impl MeshData {
         }
     }
 
-    /// Drops the normals when `flat` (forced flat shading).
+    /// Drops the normals when `flat` (forced flat shading), and the vertices, so that none
+    /// are computed either.
     pub(crate) fn flat_if(self, flat: bool) -> Self {
         MeshData {
             normals: self.normals.filter(|_| !flat),
+            vertices: self.vertices.filter(|_| !flat),
             ..self
+        }
+    }
+
+    /// A mesh file without normals made smooth as Mitsuba 3 makes it: vertex normals from
+    /// its (transformed) faces, angle-weighted (`vertex_normals::from_faces`). Unchanged when
+    /// it has normals or is not a mesh file.
+    pub(crate) fn smooth_from_faces(self) -> Self {
+        match (&self.normals, &self.vertices) {
+            (None, Some(ids)) => MeshData {
+                normals: Some(crate::importers::vertex_normals::from_faces(&self.tris, ids)),
+                ..self
+            },
+            _ => self,
         }
     }
 }
@@ -122,10 +147,17 @@ pub(crate) fn load_mesh(
     match format {
         MeshFormat::Obj => {
             let obj = obj::load_triangles(path, flip_v, room)?;
+            // Mitsuba keys an OBJ vertex by its `v` and `vt`: corners with other uvs are
+            // other vertices.
+            let vertices = match &obj.uvs {
+                None => obj.vertices,
+                Some(uvs) => split_by_uv(&obj.vertices, uvs),
+            };
             Ok(MeshData {
                 tris: obj.tris,
                 normals: obj.normals,
                 uvs: obj.uvs,
+                vertices: Some(vertices),
             })
         }
         MeshFormat::Ply => {
@@ -159,9 +191,25 @@ pub(crate) fn load_mesh(
                 tris: mesh.triangle_positions(),
                 normals,
                 uvs,
+                vertices: Some(mesh.triangles.clone()),
             })
         }
     }
+}
+
+/// Vertex ids that also tell corners with other texture coordinates apart: one per distinct
+/// (vertex, uv) pair.
+fn split_by_uv(vertices: &[[u32; 3]], uvs: &[[Vec2; 3]]) -> Vec<[u32; 3]> {
+    let mut ids = std::collections::HashMap::new();
+    let mut id = |v: u32, uv: Vec2| {
+        let next = ids.len() as u32;
+        *ids.entry((v, uv.x.to_bits(), uv.y.to_bits())).or_insert(next)
+    };
+    vertices
+        .iter()
+        .zip(uvs)
+        .map(|(t, uv)| [0, 1, 2].map(|k| id(t[k], uv[k])))
+        .collect()
 }
 
 /// Scales, then translates, `tris`. A scale that mirrors (negative product) also reverses

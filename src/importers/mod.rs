@@ -10,6 +10,7 @@ pub mod obj;
 pub mod ply;
 pub mod read;
 pub mod toml;
+pub mod vertex_normals;
 
 pub use gltf::load_gltf;
 pub use toml::load_str;

@@ -28,6 +28,9 @@ pub(crate) struct ObjTriangles {
     pub normals: Option<Vec<VertexNormals>>,
     /// The corners' `vt` coordinates, parallel to `tris`.
     pub uvs: Option<Vec<[Vec2; 3]>>,
+    /// The corners' vertices (tobj's single index: one per `v`, or per `v//vn` pair when
+    /// the mesh has normals), parallel to `tris`.
+    pub vertices: Vec<[u32; 3]>,
 }
 
 /// Loads the triangles of the OBJ file at `path` (in the file's coordinates).
@@ -67,6 +70,9 @@ fn parse_triangles(text: &str, flip_v: bool, room: u64) -> Result<ObjTriangles, 
 
     let mut triangles = Vec::new();
     let mut normals = Vec::new();
+    let mut vertices = Vec::new();
+    // One model (the grouping records are stripped); offsets keep indices apart if not.
+    let mut first = 0u32;
     for model in &models {
         let mesh = &model.mesh;
         let vertex = |i: u32| -> Result<Vec3, String> {
@@ -96,11 +102,13 @@ fn parse_triangles(text: &str, flip_v: bool, room: u64) -> Result<ObjTriangles, 
         for face in mesh.indices.chunks_exact(3) {
             let v = |k: usize| vertex(face[k]).map_err(|e| (0, e));
             triangles.push([v(0)?, v(1)?, v(2)?]);
+            vertices.push([face[0], face[1], face[2]].map(|i| first.saturating_add(i)));
             if kept.has_normals {
                 let n = |k: usize| normal(face[k]).map_err(|e| (0, e));
                 normals.push([n(0)?, n(1)?, n(2)?]);
             }
         }
+        first = first.saturating_add((mesh.positions.len() / 3) as u32);
     }
     let uvs = match kept.uvs {
         None => None,
@@ -120,6 +128,7 @@ fn parse_triangles(text: &str, flip_v: bool, room: u64) -> Result<ObjTriangles, 
         tris: triangles,
         normals: kept.has_normals.then_some(normals),
         uvs,
+        vertices,
     })
 }
 

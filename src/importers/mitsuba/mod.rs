@@ -3,7 +3,7 @@
 //!
 //! Read: `<include>`, `<path>`, `<default>` and `$name` (see `include.rs`); one `perspective`
 //! sensor (with its `hdrfilm` size and `sampler` count as spp) and any `integrator` as a hint
-//! (see `sensor.rs`); `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `disk`,
+//! (see `integrator.rs`); `bsdf`s (see `bsdf.rs`), shapes `rectangle`, `cube`, `sphere`, `disk`,
 //! `cylinder` (see `round.rs`), `obj`, `ply`, `area` emitters on shapes, `point`, `spot` and
 //! `directional` emitters (see `emitter.rs`); `ref` to any top-level object with an `id`,
 //! before or after it; spectra as Mitsuba's RGB variants convert them (see `spectrum.rs`).
@@ -17,6 +17,7 @@ mod bsdf;
 mod cie;
 mod emitter;
 mod include;
+mod integrator;
 mod medium;
 mod plugin;
 mod round;

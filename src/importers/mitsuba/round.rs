@@ -33,6 +33,7 @@ pub(crate) fn disk() -> MeshData {
         tris,
         normals: None,
         uvs: Some(uvs),
+        vertices: None,
     }
 }
 
@@ -59,6 +60,7 @@ pub(crate) fn cylinder() -> MeshData {
         tris,
         normals: Some(normals),
         uvs: Some(uvs),
+        vertices: None,
     }
 }
 

@@ -1,6 +1,5 @@
-//! Mitsuba's `sensor` (a `perspective` or `thinlens` camera with its `hdrfilm`, `rfilter`
-//! and `sampler`) and the `integrator`, which only gives hints: any type renders with our
-//! technique.
+//! Mitsuba's `sensor`: a `perspective` or `thinlens` camera with its `hdrfilm`, `rfilter`
+//! and `sampler`.
 //!
 //! The field of view is converted exactly: Mitsuba's `fov` spans the `fov_axis` (`x`, `y`,
 //! `diagonal`, `smaller` or `larger` of the film) and ours is vertical, so
@@ -13,7 +12,7 @@ use crate::importers::mitsuba::Importer;
 use crate::error::Result;
 use crate::camera::pixel_filter::PixelFilter;
 use crate::scene::builder::SceneBuilder;
-use crate::settings::{split_samples, MAX_BOUNCES};
+use crate::settings::split_samples;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
@@ -160,53 +159,6 @@ impl Importer<'_> {
         }
         let at = self.origin(node, field);
         self.b.camera(eye, eye + forward, up, fov_y, &at)
-    }
-
-    /// `<integrator>` of any type: one warning saying that our technique renders it.
-    /// Mitsuba's `max_depth` M (path segments, -1 for no bound) caps our path lengths:
-    /// photon paths at M - 1 bounces and camera mirror/glass chains at M - 2 (exact in the
-    /// photon and direct modes, where a camera path ends at its first diffuse hit; final
-    /// gathering can add one bounce). `rr_depth` changes no expected value (our photons'
-    /// Russian roulette works by reflectance from the first bounce): read and named.
-    pub(crate) fn integrator(&mut self, node: Node, field: &str) -> Result<()> {
-        let kind = self.cx.attr(node, field, "type")?.unwrap_or_default();
-        let mut notes = Vec::new();
-        for child in node.children().filter(Node::is_element) {
-            let name = child.attribute("name").unwrap_or_default();
-            if !matches!(name, "max_depth" | "rr_depth") {
-                continue;
-            }
-            let at = format!("{field}.{name}");
-            let text = self.cx.need_attr(child, &at, "value")?;
-            let depth = match text.trim().parse::<i64>() {
-                Ok(v) if v == -1 || (v >= 1 && v <= i64::from(u32::MAX)) => v,
-                _ => {
-                    let message = format!("must be -1 or a positive integer (got `{text}`)");
-                    return Err(self.cx.err(child, &at, message));
-                }
-            };
-            if name == "rr_depth" {
-                notes.push(format!("rr_depth {depth} changes only noise, not used"));
-            } else if depth > 0 {
-                let s = self.b.settings();
-                let m = depth.min(i64::from(MAX_BOUNCES) + 2) as u32;
-                s.max_photon_bounces = s.max_photon_bounces.min((m - 1).max(1));
-                s.max_depth = s.max_depth.min((m.max(2) - 2).max(1));
-                if m == 1 {
-                    notes.push("max_depth 1 (emitters only) rendered as 2".to_string());
-                }
-            }
-        }
-        let notes = match notes.is_empty() {
-            true => String::new(),
-            false => format!("; {}", notes.join(", ")),
-        };
-        self.warnings.push(format!(
-            "{}: {field}: integrator `{kind}` rendered with our photon mapping (the render \
-             mode: [render] mode, --mode){notes}",
-            self.cx.loc(node)
-        ));
-        Ok(())
     }
 }
 

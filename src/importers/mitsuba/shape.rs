@@ -1,11 +1,11 @@
 //! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
 //! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `disk`
 //! and `cylinder` (`p0`, `p1`, `radius`; both as meshes of `round::SEGMENTS` facets around,
-//! with a warning), `obj`
-//! and `ply` meshes (smooth-shaded with the file's vertex normals unless `face_normals` is
-//! true; the file's texture coordinates with v flipped when `flip_tex_coords`, Mitsuba's
-//! default true for `obj` and false for `ply`), each with its bsdf (nested or `ref`) and
-//! optionally an `area` emitter.
+//! with a warning), `obj` and `ply` meshes (smooth-shaded with the file's vertex normals, or,
+//! in a file without them, normals computed from the faces as Mitsuba computes them; flat when
+//! `face_normals` is true; the file's texture coordinates with v flipped when
+//! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), each with its
+//! bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
@@ -200,6 +200,7 @@ impl<'f> Importer<'f> {
                     tris,
                     normals: None,
                     uvs: Some(uvs),
+                    vertices: None,
                 }
             }
             "cube" => MeshData {
@@ -209,6 +210,7 @@ impl<'f> Importer<'f> {
                     .collect(),
                 normals: None,
                 uvs: None,
+                vertices: None,
             },
             "disk" | "cylinder" => {
                 let what = format!(
@@ -262,7 +264,9 @@ impl<'f> Importer<'f> {
         };
         let flip = p.boolean(cx, "flip_normals")?;
         p.done(cx)?;
-        let mesh = mesh.transform(m, flip);
+        // A mesh file without normals is smooth in Mitsuba (unless `face_normals`): normals
+        // from its faces, after to_world.
+        let mesh = mesh.transform(m, flip).smooth_from_faces();
         match mesh.uvs {
             Some(uvs) => self
                 .b

@@ -6,7 +6,7 @@
 //! Every error is an [`Error::Scene`] naming the file, the line of the element and its field.
 
 use crate::error::{Error, Result};
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -255,10 +255,11 @@ impl<'f> Cx<'f> {
                 "rotate" => {
                     let axis = self.triple(op, field, 0.0)?;
                     let angle = self.number(op, field, "angle")?;
-                    let Some(axis) = axis.try_normalize() else {
-                        return Err(self.err(op, field, "the rotation axis is zero"));
-                    };
-                    Mat4::from_axis_angle(axis, angle.to_radians())
+                    let m = mitsuba_rotate(axis, angle.to_radians());
+                    if !m.is_finite() || m.determinant() == 0.0 {
+                        return Err(self.err(op, field, "the rotation is singular"));
+                    }
+                    m
                 }
                 "matrix" => self.matrix(op, field)?,
                 "lookat" => self.look_at(op, field)?,
@@ -354,3 +355,19 @@ pub(crate) const IOR_NAMES: &[(&str, f32)] = &[
     ("pet", 1.575),
     ("diamond", 2.419),
 ];
+
+/// Mitsuba's `rotate` about `axis` by `angle` radians: Rodrigues' formula
+/// `cos I + sin [axis]x + (1 - cos) axis axis^T` with the axis as written, **not normalised**
+/// (Mitsuba 3.9.1's `Transform4f::rotate`; `scripts/mitsuba_conformance_probe.py`): an axis
+/// that is not a unit vector also scales and shears, as it does in Mitsuba.
+pub fn mitsuba_rotate(axis: Vec3, angle: f32) -> Mat4 {
+    let (sin, cos) = angle.sin_cos();
+    let a = axis;
+    let skew = Mat3::from_cols(
+        Vec3::new(0.0, a.z, -a.y),
+        Vec3::new(-a.z, 0.0, a.x),
+        Vec3::new(a.y, -a.x, 0.0),
+    );
+    let outer = Mat3::from_cols(a * a.x, a * a.y, a * a.z);
+    Mat4::from_mat3(Mat3::IDENTITY * cos + skew * sin + outer * (1.0 - cos))
+}

@@ -1,0 +1,202 @@
+//! Mitsuba 3's own behaviour where it defines the format, pinned with the values Mitsuba
+//! 3.9.1 gives (`scripts/mitsuba_conformance_probe.py` printed every expected value here):
+//! `rotate` uses its axis as written (not normalised), and a mesh file without normals is
+//! shaded smooth with angle-weighted vertex normals computed from its transformed faces.
+
+use glam::Vec3;
+use gpu_photon::importers::mitsuba::{import, Imported};
+use gpu_photon::scene::{Scene, FLAT};
+use std::path::Path;
+
+const SENSOR: &str = r#"<sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+<emitter type="point"><point name="position" x="0" y="0" z="4"/><rgb name="intensity" value="1"/></emitter>
+"#;
+
+/// Imports a scene of `SENSOR` and `body`, files relative to tests/data/mitsuba-conformance.
+fn body(body: &str) -> Imported {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-conformance");
+    let text = format!("<scene version=\"3.0.0\">{SENSOR}{body}\n</scene>\n");
+    import(&text, "t.xml", &dir).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
+    (a - b).abs().max_element() <= tol
+}
+
+/// The rectangle's corners (Mitsuba's `rectangle` is [-1, 1]^2 in z = 0) through `rotate`.
+fn rotated_corners(axis: &str, angle: f32) -> Vec<Vec3> {
+    let s = body(&format!(
+        r#"<shape type="rectangle"><transform name="to_world"><rotate {axis} angle="{angle}"/></transform></shape>"#
+    ))
+    .scene;
+    s.triangles
+        .iter()
+        .flat_map(|t| [t.v0, t.v1, t.v2])
+        .collect()
+}
+
+/// Every corner is the image of one of the rectangle's by `rows` (a 3 x 3 matrix, row major),
+/// and every image appears.
+fn assert_mapped(corners: &[Vec3], rows: [[f32; 3]; 3]) {
+    let images: Vec<Vec3> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(x, y)| Vec3::from(rows.map(|r| r[0] * x + r[1] * y)))
+        .collect();
+    for c in corners {
+        assert!(
+            images.iter().any(|i| close(*i, *c, 1e-5)),
+            "{c} not in {images:?}"
+        );
+    }
+    for i in &images {
+        assert!(
+            corners.iter().any(|c| close(*i, *c, 1e-5)),
+            "{i} missing from {corners:?}"
+        );
+    }
+}
+
+#[test]
+fn rotate_uses_its_axis_as_written() {
+    // Mitsuba 3.9.1: Transform4f().rotate([0, 1, 1], 15): 1.0 on the diagonal where a
+    // rotation about the unit axis has 0.983; it scales and shears.
+    let rows = [
+        [0.965926, -0.258819, 0.258819],
+        [0.258819, 1.0, 0.034074],
+        [-0.258819, 0.034074, 1.0],
+    ];
+    assert_mapped(&rotated_corners(r#"y="1" z="1""#, 15.0), rows);
+    // rotate([0, 0, 2], 90): a quarter turn that also scales by 2 in the plane (and 4 along z).
+    let rows = [[0.0, -2.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 4.0]];
+    assert_mapped(&rotated_corners(r#"z="2""#, 90.0), rows);
+    // A unit axis is a rotation: rotate([1, 0, 0], 90).
+    let rows = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];
+    assert_mapped(&rotated_corners(r#"x="1""#, 90.0), rows);
+}
+
+/// Mitsuba's vertex normals of the fan meshes scaled by (1, 2, 0.5): position, normal.
+const FAN: [([f32; 3], [f32; 3]); 5] = [
+    ([0.0, 0.0, 0.5], [0.104846, -0.057708, 0.992813]),
+    ([1.0, 0.0, 0.0], [0.446829, -0.041473, 0.893658]),
+    ([0.0, 4.0, 0.0], [0.123779, 0.123081, 0.984647]),
+    ([-1.0, 0.0, 0.25], [-0.242295, -0.044562, 0.969179]),
+    ([0.0, -2.0, 0.0], [0.122847, -0.240699, 0.962794]),
+];
+
+/// The fan file `name` (of type `kind`) scaled as the probe scales it.
+fn fan(kind: &str, name: &str, extra: &str) -> Scene {
+    body(&format!(
+        r#"<shape type="{kind}"><string name="filename" value="{name}"/>{extra}<transform name="to_world"><scale x="1" y="2" z="0.5"/></transform></shape>"#
+    ))
+    .scene
+}
+
+/// Each triangle's corners with their shading normals.
+fn corner_normals(s: &Scene) -> Vec<(usize, Vec3, Vec3)> {
+    let mut out = Vec::new();
+    for (i, t) in s.triangles.iter().enumerate() {
+        assert_ne!(t.shading, FLAT, "triangle {i} is flat");
+        let n = s.shading_normals[t.shading as usize];
+        for (k, v) in [t.v0, t.v1, t.v2].into_iter().enumerate() {
+            out.push((i, v, n[k]));
+        }
+    }
+    out
+}
+
+#[test]
+fn meshes_without_normals_are_smooth_as_in_mitsuba() {
+    for (kind, name) in [("obj", "fan.obj"), ("ply", "fan.ply")] {
+        let s = fan(kind, name, "");
+        assert_eq!(s.triangles.len(), 4, "{name}");
+        for (i, v, n) in corner_normals(&s) {
+            let (_, want) = FAN
+                .iter()
+                .find(|(p, _)| close(Vec3::from(*p), v, 1e-5))
+                .unwrap_or_else(|| panic!("{name}: corner {v} of triangle {i} is not in the file"));
+            assert!(
+                close(n, Vec3::from(*want), 2e-5),
+                "{name}: {v}: {n} against {want:?}"
+            );
+        }
+    }
+    // face_normals: flat, as asked.
+    let s = fan(
+        "obj",
+        "fan.obj",
+        r#"<boolean name="face_normals" value="true"/>"#,
+    );
+    assert!(s.triangles.iter().all(|t| t.shading == FLAT));
+}
+
+#[test]
+fn a_uv_seam_splits_an_obj_vertex() {
+    // fan_seam.obj: the apex has texture coordinate 1 in the first two faces and 5 in the
+    // last two; Mitsuba smooths each half on its own.
+    let s = fan("obj", "fan_seam.obj", "");
+    let apex = Vec3::new(0.0, 0.0, 0.5);
+    let halves = [
+        Vec3::new(0.105447, 0.123343, 0.986746),
+        Vec3::new(0.100659, -0.241304, 0.965215),
+    ];
+    for (i, v, n) in corner_normals(&s) {
+        let want = match FAN.iter().find(|(p, _)| close(Vec3::from(*p), v, 1e-5)) {
+            _ if close(v, apex, 1e-5) => halves[i / 2],
+            Some((_, want)) => Vec3::from(*want),
+            None => panic!("corner {v} of triangle {i} is not in the file"),
+        };
+        assert!(
+            close(n, want, 2e-5),
+            "triangle {i} corner {v}: {n} against {want}"
+        );
+    }
+}
+
+/// The render settings a scene with `integrator` (its XML) gets.
+fn integrator_settings(integrator: &str) -> gpu_photon::settings::RenderSettings {
+    body(integrator).scene.settings
+}
+
+#[test]
+fn short_max_depth_caps_paths_in_the_direct_mode() {
+    use gpu_photon::settings::{Mode, RenderSettings};
+    let default = RenderSettings::default();
+    // Mitsuba's suite nests the renderer in `moment`: max_depth 2 is direct light only (no
+    // photon past its first bounce, no mirror chain past one).
+    let s = integrator_settings(
+        r#"<integrator type="moment"><integrator type="path"><integer name="max_depth" value="2"/></integrator></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 1, 1)
+    );
+    let s = integrator_settings(r#"<integrator type="direct"/>"#);
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 1, 1)
+    );
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="4"/></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (Mode::Direct, 3, 2)
+    );
+    // A long max_depth caps the lengths and keeps the mode.
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="6"/></integrator>"#,
+    );
+    assert_eq!(s.mode, default.mode);
+    assert_eq!(
+        (s.max_photon_bounces, s.max_depth),
+        (5.min(default.max_photon_bounces), 4.min(default.max_depth))
+    );
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="-1"/></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (default.mode, default.max_photon_bounces, default.max_depth)
+    );
+}
