@@ -19,7 +19,7 @@ fn bsdf_at(hit: Hit) -> Surface {
     s.emission = s.m.emission;
     if HAS_TEXTURES && hit.light != NO_LIGHT {
         // An emitter's texture is its light's (one material per light).
-        let t = lights[LIGHT_WORDS * hit.light + 6u].w;
+        let t = lights[LIGHT_WORDS * hit.light + LIGHT_EMISSION_WORD].w;
         if t != NO_TEXTURE {
             s.emission *= texture_eval(t, hit.uv);
         }

@@ -150,6 +150,8 @@ pub const MATERIAL_ALPHA_WORD: u32 = 2;
 pub const MEDIUM_WORDS: u32 = 2;
 /// Words per `Light`.
 pub const LIGHT_WORDS: u32 = 8;
+/// The word of a `Light` whose last member is its emission texture (read alone by `bsdf_at`).
+pub const LIGHT_EMISSION_WORD: u32 = 3;
 /// Words per triangle of the `uvs` buffer: its corner uvs (`gpu::types::triangle_uvs`).
 pub const UV_WORDS: u32 = 2;
 /// Words per triangle of the `uvs` buffer when the scene has vertex tangents: the uvs, then
@@ -289,6 +291,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("F32_EPSILON", F32(f32::EPSILON)),
         ("VOLUME_PHOTONS_PER_CELL", F32(VOLUME_PHOTONS_PER_CELL)),
         ("LIGHT_WORDS", U32(LIGHT_WORDS)),
+        ("LIGHT_EMISSION_WORD", U32(LIGHT_EMISSION_WORD)),
         ("PHOTON_WORDS", U32(PHOTON_WORDS)),
         ("UV_WORDS", U32(UV_WORDS)),
         ("UV_TANGENT_WORDS", U32(UV_TANGENT_WORDS)),
