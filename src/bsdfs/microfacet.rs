@@ -255,6 +255,66 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
     }
 }
 
+
+/// A microfacet distribution whose roughness is textureable: what a rough kind keeps (its
+/// `Param` slots, clamped to at least 1e-4 where looked up) and resolves at a hit into a
+/// [`Microfacet`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Roughness {
+    /// The normal distribution.
+    pub distribution: Distribution,
+    /// Roughness along the tangent.
+    pub alpha_u: crate::bsdfs::param::Param,
+    /// Roughness along the bitangent.
+    pub alpha_v: crate::bsdfs::param::Param,
+}
+
+impl Roughness {
+    /// The untextured roughness of `mf`.
+    pub fn new(mf: Microfacet) -> Self {
+        use crate::bsdfs::param::Param;
+        Roughness {
+            distribution: mf.distribution,
+            alpha_u: Param::constant(mf.alpha_u),
+            alpha_v: Param::constant(mf.alpha_v),
+        }
+    }
+
+    /// Its textures looked up at `uv` (each at least 1e-4).
+    pub fn resolved(&self, t: &[crate::textures::SceneTexture], uv: glam::Vec2) -> Self {
+        use crate::bsdfs::param::Param;
+        let clamped = |p: &Param| match p.is_textured() {
+            true => Param::constant(p.eval(t, uv).x.max(1e-4)),
+            false => *p,
+        };
+        Roughness {
+            alpha_u: clamped(&self.alpha_u),
+            alpha_v: clamped(&self.alpha_v),
+            ..*self
+        }
+    }
+
+    /// The distribution of a resolved roughness.
+    pub fn microfacet(&self) -> Microfacet {
+        Microfacet {
+            distribution: self.distribution,
+            alpha_u: self.alpha_u.float(),
+            alpha_v: self.alpha_v.float(),
+        }
+    }
+
+    /// Its two slots, after the kind's other words (`mf_slots` reads them in WGSL).
+    pub fn gpu_words(&self, out: &mut crate::bsdfs::param::GpuWords) {
+        out.slot(&self.alpha_u);
+        out.slot(&self.alpha_v);
+    }
+
+    /// The distribution's code (`MF_GGX`, `MF_BECKMANN`).
+    pub fn code(&self) -> u32 {
+        distribution_code(self.distribution)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

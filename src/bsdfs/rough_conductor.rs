@@ -4,7 +4,7 @@
 
 use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
 use crate::bsdfs::math::reflect;
-use crate::bsdfs::microfacet::{fresnel_conductor, Distribution, Microfacet};
+use crate::bsdfs::microfacet::{fresnel_conductor, Microfacet, Roughness};
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::textures::SceneTexture;
@@ -26,12 +26,8 @@ pub struct RoughConductor {
     pub k: Vec3,
     /// Tint multiplying the Fresnel reflectance (`specular_reflectance`).
     pub specular: Param,
-    /// The normal distribution.
-    pub distribution: Distribution,
-    /// Roughness along the tangent (clamped to at least 1e-4).
-    pub alpha_u: Param,
-    /// Roughness along the bitangent (clamped to at least 1e-4).
-    pub alpha_v: Param,
+    /// The microfacet distribution and its (textureable) roughness.
+    pub roughness: Roughness,
 }
 
 /// f(wi, wo): `F(wo . h) D(h) G(wi, wo, h) / (4 cos_o cos_i)` times the tint, h the half vector
@@ -90,19 +86,13 @@ impl RoughConductor {
             eta,
             k,
             specular: Param::rgb(specular),
-            distribution: mf.distribution,
-            alpha_u: Param::constant(mf.alpha_u),
-            alpha_v: Param::constant(mf.alpha_v),
+            roughness: Roughness::new(mf),
         }
     }
 
     /// The microfacet distribution of a resolved conductor.
     pub fn microfacet(&self) -> Microfacet {
-        Microfacet {
-            distribution: self.distribution,
-            alpha_u: self.alpha_u.float(),
-            alpha_v: self.alpha_v.float(),
-        }
+        self.roughness.microfacet()
     }
 }
 
@@ -111,20 +101,17 @@ impl BsdfKind for RoughConductor {
         CLASS
     }
     fn resolve(&self, t: &[SceneTexture], uv: Vec2) -> Self {
-        let clamped = |p: &Param| Param::constant(p.eval(t, uv).x.max(1e-4));
         Self {
             specular: self.specular.resolved(t, uv),
-            alpha_u: if self.alpha_u.is_textured() { clamped(&self.alpha_u) } else { self.alpha_u },
-            alpha_v: if self.alpha_v.is_textured() { clamped(&self.alpha_v) } else { self.alpha_v },
+            roughness: self.roughness.resolved(t, uv),
             ..*self
         }
     }
     fn gpu_words(&self, out: &mut GpuWords) {
-        out.rgb_u(self.eta, crate::bsdfs::microfacet::distribution_code(self.distribution));
+        out.rgb_u(self.eta, self.roughness.code());
         out.rgb_u(self.k, 0);
         out.slot(&self.specular);
-        out.slot(&self.alpha_u);
-        out.slot(&self.alpha_v);
+        self.roughness.gpu_words(out);
     }
     fn eval_lobe(&self, wi: Vec3, wo: Vec3, _: Transport) -> Vec3 {
         to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| {

@@ -6,7 +6,7 @@
 
 use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
 use crate::bsdfs::math::{mulsign, reflect, refract};
-use crate::bsdfs::microfacet::{distribution_code, fresnel_dielectric, Distribution, Microfacet};
+use crate::bsdfs::microfacet::{fresnel_dielectric, Microfacet, Roughness};
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::textures::SceneTexture;
@@ -28,12 +28,8 @@ pub struct RoughDielectric {
     pub specular_reflectance: Param,
     /// Tint of the transmitted part.
     pub specular_transmittance: Param,
-    /// The normal distribution.
-    pub distribution: Distribution,
-    /// Roughness along the tangent (clamped to at least 1e-4).
-    pub alpha_u: Param,
-    /// Roughness along the bitangent (clamped to at least 1e-4).
-    pub alpha_v: Param,
+    /// The microfacet distribution and its (textureable) roughness.
+    pub roughness: Roughness,
 }
 
 impl RoughDielectric {
@@ -43,19 +39,13 @@ impl RoughDielectric {
             eta,
             specular_reflectance: Param::rgb(reflectance),
             specular_transmittance: Param::rgb(transmittance),
-            distribution: mf.distribution,
-            alpha_u: Param::constant(mf.alpha_u),
-            alpha_v: Param::constant(mf.alpha_v),
+            roughness: Roughness::new(mf),
         }
     }
 
     /// The microfacet distribution of a resolved interface.
     pub fn microfacet(&self) -> Microfacet {
-        Microfacet {
-            distribution: self.distribution,
-            alpha_u: self.alpha_u.float(),
-            alpha_v: self.alpha_v.float(),
-        }
+        self.roughness.microfacet()
     }
 }
 
@@ -64,21 +54,18 @@ impl BsdfKind for RoughDielectric {
         CLASS
     }
     fn resolve(&self, t: &[SceneTexture], uv: Vec2) -> Self {
-        let clamped = |p: &Param| Param::constant(p.eval(t, uv).x.max(1e-4));
         Self {
             specular_reflectance: self.specular_reflectance.resolved(t, uv),
             specular_transmittance: self.specular_transmittance.resolved(t, uv),
-            alpha_u: if self.alpha_u.is_textured() { clamped(&self.alpha_u) } else { self.alpha_u },
-            alpha_v: if self.alpha_v.is_textured() { clamped(&self.alpha_v) } else { self.alpha_v },
+            roughness: self.roughness.resolved(t, uv),
             ..*self
         }
     }
     fn gpu_words(&self, out: &mut GpuWords) {
-        out.raw([self.eta.to_bits(), distribution_code(self.distribution), 0, 0]);
+        out.raw([self.eta.to_bits(), self.roughness.code(), 0, 0]);
         out.slot(&self.specular_reflectance);
         out.slot(&self.specular_transmittance);
-        out.slot(&self.alpha_u);
-        out.slot(&self.alpha_v);
+        self.roughness.gpu_words(out);
     }
     fn eval_lobe(&self, wi: Vec3, wo: Vec3, t: Transport) -> Vec3 {
         eval(
