@@ -13,7 +13,7 @@ mod scalar;
 mod x86;
 
 pub use super::isa::Isa;
-use super::wide_layout::{leaf_blocks, Closest, TriBlock, WideBvh, LEAF_BIT};
+use super::wide_layout::{leaf_blocks, Closest, TriBlock, WideBvh, EMPTY, LEAF_BIT};
 use super::{alpha_passes, SPHERE_BIT};
 use crate::math::geometry::{intersect_sphere, Ray, Shear};
 use crate::scene::Scene;
@@ -174,12 +174,17 @@ unsafe fn walk<K: Kernel, const NEAR_FIRST: bool>(
                 cur = child[k - 1];
                 continue;
             }
-        } else {
+        } else if cur != EMPTY {
+            // A ray whose slab tests turn NaN (an origin or box at infinity: a photon from
+            // the disc of a scene with a vertex near f32::MAX) may enter an empty slot: only a
+            // real leaf's blocks are read, and only within the block list.
             let (first, count) = leaf_blocks(cur);
-            match visit.leaf(bvh.blocks.get_unchecked(first..first + count), t_max) {
-                Some(t) if t < 0.0 => return,
-                Some(t) => t_max = t,
-                None => {}
+            if let Some(blocks) = bvh.blocks.get(first..first + count) {
+                match visit.leaf(blocks, t_max) {
+                    Some(t) if t < 0.0 => return,
+                    Some(t) => t_max = t,
+                    None => {}
+                }
             }
         }
         loop {
@@ -201,10 +206,10 @@ unsafe fn defer<K: Kernel>(bvh: &WideBvh, c: u32) {
     if c & LEAF_BIT == 0 {
         let at = bvh.nodes.as_ptr().add(c as usize) as *const u8;
         K::prefetch(at, std::mem::size_of::<super::wide_layout::Node8>());
-    } else {
-        // The first block (a leaf's further blocks follow it in memory).
-        let at = bvh.blocks.as_ptr().add(leaf_blocks(c).0) as *const u8;
-        K::prefetch(at, std::mem::size_of::<TriBlock>());
+    } else if let Some(b) = bvh.blocks.get(leaf_blocks(c).0) {
+        // The first block (a leaf's further blocks follow it in memory); an empty slot's
+        // reference names none.
+        K::prefetch(b as *const TriBlock as *const u8, std::mem::size_of::<TriBlock>());
     }
 }
 
