@@ -293,7 +293,7 @@ fn referenced_files_must_be_regular_files() {
         "zero-gltf",
         "t.gltf",
         buffer.as_bytes(),
-        "t.gltf:9: buffers[0]: cannot read buffer /dev/zero: not a regular file",
+        "t.gltf:9: buffers[0]: cannot read buffer `/dev/zero`: not a regular file",
     );
 }
 

@@ -440,7 +440,6 @@ fn malformed_gltf_files_give_file_line_field_messages() {
     let uri = good.find("data:application").unwrap();
     let end = uri + good[uri..].find('"').unwrap();
     let missing = format!("{}nowhere.bin{}", &good[..uri], &good[end..]);
-    let dir = root().join("target/test-output/gltf");
     let (json, bin) = cornell_parts(None, false);
     let full = common::glb(&json, &bin);
     assert!(load(&write("tiny.gltf", tiny(0.0).as_bytes())).is_ok());
@@ -459,10 +458,8 @@ fn malformed_gltf_files_give_file_line_field_messages() {
         (
             "missing-buffer.gltf",
             missing.into_bytes(),
-            format!(
-                "37: buffers[0]: cannot read buffer {}: No such file or directory (os error 2)",
-                dir.join("nowhere.bin").display()
-            ),
+            "37: buffers[0]: cannot read buffer `nowhere.bin`: No such file or directory (os error 2)"
+                .into(),
         ),
         (
             "short-buffer.gltf",

@@ -43,7 +43,8 @@ pub(crate) fn load_buffers(
             Source::Uri(uri) => {
                 let path = base_dir.join(uri);
                 crate::importers::read::regular_file(&path)
-                    .map_err(|e| fail(format!("cannot read buffer {}: {e}", path.display())))?
+                    // The uri as written (the message names the scene file and line already).
+                    .map_err(|e| fail(format!("cannot read buffer `{uri}`: {e}")))?
             }
         };
         if data.len() < buffer.length() {
