@@ -21,7 +21,8 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
         "{}{}: {} triangles, {} spheres; rays at {w}x{h} made in {:.2} s; one thread, \
          medians of {} rounds, Mrays/s",
         args.scene.display(),
-        args.mesh.map_or(String::new(), |n| format!(" + a {n}-triangle mesh")),
+        args.mesh
+            .map_or(String::new(), |n| format!(" + a {n}-triangle mesh")),
         scene.triangles.len(),
         scene.spheres.len(),
         t.elapsed().as_secs_f64(),
@@ -37,7 +38,10 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
             0 => String::new(),
             b => format!(", {:.0} B/prim", b as f64 / prims),
         };
-        builds.push(format!("{name} {:.3} s ({:.3} s CPU){size}", c.wall_s, c.cpu_s));
+        builds.push(format!(
+            "{name} {:.3} s ({:.3} s CPU){size}",
+            c.wall_s, c.cpu_s
+        ));
         let v = serde_json::json!({"wall_s": c.wall_s, "cpu_s": c.cpu_s, "bytes": c.bytes});
         json_builds.insert(name.to_string(), v);
     };
@@ -123,7 +127,11 @@ fn print_table(rates: &[RayRate], tracers: &[&dyn Tracer]) {
                 .map(|r| r.rays_per_s)
                 .fold(0.0, f64::max);
             let agree = chunk[e].agree as f64 / chunk[e].rays.max(1) as f64;
-            line += &format!(" {:>12.2} {:>9.2}%", wide / chunk[e].rays_per_s, 100.0 * agree);
+            line += &format!(
+                " {:>12.2} {:>9.2}%",
+                wide / chunk[e].rays_per_s,
+                100.0 * agree
+            );
         }
         println!("{line}");
     }

@@ -3,10 +3,10 @@
 //! textured opacity follows its texture, the importer's errors are exact, and the GPU
 //! renders masks as the CPU does.
 
-use gpu_photon::render::report::Progress;
 use gpu_photon::importers::mitsuba::import;
-use gpu_photon::scene::{AlphaMode, Scene};
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{AlphaMode, Scene};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f32::consts::PI;
 use std::path::Path;

@@ -26,8 +26,12 @@ fn the_facade_renders_what_the_session_renders() {
         let (ours, warnings) = scene.render(&s, Backend::Cpu).unwrap();
         assert!(warnings.is_empty(), "{warnings:?}");
         let quiet = gpu_photon::render::report::Progress::default();
-        let inner =
-            gpu_photon::render::session::render(&scene, &s.as_default_render(), Backend::Cpu, quiet);
+        let inner = gpu_photon::render::session::render(
+            &scene,
+            &s.as_default_render(),
+            Backend::Cpu,
+            quiet,
+        );
         let (theirs, _) = inner.unwrap();
         assert_eq!((ours.width, ours.height), (16, 12));
         let bits = |i: &Image| i.rgb().iter().map(|v| v.to_bits()).collect::<Vec<_>>();

@@ -38,10 +38,7 @@ fn white() -> Vec<(&'static str, Bsdf)> {
         ("glass", glass(None)),
         ("rough glass ggx", glass(ggx(0.3))),
         ("rough glass beckmann aniso", glass(beckmann(0.1, 0.4))),
-        (
-            "thin",
-            Bsdf::thin_dielectric(1.5, one, one),
-        ),
+        ("thin", Bsdf::thin_dielectric(1.5, one, one)),
         (
             "plastic",
             Bsdf::Plastic(Plastic::new(one, one, 1.5, false, None)),
@@ -174,7 +171,14 @@ fn lossless_limits() {
 }
 
 fn reflective() -> Vec<Bsdf> {
-    let c = |mf| Bsdf::conductor(Vec3::new(0.2, 0.9, 1.5), Vec3::new(3.9, 2.4, 1.6), Vec3::new(0.9, 0.8, 0.7), mf);
+    let c = |mf| {
+        Bsdf::conductor(
+            Vec3::new(0.2, 0.9, 1.5),
+            Vec3::new(3.9, 2.4, 1.6),
+            Vec3::new(0.9, 0.8, 0.7),
+            mf,
+        )
+    };
     vec![
         Bsdf::diffuse(Vec3::new(0.8, 0.5, 0.2)),
         c(ggx(0.3)),

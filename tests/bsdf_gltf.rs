@@ -132,8 +132,13 @@ fn lobes_equal_appendix_b_and_the_diffuse_albedo_is_its_own() {
             let mut want = appendix_b(&g, wi, wo);
             if wi.z > 0.0 {
                 let c = wo.dot((wi + wo).normalize());
-                let fmax = (g.f0.get() + (Vec3::splat(g.f90) - g.f0.get()) * (1.0 - c).powi(5)).max_element();
-                want -= (1.0 - g.metallic.float()) * (1.0 - g.transmission.float()) * (1.0 - fmax) * g.base.get() / PI;
+                let fmax = (g.f0.get() + (Vec3::splat(g.f90) - g.f0.get()) * (1.0 - c).powi(5))
+                    .max_element();
+                want -= (1.0 - g.metallic.float())
+                    * (1.0 - g.transmission.float())
+                    * (1.0 - fmax)
+                    * g.base.get()
+                    / PI;
             }
             let got = b.eval_lobe(wi, wo, Transport::Radiance);
             let tol = 1e-4 * want.max_element().max(1.0);

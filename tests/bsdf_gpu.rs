@@ -16,8 +16,8 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3};
-use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::math::{erf, erfinv, mulsign, square_to_cosine_hemisphere};
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
     fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, MetallicRoughness,
     Microfacet, Plastic, Transport, KINDS,
@@ -78,19 +78,24 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
     let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.45, 2.14));
     let spec = Vec3::new(0.95, 0.9, 1.0);
     let cond = |mf| Bsdf::conductor(eta, k, spec, mf);
-    let diel = |eta, mf| Bsdf::dielectric(eta, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9), mf);
+    let diel =
+        |eta, mf| Bsdf::dielectric(eta, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9), mf);
     let (kd, ks) = (Vec3::new(0.5, 0.3, 0.2), Vec3::new(1.0, 0.9, 0.8));
     let plastic = |nonlinear, mf| Bsdf::Plastic(Plastic::new(kd, ks, 1.5, nonlinear, mf));
     let gltf = |metallic, roughness, transmission| {
         let (base, f0) = (Vec3::new(0.8, 0.45, 0.2), Vec3::new(0.04, 0.06, 0.03));
-        Bsdf::MetallicRoughness(MetallicRoughness::new(base, metallic, roughness, f0, 0.9, transmission))
+        Bsdf::MetallicRoughness(MetallicRoughness::new(
+            base,
+            metallic,
+            roughness,
+            f0,
+            0.9,
+            transmission,
+        ))
     };
     use Distribution::{Beckmann, Ggx};
     vec![
-        (
-            "diffuse",
-            Bsdf::diffuse(Vec3::new(0.7, 0.5, 0.3)),
-        ),
+        ("diffuse", Bsdf::diffuse(Vec3::new(0.7, 0.5, 0.3))),
         (
             "phong",
             Bsdf::Phong(gpu_photon::bsdfs::phong::Phong::new(
@@ -101,7 +106,9 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
         ),
         (
             "mirror",
-            Bsdf::Mirror(gpu_photon::bsdfs::mirror::Mirror::new(Vec3::new(0.9, 0.8, 0.7))),
+            Bsdf::Mirror(gpu_photon::bsdfs::mirror::Mirror::new(Vec3::new(
+                0.9, 0.8, 0.7,
+            ))),
         ),
         ("conductor", cond(None)),
         (
@@ -255,7 +262,12 @@ fn run_probe(ctx: &GpuContext, bsdfs: &[Bsdf], cases: &[ProbeCase]) -> Vec<[f32;
             Distribution::Ggx => gpu_photon::bsdfs::microfacet::MF_GGX,
             Distribution::Beckmann => gpu_photon::bsdfs::microfacet::MF_BECKMANN,
         };
-        init[3 * n + i] = [f32::from_bits(code), mf.alpha_u, mf.alpha_v, eta_of(b).unwrap_or(1.5)];
+        init[3 * n + i] = [
+            f32::from_bits(code),
+            mf.alpha_u,
+            mf.alpha_v,
+            eta_of(b).unwrap_or(1.5),
+        ];
         let (eta, k) = conductor_of(b).unwrap_or((Vec3::ONE, Vec3::ONE));
         init[4 * n + i] = [eta.x, eta.y, eta.z, 0.0];
         init[5 * n + i] = [k.x, k.y, k.z, 0.0];

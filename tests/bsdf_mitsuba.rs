@@ -48,8 +48,17 @@ fn build(params: &str) -> Bsdf {
             };
             Bsdf::conductor(eta, k, c("specular_reflectance", Vec3::ONE), microfacet)
         }
-        "dielectric" | "roughdielectric" => Bsdf::dielectric(f("int_ior", 1.5046) / AIR, c("specular_reflectance", Vec3::ONE), c("specular_transmittance", Vec3::ONE), microfacet),
-        "thindielectric" => Bsdf::thin_dielectric(f("int_ior", 1.5046) / AIR, c("specular_reflectance", Vec3::ONE), c("specular_transmittance", Vec3::ONE)),
+        "dielectric" | "roughdielectric" => Bsdf::dielectric(
+            f("int_ior", 1.5046) / AIR,
+            c("specular_reflectance", Vec3::ONE),
+            c("specular_transmittance", Vec3::ONE),
+            microfacet,
+        ),
+        "thindielectric" => Bsdf::thin_dielectric(
+            f("int_ior", 1.5046) / AIR,
+            c("specular_reflectance", Vec3::ONE),
+            c("specular_transmittance", Vec3::ONE),
+        ),
         "plastic" | "roughplastic" => Bsdf::Plastic(Plastic::new(
             c("diffuse_reflectance", Vec3::splat(0.5)),
             c("specular_reflectance", Vec3::ONE),

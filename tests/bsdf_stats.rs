@@ -262,7 +262,12 @@ fn chi2_diffuse() {
 #[test]
 fn chi2_rough_conductor() {
     for (name, mf) in roughness() {
-        let b = Bsdf::conductor(Vec3::new(0.2, 0.9, 1.5), Vec3::new(3.9, 2.4, 1.6), Vec3::ONE, Some(mf));
+        let b = Bsdf::conductor(
+            Vec3::new(0.2, 0.9, 1.5),
+            Vec3::new(3.9, 2.4, 1.6),
+            Vec3::ONE,
+            Some(mf),
+        );
         for deg in ANGLES {
             check(
                 &format!("conductor {name} {mf:?}"),
@@ -339,7 +344,14 @@ fn chi2_plastic() {
 fn chi2_metallic_roughness() {
     let g = |metallic, roughness, transmission| {
         let (base, f0) = (Vec3::new(0.8, 0.5, 0.2), Vec3::new(0.04, 0.05, 0.03));
-        Bsdf::MetallicRoughness(MetallicRoughness::new(base, metallic, roughness, f0, 1.0, transmission))
+        Bsdf::MetallicRoughness(MetallicRoughness::new(
+            base,
+            metallic,
+            roughness,
+            f0,
+            1.0,
+            transmission,
+        ))
     };
     for (name, b) in [
         ("dielectric", g(0.0, 0.5, 0.0)),
@@ -356,8 +368,18 @@ fn chi2_metallic_roughness() {
 #[test]
 fn chi2_catches_a_wrong_pdf() {
     // The test must be able to fail: a GGX sampler judged by the Beckmann density.
-    let ggx = Bsdf::conductor(Vec3::ZERO, Vec3::ONE, Vec3::ONE, Some(Microfacet::isotropic(Distribution::Ggx, 0.3)));
-    let beckmann = Bsdf::conductor(Vec3::ZERO, Vec3::ONE, Vec3::ONE, Some(Microfacet::isotropic(Distribution::Beckmann, 0.3)));
+    let ggx = Bsdf::conductor(
+        Vec3::ZERO,
+        Vec3::ONE,
+        Vec3::ONE,
+        Some(Microfacet::isotropic(Distribution::Ggx, 0.3)),
+    );
+    let beckmann = Bsdf::conductor(
+        Vec3::ZERO,
+        Vec3::ONE,
+        Vec3::ONE,
+        Some(Microfacet::isotropic(Distribution::Beckmann, 0.3)),
+    );
     let wo = wo_at(45.0, 0.0);
     let r = std::panic::catch_unwind(|| {
         chi2(

@@ -6,8 +6,8 @@
 //! and every quantised box must contain the node's exact box.
 
 use glam::Vec3;
-use gpu_photon::bvh::Bvh;
 use gpu_photon::bvh::gpu_layout::{traversal_nodes, GPU_COSTS, LEAF_COUNT_SHIFT};
+use gpu_photon::bvh::Bvh;
 use gpu_photon::scene::{Scene, Triangle};
 use std::path::Path;
 

@@ -12,14 +12,16 @@ mod common;
 
 use common::{trace_global, TestRng};
 use glam::Vec3;
-use gpu_photon::camera::Camera;
-use gpu_photon::integrators::cpu::photon_map::PhotonMap;
-use gpu_photon::math::geometry::{intersect_triangle, Ray, Shear};
-use gpu_photon::lights::{scalar_power, split_budget};
-use gpu_photon::bsdfs::fresnel::{dielectric, fresnel, fresnel_exact, fresnel_schlick, reflect, refract};
+use gpu_photon::bsdfs::fresnel::{
+    dielectric, fresnel, fresnel_exact, fresnel_schlick, reflect, refract,
+};
 use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
 use gpu_photon::bsdfs::Bsdf;
+use gpu_photon::camera::Camera;
+use gpu_photon::integrators::cpu::photon_map::PhotonMap;
 use gpu_photon::integrators::photon::{Budget, Photon};
+use gpu_photon::lights::{scalar_power, split_budget};
+use gpu_photon::math::geometry::{intersect_triangle, Ray, Shear};
 use gpu_photon::render::report::Progress;
 use gpu_photon::scene::{Light, LightShape, Material, Scene, Triangle, NO_LIGHT};
 

@@ -9,8 +9,8 @@ mod common;
 use glam::DVec3;
 use gpu_photon::render::progressive::Flow;
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::Scene;
 use gpu_photon::render::session::{render_progressive, Backend};
+use gpu_photon::scene::Scene;
 
 fn scene() -> Scene {
     gpu_photon::importers::load(std::path::Path::new("tests/data/dense-point-light.toml")).unwrap()

@@ -6,8 +6,8 @@
 
 use glam::{Vec2, Vec3};
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::settings::{Mode, RenderSettings};
 use gpu_photon::textures::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use std::f32::consts::PI;

@@ -4,13 +4,13 @@
 //! environment, and the command line's `--env` and no-light error.
 
 use glam::{Mat3, Vec3};
-use gpu_photon::lights::environment::sampling::{self as env, EnvDistribution};
-use gpu_photon::render::film::Image;
-use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::photon::Budget;
+use gpu_photon::lights::environment::sampling::{self as env, EnvDistribution};
+use gpu_photon::lights::table::LightTable;
+use gpu_photon::render::film::Image;
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::{Environment, Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{Environment, Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::settings::{Mode, RenderSettings};
 use gpu_photon::textures::Texture;
 use std::f64::consts::PI;
@@ -278,7 +278,10 @@ fn sky_integral(scale: f64) -> glam::DVec3 {
         let v = (j as f64 + 0.5) / nv as f64;
         for i in 0..nu {
             let u = (i as f64 + 0.5) / nu as f64;
-            let c = gpu_photon::lights::environment::latlong_lookup(&t, glam::Vec2::new(u as f32, v as f32));
+            let c = gpu_photon::lights::environment::latlong_lookup(
+                &t,
+                glam::Vec2::new(u as f32, v as f32),
+            );
             sum += c.as_dvec3() * (PI * v).sin();
         }
     }
@@ -723,7 +726,8 @@ fn a_ground_plane_under_the_sky_on_both_backends() {
                 [[shapes]]\ntype = \"quad\"\nmaterial = \"grey\"\n\
                 corners = [[-2.5, -1, 2.5], [2.5, -1, 2.5], [2.5, -1, -2.5], [-2.5, -1, -2.5]]\n\n\
                 [environment]\nradiance = [1, 0.5, 0.25]\n";
-    let s = gpu_photon::importers::load_str(toml, "ground.toml", std::path::Path::new(".")).unwrap();
+    let s =
+        gpu_photon::importers::load_str(toml, "ground.toml", std::path::Path::new(".")).unwrap();
     let st = settings(&s, 32, 1, Mode::DirectOnly);
     let mut counts = Vec::new();
     for b in [Backend::Cpu, Backend::Gpu] {

@@ -14,8 +14,8 @@
 #[path = "fuzz/mutate.rs"]
 mod mutate;
 
-use gpu_photon::render::report::Progress;
 use gpu_photon::importers::load;
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use mutate::{mutate, Rng};
 use std::path::{Path, PathBuf};

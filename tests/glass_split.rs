@@ -12,13 +12,13 @@
 
 mod common;
 
+use gpu_photon::bsdfs::shading::GLASS_SPLIT_DEPTH;
+use gpu_photon::importers::load_str;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::load_str;
-use gpu_photon::scene::Scene;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
-use gpu_photon::bsdfs::shading::GLASS_SPLIT_DEPTH;
 use std::path::Path;
 
 const SLAB: &str = r#"

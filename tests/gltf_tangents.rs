@@ -9,8 +9,8 @@ mod common;
 
 use glam::{Quat, Vec2, Vec3, Vec4};
 use gpu_photon::bvh::Bvh;
-use gpu_photon::math::geometry::Ray;
 use gpu_photon::importers::load;
+use gpu_photon::math::geometry::Ray;
 use gpu_photon::scene::Scene;
 use std::path::{Path, PathBuf};
 

@@ -8,10 +8,10 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::render::report::Progress;
 use gpu_photon::importers::load;
-use gpu_photon::scene::Scene;
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::{Mode, RenderSettings};
 use gpu_photon::textures::{
     srgb_to_linear, Encoding, Filter, SceneTexture, Texels, UvTransform, Wrap,
@@ -372,7 +372,14 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     };
     let none = gpu_photon::textures::NO_TEXTURE;
     assert!(m.normal_texture != none);
-    let slots = [mr.base, mr.metallic, mr.roughness, mr.f0, mr.transmission, mr.specular];
+    let slots = [
+        mr.base,
+        mr.metallic,
+        mr.roughness,
+        mr.f0,
+        mr.transmission,
+        mr.specular,
+    ];
     assert!(slots.iter().all(|p| p.texture != none), "{slots:?}");
     let (cpu, gpu) = common::direct_renders(&s, 24);
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();

@@ -9,11 +9,11 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::integrators::estimate;
-use gpu_photon::render::film::Image;
-use probes::CacheProbe;
 use gpu_photon::integrators::photon::{Photon, DEPTH_MASK};
 use gpu_photon::integrators::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
+use gpu_photon::render::film::Image;
 use gpu_photon::settings::{Filter, Mode, RenderSettings};
+use probes::CacheProbe;
 use std::f32::consts::PI;
 
 /// Photons on the floor y = 0 (normal +y), on the back wall z = -1 (arriving from either
@@ -314,7 +314,9 @@ fn gpu_gather_over_glossy_lobes_equals_the_cpu() {
     };
     let run = |b| {
         let p = gpu_photon::render::report::Progress::default();
-        gpu_photon::render::session::render(&scene, &s, b, p).unwrap().0
+        gpu_photon::render::session::render(&scene, &s, b, p)
+            .unwrap()
+            .0
     };
     let cpu = run(gpu_photon::render::session::BackendChoice::Cpu);
     let gpu = run(gpu_photon::render::session::BackendChoice::Gpu);

@@ -14,12 +14,11 @@
 //! Each test gathers every mismatch it finds and fails once with the whole list.
 
 use gpu_photon::bvh;
-use gpu_photon::math::geometry;
+use gpu_photon::bvh::gpu_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::integrators::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
 };
 use gpu_photon::integrators::gpu::branches::{GpuBranch, GpuBranchStack};
-use gpu_photon::bvh::gpu_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::integrators::gpu::codes::{self, shared_constants, WgslValue};
 use gpu_photon::integrators::gpu::pipelines::CPU_DEVICE_LOOP_BUDGET;
 use gpu_photon::integrators::gpu::shaders::{self, validate, Kernel};
@@ -29,6 +28,7 @@ use gpu_photon::integrators::gpu::types::{
     GpuSphere, GpuTriangle,
 };
 use gpu_photon::integrators::photon::{self, Photon};
+use gpu_photon::math::geometry;
 use gpu_photon::math::rng::Stream;
 use gpu_photon::scene::{FLAT, NO_LIGHT};
 use naga::proc::Layouter;
@@ -639,14 +639,20 @@ fn shared_constants_agree() {
         ("FLAT", Literal::U32(FLAT)),
         ("OFFSET_SCALE", Literal::F32(geometry::OFFSET_SCALE)),
         ("BOX_SLACK", Literal::F32(geometry::BOX_SLACK)),
-        ("FACING_COS", Literal::F32(gpu_photon::integrators::estimate::FACING_COS)),
+        (
+            "FACING_COS",
+            Literal::F32(gpu_photon::integrators::estimate::FACING_COS),
+        ),
         ("OFFSET_FLOOR", Literal::F32(geometry::OFFSET_FLOOR)),
         ("STREAM_PHOTON", Literal::U32(Stream::Photon as u32)),
         ("STREAM_CAUSTIC", Literal::U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", Literal::U32(Stream::Camera as u32)),
         ("MAX_HEAP", Literal::U32(codes::MAX_HEAP)),
         ("TERM_FINAL_GATHER", Literal::U32(codes::TERM_FINAL_GATHER)),
-        ("CACHE_STRIDE", Literal::U32(gpu_photon::integrators::plan::CACHE_STRIDE)),
+        (
+            "CACHE_STRIDE",
+            Literal::U32(gpu_photon::integrators::plan::CACHE_STRIDE),
+        ),
         (
             "CACHE_NORMAL_COS",
             Literal::F32(gpu_photon::integrators::plan::CACHE_NORMAL_COS),

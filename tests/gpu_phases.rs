@@ -173,7 +173,8 @@ fn only_glass_scenes_get_the_glass_rounds() {
             glass,
             "{file}"
         );
-        let run = gpu_photon::integrators::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
+        let run =
+            gpu_photon::integrators::gpu::run::GpuRun::new(ctx.clone(), &scene, &s, 0).unwrap();
         assert_eq!(run.pipelines.glass_rounds, glass, "{file}");
         let stacks = if glass { 8 * 8 } else { 1 };
         assert_eq!(run.branch_stacks.size(), stacks_bytes(stacks), "{file}");

@@ -16,11 +16,11 @@
 
 mod common;
 
+use gpu_photon::importers::{load, load_str};
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::{load, load_str};
-use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -621,7 +621,8 @@ fn total_internal_reflection_point_light_inside_a_glass_cube() {
         ..RenderSettings::default()
     };
     let (_, photons) = common::trace_global(&sc, &settings);
-    let mut first: std::collections::HashMap<u32, &gpu_photon::integrators::photon::Photon> = Default::default();
+    let mut first: std::collections::HashMap<u32, &gpu_photon::integrators::photon::Photon> =
+        Default::default();
     for p in &photons {
         let e = first.entry(p.id).or_insert(p);
         if p.depth() < e.depth() {

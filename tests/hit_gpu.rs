@@ -20,15 +20,17 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::{Vec2, Vec3, Vec4};
 use gpu_photon::bvh::{alpha_passes, alpha_test, uv_tangent, Bvh, SPHERE_BIT};
-use gpu_photon::math::geometry::{offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray};
-use probes::hit::{HitCase, HitProbe};
-use probes::light::SceneProbes;
 use gpu_photon::integrators::photon::pack_normal;
+use gpu_photon::math::geometry::{
+    offset_origin, shading_normal, triangle_tangent, vertex_tangent, Ray,
+};
 use gpu_photon::scene::{
     Alpha, AlphaMode, Material, Origin, Scene, SceneBuilder, Surface, FLAT, NO_TEXTURE,
 };
 use gpu_photon::settings::RenderSettings;
 use gpu_photon::textures::{pack_rgba8, Encoding, SceneTexture, Texture};
+use probes::hit::{HitCase, HitProbe};
+use probes::light::SceneProbes;
 
 /// Unit normals: the same normalisation of the same sum on both sides, a few roundings
 /// (measured worst on lavapipe in the report line).

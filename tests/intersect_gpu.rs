@@ -16,11 +16,11 @@ mod probes;
 use common::{gpu, TestRng};
 use glam::Vec3;
 use gpu_photon::bvh::{Bvh, SPHERE_BIT};
-use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
-use probes::light::{IntersectProbe, RayCase, SceneProbes};
 use gpu_photon::importers::load_str;
+use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
+use probes::light::{IntersectProbe, RayCase, SceneProbes};
 use std::path::Path;
 
 /// Two quads meeting at an edge (each two triangles sharing a diagonal), a closed box and

@@ -11,11 +11,13 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::render::film::diff;
 use gpu_photon::integrators::gpu::bindings::Layouts;
 use gpu_photon::integrators::gpu::pipelines::{feature_constants, Pipelines};
 use gpu_photon::integrators::gpu::shaders::{validate, Kernel};
-use gpu_photon::integrators::gpu::shape::{cache_build_bytes, AdapterFacts, KernelShape, SHAPE_ENV};
+use gpu_photon::integrators::gpu::shape::{
+    cache_build_bytes, AdapterFacts, KernelShape, SHAPE_ENV,
+};
+use gpu_photon::render::film::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
@@ -150,7 +152,8 @@ fn settings(scene: &gpu_photon::scene::Scene, seed: u32) -> RenderSettings {
 #[test]
 fn a_32_wide_shape_renders_the_same_images() {
     let Some(ctx) = gpu() else { return };
-    let scene = gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    let scene =
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let mut guard_free = ctx.clone();
     guard_free.shape = KernelShape::parse("nvidia", &AdapterFacts::of(&ctx.adapter)).unwrap();
     assert!(!guard_free.shape.loop_guard);

@@ -19,15 +19,15 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use probes::light::{LightCase, SceneProbes};
-use gpu_photon::lights::table::{aims_at, LightTable};
-use gpu_photon::lights::interface::{LightSample};
+use gpu_photon::importers::load_str;
 use gpu_photon::integrators::photon::power_ends;
 use gpu_photon::integrators::plan::{MapKind, MapPlan};
-use gpu_photon::importers::load_str;
-use gpu_photon::scene::{LightShape, Scene};
+use gpu_photon::lights::interface::LightSample;
 use gpu_photon::lights::spot::SpotFalloff;
+use gpu_photon::lights::table::{aims_at, LightTable};
+use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::settings::RenderSettings;
+use probes::light::{LightCase, SceneProbes};
 use std::path::Path;
 
 /// Every light kind the scene format has, over a floor, with a glass sphere (so that a
@@ -227,7 +227,9 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         let mut us: Vec<f32> = (0..200).map(|_| r.f32()).collect();
         us.extend([0.0, 0.5, 1.0 - f32::EPSILON / 2.0]);
         // A triangle light: u0 at, below and above every value of its CDF.
-        if let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { count, .. }) = light.shape {
+        if let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { count, .. }) =
+            light.shape
+        {
             let start = table.cdf_start[l] as usize;
             for &c in &table.tri_cdf[start..start + count as usize] {
                 us.extend(

@@ -8,13 +8,13 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use gpu_photon::camera::Camera;
-use gpu_photon::render::film::{diff, Image};
-use gpu_photon::render::report::Progress;
 use gpu_photon::importers::mitsuba::import;
 use gpu_photon::importers::{load, load_str};
-use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::lights::spot::{SpotCone, SpotFalloff};
+use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -276,7 +276,8 @@ fn spot_on_a_plane_matches_its_falloff_and_is_black_outside_the_cone() {
 
 fn spot_on_a_plane(f: SpotFalloff) {
     let s = spot_plane(f);
-    let LightShape::Spot(gpu_photon::lights::spot::Spot { intensity, .. }) = s.lights[0].shape else {
+    let LightShape::Spot(gpu_photon::lights::spot::Spot { intensity, .. }) = s.lights[0].shape
+    else {
         panic!("a spot")
     };
     let size = 40;

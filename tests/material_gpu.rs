@@ -17,15 +17,17 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::Vec3;
-use gpu_photon::math::geometry::Facing;
-use gpu_photon::integrators::gpu::codes::{BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE};
-use probes::{surface, SurfaceCase, SurfaceProbe};
 use gpu_photon::bsdfs::fresnel::{dielectric_shading, fresnel_exact, fresnel_schlick, reflect};
 use gpu_photon::bsdfs::phong::phong_lobe_value;
 use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
 use gpu_photon::bsdfs::Bsdf;
+use gpu_photon::integrators::gpu::codes::{
+    BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
+};
+use gpu_photon::math::geometry::Facing;
 use gpu_photon::scene::Material;
 use gpu_photon::settings::FresnelMode;
+use probes::{surface, SurfaceCase, SurfaceProbe};
 
 /// Directions: a normalisation or a square root and a few products (measured worst on
 /// lavapipe in the report line); the glossy lobe's `phong_lobe` near its axis is looser
@@ -125,7 +127,8 @@ fn host_bounce(c: &SurfaceCase) -> ((u32, Vec3, Vec3), f32) {
     let near = match c.material {
         Bsdf::Diffuse(_) => (u[0] - pd).abs().min((u[0] - total).abs()),
         Bsdf::Phong(_) => {
-            let lobe = gpu_photon::math::sampling::phong_lobe(reflect(d, f.ns), c.exponent, u[1], u[2]);
+            let lobe =
+                gpu_photon::math::sampling::phong_lobe(reflect(d, f.ns), c.exponent, u[1], u[2]);
             (u[0] - pd)
                 .abs()
                 .min((u[0] - total).abs())

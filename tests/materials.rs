@@ -6,10 +6,10 @@
 
 mod common;
 
+use gpu_photon::bsdfs::Bsdf;
+use gpu_photon::importers::mitsuba::import;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::mitsuba::import;
-use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
@@ -33,9 +33,18 @@ fn the_materials_file_imports_exactly() {
     let only_hint = im.warnings.len() == 1 && im.warnings[0].contains(hint);
     assert!(only_hint, "{:?}", im.warnings);
     let has = |f: fn(&Bsdf) -> bool| im.scene.materials.iter().any(|m| f(&m.bsdf));
-    assert!(has(|b| matches!(b, Bsdf::RoughConductor(_))), "no rough conductor");
-    assert!(has(|b| matches!(b, Bsdf::Plastic(p) if p.microfacet.is_some())), "no rough plastic");
-    assert!(has(|b| matches!(b, Bsdf::RoughDielectric(_))), "no rough dielectric");
+    assert!(
+        has(|b| matches!(b, Bsdf::RoughConductor(_))),
+        "no rough conductor"
+    );
+    assert!(
+        has(|b| matches!(b, Bsdf::Plastic(p) if p.microfacet.is_some())),
+        "no rough plastic"
+    );
+    assert!(
+        has(|b| matches!(b, Bsdf::RoughDielectric(_))),
+        "no rough dielectric"
+    );
     // The floor's reflectance is the bitmap, looked up through the rectangle's uvs.
     assert_eq!(im.scene.textures.len(), 1);
     assert_eq!(im.scene.uvs.len(), im.scene.triangles.len());

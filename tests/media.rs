@@ -6,13 +6,13 @@
 mod common;
 
 use glam::Vec3;
-use gpu_photon::media::{Medium, MediumInterface, NO_MEDIUM};
-use gpu_photon::media::phase::HenyeyGreenstein;
-use gpu_photon::render::report::Progress;
-use gpu_photon::importers::mitsuba::import;
 use gpu_photon::importers::load_str;
-use gpu_photon::scene::Scene;
+use gpu_photon::importers::mitsuba::import;
+use gpu_photon::media::phase::HenyeyGreenstein;
+use gpu_photon::media::{Medium, MediumInterface, NO_MEDIUM};
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use std::path::Path;
 
 const CAMERA: &str =

@@ -13,23 +13,21 @@ mod probes;
 use common::gpu;
 use glam::{Vec2, Vec3};
 use gpu_photon::bvh::{CpuBvh, Hit};
+use gpu_photon::importers::load_str;
 use gpu_photon::integrators::cpu::cache::is_cache_point;
 use gpu_photon::integrators::cpu::media::{light_medium, medium_after};
 use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext, Traced};
 use gpu_photon::integrators::cpu::volume_map::volume_cell;
 use gpu_photon::integrators::gpu::codes::{DROP_CAUSTIC, DROP_DIRECT};
 use gpu_photon::integrators::gpu::host::drop_flags;
-use probes::media::{
-    medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons,
-};
-use gpu_photon::lights::table::{LightTable};
-use gpu_photon::lights::interface::{Emission};
-use gpu_photon::media::{MediumInterface, NO_MEDIUM};
 use gpu_photon::integrators::photon::{Photon, DEPTH_MASK, FLAG_CAUSTIC};
 use gpu_photon::integrators::plan::{MapPlan, StoreFilter};
-use gpu_photon::importers::load_str;
+use gpu_photon::lights::interface::Emission;
+use gpu_photon::lights::table::LightTable;
+use gpu_photon::media::{MediumInterface, NO_MEDIUM};
 use gpu_photon::scene::{Scene, NO_LIGHT};
 use gpu_photon::settings::RenderSettings;
+use probes::media::{medium_samplers, trace_photons, MediumCase, MediumSample, TracedPhotons};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -512,8 +510,8 @@ fn device_volume_grid_lists_each_photon_in_the_cpus_cells() {
 #[test]
 fn device_beam_estimate_equals_the_cpu_volume_map() {
     use gpu_photon::integrators::cpu::volume_map::VolumeMap;
-    use probes::media::{beam, BeamQuery};
     use gpu_photon::integrators::photon::BeamPhotons;
+    use probes::media::{beam, BeamQuery};
     let Some(ctx) = gpu() else { return };
     let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
     let mut other = scene.media[0];

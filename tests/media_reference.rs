@@ -9,9 +9,9 @@
 //! reference at most 2.5x what the noise alone explains: our own (half the two renders'
 //! block difference) and the reference's, in quadrature. A bias shows as more.
 
+use gpu_photon::importers::load;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::load;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;

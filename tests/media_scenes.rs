@@ -5,9 +5,9 @@
 //! interfaces included), light power, triangle and sphere counts and camera, to 1e-5.
 
 use glam::Vec3;
-use gpu_photon::media::{MediumInterface, NO_MEDIUM};
-use gpu_photon::importers::load;
 use gpu_photon::bsdfs::{Bsdf, BsdfKind};
+use gpu_photon::importers::load;
+use gpu_photon::media::{MediumInterface, NO_MEDIUM};
 use gpu_photon::scene::{Material, Scene};
 use std::path::{Path, PathBuf};
 
@@ -77,9 +77,9 @@ fn same_material(a: &Material, b: &Material) -> bool {
     };
     let (wa, wb) = (words(a), words(b));
     let word_close = |x: &[u32; 4], y: &[u32; 4]| {
-        x.iter().zip(y).all(|(&p, &q)| {
-            p == q || (f32::from_bits(p) - f32::from_bits(q)).abs() <= TOL
-        })
+        x.iter()
+            .zip(y)
+            .all(|(&p, &q)| p == q || (f32::from_bits(p) - f32::from_bits(q)).abs() <= TOL)
     };
     a.bsdf.code() == b.bsdf.code()
         && a.media == b.media
@@ -198,7 +198,10 @@ fn volume_caustic_toml_is_its_xml() {
     // One glass sphere, vacuum inside, fog outside.
     assert_eq!(toml.spheres.len(), 1);
     let glass = &toml.materials[toml.spheres[0].material as usize];
-    assert!(matches!(glass.bsdf, Bsdf::Glass(g) if (g.eta - 1.5).abs() <= TOL), "{glass:?}");
+    assert!(
+        matches!(glass.bsdf, Bsdf::Glass(g) if (g.eta - 1.5).abs() <= TOL),
+        "{glass:?}"
+    );
     assert_eq!(
         glass.media,
         MediumInterface {

@@ -11,15 +11,15 @@ mod probes;
 
 use glam::Vec3;
 use gpu_photon::bvh::CpuBvh;
+use gpu_photon::importers::load_str;
 use gpu_photon::integrators::cpu::media::{self, transmittance};
 use gpu_photon::integrators::cpu::photons::{trace_map, TraceContext};
-use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::plan::MapPlan;
-use gpu_photon::render::report::Progress;
+use gpu_photon::lights::table::LightTable;
 use gpu_photon::math::rng::{Rng, Stream};
-use gpu_photon::importers::load_str;
-use gpu_photon::scene::Scene;
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::Path;
 

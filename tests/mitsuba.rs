@@ -6,12 +6,12 @@
 use glam::{DVec3, Vec3};
 use gpu_photon::bsdfs::{named_conductor, Bsdf, BsdfKind, Distribution, Microfacet};
 use gpu_photon::error::Error;
+use gpu_photon::importers::load;
+use gpu_photon::importers::mitsuba::{import, Imported};
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::mitsuba::{import, Imported};
-use gpu_photon::importers::load;
-use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 
@@ -350,7 +350,8 @@ fn cube_sphere_obj_and_point_light_to_world() {
     assert!(s.triangles[12..]
         .iter()
         .all(|t| close(t.normal(), Vec3::NEG_Y, 1e-6) && (t.v0.y - 0.5).abs() < 1e-6));
-    let LightShape::Point(gpu_photon::lights::point::Point { position, .. }) = s.lights[0].shape else {
+    let LightShape::Point(gpu_photon::lights::point::Point { position, .. }) = s.lights[0].shape
+    else {
         panic!("a point light")
     };
     assert!(close(position, Vec3::new(0.0, 4.0, 0.0), 1e-6));
@@ -421,7 +422,10 @@ fn bsdfs_map_to_our_materials_with_warnings_for_approximations() {
     match m[4].bsdf {
         Bsdf::RoughConductor(c) => {
             assert_eq!((c.eta, c.k), (Vec3::ZERO, Vec3::ONE));
-            assert_eq!(c.microfacet(), Microfacet::new(Distribution::Beckmann, 0.2, 0.2));
+            assert_eq!(
+                c.microfacet(),
+                Microfacet::new(Distribution::Beckmann, 0.2, 0.2)
+            );
         }
         other => panic!("roughconductor: {other:?}"),
     }

@@ -6,8 +6,8 @@
 use glam::Vec3;
 use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::error::Error;
-use gpu_photon::importers::mitsuba::{import, import_with, Imported, MAX_INCLUDE_DEPTH};
 use gpu_photon::importers::load_with_options;
+use gpu_photon::importers::mitsuba::{import, import_with, Imported, MAX_INCLUDE_DEPTH};
 use gpu_photon::scene::{Scene, NO_TEXTURE};
 use gpu_photon::settings::RenderSettings;
 use std::path::{Path, PathBuf};
@@ -78,7 +78,10 @@ fn assert_close(a: Vec3, b: [f32; 3], tol: f32) {
 
 /// The diffuse albedo of the first triangle's material.
 fn albedo(s: &Scene) -> Vec3 {
-    s.materials[s.triangles[0].material as usize].bsdf.base_colour().map_or(Vec3::ZERO, |p| p.get())
+    s.materials[s.triangles[0].material as usize]
+        .bsdf
+        .base_colour()
+        .map_or(Vec3::ZERO, |p| p.get())
 }
 
 const RECT: &str = r#"<shape type="rectangle"><ref id="white"/></shape>"#;
@@ -284,7 +287,10 @@ fn refs_reach_any_top_level_object_in_any_order() {
     );
     let s = &im.scene;
     let first = &s.materials[s.triangles[0].material as usize];
-    assert_eq!(first.bsdf.base_colour().map(|p| p.get()), Some(Vec3::splat(0.3)));
+    assert_eq!(
+        first.bsdf.base_colour().map(|p| p.get()),
+        Some(Vec3::splat(0.3))
+    );
     assert_eq!(first.emission, Vec3::new(2.0, 3.0, 4.0));
     assert_eq!(s.lights.len(), 1);
     assert_ne!(
@@ -390,7 +396,9 @@ fn spectra_convert_as_in_mitsuba_rgb_variants() {
     let im = ok(
         r#"<shape type="rectangle"><bsdf type="conductor"><spectrum name="eta" value="400:1.5, 700:1.8"/><spectrum name="k" value="0"/></bsdf></shape>"#,
     );
-    let Bsdf::Conductor(gpu_photon::bsdfs::conductor::Conductor { eta, k, .. }) = im.scene.materials[0].bsdf else {
+    let Bsdf::Conductor(gpu_photon::bsdfs::conductor::Conductor { eta, k, .. }) =
+        im.scene.materials[0].bsdf
+    else {
         panic!("not a conductor");
     };
     assert_close(eta, [1.73426, 1.64257, 1.53318], 2e-5);
@@ -525,7 +533,12 @@ fn any_integrator_is_one_warning() {
             .skip(1)
             .map(|t| t.split('"').next().unwrap())
             .collect();
-        let kind = types.iter().rev().copied().collect::<Vec<_>>().join("` in `");
+        let kind = types
+            .iter()
+            .rev()
+            .copied()
+            .collect::<Vec<_>>()
+            .join("` in `");
         let want = format!(
             "t.xml:3: integrator[0]: integrator `{kind}` rendered with our photon mapping (the render mode: [render] mode, --mode){hint}"
         );

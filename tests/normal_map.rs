@@ -12,11 +12,11 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use gpu_photon::error::Error;
+use gpu_photon::importers::mitsuba::import;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::mitsuba::import;
-use gpu_photon::scene::{Scene, NO_TEXTURE};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{Scene, NO_TEXTURE};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 

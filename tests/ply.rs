@@ -5,11 +5,11 @@
 mod common;
 
 use glam::Vec3;
-use gpu_photon::render::report::Progress;
 use gpu_photon::importers::load_str;
 use gpu_photon::importers::ply::{read_ply, PlyMesh};
-use gpu_photon::scene::Scene;
+use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::Error;
 use std::path::{Path, PathBuf};
 

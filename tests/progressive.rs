@@ -7,8 +7,8 @@ mod common;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::progressive::{radius2_factor, Flow};
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::Scene;
 use gpu_photon::render::session::{render_progressive, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 
 fn load(name: &str) -> Scene {

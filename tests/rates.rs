@@ -66,7 +66,8 @@ fn gpu_caustic_estimate_on_fewer_samples_keeps_the_caustic_light() {
 
 /// The Cornell box at 64x64 against the reference averaged down 4x4, classic gather pass.
 fn cornell_rmse(backend: Backend, sampler: Sampler) -> f64 {
-    let scene = gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    let scene =
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let s = RenderSettings {
         width: 64,
         height: 64,

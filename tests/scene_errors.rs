@@ -2,10 +2,10 @@
 //! field) that malformed scene files produce.
 
 use glam::Vec3;
-use gpu_photon::camera::Camera;
-use gpu_photon::scene::NO_LIGHT;
-use gpu_photon::importers::{load, load_str};
 use gpu_photon::bsdfs::KINDS;
+use gpu_photon::camera::Camera;
+use gpu_photon::importers::{load, load_str};
+use gpu_photon::scene::NO_LIGHT;
 use gpu_photon::scene::{LightShape, Material, Scene, Triangle};
 use gpu_photon::scene::{Origin, Part, SceneBuilder, Surface};
 use gpu_photon::settings::{validate, FresnelMode, Mode, Range, RenderSettings, Slot, SETTINGS};
@@ -654,7 +654,11 @@ fn every_scene_file_loads() {
 #[test]
 fn example_scenes_are_what_they_say() {
     let s = scene("cornell-caustics.toml");
-    let kinds: Vec<&str> = s.spheres.iter().map(|sp| kind_of(&s, sp.material)).collect();
+    let kinds: Vec<&str> = s
+        .spheres
+        .iter()
+        .map(|sp| kind_of(&s, sp.material))
+        .collect();
     assert_eq!(kinds, ["Mirror", "Glass"]);
     assert!(
         s.spheres
@@ -677,7 +681,9 @@ fn example_scenes_are_what_they_say() {
 
     let s = scene("mesh-light.toml");
     assert_eq!(s.lights.len(), 1);
-    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) = s.lights[0].shape else {
+    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) =
+        s.lights[0].shape
+    else {
         panic!("not a mesh light")
     };
     assert_eq!(count, 6);
@@ -805,7 +811,10 @@ fn emissive_shapes_and_materials() {
     assert_eq!(s.lights.len(), 2);
     assert_eq!(
         (s.lights[0].shape.clone(), s.spheres[0].light),
-        (LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 }), 0)
+        (
+            LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 }),
+            0
+        )
     );
     assert!(close(
         s.lights[0].power,
@@ -823,10 +832,7 @@ fn emissive_shapes_and_materials() {
     );
     // The emissive quad has its own copy of `w`; the plain quad uses `w` itself.
     let own = s.material_of_triangle(0);
-    assert_eq!(
-        own.bsdf,
-        gpu_photon::bsdfs::Bsdf::diffuse(Vec3::splat(0.5))
-    );
+    assert_eq!(own.bsdf, gpu_photon::bsdfs::Bsdf::diffuse(Vec3::splat(0.5)));
     assert_eq!((own.emission, own.two_sided_emission), (Vec3::X, true));
     assert_eq!(
         *s.material_of_triangle(2),
@@ -1173,7 +1179,10 @@ fn the_builder_without_a_file_format() {
         (Vec3::splat(2.0), true)
     );
     assert_eq!(s.lights.len(), 2);
-    assert_eq!(s.lights[0].shape, LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 }));
+    assert_eq!(
+        s.lights[0].shape,
+        LightShape::Sphere(gpu_photon::lights::sphere::SphereLight { index: 0 })
+    );
     let sphere_power = PI * 4.0 * PI * 0.25 * 2.0 * 2.0;
     assert!(close(s.lights[0].power, Vec3::splat(sphere_power), 1e-6));
     assert!(close(s.lights[1].power, Vec3::splat(4.0 * PI), 1e-6));

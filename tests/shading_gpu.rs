@@ -20,21 +20,23 @@ mod probes;
 
 use common::{gpu, TestRng};
 use glam::{Mat3, Vec2, Vec3};
-use gpu_photon::bsdfs::{Bsdf, BsdfKind, Channel, Distribution, MetallicRoughness, Microfacet, Param, Plastic};
-use gpu_photon::math::geometry::offset_origin;
-use gpu_photon::integrators::gpu::codes::{
-    class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
-};
-use probes::light::SceneProbes;
-use probes::shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
 use gpu_photon::bsdfs::interface::Bounce;
-use gpu_photon::math::rng::{path_key, Rng, Stream};
-use gpu_photon::scene::{Material, MaterialId, Origin, Scene, SceneBuilder, Surface};
-use gpu_photon::settings::RenderSettings;
 use gpu_photon::bsdfs::shading::{
     bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
 };
+use gpu_photon::bsdfs::{
+    Bsdf, BsdfKind, Channel, Distribution, MetallicRoughness, Microfacet, Param, Plastic,
+};
+use gpu_photon::integrators::gpu::codes::{
+    class_code, BOUNCE_ABSORB, BOUNCE_DELTA, BOUNCE_DIFFUSE, BOUNCE_LOBE,
+};
+use gpu_photon::math::geometry::offset_origin;
+use gpu_photon::math::rng::{path_key, Rng, Stream};
+use gpu_photon::scene::{Material, MaterialId, Origin, Scene, SceneBuilder, Surface};
+use gpu_photon::settings::RenderSettings;
 use gpu_photon::textures::{pack_rgba8, Encoding, SceneTexture, Texture};
+use probes::light::SceneProbes;
+use probes::shading::{ShadedSurface, ShadingCase, SHADING_FLAGS};
 use std::collections::BTreeMap;
 
 /// Seed of the cases (and of the random streams the lobe sample and delta bounce draw).
@@ -104,7 +106,14 @@ fn scene(r: &mut TestRng) -> Scene {
     let (kd, ks) = (Vec3::new(0.5, 0.3, 0.2), Vec3::new(1.0, 0.9, 0.8));
     let gltf = |metallic, roughness, transmission| {
         let (base, f0) = (Vec3::new(0.8, 0.45, 0.2), Vec3::new(0.04, 0.06, 0.03));
-        Bsdf::MetallicRoughness(MetallicRoughness::new(base, metallic, roughness, f0, 0.9, transmission))
+        Bsdf::MetallicRoughness(MetallicRoughness::new(
+            base,
+            metallic,
+            roughness,
+            f0,
+            0.9,
+            transmission,
+        ))
     };
     let textured = |mut m: Material| {
         *m.bsdf.base_colour_mut().unwrap() = Param::texture(tex);
@@ -112,15 +121,19 @@ fn scene(r: &mut TestRng) -> Scene {
     };
     // Every glTF parameter texture on one material: its channels as the importer reads them.
     let gltf_textured = |b: Bsdf| {
-        let Bsdf::MetallicRoughness(g) = b else { unreachable!() };
-        textured(Material::from_bsdf(Bsdf::MetallicRoughness(MetallicRoughness {
-            metallic: g.metallic.times(tex, Channel::B),
-            roughness: g.roughness.times(tex, Channel::G),
-            transmission: g.transmission.times(tex, Channel::R),
-            specular: g.specular.times(tex, Channel::A),
-            f0: g.f0.times(tex, Channel::Rgb),
-            ..g
-        })))
+        let Bsdf::MetallicRoughness(g) = b else {
+            unreachable!()
+        };
+        textured(Material::from_bsdf(Bsdf::MetallicRoughness(
+            MetallicRoughness {
+                metallic: g.metallic.times(tex, Channel::B),
+                roughness: g.roughness.times(tex, Channel::G),
+                transmission: g.transmission.times(tex, Channel::R),
+                specular: g.specular.times(tex, Channel::A),
+                f0: g.f0.times(tex, Channel::Rgb),
+                ..g
+            },
+        )))
     };
     let materials = [
         Material::diffuse(Vec3::new(0.6, 0.5, 0.4)),
@@ -132,8 +145,17 @@ fn scene(r: &mut TestRng) -> Scene {
         Material::black(),
         Material::from_bsdf(cond(None)),
         Material::from_bsdf(cond(ggx(0.3))),
-        Material::from_bsdf(Bsdf::dielectric(1.5, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9), ggx(0.2))),
-        Material::from_bsdf(Bsdf::thin_dielectric(1.5, Vec3::new(0.9, 1.0, 0.95), Vec3::new(1.0, 0.8, 0.9))),
+        Material::from_bsdf(Bsdf::dielectric(
+            1.5,
+            Vec3::new(0.9, 1.0, 0.95),
+            Vec3::new(1.0, 0.8, 0.9),
+            ggx(0.2),
+        )),
+        Material::from_bsdf(Bsdf::thin_dielectric(
+            1.5,
+            Vec3::new(0.9, 1.0, 0.95),
+            Vec3::new(1.0, 0.8, 0.9),
+        )),
         textured(Material::from_bsdf(Bsdf::Plastic(Plastic::new(
             kd, ks, 1.5, false, None,
         )))),

@@ -76,12 +76,7 @@ fn cpu(q: &Query) -> [u32; 7] {
 
 /// Runs the probe kernel over `queries` on the device.
 fn gpu_values(ctx: &GpuContext, queries: &[Query]) -> Vec<[u32; 7]> {
-    let source = [
-        include_str!("../src/math/rng.wgsl"),
-        &wgsl_library(),
-        PROBE,
-    ]
-    .join("\n");
+    let source = [include_str!("../src/math/rng.wgsl"), &wgsl_library(), PROBE].join("\n");
     let bytes = common::run_probe(
         ctx,
         &source,

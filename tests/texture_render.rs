@@ -5,11 +5,11 @@
 
 mod common;
 
-use gpu_photon::bsdfs::BsdfKind;
 use glam::{Vec2, Vec3};
+use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::render::report::Progress;
-use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{Material, Origin, Scene, SceneBuilder, Surface};
 use gpu_photon::settings::{Mode, RenderSettings};
 use gpu_photon::textures::{Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 
@@ -50,7 +50,8 @@ fn scene(dir: Vec3, e: f32) -> Scene {
         ));
     let id = b.add_texture(SceneTexture::Bitmap(tex), &at).unwrap();
     let mut m = Material::diffuse(Vec3::splat(0.5));
-    *m.bsdf.base_colour_mut().expect("a diffuse reflectance") = gpu_photon::bsdfs::Param::texture(id);
+    *m.bsdf.base_colour_mut().expect("a diffuse reflectance") =
+        gpu_photon::bsdfs::Param::texture(id);
     let mat = b.add_material(None, m, &at).unwrap();
     let c = [
         Vec3::new(-1.0, -1.0, 0.0),

@@ -10,9 +10,9 @@
 //! row as listed here (the twin and the check included).
 
 use gpu_photon::bsdfs::{gpu::method_suffixes, KINDS};
+use gpu_photon::integrators::gpu::shaders::wgsl_files;
 use gpu_photon::lights::gpu::method_suffixes as light_method_suffixes;
 use gpu_photon::lights::KINDS as LIGHT_KINDS;
-use gpu_photon::integrators::gpu::shaders::wgsl_files;
 use std::path::Path;
 
 /// How a device function is checked against its twin.
@@ -366,7 +366,14 @@ fn functions(src: &str) -> impl Iterator<Item = &str> {
 /// part of a kernel family.
 fn is_library(path: &str) -> bool {
     match path.strip_prefix("integrators/gpu/") {
-        Some(f) => ["types.wgsl", "scene.wgsl", "photon.wgsl", "grid.wgsl", "map.wgsl"].contains(&f),
+        Some(f) => [
+            "types.wgsl",
+            "scene.wgsl",
+            "photon.wgsl",
+            "grid.wgsl",
+            "map.wgsl",
+        ]
+        .contains(&f),
         None => true,
     }
 }

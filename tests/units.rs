@@ -11,11 +11,11 @@
 mod common;
 
 use common::within_seed_noise;
+use gpu_photon::importers::load_str;
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::load_str;
-use gpu_photon::scene::Scene;
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::path::Path;
 

@@ -9,7 +9,9 @@ use glam::Vec3;
 use gpu_photon::bvh::{alpha_passes, Bvh, Isa, WideBvh, SPHERE_BIT};
 use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
 use gpu_photon::math::rng::{pcg_hash, to_unit};
-use gpu_photon::scene::{Alpha, AlphaMode, Material, Scene, Sphere, Triangle, NO_LIGHT, NO_TEXTURE};
+use gpu_photon::scene::{
+    Alpha, AlphaMode, Material, Scene, Sphere, Triangle, NO_LIGHT, NO_TEXTURE,
+};
 use std::path::Path;
 
 struct Rand(u32);
@@ -85,9 +87,20 @@ fn check(name: &str, scene: &Scene, rays: &[Ray]) -> usize {
             let expected = all.first().map(|h| h.0);
             let b = bin.closest(scene, ray, f32::INFINITY);
             let got = w.closest(scene, ray, f32::INFINITY);
-            let what = format!("{name} {} ray {i} {ray:?}: wide {got:?}, binary {b:?}", isa.name());
-            assert_eq!(got.map(|h| h.1.to_bits()), expected.map(f32::to_bits), "{what}");
-            assert_eq!(b.map(|h| h.1), expected, "{what}: binary against all primitives");
+            let what = format!(
+                "{name} {} ray {i} {ray:?}: wide {got:?}, binary {b:?}",
+                isa.name()
+            );
+            assert_eq!(
+                got.map(|h| h.1.to_bits()),
+                expected.map(f32::to_bits),
+                "{what}"
+            );
+            assert_eq!(
+                b.map(|h| h.1),
+                expected,
+                "{what}: binary against all primitives"
+            );
             if let (Some(g), Some(b)) = (got, b) {
                 // The same primitive, or another hit at exactly the same t.
                 assert!(
@@ -95,7 +108,10 @@ fn check(name: &str, scene: &Scene, rays: &[Ray]) -> usize {
                     "{what}: not a hit of its primitive"
                 );
                 if g.0 == b.0 {
-                    assert_eq!((g.2.to_bits(), g.3.to_bits()), (b.2.to_bits(), b.3.to_bits()));
+                    assert_eq!(
+                        (g.2.to_bits(), g.3.to_bits()),
+                        (b.2.to_bits(), b.3.to_bits())
+                    );
                 }
                 hits += 1;
             }
@@ -103,7 +119,11 @@ fn check(name: &str, scene: &Scene, rays: &[Ray]) -> usize {
             let t = expected.unwrap_or(1.0);
             for t_max in [0.5 * t, t, t * 1.0001 + 1e-6, f32::INFINITY] {
                 let any = all.iter().any(|h| h.0 < t_max);
-                assert_eq!(w.occluded(scene, ray, t_max), any, "{what} occluded {t_max}");
+                assert_eq!(
+                    w.occluded(scene, ray, t_max),
+                    any,
+                    "{what} occluded {t_max}"
+                );
                 assert_eq!(bin.occluded(scene, ray, t_max), any, "{what} binary occl.");
             }
         }
@@ -133,10 +153,15 @@ fn soup(seed: u32, n: usize) -> Scene {
                 (a + d, a + 2.0 * d)
             }
             // Axis-aligned, as boxes' faces are.
-            2 => (a + Vec3::new(r.f(), 0.0, 0.0), a + Vec3::new(0.0, r.f(), 0.0)),
+            2 => (
+                a + Vec3::new(r.f(), 0.0, 0.0),
+                a + Vec3::new(0.0, r.f(), 0.0),
+            ),
             _ => (a + r.v() - Vec3::splat(0.5), a + r.v() - Vec3::splat(0.5)),
         };
-        scene.triangles.push(Triangle::new(a, b, c, (i % 3 == 0) as u32));
+        scene
+            .triangles
+            .push(Triangle::new(a, b, c, (i % 3 == 0) as u32));
     }
     for i in 0..n / 20 {
         scene.spheres.push(Sphere {

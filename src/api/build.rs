@@ -16,9 +16,9 @@ pub use super::build_material::{AlphaSpec, MaterialSpec, Scattering};
 use super::Scene;
 use crate::camera::pixel_filter::PixelFilter;
 use crate::error::{Error, Result};
+use crate::lights::spot::SpotFalloff;
 use crate::lights::spot::SpotLight;
 use crate::scene::{Locate, MaterialId, Origin, Part, SceneBuilder, Surface};
-use crate::lights::spot::SpotFalloff;
 use crate::textures::{Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 

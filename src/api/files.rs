@@ -9,12 +9,14 @@ use crate::settings::RenderSettings;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-pub use crate::render::film::check_output_path;
 pub use crate::integrators::gpu::context::AdapterSummary as Adapter;
 pub use crate::integrators::gpu::{list_adapters as adapters, quiet_headless_vulkan};
+pub use crate::render::film::check_output_path;
 pub use crate::render::merge::{merge, parse_range as parse_pass_range, MergeSummary};
+pub use crate::render::slice::{
+    parse_spec as parse_slice, pass_range as slice_pass_range, SliceSpec,
+};
 pub use crate::settings::MAX_PASSES;
-pub use crate::render::slice::{parse_spec as parse_slice, pass_range as slice_pass_range, SliceSpec};
 
 /// Where a progressive render's running mean goes: an EXR (or PNG) whose header records the
 /// passes it holds and a fingerprint of the scene file and settings, so that

@@ -54,7 +54,12 @@ impl Scene {
             let camera = options.camera.as_deref();
             let mut scene = crate::importers::load_with_options(path, camera, &options.defines)?;
             let env = options.env.as_deref();
-            crate::lights::environment::setup::apply_env_arg(&mut scene, env, options.env_scale, path)?;
+            crate::lights::environment::setup::apply_env_arg(
+                &mut scene,
+                env,
+                options.env_scale,
+                path,
+            )?;
             Ok(scene)
         });
         Ok(Scene {

@@ -6,8 +6,8 @@ use crate::error::{Error, Result};
 use crate::render::film::{diff, Image};
 use crate::render::progressive::Flow;
 use crate::render::report::Progress;
-use crate::scene::Scene;
 use crate::render::session::render_progressive;
+use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
 /// One point of the curve.

@@ -5,8 +5,8 @@ use crate::bench::backend_name;
 use crate::error::Result;
 use crate::render::film::Image;
 use crate::render::report::Progress;
-use crate::scene::Scene;
 use crate::render::session::{render, Backend};
+use crate::scene::Scene;
 use crate::settings::{Mode, RenderSettings};
 use std::path::Path;
 
@@ -163,9 +163,11 @@ pub fn ladder(
                 ..base.clone()
             };
             let (img, r) = render(scene, &s, b, Progress::default())?;
-            let d = crate::render::film::diff(&img, reference, 16).map_err(|m| crate::Error::Setting {
-                field: "reference",
-                message: m,
+            let d = crate::render::film::diff(&img, reference, 16).map_err(|m| {
+                crate::Error::Setting {
+                    field: "reference",
+                    message: m,
+                }
             })?;
             let row = LadderRow {
                 backend: backend_name(b),

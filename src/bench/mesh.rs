@@ -8,7 +8,12 @@ use std::f32::consts::PI;
 
 /// About `triangles` triangles (two per grid cell, rows twice the columns' density in
 /// longitude) of a displaced sphere at `center` of mean radius `radius`, of `material`.
-pub fn displaced_sphere(triangles: usize, center: Vec3, radius: f32, material: u32) -> Vec<Triangle> {
+pub fn displaced_sphere(
+    triangles: usize,
+    center: Vec3,
+    radius: f32,
+    material: u32,
+) -> Vec<Triangle> {
     let rows = (triangles as f64 / 4.0).sqrt().ceil() as usize + 1;
     let cols = 2 * rows;
     let point = |i: usize, j: usize| {
@@ -17,7 +22,12 @@ pub fn displaced_sphere(triangles: usize, center: Vec3, radius: f32, material: u
         let bump = 0.08 * (7.0 * theta).sin() * (9.0 * phi).sin()
             + 0.02 * (31.0 * theta).sin() * (29.0 * phi).cos();
         let r = radius * (1.0 + bump);
-        center + r * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
+        center
+            + r * Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            )
     };
     let mut out = Vec::with_capacity(2 * rows * cols);
     for i in 0..rows {
@@ -41,19 +51,27 @@ pub fn displaced_sphere(triangles: usize, center: Vec3, radius: f32, material: u
 /// first material.
 pub fn with_mesh(scene: &Scene, triangles: usize) -> Scene {
     let mut s = scene.clone();
-    let bounds = (s.triangles.iter().map(crate::math::geometry::Aabb::of_triangle))
-        .chain(s.spheres.iter().map(crate::math::geometry::Aabb::of_sphere))
-        .fold(crate::math::geometry::Aabb::EMPTY, |a, b| a.union(b));
+    let bounds = (s
+        .triangles
+        .iter()
+        .map(crate::math::geometry::Aabb::of_triangle))
+    .chain(s.spheres.iter().map(crate::math::geometry::Aabb::of_sphere))
+    .fold(crate::math::geometry::Aabb::EMPTY, |a, b| a.union(b));
     let (center, radius) = match bounds.is_empty() {
         true => (Vec3::ZERO, 1.0),
-        false => (bounds.centroid(), (bounds.max - bounds.min).min_element().max(1e-3) * 0.3),
+        false => (
+            bounds.centroid(),
+            (bounds.max - bounds.min).min_element().max(1e-3) * 0.3,
+        ),
     };
     let mesh = displaced_sphere(triangles, center, radius, 0);
     if !s.uvs.is_empty() {
-        s.uvs.resize(s.triangles.len() + mesh.len(), Default::default());
+        s.uvs
+            .resize(s.triangles.len() + mesh.len(), Default::default());
     }
     if !s.tangents.is_empty() {
-        s.tangents.resize(s.triangles.len() + mesh.len(), Default::default());
+        s.tangents
+            .resize(s.triangles.len() + mesh.len(), Default::default());
     }
     s.triangles.extend(mesh);
     s

@@ -20,8 +20,8 @@ pub use plot::{plot, PLOT_FONT};
 
 use crate::error::{Error, Result};
 use crate::render::report::{Progress, RenderReport};
-use crate::scene::Scene;
 use crate::render::session::{render, Backend, BackendChoice};
+use crate::scene::Scene;
 use crate::settings::RenderSettings;
 
 /// Which backends a benchmark runs, and whether a GPU failure skips the GPU or ends it.
@@ -319,7 +319,11 @@ pub fn throughputs(
     runs: usize,
     mut on_result: impl FnMut(std::result::Result<&Throughput, &str>),
 ) -> Result<Vec<Throughput>> {
-    let plan = crate::integrators::plan::MapPlan::new(scene, &crate::lights::table::LightTable::new(scene), s);
+    let plan = crate::integrators::plan::MapPlan::new(
+        scene,
+        &crate::lights::table::LightTable::new(scene),
+        s,
+    );
     // Every pass traces the first pass's paths (the radius shrinks, the count stays).
     let passes = s.pass_range.map_or(1, |(a, b)| b - a) as f64;
     let paths = passes * plan.total_paths() as f64;

@@ -10,8 +10,8 @@
 //! (`LightTable::emit`) with up to three diffuse bounces, every segment a ray.
 
 use crate::bvh::{Bvh, Isa, WideBvh};
-use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::lights::table::LightTable;
+use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::math::rng::{Rng, Stream};
 use crate::math::sampling::cosine_hemisphere;
 use crate::scene::Scene;
@@ -103,7 +103,13 @@ pub fn ray_sets(scene: &Scene, width: u32, height: u32, seed: u32) -> Vec<RaySet
                         let to = ls.point - origin;
                         let len = to.length();
                         if len > 4.0 * end {
-                            shadow.push(Ray { origin, dir: to / len }, len - 4.0 * end);
+                            shadow.push(
+                                Ray {
+                                    origin,
+                                    dir: to / len,
+                                },
+                                len - 4.0 * end,
+                            );
                         }
                     }
                 }
@@ -206,7 +212,11 @@ pub struct BuildCost {
 }
 
 /// Builds with `build` `runs` times; returns the last result and the median costs.
-pub fn timed<T>(runs: usize, mut build: impl FnMut() -> T, bytes: impl Fn(&T) -> usize) -> (T, BuildCost) {
+pub fn timed<T>(
+    runs: usize,
+    mut build: impl FnMut() -> T,
+    bytes: impl Fn(&T) -> usize,
+) -> (T, BuildCost) {
     let (mut walls, mut cpus) = (Vec::new(), Vec::new());
     let mut out = None;
     for _ in 0..runs.max(1) {
@@ -231,14 +241,19 @@ pub fn timed<T>(runs: usize, mut build: impl FnMut() -> T, bytes: impl Fn(&T) ->
 /// Our tracers with their build costs (medians of `runs` builds): the binary hierarchy,
 /// then the wide one with each instruction set this CPU has, best first.
 pub fn our_tracers(scene: &Scene, runs: usize) -> Vec<(Box<dyn Tracer + '_>, BuildCost)> {
-    let (bin, bin_cost) = timed(runs, || Bvh::build(scene), |b| {
-        b.nodes.len() * std::mem::size_of::<crate::bvh::BvhNode>() + b.prim_ids.len() * 4
-    });
+    let (bin, bin_cost) = timed(
+        runs,
+        || Bvh::build(scene),
+        |b| b.nodes.len() * std::mem::size_of::<crate::bvh::BvhNode>() + b.prim_ids.len() * 4,
+    );
     let (wide, wide_cost) = timed(runs, || WideBvh::build(scene), WideBvh::memory_bytes);
     let mut out: Vec<(Box<dyn Tracer>, BuildCost)> =
         vec![(Box::new(BinaryTracer(scene, bin)), bin_cost)];
     for isa in Isa::ALL.into_iter().rev().filter(|i| i.available()) {
-        out.push((Box::new(WideTracer(scene, wide.clone().with_isa(isa))), wide_cost));
+        out.push((
+            Box::new(WideTracer(scene, wide.clone().with_isa(isa))),
+            wide_cost,
+        ));
     }
     out
 }

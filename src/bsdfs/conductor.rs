@@ -1,11 +1,11 @@
 //! A smooth conductor (Mitsuba's `conductor`): the mirror direction weighted by the
 //! complex-index Fresnel reflectance times a tint, two-sided. Twin: `conductor.wgsl`.
 
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::microfacet::fresnel_conductor;
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 
@@ -58,6 +58,9 @@ impl BsdfKind for Conductor {
     }
     fn sample_lobe(&self, wo: Vec3, _: [f32; 3], _: Transport) -> Option<LobeSample> {
         let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
-        back_to_side(sample_smooth(self.eta, self.k, self.specular.get(), wo), flipped)
+        back_to_side(
+            sample_smooth(self.eta, self.k, self.specular.get(), wo),
+            flipped,
+        )
     }
 }

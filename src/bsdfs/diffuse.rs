@@ -2,11 +2,11 @@
 //! sampled with the cosine-weighted hemisphere. Photons bounce by the classic roulette on the
 //! albedo ([`crate::bsdfs::phong::classic_bounce`]). Twin: `diffuse.wgsl`.
 
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bsdfs::interface::{Bounce, BsdfKind, SurfaceClass};
 use crate::bsdfs::math::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bsdfs::phong::classic_bounce;
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bvh::hit::Hit;
 use crate::error::Result;
 use crate::scene::locate::{check_color, Locate, Part};
@@ -63,7 +63,12 @@ impl BsdfKind for Diffuse {
         out.slot(&self.reflectance);
     }
     fn check(&self, at: &dyn Locate) -> Result<()> {
-        check_color(self.reflectance.get(), Some(1.0), Part::Parameter("albedo"), at)
+        check_color(
+            self.reflectance.get(),
+            Some(1.0),
+            Part::Parameter("albedo"),
+            at,
+        )
     }
     fn diffuse_out(&self, wo: Vec3) -> Vec3 {
         if wo.z != 0.0 {

@@ -7,10 +7,10 @@
 
 use crate::bsdfs::fresnel::dielectric_shading;
 use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, SurfaceClass};
+use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::microfacet::fresnel_dielectric;
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bvh::hit::Hit;
 use crate::error::Result;
 use crate::math::geometry::Facing;
@@ -116,14 +116,30 @@ impl BsdfKind for Glass {
         true
     }
     fn sample_lobe(&self, wo: Vec3, u: [f32; 3], t: Transport) -> Option<LobeSample> {
-        let (r, tr) = (self.specular_reflectance.get(), self.specular_transmittance.get());
+        let (r, tr) = (
+            self.specular_reflectance.get(),
+            self.specular_transmittance.get(),
+        );
         sample_smooth(self.eta, r, tr, wo, u, t)
     }
     fn splits(&self) -> bool {
         true
     }
-    fn delta_event(&self, _: Vec3, d: Vec3, hit: &Hit, _: &Facing, fresnel: FresnelMode) -> DeltaEvent {
-        DeltaEvent::Split(dielectric_shading(d, hit.normal, hit.shading, self.eta, fresnel))
+    fn delta_event(
+        &self,
+        _: Vec3,
+        d: Vec3,
+        hit: &Hit,
+        _: &Facing,
+        fresnel: FresnelMode,
+    ) -> DeltaEvent {
+        DeltaEvent::Split(dielectric_shading(
+            d,
+            hit.normal,
+            hit.shading,
+            self.eta,
+            fresnel,
+        ))
     }
     fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
         Vec3::ZERO
@@ -134,7 +150,14 @@ impl BsdfKind for Glass {
     fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn photon_bounce(&self, _: Vec3, d: Vec3, hit: &Hit, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
+    fn photon_bounce(
+        &self,
+        _: Vec3,
+        d: Vec3,
+        hit: &Hit,
+        fresnel: FresnelMode,
+        u: [f32; 3],
+    ) -> Bounce {
         let f = Facing::new(hit.normal, hit.shading, d.dot(hit.normal) < 0.0);
         let g = dielectric_shading(d, hit.normal, hit.shading, self.eta, fresnel);
         match g.refracted {

@@ -26,7 +26,10 @@ pub fn pack<'a>(bsdfs: impl IntoIterator<Item = &'a Bsdf>) -> PackedBsdfs {
     for b in bsdfs {
         let mut w = GpuWords::default();
         b.gpu_words(&mut w);
-        assert!(w.words.len() <= BSDF_WORDS, "a kind takes at most BSDF_WORDS words");
+        assert!(
+            w.words.len() <= BSDF_WORDS,
+            "a kind takes at most BSDF_WORDS words"
+        );
         if let Some((word, component)) = w.table_at {
             w.words[word][component] = out.tables.len() as u32;
             out.tables.extend(&w.table);
@@ -60,7 +63,12 @@ pub fn upper(name: &str) -> String {
 /// ...): a render sets the flags of the kinds its scene has.
 pub fn kind_flags() -> &'static [String] {
     static FLAGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
-    FLAGS.get_or_init(|| KINDS.iter().map(|k| format!("HAS_{}", upper(k.name))).collect())
+    FLAGS.get_or_init(|| {
+        KINDS
+            .iter()
+            .map(|k| format!("HAS_{}", upper(k.name)))
+            .collect()
+    })
 }
 
 /// The code of a surface class in WGSL (`CLASS_*`, the generated prelude's).
@@ -86,13 +94,39 @@ struct Method {
 }
 
 /// A method of the BSDF in the local frame: `bsdf_<suffix>(b: Bsdf, ...)`.
-const fn local(suffix: &'static str, name: &'static str, params: &'static str, args: &'static str, ret: &'static str) -> Method {
-    Method { name, suffix, params, args, ret, kind: "b.kind" }
+const fn local(
+    suffix: &'static str,
+    name: &'static str,
+    params: &'static str,
+    args: &'static str,
+    ret: &'static str,
+) -> Method {
+    Method {
+        name,
+        suffix,
+        params,
+        args,
+        ret,
+        kind: "b.kind",
+    }
 }
 
 /// A method of the surface: `surface_<suffix>(s: Surface, ...)`.
-const fn surface(suffix: &'static str, name: &'static str, params: &'static str, args: &'static str, ret: &'static str) -> Method {
-    Method { name, suffix, params, args, ret, kind: "s.b.kind" }
+const fn surface(
+    suffix: &'static str,
+    name: &'static str,
+    params: &'static str,
+    args: &'static str,
+    ret: &'static str,
+) -> Method {
+    Method {
+        name,
+        suffix,
+        params,
+        args,
+        ret,
+        kind: "s.b.kind",
+    }
 }
 
 /// The methods: the BSDF's in the local frame (`bsdf_*`) and the surface's (`surface_*`).
@@ -133,7 +167,10 @@ fn declares(wgsl: &str, name: &str) -> bool {
 }
 
 fn dispatcher(out: &mut String, method: &Method) {
-    out.push_str(&format!("fn {}({}) -> {} {{\n", method.name, method.params, method.ret));
+    out.push_str(&format!(
+        "fn {}({}) -> {} {{\n",
+        method.name, method.params, method.ret
+    ));
     let cases: Vec<String> = KINDS
         .iter()
         .filter(|k| declares(k.wgsl, &format!("{}_{}", k.prefix, method.suffix)))
@@ -180,7 +217,10 @@ pub fn generated() -> String {
         ("A", Channel::A),
         ("LUMINANCE", Channel::Luminance),
     ] {
-        out.push_str(&format!("const PARAM_CHANNEL_{name}: u32 = {}u;\n", c.code()));
+        out.push_str(&format!(
+            "const PARAM_CHANNEL_{name}: u32 = {}u;\n",
+            c.code()
+        ));
     }
     for k in KINDS {
         out.push_str(&(k.consts)());
@@ -216,11 +256,17 @@ pub fn generated() -> String {
     // Loading: only the kind's own words.
     out.push_str("// Material i's BSDF words: as many as its kind has (the rest zero).\nfn load_bsdf(i: u32, kind: u32, textured: u32) -> Bsdf {\n    var b: Bsdf;\n    b.kind = kind;\n    b.textured = textured;\n    var n = 0u;\n    switch kind {\n");
     for k in KINDS {
-        out.push_str(&format!("        case BSDF_{}: {{ n = {}u; }}\n", upper(k.name), k.words));
+        out.push_str(&format!(
+            "        case BSDF_{}: {{ n = {}u; }}\n",
+            upper(k.name),
+            k.words
+        ));
     }
     out.push_str("        default: {}\n    }\n    let o = BSDF_WORDS * i;\n");
     for i in 0..BSDF_WORDS {
-        out.push_str(&format!("    if n > {i}u {{ b.w{i} = bsdfs[o + {i}u]; }}\n"));
+        out.push_str(&format!(
+            "    if n > {i}u {{ b.w{i} = bsdfs[o + {i}u]; }}\n"
+        ));
     }
     out.push_str("    return b;\n}\n");
     // Word k of a record, and the record with word k replaced (one switch each, so that
@@ -278,11 +324,23 @@ pub fn wgsl_library() -> String {
 pub fn wgsl_files() -> Vec<(String, &'static str)> {
     let mut out = vec![
         ("bsdfs/math.wgsl".to_string(), include_str!("math.wgsl")),
-        ("bsdfs/microfacet.wgsl".to_string(), include_str!("microfacet.wgsl")),
-        ("bsdfs/fresnel.wgsl".to_string(), include_str!("fresnel.wgsl")),
+        (
+            "bsdfs/microfacet.wgsl".to_string(),
+            include_str!("microfacet.wgsl"),
+        ),
+        (
+            "bsdfs/fresnel.wgsl".to_string(),
+            include_str!("fresnel.wgsl"),
+        ),
         ("bsdfs/param.wgsl".to_string(), include_str!("param.wgsl")),
-        ("bsdfs/interface.wgsl".to_string(), include_str!("interface.wgsl")),
-        ("bsdfs/shading.wgsl".to_string(), include_str!("shading.wgsl")),
+        (
+            "bsdfs/interface.wgsl".to_string(),
+            include_str!("interface.wgsl"),
+        ),
+        (
+            "bsdfs/shading.wgsl".to_string(),
+            include_str!("shading.wgsl"),
+        ),
     ];
     out.extend(
         KINDS

@@ -18,10 +18,10 @@ pub use crate::bsdfs::fresnel::Dielectric;
 use crate::bsdfs::param::GpuWords;
 use crate::bvh::hit::Hit;
 use crate::error::Result;
-use crate::scene::locate::Locate;
 use crate::math::geometry::Facing;
 use crate::math::rng::Rng;
 use crate::math::sampling::{basis, cosine_hemisphere, to_world};
+use crate::scene::locate::Locate;
 use crate::settings::FresnelMode;
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
@@ -242,7 +242,14 @@ pub trait BsdfKind: Copy {
     /// The delta event of a [`SurfaceClass::Delta`] surface for a ray along `d` at `hit`
     /// (shading normal `n`, normals turned by the caller's `f`): by default the mirror
     /// direction, weighted by the lobe's own delta sample.
-    fn delta_event(&self, n: Vec3, d: Vec3, _hit: &Hit, f: &Facing, _fresnel: FresnelMode) -> DeltaEvent {
+    fn delta_event(
+        &self,
+        n: Vec3,
+        d: Vec3,
+        _hit: &Hit,
+        f: &Facing,
+        _fresnel: FresnelMode,
+    ) -> DeltaEvent {
         let weight = self
             .sample_lobe(local(n, -d), [0.0; 3], Transport::Radiance)
             .map_or(Vec3::ZERO, |s| s.weight);
@@ -310,7 +317,14 @@ pub trait BsdfKind: Copy {
     /// the BSDF without roulette (its lobes reflect at most what arrives): a kind with both
     /// parts picks its lobe with [`lobe_probability`](Self::lobe_probability) (`u[0]`), then the
     /// lobe or a cosine-weighted base direction (`u[1], u[2]`).
-    fn photon_bounce(&self, n: Vec3, d: Vec3, hit: &Hit, _fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
+    fn photon_bounce(
+        &self,
+        n: Vec3,
+        d: Vec3,
+        hit: &Hit,
+        _fresnel: FresnelMode,
+        u: [f32; 3],
+    ) -> Bounce {
         let f = hit.facing(d);
         let wo = local(n, -d);
         let (wi, weight, delta) = if self.has_diffuse() {

@@ -31,11 +31,13 @@
 //! texture's red, the specular colour texture (F0's colour, `f0 = min(f0 c, f90)`) and the
 //! specular texture's alpha (both F0 and F90). Twin: `metallic_roughness.wgsl`.
 
-use crate::bsdfs::math::{cosine_hemisphere_pdf, gauss_legendre, reflect, square_to_cosine_hemisphere};
-use crate::bsdfs::microfacet::{Distribution, Microfacet};
-use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
-use crate::bsdfs::param::{GpuWords, Param};
 use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
+use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
+use crate::bsdfs::math::{
+    cosine_hemisphere_pdf, gauss_legendre, reflect, square_to_cosine_hemisphere,
+};
+use crate::bsdfs::microfacet::{Distribution, Microfacet};
+use crate::bsdfs::param::{GpuWords, Param};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -122,7 +124,10 @@ pub fn schlick_mean_table() -> &'static [f32; SCHLICK_MEAN_RES + 1] {
 /// The WGSL constants the twin reads: S(mu)'s table as Rust computed it (Debug prints the
 /// shortest decimal that reads back to the same f32).
 pub fn wgsl_consts() -> String {
-    let table: Vec<String> = schlick_mean_table().iter().map(|v| format!("{v:?}f")).collect();
+    let table: Vec<String> = schlick_mean_table()
+        .iter()
+        .map(|v| format!("{v:?}f"))
+        .collect();
     format!(
         "const GLTF_MEAN_RES: u32 = {SCHLICK_MEAN_RES}u;\nconst BSDF_GLTF_MEAN = array<f32, {}>({});\n",
         SCHLICK_MEAN_RES + 1,
@@ -141,7 +146,14 @@ pub fn schlick_mean(cos_o: f32) -> f32 {
 
 impl MetallicRoughness {
     /// An untextured material.
-    pub fn new(base: Vec3, metallic: f32, roughness: f32, f0: Vec3, f90: f32, transmission: f32) -> Self {
+    pub fn new(
+        base: Vec3,
+        metallic: f32,
+        roughness: f32,
+        f0: Vec3,
+        f90: f32,
+        transmission: f32,
+    ) -> Self {
         Self {
             base: Param::rgb(base),
             metallic: Param::constant(metallic),
@@ -155,7 +167,10 @@ impl MetallicRoughness {
 
     /// The GGX distribution of `alpha = roughness^2` (at least 1e-4, as Mitsuba clamps).
     pub fn microfacet(&self) -> Microfacet {
-        Microfacet::isotropic(Distribution::Ggx, self.roughness.float() * self.roughness.float())
+        Microfacet::isotropic(
+            Distribution::Ggx,
+            self.roughness.float() * self.roughness.float(),
+        )
     }
 
     /// Weight of the base's diffuse reflection: `(1 - metallic)(1 - transmission)`.
@@ -180,7 +195,9 @@ impl MetallicRoughness {
 
     /// The transmission lobe's tint at `c = wo . h`: `(1 - metallic) t (1 - max F_d) base`.
     fn transmit_tint(&self, c: f32) -> Vec3 {
-        let w = (1.0 - self.metallic.float()) * self.transmission.float() * (1.0 - self.dielectric_max(c));
+        let w = (1.0 - self.metallic.float())
+            * self.transmission.float()
+            * (1.0 - self.dielectric_max(c));
         self.base.get() * w.max(0.0)
     }
 

@@ -255,7 +255,6 @@ pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
     }
 }
 
-
 /// A microfacet distribution whose roughness is textureable: what a rough kind keeps (its
 /// `Param` slots, clamped to at least 1e-4 where looked up) and resolves at a hit into a
 /// [`Microfacet`].

@@ -2,10 +2,10 @@
 //! no Fresnel, two-sided. Photons reflect by roulette on the reflectance. Twin: `mirror.wgsl`.
 
 use crate::bsdfs::fresnel::reflect;
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, SurfaceClass};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bvh::hit::Hit;
 use crate::error::Result;
 use crate::math::geometry::Facing;
@@ -50,7 +50,12 @@ impl BsdfKind for Mirror {
         out.slot(&self.reflectance);
     }
     fn check(&self, at: &dyn Locate) -> Result<()> {
-        check_color(self.reflectance.get(), Some(1.0), Part::Parameter("reflectance"), at)
+        check_color(
+            self.reflectance.get(),
+            Some(1.0),
+            Part::Parameter("reflectance"),
+            at,
+        )
     }
     fn lobe_is_delta(&self) -> bool {
         true

@@ -49,7 +49,9 @@ pub mod rough_dielectric;
 pub mod thin_dielectric;
 
 pub use interface::{BsdfKind, LobeSample, SurfaceClass, Transport};
-pub use metallic_roughness::{schlick_mean, schlick_mean_table, MetallicRoughness, SCHLICK_MEAN_RES};
+pub use metallic_roughness::{
+    schlick_mean, schlick_mean_table, MetallicRoughness, SCHLICK_MEAN_RES,
+};
 pub use microfacet::{
     fresnel_conductor, fresnel_dielectric, fresnel_diffuse_reflectance, named_conductor,
     Distribution, Microfacet, METAL_NAMES,
@@ -266,7 +268,9 @@ impl Bsdf {
     ) -> Self {
         match microfacet {
             None => glass::Glass::tinted(eta, reflectance, transmittance).into(),
-            Some(mf) => rough_dielectric::RoughDielectric::new(eta, reflectance, transmittance, mf).into(),
+            Some(mf) => {
+                rough_dielectric::RoughDielectric::new(eta, reflectance, transmittance, mf).into()
+            }
         }
     }
 
@@ -287,6 +291,3 @@ impl Bsdf {
         self.eval(wi, wo, transport) * wi.z.abs()
     }
 }
-
-
-

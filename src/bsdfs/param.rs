@@ -177,7 +177,8 @@ impl GpuWords {
 
     /// Appends a colour and a number as one plain word.
     pub fn rgb_u(&mut self, v: Vec3, w: u32) {
-        self.words.push([v.x.to_bits(), v.y.to_bits(), v.z.to_bits(), w]);
+        self.words
+            .push([v.x.to_bits(), v.y.to_bits(), v.z.to_bits(), w]);
     }
 
     /// Appends four raw 32-bit values as one plain word.

@@ -4,10 +4,10 @@
 //! caller's shading normal. Twin: `phong.wgsl`.
 
 use crate::bsdfs::fresnel::reflect;
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bsdfs::interface::{Bounce, BsdfKind, LobeRay, SurfaceClass};
 use crate::bsdfs::math::{cosine_hemisphere_pdf, reflect_z, square_to_cosine_hemisphere};
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bvh::hit::Hit;
 use crate::error::Result;
 use crate::math::geometry::Facing;
@@ -64,7 +64,14 @@ fn phong_pdf(wi: Vec3, wo: Vec3, n: Vec3, exponent: f32) -> f32 {
 /// Directions are drawn about the shading normal; one below the geometric surface absorbs the
 /// photon (no light leaks through the terminator; no adjoint shading-normal correction, see
 /// scenes/README.md). Reads `u[0]` (the choice) and `u[1], u[2]` (the direction).
-pub fn classic_bounce(kd: Vec3, ks: Vec3, exponent: f32, d: Vec3, hit: &Hit, u: [f32; 3]) -> Bounce {
+pub fn classic_bounce(
+    kd: Vec3,
+    ks: Vec3,
+    exponent: f32,
+    d: Vec3,
+    hit: &Hit,
+    u: [f32; 3],
+) -> Bounce {
     let f = Facing::new(hit.normal, hit.shading, d.dot(hit.normal) < 0.0);
     let nf = f.ns;
     // Choice probabilities: the larger of each coefficient's channels, scaled so that

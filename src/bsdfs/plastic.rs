@@ -9,18 +9,18 @@
 //! coating's internal reflectance integrated as Mitsuba does.
 //! Two-sided: a back-side `wo` is mirrored to the front. Twin: `plastic.wgsl`.
 
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
+use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
 use crate::bsdfs::math::{
     cosine_hemisphere_pdf, gauss_legendre, reflect, reflect_z, refract,
     square_to_cosine_hemisphere, square_to_disk_concentric,
 };
+use crate::bsdfs::microfacet::distribution_code;
 use crate::bsdfs::microfacet::{
     beckmann_slope_x, beckmann_slope_y, fresnel_dielectric, fresnel_diffuse_reflectance,
     ggx_slopes, Distribution, Microfacet,
 };
-use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
-use crate::bsdfs::microfacet::distribution_code;
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -390,7 +390,12 @@ impl BsdfKind for Plastic {
             Some(mf) => (distribution_code(mf.distribution), mf.alpha_u),
             None => (NO_MICROFACET, 0.0),
         };
-        out.raw([self.internal_reflectance.to_bits(), distribution, alpha.to_bits(), 0]);
+        out.raw([
+            self.internal_reflectance.to_bits(),
+            distribution,
+            alpha.to_bits(),
+            0,
+        ]);
         if self.microfacet.is_some() {
             out.table = self.external_transmittance.to_vec();
             out.table_at = Some((2, 2));

@@ -2,11 +2,11 @@
 //! times a tint, visible-normal sampling, anisotropic Beckmann or GGX, two-sided. Twin:
 //! `rough_conductor.wgsl`.
 
+use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
 use crate::bsdfs::math::reflect;
 use crate::bsdfs::microfacet::{fresnel_conductor, Microfacet, Roughness};
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 
@@ -115,7 +115,14 @@ impl BsdfKind for RoughConductor {
     }
     fn eval_lobe(&self, wi: Vec3, wo: Vec3, _: Transport) -> Vec3 {
         to_front(wi, wo).map_or(Vec3::ZERO, |(wi, wo, _)| {
-            eval(&self.microfacet(), self.eta, self.k, self.specular.get(), wi, wo)
+            eval(
+                &self.microfacet(),
+                self.eta,
+                self.k,
+                self.specular.get(),
+                wi,
+                wo,
+            )
         })
     }
     fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
@@ -123,7 +130,14 @@ impl BsdfKind for RoughConductor {
     }
     fn sample_lobe(&self, wo: Vec3, u: [f32; 3], _: Transport) -> Option<LobeSample> {
         let (_, wo, flipped) = to_front(Vec3::Z, wo)?;
-        let s = sample(&self.microfacet(), self.eta, self.k, self.specular.get(), wo, u);
+        let s = sample(
+            &self.microfacet(),
+            self.eta,
+            self.k,
+            self.specular.get(),
+            wo,
+            u,
+        );
         back_to_side(s, flipped)
     }
 }

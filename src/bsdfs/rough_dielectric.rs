@@ -5,10 +5,10 @@
 //! [`Transport::Importance`] they do not. Twin: `rough_dielectric.wgsl`.
 
 use crate::bsdfs::interface::{BsdfKind, SurfaceClass};
+use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bsdfs::math::{mulsign, reflect, refract};
 use crate::bsdfs::microfacet::{fresnel_dielectric, Microfacet, Roughness};
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 
@@ -202,4 +202,3 @@ pub fn sample(
         delta: false,
     })
 }
-

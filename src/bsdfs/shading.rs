@@ -69,7 +69,14 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
 /// The bounce of a photon arriving along `d` at a surface of `m` (untextured) with geometric
 /// normal `ng` and shading normal `ns` (on its side): the hit-free form of
 /// [`SurfaceBsdf::photon_bounce`], for tests and tools.
-pub fn photon_bounce_at(m: &Material, d: Vec3, ng: Vec3, ns: Vec3, fresnel: FresnelMode, u: [f32; 3]) -> Bounce {
+pub fn photon_bounce_at(
+    m: &Material,
+    d: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+    fresnel: FresnelMode,
+    u: [f32; 3],
+) -> Bounce {
     let hit = Hit {
         t: 0.0,
         position: Vec3::ZERO,

@@ -4,10 +4,10 @@
 
 use crate::bsdfs::fresnel::reflect as reflect_world;
 use crate::bsdfs::interface::{BsdfKind, DeltaEvent, Dielectric, SurfaceClass};
+use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::microfacet::fresnel_dielectric;
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bvh::hit::Hit;
 use crate::math::geometry::Facing;
 use crate::settings::FresnelMode;

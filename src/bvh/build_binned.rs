@@ -142,7 +142,10 @@ fn subtree(prims: &mut [Prim], offset: usize, depth: usize, e: Extent, out: &mut
             subtree(p, off, depth + 1, e, &mut v);
             v
         };
-        let (lv, rv) = rayon::join(|| build(left, offset, le), || build(right, offset + mid, re));
+        let (lv, rv) = rayon::join(
+            || build(left, offset, le),
+            || build(right, offset + mid, re),
+        );
         append(out, lv);
         let r = out.len();
         append(out, rv);
@@ -236,8 +239,7 @@ fn sah_split(prims: &mut [Prim], e: &Extent) -> Option<(usize, Extent, Extent)> 
     }
     let (cost, axis, split) = best?;
     let parent = e.half_area();
-    if prims.len() <= MAX_LEAF && parent > 0.0 && NODE_COST + cost / parent >= blocks(prims.len())
-    {
+    if prims.len() <= MAX_LEAF && parent > 0.0 && NODE_COST + cost / parent >= blocks(prims.len()) {
         return None;
     }
     // Partition by the same bins, gathering both sides' extents.

@@ -158,7 +158,11 @@ impl Collapse<'_> {
             return self.blocks(start, ids.len());
         }
         // Larger than a leaf can be: a node of leaves (by index) instead.
-        assert!(ids.len() <= WIDTH * max, "a leaf of {} primitives", ids.len());
+        assert!(
+            ids.len() <= WIDTH * max,
+            "a leaf of {} primitives",
+            ids.len()
+        );
         let at = self.out.nodes.len();
         self.out.nodes.push(Node8::EMPTY);
         for (slot, chunk) in ids.chunks(max).enumerate() {
@@ -176,7 +180,8 @@ impl Collapse<'_> {
     fn blocks(&mut self, start: usize, n: usize) -> u32 {
         let first = self.sources.len();
         for s in (start..start + n).step_by(BLOCK) {
-            self.sources.push((s as u32, (start + n - s).min(BLOCK) as u32));
+            self.sources
+                .push((s as u32, (start + n - s).min(BLOCK) as u32));
         }
         let count = (self.sources.len() - first) as u32;
         let r = LEAF_BIT | ((count - 1) << LEAF_COUNT_SHIFT) | first as u32;

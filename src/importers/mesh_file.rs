@@ -9,11 +9,11 @@
 //! format's convention) is flipped to `1 - v` by default, and a PLY file's is kept. The TOML
 //! `mesh` shape always uses these defaults; Mitsuba's shapes take `flip_tex_coords`.
 
+use crate::error::Result;
+use crate::importers::{obj, ply};
 use crate::scene::builder::{SceneBuilder, Surface};
 use crate::scene::locate::{Locate, Part};
-use crate::importers::{obj, ply};
 use crate::scene::VertexNormals;
-use crate::error::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::path::Path;
 
@@ -112,7 +112,9 @@ impl MeshData {
     pub(crate) fn smooth_from_faces(self) -> Self {
         match (&self.normals, &self.vertices) {
             (None, Some(ids)) => MeshData {
-                normals: Some(crate::importers::vertex_normals::from_faces(&self.tris, ids)),
+                normals: Some(crate::importers::vertex_normals::from_faces(
+                    &self.tris, ids,
+                )),
                 ..self
             },
             _ => self,
@@ -203,7 +205,8 @@ fn split_by_uv(vertices: &[[u32; 3]], uvs: &[[Vec2; 3]]) -> Vec<[u32; 3]> {
     let mut ids = std::collections::HashMap::new();
     let mut id = |v: u32, uv: Vec2| {
         let next = ids.len() as u32;
-        *ids.entry((v, uv.x.to_bits(), uv.y.to_bits())).or_insert(next)
+        *ids.entry((v, uv.x.to_bits(), uv.y.to_bits()))
+            .or_insert(next)
     };
     vertices
         .iter()

@@ -78,4 +78,3 @@ pub fn load_with_options(
         }),
     }
 }
-

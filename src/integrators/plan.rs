@@ -2,10 +2,10 @@
 //! runs: which photon maps (and their budgets per light), and which terms a mode adds at a
 //! diffuse or glossy hit. Both backends read this plan; neither re-derives it.
 
-use crate::math::geometry::Aabb;
+use crate::integrators::photon::{Budget, Photon};
 use crate::lights::table::{specular_bounds, LightTable};
 use crate::lights::{scalar_power, split_budget};
-use crate::integrators::photon::{Budget, Photon};
+use crate::math::geometry::Aabb;
 use crate::math::rng::Stream;
 use crate::scene::Scene;
 use crate::settings::{Mode, RenderSettings};

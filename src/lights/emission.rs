@@ -9,8 +9,8 @@
 use crate::lights::area::triangle_uv;
 use crate::lights::interface::LightKind;
 use crate::lights::LightShape;
-use crate::scene::{Scene, NO_TEXTURE};
 use crate::math::sampling::uniform_triangle;
+use crate::scene::{Scene, NO_TEXTURE};
 use glam::Vec3;
 
 /// Stratified samples per triangle (a 4 x 4 grid of the unit square, mapped uniformly).
@@ -21,7 +21,10 @@ const MAX_LOOKUPS: usize = 1 << 20;
 /// The emission texture of light `l`'s material, or [`NO_TEXTURE`] (also for lights without
 /// a surface).
 pub fn texture_of(scene: &Scene, l: usize) -> u32 {
-    match scene.lights[l].shape.material(&scene.triangles, &scene.spheres) {
+    match scene.lights[l]
+        .shape
+        .material(&scene.triangles, &scene.spheres)
+    {
         Some(m) => scene.materials[m as usize].emission_texture,
         None => NO_TEXTURE,
     }

@@ -46,7 +46,12 @@ pub fn method_suffixes() -> Vec<&'static str> {
 /// The pipeline-overridable flag of each kind (`HAS_LIGHT_POINT`), in the order of their codes.
 pub fn kind_flags() -> &'static [String] {
     static FLAGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
-    FLAGS.get_or_init(|| KINDS.iter().map(|k| format!("HAS_LIGHT_{}", upper(k.name))).collect())
+    FLAGS.get_or_init(|| {
+        KINDS
+            .iter()
+            .map(|k| format!("HAS_LIGHT_{}", upper(k.name)))
+            .collect()
+    })
 }
 
 /// The override constants a scene's lights set: each kind's flag (whether some light is of
@@ -81,12 +86,27 @@ fn generated() -> String {
     // Delta lights: no surface, one shadow ray each, every BRDF lobe.
     let delta: Vec<String> = (0..KINDS.len())
         .filter(|&i| KINDS[i].delta)
-        .map(|i| format!("({} && l.kind == LIGHT_{})", kind_flags()[i], upper(KINDS[i].name)))
+        .map(|i| {
+            format!(
+                "({} && l.kind == LIGHT_{})",
+                kind_flags()[i],
+                upper(KINDS[i].name)
+            )
+        })
         .collect();
-    let delta = if delta.is_empty() { "false".to_string() } else { delta.join(" || ") };
-    out.push_str(&format!("fn is_delta_light(l: Light) -> bool {{\n    return {delta};\n}}\n"));
+    let delta = if delta.is_empty() {
+        "false".to_string()
+    } else {
+        delta.join(" || ")
+    };
+    out.push_str(&format!(
+        "fn is_delta_light(l: Light) -> bool {{\n    return {delta};\n}}\n"
+    ));
     for m in METHODS {
-        out.push_str(&format!("fn {}({}) -> {} {{\n    switch l.kind {{\n", m.name, m.params, m.ret));
+        out.push_str(&format!(
+            "fn {}({}) -> {} {{\n    switch l.kind {{\n",
+            m.name, m.params, m.ret
+        ));
         for (i, k) in KINDS.iter().enumerate() {
             if declares(k.wgsl, &format!("{}_{}", k.prefix, m.suffix)) {
                 out.push_str(&format!(

@@ -63,7 +63,10 @@ impl LightTable {
     /// What light `l` of `scene` sees of it and of this table.
     pub fn context<'a>(&'a self, scene: &'a Scene, l: usize) -> LightContext<'a> {
         let start = self.cdf_start[l] as usize;
-        let end = self.cdf_start.get(l + 1).map_or(self.tri_cdf.len(), |&e| e as usize);
+        let end = self
+            .cdf_start
+            .get(l + 1)
+            .map_or(self.tri_cdf.len(), |&e| e as usize);
         let cdf_start = match scene.lights[l].shape {
             // The environment's distribution follows every triangle CDF on the GPU.
             LightShape::Environment(_) => self.tri_cdf.len() as u32,
@@ -109,7 +112,9 @@ impl LightTable {
     /// The solid-angle density with which [`sample`](Self::sample) picks direction `dir`
     /// towards light `l` (one sampled by direction) from a point of shading normal `ns`.
     pub fn direction_pdf(&self, scene: &Scene, l: usize, ns: Vec3, dir: Vec3) -> f32 {
-        scene.lights[l].shape.direction_pdf(&self.context(scene, l), ns, dir)
+        scene.lights[l]
+            .shape
+            .direction_pdf(&self.context(scene, l), ns, dir)
     }
 
     /// The point [`sample`](Self::sample) picks on light `l` for `u` whatever the shading
@@ -121,7 +126,9 @@ impl LightTable {
     /// A shadow-ray target on light `l` for shading point `x` (shading normal `ns`), from
     /// three uniform numbers ([`LightKind::sample`]).
     pub fn sample(&self, scene: &Scene, l: usize, x: Vec3, ns: Vec3, u: [f32; 3]) -> LightSample {
-        scene.lights[l].shape.sample(&self.context(scene, l), x, ns, u)
+        scene.lights[l]
+            .shape
+            .sample(&self.context(scene, l), x, ns, u)
     }
 }
 

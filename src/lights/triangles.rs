@@ -21,7 +21,10 @@ impl Triangles {
     /// Picks a triangle with probability proportional to its area: the first whose CDF value
     /// exceeds `u` (the last for `u` at or past the end).
     pub fn pick(&self, c: &LightContext, u: f32) -> usize {
-        let i = c.cdf.partition_point(|&v| v <= u).min(self.count as usize - 1);
+        let i = c
+            .cdf
+            .partition_point(|&v| v <= u)
+            .min(self.count as usize - 1);
         self.first as usize + i
     }
 
@@ -49,7 +52,11 @@ impl LightKind for Triangles {
             cdf.push(acc as f32);
         }
         for v in &mut cdf {
-            *v = if acc > 0.0 { (*v as f64 / acc) as f32 } else { 1.0 };
+            *v = if acc > 0.0 {
+                (*v as f64 / acc) as f32
+            } else {
+                1.0
+            };
         }
         (acc as f32, cdf)
     }
@@ -66,6 +73,11 @@ impl LightKind for Triangles {
         Some(self.point(c, u).p)
     }
     fn gpu_words(&self, c: &LightContext) -> ParamWords {
-        [[self.first, self.count, c.cdf_start, 0], [0; 4], [0; 4], [0; 4]]
+        [
+            [self.first, self.count, c.cdf_start, 0],
+            [0; 4],
+            [0; 4],
+            [0; 4],
+        ]
     }
 }

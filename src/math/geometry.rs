@@ -89,7 +89,11 @@ pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, boo
 /// where the interpolated tangent vanishes. Twin: `vertex_tangent` in
 /// `src/bvh/intersect.wgsl`.
 #[inline]
-pub fn vertex_tangent(t: &crate::scene::shapes::VertexTangents, u: f32, v: f32) -> Option<(Vec3, bool)> {
+pub fn vertex_tangent(
+    t: &crate::scene::shapes::VertexTangents,
+    u: f32,
+    v: f32,
+) -> Option<(Vec3, bool)> {
     let m = (1.0 - u - v) * t[0] + u * t[1] + v * t[2];
     let dir = m.truncate();
     (dir != Vec3::ZERO && dir.is_finite()).then_some((dir, m.w < 0.0))

@@ -3,11 +3,11 @@
 //! [`Surface::media`](crate::scene::Surface::media) and the camera may sit in one.
 //! Every importer (TOML `[media.NAME]`, Mitsuba `homogeneous`) calls these.
 
+use crate::error::Result;
+use crate::media::phase::HenyeyGreenstein;
+use crate::media::{Medium, MediumInterface, NO_MEDIUM};
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::SceneBuilder;
-use crate::error::Result;
-use crate::media::{Medium, MediumInterface, NO_MEDIUM};
-use crate::media::phase::HenyeyGreenstein;
 use glam::Vec3;
 use std::collections::HashMap;
 

@@ -24,14 +24,16 @@
 //! the file, line and field (a TOML table maps each part to its key; [`Origin`](crate::scene::Origin) names one
 //! fixed place).
 
+use crate::camera::pixel_filter::PixelFilter;
+use crate::camera::Camera;
+use crate::error::Result;
 use crate::scene::checks::{check_emission, check_light, check_material, SceneBudgets};
 use crate::scene::cost::MeshCost;
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::normals::{is_flat, unit_normals};
-use crate::scene::{Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT};
-use crate::camera::Camera;
-use crate::error::Result;
-use crate::camera::pixel_filter::PixelFilter;
+use crate::scene::{
+    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT,
+};
 use crate::settings::RenderSettings;
 use crate::textures::SceneTexture;
 use glam::{Mat3, Vec2, Vec3};

@@ -1,11 +1,11 @@
 //! The checks the scene builder applies to colours, materials and lights.
 
-use crate::scene::locate::{Locate, Part};
 use crate::bsdfs::BsdfKind;
-use crate::scene::Material;
-use crate::scene::cost::MeshCost;
 use crate::error::Result;
 use crate::render::memory::size;
+use crate::scene::cost::MeshCost;
+use crate::scene::locate::{Locate, Part};
+use crate::scene::Material;
 use glam::Vec3;
 
 /// Most triangles a scene may have (after instancing): 64 Mi, about 3 GiB of triangles alone

@@ -100,4 +100,3 @@ pub fn check_color(c: Vec3, max: Option<f32>, part: Part, at: &dyn Locate) -> Re
         _ => Ok(()),
     }
 }
-

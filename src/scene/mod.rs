@@ -16,21 +16,20 @@ pub mod normals;
 pub mod shapes;
 pub mod tangents;
 
+pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
+pub use crate::lights::environment::Environment;
+pub use crate::lights::{Light, LightShape};
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use checks::{SceneBudgets, MAX_SCENE_BYTES, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
 pub use cost::MeshCost;
 pub use locate::{Locate, Origin, Part};
 pub use shapes::{Sphere, Triangle, VertexNormals, VertexTangents, FLAT, NO_LIGHT};
-pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
-pub use crate::lights::environment::Environment;
-pub use crate::lights::{Light, LightShape};
 
 use crate::camera::Camera;
 use crate::settings::RenderSettings;
 use crate::textures::SceneTexture;
 use glam::Vec2;
 use glam::Vec3;
-
 
 /// A loaded scene, ready for either backend.
 #[derive(Clone, Debug)]

@@ -2,10 +2,10 @@
 //! MikkTSpace's tangents (the `mikktspace` crate, the algorithm glTF and Blender use) for
 //! meshes that do not. The convention is [`VertexTangents`]'.
 
+use crate::error::Result;
 use crate::scene::builder::{SceneBuilder, Surface};
 use crate::scene::locate::{Locate, Part};
 use crate::scene::{VertexNormals, VertexTangents};
-use crate::error::Result;
 use glam::{Vec2, Vec3, Vec4};
 
 impl SceneBuilder {
@@ -86,8 +86,8 @@ impl mikktspace::Geometry for Corners<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::scene::tangents::mikktspace;
     use crate::math::geometry::triangle_tangent;
+    use crate::scene::tangents::mikktspace;
     use glam::{Vec2, Vec3};
 
     /// On a plane MikkTSpace's frame is each triangle's uv frame: the same tangent direction,

@@ -3,10 +3,10 @@
 //! [`MAX_SIDE`] and [`MAX_TEXELS`] before any texel is decoded; every failure is an
 //! [`Error::Image`] or [`Error::Io`] naming the file.
 
+use crate::error::{Error, Result};
 use crate::textures::{
     check_size, image_error, pack_rgba8, srgb_to_linear, Encoding, Texture, MAX_SIDE, MAX_TEXELS,
 };
-use crate::error::{Error, Result};
 use std::io::Cursor;
 use std::path::Path;
 

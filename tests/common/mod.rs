@@ -8,10 +8,10 @@ use glam::DVec3;
 use gpu_photon::bvh::CpuBvh;
 use gpu_photon::camera::Camera;
 use gpu_photon::integrators::cpu::photons::{trace_photons, TraceContext};
-use gpu_photon::render::film::DiffStats;
 use gpu_photon::integrators::gpu::GpuContext;
-use gpu_photon::lights::table::LightTable;
 use gpu_photon::integrators::photon::{Budget, Photon};
+use gpu_photon::lights::table::LightTable;
+use gpu_photon::render::film::DiffStats;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::f64::consts::PI;
@@ -224,7 +224,10 @@ pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
 
 /// An image (e.g. a reference) averaged over `f` x `f` blocks: exactly the pixel means of an image `f`
 /// times smaller (pixels are box-filtered mean radiance).
-pub fn downsample(img: &gpu_photon::render::film::Image, f: u32) -> gpu_photon::render::film::Image {
+pub fn downsample(
+    img: &gpu_photon::render::film::Image,
+    f: u32,
+) -> gpu_photon::render::film::Image {
     let (w, h) = (img.width / f, img.height / f);
     let mut out = gpu_photon::render::film::Image::new(w, h);
     for y in 0..h {
@@ -334,7 +337,10 @@ pub fn run_probe(
 pub fn direct_renders(
     s: &Scene,
     side: u32,
-) -> (gpu_photon::render::film::Image, Option<gpu_photon::render::film::Image>) {
+) -> (
+    gpu_photon::render::film::Image,
+    Option<gpu_photon::render::film::Image>,
+) {
     use gpu_photon::render::report::Progress;
     use gpu_photon::render::session::{render, Backend};
     let settings = RenderSettings {
@@ -382,7 +388,11 @@ pub fn example_scenes_without_media() -> Vec<std::path::PathBuf> {
             .unwrap()
             .map(|e| e.unwrap().path())
             .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .filter(|p| !gpu_photon::importers::load(p).unwrap().has_media_transport())
+            .filter(|p| {
+                !gpu_photon::importers::load(p)
+                    .unwrap()
+                    .has_media_transport()
+            })
             .collect();
     paths.sort();
     paths

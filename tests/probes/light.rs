@@ -5,11 +5,11 @@
 //! twins (`LightTable::emit` and `sample`, `Budget::light_of`, `photon::power_ends`,
 //! `geometry::intersect_triangle` and `intersect_sphere`, `Bvh::intersect` and `occluded`).
 
+use super::{case_buffer, dispatch_probe};
+use gpu_photon::error::Result;
 use gpu_photon::integrators::gpu::context::GpuContext;
 use gpu_photon::integrators::gpu::pipelines::scene_features;
-use super::{case_buffer, dispatch_probe};
 use gpu_photon::integrators::gpu::run::GpuRun;
-use gpu_photon::error::Result;
 use gpu_photon::integrators::photon::Budget;
 use gpu_photon::integrators::plan::MapKind;
 use gpu_photon::scene::Scene;
@@ -89,12 +89,7 @@ impl SceneProbes {
 
     /// Runs probe `entry` over `n` invocations on `init` (the parameters' width set to `n`)
     /// and reads the buffer back.
-    pub fn dispatch(
-        &mut self,
-        entry: &str,
-        init: &[[f32; 4]],
-        n: usize,
-    ) -> Result<Vec<[f32; 4]>> {
+    pub fn dispatch(&mut self, entry: &str, init: &[[f32; 4]], n: usize) -> Result<Vec<[f32; 4]>> {
         let run = &mut self.run;
         run.params.width = n as u32;
         run.ctx.queue.write_buffer(

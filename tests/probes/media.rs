@@ -5,13 +5,13 @@
 //! uploaded photons, its beam estimate and the shadow walk's transmittance, for
 //! tests/media_gpu.rs to compare with their Rust twins.
 
+use super::{case_buffer, dispatch_probe, probe_cases};
+use gpu_photon::error::Result;
 use gpu_photon::integrators::gpu::buffers::read_back;
 use gpu_photon::integrators::gpu::context::GpuContext;
-use super::{case_buffer, dispatch_probe, probe_cases};
 use gpu_photon::integrators::gpu::recorder::Recorder;
 use gpu_photon::integrators::gpu::run::GpuRun;
 use gpu_photon::integrators::gpu::volume::VolumeBuffers;
-use gpu_photon::error::Result;
 use gpu_photon::integrators::photon::{BeamPhotons, Photon};
 use gpu_photon::render::report::RenderReport;
 use gpu_photon::scene::Scene;

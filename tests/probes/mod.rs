@@ -11,6 +11,7 @@ pub mod light;
 pub mod media;
 pub mod shading;
 
+use gpu_photon::error::{Error, Result};
 use gpu_photon::integrators::gpu::bindings::GATHER_GROUP;
 use gpu_photon::integrators::gpu::buffers::{grid_2d, read_back};
 use gpu_photon::integrators::gpu::codes::{STATS_LEN, WG_SIZE};
@@ -18,7 +19,6 @@ use gpu_photon::integrators::gpu::context::GpuContext;
 use gpu_photon::integrators::gpu::pipelines::{pipeline_layout, shader_module_of};
 use gpu_photon::integrators::gpu::recorder::Recorder;
 use gpu_photon::integrators::gpu::run::GpuRun;
-use gpu_photon::error::{Error, Result};
 use gpu_photon::integrators::photon::Photon;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::{Filter, Mode, RenderSettings};
@@ -78,7 +78,8 @@ pub fn estimate(
         ..Default::default()
     };
     let run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table =
+        gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * queries.len()];
     for (i, (p, nrm)) in queries.iter().enumerate() {
@@ -272,7 +273,8 @@ pub fn radiance_cache(
         ..Default::default()
     };
     let mut run = GpuRun::new(ctx.clone(), &scene, &settings, 0)?;
-    let table = gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
+    let table =
+        gpu_photon::integrators::gpu::grid::table_size_for(photons.len() as u32, ctx.max_binding);
     let map = run.upload_map(photons, cell_size, table, radius * radius)?;
     let mut init = vec![[0f32; 4]; 3 * n as usize];
     for (i, (p, nrm)) in queries.iter().enumerate() {

@@ -7,9 +7,9 @@
 //! hit (the device's hit is read back, so both sides shade the same bits).
 
 use super::light::SceneProbes;
+use glam::{Vec2, Vec3};
 use gpu_photon::bvh::Hit;
 use gpu_photon::error::Result;
-use glam::{Vec2, Vec3};
 
 /// One case of [`SceneProbes::shading`]: a ray, the directions the surface is asked
 /// about and the random numbers it draws.

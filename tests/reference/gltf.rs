@@ -8,11 +8,11 @@
 use crate::common;
 
 use glam::{Quat, Vec3};
+use gpu_photon::importers::{load, load_gltf, load_str, load_with_camera};
 use gpu_photon::render::film::{diff, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::{load, load_gltf, load_str, load_with_camera};
-use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{LightShape, Scene};
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
@@ -313,7 +313,9 @@ fn cornell_box_gltf_builds_and_renders_as_its_toml_twin() {
     let t = toml_box();
     compare(&g, &t, "cornell-box.gltf");
     // The light is the same one-sided quad, facing down.
-    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) = g.lights[0].shape else {
+    let LightShape::Triangles(gpu_photon::lights::triangles::Triangles { first, count }) =
+        g.lights[0].shape
+    else {
         panic!("area light")
     };
     assert_eq!((g.lights.len(), count), (1, 2));
@@ -565,7 +567,11 @@ fn materials_map_by_the_documented_rules() {
     // A smooth metal: Appendix B's metal lobe (F0 = base colour), no longer a plain mirror.
     let metal = gltf_of(&with(&format!("{{{}}}", pbr("0.9, 0.8, 0.7", 1.0, 0.0))));
     assert_eq!(
-        (metal.base.get(), metal.metallic.float(), metal.roughness.float()),
+        (
+            metal.base.get(),
+            metal.metallic.float(),
+            metal.roughness.float()
+        ),
         (Vec3::new(0.9, 0.8, 0.7), 1.0, 0.0)
     );
     // Transmission with a volume of some thickness: a refracting dielectric of the ior.
@@ -573,7 +579,10 @@ fn materials_map_by_the_documented_rules() {
         r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}, "KHR_materials_ior": {{"ior": 1.33}}, "KHR_materials_volume": {{"thicknessFactor": 0.1}}}}}}"#,
         pbr("1, 1, 1", 0.0, 0.0)
     ));
-    assert!(matches!(glass.bsdf, Bsdf::Glass(g) if g.eta == 1.33), "{glass:?}");
+    assert!(
+        matches!(glass.bsdf, Bsdf::Glass(g) if g.eta == 1.33),
+        "{glass:?}"
+    );
     // Without a volume the transmission is thin-walled, as the extension defines it.
     let thin = gltf_of(&with(&format!(
         r#"{{{}, "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}}}}}"#,

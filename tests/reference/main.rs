@@ -14,11 +14,11 @@ mod common;
 mod gltf;
 
 use glam::DVec3;
+use gpu_photon::importers::load;
 use gpu_photon::render::film::{diff, DiffStats, Image};
 use gpu_photon::render::report::Progress;
-use gpu_photon::importers::load;
-use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::render::session::{render, Backend};
+use gpu_photon::scene::{LightShape, Scene};
 use gpu_photon::settings::{Mode, RenderSettings};
 use std::path::{Path, PathBuf};
 
@@ -195,7 +195,10 @@ fn check_point_light_scene(scene: &Scene) {
     assert!(scene
         .materials
         .iter()
-        .any(|m| m.bsdf.base_colour().is_some_and(|kd| (kd.get().as_dvec3() - DVec3::splat(ALBEDO)).length() < 1e-6)));
+        .any(|m| m
+            .bsdf
+            .base_colour()
+            .is_some_and(|kd| (kd.get().as_dvec3() - DVec3::splat(ALBEDO)).length() < 1e-6)));
 }
 
 #[test]
@@ -500,10 +503,13 @@ fn a_gaussian_film_renders_as_mitsubas_image_of_the_same_scene() {
     let mut misses = Vec::new();
     for rfilter in [gaussian, r#"<rfilter type="box"/>"#] {
         let xml = text.replace(gaussian, rfilter);
-        let scene =
-            gpu_photon::importers::mitsuba::import(&xml, "filter.xml", &root().join("scenes/mitsuba"))
-                .unwrap_or_else(|e| panic!("{e}"))
-                .scene;
+        let scene = gpu_photon::importers::mitsuba::import(
+            &xml,
+            "filter.xml",
+            &root().join("scenes/mitsuba"),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+        .scene;
         let s = RenderSettings {
             spp: 64,
             ..scene.settings.as_default_render()

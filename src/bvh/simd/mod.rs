@@ -209,7 +209,10 @@ unsafe fn defer<K: Kernel>(bvh: &WideBvh, c: u32) {
     } else if let Some(b) = bvh.blocks.get(leaf_blocks(c).0) {
         // The first block (a leaf's further blocks follow it in memory); an empty slot's
         // reference names none.
-        K::prefetch(b as *const TriBlock as *const u8, std::mem::size_of::<TriBlock>());
+        K::prefetch(
+            b as *const TriBlock as *const u8,
+            std::mem::size_of::<TriBlock>(),
+        );
     }
 }
 
@@ -255,7 +258,10 @@ impl<K: Kernel> Visit for ClosestVisit<'_, K> {
                     rest &= rest - 1;
                 }
                 let (id, t) = (b.id[lane], hits.t[lane]);
-                let (u, v) = (hits.e1[lane] / hits.det[lane], hits.e2[lane] / hits.det[lane]);
+                let (u, v) = (
+                    hits.e1[lane] / hits.det[lane],
+                    hits.e2[lane] / hits.det[lane],
+                );
                 if self.test.passes(id, t, u, v) {
                     m &= !(1 << lane);
                     continue;
@@ -331,12 +337,7 @@ unsafe fn closest_with<K: Kernel>(
     t_max: f32,
 ) -> Option<Closest> {
     let r = K::ray(&Prepared::new(ray));
-    let test = LeafTest::<K> {
-        bvh,
-        scene,
-        ray,
-        r,
-    };
+    let test = LeafTest::<K> { bvh, scene, ray, r };
     let mut v = ClosestVisit { test, best: None };
     walk::<K, true>(bvh, &r, t_max, &mut v);
     v.best
@@ -346,12 +347,7 @@ unsafe fn closest_with<K: Kernel>(
 #[inline(always)]
 unsafe fn occluded_with<K: Kernel>(bvh: &WideBvh, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
     let r = K::ray(&Prepared::new(ray));
-    let test = LeafTest::<K> {
-        bvh,
-        scene,
-        ray,
-        r,
-    };
+    let test = LeafTest::<K> { bvh, scene, ray, r };
     let mut v = OccludedVisit { test, hit: false };
     walk::<K, false>(bvh, &r, t_max, &mut v);
     v.hit

@@ -65,10 +65,7 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
             _mm_and_ps(_mm_cmpeq_ps(p.0, q.0), _mm_cmplt_ps(p.1, q.1)),
         );
         let fwd = _mm_sub_ps(_mm_mul_ps(p.0, q.1), _mm_mul_ps(p.1, q.0));
-        let back = _mm_xor_ps(
-            _mm_sub_ps(_mm_mul_ps(q.0, p.1), _mm_mul_ps(q.1, p.0)),
-            sign,
-        );
+        let back = _mm_xor_ps(_mm_sub_ps(_mm_mul_ps(q.0, p.1), _mm_mul_ps(q.1, p.0)), sign);
         select(first, fwd, back)
     };
     let (e0, e1, e2) = (edge(c, bb), edge(a, c), edge(bb, a));
@@ -123,7 +120,13 @@ unsafe fn prefetch(at: *const u8, bytes: usize) {
 
 /// Compacts the lanes of `mask` into `near` and `child`.
 #[inline(always)]
-fn compact(mask: u32, tn: &[f32; 8], node: &Node8, near: &mut [f32; 8], child: &mut [u32; 8]) -> usize {
+fn compact(
+    mask: u32,
+    tn: &[f32; 8],
+    node: &Node8,
+    near: &mut [f32; 8],
+    child: &mut [u32; 8],
+) -> usize {
     let (mut m, mut k) = (mask, 0);
     while m != 0 {
         let i = m.trailing_zeros() as usize;
@@ -207,7 +210,10 @@ impl Kernel for Sse2 {
             let f = |a: usize| t(r.far_row[a], a);
             let tnear = _mm_max_ps(_mm_max_ps(n(0), n(1)), _mm_max_ps(n(2), _mm_setzero_ps()));
             let tfar = _mm_min_ps(
-                _mm_mul_ps(_mm_min_ps(_mm_min_ps(f(0), f(1)), f(2)), _mm_set1_ps(BOX_SLACK)),
+                _mm_mul_ps(
+                    _mm_min_ps(_mm_min_ps(f(0), f(1)), f(2)),
+                    _mm_set1_ps(BOX_SLACK),
+                ),
                 _mm_set1_ps(t_max),
             );
             mask |= (_mm_movemask_ps(_mm_cmple_ps(tnear, tfar)) as u32) << (4 * h);

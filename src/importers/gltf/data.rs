@@ -327,8 +327,14 @@ pub(crate) fn read_indices(accessor: &Accessor, buffers: &[Vec<u8>]) -> Result<V
 mod tests {
     #[test]
     fn base64_decodes() {
-        assert_eq!(crate::importers::gltf::data::base64("aGVsbG8=").unwrap(), b"hello");
-        assert_eq!(crate::importers::gltf::data::base64("AAECAw").unwrap(), [0, 1, 2, 3]);
+        assert_eq!(
+            crate::importers::gltf::data::base64("aGVsbG8=").unwrap(),
+            b"hello"
+        );
+        assert_eq!(
+            crate::importers::gltf::data::base64("AAECAw").unwrap(),
+            [0, 1, 2, 3]
+        );
         assert!(crate::importers::gltf::data::base64("a b").is_err());
     }
 }

@@ -60,7 +60,14 @@ pub(crate) fn map(m: &gltf::Material) -> (Material, Option<String>) {
         });
         let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
         let f0 = (f0_ior * colour).min(Vec3::ONE) * specular;
-        Material::of(MetallicRoughness::new(base, metallic, roughness, f0, specular, transmission))
+        Material::of(MetallicRoughness::new(
+            base,
+            metallic,
+            roughness,
+            f0,
+            specular,
+            transmission,
+        ))
     };
     (
         Material {
@@ -132,16 +139,31 @@ pub(crate) fn uv_texture<'a>(m: &gltf::Material<'a>) -> Option<(u32, &'static st
     let base = pbr
         .base_color_texture()
         .filter(|_| reads_base_colour(&material))
-        .map(|i| (crate::importers::gltf::texture::uv_set(&i), "baseColorTexture"));
+        .map(|i| {
+            (
+                crate::importers::gltf::texture::uv_set(&i),
+                "baseColorTexture",
+            )
+        });
     let mr = pbr
         .metallic_roughness_texture()
         .filter(|_| matches!(material.bsdf, Bsdf::MetallicRoughness(_)))
-        .map(|i| (crate::importers::gltf::texture::uv_set(&i), "metallicRoughnessTexture"));
+        .map(|i| {
+            (
+                crate::importers::gltf::texture::uv_set(&i),
+                "metallicRoughnessTexture",
+            )
+        });
     let normal = m.normal_texture().map(|n| (n.tex_coord(), "normalTexture"));
     let emissive = m
         .emissive_texture()
         .filter(|_| material.is_emissive())
-        .map(|i| (crate::importers::gltf::texture::uv_set(&i), "emissiveTexture"));
+        .map(|i| {
+            (
+                crate::importers::gltf::texture::uv_set(&i),
+                "emissiveTexture",
+            )
+        });
     base.or(mr).or(normal).or(emissive)
 }
 

@@ -1,11 +1,11 @@
 //! A glTF material as the importer adds it: its mapping (`material.rs`), the textures it
 //! reads (`texture.rs`) and its alpha test, warned about once per material.
 
-use crate::importers::gltf::{material, texture, Importer};
+use crate::bsdfs::{Bsdf, BsdfKind, Channel, Param};
 use crate::error::Result;
+use crate::importers::gltf::{material, texture, Importer};
 use crate::scene::builder::MaterialId;
 use crate::scene::locate::Part;
-use crate::bsdfs::{Bsdf, BsdfKind, Channel, Param};
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use glam::Vec3;
 

@@ -12,8 +12,8 @@
 //! `crate::math::geometry::normal_mapped` takes `+dp/dv`). A texel map of the identity keeps the
 //! 8-bit texels; any other makes float texels.
 
-use crate::importers::gltf::data;
 use crate::error::Error;
+use crate::importers::gltf::data;
 use crate::textures::{decode, Encoding, Sampler, SceneTexture, Texture, UvTransform};
 use glam::{Vec3, Vec4};
 use std::path::Path;

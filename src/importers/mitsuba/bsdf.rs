@@ -4,15 +4,15 @@
 //! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, and `normalmap` around
 //! any of them.
 
-use crate::importers::mitsuba::plugin::Plugin;
-use crate::importers::mitsuba::texture::texture;
-use crate::importers::mitsuba::values::Cx;
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
 use crate::bsdfs::rough_dielectric::RoughDielectric;
 use crate::bsdfs::thin_dielectric::ThinDielectric;
 use crate::bsdfs::{named_conductor, Distribution, Microfacet, Param, Plastic, METAL_NAMES};
 use crate::error::Result;
+use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::texture::texture;
+use crate::importers::mitsuba::values::Cx;
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
 use crate::textures::SceneTexture;
 use glam::Vec3;

@@ -6,12 +6,12 @@
 //! (`radiance`, default 1) and `envmap` (`filename` of a lat-long image, `scale`, `to_world`'s
 //! rotation) are the environment (`crate::scene::Environment`).
 
+use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::Importer;
-use crate::error::Result;
-use crate::scene::locate::{Locate, Part};
-use crate::lights::spot::SpotLight;
 use crate::lights::spot::SpotFalloff;
+use crate::lights::spot::SpotLight;
+use crate::scene::locate::{Locate, Part};
 use crate::textures::{Encoding, Texture};
 use glam::{Mat3, Mat4, Vec3};
 use roxmltree::Node;

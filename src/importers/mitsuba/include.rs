@@ -12,11 +12,11 @@
 //!
 //! Attributes are substituted (`$name`) with the parameters known when they are met.
 
+use crate::error::{Error, Result};
+use crate::importers::file;
 use crate::importers::mitsuba::upgrade::upgrade;
 use crate::importers::mitsuba::values::{check_name, resolve, substitute, Params};
 use crate::importers::mitsuba::{check_nesting, elements, MAX_DEFAULTS_BYTES};
-use crate::error::{Error, Result};
-use crate::importers::file;
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

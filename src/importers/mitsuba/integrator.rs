@@ -67,7 +67,12 @@ impl Importer<'_> {
              mode: [render] mode, --mode){notes}",
             self.cx.loc(node),
             // Innermost first: "`path` in `moment`".
-            nest.kinds.iter().rev().cloned().collect::<Vec<_>>().join("` in `")
+            nest.kinds
+                .iter()
+                .rev()
+                .cloned()
+                .collect::<Vec<_>>()
+                .join("` in `")
         ));
         Ok(())
     }

@@ -5,11 +5,11 @@
 //! `albedo` 0.75, `scale` 1, isotropic. `sample_emitters` and `has_spectral_extinction`
 //! change how Mitsuba samples, not what it renders: ignored.
 
+use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::Importer;
-use crate::error::Result;
-use crate::scene::locate::Part;
 use crate::media::builder::{MediumId, MediumParams};
+use crate::scene::locate::Part;
 use glam::Vec3;
 use roxmltree::Node;
 
@@ -88,7 +88,11 @@ impl Importer<'_> {
 
 /// Which side of a shape a `<medium>` or `<ref>` child bounds: its `name`, `interior` or
 /// `exterior`.
-pub(crate) fn side(cx: &crate::importers::mitsuba::values::Cx, child: Node, field: &str) -> Result<bool> {
+pub(crate) fn side(
+    cx: &crate::importers::mitsuba::values::Cx,
+    child: Node,
+    field: &str,
+) -> Result<bool> {
     match child.attribute("name") {
         Some("interior") => Ok(true),
         Some("exterior") => Ok(false),

@@ -30,12 +30,12 @@ mod values;
 
 pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 
-use crate::scene::builder::{MaterialId, SceneBuilder};
-use crate::scene::locate::Origin;
-use crate::scene::{Material, Scene};
 use crate::bsdfs::BsdfKind;
 use crate::error::{Error, Result};
 use crate::importers::file;
+use crate::scene::builder::{MaterialId, SceneBuilder};
+use crate::scene::locate::Origin;
+use crate::scene::{Material, Scene};
 use glam::Vec3;
 use roxmltree::{Document, Node};
 use std::collections::HashMap;

@@ -3,10 +3,10 @@
 //! as ignored): [`Plugin::done`] reports the first one nobody read as unsupported, so that
 //! nothing in a file is skipped silently.
 
-use crate::importers::mitsuba::spectrum::{self, Use, UNBOUNDED};
-use crate::importers::mitsuba::values::{Cx, IOR_NAMES};
 use crate::error::Result;
 use crate::importers::file;
+use crate::importers::mitsuba::spectrum::{self, Use, UNBOUNDED};
+use crate::importers::mitsuba::values::{Cx, IOR_NAMES};
 use crate::settings::{setting, RenderSettings, Slot};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;

@@ -6,11 +6,11 @@
 //! `tan(fov_y / 2) = tan(fov / 2) * h / s`, `s` the film's extent along that axis (`w`, `h`
 //! or `sqrt(w^2 + h^2)`).
 
+use crate::camera::pixel_filter::PixelFilter;
+use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::values::Cx;
 use crate::importers::mitsuba::Importer;
-use crate::error::Result;
-use crate::camera::pixel_filter::PixelFilter;
 use crate::scene::builder::SceneBuilder;
 use crate::settings::split_samples;
 use glam::{Mat4, Vec3};

@@ -7,13 +7,13 @@
 //! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
+use crate::error::Result;
+use crate::importers::mesh_file::{self, MeshData, MeshFormat};
 use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::{round, Importer};
-use crate::error::Result;
-use crate::scene::builder::Surface;
 use crate::media::builder::{interface, MediumId};
-use crate::importers::mesh_file::{self, MeshData, MeshFormat};
+use crate::scene::builder::Surface;
 use crate::textures::uv;
 use crate::textures::SceneTexture;
 use glam::{Mat4, Vec3};
@@ -154,7 +154,8 @@ impl<'f> Importer<'f> {
             return Err(self.cx.err(*extra, field, message));
         }
         if let Some(t) = e.texture_param("radiance") {
-            let texture = crate::importers::mitsuba::texture::texture(&self.cx, t, &e.at("radiance"))?;
+            let texture =
+                crate::importers::mitsuba::texture::texture(&self.cx, t, &e.at("radiance"))?;
             e.done(&self.cx)?;
             return Ok((Vec3::ONE, Some(texture)));
         }

@@ -2,9 +2,9 @@
 //! `wrap_mode`, `raw`, `to_uv`) and `checkerboard` (`color0`, `color1`, `to_uv`), with
 //! Mitsuba's defaults (bilinear, repeat, sRGB unless `raw`).
 
+use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::values::Cx;
-use crate::error::Result;
 use crate::textures::{
     Checkerboard, Encoding, Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap,
 };

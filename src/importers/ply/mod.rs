@@ -13,8 +13,8 @@
 
 pub mod place;
 
-use crate::importers::ply::place::{element_line, row_place, size, Place};
 use crate::error::Result;
+use crate::importers::ply::place::{element_line, row_place, size, Place};
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{
@@ -110,8 +110,8 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
         },
         message,
     };
-    let bytes =
-        crate::importers::read::regular_file(path).map_err(|e| at(None, format!("cannot read: {e}")))?;
+    let bytes = crate::importers::read::regular_file(path)
+        .map_err(|e| at(None, format!("cannot read: {e}")))?;
     let head_end = bytes
         .windows(10)
         .position(|w| w == b"end_header")

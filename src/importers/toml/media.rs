@@ -4,12 +4,12 @@
 //! (a number or `[r, g, b]`, per scene unit, default 1), `albedo` (default 0.75), `scale`
 //! (default 1) and `g` (Henyey-Greenstein asymmetry, default 0: isotropic).
 
+use crate::error::Result;
+use crate::importers::toml::table::{number, Tab};
+use crate::media::builder::{interface, MediumId, MediumParams};
+use crate::media::MediumInterface;
 use crate::scene::builder::SceneBuilder;
 use crate::scene::locate::Part;
-use crate::media::builder::{interface, MediumId, MediumParams};
-use crate::importers::toml::table::{number, Tab};
-use crate::error::Result;
-use crate::media::MediumInterface;
 use glam::Vec3;
 
 /// The keys of a `[media.NAME]` table.

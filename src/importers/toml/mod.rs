@@ -10,18 +10,18 @@
 pub mod media;
 pub mod table;
 
+use crate::camera::pixel_filter::{PixelFilter, FILTER_NAMES};
+use crate::error::Result;
+use crate::importers::file;
+use crate::importers::mesh_file;
+use crate::importers::toml::media as toml_media;
+use crate::importers::toml::table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
+use crate::lights::spot::SpotFalloff;
+use crate::lights::spot::SpotLight;
 use crate::scene::builder::{SceneBuilder, Surface};
 use crate::scene::locate::Locate;
 use crate::scene::locate::Part;
-use crate::importers::toml::table::{number, vec3_of, At, Ctx, RawTable, Tab, Types};
-use crate::importers::mesh_file;
-use crate::importers::toml::media as toml_media;
-use crate::lights::spot::SpotLight;
 use crate::scene::{Material, Scene};
-use crate::lights::spot::SpotFalloff;
-use crate::error::Result;
-use crate::camera::pixel_filter::{PixelFilter, FILTER_NAMES};
-use crate::importers::file;
 use crate::settings::{Filter, FresnelMode, Mode, RenderSettings, Sampler, SETTINGS};
 use glam::Vec3;
 use serde::Deserialize;
@@ -187,9 +187,11 @@ fn environment(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
             (r, None, "radiance")
         }
         (None, Some(file)) => {
-            let image =
-                crate::textures::Texture::load(&base_dir.join(file), crate::textures::Encoding::Srgb)
-                    .map_err(|e| t.fail("filename", e.to_string()))?;
+            let image = crate::textures::Texture::load(
+                &base_dir.join(file),
+                crate::textures::Encoding::Srgb,
+            )
+            .map_err(|e| t.fail("filename", e.to_string()))?;
             let scale = t.num("scale")?.unwrap_or(1.0);
             (Vec3::splat(scale), Some(image), "scale")
         }

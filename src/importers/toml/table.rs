@@ -2,8 +2,8 @@
 //! [`Tab`] turns each key into a typed value or an [`Error::Scene`] naming `file:line` and
 //! the field (`shapes[3].radius`); [`At`] is a table as the builder's [`Locate`].
 
-use crate::scene::locate::{Locate, Part};
 use crate::error::{Error, Result};
+use crate::scene::locate::{Locate, Part};
 use crate::settings::{RenderSettings, Setting, Slot};
 use glam::Vec3;
 use std::collections::{BTreeMap, HashMap};

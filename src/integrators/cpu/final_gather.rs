@@ -10,15 +10,15 @@
 //! glossy lobes (L (S|G)+ D: the caustic map) is counted elsewhere. The caller multiplies by
 //! the diffuse albedo of x: the cosine pdf cancels the cosine and 1/pi.
 
+use crate::bsdfs::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::bvh::Hit;
 use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::media::medium_after;
 use crate::math::geometry::{offset_origin, Facing, Ray};
-use crate::media::NO_MEDIUM;
 use crate::math::rng::Rng;
 use crate::math::sampling::cosine_hemisphere;
-use crate::bsdfs::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::math::sobol::{sample_pair, SobolStream, PAIR_GATHER};
+use crate::media::NO_MEDIUM;
 use glam::Vec3;
 
 impl Gatherer<'_> {

@@ -12,28 +12,27 @@
 //! dimension [`DIM_LIGHT_THIRD`], and the gather direction takes pair [`crate::math::sobol::PAIR_GATHER`]. Those
 //! numbers are not drawn from the hash `Rng` at all; every other draw stays on it, in order.
 
+use crate::bsdfs::shading::{
+    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass, GLASS_SPLIT_DEPTH,
+};
+use crate::bsdfs::BsdfKind;
 use crate::bvh::{CpuBvh, Hit};
 use crate::integrators::cpu::cache::RadianceCache;
 use crate::integrators::cpu::media::{medium_after, transmittance};
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::integrators::cpu::volume_map::VolumeMap;
-use crate::math::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
-use crate::lights::table::LightTable;
-use crate::media::NO_MEDIUM;
 use crate::integrators::plan::{caustic_weight, Terms, VolumeSpec};
+use crate::lights::table::LightTable;
+use crate::math::geometry::{offset_origin, Facing, Ray, OFFSET_FLOOR, OFFSET_SCALE};
 use crate::math::rng::Rng;
-use crate::scene::Scene;
-use crate::scene::NO_LIGHT;
-use crate::settings::{RenderSettings, Sampler};
-use crate::bsdfs::BsdfKind;
-use crate::bsdfs::shading::{
-    bsdf_at, escape, power_heuristic, DeltaEvent, SurfaceBsdf, SurfaceClass,
-    GLASS_SPLIT_DEPTH,
-};
 use crate::math::sobol::{
     sample, sample_pair, SobolSampler, SobolStream, DIM_LIGHT_THIRD, PAIR_JITTER, PAIR_LENS,
     PAIR_LIGHT,
 };
+use crate::media::NO_MEDIUM;
+use crate::scene::Scene;
+use crate::scene::NO_LIGHT;
+use crate::settings::{RenderSettings, Sampler};
 use glam::Vec3;
 
 /// A ray drawn from a glossy lobe at `from` with solid-angle density `pdf`: where it meets

@@ -4,10 +4,10 @@
 
 use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::media::single_scattering;
-use crate::math::geometry::Ray;
-use crate::media::{GATHER_MEDIUM_POINTS, NEAR_GATHER_FRACTION};
 use crate::integrators::photon::BeamPhotons;
+use crate::math::geometry::Ray;
 use crate::math::rng::Rng;
+use crate::media::{GATHER_MEDIUM_POINTS, NEAR_GATHER_FRACTION};
 use glam::Vec3;
 
 impl Gatherer<'_> {

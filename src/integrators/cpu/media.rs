@@ -4,15 +4,15 @@
 //! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
 //! its beam estimate in `volume_map.rs`. Scenes without media never call these.
 
-use crate::bvh::{CpuBvh, Hit};
-use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
-use crate::lights::interface::Emission;
-use crate::lights::table::LightTable;
-use crate::media::{sample_equiangular, NO_MEDIUM};
-use crate::math::rng::Rng;
-use crate::lights::interface::LightKind;
-use crate::scene::{LightShape, Scene};
 use crate::bsdfs::{BsdfKind, SurfaceClass};
+use crate::bvh::{CpuBvh, Hit};
+use crate::lights::interface::Emission;
+use crate::lights::interface::LightKind;
+use crate::lights::table::LightTable;
+use crate::math::geometry::{offset_origin, Ray, OFFSET_FLOOR, OFFSET_SCALE};
+use crate::math::rng::Rng;
+use crate::media::{sample_equiangular, NO_MEDIUM};
+use crate::scene::{LightShape, Scene};
 use glam::Vec3;
 
 /// Index-matched boundaries a shadow ray may cross before it counts as blocked (a bound on
@@ -34,7 +34,10 @@ pub fn medium_after(scene: &Scene, hit: &Hit, current: u32, dir: Vec3) -> u32 {
 /// medium (a scene filled with fog has them in it; our file formats give such lights no
 /// medium of their own).
 pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
-    let Some(material) = scene.lights[l].shape.material(&scene.triangles, &scene.spheres) else {
+    let Some(material) = scene.lights[l]
+        .shape
+        .material(&scene.triangles, &scene.spheres)
+    else {
         return scene.camera_medium;
     };
     let media = scene.materials[material as usize].media;

@@ -1,18 +1,18 @@
 //! Photon tracing on the CPU (twin: `src/integrators/gpu/trace_photons.wgsl`): one path per index, keyed
 //! by (seed, stream, pass, index) so the result does not depend on thread scheduling.
 
+use crate::bsdfs::interface::Bounce;
+use crate::bsdfs::shading::{bsdf_at, SurfaceClass};
 use crate::bvh::CpuBvh;
 use crate::integrators::cpu::media::{light_medium, medium_after, MAX_CROSSINGS};
-use crate::math::geometry::{offset_origin, Ray};
-use crate::lights::table::{aims_at, LightTable};
-use crate::bsdfs::interface::Bounce;
-use crate::media::NO_MEDIUM;
 use crate::integrators::photon::{power_ends, Budget, Photon};
 use crate::integrators::plan::VolumeSpec;
+use crate::lights::table::{aims_at, LightTable};
+use crate::math::geometry::{offset_origin, Ray};
 use crate::math::rng::{Rng, Stream};
+use crate::media::NO_MEDIUM;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-use crate::bsdfs::shading::{bsdf_at, SurfaceClass};
 use glam::Vec3;
 use rayon::prelude::*;
 

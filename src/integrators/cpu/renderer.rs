@@ -4,16 +4,16 @@
 //! pixel.
 
 use crate::bvh::CpuBvh;
+use crate::error::Result;
 use crate::integrators::cpu::cache::RadianceCache;
 use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::photon_map::PhotonMap;
 use crate::integrators::cpu::photons::{trace_map, TraceContext};
 use crate::integrators::cpu::volume_map::VolumeMap;
-use crate::error::Result;
-use crate::render::film::Image;
-use crate::lights::table::LightTable;
 use crate::integrators::photon::Photon;
 use crate::integrators::plan::{MapPlan, Terms};
+use crate::lights::table::LightTable;
+use crate::render::film::Image;
 use crate::render::report::{PassRenderer, Progress, RenderReport};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;

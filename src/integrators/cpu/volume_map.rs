@@ -11,8 +11,8 @@
 //! so the photon is listed there, and it lies in exactly one cell, so each photon counts
 //! once.
 
-use crate::media::Medium;
 use crate::integrators::photon::{BeamPhotons, Photon};
+use crate::media::Medium;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -289,8 +289,8 @@ fn sign(x: f32) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::media::phase::HenyeyGreenstein;
     use crate::math::rng::{Rng, Stream};
+    use crate::media::phase::HenyeyGreenstein;
 
     /// Photons spread uniformly through a unit cube, each of power `phi`, in a clear
     /// isotropic medium: the point estimate inside is `n phi / (4 pi)` per unit volume, and

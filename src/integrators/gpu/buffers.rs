@@ -1,8 +1,8 @@
 //! Device buffer helpers: created with a label, initialised or zero-sized safely, and read
 //! back to the host; and the split of a workgroup count over the 2D dispatch grid.
 
-use crate::integrators::gpu::context::GpuContext;
 use crate::error::{Error, Result};
+use crate::integrators::gpu::context::GpuContext;
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 

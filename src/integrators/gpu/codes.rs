@@ -4,10 +4,9 @@
 //! declarations that `shaders.rs` puts before every kernel, so no WGSL file types one by hand
 //! (tests/gpu_layout.rs checks the composed modules' constants against [`shared_constants`]).
 
+use crate::bsdfs::SurfaceClass;
 use crate::camera::pixel_filter::PixelFilter;
 use crate::settings::{Filter, FresnelMode, Sampler};
-use crate::bsdfs::SurfaceClass;
-
 
 /// Surface class ([`SurfaceClass`]) of a material that reflects nothing.
 pub const CLASS_BLACK: u32 = 0;
@@ -235,8 +234,14 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("BOUNCE_DIFFUSE", U32(BOUNCE_DIFFUSE)),
         ("BOUNCE_LOBE", U32(BOUNCE_LOBE)),
         ("BOUNCE_DELTA", U32(BOUNCE_DELTA)),
-        ("GLASS_SPLIT_DEPTH", U32(crate::bsdfs::shading::GLASS_SPLIT_DEPTH)),
-        ("BRANCH_LISTS", U32(crate::integrators::gpu::branches::BRANCH_LISTS)),
+        (
+            "GLASS_SPLIT_DEPTH",
+            U32(crate::bsdfs::shading::GLASS_SPLIT_DEPTH),
+        ),
+        (
+            "BRANCH_LISTS",
+            U32(crate::integrators::gpu::branches::BRANCH_LISTS),
+        ),
         (
             "BRANCH_SOBOL_UNUSED",
             U32(crate::integrators::gpu::branches::SOBOL_UNUSED),
@@ -246,7 +251,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("TERM_LOBE_RAY", U32(TERM_LOBE_RAY)),
         ("TERM_FINAL_GATHER", U32(TERM_FINAL_GATHER)),
         ("CACHE_STRIDE", U32(crate::integrators::plan::CACHE_STRIDE)),
-        ("CACHE_NORMAL_COS", F32(crate::integrators::plan::CACHE_NORMAL_COS)),
+        (
+            "CACHE_NORMAL_COS",
+            F32(crate::integrators::plan::CACHE_NORMAL_COS),
+        ),
         ("DROP_DIRECT", U32(DROP_DIRECT)),
         ("DROP_CAUSTIC", U32(DROP_CAUSTIC)),
         ("VOLUME_STORE", U32(VOLUME_STORE)),
@@ -257,7 +265,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
             "GATHER_MEDIUM_POINTS",
             U32(crate::media::GATHER_MEDIUM_POINTS),
         ),
-        ("HG_ISOTROPIC_BELOW", F32(crate::media::phase::HG_ISOTROPIC_BELOW)),
+        (
+            "HG_ISOTROPIC_BELOW",
+            F32(crate::media::phase::HG_ISOTROPIC_BELOW),
+        ),
         ("STAT_PHOTON_OVERFLOW", U32(STAT_PHOTON_OVERFLOW)),
         ("STAT_LOOP_BUDGET", U32(STAT_LOOP_BUDGET)),
         ("STAT_GATHER_TRUNCATED", U32(STAT_GATHER_TRUNCATED)),
@@ -277,10 +288,16 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("CACHE_LIST_FIRST", U32(CACHE_LIST_FIRST)),
         ("MAX_RINGS", U32(MAX_RINGS)),
         ("MAX_CELLS", U32(MAX_CELLS)),
-        ("LEAF_COUNT_SHIFT", U32(crate::bvh::gpu_layout::LEAF_COUNT_SHIFT)),
+        (
+            "LEAF_COUNT_SHIFT",
+            U32(crate::bvh::gpu_layout::LEAF_COUNT_SHIFT),
+        ),
         ("NODE_WORDS", U32(crate::bvh::gpu_layout::NODE_WORDS)),
         ("FRAME_WORDS", U32(crate::bvh::gpu_layout::FRAME_WORDS)),
-        ("LEAF_PRIM_WORDS", U32(crate::bvh::gpu_layout::LEAF_PRIM_WORDS)),
+        (
+            "LEAF_PRIM_WORDS",
+            U32(crate::bvh::gpu_layout::LEAF_PRIM_WORDS),
+        ),
         ("TRIANGLE_WORDS", U32(TRIANGLE_WORDS)),
         ("SPHERE_WORDS", U32(SPHERE_WORDS)),
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
@@ -306,9 +323,15 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("NO_TEXTURE", U32(crate::scene::NO_TEXTURE)),
         ("FLAT", U32(crate::scene::FLAT)),
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
-        ("FLAG_CAUSTIC", U32(crate::integrators::photon::FLAG_CAUSTIC)),
+        (
+            "FLAG_CAUSTIC",
+            U32(crate::integrators::photon::FLAG_CAUSTIC),
+        ),
         ("DEPTH_MASK", U32(crate::integrators::photon::DEPTH_MASK)),
-        ("BEAM_ALL", U32(crate::integrators::photon::BeamPhotons::All as u32)),
+        (
+            "BEAM_ALL",
+            U32(crate::integrators::photon::BeamPhotons::All as u32),
+        ),
         (
             "BEAM_SKIP_DIRECT",
             U32(crate::integrators::photon::BeamPhotons::SkipDirect as u32),
@@ -331,7 +354,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("SQRT_2", F32(std::f32::consts::SQRT_2)),
         ("SOBOL_PAIR_JITTER", U32(crate::math::sobol::PAIR_JITTER)),
         ("SOBOL_PAIR_LIGHT", U32(crate::math::sobol::PAIR_LIGHT)),
-        ("SOBOL_DIM_LIGHT_THIRD", U32(crate::math::sobol::DIM_LIGHT_THIRD)),
+        (
+            "SOBOL_DIM_LIGHT_THIRD",
+            U32(crate::math::sobol::DIM_LIGHT_THIRD),
+        ),
         ("SOBOL_PAIR_GATHER", U32(crate::math::sobol::PAIR_GATHER)),
         ("SOBOL_PAIR_LENS", U32(crate::math::sobol::PAIR_LENS)),
         ("PIXEL_FILTER_BOX", U32(PixelFilter::Box.code())),
@@ -343,7 +369,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
             "PIXEL_FILTER_GAUSSIAN",
             U32(PixelFilter::Gaussian { stddev: 1.0 }.code()),
         ),
-        ("ERF_2_SQRT_2", F32(crate::camera::pixel_filter::ERF_2_SQRT_2)),
+        (
+            "ERF_2_SQRT_2",
+            F32(crate::camera::pixel_filter::ERF_2_SQRT_2),
+        ),
     ]
 }
 

@@ -1,8 +1,8 @@
 //! The wgpu instance, adapter, device and queue: opened once per process and shared by its
 //! renders (`GpuContext::shared`), again only after the device was lost.
 
-use crate::integrators::gpu::shape::{AdapterFacts, KernelShape};
 use crate::error::{Error, Result};
+use crate::integrators::gpu::shape::{AdapterFacts, KernelShape};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 

@@ -28,7 +28,10 @@ pub fn cell_size_for(radius: f32, k: u32, expected: u32, area: f32, concentratio
     let density = expected.max(1) as f32 / (area * concentration).max(1e-30);
     let r_k = (k as f32 / (std::f32::consts::PI * density)).sqrt();
     if r_k.is_finite() {
-        r_k.clamp(radius / crate::integrators::gpu::codes::MAX_RINGS as f32, radius)
+        r_k.clamp(
+            radius / crate::integrators::gpu::codes::MAX_RINGS as f32,
+            radius,
+        )
     } else {
         radius
     }

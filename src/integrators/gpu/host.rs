@@ -7,8 +7,8 @@ use crate::integrators::gpu::codes::{
     TERM_FINAL_GATHER, TERM_LOBE_RAY, TERM_POINT_LOBE,
 };
 use crate::integrators::gpu::types::{lights, GpuLight, GpuParams};
-use crate::lights::table::LightTable;
 use crate::integrators::plan::{MapKind, MapPlan, StoreFilter, Terms};
+use crate::lights::table::LightTable;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 

@@ -4,7 +4,7 @@
 //!
 //! Layers, each module importing only those above it in this list:
 //! `bvh_layout` (the BVH as the traversal reads it), `codes` (shared constants, the WGSL
-//! prelude), 
+//! prelude),
 //! `textures` (the scene's textures packed into words, the texture library's constants),
 //! `types` (Gpu* twins of WGSL structs, the materials with their BSDFs),
 //! `shaders` (composition), `bindings` (named binding tables, layouts), `faults` (the device's

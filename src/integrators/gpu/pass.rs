@@ -4,6 +4,7 @@
 //! photon counts, the phases' device times (where the device has timestamps) and the image
 //! read back once, when the pass ends.
 
+use crate::error::Result;
 use crate::integrators::gpu::branches::ROUNDS;
 use crate::integrators::gpu::buffers::{empty_buffer, grid_2d, read_back, wait};
 use crate::integrators::gpu::codes::STATS_LEN;
@@ -12,9 +13,8 @@ use crate::integrators::gpu::maps::MapBuffers;
 use crate::integrators::gpu::recorder::Recorder;
 use crate::integrators::gpu::run::GpuRun;
 use crate::integrators::gpu::types::GpuParams;
-use crate::error::Result;
-use crate::render::film::Image;
 use crate::integrators::plan::{caustic_weight, MapKind};
+use crate::render::film::Image;
 use crate::render::report::{Progress, RenderReport};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;

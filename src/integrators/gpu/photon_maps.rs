@@ -2,6 +2,7 @@
 //! binding, grid table and a first cell size), and the recording of their tracing and grid
 //! builds, whose cells the device resizes from the photons actually stored (`size_grid`).
 
+use crate::error::Result;
 use crate::integrators::gpu::codes::{VOLUME_DROP_CAUSTIC, VOLUME_STORE};
 use crate::integrators::gpu::grid::{cell_size_for, table_size_for};
 use crate::integrators::gpu::host::drop_flags;
@@ -10,7 +11,6 @@ use crate::integrators::gpu::recorder::Recorder;
 use crate::integrators::gpu::run::GpuRun;
 use crate::integrators::gpu::types::GpuMapParams;
 use crate::integrators::gpu::volume::{volume_capacity, VolumeBuffers};
-use crate::error::Result;
 use crate::integrators::plan::MapKind;
 use crate::render::report::RenderReport;
 use crate::scene::Scene;

@@ -1,11 +1,11 @@
 //! The compute pipelines of a render, each created once, specialised to the scene's features
 //! and the device's loop budget through WGSL override constants.
 
+use crate::error::{Error, Result};
 use crate::integrators::gpu::bindings::Layouts;
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::shaders::Kernel;
 use crate::integrators::gpu::shape::KernelShape;
-use crate::error::{Error, Result};
 use crate::scene::Scene;
 
 /// Per-lane loop budget on a CPU device (lavapipe): 65,535 iterations per 8-lane SIMD group

@@ -5,12 +5,12 @@
 //! points are the photons `plan::CACHE_STRIDE` picks; the others hold zero), and the gather
 //! looks it up through the global map's grid. No other mode allocates or dispatches it.
 
+use crate::error::{Error, Result};
 use crate::integrators::gpu::buffers::{cache_buffers, CACHE_ENTRY_BYTES};
 use crate::integrators::gpu::codes::CACHE_LIST_FIRST;
 use crate::integrators::gpu::maps::MapBuffers;
 use crate::integrators::gpu::recorder::Recorder;
 use crate::integrators::gpu::run::GpuRun;
-use crate::error::{Error, Result};
 
 impl GpuRun {
     /// Grows the cache buffer to hold one entry per slot of `global` (kept across passes).

@@ -7,10 +7,10 @@
 //! recording on a device with timestamps also times each kernel (a timestamp after each
 //! kernel's compute pass).
 
+use crate::error::Result;
 use crate::integrators::gpu::buffers::{empty_buffer, read_back, wait};
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::faults::{injected, lose_after, Fault};
-use crate::error::Result;
 use crate::render::report::RenderReport;
 use std::time::{Duration, Instant};
 

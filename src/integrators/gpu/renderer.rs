@@ -2,13 +2,13 @@
 //! creates the pipelines once per render, then renders pass after pass
 //! (`report::PassRenderer`).
 
+use crate::error::{Error, Result};
 use crate::integrators::gpu::buffers::read_back;
 use crate::integrators::gpu::codes::{MAX_HEAP, STATS_LEN};
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::faults::{injected, Fault};
 use crate::integrators::gpu::run::GpuRun;
 use crate::integrators::gpu::shape::{AdapterFacts, KernelShape};
-use crate::error::{Error, Result};
 use crate::render::film::Image;
 use crate::render::report::PassRenderer;
 use crate::render::report::{Progress, RenderReport};

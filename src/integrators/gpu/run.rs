@@ -2,6 +2,8 @@
 //! the pipelines, and the current pass's parameters and plan; plus the buffers a pass binds
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
+use crate::bvh::Bvh;
+use crate::error::Result;
 use crate::integrators::gpu::bindings::{bind_group, Layouts, GATHER_GROUP, MAP_SLOTS};
 use crate::integrators::gpu::branches::{band_rows, stack_buffer, BRANCH_LISTS};
 use crate::integrators::gpu::buffers::{cache_buffers, empty_buffer};
@@ -15,11 +17,9 @@ use crate::integrators::gpu::recorder::Recorder;
 use crate::integrators::gpu::scene_buffers::SceneBuffers;
 use crate::integrators::gpu::types::{GpuAabb, GpuMapParams, GpuParams};
 use crate::integrators::gpu::volume::{volume_capacity, VolumeBuffers};
-use crate::bvh::Bvh;
-use crate::error::Result;
-use crate::lights::table::LightTable;
 use crate::integrators::photon::Photon;
 use crate::integrators::plan::MapPlan;
+use crate::lights::table::LightTable;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 

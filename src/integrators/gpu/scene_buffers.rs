@@ -1,16 +1,16 @@
 //! The scene in device buffers (group 0): geometry, BVH, materials, lights with their photon
 //! budgets, the caustic bounds, one parameter slot per camera sample, and the stats counters.
 
+use crate::bvh::gpu_layout::{leaf_prims, traversal_nodes};
+use crate::bvh::Bvh;
+use crate::error::{Error, Result};
 use crate::integrators::gpu::bindings::{bind_group, Layouts, PARAMS, SCENE_GROUP};
 use crate::integrators::gpu::buffers::storage_buffer;
-use crate::bvh::gpu_layout::{leaf_prims, traversal_nodes};
 use crate::integrators::gpu::codes::STATS_LEN;
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::host::PARAMS_STRIDE;
 use crate::integrators::gpu::textures::PackedTextures;
 use crate::integrators::gpu::types::*;
-use crate::bvh::Bvh;
-use crate::error::{Error, Result};
 use crate::lights::table::LightTable;
 use crate::scene::Scene;
 

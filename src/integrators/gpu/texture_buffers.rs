@@ -1,10 +1,10 @@
 //! The packed textures (`gpu::textures`) in device buffers: the `tex_table` and `tex_words`
 //! read-only storage buffers and their layout entries.
 
+use crate::error::Result;
 use crate::integrators::gpu::buffers::storage_buffer;
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::textures::{PackedTextures, TABLE_BINDING_NAME, WORDS_BINDING_NAME};
-use crate::error::Result;
 
 /// The packed textures on the device.
 pub struct TextureBuffers {

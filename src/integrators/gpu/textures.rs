@@ -182,7 +182,10 @@ pub fn wgsl_library() -> String {
         ("TEX_FORMAT_CHECKERBOARD", FORMAT_CHECKERBOARD),
         ("TEX_LUT_SRGB", LUT_SRGB),
         ("TEX_LUT_RAW", LUT_RAW),
-        ("TEX_FILTER_NEAREST", crate::textures::Filter::Nearest.code()),
+        (
+            "TEX_FILTER_NEAREST",
+            crate::textures::Filter::Nearest.code(),
+        ),
         ("TEX_WRAP_MIRROR", crate::textures::Wrap::Mirror.code()),
         ("TEX_WRAP_CLAMP", crate::textures::Wrap::Clamp.code()),
     ];

@@ -274,8 +274,8 @@ pub struct GpuMapParams {
 // The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
 const _: () = {
     use crate::integrators::gpu::codes::{
-        LIGHT_EMISSION_WORD, LIGHT_WORDS, MATERIAL_ALPHA_WORD, MATERIAL_NORMAL_WORD, MATERIAL_WORDS, MEDIUM_WORDS,
-        PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
+        LIGHT_EMISSION_WORD, LIGHT_WORDS, MATERIAL_ALPHA_WORD, MATERIAL_NORMAL_WORD,
+        MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
     };
     use std::mem::size_of;
     assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
@@ -284,13 +284,17 @@ const _: () = {
     // The intersection reads the normal map as the last member of one word, and the alpha
     // test as one whole word (intersect.wgsl).
     assert!(std::mem::offset_of!(GpuMaterial, normal_texture) % 16 == 12);
-    assert!(std::mem::offset_of!(GpuMaterial, normal_texture) / 16 == MATERIAL_NORMAL_WORD as usize);
+    assert!(
+        std::mem::offset_of!(GpuMaterial, normal_texture) / 16 == MATERIAL_NORMAL_WORD as usize
+    );
     assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) % 16 == 0);
     assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) / 16 == MATERIAL_ALPHA_WORD as usize);
     assert!(size_of::<GpuMedium>() == 16 * MEDIUM_WORDS as usize);
     assert!(size_of::<GpuLight>() == 16 * LIGHT_WORDS as usize);
     // bsdf_at reads an emitter's texture as the last member of one word.
-    assert!(std::mem::offset_of!(GpuLight, emission_texture) == 16 * LIGHT_EMISSION_WORD as usize + 12);
+    assert!(
+        std::mem::offset_of!(GpuLight, emission_texture) == 16 * LIGHT_EMISSION_WORD as usize + 12
+    );
     assert!(size_of::<crate::integrators::photon::Photon>() == 16 * PHOTON_WORDS as usize);
 };
 

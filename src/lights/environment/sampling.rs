@@ -10,9 +10,9 @@
 //! It is drawn exactly: a cell by its integral, then `v` and `u` within the cell by
 //! inverting their linear densities.
 
-use crate::math::sampling::{cosine_hemisphere, uniform_sphere};
-use crate::lights::environment::{latlong_dir, latlong_uv, luminance};
 use crate::lights::environment::Environment;
+use crate::lights::environment::{latlong_dir, latlong_uv, luminance};
+use crate::math::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::textures::NO_TEXTURE;
 use crate::textures::{SceneTexture, Texture};
 use glam::{Vec2, Vec3};

@@ -37,6 +37,11 @@ impl LightKind for Point {
         Some(self.position)
     }
     fn gpu_words(&self, _c: &LightContext) -> ParamWords {
-        [word(self.position, 0), word(self.intensity, 0), [0; 4], [0; 4]]
+        [
+            word(self.position, 0),
+            word(self.intensity, 0),
+            [0; 4],
+            [0; 4],
+        ]
     }
 }
