@@ -163,6 +163,17 @@ fn scene(r: &mut TestRng) -> Scene {
         gltf_textured(gltf(0.4, 0.6, 0.7)),
         Material::from_bsdf(gltf(1.0, 0.3, 0.0)),
         Material::from_bsdf(gltf(0.0, 0.5, 0.0)),
+        // One-sided (Mitsuba's bsdfs outside `twosided`): black from the back.
+        Material {
+            one_sided: true,
+            ..Material::diffuse(Vec3::new(0.3, 0.6, 0.5))
+        },
+        Material {
+            one_sided: true,
+            ..textured(Material::from_bsdf(Bsdf::Plastic(Plastic::new(
+                kd, ks, 1.5, true, beckmann,
+            ))))
+        },
     ];
     let ids: Vec<MaterialId> = materials
         .into_iter()
@@ -330,17 +341,20 @@ fn wgsl_shading_equals_rust_shading() {
     let mut errs = Errors::default();
     let mut classes = BTreeMap::new();
     let mut bounces = BTreeMap::new();
-    let (mut skipped, mut samples, mut deltas) = (0, 0, 0);
+    let (mut skipped, mut samples, mut deltas, mut backs) = (0, 0, 0, 0);
     for (i, (c, p)) in cases.iter().zip(&got).enumerate() {
         errs.v("escape", i, p.escape, escape(&scene, c.dir), ENV_TOL, FLOOR);
         let ph = power_heuristic(c.pdfs[0], c.pdfs[1]);
         errs.f("power_heuristic", i, p.power_heuristic, ph);
         let Some(g) = &p.surface else { continue };
         let hit = g.hit;
-        let s = bsdf_at(&scene, &hit);
+        let s = bsdf_at(&scene, &hit, c.dir);
         let f = hit.facing(c.dir);
         assert_eq!(g.class, class_code(s.class()), "case {i}: class");
         *classes.entry(format!("{:?}", s.class())).or_insert(0) += 1;
+        backs += usize::from(
+            scene.materials[hit.material as usize].one_sided && c.dir.dot(hit.normal) >= 0.0,
+        );
         let flags = [
             s.bsdf().splits(),
             s.has_lobe(),
@@ -460,7 +474,7 @@ fn wgsl_shading_equals_rust_shading() {
     }
     eprintln!(
         "classes {classes:?}, bounce kinds {bounces:?}, lobe samples {samples}, delta bounces \
-         {deltas}, decisions skipped near a threshold {skipped}"
+         {deltas}, decisions skipped near a threshold {skipped}, one-sided backs {backs}"
     );
     // Every class but Null (no null surface here), every bounce kind, and most decisions
     // compared.
@@ -471,4 +485,6 @@ fn wgsl_shading_equals_rust_shading() {
         "{samples} {deltas}"
     );
     assert!(skipped < CASES / 50, "{skipped} decisions near a threshold");
+    // One-sided materials were seen from the back (black on both sides) in enough cases.
+    assert!(backs > CASES / 200, "{backs} one-sided backs");
 }

@@ -7,8 +7,8 @@ use glam::Vec3;
 
 pub use crate::textures::NO_TEXTURE;
 
-/// A material: a BSDF and its wrappers. The reflective kinds are two-sided (Mitsuba's
-/// `twosided`); the normal map and the mask are fields here rather than wrapping variants.
+/// A material: a BSDF and its wrappers. A material is two-sided (Mitsuba's `twosided`) unless
+/// `one_sided`; the normal map and the mask are fields here rather than wrapping variants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     /// How the surface scatters light.
@@ -17,6 +17,10 @@ pub struct Material {
     pub emission: Vec3,
     /// Whether emission leaves both faces.
     pub two_sided_emission: bool,
+    /// Black seen from the back of the geometric normal: Mitsuba's reflective BSDFs not
+    /// wrapped in `twosided` (`diffuse`, `plastic`, `conductor` and their rough kinds reflect
+    /// nothing when `cos(theta_i) <= 0`). Read once, by `crate::bsdfs::shading::bsdf_at`.
+    pub one_sided: bool,
     /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a tangent-space normal map (Mitsuba's `normalmap`
     /// bsdf, glTF's `normalTexture`: the texture's rgb `c` is the normal `2 c - 1` in the
     /// hit's shading frame, see `crate::bvh::perturb`), or [`NO_TEXTURE`].
@@ -117,6 +121,7 @@ impl Material {
             bsdf: Bsdf::Black(crate::bsdfs::black::Black),
             emission: Vec3::ZERO,
             two_sided_emission: false,
+            one_sided: false,
             normal_texture: NO_TEXTURE,
             emission_texture: NO_TEXTURE,
             alpha: None,

@@ -48,21 +48,32 @@ pub struct SurfaceBsdf<'a> {
     n: Vec3,
     /// The emitted radiance, with its texture looked up.
     emission: Vec3,
+    /// A one-sided material seen from the back: `b` is black.
+    back: bool,
 }
 
-/// The BSDF of the surface `hit` lies on: the one place a material (and its textures) is read.
+/// The BSDF of the surface `hit` lies on, for a ray arriving along `d`: the one place a
+/// material (and its textures) is read. A [one-sided](Material::one_sided) material seen
+/// from the back is black.
 #[inline]
-pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit) -> SurfaceBsdf<'a> {
+pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit, d: Vec3) -> SurfaceBsdf<'a> {
     let m = &scene.materials[hit.material as usize];
     let emission = match m.emission_texture {
         crate::textures::NO_TEXTURE => m.emission,
         t => m.emission * scene.textures[t as usize].eval(hit.uv),
     };
+    let back = m.one_sided && d.dot(hit.normal) >= 0.0;
+    let b = if back {
+        Bsdf::Black(crate::bsdfs::black::Black)
+    } else {
+        m.bsdf.resolve(&scene.textures, hit.uv)
+    };
     SurfaceBsdf {
         m,
-        b: m.bsdf.resolve(&scene.textures, hit.uv),
+        b,
         n: hit.shading,
         emission,
+        back,
     }
 }
 
@@ -213,13 +224,13 @@ impl SurfaceBsdf<'_> {
     /// material's kind, so that a textured one stores everywhere).
     #[inline]
     pub fn stores_photons(&self) -> bool {
-        self.m.stores_photons()
+        !self.back && self.m.stores_photons()
     }
 
     /// Whether the surface is only delta lobes.
     #[inline]
     pub fn is_specular(&self) -> bool {
-        self.m.is_specular()
+        !self.back && self.m.is_specular()
     }
 
     /// A photon arriving along `d` at `hit` (three uniforms `u`): the kind's bounce.

@@ -1,10 +1,11 @@
 // The one shading interface between the kernels' integrators and the BSDFs, twin of
-// src/bsdfs/shading.rs: bsdf_at(hit) reads the material and its BSDF's words (textured slots
+// src/bsdfs/shading.rs: bsdf_at(hit, d) reads the material and its BSDF's words (textured slots
 // looked up); the surface_* answers are the generated dispatch's (src/bsdfs/gpu.rs), falling
 // back to the default_surface_* below. Library, no entry point; writes nothing.
 
-// The BSDF at a hit: the material's header, its resolved BSDF, the front shading normal (the
-// local frame's z) and the emitted radiance with the emitter's texture looked up.
+// The BSDF at a hit for a ray along d: the material's header, its resolved BSDF (black for a
+// one-sided material seen from the back), the front shading normal (the local frame's z) and
+// the emitted radiance with the emitter's texture looked up.
 struct Surface {
     m: Material,
     b: Bsdf,
@@ -12,7 +13,7 @@ struct Surface {
     emission: vec3<f32>,
 }
 
-fn bsdf_at(hit: Hit) -> Surface {
+fn bsdf_at(hit: Hit, d: vec3<f32>) -> Surface {
     var s: Surface;
     s.m = load_material(hit.material);
     s.n = hit.shading;
@@ -23,6 +24,13 @@ fn bsdf_at(hit: Hit) -> Surface {
         if t != NO_TEXTURE {
             s.emission *= texture_eval(t, hit.uv);
         }
+    }
+    if s.m.one_sided != 0u && dot(d, hit.normal) >= 0.0 {
+        // A one-sided material seen from the back reflects nothing (Material::one_sided).
+        s.m.kind = BSDF_BLACK;
+        s.b.kind = BSDF_BLACK;
+        s.b.textured = 0u;
+        return s;
     }
     s.b = bsdf_resolve(load_bsdf(hit.material, s.m.kind, s.m.textured), hit.uv);
     return s;

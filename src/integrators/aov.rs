@@ -97,7 +97,7 @@ fn trace(scene: &Scene, bvh: &CpuBvh, mut ray: Ray, rng: &mut Rng, s: &RenderSet
                 normal: Vec3::ZERO,
             };
         };
-        let bsdf = bsdf_at(scene, &hit);
+        let bsdf = bsdf_at(scene, &hit, ray.dir);
         let front = ray.dir.dot(hit.normal) < 0.0;
         albedo += throughput * bsdf.emitted(front);
         let f = Facing::new(hit.normal, hit.shading, front);

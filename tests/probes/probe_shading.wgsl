@@ -15,7 +15,7 @@ fn shading_flags(s: Surface) -> u32 {
 // probe_shading: case i < width, (o, t_max) = accum[i], (d, rng key as bits) = accum[w + i],
 // (wi, a) = accum[2 w + i], (wo, b) = accum[3 w + i], u = accum[4 w + i].xyz. Writes
 // (escape(d), power_heuristic(a, b)) to accum[22 w + i]; and at trace_ray(o, d, t_max)'s
-// nearest hit h (else slot 5's w is -1 and slots 6..21 are unwritten), with s = bsdf_at(h) and
+// nearest hit h (else slot 5's w is -1 and slots 6..21 are unwritten), with s = bsdf_at(h, d) and
 // f = facing(h, d . normal < 0): the hit as (position, material), (normal, light as bits),
 // (shading, t) to accum[5..7 w + i]; (uv, surface_class, shading_flags) to accum[8 w + i];
 // (surface_emitted(front), surface_store_weight(wi)), (surface_emitted(back),
@@ -42,7 +42,7 @@ fn probe_shading(@builtin(global_invocation_id) gid: vec3<u32>) {
         accum[slot(5u, i)] = vec4<f32>(0.0, 0.0, 0.0, -1.0);
         return;
     }
-    let s = bsdf_at(h);
+    let s = bsdf_at(h, d);
     let f = facing(h, dot(d, h.normal) < 0.0);
     accum[slot(5u, i)] = vec4<f32>(h.position, f32(h.material));
     accum[slot(6u, i)] = vec4<f32>(h.normal, bitcast<f32>(h.light));

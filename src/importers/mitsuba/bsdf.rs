@@ -1,6 +1,6 @@
 //! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`), each as
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
-//! `twosided`, `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
+//! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
 //! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, and `normalmap` around
 //! any of them.
 
@@ -113,12 +113,14 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         return Err(cx.err(extra, field, message));
     }
     let mut kd_texture = None;
-    let material = match kind {
+    let mut material = match kind {
         "twosided" => {
-            // Our materials reflect on both sides already: the nested bsdf is the material.
+            // The nested bsdf, seen from both sides alike.
             let inner = nested_bsdf(cx, &p, node, field)?;
             p.done(cx)?;
-            return bsdf(cx, inner, &format!("{field}.bsdf"), warnings);
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
+            read.material.one_sided = false;
+            return Ok(read);
         }
         "normalmap" => {
             // Mitsuba 3's `normalmap`: the nested bsdf in the shading frame that the texture's
@@ -210,7 +212,10 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             if microfacet.is_none() && eta == Vec3::ZERO && k == Vec3::ONE {
                 p.done(cx)?;
                 return Ok(Read {
-                    material: Material::mirror(specular),
+                    material: Material {
+                        one_sided: true,
+                        ..Material::mirror(specular)
+                    },
                     kd_texture,
                     normal_texture: None,
                     alpha_texture: None,
@@ -281,6 +286,12 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     };
     p.done(cx)?;
     let _ = warnings;
+    // Mitsuba's reflective bsdfs reflect nothing from the back unless wrapped in `twosided`
+    // (the dielectrics and `null` are two-sided by nature).
+    material.one_sided = matches!(
+        kind,
+        "diffuse" | "conductor" | "roughconductor" | "plastic" | "roughplastic"
+    );
     Ok(Read {
         material,
         kd_texture,

@@ -86,7 +86,7 @@ impl Gatherer<'_> {
             let Some(hit) = hit else {
                 return sum;
             };
-            let bsdf = bsdf_at(self.scene, &hit);
+            let bsdf = bsdf_at(self.scene, &hit, ray.dir);
             let can_recurse = depth < self.settings.max_depth;
             let dir = match bsdf.class() {
                 SurfaceClass::Black => return sum,

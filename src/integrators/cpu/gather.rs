@@ -178,7 +178,7 @@ impl Gatherer<'_> {
         let Some(hit) = hit else {
             return self.escape(ray.dir, mis);
         };
-        let bsdf = bsdf_at(self.scene, &hit);
+        let bsdf = bsdf_at(self.scene, &hit, ray.dir);
         let front = ray.dir.dot(hit.normal) < 0.0;
         let mut emitted = bsdf.emitted(front);
         // A lobe sample that meets an area light shares it with the shadow rays.

@@ -225,7 +225,7 @@ fn trace_path(
         let Some(hit) = hit else {
             return PathEnds::add(&mut out.ends.escaped, power);
         };
-        let bsdf = bsdf_at(scene, &hit);
+        let bsdf = bsdf_at(scene, &hit, ray.dir);
         if bsdf.class() == SurfaceClass::Null {
             // An index-matched boundary: straight on, in the medium behind it.
             crossings += 1;

@@ -167,7 +167,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             }
             break;
         }
-        let m = bsdf_at(hit);
+        let m = bsdf_at(hit, *d);
         if emission {
             var le = surface_emitted(m, dot(*d, hit.normal) < 0.0);
             if pdf > 0.0 && hit.light != NO_LIGHT && any(le != vec3<f32>(0.0)) {

@@ -107,7 +107,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if !hit.found {
             return;
         }
-        let m = bsdf_at(hit);
+        let m = bsdf_at(hit, d);
         if HAS_MEDIA && surface_class(m) == CLASS_NULL {
             // An index-matched boundary: straight on, in the medium behind it.
             crossings += 1u;

@@ -85,8 +85,8 @@ pub struct GpuMaterial {
     pub kind: u32,
     /// Bit i: the BSDF's word i is a slot with a texture.
     pub textured: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// 1: black seen from the back of the geometric normal (`Material::one_sided`).
+    pub one_sided: u32,
     /// Index into `tex_table` of the tangent-space normal map, or `NO_TEXTURE` (the last of
     /// word `MATERIAL_NORMAL_WORD`, which the intersection reads alone).
     pub normal_texture: u32,
@@ -340,7 +340,7 @@ impl GpuMaterial {
                 Some(crate::scene::AlphaMode::Mask(c)) => c,
                 _ => 0.0,
             },
-            _pad: 0,
+            one_sided: m.one_sided as u32,
         }
     }
 }

@@ -66,7 +66,8 @@ struct Material {
     // The BSDF's kind (BSDF_*, generated from the list of kinds) and its textured words.
     kind: u32,
     textured: u32,
-    _pad: u32,
+    // 1: black seen from the back (Material::one_sided).
+    one_sided: u32,
     // Index into tex_table of the tangent-space normal map, or NO_TEXTURE.
     normal_texture: u32,
     // ALPHA_NONE, ALPHA_MASK or ALPHA_BLEND, plus ALPHA_LUMINANCE (crate::scene::Alpha).
