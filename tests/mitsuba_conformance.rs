@@ -204,10 +204,7 @@ fn short_max_depth_caps_paths_in_the_direct_mode() {
 }
 
 /// The mean of the centre 2 x 2 pixels of `s` rendered on `backend` (direct light, 16 spp).
-fn centre_radiance(
-    s: &Imported,
-    backend: gpu_photon::render::session::Backend,
-) -> [f64; 3] {
+fn centre_radiance(s: &Imported, backend: gpu_photon::render::session::Backend) -> [f64; 3] {
     use gpu_photon::render::report::Progress;
     use gpu_photon::render::session::render;
     let settings = gpu_photon::settings::RenderSettings {
@@ -218,7 +215,12 @@ fn centre_radiance(
     let (image, _) = render(&s.scene, &settings, backend, Progress::default()).unwrap();
     let (w, h) = (image.width as usize, image.height as usize);
     let mut sum = [0.0f64; 3];
-    for (y, x) in [(h / 2 - 1, w / 2 - 1), (h / 2 - 1, w / 2), (h / 2, w / 2 - 1), (h / 2, w / 2)] {
+    for (y, x) in [
+        (h / 2 - 1, w / 2 - 1),
+        (h / 2 - 1, w / 2),
+        (h / 2, w / 2 - 1),
+        (h / 2, w / 2),
+    ] {
         for c in 0..3 {
             sum[c] += f64::from(image.pixels[y * w + x][c]) / 4.0;
         }
@@ -236,7 +238,11 @@ fn bsdfs_outside_twosided_are_black_from_the_back() {
     // cos(theta_i) <= 0).
     let lit = 0.5 / std::f64::consts::PI / 16.0;
     let rect = |bsdf: &str, turned: bool| {
-        let turn = if turned { r#"<rotate y="1" angle="180"/>"# } else { "" };
+        let turn = if turned {
+            r#"<rotate y="1" angle="180"/>"#
+        } else {
+            ""
+        };
         body(&format!(
             r#"<shape type="rectangle"><transform name="to_world">{turn}</transform>{bsdf}</shape>"#
         ))
@@ -265,5 +271,103 @@ fn bsdfs_outside_twosided_are_black_from_the_back() {
                 );
             }
         }
+    }
+}
+
+/// The image mean of `s` rendered on `backend` (direct light, `spp` samples a pixel).
+fn image_mean(s: &Imported, backend: gpu_photon::render::session::Backend, spp: u32) -> [f64; 3] {
+    use gpu_photon::render::report::Progress;
+    use gpu_photon::render::session::render;
+    let settings = gpu_photon::settings::RenderSettings {
+        spp,
+        mode: gpu_photon::settings::Mode::DirectOnly,
+        ..s.scene.settings.clone()
+    };
+    render(&s.scene, &settings, backend, Progress::default())
+        .unwrap()
+        .0
+        .mean()
+}
+
+#[test]
+fn blendbsdf_is_the_weighted_mean_of_its_bsdfs() {
+    use gpu_photon::render::session::Backend;
+    // A rectangle filling the view: a blend of diffuse 0.2 and 0.8 at weight 0.25 reflects as
+    // a diffuse 0.75 * 0.2 + 0.25 * 0.8 = 0.35 (Mitsuba's blendbsdf: (1 - w) f0 + w f1). The
+    // choice is made per hit, so the blend's image is noisier: 64 x 64 samples of albedo 0.2
+    // or 0.8 have a relative standard error of 0.6 * sqrt(3/16) / 0.35 / 64 = 1.2%; 5% is
+    // four of them.
+    let rect = |bsdf: &str| {
+        body(&format!(
+            r#"<shape type="rectangle"><transform name="to_world"><scale value="3"/></transform>{bsdf}</shape>"#
+        ))
+    };
+    let diffuse =
+        |r: f32| format!(r#"<bsdf type="diffuse"><rgb name="reflectance" value="{r}"/></bsdf>"#);
+    let blend = |w: &str| {
+        rect(&format!(
+            r#"<bsdf type="blendbsdf">{w}{}{}</bsdf>"#,
+            diffuse(0.2),
+            diffuse(0.8)
+        ))
+    };
+    let want = image_mean(&rect(&diffuse(0.35)), Backend::Cpu, 4)[0];
+    let mut backends = vec![Backend::Cpu];
+    if common::gpu().is_some() {
+        backends.push(Backend::Gpu);
+    }
+    for backend in backends {
+        let got = image_mean(
+            &blend(r#"<float name="weight" value="0.25"/>"#),
+            backend,
+            64,
+        );
+        for g in got {
+            assert!(
+                (g / want - 1.0).abs() < 0.05,
+                "{backend:?}: {got:?}, want {want}"
+            );
+        }
+    }
+    // The ends of the weight are the components themselves, exactly.
+    for (w, r) in [("0", 0.2), ("1", 0.8)] {
+        let got = image_mean(
+            &blend(&format!(r#"<float name="weight" value="{w}"/>"#)),
+            Backend::Cpu,
+            4,
+        );
+        assert_eq!(
+            got,
+            image_mean(&rect(&diffuse(r)), Backend::Cpu, 4),
+            "weight {w}"
+        );
+    }
+    // Errors: a weight out of range, one component, a blend inside a normalmap.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-conformance");
+    for (xml, want) in [
+        (
+            format!(
+                r#"<bsdf type="blendbsdf"><float name="weight" value="1.5"/>{}{}</bsdf>"#,
+                diffuse(0.2),
+                diffuse(0.8)
+            ),
+            "t.xml:4: shape[0].bsdf.weight: must be in [0, 1] (got 1.5)",
+        ),
+        (
+            format!(
+                r#"<bsdf type="blendbsdf"><float name="weight" value="0.5"/>{}</bsdf>"#,
+                diffuse(0.2)
+            ),
+            "t.xml:4: shape[0].bsdf: a `blendbsdf` needs two nested bsdfs",
+        ),
+    ] {
+        let text = format!(
+            "<scene version=\"3.0.0\">{SENSOR}<shape type=\"rectangle\">{xml}</shape>\n</scene>\n"
+        );
+        let err = import(&text, "t.xml", &dir)
+            .err()
+            .expect("an error")
+            .to_string();
+        assert!(err.ends_with(want), "{err}");
     }
 }

@@ -175,10 +175,25 @@ fn scene(r: &mut TestRng) -> Scene {
             ))))
         },
     ];
-    let ids: Vec<MaterialId> = materials
+    let mut ids: Vec<MaterialId> = materials
         .into_iter()
         .map(|m| b.add_material(None, m, &at).unwrap())
         .collect();
+    // Blends (crate::bsdfs::blend): diffuse and mirror at a constant weight; a one-sided
+    // plastic and glass by a texture's luminance, nested in a blend with a conductor.
+    let half = b
+        .add_blend(ids[0], ids[4], Param::constant(0.5), &at)
+        .unwrap();
+    let by_texture = Param {
+        value: Vec3::ONE,
+        texture: tex,
+        channel: Channel::Luminance,
+    };
+    let textured_blend = b.add_blend(ids[17], ids[5], by_texture, &at).unwrap();
+    let nested = b
+        .add_blend(textured_blend, ids[8], Param::constant(0.3), &at)
+        .unwrap();
+    ids.extend([half, nested]);
     // A floor of every material below the spheres, in cells of two smooth triangles whose
     // vertex normals lean up to 25 degrees off the face (the leak tests' cases).
     for (k, &id) in ids.iter().enumerate() {
@@ -341,7 +356,7 @@ fn wgsl_shading_equals_rust_shading() {
     let mut errs = Errors::default();
     let mut classes = BTreeMap::new();
     let mut bounces = BTreeMap::new();
-    let (mut skipped, mut samples, mut deltas, mut backs) = (0, 0, 0, 0);
+    let (mut skipped, mut samples, mut deltas, mut backs, mut blends) = (0, 0, 0, 0, 0);
     for (i, (c, p)) in cases.iter().zip(&got).enumerate() {
         errs.v("escape", i, p.escape, escape(&scene, c.dir), ENV_TOL, FLOOR);
         let ph = power_heuristic(c.pdfs[0], c.pdfs[1]);
@@ -352,6 +367,7 @@ fn wgsl_shading_equals_rust_shading() {
         let f = hit.facing(c.dir);
         assert_eq!(g.class, class_code(s.class()), "case {i}: class");
         *classes.entry(format!("{:?}", s.class())).or_insert(0) += 1;
+        blends += usize::from(scene.materials[hit.material as usize].blend.is_some());
         backs += usize::from(
             scene.materials[hit.material as usize].one_sided && c.dir.dot(hit.normal) >= 0.0,
         );
@@ -474,7 +490,7 @@ fn wgsl_shading_equals_rust_shading() {
     }
     eprintln!(
         "classes {classes:?}, bounce kinds {bounces:?}, lobe samples {samples}, delta bounces \
-         {deltas}, decisions skipped near a threshold {skipped}, one-sided backs {backs}"
+         {deltas}, decisions skipped near a threshold {skipped}, one-sided backs {backs}, blends {blends}"
     );
     // Every class but Null (no null surface here), every bounce kind, and most decisions
     // compared.
@@ -487,4 +503,5 @@ fn wgsl_shading_equals_rust_shading() {
     assert!(skipped < CASES / 50, "{skipped} decisions near a threshold");
     // One-sided materials were seen from the back (black on both sides) in enough cases.
     assert!(backs > CASES / 200, "{backs} one-sided backs");
+    assert!(blends > CASES / 100, "{blends} blends");
 }

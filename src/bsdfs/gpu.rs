@@ -312,6 +312,7 @@ pub fn wgsl_library() -> String {
         include_str!("fresnel.wgsl"),
         include_str!("param.wgsl"),
         include_str!("interface.wgsl"),
+        include_str!("blend.wgsl"),
     ];
     parts.extend(KINDS.iter().map(|k| k.wgsl).filter(|w| !w.is_empty()));
     parts.push(include_str!("shading.wgsl"));
@@ -333,6 +334,7 @@ pub fn wgsl_files() -> Vec<(String, &'static str)> {
             include_str!("fresnel.wgsl"),
         ),
         ("bsdfs/param.wgsl".to_string(), include_str!("param.wgsl")),
+        ("bsdfs/blend.wgsl".to_string(), include_str!("blend.wgsl")),
         (
             "bsdfs/interface.wgsl".to_string(),
             include_str!("interface.wgsl"),

@@ -1,6 +1,7 @@
 //! The scene's materials: the closed set of kinds and their parameters (`crate::bsdfs::shading`
 //! is the one place the integrators read them).
 
+use crate::bsdfs::param::Param;
 use crate::bsdfs::{Bsdf, BsdfKind, SurfaceClass};
 use crate::media::MediumInterface;
 use glam::Vec3;
@@ -34,6 +35,11 @@ pub struct Material {
     pub alpha: Option<Alpha>,
     /// The media the surface bounds (vacuum on both sides by default; `crate::media`).
     pub media: MediumInterface,
+    /// A blend of two other materials (Mitsuba's `blendbsdf`, `crate::bsdfs::blend`): then
+    /// `bsdf` is the first component's (what a question about the kind alone sees) and the
+    /// surface scatters as the component chosen at each hit; emission, normal map, mask and
+    /// media are this material's own.
+    pub blend: Option<Blend>,
 }
 
 /// Whether a ray passes a surface of a material with an [`Alpha`].
@@ -87,6 +93,48 @@ impl Alpha {
     }
 }
 
+/// A blend of two materials (their indices in the scene's materials): Mitsuba's `blendbsdf`,
+/// chosen between at each hit by `crate::bsdfs::blend::choose`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blend {
+    /// The material chosen with probability `1 - weight`.
+    pub first: u32,
+    /// The material chosen with probability `weight`.
+    pub second: u32,
+    /// The probability of `second`: its first number, clamped to [0, 1].
+    pub weight: Param,
+    /// Whether either component stores photons (their union is where the blend's light is
+    /// estimated).
+    pub stores_photons: bool,
+    /// Whether either component casts caustics.
+    pub casts_caustics: bool,
+    /// Whether both components are only delta lobes.
+    pub specular: bool,
+    /// How many blends deep the nest is (1: both components are plain materials).
+    pub depth: u32,
+}
+
+impl Blend {
+    /// The blend of `materials[first]` and `materials[second]` by `weight`; `None` when an
+    /// index is out of range.
+    pub fn new(first: u32, second: u32, weight: Param, materials: &[Material]) -> Option<Self> {
+        let a = materials.get(first as usize)?;
+        let b = materials.get(second as usize)?;
+        Some(Self {
+            first,
+            second,
+            weight,
+            stores_photons: a.stores_photons() || b.stores_photons(),
+            casts_caustics: a.casts_caustics() || b.casts_caustics(),
+            specular: a.is_specular() && b.is_specular(),
+            depth: 1 + a
+                .blend
+                .map_or(0, |c| c.depth)
+                .max(b.blend.map_or(0, |c| c.depth)),
+        })
+    }
+}
+
 impl Material {
     /// A material of BSDF `bsdf` (of any kind), emitting nothing.
     pub fn of(bsdf: impl Into<Bsdf>) -> Self {
@@ -126,6 +174,7 @@ impl Material {
             emission_texture: NO_TEXTURE,
             alpha: None,
             media: MediumInterface::default(),
+            blend: None,
         }
     }
     /// A material of `b` (the same as [`Material::of`]).
@@ -142,17 +191,26 @@ impl Material {
     /// Delta BSDFs only (mirror, glass, smooth conductor, thin dielectric): the `S` of
     /// Heckbert's path notation.
     pub fn is_specular(&self) -> bool {
-        self.bsdf.class() == SurfaceClass::Delta
+        match self.blend {
+            Some(b) => b.specular,
+            None => self.bsdf.class() == SurfaceClass::Delta,
+        }
     }
     /// Surfaces where photons are stored and radiance is estimated: those with a diffuse
     /// part (somewhere, for a textured kind).
     pub fn stores_photons(&self) -> bool {
-        self.bsdf.stores_photons()
+        match self.blend {
+            Some(b) => b.stores_photons,
+            None => self.bsdf.stores_photons(),
+        }
     }
     /// Surfaces with a lobe that is not Lambertian (delta or glossy): caustic photons are
     /// aimed at them and pass them (L (S|G)+ D).
     pub fn casts_caustics(&self) -> bool {
-        self.bsdf.casts_caustics()
+        match self.blend {
+            Some(b) => b.casts_caustics,
+            None => self.bsdf.casts_caustics(),
+        }
     }
     /// Whether it emits in some channel.
     pub fn is_emissive(&self) -> bool {

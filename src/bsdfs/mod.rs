@@ -24,6 +24,7 @@
 //! (reflection or transmission, coating or base) and `u[1]`, `u[2]` pick the direction;
 //! each kind's sampler documents which it reads.
 
+pub mod blend;
 pub mod fresnel;
 pub mod gpu;
 pub mod interface;

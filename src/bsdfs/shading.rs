@@ -11,6 +11,7 @@
 
 pub use crate::bsdfs::interface::{Bounce, DeltaEvent, Dielectric, LobeRay, SurfaceClass};
 
+use crate::bsdfs::blend::choose;
 use crate::bsdfs::{Bsdf, BsdfKind};
 use crate::bvh::hit::Hit;
 use crate::math::geometry::Facing;
@@ -53,8 +54,9 @@ pub struct SurfaceBsdf<'a> {
 }
 
 /// The BSDF of the surface `hit` lies on, for a ray arriving along `d`: the one place a
-/// material (and its textures) is read. A [one-sided](Material::one_sided) material seen
-/// from the back is black.
+/// material (and its textures) is read. A blend is the component chosen at the hit
+/// (`crate::bsdfs::blend::choose`); a [one-sided](Material::one_sided) material seen from the
+/// back is black.
 #[inline]
 pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit, d: Vec3) -> SurfaceBsdf<'a> {
     let m = &scene.materials[hit.material as usize];
@@ -62,11 +64,26 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit, d: Vec3) -> SurfaceBsdf<'a> {
         crate::textures::NO_TEXTURE => m.emission,
         t => m.emission * scene.textures[t as usize].eval(hit.uv),
     };
-    let back = m.one_sided && d.dot(hit.normal) >= 0.0;
+    // A blend is the component its choice at this hit names.
+    let c = match m.blend {
+        None => m,
+        Some(_) => {
+            let i = choose(
+                &scene.materials,
+                &scene.textures,
+                hit.material,
+                hit.position,
+                d,
+                hit.uv,
+            );
+            &scene.materials[i as usize]
+        }
+    };
+    let back = c.one_sided && d.dot(hit.normal) >= 0.0;
     let b = if back {
         Bsdf::Black(crate::bsdfs::black::Black)
     } else {
-        m.bsdf.resolve(&scene.textures, hit.uv)
+        c.bsdf.resolve(&scene.textures, hit.uv)
     };
     SurfaceBsdf {
         m,
@@ -230,7 +247,7 @@ impl SurfaceBsdf<'_> {
     /// Whether the surface is only delta lobes.
     #[inline]
     pub fn is_specular(&self) -> bool {
-        !self.back && self.m.is_specular()
+        self.b.class() == SurfaceClass::Delta
     }
 
     /// A photon arriving along `d` at `hit` (three uniforms `u`): the kind's bounce.

@@ -25,14 +25,25 @@ fn bsdf_at(hit: Hit, d: vec3<f32>) -> Surface {
             s.emission *= texture_eval(t, hit.uv);
         }
     }
+    // A blend is the component its choice at this hit names (blend.wgsl): its kind, words
+    // and sides; the rest of the header stays the blend's.
+    var i = hit.material;
+    if s.m.blend_first != NO_BLEND {
+        i = blend_choose(i, s.m, hit.position, d, hit.uv);
+        let c = load_material(i);
+        s.m.kind = c.kind;
+        s.m.textured = c.textured;
+        s.m.one_sided = c.one_sided;
+    }
     if s.m.one_sided != 0u && dot(d, hit.normal) >= 0.0 {
         // A one-sided material seen from the back reflects nothing (Material::one_sided).
         s.m.kind = BSDF_BLACK;
+        s.m.blend_stores = 0u;
         s.b.kind = BSDF_BLACK;
         s.b.textured = 0u;
         return s;
     }
-    s.b = bsdf_resolve(load_bsdf(hit.material, s.m.kind, s.m.textured), hit.uv);
+    s.b = bsdf_resolve(load_bsdf(i, s.m.kind, s.m.textured), hit.uv);
     return s;
 }
 
@@ -48,6 +59,12 @@ fn surface_class(s: Surface) -> u32 {
 // Radiance emitted towards a ray arriving from the front (or the back).
 fn surface_emitted(s: Surface, front: bool) -> vec3<f32> {
     return select(vec3<f32>(0.0), s.emission, front || s.m.two_sided != 0u);
+}
+
+// Whether photons are stored at the surface: at a blend where either component stores them
+// (blend.rs), else where the kind does.
+fn surface_stores(s: Surface) -> bool {
+    return s.m.blend_stores != 0u || surface_stores_photons(s);
 }
 
 // The constant BRDF a photon estimate seen from wo weighs its photons by.

@@ -24,6 +24,7 @@
 //! the file, line and field (a TOML table maps each part to its key; [`Origin`](crate::scene::Origin) names one
 //! fixed place).
 
+use crate::bsdfs::blend::{Blend, MAX_BLEND_DEPTH};
 use crate::camera::pixel_filter::PixelFilter;
 use crate::camera::Camera;
 use crate::error::Result;
@@ -32,7 +33,7 @@ use crate::scene::cost::MeshCost;
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::normals::{is_flat, unit_normals};
 use crate::scene::{
-    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT,
+    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT, NO_TEXTURE,
 };
 use crate::settings::RenderSettings;
 use crate::textures::SceneTexture;
@@ -190,11 +191,58 @@ impl SceneBuilder {
         at: &dyn Locate,
     ) -> Result<MaterialId> {
         check_material(&material, at)?;
+        if let Some(b) = material.blend {
+            self.check_blend(&b, at)?;
+        }
         let id = self.push_material(material);
         if let Some(name) = name {
             self.names.insert(name.to_string(), id);
         }
         Ok(id)
+    }
+
+    /// Adds the blend of `first` and `second` (Mitsuba's `blendbsdf`,
+    /// `crate::bsdfs::blend`): `second` with probability `weight` (its first number, a
+    /// constant or a texture channel, clamped to [0, 1]), else `first`. Both must have been
+    /// added; blends nest up to `MAX_BLEND_DEPTH` deep.
+    pub fn add_blend(
+        &mut self,
+        first: MaterialId,
+        second: MaterialId,
+        weight: crate::bsdfs::Param,
+        at: &dyn Locate,
+    ) -> Result<MaterialId> {
+        let Some(blend) = Blend::new(first.0, second.0, weight, &self.materials) else {
+            return Err(at.error(Part::Material, "a blend of unknown materials".into()));
+        };
+        let material = Material {
+            bsdf: self.materials[first.0 as usize].bsdf,
+            blend: Some(blend),
+            ..Material::black()
+        };
+        self.add_material(None, material, at)
+    }
+
+    /// A blend's components exist, its weight is finite (its texture too) and the nest is at
+    /// most `MAX_BLEND_DEPTH` deep.
+    fn check_blend(&self, b: &Blend, at: &dyn Locate) -> Result<()> {
+        let n = self.materials.len() as u32;
+        if b.first >= n || b.second >= n {
+            return Err(at.error(Part::Material, "a blend of unknown materials".into()));
+        }
+        let w = b.weight;
+        let texture_ok = w.texture == NO_TEXTURE || (w.texture as usize) < self.textures.len();
+        if !w.value.is_finite() || !texture_ok {
+            let message = "a blend's weight must be finite (its texture one of the scene's)";
+            return Err(at.error(Part::Parameter("weight"), message.into()));
+        }
+        // Components are added before their blends, so a nest has no cycle.
+        let depth = Blend::new(b.first, b.second, w, &self.materials).map_or(0, |b| b.depth);
+        if depth > MAX_BLEND_DEPTH {
+            let message = format!("blends nested deeper than {MAX_BLEND_DEPTH}");
+            return Err(at.error(Part::Material, message));
+        }
+        Ok(())
     }
 
     fn push_material(&mut self, material: Material) -> MaterialId {

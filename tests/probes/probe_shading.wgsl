@@ -9,7 +9,7 @@
 fn shading_flags(s: Surface) -> u32 {
     return select(0u, 1u, surface_splits(s)) | select(0u, 2u, surface_has_lobe(s))
         | select(0u, 4u, surface_lobe_takes_point_lights(s))
-        | select(0u, 8u, surface_lobe_is_glossy(s)) | select(0u, 16u, surface_stores_photons(s));
+        | select(0u, 8u, surface_lobe_is_glossy(s)) | select(0u, 16u, surface_stores(s));
 }
 
 // probe_shading: case i < width, (o, t_max) = accum[i], (d, rng key as bits) = accum[w + i],

@@ -279,6 +279,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         }
         // Mitsuba 3's `null`: an index-matched boundary that only bounds media.
         "null" => Material::null(),
+        "blendbsdf" => {
+            let message = "a `blendbsdf` inside a `normalmap` or `mask` is not supported \
+                           (only at the top or inside `twosided`)";
+            return Err(cx.err(node, field, message));
+        }
         other => {
             let message = format!("unsupported bsdf `{other}`");
             return Err(cx.err(node, field, message));

@@ -13,6 +13,7 @@
 //! error is `FILE:LINE: field: message` (the file an element is in, included or not);
 //! approximations are warnings.
 
+mod blend;
 mod bsdf;
 mod cie;
 mod emitter;
@@ -251,8 +252,31 @@ struct Importer<'f> {
 impl<'f> Importer<'f> {
     /// Reads the `<bsdf>` `node` at `field` and adds its material (and texture).
     fn add_bsdf(&mut self, node: Node, field: &str) -> Result<MaterialId> {
+        self.add_bsdf_sided(node, field, false)
+    }
+
+    /// [`add_bsdf`](Self::add_bsdf), made two-sided when `two_sided` (a `twosided` around
+    /// it); a `blendbsdf` (also inside a `twosided`) adds its components first.
+    fn add_bsdf_sided(&mut self, node: Node, field: &str, two_sided: bool) -> Result<MaterialId> {
+        match node.attribute("type") {
+            Some("blendbsdf") => return self.add_blend(node, field, two_sided),
+            Some("twosided") => {
+                let p = plugin::Plugin::new(&self.cx, node, field.to_string())?;
+                if let [inner] = p.objects[..] {
+                    let inner = self.cx.deref(inner, field)?;
+                    if inner.attribute("type") == Some("blendbsdf") {
+                        p.done(&self.cx)?;
+                        return self.add_blend(inner, &format!("{field}.bsdf"), true);
+                    }
+                }
+            }
+            _ => {}
+        }
         let read = bsdf::bsdf(&self.cx, node, field, &mut self.warnings)?;
         let mut material = read.material;
+        if two_sided {
+            material.one_sided = false;
+        }
         let at = self.origin(node, field);
         if let Some(t) = read.kd_texture {
             let id = self.b.add_texture(t, &at)?;

@@ -140,11 +140,13 @@ pub const TRIANGLE_WORDS: u32 = 3;
 /// Words per `Sphere`.
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
-pub const MATERIAL_WORDS: u32 = 3;
+pub const MATERIAL_WORDS: u32 = 5;
 /// The word of a `Material` whose last member is its normal map (the intersection's read).
 pub const MATERIAL_NORMAL_WORD: u32 = 1;
 /// The word of a `Material` that is its alpha test: mode, texture, factor, cutoff.
 pub const MATERIAL_ALPHA_WORD: u32 = 2;
+/// A `Material`'s `blend_first` when it is not a blend.
+pub const NO_BLEND: u32 = u32::MAX;
 /// 16-byte words of a `Medium` (`types::GpuMedium`).
 pub const MEDIUM_WORDS: u32 = 2;
 /// Words per `Light`.
@@ -316,6 +318,9 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("STREAM_CAUSTIC", U32(Stream::Caustic as u32)),
         ("STREAM_CAMERA", U32(Stream::Camera as u32)),
         ("NO_LIGHT", U32(crate::scene::NO_LIGHT)),
+        ("NO_BLEND", U32(NO_BLEND)),
+        ("MAX_BLEND_DEPTH", U32(crate::bsdfs::blend::MAX_BLEND_DEPTH)),
+        ("ONE_BELOW", F32(crate::bsdfs::blend::ONE_BELOW)),
         ("ALPHA_NONE", U32(ALPHA_NONE)),
         ("ALPHA_MASK", U32(ALPHA_MASK)),
         ("ALPHA_BLEND", U32(ALPHA_BLEND)),

@@ -118,7 +118,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
             o = offset_origin(hit.position, hit.normal, d);
             continue;
         }
-        if surface_stores_photons(m) {
+        if surface_stores(m) {
             let stored_normal = pack_normal(select(-hit.normal, hit.normal, dot(d, hit.normal) < 0.0));
             let caustic = depth > 0u && all_specular;
             let flags = min(depth, DEPTH_MASK) | select(0u, FLAG_CAUSTIC, caustic);

@@ -100,6 +100,16 @@ pub struct GpuMaterial {
     pub alpha_factor: f32,
     /// A mask's cutoff.
     pub alpha_cutoff: f32,
+    /// A blend's first component (`crate::bsdfs::blend::Blend`), or `NO_BLEND`.
+    pub blend_first: u32,
+    /// A blend's second component.
+    pub blend_second: u32,
+    /// 1 when the blend stores photons (either component does).
+    pub blend_stores: u32,
+    /// Padding.
+    pub _pad: u32,
+    /// The blend's weight: the probability of `blend_second`, a slot word (`Param::word`).
+    pub blend_weight: [u32; 4],
 }
 
 /// Twin of WGSL `Light`: a light's kind (its code in `lights::KINDS`) and photon budgets,
@@ -341,6 +351,15 @@ impl GpuMaterial {
                 _ => 0.0,
             },
             one_sided: m.one_sided as u32,
+            blend_first: m
+                .blend
+                .map_or(crate::integrators::gpu::codes::NO_BLEND, |b| b.first),
+            blend_second: m
+                .blend
+                .map_or(crate::integrators::gpu::codes::NO_BLEND, |b| b.second),
+            blend_stores: m.blend.is_some_and(|b| b.stores_photons) as u32,
+            _pad: 0,
+            blend_weight: m.blend.map_or([0; 4], |b| b.weight.word()),
         }
     }
 }

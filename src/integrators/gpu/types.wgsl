@@ -76,6 +76,13 @@ struct Material {
     alpha_texture: u32,
     alpha_factor: f32,
     alpha_cutoff: f32,
+    // A blend's components (NO_BLEND when it is none), whether it stores photons, its weight's
+    // slot word (crate::bsdfs::blend::Blend).
+    blend_first: u32,
+    blend_second: u32,
+    blend_stores: u32,
+    _pad: u32,
+    blend_weight: vec4<u32>,
 }
 
 struct Light {
