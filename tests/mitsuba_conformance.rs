@@ -183,7 +183,7 @@ fn short_max_depth_caps_paths_in_the_direct_mode() {
     );
     assert_eq!(
         (s.mode, s.max_photon_bounces, s.max_depth),
-        (Mode::Direct, 3, 2)
+        (Mode::Direct, 3, 3)
     );
     // A long max_depth caps the lengths and keeps the mode.
     let s = integrator_settings(
@@ -192,7 +192,7 @@ fn short_max_depth_caps_paths_in_the_direct_mode() {
     assert_eq!(s.mode, default.mode);
     assert_eq!(
         (s.max_photon_bounces, s.max_depth),
-        (5.min(default.max_photon_bounces), 4.min(default.max_depth))
+        (5.min(default.max_photon_bounces), 5.min(default.max_depth))
     );
     let s = integrator_settings(
         r#"<integrator type="path"><integer name="max_depth" value="-1"/></integrator>"#,

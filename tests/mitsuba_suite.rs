@@ -57,14 +57,12 @@ enum Known {
 /// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
-    ("bsdf_spheres/test_arealight_path.xml", Known::Off(0.0143)),
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
     ("bsdf_spheres/test_constant_path.xml", Known::Off(0.0011)),
     ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", Known::Refused("`rawconstant`")),
     ("bsdf_spheres/test_normalmap_path.xml", Known::Off(0.0117)),
     ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
-    ("bsdf_spheres/test_pointlight_path.xml", Known::Off(0.0265)),
-    ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0016)),
+    ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Refused("alpha_u")),
     ("bsdf_spheres/test_texturedprincipled1_path.xml", Known::Refused("`principled`")),
     ("bsdf_spheres/test_texturedprincipled2_path.xml", Known::Refused("`principled`")),

@@ -48,7 +48,8 @@ pub struct RenderSettings {
     pub sampler: Sampler,
     /// Maximum photon bounces (stored photons per path are at most this many).
     pub max_photon_bounces: u32,
-    /// Maximum depth of the camera ray's mirror/glass chain.
+    /// Bounces a camera path may make (mirror, glass, glossy lobes): a hit after this many
+    /// only emits; one before takes direct light and photon estimates too.
     pub max_depth: u32,
     /// Random seed.
     pub seed: u32,
@@ -345,7 +346,7 @@ pub static SETTINGS: &[Setting] = &[
     row!(max_photon_bounces, "max-photon-bounces", RENDER, int(1, MAX_BOUNCES), u32,
         "bounces a photon path may make"),
     row!(max_depth, "max-depth", RENDER, int(1, MAX_BOUNCES), u32,
-        "longest mirror/glass chain of a camera ray"),
+        "bounces of a camera path (mirror, glass, glossy); a hit past them only emits"),
     row!(seed, "seed", RENDER, int(0, u32::MAX), u32, "random seed"),
     row!(exposure, "exposure", RENDER, Range::Finite, f32, "PNG exposure, stops"),
     row!(passes, "passes", RENDER, int(0, MAX_PASSES), u32,

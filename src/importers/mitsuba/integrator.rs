@@ -4,8 +4,10 @@
 //! Mitsuba nests integrators: `moment` and `aov` wrap the one that renders (its `max_depth`
 //! is inside), so the whole nest is read. `max_depth` M counts path segments (-1: unbounded);
 //! the `direct` integrator renders what `path` with M = 2 does (emitters seen directly and
-//! light after one bounce). M caps our photon paths at M - 1 bounces and camera mirror/glass
-//! chains at M - 2 (at least 1). A short M (at most [`DIRECT_MODE_MAX_DEPTH`]) also makes
+//! light after one bounce). M caps our photon paths at M - 1 bounces and camera paths at
+//! M - 1 bounces (`max_depth`): a hit after M - 1 bounces only emits, one before it also
+//! takes direct light and photon estimates (M = 2: a mirror shows the emitters it reflects,
+//! not the light on what it reflects). A short M (at most [`DIRECT_MODE_MAX_DEPTH`]) also makes
 //! `direct` the render mode: its shadow rays carry the direct light and the global map only
 //! photons of depth 1 to M - 2, so a camera path whose first diffuse hit ends it is capped
 //! exactly, where final gathering would add one bounce past M (measured on Mitsuba's suite:
@@ -45,7 +47,7 @@ impl Importer<'_> {
         if let Some(m) = nest.max_depth {
             let s = self.b.settings();
             s.max_photon_bounces = s.max_photon_bounces.min((m - 1).max(1));
-            s.max_depth = s.max_depth.min((m.max(2) - 2).max(1));
+            s.max_depth = s.max_depth.min((m.max(2) - 1).max(1));
             if m == 1 {
                 nest.notes
                     .push("max_depth 1 (emitters only) rendered as 2".to_string());

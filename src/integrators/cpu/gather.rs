@@ -317,6 +317,11 @@ impl Gatherer<'_> {
         let f = Facing::new(hit.normal, hit.shading, wo.dot(hit.normal) >= 0.0);
         let s = self.settings;
         let mut l = Vec3::ZERO;
+        // Light arriving here makes the path a bounce longer: past max_depth bounces a hit
+        // only emits (Mitsuba's max_depth M counts segments: max_depth is M - 1).
+        if depth >= s.max_depth {
+            return l;
+        }
         if self.terms.direct || (self.terms.point_lobe && bsdf.lobe_takes_point_lights()) {
             l += self.direct(hit, bsdf, &f, wo, rng, sobol, medium);
         }

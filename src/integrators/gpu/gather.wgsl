@@ -330,6 +330,11 @@ fn camera_path(o_in: vec3<f32>, d_in: vec3<f32>, t_in: vec3<f32>, depth_in: u32,
         var l = vec3<f32>(0.0);
         let use_sobol = *first_shade;
         *first_shade = false;
+        // Light arriving here makes the path a bounce longer: past max_depth bounces a hit
+        // only emits (as the CPU's shade).
+        if !can_continue {
+            break;
+        }
         if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
             l += direct_light(hit, f, wo, m, rng, sob, use_sobol, medium);
         }
