@@ -814,3 +814,45 @@ fn gpu_renders_the_envlight_scene_as_the_cpu_does() {
     let (pixels, blocks) = common::within_seed_noise(&d, &noise, 1e-4);
     assert!(pixels && blocks, "gpu {d:?} vs seeds {noise:?}");
 }
+
+#[test]
+fn a_gltf_without_lights_is_lit_by_a_white_environment() {
+    // One triangle, no light: as in most Khronos sample models.
+    let json = r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"scene":0,"nodes":[{"mesh":0}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+"buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],
+"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]}"#;
+    let scene = gpu_photon::importers::gltf::load_slice(
+        json.as_bytes(),
+        "t.gltf",
+        std::path::Path::new("."),
+        None,
+    )
+    .unwrap();
+    assert_eq!(scene.lights.len(), 1);
+    let env = scene.environment().expect("an environment");
+    assert_eq!(env.radiance, gpu_photon::importers::gltf::DEFAULT_ENVIRONMENT);
+    assert_eq!(env.texture, gpu_photon::scene::NO_TEXTURE);
+    // The command line renders it and says how it is lit.
+    let dir = common::scratch("gltf-no-light");
+    let (file, out) = (dir.join("t.gltf"), dir.join("t.exr"));
+    std::fs::write(&file, json).unwrap();
+    let run = common::bin()
+        .args(["render", "--backend", "cpu", "--width", "8", "--height", "8", "--spp", "1"])
+        .args(["--passes", "1", "-q", "-o"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let want = format!(
+        "warning: {}: no light in the scene: lit by a uniform white environment of radiance 1 \
+         (as model viewers light a model; --env replaces it)",
+        file.display()
+    );
+    assert!(stderr.contains(&want), "{stderr}");
+    let image = gpu_photon::render::film::Image::read(&out).unwrap();
+    assert!(image.mean().iter().all(|m| *m > 0.0 && m.is_finite()));
+}

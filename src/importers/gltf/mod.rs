@@ -132,8 +132,23 @@ pub fn load_slice(
     }
     let mut scene = im.b.finish(&at)?;
     scene.scale_default_radii([false; 3]);
+    if scene.lights.is_empty() {
+        // Most models carry no light: viewers (the Khronos Sample Viewer, Blender) light them
+        // with an environment. Ours is uniform white, so a surface shows its albedo.
+        scene.set_environment(crate::lights::environment::Environment::constant(
+            DEFAULT_ENVIRONMENT,
+        ));
+        crate::warning::warn(format!(
+            "{file}: no light in the scene: lit by a uniform white environment of radiance {} \
+             (as model viewers light a model; --env replaces it)",
+            DEFAULT_ENVIRONMENT.x
+        ));
+    }
     Ok(scene)
 }
+
+/// The radiance of the environment that lights a glTF scene without lights.
+pub const DEFAULT_ENVIRONMENT: Vec3 = Vec3::ONE;
 
 /// The file's name and JSON text (for the line of an item).
 struct Ctx<'a> {
