@@ -832,14 +832,27 @@ fn a_gltf_without_lights_is_lit_by_a_white_environment() {
     .unwrap();
     assert_eq!(scene.lights.len(), 1);
     let env = scene.environment().expect("an environment");
-    assert_eq!(env.radiance, gpu_photon::importers::gltf::DEFAULT_ENVIRONMENT);
+    assert_eq!(
+        env.radiance,
+        gpu_photon::importers::gltf::DEFAULT_ENVIRONMENT
+    );
     assert_eq!(env.texture, gpu_photon::scene::NO_TEXTURE);
     // The command line renders it and says how it is lit.
     let dir = common::scratch("gltf-no-light");
     let (file, out) = (dir.join("t.gltf"), dir.join("t.exr"));
     std::fs::write(&file, json).unwrap();
     let run = common::bin()
-        .args(["render", "--backend", "cpu", "--width", "8", "--height", "8", "--spp", "1"])
+        .args([
+            "render",
+            "--backend",
+            "cpu",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+        ])
         .args(["--passes", "1", "-q", "-o"])
         .arg(&out)
         .arg(&file)

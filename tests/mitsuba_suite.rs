@@ -60,7 +60,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
     ("bsdf_spheres/test_constant_path.xml", Known::Off(0.0011)),
     ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", Known::Refused("`rawconstant`")),
-    ("bsdf_spheres/test_normalmap_path.xml", Known::Off(0.0117)),
     ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Refused("alpha_u")),

@@ -65,6 +65,15 @@ fn texel_dir(test: &str) -> PathBuf {
     dir
 }
 
+/// Mitsuba's shadowing of a normal map (`use_shadowing_function`, on by default): Estevez et
+/// al.'s G1 of roughness min(tan^2(tilt) / 8, 1) for light at `cos_l` to the unperturbed normal,
+/// the normal tilted to `cos_p`; written out here in f64.
+fn shadowing(cos_p: f64, cos_l: f64) -> f64 {
+    let tan2 = |c: f64| (1.0 - c * c) / (c * c);
+    let alpha2 = (0.125 * tan2(cos_p)).min(1.0);
+    2.0 / (1.0 + (1.0 + alpha2 * tan2(cos_l)).sqrt())
+}
+
 fn normal_map(texture: &str) -> String {
     format!(r#"<bsdf type="normalmap">{texture}{DIFFUSE}</bsdf>"#)
 }
@@ -166,7 +175,9 @@ fn a_constant_normal_map_tilts_the_diffuse_cosine() {
     let img_mapped = render_on(&mapped, Backend::Cpu);
     let img_flat = render_on(&flat, Backend::Cpu);
     assert_uniform(&img_plain, &plain, k * l.z, "cpu, no normal map");
-    assert_uniform(&img_mapped, &mapped, k * n.dot(l), "cpu, normal map");
+    let g = shadowing(n.z, l.z);
+    assert!(g < 0.999, "{g}: a test that sees the shadowing");
+    assert_uniform(&img_mapped, &mapped, k * n.dot(l) * g, "cpu, normal map");
     assert!(
         img_flat.pixels == img_plain.pixels,
         "a flat normal map changes the image"
@@ -187,7 +198,7 @@ fn a_constant_normal_map_tilts_the_diffuse_cosine() {
         assert!(d.max_error < 1e-4, "gpu vs cpu, {what}: {d:?}");
     }
     let gpu = render_on(&mapped, Backend::Gpu);
-    assert_uniform(&gpu, &mapped, k * n.dot(l), "gpu, normal map");
+    assert_uniform(&gpu, &mapped, k * n.dot(l) * g, "gpu, normal map");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -234,7 +245,8 @@ fn spheres_and_mirrored_uv_meshes_on_both_backends() {
     let l = DVec3::from(TO_LIGHT).normalize();
     let k = ALBEDO / std::f64::consts::PI * E;
     let quad = within(&s, [-0.85, -0.85], [-0.35, -0.35]);
-    assert_pixels(&cpu, &quad, k * n.dot(l), "cpu, mirrored quad");
+    let g = shadowing(n.z, l.z);
+    assert_pixels(&cpu, &quad, k * n.dot(l) * g, "cpu, mirrored quad");
     if common::gpu().is_none() {
         return;
     }
@@ -311,4 +323,28 @@ fn a_normal_map_without_raw_is_srgb_decoded_as_mitsuba_does() {
     }));
     assert!((got - want).abs().max_element() < 1e-6, "{got} vs {want}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_normal_maps_shadowing_is_estevez_g1() {
+    use gpu_photon::bsdfs::material::terminator;
+    // An unperturbed normal shadows nothing, at any angle.
+    for c in [1.0, 0.5, 0.1] {
+        assert_eq!(terminator(1.0, c), 1.0);
+    }
+    // Perturbed by 45 degrees: alpha^2 = tan^2(45) / 8 = 0.125; light at 60 degrees
+    // (tan^2 = 3): G1 = 2 / (1 + sqrt(1 + 0.375)), as Mitsuba's eval_shadow_terminator.
+    let c45 = std::f32::consts::FRAC_1_SQRT_2;
+    let want = 2.0 / (1.0 + 1.375f32.sqrt());
+    assert!(
+        (terminator(c45, 0.5) - want).abs() < 1e-6,
+        "{}",
+        terminator(c45, 0.5)
+    );
+    // alpha^2 is capped at 1 (a normal 80 degrees off), and G1 falls towards grazing light.
+    let c80 = 80f32.to_radians().cos();
+    let tan2 = |c: f32| (1.0 - c * c) / (c * c);
+    assert!((terminator(c80, 0.5) - 2.0 / (1.0 + (1.0 + tan2(0.5)).sqrt())).abs() < 1e-6);
+    assert!(terminator(c45, 0.2) < terminator(c45, 0.5));
+    assert!(terminator(c45, 0.0) < 1e-3);
 }

@@ -194,6 +194,13 @@ fn scene(r: &mut TestRng) -> Scene {
         .add_blend(textured_blend, ids[8], Param::constant(0.3), &at)
         .unwrap();
     ids.extend([half, nested]);
+    // A normal map that shadows grazing light (Mitsuba's use_shadowing_function).
+    let shadowed = Material {
+        normal_texture: tex,
+        normal_shadowing: true,
+        ..Material::from_bsdf(cond(ggx(0.3)))
+    };
+    ids.push(b.add_material(None, shadowed, &at).unwrap());
     // A floor of every material below the spheres, in cells of two smooth triangles whose
     // vertex normals lean up to 25 degrees off the face (the leak tests' cases).
     for (k, &id) in ids.iter().enumerate() {

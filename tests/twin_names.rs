@@ -97,6 +97,8 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("camera/camera.wgsl", "camera_ray", "camera/mod.rs", "ray", Oracle("camera.rs")),
     ("bsdfs/shading.wgsl", "bsdf_at", "bsdfs/shading.rs", "bsdf_at", Oracle("shading_gpu.rs")),
     ("bsdfs/shading.wgsl", "surface_stores", "bsdfs/shading.rs", "stores_photons", Oracle("shading_gpu.rs")),
+    ("bsdfs/shading.wgsl", "terminator", "bsdfs/material.rs", "terminator", Caller("shading_gpu.rs")),
+    ("bsdfs/shading.wgsl", "surface_shadowing", "bsdfs/shading.rs", "shadowing", Caller("shading_gpu.rs")),
     ("bsdfs/blend.wgsl", "blend_u", "bsdfs/blend.rs", "blend_u", Caller("shading_gpu.rs")),
     ("bsdfs/blend.wgsl", "blend_choose", "bsdfs/blend.rs", "choose", Caller("shading_gpu.rs")),
     ("bsdfs/shading.wgsl", "surface_local", "bsdfs/interface.rs", "local", Caller("shading_gpu.rs")),

@@ -26,6 +26,11 @@ pub struct Material {
     /// bsdf, glTF's `normalTexture`: the texture's rgb `c` is the normal `2 c - 1` in the
     /// hit's shading frame, see `crate::bvh::perturb`), or [`NO_TEXTURE`].
     pub normal_texture: u32,
+    /// Whether the normal map shadows light arriving at grazing angles to the surface
+    /// (Mitsuba's `use_shadowing_function`, default on; Estevez et al., "A Microfacet-Based
+    /// Shadowing Function to Solve the Bump Terminator Problem", 2019): the light side of the
+    /// BSDF is multiplied by [`terminator`] (`crate::bsdfs::shading`).
+    pub normal_shadowing: bool,
     /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a texture multiplying `emission` at each point (glTF
     /// `emissiveTexture`, Mitsuba's textured `radiance`; `crate::lights::emission`), or
     /// [`NO_TEXTURE`].
@@ -65,6 +70,20 @@ pub struct Alpha {
     /// Read the texture's luminance (Mitsuba's textured `opacity`) instead of its alpha
     /// (glTF's base colour alpha).
     pub luminance: bool,
+}
+
+/// The shadowing of a normal map (Estevez et al. 2019, as Mitsuba's `normalmap` and
+/// `bumpmap`): a Smith G1 of roughness `alpha2 = min(tan^2(theta_p) / 8, 1)`, `theta_p` the
+/// angle of the perturbed normal to the unperturbed one (`cos_p`), for light arriving at
+/// `cos_w` to the unperturbed normal. 1 for an unperturbed normal.
+#[inline]
+pub fn terminator(cos_p: f32, cos_w: f32) -> f32 {
+    let tan2 = |c: f32| {
+        let c2 = (c * c).max(1e-12);
+        ((1.0 - c2) / c2).max(0.0)
+    };
+    let alpha2 = (0.125 * tan2(cos_p)).min(1.0);
+    2.0 / (1.0 + (1.0 + alpha2 * tan2(cos_w)).sqrt())
 }
 
 impl Alpha {
@@ -171,6 +190,7 @@ impl Material {
             two_sided_emission: false,
             one_sided: false,
             normal_texture: NO_TEXTURE,
+            normal_shadowing: false,
             emission_texture: NO_TEXTURE,
             alpha: None,
             media: MediumInterface::default(),

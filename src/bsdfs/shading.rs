@@ -12,6 +12,7 @@
 pub use crate::bsdfs::interface::{Bounce, DeltaEvent, Dielectric, LobeRay, SurfaceClass};
 
 use crate::bsdfs::blend::choose;
+use crate::bsdfs::material::terminator;
 use crate::bsdfs::{Bsdf, BsdfKind};
 use crate::bvh::hit::Hit;
 use crate::math::geometry::Facing;
@@ -51,6 +52,10 @@ pub struct SurfaceBsdf<'a> {
     emission: Vec3,
     /// A one-sided material seen from the back: `b` is black.
     back: bool,
+    /// The normal map's shadowing (`Material::normal_shadowing`): the cosine between the
+    /// perturbed and the unperturbed normal, and the unperturbed (geometric) normal; `None`
+    /// without it.
+    shadowing: Option<(f32, Vec3)>,
 }
 
 /// The BSDF of the surface `hit` lies on, for a ray arriving along `d`: the one place a
@@ -91,6 +96,8 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit, d: Vec3) -> SurfaceBsdf<'a> {
         n: hit.shading,
         emission,
         back,
+        shadowing: (m.normal_shadowing && m.normal_texture != crate::textures::NO_TEXTURE)
+            .then(|| (hit.shading.dot(hit.normal).abs(), hit.normal)),
     }
 }
 
@@ -128,6 +135,16 @@ pub fn escape(scene: &Scene, dir: Vec3) -> Vec3 {
 }
 
 impl SurfaceBsdf<'_> {
+    /// The normal map's shadowing of light arriving from `wi` (1 without it): the factor on
+    /// the light side of every answer below ([`terminator`]).
+    #[inline]
+    pub fn shadowing(&self, wi: Vec3) -> f32 {
+        match self.shadowing {
+            None => 1.0,
+            Some((cos_p, ng)) => terminator(cos_p, wi.dot(ng)),
+        }
+    }
+
     /// How the integrators treat the surface.
     #[inline]
     pub fn class(&self) -> SurfaceClass {
@@ -170,13 +187,17 @@ impl SurfaceBsdf<'_> {
     /// transmittance for a plastic); `None` when it is exactly 1.
     #[inline]
     pub fn store_weight(&self, wi: Vec3) -> Option<f32> {
-        self.b.surface_store_weight(self.n, wi)
+        let w = self.b.surface_store_weight(self.n, wi);
+        if self.shadowing.is_none() {
+            return w;
+        }
+        Some(w.unwrap_or(1.0) * self.shadowing(wi))
     }
 
     /// The diffuse part's BSDF value `f_D(wi, wo)` (Lambertian: `kd / pi`).
     #[inline]
     pub fn eval_diffuse(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        self.b.surface_eval_diffuse(self.n, wi, wo)
+        self.b.surface_eval_diffuse(self.n, wi, wo) * self.shadowing(wi)
     }
 
     /// The diffuse part's value for a photon estimate at a point seen from `wo`: the
@@ -204,13 +225,13 @@ impl SurfaceBsdf<'_> {
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        self.b.surface_eval_lobe(self.n, wi, wo, ns)
+        self.b.surface_eval_lobe(self.n, wi, wo, ns) * self.shadowing(wi)
     }
 
     /// The whole non-delta BSDF `f(wi, wo)` (diffuse part and lobe).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
-        self.b.surface_eval(self.n, wi, wo, ns)
+        self.b.surface_eval(self.n, wi, wo, ns) * self.shadowing(wi)
     }
 
     /// The solid-angle density with which [`sample_lobe`](Self::sample_lobe) draws `wi`
@@ -234,7 +255,9 @@ impl SurfaceBsdf<'_> {
     /// it for a reflection). The Phong lobe takes two numbers from `rng`, the other kinds three.
     #[inline]
     pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
-        self.b.surface_sample_lobe(self.n, d, f, rng)
+        let mut lobe = self.b.surface_sample_lobe(self.n, d, f, rng)?;
+        lobe.weight *= self.shadowing(lobe.dir);
+        Some(lobe)
     }
 
     /// Whether photons are stored here (the material has a diffuse part; asked of the

@@ -11,11 +11,20 @@ struct Surface {
     b: Bsdf,
     n: vec3<f32>,
     emission: vec3<f32>,
+    // The normal map's shadowing (Material::normal_shadowing): the cosine of the perturbed to
+    // the unperturbed (geometric) normal, 0 without it, and that normal.
+    shadow_cos: f32,
+    shadow_ng: vec3<f32>,
 }
 
 fn bsdf_at(hit: Hit, d: vec3<f32>) -> Surface {
     var s: Surface;
     s.m = load_material(hit.material);
+    s.shadow_cos = 0.0;
+    s.shadow_ng = hit.normal;
+    if HAS_NORMAL_MAPS && s.m.normal_shadowing != 0u && s.m.normal_texture != NO_TEXTURE {
+        s.shadow_cos = abs(dot(hit.shading, hit.normal));
+    }
     s.n = hit.shading;
     s.emission = s.m.emission;
     if HAS_TEXTURES && hit.light != NO_LIGHT {
@@ -59,6 +68,39 @@ fn surface_class(s: Surface) -> u32 {
 // Radiance emitted towards a ray arriving from the front (or the back).
 fn surface_emitted(s: Surface, front: bool) -> vec3<f32> {
     return select(vec3<f32>(0.0), s.emission, front || s.m.two_sided != 0u);
+}
+
+// The normal map's shadowing (Estevez et al. 2019, Mitsuba's normalmap): G1 of roughness
+// alpha2 = min(tan^2(theta_p) / 8, 1) for light at cos_w; cos_p the perturbed normal's cosine.
+fn terminator(cos_p: f32, cos_w: f32) -> f32 {
+    let cp2 = max(cos_p * cos_p, 1e-12);
+    let cw2 = max(cos_w * cos_w, 1e-12);
+    let alpha2 = min(0.125 * max((1.0 - cp2) / cp2, 0.0), 1.0);
+    return 2.0 / (1.0 + sqrt(1.0 + alpha2 * max((1.0 - cw2) / cw2, 0.0)));
+}
+
+// The shadowing of light arriving from wi at the surface (1 without a shadowing normal map).
+fn surface_shadowing(s: Surface, wi: vec3<f32>) -> f32 {
+    if s.shadow_cos == 0.0 {
+        return 1.0;
+    }
+    return terminator(s.shadow_cos, dot(wi, s.shadow_ng));
+}
+
+// The kinds' answers with the normal map's shadowing on the light's side (SurfaceBsdf's).
+fn surface_store_weight(s: Surface, wi: vec3<f32>) -> f32 {
+    return surface_store_weight_unshadowed(s, wi) * surface_shadowing(s, wi);
+}
+fn surface_eval_diffuse(s: Surface, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    return surface_eval_diffuse_unshadowed(s, wi, wo) * surface_shadowing(s, wi);
+}
+fn surface_eval_lobe(s: Surface, wi: vec3<f32>, wo: vec3<f32>, ns: vec3<f32>) -> vec3<f32> {
+    return surface_eval_lobe_unshadowed(s, wi, wo, ns) * surface_shadowing(s, wi);
+}
+fn surface_sample_lobe(s: Surface, d: vec3<f32>, f: Facing, rng: ptr<function, Rng>) -> LobeRay {
+    var lr = surface_sample_lobe_unshadowed(s, d, f, rng);
+    lr.weight *= surface_shadowing(s, lr.dir);
+    return lr;
 }
 
 // Whether photons are stored at the surface: at a blend where either component stores them

@@ -138,12 +138,8 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 let name = "flip_invalid_normals";
                 return Err(cx.err(p.node_of(name), &p.at(name), message));
             }
-            if p.boolean_or(cx, "use_shadowing_function", true)? {
-                warnings.push(format!(
-                    "{field}: `normalmap` without Mitsuba's shadowing function \
-                     (use_shadowing_function: the shadow-terminator factor is not applied)"
-                ));
-            }
+            // Mitsuba's shadowing of grazing light by the perturbed normal (default on).
+            let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
             p.done(cx)?;
             let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
             if read.normal_texture.is_some() {
@@ -151,6 +147,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 return Err(cx.err(inner, field, message));
             }
             read.normal_texture = Some(tex);
+            read.material.normal_shadowing = shadowing;
             return Ok(read);
         }
         "mask" => {

@@ -106,8 +106,8 @@ pub struct GpuMaterial {
     pub blend_second: u32,
     /// 1 when the blend stores photons (either component does).
     pub blend_stores: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// 1 when the normal map shadows grazing light (`Material::normal_shadowing`).
+    pub normal_shadowing: u32,
     /// The blend's weight: the probability of `blend_second`, a slot word (`Param::word`).
     pub blend_weight: [u32; 4],
 }
@@ -358,7 +358,7 @@ impl GpuMaterial {
                 .blend
                 .map_or(crate::integrators::gpu::codes::NO_BLEND, |b| b.second),
             blend_stores: m.blend.is_some_and(|b| b.stores_photons) as u32,
-            _pad: 0,
+            normal_shadowing: m.normal_shadowing as u32,
             blend_weight: m.blend.map_or([0; 4], |b| b.weight.word()),
         }
     }

@@ -81,7 +81,8 @@ struct Material {
     blend_first: u32,
     blend_second: u32,
     blend_stores: u32,
-    _pad: u32,
+    // 1: the normal map shadows grazing light (Material::normal_shadowing).
+    normal_shadowing: u32,
     blend_weight: vec4<u32>,
 }
 
