@@ -12,7 +12,8 @@
 //! - **blocks**: a Z-test of every 4 x 4-block mean per channel, the difference over the
 //!   standard error of ours (pass to pass: P - 1 degrees of freedom, hence Student's t with
 //!   Welch-Satterthwaite's degrees of freedom) and of the reference's (its per-sample variance
-//!   image over its sample count, floored at 1e-4 per sample as Mitsuba's test floors it);
+//!   image over its sample count, floored at 1e-4 per sample as Mitsuba's test floors it,
+//!   plus its systematic colour error, [`reference_colour_bias`], squared);
 //!   Sidak-corrected at 1% over the blocks, and passed, as Mitsuba's test passes a render,
 //!   when at least 99.75% of the block-channel tests are above that level.
 //!
@@ -58,10 +59,10 @@ enum Known {
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
-    ("bsdf_spheres/test_constant_path.xml", Known::Off(0.0011)),
     ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", Known::Refused("`rawconstant`")),
     ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
+    ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
     ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Refused("alpha_u")),
     ("bsdf_spheres/test_texturedprincipled1_path.xml", Known::Refused("`principled`")),
     ("bsdf_spheres/test_texturedprincipled2_path.xml", Known::Refused("`principled`")),
@@ -85,7 +86,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("projector/test_projector_constant_direct.xml", Known::Refused("`projector`")),
     ("projector/test_projector_textured_direct.xml", Known::Refused("`projector`")),
     ("spot_light/test_spot_direct.xml", Known::Refused("texture")),
-    ("texture_interp/test_texture_interp_direct.xml", Known::Off(0.0003)),
     ("various_emitters/test_various_emitters_ptracer.xml", Known::Refused("texture")),
     ("various_shapes/test_various_shapes_path.xml", Known::Refused("`serialized`")),
 ];
@@ -154,6 +154,35 @@ fn scenes() -> Vec<String> {
     }
     out.sort();
     out
+}
+
+/// The references' own colour bias, relative: they are spectral renders written as RGB, so a
+/// white emitter of radiance 1 seen directly is not exactly 1 in them, where an RGB renderer
+/// (ours, and Mitsuba's `rgb` variants, which its own test lets through by its per-pixel
+/// variance at the test's sample count) gives exactly 1. Measured here on the background of
+/// `bsdf_spheres/test_constant` (a `constant` emitter of radiance 1 seen at every pixel of a
+/// 4x4 block in a corner): the largest |channel - 1| there, at most 0.2% (it is 0.108%: 1.00108,
+/// 0.99971, 0.99970). The block test counts it as a systematic error of the reference.
+fn reference_colour_bias() -> f64 {
+    static BIAS: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *BIAS.get_or_init(|| {
+        let file = suite_root().join("bsdf_spheres/refs/test_constant_ref_rgb.exr");
+        let image = Image::read(&file).unwrap();
+        let mut bias = 0.0f64;
+        for y in 0..4 {
+            for x in 0..4 {
+                let p = image.pixels[(y * image.width + x) as usize];
+                for c in p {
+                    bias = bias.max((f64::from(c) - 1.0).abs());
+                }
+            }
+        }
+        assert!(
+            bias < 2e-3,
+            "{file:?}: the background is {bias} off radiance 1"
+        );
+        bias
+    })
 }
 
 /// The reference and variance images of `scene` (test_renders.py's `get_ref_fname`:
@@ -274,6 +303,11 @@ fn judge(
     let area = f64::from(BLOCK * BLOCK);
     let theirs = block_sums(w, h, |i, c| reference.pixels[i][c] as f64 / area);
     let theirs_var = block_sums(w, h, |i, c| ref_var(i, c) / (area * area));
+    // The reference's systematic colour error (reference_colour_bias) adds to its variance.
+    let bias = reference_colour_bias();
+    let theirs_var: Vec<[f64; 3]> = (theirs_var.iter().zip(&theirs))
+        .map(|(v, t)| [0, 1, 2].map(|c| v[c] + (bias * t[c]).powi(2)))
+        .collect();
     let ours: Vec<Vec<[f64; 3]>> = passes
         .iter()
         .map(|p| block_sums(w, h, |i, c| p.pixels[i][c] as f64 / area))
