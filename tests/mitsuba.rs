@@ -287,6 +287,32 @@ fn fov_axis_converts_to_the_vertical_fov() {
 }
 
 #[test]
+fn orthographic_sensor_is_mitsubas() {
+    // The suite's orthographic_sensor camera; Mitsuba 3.9.1's rays at film positions (u, v)
+    // (scripts/mitsuba_orthographic_probe.py): origins on the near clip plane, one direction.
+    let text = r#"<scene version="3.0.0"><sensor type="orthographic">
+        <float name="near_clip" value="1"/><float name="far_clip" value="1000"/>
+        <transform name="to_world"><scale x="1.5" y="1.5"/>
+        <lookat target="0, 0, 1" origin="-5, 0, 3" up="0, 0, 1"/></transform>
+        <film type="hdrfilm"><rfilter type="box"/><integer name="width" value="200"/>
+        <integer name="height" value="120"/></film></sensor></scene>"#;
+    let s = import(text, "t.xml", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let camera = s.scene.camera;
+    assert!(camera.orthographic);
+    let d = Vec3::new(0.928477, 0.0, -0.371391);
+    for (u, v, o) in [
+        (0.0, 0.0, Vec3::new(-3.737272, 1.5, 3.464238)),
+        (1.0, 1.0, Vec3::new(-4.405775, -1.5, 1.792981)),
+        (0.25, 0.75, Vec3::new(-4.238649, 0.75, 2.210795)),
+        (0.5, 0.5, Vec3::new(-4.071523, 0.0, 2.628609)),
+    ] {
+        let (origin, dir) = camera.ray(u * 200.0, v * 120.0, 200, 120, (0.5, 0.5));
+        assert!(close(origin, o, 1e-5), "({u}, {v}): {origin} vs Mitsuba's {o}");
+        assert!(close(dir, d, 1e-5), "({u}, {v}): {dir} vs Mitsuba's {d}");
+    }
+}
+
+#[test]
 fn transforms_compose_in_order() {
     // scale 2, then rotate 90 degrees about +x, then translate: the rectangle [-1,1]^2 in
     // z = 0 (front +z) becomes [-2,2] x {1} x [-2,2] + (0, 0, -1) facing -y... rotate +z by
@@ -573,8 +599,12 @@ fn malformed_documents_and_sensors() {
         ("<scene>\n<bsdf type=\"diffuse\"/>\n</scene>", "t.xml:1: scene: the scene has no <sensor>"),
         ("<scen/>", "t.xml:1: scene: the root element must be <scene>, found <scen>"),
         (
-            "<scene>\n<sensor type=\"orthographic\"/></scene>",
-            "t.xml:2: sensor[0]: unsupported sensor `orthographic` (`perspective`, `thinlens`)",
+            "<scene>\n<sensor type=\"radiancemeter\"/></scene>",
+            "t.xml:2: sensor[0]: unsupported sensor `radiancemeter` (`perspective`, `thinlens`, `orthographic`)",
+        ),
+        (
+            "<scene>\n<sensor type=\"orthographic\"><transform name=\"to_world\"><scale x=\"2\" y=\"1\"/></transform></sensor></scene>",
+            "t.xml:2: sensor[0].to_world: unsupported orthographic to_world: its x and y scales differ (2 and 1); the view keeps the film's aspect",
         ),
         (
             "<scene>\n<sensor type=\"perspective\"><float name=\"fov\" value=\"180\"/></sensor></scene>",
