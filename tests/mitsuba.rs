@@ -307,7 +307,10 @@ fn orthographic_sensor_is_mitsubas() {
         (0.5, 0.5, Vec3::new(-4.071523, 0.0, 2.628609)),
     ] {
         let (origin, dir) = camera.ray(u * 200.0, v * 120.0, 200, 120, (0.5, 0.5));
-        assert!(close(origin, o, 1e-5), "({u}, {v}): {origin} vs Mitsuba's {o}");
+        assert!(
+            close(origin, o, 1e-5),
+            "({u}, {v}): {origin} vs Mitsuba's {o}"
+        );
         assert!(close(dir, d, 1e-5), "({u}, {v}): {dir} vs Mitsuba's {d}");
     }
 }

@@ -90,7 +90,7 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("spot_light/test_spot_direct.xml", Known::Refused("texture")),
     ("texture_interp/test_texture_interp_direct.xml", Known::Off(0.0003)),
     ("various_emitters/test_various_emitters_ptracer.xml", Known::Refused("texture")),
-    ("various_shapes/test_various_shapes_path.xml", Known::Refused("`serialized`")),
+    ("various_shapes/test_various_shapes_path.xml", Known::Refused("<shape> in a shape")),
 ];
 
 /// A render's budget: `passes` progressive passes of `spp` camera samples and `photons`

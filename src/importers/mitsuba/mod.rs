@@ -22,6 +22,7 @@ mod medium;
 mod plugin;
 mod round;
 mod sensor;
+mod serialized;
 mod shape;
 mod spectrum;
 mod texture;

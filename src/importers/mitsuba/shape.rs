@@ -4,14 +4,15 @@
 //! with a warning), `obj` and `ply` meshes (smooth-shaded with the file's vertex normals, or,
 //! in a file without them, normals computed from the faces as Mitsuba computes them; flat when
 //! `face_normals` is true; the file's texture coordinates with v flipped when
-//! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), each with its
+//! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), `serialized`
+//! meshes (`shape_index`, `face_normals`; [`serialized`]), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use crate::error::Result;
 use crate::importers::mesh_file::{self, MeshData, MeshFormat};
 use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
-use crate::importers::mitsuba::{round, Importer};
+use crate::importers::mitsuba::{round, serialized, Importer};
 use crate::media::builder::{interface, MediumId};
 use crate::scene::builder::Surface;
 use crate::textures::uv;
@@ -256,6 +257,21 @@ impl<'f> Importer<'f> {
                 let mesh = mesh_file::load_mesh(&path, format, flip_v, room)
                     .map_err(|m| cx.err(node, &p.at("filename"), m))?;
                 // Mitsuba's `face_normals`: flat shading even where the file has normals.
+                mesh.flat_if(p.boolean(cx, "face_normals")?)
+            }
+            "serialized" => {
+                let Some(file) = p.string(cx, "filename")? else {
+                    return Err(cx.err(p.node, &p.at("filename"), "missing"));
+                };
+                let index = p.float(cx, "shape_index")?.unwrap_or(0.0);
+                if !(index >= 0.0 && index <= u32::MAX as f32 && index.fract() == 0.0) {
+                    let message = format!("{index} is not a mesh index (an integer >= 0)");
+                    return Err(cx.err(p.node_of("shape_index"), &p.at("shape_index"), message));
+                }
+                let path = self.cx.resolve(&file);
+                let room = self.b.triangle_room();
+                let mesh = serialized::read_serialized(&path, index as u32, room)
+                    .map_err(|m| cx.err(p.node_of("filename"), &p.at("filename"), m))?;
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
             other => {
