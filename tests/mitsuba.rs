@@ -3,7 +3,7 @@
 //! scenes as their TOML twins and meet the same bounds; every plugin and transform we map;
 //! and malformed files give `FILE:LINE: field: message` errors, never a panic.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use gpu_photon::bsdfs::{named_conductor, Bsdf, BsdfKind, Distribution, Microfacet};
 use gpu_photon::error::Error;
 use gpu_photon::importers::load;
@@ -316,6 +316,114 @@ fn orthographic_sensor_is_mitsubas() {
 }
 
 #[test]
+fn rawconstant_and_textured_roughness() {
+    // scripts/mitsuba_roughness_texture_probe.py: Mitsuba 3.9.1 evaluates a rawconstant as
+    // given (no range check, a float broadcast) and a rough bsdf's roughness texture as a
+    // float: a checkerboard's rgb colour as its mean (0.4 for (0.1, 0.2, 0.9)), not its
+    // luminance (0.229); color1 (0.3) at uv (0.25, 0.25), where its colour (`eval`) is
+    // color0.
+    let im = body(
+        r#"<bsdf type="diffuse" id="a"><texture type="rawconstant" name="reflectance"><vector name="value" value="0.5, -2, 3"/></texture></bsdf>
+<bsdf type="diffuse" id="b"><texture type="rawconstant" name="reflectance"><float name="value" value="2.5"/></texture></bsdf>
+<bsdf type="roughconductor" id="c"><texture type="checkerboard" name="alpha_u"><rgb name="color0" value="0.1, 0.2, 0.9"/><float name="color1" value="0.3"/></texture><float name="alpha_v" value="0.2"/></bsdf>
+<bsdf type="roughdielectric" id="d"><texture type="rawconstant" name="alpha"><float name="value" value="0.15"/></texture></bsdf>"#,
+    );
+    let (m, t) = (&im.scene.materials, &im.scene.textures);
+    let uv = Vec2::new(0.3, 0.9);
+    assert_eq!(
+        t[m[0].bsdf.base_colour().unwrap().texture as usize].eval(uv),
+        Vec3::new(0.5, -2.0, 3.0)
+    );
+    assert_eq!(
+        t[m[1].bsdf.base_colour().unwrap().texture as usize].eval(uv),
+        Vec3::splat(2.5)
+    );
+    let Bsdf::RoughConductor(c) = m[2].bsdf else {
+        panic!("roughconductor: {:?}", m[2]);
+    };
+    assert!(c.roughness.alpha_u.is_textured() && !c.roughness.alpha_v.is_textured());
+    for (uv, want) in [
+        ((0.25, 0.25), 0.3),
+        ((0.75, 0.25), 0.4),
+        ((0.75, 0.75), 0.3),
+    ] {
+        let mf = c.roughness.resolved(t, Vec2::new(uv.0, uv.1)).microfacet();
+        assert!((mf.alpha_u - want).abs() < 1e-6, "{uv:?}: {mf:?}");
+        assert_eq!(mf.alpha_v, 0.2);
+    }
+    let Bsdf::RoughDielectric(d) = m[3].bsdf else {
+        panic!("roughdielectric: {:?}", m[3]);
+    };
+    let mf = d.roughness.resolved(t, uv).microfacet();
+    assert!(
+        (mf.alpha_u - 0.15).abs() < 1e-7 && (mf.alpha_v - 0.15).abs() < 1e-7,
+        "{mf:?}"
+    );
+    // Mitsuba's rules: both alpha_u and alpha_v or neither, not with alpha; a roughplastic's
+    // alpha is a number; a 3D rawconstant has no float value.
+    let checker = r#"<texture type="checkerboard" name="alpha"/>"#;
+    for (b, want) in [
+        (
+            r#"<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha_u: needs `alpha_v` too (Mitsuba takes both or neither)",
+        ),
+        (
+            r#"<bsdf type="roughdielectric"><float name="alpha" value="0.1"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.1"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha: give either `alpha` or `alpha_u` and `alpha_v`",
+        ),
+        (
+            format!(r#"<bsdf type="roughplastic">{checker}</bsdf>"#),
+            "t.xml:4: bsdf[0].alpha: a textured roughness is not supported by `roughplastic`",
+        ),
+        (
+            r#"<bsdf type="roughconductor"><texture type="rawconstant" name="alpha"><vector name="value" value="1, 2, 3"/></texture></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha: a 3D `rawconstant` has no float value (Mitsuba's eval_1 refuses it)",
+        ),
+        (
+            r#"<bsdf type="diffuse"><texture type="rawconstant" name="reflectance"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].reflectance.value: missing (a `float` or a `vector`)",
+        ),
+    ] {
+        assert_eq!(body_error(&b), want);
+    }
+}
+
+#[test]
+fn identity_rawconstant_normal_map_changes_nothing() {
+    // Mitsuba's normalmap with the rawconstant normal (0.5, 0.5, 1) is its nested bsdf
+    // unchanged (its shadowing function is 1 for the unperturbed normal): so is ours, pixel
+    // for pixel, on an anisotropic rough conductor lit by a point light.
+    let scene = |wrap: bool| {
+        let inner = r#"<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.25"/><float name="alpha_v" value="0.05"/></bsdf>"#;
+        let bsdf = match wrap {
+            true => format!(
+                r#"<bsdf type="normalmap"><texture name="normalmap" type="rawconstant"><vector name="value" value="0.5, 0.5, 1.0"/></texture>{inner}</bsdf>"#
+            ),
+            false => inner.to_string(),
+        };
+        body(&format!(
+            r#"<shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-60"/></transform>{bsdf}</shape>
+<emitter type="point"><point name="position" value="0.3, 1, 1"/><rgb name="intensity" value="4"/></emitter>"#
+        ))
+        .scene
+    };
+    let (plain, mapped) = (scene(false), scene(true));
+    let settings = RenderSettings {
+        mode: Mode::DirectOnly,
+        spp: 4,
+        ..plain.settings.clone()
+    };
+    let (a, b) = (
+        render_cpu(&plain, &settings),
+        render_cpu(&mapped, &settings),
+    );
+    let stats = diff(&b, &a, 4).unwrap();
+    let mean = a.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / a.pixels.len() as f64;
+    assert!(mean > 1e-3, "the conductor is lit: mean {mean}");
+    assert!(stats.max_error < 1e-4 * mean.max(1.0), "{stats:?}");
+}
+
+#[test]
 fn transforms_compose_in_order() {
     // scale 2, then rotate 90 degrees about +x, then translate: the rectangle [-1,1]^2 in
     // z = 0 (front +z) becomes [-2,2] x {1} x [-2,2] + (0, 0, -1) facing -y... rotate +z by
@@ -515,8 +623,8 @@ fn malformed_files_name_file_line_and_field() {
             "t.xml:4: shape[0].radius: `one` is not a number",
         ),
         (
-            r#"<shape type="serialized"/>"#,
-            "t.xml:4: shape[0]: unsupported shape `serialized`",
+            r#"<shape type="sdfgrid"/>"#,
+            "t.xml:4: shape[0]: unsupported shape `sdfgrid`",
         ),
         (
             r#"<shape type="ply"><string name="filename" value="missing.ply"/></shape>"#,
