@@ -424,6 +424,96 @@ fn identity_rawconstant_normal_map_changes_nothing() {
 }
 
 #[test]
+fn mesh_attribute_is_interpolated_exactly() {
+    // Mitsuba's mesh_attribute: a vertex attribute interpolated barycentrically, a face
+    // attribute constant per face, times `scale`; ours through a texture of 2 x 2 texel
+    // blocks, checked at many barycentric points of both triangles of a fanned quad.
+    let dir = std::env::temp_dir().join(format!("gpu-photon-attr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+               property float z\nproperty float w_1\nproperty float w_2\nproperty float w_3\n\
+               element face 1\nproperty list uchar int vertex_indices\nproperty float weight_0\n\
+               end_header\n0 0 0 1 2 3\n1 0 0 4 5 6\n1 1 0 7 8 -9\n0 1 0 0.5 0.25 0\n\
+               4 0 1 2 3 0.7\n";
+    std::fs::write(dir.join("q.ply"), ply).unwrap();
+    let corners = [
+        Vec3::new(1., 2., 3.),
+        Vec3::new(4., 5., 6.),
+        Vec3::new(7., 8., -9.),
+        Vec3::new(0.5, 0.25, 0.),
+    ];
+    let scene = |name: &str, shape: &str| {
+        let file = match shape {
+            "ply" => r#"<string name="filename" value="q.ply"/>"#,
+            _ => "",
+        };
+        let text = format!(
+            "<scene version=\"3.0.0\">{SENSOR}<texture type=\"mesh_attribute\" id=\"t\">\
+             <string name=\"name\" value=\"{name}\"/><float name=\"scale\" value=\"0.5\"/>\
+             </texture>\n<bsdf type=\"diffuse\" id=\"d\"><ref name=\"reflectance\" id=\"t\"/>\
+             </bsdf>\n<shape type=\"{shape}\">{file}\
+             <ref id=\"d\"/></shape>\n</scene>\n"
+        );
+        import(&text, "t.xml", &dir)
+    };
+    for (name, fan) in [
+        ("vertex_w", [[0, 1, 2], [0, 2, 3]]),
+        ("face_weight", [[0; 3]; 2]),
+    ] {
+        let s = scene(name, "ply").unwrap_or_else(|e| panic!("{e}")).scene;
+        assert_eq!(s.triangles.len(), 2);
+        for (i, tri) in s.triangles.iter().enumerate() {
+            let base = s.materials[tri.material as usize]
+                .bsdf
+                .base_colour()
+                .unwrap();
+            let texture = &s.textures[base.texture as usize];
+            let uv = s.uvs[i];
+            for (b1, b2) in [
+                (0.0, 0.0),
+                (1.0, 0.0),
+                (0.0, 1.0),
+                (0.2, 0.3),
+                (0.5, 0.5),
+                (0.1, 0.8),
+            ] {
+                let b0 = 1.0 - b1 - b2;
+                let at = b0 * uv[0] + b1 * uv[1] + b2 * uv[2];
+                let got = base.value * texture.eval(at);
+                let want = match name {
+                    "face_weight" => Vec3::splat(0.7 * 0.5),
+                    _ => {
+                        let c = fan[i].map(|k| corners[k]);
+                        0.5 * (b0 * c[0] + b1 * c[1] + b2 * c[2])
+                    }
+                };
+                assert!(
+                    close(got, want, 2e-5),
+                    "{name} {i} ({b1}, {b2}): {got} vs {want}"
+                );
+            }
+        }
+    }
+    // A value that is not finite, an attribute the mesh lacks, a shape that has none, a name
+    // without its domain.
+    let inf = ply.replace("1 1 0 7 8 -9", "1 1 0 7 8 1e39");
+    std::fs::write(dir.join("q.ply"), inf).unwrap();
+    let e = scene("vertex_w", "ply").unwrap_err().to_string();
+    let want = "t.xml:6: shape[0]: mesh attribute: triangle 0: its values [Vec3(1.0, 2.0, 3.0), \
+                Vec3(4.0, 5.0, 6.0), Vec3(7.0, 8.0, inf)] are not all finite";
+    assert_eq!(e, want);
+    let e = scene("vertex_color", "ply").unwrap_err().to_string();
+    let want = "its bsdf reads the mesh attribute `vertex_color`, which this shape does not \
+                have (its attributes: `vertex_w`, `face_weight`)";
+    assert!(e.ends_with(want), "{e}");
+    let e = scene("vertex_w", "rectangle").unwrap_err().to_string();
+    assert!(e.ends_with("(its attributes: none)"), "{e}");
+    let e = scene("color", "ply").unwrap_err().to_string();
+    let want = "t.xml:4: bsdf[d].reflectance.name: `color` must start with `vertex_` or `face_`";
+    assert_eq!(e, want);
+}
+
+#[test]
 fn transforms_compose_in_order() {
     // scale 2, then rotate 90 degrees about +x, then translate: the rectangle [-1,1]^2 in
     // z = 0 (front +z) becomes [-2,2] x {1} x [-2,2] + (0, 0, -1) facing -y... rotate +z by

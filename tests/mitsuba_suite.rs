@@ -71,8 +71,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
     ("instancing/test_instancing_path.xml", Known::Refused("<shape> in a shape")),
     ("mesh_attributes/test_mesh_attributes_1_face_direct.xml", Known::Refused("`blendbsdf`")),
-    ("mesh_attributes/test_mesh_attributes_3_face_direct.xml", Known::Refused("`mesh_attribute`")),
-    ("mesh_attributes/test_mesh_attributes_3_vertex_direct.xml", Known::Refused("`mesh_attribute`")),
     ("orthographic_sensor/test_orthographic_path.xml", Known::Off(0.0010)),
     ("participating_media/test_hetero_sigmat_albedo_volpath.xml", Known::Refused("`heterogeneous`")),
     ("participating_media/test_hetero_sigmat_volpath.xml", Known::Refused("`heterogeneous`")),

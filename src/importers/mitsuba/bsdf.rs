@@ -35,6 +35,9 @@ pub(crate) struct Read {
     /// The textured `alpha_u` and `alpha_v` of a rough conductor or dielectric (their
     /// luminance; the caller puts them in the kind's roughness slots).
     pub roughness_textures: [Option<SceneTexture>; 2],
+    /// A diffuse reflectance that is a `mesh_attribute`: its name and scale (each shape
+    /// gets its own texture of it, `mesh_attribute.rs`).
+    pub mesh_attribute: Option<(String, f32)>,
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
@@ -184,6 +187,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     }
     let mut kd_texture = None;
     let mut roughness_textures = [None, None];
+    let mut mesh_attribute = None;
     let material = match kind {
         "twosided" => {
             // Our materials reflect on both sides already: the nested bsdf is the material.
@@ -256,8 +260,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         }
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
-                let tex = texture(cx, t, &p.at("reflectance"))?;
-                kd_texture = Some(tex);
+                let field = p.at("reflectance");
+                match crate::importers::mitsuba::mesh_attribute::read(cx, t, &field)? {
+                    Some(attribute) => mesh_attribute = Some(attribute),
+                    None => kd_texture = Some(texture(cx, t, &field)?),
+                }
                 // The texture's index is set when the caller adds it.
                 Material::diffuse(Vec3::ONE)
             }
@@ -290,6 +297,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     normal_texture: None,
                     alpha_texture: None,
                     roughness_textures,
+                    mesh_attribute,
                 });
             }
             match microfacet {
@@ -367,5 +375,6 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         normal_texture: None,
         alpha_texture: None,
         roughness_textures,
+        mesh_attribute,
     })
 }

@@ -19,6 +19,7 @@ mod emitter;
 mod include;
 mod integrator;
 mod medium;
+mod mesh_attribute;
 mod plugin;
 mod round;
 mod sensor;
@@ -153,6 +154,7 @@ pub fn import_with(
         bsdfs: HashMap::new(),
         default_material: None,
         media: HashMap::new(),
+        attribute_materials: Vec::new(),
         warnings: Vec::new(),
     };
     let mut counts: HashMap<&str, usize> = HashMap::new();
@@ -246,6 +248,9 @@ struct Importer<'f> {
     default_material: Option<MaterialId>,
     /// Media of the top-level `medium`s with an `id`, for `ref`.
     media: HashMap<String, crate::media::builder::MediumId>,
+    /// The materials whose diffuse reflectance is a `mesh_attribute`, which each shape
+    /// makes its own copy of.
+    attribute_materials: Vec<(MaterialId, mesh_attribute::AttributeUse)>,
     warnings: Vec<String>,
 }
 
@@ -282,7 +287,23 @@ impl<'f> Importer<'f> {
                 }
             }
         }
-        self.b.add_material(None, material, &at)
+        let Some((name, scale)) = read.mesh_attribute else {
+            return self.b.add_material(None, material, &at);
+        };
+        // The mesh's uvs will be the attribute's: no other texture may read them.
+        let no = crate::textures::NO_TEXTURE;
+        if material.normal_texture != no || material.alpha.is_some_and(|a| a.texture != no) {
+            let message = "a `mesh_attribute` with another texture in one bsdf is not supported";
+            return Err(self.cx.err(node, field, message));
+        }
+        let id = self.b.add_material(None, material.clone(), &at)?;
+        let attribute = mesh_attribute::AttributeUse {
+            material,
+            name,
+            scale,
+        };
+        self.attribute_materials.push((id, attribute));
+        Ok(id)
     }
 
     /// A fixed place for the builder's errors: the element's line and field.

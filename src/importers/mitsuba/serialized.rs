@@ -329,5 +329,6 @@ fn read_mesh<R: Read>(s: &mut Stream<R>, version: u16, room: u64) -> Result<Mesh
         normals: normals.map(|ns| faces.iter().map(|f| corners(f).map(|v| ns[v])).collect()),
         uvs: uvs.map(|uvs| faces.iter().map(|f| corners(f).map(|v| uvs[v])).collect()),
         vertices: Some(faces),
+        attributes: Vec::new(),
     })
 }

@@ -8,11 +8,12 @@
 //! meshes (`shape_index`, `face_normals`; [`serialized`]), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
+use crate::bsdfs::{BsdfKind, Param};
 use crate::error::Result;
 use crate::importers::mesh_file::{self, MeshData, MeshFormat};
 use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
-use crate::importers::mitsuba::{round, serialized, Importer};
+use crate::importers::mitsuba::{mesh_attribute, round, serialized, Importer};
 use crate::media::builder::{interface, MediumId};
 use crate::scene::builder::Surface;
 use crate::textures::uv;
@@ -203,6 +204,7 @@ impl<'f> Importer<'f> {
                     normals: None,
                     uvs: Some(uvs),
                     vertices: None,
+                    attributes: Vec::new(),
                 }
             }
             "cube" => MeshData {
@@ -213,6 +215,7 @@ impl<'f> Importer<'f> {
                 normals: None,
                 uvs: None,
                 vertices: None,
+                attributes: Vec::new(),
             },
             "disk" | "cylinder" => {
                 let what = format!(
@@ -284,6 +287,7 @@ impl<'f> Importer<'f> {
         // A mesh file without normals is smooth in Mitsuba (unless `face_normals`): normals
         // from its faces, after to_world.
         let mesh = mesh.transform(m, flip).smooth_from_faces();
+        let (mesh, surface) = self.attribute_surface(p, mesh, surface)?;
         match mesh.uvs {
             Some(uvs) => self
                 .b
@@ -292,5 +296,53 @@ impl<'f> Importer<'f> {
                 .b
                 .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
         }
+    }
+
+    /// `mesh` and `surface`, or, when the surface's material reads a `mesh_attribute`, the
+    /// mesh with the attribute's uvs and a copy of the material whose diffuse reflectance is
+    /// its texture (`mesh_attribute.rs`). A shape without the attribute is an error.
+    fn attribute_surface(
+        &mut self,
+        p: &Plugin,
+        mut mesh: MeshData,
+        mut surface: Surface,
+    ) -> Result<(MeshData, Surface)> {
+        let used = (self.attribute_materials.iter())
+            .find(|(id, _)| Some(*id) == surface.material)
+            .map(|(_, a)| a.clone());
+        let Some(used) = used else {
+            return Ok((mesh, surface));
+        };
+        let Some((_, values)) = mesh.attributes.iter().find(|(n, _)| *n == used.name) else {
+            let mut names: Vec<String> = mesh
+                .attributes
+                .iter()
+                .map(|(n, _)| format!("`{n}`"))
+                .collect();
+            if names.is_empty() {
+                names.push("none".into());
+            }
+            let message = format!(
+                "its bsdf reads the mesh attribute `{}`, which this shape does not have (its \
+                 attributes: {})",
+                used.name,
+                names.join(", ")
+            );
+            return Err(self.cx.err(p.node, &p.field, message));
+        };
+        let at = self.origin(p.node, &p.field);
+        let (texture, uvs) = mesh_attribute::texture(values).map_err(|m| {
+            self.cx
+                .err(p.node, &p.field, format!("mesh attribute: {m}"))
+        })?;
+        let texture = self.b.add_texture(texture, &at)?;
+        let mut material = used.material;
+        if let Some(base) = material.bsdf.base_colour_mut() {
+            *base = Param::texture(texture);
+            base.value = Vec3::splat(used.scale);
+        }
+        surface.material = Some(self.b.add_material(None, material, &at)?);
+        mesh.uvs = Some(uvs);
+        Ok((mesh, surface))
     }
 }
