@@ -568,18 +568,17 @@ end_header
 
 #[test]
 fn custom_attributes_group_as_mitsuba_groups_them() {
-    // Mitsuba 3.9's PLY reader (src/shapes/ply.h, find_other_fields): red/green/blue as
-    // vertex_color (integers normalised and sRGB-decoded); temp_0 one field; uv_x uv_y (two
-    // fields) and `bad` (no postfix) ignored; w_1 w_2 w_3; the face's color_r/g/b as
-    // face_color_color and weight_0, one row per triangle of the fanned quad.
+    // Mitsuba 3.9.1's PLY reader (scripts/mitsuba_mesh_attribute_probe.py, the quad as two
+    // triangles): red/green/blue as vertex_color (integers as they are: 255, not 1); temp_0
+    // one field; uv_x uv_y (two fields) and `bad` (no postfix) ignored; w_1 w_2 w_3; the
+    // face's color_r/g/b as face_color_color and weight_0, one row per triangle.
     let dir = std::env::temp_dir().join(format!("gpu-photon-ply-attr-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mesh = read_ply(&write(&dir, "a.ply", ATTRIBUTE_PLY.as_bytes())).unwrap();
-    let half = gpu_photon::textures::srgb_to_linear(128.0 / 255.0) as f32;
     let got: Vec<(&str, usize, &[f32])> = (mesh.attributes.iter())
         .map(|a| (a.name.as_str(), a.dim, &a.values[..]))
         .collect();
-    let colour = [1.0, half, 0.0, 0., 0., 0., 0., 0., 0., 0., 0., 0.];
+    let colour = [255.0, 128.0, 0.0, 0., 0., 0., 0., 0., 0., 0., 0., 0.];
     let want: Vec<(&str, usize, &[f32])> = vec![
         ("vertex_color", 3, &colour),
         ("vertex_temp", 1, &[1.5, 2.5, 3.5, 4.5]),

@@ -9,10 +9,9 @@
 //!   of 2 or 4 fields or a broken sequence is ignored, as Mitsuba ignores it (with a warning
 //!   there).
 //!
-//! Float and double fields are taken as they are; integer fields are normalised by their
-//! type's maximum and sRGB-decoded, as Mitsuba's reader flags them (`Normalized | Gamma`).
+//! Every field is taken as it is, integers too (not normalised: a `uchar` colour of 255 is
+//! 255, as in Mitsuba; `scripts/mitsuba_mesh_attribute_probe.py`).
 
-use crate::textures::srgb_to_linear;
 use ply_rs_bw::ply::{DefaultElement, ElementDef, Property, PropertyType};
 
 /// One attribute: its Mitsuba name (`vertex_color`), the properties it reads and their
@@ -112,21 +111,20 @@ pub(crate) fn groups(
     out
 }
 
-/// The value of scalar property `name` of `row` as Mitsuba reads an attribute field: a float
-/// as it is, an integer normalised by its type's maximum and sRGB-decoded.
+/// The value of scalar property `name` of `row` as Mitsuba 3.9 reads an attribute field: as
+/// it is, an integer too (`scripts/mitsuba_mesh_attribute_probe.py`: a `uchar` 255 is 255;
+/// Mitsuba warns that colours are expected in [0, 1]). A value that is not finite is kept:
+/// it is refused where a texture reads it.
 pub(crate) fn field(row: &DefaultElement, name: &str) -> Result<f32, String> {
-    let normalised = |v: f64, max: f64| srgb_to_linear((v / max).clamp(0.0, 1.0)) as f32;
-    let value = match row.get(name) {
+    Ok(match row.get(name) {
         Some(Property::Float(x)) => *x,
         Some(Property::Double(x)) => *x as f32,
-        Some(Property::Char(x)) => normalised(*x as f64, i8::MAX as f64),
-        Some(Property::UChar(x)) => normalised(*x as f64, u8::MAX as f64),
-        Some(Property::Short(x)) => normalised(*x as f64, i16::MAX as f64),
-        Some(Property::UShort(x)) => normalised(*x as f64, u16::MAX as f64),
-        Some(Property::Int(x)) => normalised(*x as f64, i32::MAX as f64),
-        Some(Property::UInt(x)) => normalised(*x as f64, u32::MAX as f64),
+        Some(Property::Char(x)) => *x as f32,
+        Some(Property::UChar(x)) => *x as f32,
+        Some(Property::Short(x)) => *x as f32,
+        Some(Property::UShort(x)) => *x as f32,
+        Some(Property::Int(x)) => *x as f32,
+        Some(Property::UInt(x)) => *x as f32,
         _ => return Err(format!("property `{name}` is not a number")),
-    };
-    // Kept as it is: a value that is not finite is refused where a texture reads it.
-    Ok(value)
+    })
 }
