@@ -326,7 +326,8 @@ fn rawconstant_and_textured_roughness() {
         r#"<bsdf type="diffuse" id="a"><texture type="rawconstant" name="reflectance"><vector name="value" value="0.5, -2, 3"/></texture></bsdf>
 <bsdf type="diffuse" id="b"><texture type="rawconstant" name="reflectance"><float name="value" value="2.5"/></texture></bsdf>
 <bsdf type="roughconductor" id="c"><texture type="checkerboard" name="alpha_u"><rgb name="color0" value="0.1, 0.2, 0.9"/><float name="color1" value="0.3"/></texture><float name="alpha_v" value="0.2"/></bsdf>
-<bsdf type="roughdielectric" id="d"><texture type="rawconstant" name="alpha"><float name="value" value="0.15"/></texture></bsdf>"#,
+<bsdf type="roughdielectric" id="d"><texture type="rawconstant" name="alpha"><float name="value" value="0.15"/></texture></bsdf>
+<bsdf type="mask" id="e"><texture type="checkerboard" name="opacity"><rgb name="color0" value="0.1, 0.2, 0.9"/><float name="color1" value="0.3"/></texture><bsdf type="diffuse"/></bsdf>"#,
     );
     let (m, t) = (&im.scene.materials, &im.scene.textures);
     let uv = Vec2::new(0.3, 0.9);
@@ -359,6 +360,10 @@ fn rawconstant_and_textured_roughness() {
         (mf.alpha_u - 0.15).abs() < 1e-7 && (mf.alpha_v - 0.15).abs() < 1e-7,
         "{mf:?}"
     );
+    // A mask's textured opacity is read as the roughness is (Mitsuba's eval_1 too).
+    let alpha = m[4].alpha.unwrap();
+    let opacity = |u: f32, v: f32| t[alpha.texture as usize].eval(Vec2::new(u, v)).x;
+    assert!((opacity(0.25, 0.25) - 0.3).abs() < 1e-6 && (opacity(0.75, 0.25) - 0.4).abs() < 1e-6);
     // Mitsuba's rules: both alpha_u and alpha_v or neither, not with alpha; a roughplastic's
     // alpha is a number; a 3D rawconstant has no float value.
     let checker = r#"<texture type="checkerboard" name="alpha"/>"#;

@@ -229,11 +229,14 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         "mask" => {
             // Mitsuba 3's `mask`: the nested bsdf where a stochastic choice of probability
             // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on
-            // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is the texture's
-            // luminance, as Mitsuba evaluates a colour texture as a float.
+            // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is read as
+            // Mitsuba's `eval_1` reads it (`float_texture`: a bitmap's luminance).
             let inner = nested_bsdf(cx, &p, node, field)?;
             let (factor, tex) = match p.texture_param("opacity") {
-                Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"))?)),
+                Some(t) => {
+                    let tex = texture(cx, t, &p.at("opacity"))?;
+                    (1.0, Some(float_texture(cx, t, &p.at("opacity"), tex)?))
+                }
                 None => {
                     let v = p.float(cx, "opacity")?.unwrap_or(0.5);
                     if !(0.0..=1.0).contains(&v) {
