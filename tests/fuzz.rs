@@ -31,6 +31,7 @@ const FORMATS: &[(&str, &[&str])] = &[
     ("glb", &["glb"]),
     ("ply", &["ply"]),
     ("obj", &["obj"]),
+    ("serialized", &["serialized"]),
 ];
 
 /// Cases per format of the CI run (about 25 s on two shared cores, release build).

@@ -3,7 +3,7 @@
 //! scenes as their TOML twins and meet the same bounds; every plugin and transform we map;
 //! and malformed files give `FILE:LINE: field: message` errors, never a panic.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use gpu_photon::bsdfs::{named_conductor, Bsdf, BsdfKind, Distribution, Microfacet};
 use gpu_photon::error::Error;
 use gpu_photon::importers::load;
@@ -287,6 +287,238 @@ fn fov_axis_converts_to_the_vertical_fov() {
 }
 
 #[test]
+fn orthographic_sensor_is_mitsubas() {
+    // The suite's orthographic_sensor camera; Mitsuba 3.9.1's rays at film positions (u, v)
+    // (scripts/mitsuba_orthographic_probe.py): origins on the near clip plane, one direction.
+    let text = r#"<scene version="3.0.0"><sensor type="orthographic">
+        <float name="near_clip" value="1"/><float name="far_clip" value="1000"/>
+        <transform name="to_world"><scale x="1.5" y="1.5"/>
+        <lookat target="0, 0, 1" origin="-5, 0, 3" up="0, 0, 1"/></transform>
+        <film type="hdrfilm"><rfilter type="box"/><integer name="width" value="200"/>
+        <integer name="height" value="120"/></film></sensor></scene>"#;
+    let s = import(text, "t.xml", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let camera = s.scene.camera;
+    assert!(camera.orthographic);
+    let d = Vec3::new(0.928477, 0.0, -0.371391);
+    for (u, v, o) in [
+        (0.0, 0.0, Vec3::new(-3.737272, 1.5, 3.464238)),
+        (1.0, 1.0, Vec3::new(-4.405775, -1.5, 1.792981)),
+        (0.25, 0.75, Vec3::new(-4.238649, 0.75, 2.210795)),
+        (0.5, 0.5, Vec3::new(-4.071523, 0.0, 2.628609)),
+    ] {
+        let (origin, dir) = camera.ray(u * 200.0, v * 120.0, 200, 120, (0.5, 0.5));
+        assert!(
+            close(origin, o, 1e-5),
+            "({u}, {v}): {origin} vs Mitsuba's {o}"
+        );
+        assert!(close(dir, d, 1e-5), "({u}, {v}): {dir} vs Mitsuba's {d}");
+    }
+}
+
+#[test]
+fn rawconstant_and_textured_roughness() {
+    // scripts/mitsuba_roughness_texture_probe.py: Mitsuba 3.9.1 evaluates a rawconstant as
+    // given (no range check, a float broadcast) and a rough bsdf's roughness texture as a
+    // float: a checkerboard's rgb colour as its mean (0.4 for (0.1, 0.2, 0.9)), not its
+    // luminance (0.229); color1 (0.3) at uv (0.25, 0.25), where its colour (`eval`) is
+    // color0.
+    let im = body(
+        r#"<bsdf type="diffuse" id="a"><texture type="rawconstant" name="reflectance"><vector name="value" value="0.5, -2, 3"/></texture></bsdf>
+<bsdf type="diffuse" id="b"><texture type="rawconstant" name="reflectance"><float name="value" value="2.5"/></texture></bsdf>
+<bsdf type="roughconductor" id="c"><texture type="checkerboard" name="alpha_u"><rgb name="color0" value="0.1, 0.2, 0.9"/><float name="color1" value="0.3"/></texture><float name="alpha_v" value="0.2"/></bsdf>
+<bsdf type="roughdielectric" id="d"><texture type="rawconstant" name="alpha"><float name="value" value="0.15"/></texture></bsdf>
+<bsdf type="mask" id="e"><texture type="checkerboard" name="opacity"><rgb name="color0" value="0.1, 0.2, 0.9"/><float name="color1" value="0.3"/></texture><bsdf type="diffuse"/></bsdf>"#,
+    );
+    let (m, t) = (&im.scene.materials, &im.scene.textures);
+    let uv = Vec2::new(0.3, 0.9);
+    assert_eq!(
+        t[m[0].bsdf.base_colour().unwrap().texture as usize].eval(uv),
+        Vec3::new(0.5, -2.0, 3.0)
+    );
+    assert_eq!(
+        t[m[1].bsdf.base_colour().unwrap().texture as usize].eval(uv),
+        Vec3::splat(2.5)
+    );
+    let Bsdf::RoughConductor(c) = m[2].bsdf else {
+        panic!("roughconductor: {:?}", m[2]);
+    };
+    assert!(c.roughness.alpha_u.is_textured() && !c.roughness.alpha_v.is_textured());
+    for (uv, want) in [
+        ((0.25, 0.25), 0.3),
+        ((0.75, 0.25), 0.4),
+        ((0.75, 0.75), 0.3),
+    ] {
+        let mf = c.roughness.resolved(t, Vec2::new(uv.0, uv.1)).microfacet();
+        assert!((mf.alpha_u - want).abs() < 1e-6, "{uv:?}: {mf:?}");
+        assert_eq!(mf.alpha_v, 0.2);
+    }
+    let Bsdf::RoughDielectric(d) = m[3].bsdf else {
+        panic!("roughdielectric: {:?}", m[3]);
+    };
+    let mf = d.roughness.resolved(t, uv).microfacet();
+    assert!(
+        (mf.alpha_u - 0.15).abs() < 1e-7 && (mf.alpha_v - 0.15).abs() < 1e-7,
+        "{mf:?}"
+    );
+    // A mask's textured opacity is read as the roughness is (Mitsuba's eval_1 too).
+    let alpha = m[4].alpha.unwrap();
+    let opacity = |u: f32, v: f32| t[alpha.texture as usize].eval(Vec2::new(u, v)).x;
+    assert!((opacity(0.25, 0.25) - 0.3).abs() < 1e-6 && (opacity(0.75, 0.25) - 0.4).abs() < 1e-6);
+    // Mitsuba's rules: both alpha_u and alpha_v or neither, not with alpha; a roughplastic's
+    // alpha is a number; a 3D rawconstant has no float value.
+    let checker = r#"<texture type="checkerboard" name="alpha"/>"#;
+    for (b, want) in [
+        (
+            r#"<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha_u: needs `alpha_v` too (Mitsuba takes both or neither)",
+        ),
+        (
+            r#"<bsdf type="roughdielectric"><float name="alpha" value="0.1"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.1"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha: give either `alpha` or `alpha_u` and `alpha_v`",
+        ),
+        (
+            format!(r#"<bsdf type="roughplastic">{checker}</bsdf>"#),
+            "t.xml:4: bsdf[0].alpha: a textured roughness is not supported by `roughplastic`",
+        ),
+        (
+            r#"<bsdf type="roughconductor"><texture type="rawconstant" name="alpha"><vector name="value" value="1, 2, 3"/></texture></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].alpha: a 3D `rawconstant` has no float value (Mitsuba's eval_1 refuses it)",
+        ),
+        (
+            r#"<bsdf type="diffuse"><texture type="rawconstant" name="reflectance"/></bsdf>"#.to_string(),
+            "t.xml:4: bsdf[0].reflectance.value: missing (a `float` or a `vector`)",
+        ),
+    ] {
+        assert_eq!(body_error(&b), want);
+    }
+}
+
+#[test]
+fn identity_rawconstant_normal_map_changes_nothing() {
+    // Mitsuba's normalmap with the rawconstant normal (0.5, 0.5, 1) is its nested bsdf
+    // unchanged (its shadowing function is 1 for the unperturbed normal): so is ours, pixel
+    // for pixel, on an anisotropic rough conductor lit by a point light.
+    let scene = |wrap: bool| {
+        let inner = r#"<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.25"/><float name="alpha_v" value="0.05"/></bsdf>"#;
+        let bsdf = match wrap {
+            true => format!(
+                r#"<bsdf type="normalmap"><texture name="normalmap" type="rawconstant"><vector name="value" value="0.5, 0.5, 1.0"/></texture>{inner}</bsdf>"#
+            ),
+            false => inner.to_string(),
+        };
+        body(&format!(
+            r#"<shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-60"/></transform>{bsdf}</shape>
+<emitter type="point"><point name="position" value="0.3, 1, 1"/><rgb name="intensity" value="4"/></emitter>"#
+        ))
+        .scene
+    };
+    let (plain, mapped) = (scene(false), scene(true));
+    let settings = RenderSettings {
+        mode: Mode::DirectOnly,
+        spp: 4,
+        ..plain.settings.clone()
+    };
+    let (a, b) = (
+        render_cpu(&plain, &settings),
+        render_cpu(&mapped, &settings),
+    );
+    let stats = diff(&b, &a, 4).unwrap();
+    let mean = a.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / a.pixels.len() as f64;
+    assert!(mean > 1e-3, "the conductor is lit: mean {mean}");
+    assert!(stats.max_error < 1e-4 * mean.max(1.0), "{stats:?}");
+}
+
+#[test]
+fn mesh_attribute_is_interpolated_exactly() {
+    // Mitsuba's mesh_attribute: a vertex attribute interpolated barycentrically, a face
+    // attribute constant per face, times `scale`; ours through a texture of 2 x 2 texel
+    // blocks, checked at many barycentric points of both triangles of a fanned quad.
+    let dir = std::env::temp_dir().join(format!("gpu-photon-attr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+               property float z\nproperty float w_1\nproperty float w_2\nproperty float w_3\n\
+               element face 1\nproperty list uchar int vertex_indices\nproperty float weight_0\n\
+               end_header\n0 0 0 1 2 3\n1 0 0 4 5 6\n1 1 0 7 8 -9\n0 1 0 0.5 0.25 0\n\
+               4 0 1 2 3 0.7\n";
+    std::fs::write(dir.join("q.ply"), ply).unwrap();
+    let corners = [
+        Vec3::new(1., 2., 3.),
+        Vec3::new(4., 5., 6.),
+        Vec3::new(7., 8., -9.),
+        Vec3::new(0.5, 0.25, 0.),
+    ];
+    let scene = |name: &str, shape: &str| {
+        let file = match shape {
+            "ply" => r#"<string name="filename" value="q.ply"/>"#,
+            _ => "",
+        };
+        let text = format!(
+            "<scene version=\"3.0.0\">{SENSOR}<texture type=\"mesh_attribute\" id=\"t\">\
+             <string name=\"name\" value=\"{name}\"/><float name=\"scale\" value=\"0.5\"/>\
+             </texture>\n<bsdf type=\"diffuse\" id=\"d\"><ref name=\"reflectance\" id=\"t\"/>\
+             </bsdf>\n<shape type=\"{shape}\">{file}\
+             <ref id=\"d\"/></shape>\n</scene>\n"
+        );
+        import(&text, "t.xml", &dir)
+    };
+    for (name, fan) in [
+        ("vertex_w", [[0, 1, 2], [0, 2, 3]]),
+        ("face_weight", [[0; 3]; 2]),
+    ] {
+        let s = scene(name, "ply").unwrap_or_else(|e| panic!("{e}")).scene;
+        assert_eq!(s.triangles.len(), 2);
+        for (i, tri) in s.triangles.iter().enumerate() {
+            let base = s.materials[tri.material as usize]
+                .bsdf
+                .base_colour()
+                .unwrap();
+            let texture = &s.textures[base.texture as usize];
+            let uv = s.uvs[i];
+            for (b1, b2) in [
+                (0.0, 0.0),
+                (1.0, 0.0),
+                (0.0, 1.0),
+                (0.2, 0.3),
+                (0.5, 0.5),
+                (0.1, 0.8),
+            ] {
+                let b0 = 1.0 - b1 - b2;
+                let at = b0 * uv[0] + b1 * uv[1] + b2 * uv[2];
+                let got = base.value * texture.eval(at);
+                let want = match name {
+                    "face_weight" => Vec3::splat(0.7 * 0.5),
+                    _ => {
+                        let c = fan[i].map(|k| corners[k]);
+                        0.5 * (b0 * c[0] + b1 * c[1] + b2 * c[2])
+                    }
+                };
+                assert!(
+                    close(got, want, 2e-5),
+                    "{name} {i} ({b1}, {b2}): {got} vs {want}"
+                );
+            }
+        }
+    }
+    // A value that is not finite, an attribute the mesh lacks, a shape that has none, a name
+    // without its domain.
+    let inf = ply.replace("1 1 0 7 8 -9", "1 1 0 7 8 1e39");
+    std::fs::write(dir.join("q.ply"), inf).unwrap();
+    let e = scene("vertex_w", "ply").unwrap_err().to_string();
+    let want = "t.xml:6: shape[0]: mesh attribute: triangle 0: its values [Vec3(1.0, 2.0, 3.0), \
+                Vec3(4.0, 5.0, 6.0), Vec3(7.0, 8.0, inf)] are not all finite";
+    assert_eq!(e, want);
+    let e = scene("vertex_color", "ply").unwrap_err().to_string();
+    let want = "its bsdf reads the mesh attribute `vertex_color`, which this shape does not \
+                have (its attributes: `vertex_w`, `face_weight`)";
+    assert!(e.ends_with(want), "{e}");
+    let e = scene("vertex_w", "rectangle").unwrap_err().to_string();
+    assert!(e.ends_with("(its attributes: none)"), "{e}");
+    let e = scene("color", "ply").unwrap_err().to_string();
+    let want = "t.xml:4: bsdf[d].reflectance.name: `color` must start with `vertex_` or `face_`";
+    assert_eq!(e, want);
+}
+
+#[test]
 fn transforms_compose_in_order() {
     // scale 2, then rotate 90 degrees about +x, then translate: the rectangle [-1,1]^2 in
     // z = 0 (front +z) becomes [-2,2] x {1} x [-2,2] + (0, 0, -1) facing -y... rotate +z by
@@ -486,8 +718,8 @@ fn malformed_files_name_file_line_and_field() {
             "t.xml:4: shape[0].radius: `one` is not a number",
         ),
         (
-            r#"<shape type="serialized"/>"#,
-            "t.xml:4: shape[0]: unsupported shape `serialized`",
+            r#"<shape type="sdfgrid"/>"#,
+            "t.xml:4: shape[0]: unsupported shape `sdfgrid`",
         ),
         (
             r#"<shape type="ply"><string name="filename" value="missing.ply"/></shape>"#,
@@ -573,8 +805,12 @@ fn malformed_documents_and_sensors() {
         ("<scene>\n<bsdf type=\"diffuse\"/>\n</scene>", "t.xml:1: scene: the scene has no <sensor>"),
         ("<scen/>", "t.xml:1: scene: the root element must be <scene>, found <scen>"),
         (
-            "<scene>\n<sensor type=\"orthographic\"/></scene>",
-            "t.xml:2: sensor[0]: unsupported sensor `orthographic` (`perspective`, `thinlens`)",
+            "<scene>\n<sensor type=\"radiancemeter\"/></scene>",
+            "t.xml:2: sensor[0]: unsupported sensor `radiancemeter` (`perspective`, `thinlens`, `orthographic`)",
+        ),
+        (
+            "<scene>\n<sensor type=\"orthographic\"><transform name=\"to_world\"><scale x=\"2\" y=\"1\"/></transform></sensor></scene>",
+            "t.xml:2: sensor[0].to_world: unsupported orthographic to_world: its x and y scales differ (2 and 1); the view keeps the film's aspect",
         ),
         (
             "<scene>\n<sensor type=\"perspective\"><float name=\"fov\" value=\"180\"/></sensor></scene>",

@@ -534,3 +534,66 @@ fn the_cli_reports_a_bad_ply_and_renders_a_good_one() {
     assert_eq!(code, Some(0), "{err}");
     assert!(out.exists());
 }
+
+/// A PLY quad with custom vertex and face properties, for Mitsuba's attribute grouping.
+const ATTRIBUTE_PLY: &str = "ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+property uchar red
+property uchar green
+property uchar blue
+property float temp_0
+property float uv_x
+property float uv_y
+property float w_1
+property float w_2
+property float w_3
+property float bad
+element face 1
+property list uchar int vertex_indices
+property float color_r
+property float color_g
+property float color_b
+property float weight_0
+end_header
+0 0 0 255 128 0 1.5 1 2 1 2 3 9
+1 0 0 0 0 0 2.5 1 2 4 5 6 9
+1 1 0 0 0 0 3.5 1 2 7 8 9 9
+0 1 0 0 0 0 4.5 1 2 1 1 1 9
+4 0 1 2 3 0.1 0.2 0.3 0.7
+";
+
+#[test]
+fn custom_attributes_group_as_mitsuba_groups_them() {
+    // Mitsuba 3.9.1's PLY reader (scripts/mitsuba_mesh_attribute_probe.py, the quad as two
+    // triangles): red/green/blue as vertex_color (integers as they are: 255, not 1); temp_0
+    // one field; uv_x uv_y (two fields) and `bad` (no postfix) ignored; w_1 w_2 w_3; the
+    // face's color_r/g/b as face_color_color and weight_0, one row per triangle.
+    let dir = std::env::temp_dir().join(format!("gpu-photon-ply-attr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = read_ply(&write(&dir, "a.ply", ATTRIBUTE_PLY.as_bytes())).unwrap();
+    let got: Vec<(&str, usize, &[f32])> = (mesh.attributes.iter())
+        .map(|a| (a.name.as_str(), a.dim, &a.values[..]))
+        .collect();
+    let colour = [255.0, 128.0, 0.0, 0., 0., 0., 0., 0., 0., 0., 0., 0.];
+    let want: Vec<(&str, usize, &[f32])> = vec![
+        ("vertex_color", 3, &colour),
+        ("vertex_temp", 1, &[1.5, 2.5, 3.5, 4.5]),
+        (
+            "vertex_w",
+            3,
+            &[1., 2., 3., 4., 5., 6., 7., 8., 9., 1., 1., 1.],
+        ),
+        ("face_color_color", 3, &[0.1, 0.2, 0.3, 0.1, 0.2, 0.3]),
+        ("face_weight", 1, &[0.7, 0.7]),
+    ];
+    assert_eq!(got, want);
+    // A value that is not finite (1e39 overflows a float) is kept: a mesh_attribute texture
+    // that reads it refuses it (tests/mitsuba.rs).
+    let inf = ATTRIBUTE_PLY.replace("1.5 1 2", "1e39 1 2");
+    let mesh = read_ply(&write(&dir, "n.ply", inf.as_bytes())).unwrap();
+    assert_eq!(mesh.attributes[1].values[0], f32::INFINITY);
+}

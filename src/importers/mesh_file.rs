@@ -60,6 +60,10 @@ pub(crate) struct MeshData {
     /// to `tris`, for normals computed from the faces ([`MeshData::smooth_from_faces`]);
     /// `None` for a shape that is not a mesh file.
     pub vertices: Option<Vec<[u32; 3]>>,
+    /// A PLY file's custom attributes by Mitsuba's name (`vertex_color`, `face_color`; see
+    /// [`ply::attributes`]): each corner's value as a colour (one field broadcast, a fourth
+    /// dropped; a face attribute's three corners equal), parallel to `tris`.
+    pub attributes: Vec<(String, Vec<[Vec3; 3]>)>,
 }
 
 impl MeshData {
@@ -93,6 +97,14 @@ impl MeshData {
                 }
                 uvs
             }),
+            attributes: (self.attributes.into_iter())
+                .map(|(name, mut values)| {
+                    if swap {
+                        values.iter_mut().for_each(|t| t.swap(1, 2));
+                    }
+                    (name, values)
+                })
+                .collect(),
         }
     }
 
@@ -160,6 +172,7 @@ pub(crate) fn load_mesh(
                 normals: obj.normals,
                 uvs: obj.uvs,
                 vertices: Some(vertices),
+                attributes: Vec::new(),
             })
         }
         MeshFormat::Ply => {
@@ -189,14 +202,37 @@ pub(crate) fn load_mesh(
                 };
                 mesh.triangles.iter().map(|t| t.map(at)).collect()
             });
+            let attributes = (mesh.attributes.iter())
+                .map(|a| (a.name.clone(), corner_values(a, &mesh.triangles)))
+                .collect();
             Ok(MeshData {
                 tris: mesh.triangle_positions(),
                 normals,
                 uvs,
                 vertices: Some(mesh.triangles.clone()),
+                attributes,
             })
         }
     }
+}
+
+/// The corners' values of PLY attribute `a` as colours: a `vertex_` one's rows by the
+/// corners' vertices, a `face_` one's row (one per triangle) at all three corners.
+fn corner_values(a: &ply::attributes::PlyAttribute, triangles: &[[u32; 3]]) -> Vec<[Vec3; 3]> {
+    let colour = |row: usize| {
+        let v = &a.values[row * a.dim..][..a.dim];
+        match a.dim {
+            1 => Vec3::splat(v[0]),
+            _ => Vec3::new(v[0], v[1], v[2]),
+        }
+    };
+    let per_face = a.name.starts_with("face_");
+    (triangles.iter().enumerate())
+        .map(|(i, t)| match per_face {
+            true => [colour(i); 3],
+            false => t.map(|v| colour(v as usize)),
+        })
+        .collect()
 }
 
 /// Vertex ids that also tell corners with other texture coordinates apart: one per distinct

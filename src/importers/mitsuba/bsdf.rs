@@ -14,7 +14,7 @@ use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
-use crate::textures::SceneTexture;
+use crate::textures::{Checkerboard, SceneTexture};
 use glam::Vec3;
 use roxmltree::Node;
 
@@ -32,6 +32,12 @@ pub(crate) struct Read {
     pub normal_texture: Option<SceneTexture>,
     /// The textured opacity of a `mask` bsdf (its luminance; `material.alpha` set).
     pub alpha_texture: Option<SceneTexture>,
+    /// The textured `alpha_u` and `alpha_v` of a rough conductor or dielectric (their
+    /// luminance; the caller puts them in the kind's roughness slots).
+    pub roughness_textures: [Option<SceneTexture>; 2],
+    /// A diffuse reflectance that is a `mesh_attribute`: its name and scale (each shape
+    /// gets its own texture of it, `mesh_attribute.rs`).
+    pub mesh_attribute: Option<(String, f32)>,
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
@@ -53,9 +59,16 @@ fn nested_bsdf<'f>(
     Ok(inner)
 }
 
-/// The microfacet roughness of a rough plugin: `distribution` (`beckmann` default, `ggx`),
-/// `alpha` (default 0.1) or `alpha_u` and `alpha_v`.
-fn microfacet(cx: &Cx, p: &Plugin) -> Result<Microfacet> {
+/// The microfacet roughness of a rough plugin, as Mitsuba's microfacet plugins read it:
+/// `distribution` (`beckmann` default, `ggx`), and `alpha` (default 0.1) or both `alpha_u` and
+/// `alpha_v` (not one alone, nor with `alpha`). Where `textured` (`roughconductor`,
+/// `roughdielectric`), each may be a `<texture>`, read as its luminance (Mitsuba's `eval_1`):
+/// its slot is returned (u, v) and the constant is then 1.
+fn microfacet(
+    cx: &Cx,
+    p: &Plugin,
+    textured: bool,
+) -> Result<(Microfacet, [Option<SceneTexture>; 2])> {
     let distribution = match p.string(cx, "distribution")?.as_deref() {
         None | Some("beckmann") => Distribution::Beckmann,
         Some("ggx") => Distribution::Ggx,
@@ -65,15 +78,75 @@ fn microfacet(cx: &Cx, p: &Plugin) -> Result<Microfacet> {
         }
     };
     p.ignore(&["sample_visible"]);
-    let alpha = p.positive(cx, "alpha", 0.1)?;
-    let u = p.float(cx, "alpha_u")?.unwrap_or(alpha);
-    let v = p.float(cx, "alpha_v")?.unwrap_or(alpha);
-    for (name, a) in [("alpha_u", u), ("alpha_v", v)] {
-        if !(a > 0.0 && a.is_finite()) {
-            return Err(cx.err(p.node_of(name), &p.at(name), "must be positive"));
+    let given = |name: &str| p.node_of(name) != p.node;
+    let names = match (given("alpha_u"), given("alpha_v")) {
+        (false, false) => ["alpha", "alpha"],
+        (true, true) if given("alpha") => {
+            let message = "give either `alpha` or `alpha_u` and `alpha_v`";
+            return Err(cx.err(p.node_of("alpha"), &p.at("alpha"), message));
+        }
+        (true, true) => ["alpha_u", "alpha_v"],
+        (u, _) => {
+            let (name, other) = if u {
+                ("alpha_u", "alpha_v")
+            } else {
+                ("alpha_v", "alpha_u")
+            };
+            let message = format!("needs `{other}` too (Mitsuba takes both or neither)");
+            return Err(cx.err(p.node_of(name), &p.at(name), message));
+        }
+    };
+    let mut alphas = [0.1; 2];
+    let mut textures = [None, None];
+    for (i, name) in names.into_iter().enumerate() {
+        if let Some(t) = p.texture_param(name) {
+            if !textured {
+                let message = format!("a textured roughness is not supported by `{}`", p.kind);
+                return Err(cx.err(t, &p.at(name), message));
+            }
+            let tex = texture(cx, t, &p.at(name))?;
+            textures[i] = Some(float_texture(cx, t, &p.at(name), tex)?);
+            alphas[i] = 1.0;
+        } else if let Some(a) = p.float(cx, name)? {
+            if !(a > 0.0 && a.is_finite()) {
+                return Err(cx.err(p.node_of(name), &p.at(name), "must be positive"));
+            }
+            alphas[i] = a;
         }
     }
-    Ok(Microfacet::new(distribution, u, v))
+    Ok((
+        Microfacet::new(distribution, alphas[0], alphas[1]),
+        textures,
+    ))
+}
+
+/// The texture `tex` (read from `node`, at `field`) as Mitsuba evaluates it as a float (`eval_1`), for
+/// a [`Channel::Luminance`](crate::bsdfs::Channel) slot: a bitmap's luminance (as is); a
+/// checkerboard's colours each their mean (Mitsuba's `srgb` colour gives its mean), made
+/// grey, and swapped (Mitsuba's checkerboard `eval_1` inverts its `eval`'s parity;
+/// `scripts/mitsuba_roughness_texture_probe.py`); a 3D `rawconstant` has none (Mitsuba
+/// throws), an error.
+fn float_texture(cx: &Cx, node: Node, field: &str, tex: SceneTexture) -> Result<SceneTexture> {
+    let vector = node.children().any(|c| {
+        c.attribute("name") == Some("value") && matches!(c.tag_name().name(), "vector" | "point")
+    });
+    if node.attribute("type") == Some("rawconstant") && vector {
+        let message = "a 3D `rawconstant` has no float value (Mitsuba's eval_1 refuses it)";
+        return Err(cx.err(node, field, message));
+    }
+    Ok(match tex {
+        SceneTexture::Checkerboard(c) => {
+            let grey = |v: Vec3| Vec3::splat(v.element_sum() / 3.0);
+            // Mitsuba's checkerboard `eval_1` takes color0 where its `eval` takes color1 (and
+            // the other way round): swapped, as there.
+            SceneTexture::Checkerboard(Checkerboard {
+                color0: grey(c.color1),
+                color1: grey(c.color0),
+                ..c
+            })
+        }
+        other => other,
+    })
 }
 
 /// A conductor's complex index: `material` (a name from Mitsuba's table; default `none`,
@@ -113,6 +186,8 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         return Err(cx.err(extra, field, message));
     }
     let mut kd_texture = None;
+    let mut roughness_textures = [None, None];
+    let mut mesh_attribute = None;
     let mut material = match kind {
         "twosided" => {
             // The nested bsdf, seen from both sides alike.
@@ -153,11 +228,14 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         "mask" => {
             // Mitsuba 3's `mask`: the nested bsdf where a stochastic choice of probability
             // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on
-            // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is the texture's
-            // luminance, as Mitsuba evaluates a colour texture as a float.
+            // unchanged (crate::scene::AlphaMode::Blend). A textured opacity is read as
+            // Mitsuba's `eval_1` reads it (`float_texture`: a bitmap's luminance).
             let inner = nested_bsdf(cx, &p, node, field)?;
             let (factor, tex) = match p.texture_param("opacity") {
-                Some(t) => (1.0, Some(texture(cx, t, &p.at("opacity"))?)),
+                Some(t) => {
+                    let tex = texture(cx, t, &p.at("opacity"))?;
+                    (1.0, Some(float_texture(cx, t, &p.at("opacity"), tex)?))
+                }
                 None => {
                     let v = p.float(cx, "opacity")?.unwrap_or(0.5);
                     if !(0.0..=1.0).contains(&v) {
@@ -184,8 +262,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         }
         "diffuse" => match p.texture_param("reflectance") {
             Some(t) => {
-                let tex = texture(cx, t, &p.at("reflectance"))?;
-                kd_texture = Some(tex);
+                let field = p.at("reflectance");
+                match crate::importers::mitsuba::mesh_attribute::read(cx, t, &field)? {
+                    Some(attribute) => mesh_attribute = Some(attribute),
+                    None => kd_texture = Some(texture(cx, t, &field)?),
+                }
                 // The texture's index is set when the caller adds it.
                 Material::diffuse(Vec3::ONE)
             }
@@ -203,7 +284,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             let specular = p.albedo(cx, "specular_reflectance", 1.0)?;
             let microfacet = match kind {
                 "conductor" => None,
-                _ => Some(microfacet(cx, &p)?),
+                _ => {
+                    let (mf, textures) = microfacet(cx, &p, true)?;
+                    roughness_textures = textures;
+                    Some(mf)
+                }
             };
             // A smooth conductor of material `none` (eta 0, k 1) reflects everything.
             if microfacet.is_none() && eta == Vec3::ZERO && k == Vec3::ONE {
@@ -216,6 +301,8 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     kd_texture,
                     normal_texture: None,
                     alpha_texture: None,
+                    roughness_textures,
+                    mesh_attribute,
                 });
             }
             match microfacet {
@@ -247,12 +334,16 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     specular_reflectance,
                     specular_transmittance,
                 )),
-                _ => Material::of(RoughDielectric::new(
-                    eta,
-                    specular_reflectance,
-                    specular_transmittance,
-                    microfacet(cx, &p)?,
-                )),
+                _ => {
+                    let (mf, textures) = microfacet(cx, &p, true)?;
+                    roughness_textures = textures;
+                    Material::of(RoughDielectric::new(
+                        eta,
+                        specular_reflectance,
+                        specular_transmittance,
+                        mf,
+                    ))
+                }
             }
         }
         "plastic" | "roughplastic" => {
@@ -270,7 +361,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             let nonlinear = p.boolean(cx, "nonlinear")?;
             let microfacet = match kind {
                 "plastic" => None,
-                _ => Some(microfacet(cx, &p)?),
+                _ => Some(microfacet(cx, &p, false)?.0),
             };
             Material::of(Plastic::new(kd, specular, eta, nonlinear, microfacet))
         }
@@ -299,5 +390,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         kd_texture,
         normal_texture: None,
         alpha_texture: None,
+        roughness_textures,
+        mesh_attribute,
     })
 }

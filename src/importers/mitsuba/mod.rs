@@ -20,9 +20,11 @@ mod emitter;
 mod include;
 mod integrator;
 mod medium;
+mod mesh_attribute;
 mod plugin;
 mod round;
 mod sensor;
+mod serialized;
 mod shape;
 mod spectrum;
 mod texture;
@@ -31,7 +33,7 @@ mod values;
 
 pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 
-use crate::bsdfs::BsdfKind;
+use crate::bsdfs::{Bsdf, BsdfKind, Channel};
 use crate::error::{Error, Result};
 use crate::importers::file;
 use crate::scene::builder::{MaterialId, SceneBuilder};
@@ -153,6 +155,7 @@ pub fn import_with(
         bsdfs: HashMap::new(),
         default_material: None,
         media: HashMap::new(),
+        attribute_materials: Vec::new(),
         warnings: Vec::new(),
     };
     let mut counts: HashMap<&str, usize> = HashMap::new();
@@ -246,6 +249,9 @@ struct Importer<'f> {
     default_material: Option<MaterialId>,
     /// Media of the top-level `medium`s with an `id`, for `ref`.
     media: HashMap<String, crate::media::builder::MediumId>,
+    /// The materials whose diffuse reflectance is a `mesh_attribute`, which each shape
+    /// makes its own copy of.
+    attribute_materials: Vec<(MaterialId, mesh_attribute::AttributeUse)>,
     warnings: Vec<String>,
 }
 
@@ -290,7 +296,38 @@ impl<'f> Importer<'f> {
         if let (Some(t), Some(alpha)) = (read.alpha_texture, material.alpha.as_mut()) {
             alpha.texture = self.b.add_texture(t, &at)?;
         }
-        self.b.add_material(None, material, &at)
+        // A textured roughness (only read for these kinds): Mitsuba evaluates it as a
+        // float, its luminance.
+        let roughness = match &mut material.bsdf {
+            Bsdf::RoughConductor(k) => Some(&mut k.roughness),
+            Bsdf::RoughDielectric(k) => Some(&mut k.roughness),
+            _ => None,
+        };
+        if let Some(r) = roughness {
+            let [u, v] = read.roughness_textures;
+            for (t, slot) in [(u, &mut r.alpha_u), (v, &mut r.alpha_v)] {
+                if let Some(t) = t {
+                    *slot = slot.times(self.b.add_texture(t, &at)?, Channel::Luminance);
+                }
+            }
+        }
+        let Some((name, scale)) = read.mesh_attribute else {
+            return self.b.add_material(None, material, &at);
+        };
+        // The mesh's uvs will be the attribute's: no other texture may read them.
+        let no = crate::textures::NO_TEXTURE;
+        if material.normal_texture != no || material.alpha.is_some_and(|a| a.texture != no) {
+            let message = "a `mesh_attribute` with another texture in one bsdf is not supported";
+            return Err(self.cx.err(node, field, message));
+        }
+        let id = self.b.add_material(None, material.clone(), &at)?;
+        let attribute = mesh_attribute::AttributeUse {
+            material,
+            name,
+            scale,
+        };
+        self.attribute_materials.push((id, attribute));
+        Ok(id)
     }
 
     /// A fixed place for the builder's errors: the element's line and field.

@@ -34,6 +34,7 @@ pub(crate) fn disk() -> MeshData {
         normals: None,
         uvs: Some(uvs),
         vertices: None,
+        attributes: Vec::new(),
     }
 }
 
@@ -61,6 +62,7 @@ pub(crate) fn cylinder() -> MeshData {
         normals: Some(normals),
         uvs: Some(uvs),
         vertices: None,
+        attributes: Vec::new(),
     }
 }
 

@@ -1,10 +1,14 @@
-//! Mitsuba's `sensor`: a `perspective` or `thinlens` camera with its `hdrfilm`, `rfilter`
-//! and `sampler`.
+//! Mitsuba's `sensor`: a `perspective`, `thinlens` or `orthographic` camera with its
+//! `hdrfilm`, `rfilter` and `sampler`.
 //!
 //! The field of view is converted exactly: Mitsuba's `fov` spans the `fov_axis` (`x`, `y`,
 //! `diagonal`, `smaller` or `larger` of the film) and ours is vertical, so
 //! `tan(fov_y / 2) = tan(fov / 2) * h / s`, `s` the film's extent along that axis (`w`, `h`
 //! or `sqrt(w^2 + h^2)`).
+//!
+//! An `orthographic` camera's view is camera space's x in [-1, 1] and y in
+//! [-1 / aspect, 1 / aspect] (aspect = w / h) through `to_world`, whose x and y scale size it;
+//! its rays start on the near clip plane (camera z = `near_clip`), as Mitsuba's do.
 
 use crate::camera::pixel_filter::PixelFilter;
 use crate::error::Result;
@@ -12,18 +16,19 @@ use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::values::Cx;
 use crate::importers::mitsuba::Importer;
 use crate::scene::builder::SceneBuilder;
-use crate::settings::split_samples;
+use crate::settings::{split_samples, RenderSettings};
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
 
 impl Importer<'_> {
-    /// `<sensor type="perspective">` with its film and sampler: the camera, image size, spp.
+    /// `<sensor type="perspective">` (or `thinlens`, `orthographic`) with its film and
+    /// sampler: the camera, image size, spp.
     pub(crate) fn sensor(&mut self, node: Node, field: &str) -> Result<()> {
         let cx = &self.cx;
         let p = Plugin::new(cx, node, field.to_string())?;
-        if p.kind != "perspective" && p.kind != "thinlens" {
+        if !["perspective", "thinlens", "orthographic"].contains(&p.kind.as_str()) {
             let message = format!(
-                "unsupported sensor `{}` (`perspective`, `thinlens`)",
+                "unsupported sensor `{}` (`perspective`, `thinlens`, `orthographic`)",
                 p.kind
             );
             return Err(cx.err(node, field, message));
@@ -56,59 +61,10 @@ impl Importer<'_> {
                 }
             }
         }
-        // Mitsuba's `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length`
-        // (default 50mm) on the 36 x 24 mm frame's diagonal.
-        let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
-        let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
-            (Some(_), Some(_)) => {
-                let message = "give `fov` or `focal_length`, not both";
-                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
-            }
-            (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
-            (None, focal) => {
-                let focal = focal.unwrap_or_else(|| "50mm".into());
-                let mm = focal
-                    .strip_suffix("mm")
-                    .unwrap_or(&focal)
-                    .trim()
-                    .parse::<f32>();
-                let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
-                    let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
-                    return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
-                };
-                let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
-                (fov, "diagonal".into())
-            }
+        let fov_y = match p.kind.as_str() {
+            "orthographic" => None,
+            _ => Some(fov_y(cx, &p, node, self.b.settings())?),
         };
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
-        }
-        // Our pinhole's principal point is the film's centre.
-        for name in ["principal_point_offset_x", "principal_point_offset_y"] {
-            if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
-                let message = "unsupported unless 0 (the principal point is the film's centre)";
-                return Err(cx.err(p.node_of(name), &p.at(name), message));
-            }
-        }
-        let (w, h) = (
-            self.b.settings().width as f32,
-            self.b.settings().height as f32,
-        );
-        let t = (fov.to_radians() / 2.0).tan();
-        let ty = match axis.as_str() {
-            "x" => t * h / w,
-            "y" => t,
-            "diagonal" => t * h / (w * w + h * h).sqrt(),
-            "smaller" if w < h => t * h / w,
-            "larger" if w > h => t * h / w,
-            "smaller" | "larger" => t,
-            other => {
-                let message =
-                    format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
-                return Err(cx.err(node, &p.at("fov_axis"), message));
-            }
-        };
-        let fov_y = 2.0 * ty.atan().to_degrees();
         let m = p.transform(cx, "to_world")?.unwrap_or(Mat4::IDENTITY);
         // Clipping planes clip nothing for us (a camera in a medium warns below); Mitsuba's
         // checks on them are kept. A perspective camera's focus distance is read and ignored;
@@ -142,6 +98,33 @@ impl Importer<'_> {
             return Err(cx.err(node, &p.at("to_world"), message));
         }
         let near_at = format!("{}: {}", cx.loc(p.node_of("near_clip")), p.at("near_clip"));
+        let at = self.origin(node, field);
+        let Some(fov_y) = fov_y else {
+            // Mitsuba's view is x in [-1, 1], y in [-1/aspect, 1/aspect] before to_world: the
+            // x and y scales must agree (our view keeps the film's aspect).
+            let (sx, sy) = (
+                m.transform_vector3(Vec3::X).length(),
+                m.transform_vector3(Vec3::Y).length(),
+            );
+            if (sx - sy).abs() > 1e-4 * sx.max(sy) {
+                let message = format!(
+                    "unsupported orthographic to_world: its x and y scales differ ({sx} and \
+                     {sy}); the view keeps the film's aspect"
+                );
+                return Err(cx.err(node, &p.at("to_world"), message));
+            }
+            if let Some((child, sub)) = medium {
+                let m = self.medium_child(child, &sub)?;
+                self.b.set_camera_medium(m);
+            }
+            let settings = self.b.settings();
+            let aspect = settings.width as f32 / settings.height as f32;
+            // The rays start on the near clip plane, as Mitsuba's.
+            let start = m.transform_point3(Vec3::new(0.0, 0.0, near));
+            return self
+                .b
+                .orthographic_camera(start, start + forward, up, sy / aspect, &at);
+        };
         if let Some((child, sub)) = medium {
             let m = self.medium_child(child, &sub)?;
             self.b.set_camera_medium(m);
@@ -157,9 +140,61 @@ impl Importer<'_> {
                 ));
             }
         }
-        let at = self.origin(node, field);
         self.b.camera(eye, eye + forward, up, fov_y, &at)
     }
+}
+
+/// A `perspective` or `thinlens` sensor's vertical field of view, degrees, from Mitsuba's
+/// `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length` (default 50mm)
+/// on the 36 x 24 mm frame's diagonal, converted with the film's aspect.
+fn fov_y(cx: &Cx, p: &Plugin, node: Node, settings: &RenderSettings) -> Result<f32> {
+    let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
+    let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
+        (Some(_), Some(_)) => {
+            let message = "give `fov` or `focal_length`, not both";
+            return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+        }
+        (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
+        (None, focal) => {
+            let focal = focal.unwrap_or_else(|| "50mm".into());
+            let mm = focal
+                .strip_suffix("mm")
+                .unwrap_or(&focal)
+                .trim()
+                .parse::<f32>();
+            let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
+                let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
+                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+            };
+            let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
+            (fov, "diagonal".into())
+        }
+    };
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
+    }
+    // Our pinhole's principal point is the film's centre.
+    for name in ["principal_point_offset_x", "principal_point_offset_y"] {
+        if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
+            let message = "unsupported unless 0 (the principal point is the film's centre)";
+            return Err(cx.err(p.node_of(name), &p.at(name), message));
+        }
+    }
+    let (w, h) = (settings.width as f32, settings.height as f32);
+    let t = (fov.to_radians() / 2.0).tan();
+    let ty = match axis.as_str() {
+        "x" => t * h / w,
+        "y" => t,
+        "diagonal" => t * h / (w * w + h * h).sqrt(),
+        "smaller" if w < h => t * h / w,
+        "larger" if w > h => t * h / w,
+        "smaller" | "larger" => t,
+        other => {
+            let message = format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
+            return Err(cx.err(node, &p.at("fov_axis"), message));
+        }
+    };
+    Ok(2.0 * ty.atan().to_degrees())
 }
 
 /// `<film type="hdrfilm">`: the image size and the pixel filter: `box`, `tent` (`radius`,

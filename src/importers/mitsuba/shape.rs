@@ -4,14 +4,16 @@
 //! with a warning), `obj` and `ply` meshes (smooth-shaded with the file's vertex normals, or,
 //! in a file without them, normals computed from the faces as Mitsuba computes them; flat when
 //! `face_normals` is true; the file's texture coordinates with v flipped when
-//! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), each with its
+//! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), `serialized`
+//! meshes (`shape_index`, `face_normals`; [`serialized`]), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
+use crate::bsdfs::{BsdfKind, Param};
 use crate::error::Result;
 use crate::importers::mesh_file::{self, MeshData, MeshFormat};
 use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
-use crate::importers::mitsuba::{round, Importer};
+use crate::importers::mitsuba::{mesh_attribute, round, serialized, Importer};
 use crate::media::builder::{interface, MediumId};
 use crate::scene::builder::Surface;
 use crate::textures::uv;
@@ -202,6 +204,7 @@ impl<'f> Importer<'f> {
                     normals: None,
                     uvs: Some(uvs),
                     vertices: None,
+                    attributes: Vec::new(),
                 }
             }
             "cube" => MeshData {
@@ -212,6 +215,7 @@ impl<'f> Importer<'f> {
                 normals: None,
                 uvs: None,
                 vertices: None,
+                attributes: Vec::new(),
             },
             "disk" | "cylinder" => {
                 let what = format!(
@@ -258,6 +262,21 @@ impl<'f> Importer<'f> {
                 // Mitsuba's `face_normals`: flat shading even where the file has normals.
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
+            "serialized" => {
+                let Some(file) = p.string(cx, "filename")? else {
+                    return Err(cx.err(p.node, &p.at("filename"), "missing"));
+                };
+                let index = p.float(cx, "shape_index")?.unwrap_or(0.0);
+                if !(index >= 0.0 && index <= u32::MAX as f32 && index.fract() == 0.0) {
+                    let message = format!("{index} is not a mesh index (an integer >= 0)");
+                    return Err(cx.err(p.node_of("shape_index"), &p.at("shape_index"), message));
+                }
+                let path = self.cx.resolve(&file);
+                let room = self.b.triangle_room();
+                let mesh = serialized::read_serialized(&path, index as u32, room)
+                    .map_err(|m| cx.err(p.node_of("filename"), &p.at("filename"), m))?;
+                mesh.flat_if(p.boolean(cx, "face_normals")?)
+            }
             other => {
                 let message = format!("unsupported shape `{other}`");
                 return Err(cx.err(p.node, &p.field, message));
@@ -268,6 +287,7 @@ impl<'f> Importer<'f> {
         // A mesh file without normals is smooth in Mitsuba (unless `face_normals`): normals
         // from its faces, after to_world.
         let mesh = mesh.transform(m, flip).smooth_from_faces();
+        let (mesh, surface) = self.attribute_surface(p, mesh, surface)?;
         match mesh.uvs {
             Some(uvs) => self
                 .b
@@ -276,5 +296,53 @@ impl<'f> Importer<'f> {
                 .b
                 .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
         }
+    }
+
+    /// `mesh` and `surface`, or, when the surface's material reads a `mesh_attribute`, the
+    /// mesh with the attribute's uvs and a copy of the material whose diffuse reflectance is
+    /// its texture (`mesh_attribute.rs`). A shape without the attribute is an error.
+    fn attribute_surface(
+        &mut self,
+        p: &Plugin,
+        mut mesh: MeshData,
+        mut surface: Surface,
+    ) -> Result<(MeshData, Surface)> {
+        let used = (self.attribute_materials.iter())
+            .find(|(id, _)| Some(*id) == surface.material)
+            .map(|(_, a)| a.clone());
+        let Some(used) = used else {
+            return Ok((mesh, surface));
+        };
+        let Some((_, values)) = mesh.attributes.iter().find(|(n, _)| *n == used.name) else {
+            let mut names: Vec<String> = mesh
+                .attributes
+                .iter()
+                .map(|(n, _)| format!("`{n}`"))
+                .collect();
+            if names.is_empty() {
+                names.push("none".into());
+            }
+            let message = format!(
+                "its bsdf reads the mesh attribute `{}`, which this shape does not have (its \
+                 attributes: {})",
+                used.name,
+                names.join(", ")
+            );
+            return Err(self.cx.err(p.node, &p.field, message));
+        };
+        let at = self.origin(p.node, &p.field);
+        let (texture, uvs) = mesh_attribute::texture(values).map_err(|m| {
+            self.cx
+                .err(p.node, &p.field, format!("mesh attribute: {m}"))
+        })?;
+        let texture = self.b.add_texture(texture, &at)?;
+        let mut material = used.material;
+        if let Some(base) = material.bsdf.base_colour_mut() {
+            *base = Param::texture(texture);
+            base.value = Vec3::splat(used.scale);
+        }
+        surface.material = Some(self.b.add_material(None, material, &at)?);
+        mesh.uvs = Some(uvs);
+        Ok((mesh, surface))
     }
 }

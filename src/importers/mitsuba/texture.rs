@@ -1,6 +1,7 @@
 //! Mitsuba textures as our [`SceneTexture`]s: `bitmap` (`filename`, `filter_type`,
-//! `wrap_mode`, `raw`, `to_uv`) and `checkerboard` (`color0`, `color1`, `to_uv`), with
-//! Mitsuba's defaults (bilinear, repeat, sRGB unless `raw`).
+//! `wrap_mode`, `raw`, `to_uv`), `checkerboard` (`color0`, `color1`, `to_uv`), with
+//! Mitsuba's defaults (bilinear, repeat, sRGB unless `raw`), and `rawconstant` (`value`, a
+//! float or a vector, taken as it is: a 1 x 1 float image).
 
 use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
@@ -68,6 +69,26 @@ pub(crate) fn texture(cx: &Cx, node: Node, field: &str) -> Result<SceneTexture> 
             color1: p.color(cx, "color1")?.unwrap_or(Vec3::splat(0.2)),
             to_uv,
         }),
+        "rawconstant" => {
+            // Mitsuba's `rawconstant`: a float (broadcast) or a vector, with no colour
+            // conversion or range check: a 1 x 1 float image.
+            let at = p.node_of("value");
+            let value = match at.tag_name().name() {
+                "vector" | "point" => p.point(cx, "value")?,
+                _ if at == node => None,
+                _ => p.float(cx, "value")?.map(Vec3::splat),
+            };
+            let Some(value) = value else {
+                let message = "missing (a `float` or a `vector`)";
+                return Err(cx.err(node, &p.at("value"), message));
+            };
+            let image = Texture::from_float("rawconstant", 1, 1, value.to_array().to_vec(), 3)?;
+            SceneTexture::Bitmap(image.with_sampler(Sampler::mitsuba(
+                Filter::Nearest,
+                Wrap::Clamp,
+                to_uv,
+            )))
+        }
         other => {
             let message = format!("unsupported texture `{other}`");
             return Err(cx.err(node, field, message));

@@ -11,9 +11,11 @@
 //! `(v0, v1, v2), (v0, v2, v3), ...` keeping the file's winding, as OBJ faces are: a face's
 //! front normal is `cross(v1 - v0, v2 - v0)`. Other elements and properties are ignored.
 
+pub mod attributes;
 pub mod place;
 
 use crate::error::Result;
+use crate::importers::ply::attributes::{field, groups, PlyAttribute};
 use crate::importers::ply::place::{element_line, row_place, size, Place};
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
@@ -36,6 +38,9 @@ pub struct PlyMesh {
     /// Texture coordinates as the file gives them, one per position, when the `vertex`
     /// element has a pair of `UV_NAMES`.
     pub uvs: Option<Vec<Vec2>>,
+    /// The custom attributes ([`attributes`]): a `vertex_` one's rows per position, a
+    /// `face_` one's per triangle (a polygon's triangles each get its row).
+    pub attributes: Vec<PlyAttribute>,
 }
 
 /// The `vertex` property pairs read as texture coordinates, the first present winning.
@@ -163,6 +168,9 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
     for name in uv_names.iter().flatten() {
         check_float(vertex_def, name).map_err(fail)?;
     }
+    let mut reserved = vec!["x", "y", "z", "nx", "ny", "nz", "u", "v"];
+    reserved.extend(uv_names.iter().flatten());
+    let vertex_groups = groups("vertex", vertex_def, &reserved);
     let fail = |message: String| at(line_of("face"), message);
     let face_def = elements
         .get("face")
@@ -181,6 +189,7 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
         }
     }
 
+    let face_groups = groups("face", face_def, &[list]);
     // A binary payload has no lines: the parser's line is then the header's last.
     let ascii = matches!(header.encoding, Encoding::Ascii);
     let payload = parser.read_payload(&mut reader, &header).map_err(|e| {
@@ -199,8 +208,20 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
     let mut positions = Vec::with_capacity(vertices.len());
     let mut normals = Vec::with_capacity(if has_normals { vertices.len() } else { 0 });
     let mut uvs = Vec::with_capacity(uv_names.map_or(0, |_| vertices.len()));
+    let new = |(name, fields): &(String, Vec<String>)| PlyAttribute {
+        name: name.clone(),
+        dim: fields.len(),
+        values: Vec::new(),
+    };
+    let mut attributes: Vec<PlyAttribute> = vertex_groups.iter().map(new).collect();
     for (i, v) in vertices.iter().enumerate() {
         let fail = |message: String| row("vertex", i, message);
+        for (a, (_, fields)) in attributes.iter_mut().zip(&vertex_groups) {
+            for name in fields {
+                a.values
+                    .push(field(v, name).map_err(|m| fail(format!("vertex {i}: {m}")))?);
+            }
+        }
         let p = vec3(v, ["x", "y", "z"]).map_err(fail)?;
         if !p.is_finite() {
             return Err(fail(format!("vertex {i} is not finite: {p}")));
@@ -226,8 +247,14 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
         }
     }
     let mut triangles = Vec::with_capacity(faces.len());
+    let mut face_attributes: Vec<PlyAttribute> = face_groups.iter().map(new).collect();
     for (f, face) in faces.iter().enumerate() {
         let fail = |message: String| row("face", f, message);
+        let mut rows = Vec::with_capacity(face_groups.len());
+        for (_, fields) in &face_groups {
+            let values: Result<Vec<f32>, String> = fields.iter().map(|n| field(face, n)).collect();
+            rows.push(values.map_err(|m| fail(format!("face {f}: {m}")))?);
+        }
         let indices = indices(face.get(list)).map_err(fail)?;
         if indices.len() < 3 {
             return Err(fail(format!(
@@ -256,6 +283,9 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
         }
         for k in 1..corner.len() - 1 {
             triangles.push([corner[0], corner[k], corner[k + 1]]);
+            for (a, values) in face_attributes.iter_mut().zip(&rows) {
+                a.values.extend(values);
+            }
         }
     }
     if triangles.is_empty() {
@@ -266,6 +296,7 @@ pub(crate) fn read_ply_within(path: &Path, room: u64) -> Result<PlyMesh, PlyErro
         triangles,
         normals: has_normals.then_some(normals),
         uvs: uv_names.map(|_| uvs),
+        attributes: attributes.into_iter().chain(face_attributes).collect(),
     })
 }
 
