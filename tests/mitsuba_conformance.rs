@@ -221,8 +221,8 @@ fn centre_radiance(s: &Imported, backend: gpu_photon::render::session::Backend) 
         (h / 2, w / 2 - 1),
         (h / 2, w / 2),
     ] {
-        for c in 0..3 {
-            sum[c] += f64::from(image.pixels[y * w + x][c]) / 4.0;
+        for (s, v) in sum.iter_mut().zip(image.pixels[y * w + x]) {
+            *s += f64::from(v) / 4.0;
         }
     }
     sum
@@ -364,10 +364,10 @@ fn blendbsdf_is_the_weighted_mean_of_its_bsdfs() {
         let text = format!(
             "<scene version=\"3.0.0\">{SENSOR}<shape type=\"rectangle\">{xml}</shape>\n</scene>\n"
         );
-        let err = import(&text, "t.xml", &dir)
-            .err()
-            .expect("an error")
-            .to_string();
+        let Err(err) = import(&text, "t.xml", &dir) else {
+            panic!("{xml}: no error");
+        };
+        let err = err.to_string();
         assert!(err.ends_with(want), "{err}");
     }
 }

@@ -320,7 +320,7 @@ impl<'f> Importer<'f> {
             let message = "a `mesh_attribute` with another texture in one bsdf is not supported";
             return Err(self.cx.err(node, field, message));
         }
-        let id = self.b.add_material(None, material.clone(), &at)?;
+        let id = self.b.add_material(None, material, &at)?;
         let attribute = mesh_attribute::AttributeUse {
             material,
             name,
