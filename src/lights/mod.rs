@@ -14,6 +14,7 @@ pub mod environment;
 pub mod gpu;
 pub mod interface;
 pub mod point;
+pub mod projector;
 pub mod sphere;
 pub mod spot;
 pub mod table;
@@ -157,6 +158,8 @@ light_kinds! {
     Spot(spot, Spot, "spot/spot.wgsl", true, spot::wgsl_consts, spot::gpu_overrides),
     /// Parallel light from a direction.
     Directional(directional, Directional, "directional/directional.wgsl", true, no_consts, no_overrides),
+    /// A pinhole projecting an image.
+    Projector(projector, Projector, "projector/projector.wgsl", true, no_consts, no_overrides),
     /// The environment: radiance from every direction that leaves the scene; always the last
     /// light.
     Environment(environment, Environment, "environment/environment.wgsl", false, no_consts, no_overrides),
@@ -177,7 +180,8 @@ pub struct Light {
     /// Emitted power per channel (W), as each kind's builder sets it: 4 pi I for a point
     /// light, pi A L for a one-sided emitter, E pi R^2 for a directional light (R the radius of
     /// `Scene::bounding_sphere`), pi R^2 times the radiance's integral over directions for
-    /// the environment.
+    /// the environment, pi E A for a projector (`lights::projector`); times the emission
+    /// texture's mean for a textured one (`lights::emission`).
     pub power: Vec3,
 }
 
