@@ -27,15 +27,17 @@ pub(crate) fn aim(t: &Tab, position: Vec3) -> Result<(Vec3, Option<Vec3>)> {
 /// The frame of a light at `position` aiming along `direction` with `up` (default +y):
 /// Mitsuba's `lookat` (module docs).
 fn frame(t: &Tab, position: Vec3, direction: Vec3) -> Result<Mat4> {
-    let up = t.vec3("up")?.unwrap_or(Vec3::Y);
+    let given = t.vec3("up")?;
     let Some(dir) = direction.try_normalize() else {
-        return Err(t.fail(
-            "direction",
-            "must not be zero (or `target` equals `position`)",
-        ));
+        let message = "must not be zero (or `target` equals `position`)";
+        return Err(t.fail("direction", message));
     };
-    let Some(left) = up.cross(dir).try_normalize() else {
-        return Err(t.fail("up", "must not be zero or parallel to the direction"));
+    let Some(left) = given.unwrap_or(Vec3::Y).cross(dir).try_normalize() else {
+        let message = match given {
+            Some(_) => "must not be zero or parallel to the direction",
+            None => "the default up (+y) is parallel to the direction: give `up`",
+        };
+        return Err(t.fail("up", message));
     };
     Ok(Mat4::from_cols(
         left.extend(0.0),
