@@ -1046,7 +1046,6 @@ fn projecting_spot_photons_carry_its_textured_power_by_the_image() {
     let want_total: DVec3 = want.iter().sum();
     let power = DVec3::from_array(s.lights[0].power.to_array().map(f64::from));
     eprintln!("projecting spot: power {power}, quadrature {want_total}");
-    let mut want = want;
     // The light's power takes the image's mean over a 64 x 64 grid of the photons' own
     // draws: measured 2e-5 from the quadrature here; bound 1e-3.
     assert!(((power - want_total) / want_total).abs().max_element() < 1e-3);
