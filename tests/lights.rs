@@ -974,7 +974,7 @@ filename = "{}"
     );
     let f = lookat_frame(DVec3::NEG_Y, DVec3::NEG_Z);
     let bins = 8;
-    let got = binned_first_hits(&s, bins * bins, |x| {
+    let (got, dark) = binned_first_hits(&s, bins * bins, |x| {
         let (a, b, _) = plane_coords(&f, tx, ty, x - DVec3::Y);
         let (u, v) = (0.5 - 0.5 * a, 0.5 - 0.5 * b);
         assert!(
@@ -993,6 +993,44 @@ filename = "{}"
         .collect();
     want.push(want_total);
     assert_bins_match(&got, &want, "projector image");
+    assert!(dark < 1e-3, "{dark} of the photons carry nothing");
+}
+
+#[test]
+fn projector_photons_go_where_its_image_is_lit() {
+    // A 64 x 32 slide, black but for a 4 x 3 block of texels: a uniform projector would
+    // waste 99% of its photons on black; these pass the lit block but for the uniform tenth
+    // (`distribution::UNIFORM`) and the block's bilinear rim, and carry its power (pi E A
+    // times the image's mean, within 5 standard errors).
+    let dir = common::scratch("slide");
+    let path = dir.join("slide.png");
+    let mut img = image::RgbImage::new(64, 32);
+    for (x, y) in (40..44).flat_map(|x| (10..13).map(move |y| (x, y))) {
+        img.put_pixel(x, y, image::Rgb([200, 100, 50]));
+    }
+    img.save(&path).unwrap();
+    let s = plane_under(&format!(
+        "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\n\
+         up = [0.0, 0.0, -1.0]\nfov = 60.0\nfilename = \"{}\"\n",
+        path.display()
+    ));
+    let LightShape::Projector(p) = s.lights[0].shape else {
+        panic!("a projector")
+    };
+    let tex = &s.textures[p.texture.expect("an image") as usize];
+    let tx = 30f64.to_radians().tan();
+    let want = PI * 4.0 * tx * tx / 2.0 * image_mean(tex, [0.0, 1.0, 0.0, 1.0], 2048);
+    let (got, dark) = binned_first_hits(&s, 1, |_| 0);
+    eprintln!(
+        "slide: photons carry {:.6} W, pi E A mean {want:.6} W; {dark:.4} carry nothing",
+        got[0].0
+    );
+    assert_bins_match(&got, &[want, want], "slide");
+    let uniform = gpu_photon::lights::projector::distribution::UNIFORM;
+    // Measured 14.2%: the uniform tenth on black (9.9%) and the dark parts of the cells
+    // around the block that its bilinear edge reaches (4.3%); a uniform projector's: 99%.
+    assert!(dark < uniform + 0.06, "{dark} of the photons carry nothing");
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -1049,7 +1087,7 @@ fn projecting_spot_photons_carry_its_textured_power_by_the_image() {
     // The light's power takes the image's mean over a 64 x 64 grid of the photons' own
     // draws: measured 2e-5 from the quadrature here; bound 1e-3.
     assert!(((power - want_total) / want_total).abs().max_element() < 1e-3);
-    let got = binned_first_hits(&s, bins * bins, |x| {
+    let (got, _) = binned_first_hits(&s, bins * bins, |x| {
         let w = (x - DVec3::new(0.1, 0.2, -0.1)).normalize();
         bin_of(DVec3::new(w.dot(f[0]), w.dot(f[1]), w.dot(f[2])))
     });
@@ -1060,8 +1098,13 @@ fn projecting_spot_photons_carry_its_textured_power_by_the_image() {
 /// The power of 200,000 global photon paths of `s` (traced on the CPU, every path's first
 /// hit stored at depth 0) summed in `bins` bins by where that hit lies (`bin`), with each
 /// sum's standard error from the photons' own spread (all paths are draws; one landing in
-/// another bin adds 0); then the total over all bins, with its own.
-fn binned_first_hits(s: &Scene, bins: usize, bin: impl Fn(DVec3) -> usize) -> Vec<(DVec3, DVec3)> {
+/// another bin adds 0); then the total over all bins, with its own; and the fraction of the
+/// first hits that carry no power.
+fn binned_first_hits(
+    s: &Scene,
+    bins: usize,
+    bin: impl Fn(DVec3) -> usize,
+) -> (Vec<(DVec3, DVec3)>, f64) {
     let n = 200_000;
     let st = RenderSettings {
         photons: n,
@@ -1087,7 +1130,8 @@ fn binned_first_hits(s: &Scene, bins: usize, bin: impl Fn(DVec3) -> usize) -> Ve
             .max(DVec3::ZERO)
             .powf(0.5)
     };
-    (0..=bins).map(|k| (sum[k], sigma(k))).collect()
+    let dark = first.iter().filter(|p| p.power == [0.0; 3]).count() as f64 / first.len() as f64;
+    ((0..=bins).map(|k| (sum[k], sigma(k))).collect(), dark)
 }
 
 /// Each bin's power (`got`: sum, standard error) within 5 standard errors (plus 1e-4 of the

@@ -60,6 +60,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("lights/spot/spot.wgsl", "spot_uv", "lights/spot/mod.rs", "spot_uv", Caller("light_gpu.rs")),
     ("lights/spot/spot.wgsl", "spot_texel", "lights/spot/mod.rs", "texel", Caller("light_gpu.rs")),
     ("lights/projector/projector.wgsl", "projector_uv", "lights/projector/mod.rs", "uv", Caller("light_gpu.rs")),
+    ("lights/projector/projector.wgsl", "projector_cell", "lights/projector/distribution.rs", "pick", Caller("light_gpu.rs")),
     ("bvh/intersect.wgsl", "max_abs", "", "", Helper),
     ("bvh/intersect.wgsl", "offset_origin", "math/geometry.rs", "offset_origin", Oracle("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "inset", "math/geometry.rs", "inset", Oracle("intersect_gpu.rs")),

@@ -22,6 +22,7 @@ pub mod triangles;
 
 use crate::lights::interface::{Emission, LightContext, LightKind, LightSample, ParamWords};
 use crate::scene::shapes::{Sphere, Triangle};
+use crate::textures::SceneTexture;
 use glam::Vec3;
 
 /// Scalar power used to split budgets: the mean of the three channels.
@@ -124,6 +125,9 @@ macro_rules! light_kinds {
             }
             fn surface(&self, triangles: &[Triangle], spheres: &[Sphere]) -> (f32, Vec<f32>) {
                 match self { $(LightShape::$variant(k) => k.surface(triangles, spheres)),+ }
+            }
+            fn distribution(&self, textures: &[SceneTexture]) -> Vec<f32> {
+                match self { $(LightShape::$variant(k) => k.distribution(textures)),+ }
             }
             fn material(&self, triangles: &[Triangle], spheres: &[Sphere]) -> Option<u32> {
                 match self { $(LightShape::$variant(k) => k.material(triangles, spheres)),+ }

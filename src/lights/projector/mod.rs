@@ -11,11 +11,14 @@
 //! tan(fov_y / 2)` the image plane's area, times the image's mean over the plane
 //! (`crate::lights::emission`, multiplied in when the scene is finished).
 //!
-//! Photons leave through a uniform point of the image plane (`u[3]`, `u[4]` its uv), so they
-//! land uniformly on any plane across the axis, each carrying its texel over the image's
-//! mean. Twin: `projector.wgsl` beside it; the scene builder's call is in `build.rs`.
+//! Photons of a projector without an image leave through a uniform point of the image plane
+//! (`u[3]`, `u[4]` its uv), so they land uniformly on any plane across the axis. With an
+//! image they pass it in proportion to the image (`distribution.rs`: `u[0]` picks a cell,
+//! `u[3]`, `u[4]` the point in it), each carrying its texel over the image's mean and the
+//! density there. Twin: `projector.wgsl` beside it; the scene builder's call is in `build.rs`.
 
 mod build;
+pub mod distribution;
 
 pub use build::ProjectorLight;
 
@@ -80,18 +83,34 @@ impl LightKind for Projector {
     fn is_delta(&self) -> bool {
         true
     }
-    /// A photon through the image plane's point of uv `(u[3], u[4])`, carrying the texel
-    /// there over the image's mean.
+    /// A photon through the image plane's point of uv `(u[3], u[4])` without an image, else
+    /// through a point of the cell `u[0]` picks (module docs), carrying the texel there over
+    /// the image's mean and the density.
     fn emit(&self, c: &LightContext, u: [f32; 5]) -> Emission {
-        let (a, b) = (1.0 - 2.0 * u[3], 1.0 - 2.0 * u[4]);
+        let (uv, pdf) = match self.texture {
+            Some(_) => {
+                let (corner, size, pdf) = distribution::pick(c.cdf, u[0]);
+                let uv = Vec2::new(corner[0] + u[3] * size[0], corner[1] + u[4] * size[1]);
+                (uv, pdf)
+            }
+            None => (Vec2::new(u[3], u[4]), 1.0),
+        };
+        let (a, b) = (1.0 - 2.0 * uv.x, 1.0 - 2.0 * uv.y);
         let dir = (self.axis + a * self.x_half + b * self.y_half).normalize();
-        let mean = c.texture_mean;
-        let t = texel(c, Vec2::new(u[3], u[4]));
+        let mean = c.texture_mean * pdf;
+        let t = texel(c, uv);
         Emission {
             origin: self.position,
             dir,
             normal: Vec3::ZERO,
             scale: Vec3::select(mean.cmpgt(Vec3::ZERO), t / mean, Vec3::ZERO),
+        }
+    }
+    /// Its image's distribution (`distribution.rs`; none without an image).
+    fn distribution(&self, textures: &[SceneTexture]) -> Vec<f32> {
+        match self.texture {
+            Some(t) => distribution::image_distribution(&textures[t as usize]),
+            None => Vec::new(),
         }
     }
     /// `pi E |to_x| / z^3` (module docs), black outside the image.
@@ -109,12 +128,12 @@ impl LightKind for Projector {
     fn anchor(&self, _c: &LightContext, _u: [f32; 3]) -> Option<Vec3> {
         Some(self.position)
     }
-    /// p0 = position, p1..p3 = the half extents and the axis, their fourth words the
-    /// irradiance's channels.
-    fn gpu_words(&self, _c: &LightContext) -> ParamWords {
+    /// p0 = (position, start of its distribution in `light_cdf`), p1..p3 = the half extents
+    /// and the axis, their fourth words the irradiance's channels.
+    fn gpu_words(&self, c: &LightContext) -> ParamWords {
         let e = self.irradiance;
         [
-            word(self.position, 0),
+            word(self.position, c.cdf_start),
             word(self.x_half, e.x.to_bits()),
             word(self.y_half, e.y.to_bits()),
             word(self.axis, e.z.to_bits()),

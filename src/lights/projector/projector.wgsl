@@ -1,7 +1,8 @@
-// The projector (twin of src/lights/projector/mod.rs): p0 = (position, 0), p1 = (x half
-// extent, irradiance r), p2 = (y half extent, irradiance g), p3 = (unit axis, irradiance b);
-// its image is the light's emission_texture. Photons through a uniform point of its image
-// plane, shadow rays weighed pi E |x - p| / z^3 inside the image. Library, no entry point.
+// The projector (twin of src/lights/projector/mod.rs): p0 = (position, start of its image's
+// distribution in light_cdf), p1 = (x half extent, irradiance r), p2 = (y half extent,
+// irradiance g), p3 = (unit axis, irradiance b); its image is the light's emission_texture.
+// Photons through its image plane (uniformly, or by the image: distribution.rs), shadow rays
+// weighed pi E |x - p| / z^3 inside the image. Library, no entry point.
 
 struct ProjectorUv {
     uv: vec2<f32>,
@@ -22,12 +23,48 @@ fn projector_uv(l: Light, to_x: vec3<f32>) -> ProjectorUv {
     return ProjectorUv(uv, z, inside);
 }
 
+struct ProjectorCell {
+    corner: vec2<f32>,
+    size: vec2<f32>,
+    pdf: f32,
+}
+
+// The cell u picks in the image distribution at light_cdf[start] (distribution::pick): the
+// grid's size, then its CDF (bisected, bounded by 32 steps), then the cells' densities.
+fn projector_cell(start: u32, u: f32) -> ProjectorCell {
+    let gw = u32(light_cdf[start]);
+    let gh = u32(light_cdf[start + 1u]);
+    let n = gw * gh;
+    let cdf = start + 2u;
+    var lo = 0u;
+    var hi = n;
+    for (var i = 0u; i < 32u && lo < hi && spend(); i += 1u) {
+        let mid = (lo + hi) / 2u;
+        if light_cdf[cdf + mid] <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = min(lo, n - 1u);
+    let size = vec2<f32>(1.0 / f32(gw), 1.0 / f32(gh));
+    let corner = vec2<f32>(f32(k % gw) * size.x, f32(k / gw) * size.y);
+    return ProjectorCell(corner, size, light_cdf[cdf + n + k]);
+}
+
 fn projector_emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
-    let a = 1.0 - 2.0 * u3;
-    let b = 1.0 - 2.0 * u4;
+    var uv = vec2<f32>(u3, u4);
+    var pdf = 1.0;
+    if l.emission_texture != NO_TEXTURE {
+        let c = projector_cell(l.p0.w, u0.x);
+        uv = vec2<f32>(c.corner.x + u3 * c.size.x, c.corner.y + u4 * c.size.y);
+        pdf = c.pdf;
+    }
+    let a = 1.0 - 2.0 * uv.x;
+    let b = 1.0 - 2.0 * uv.y;
     let dir = normalize(light_vec(l.p3) + a * light_vec(l.p1) + b * light_vec(l.p2));
-    let m = l.texture_mean;
-    let t = area_texel(l, vec2<f32>(u3, u4));
+    let m = l.texture_mean * pdf;
+    let t = area_texel(l, uv);
     return Emission(light_vec(l.p0), dir, vec3<f32>(0.0), select(vec3<f32>(0.0), t / m, m > vec3<f32>(0.0)));
 }
 
