@@ -1,7 +1,7 @@
 //! Oracle test of the lights' device functions (src/lights/light.wgsl, photon.wgsl)
 //! against src/lights/mod.rs and src/integrators/photon.rs, through the probe `tests/probes/probe_light.wgsl`
-//! (`gpu::probe_light`): for every light kind (point, glTF and linear-angle spots,
-//! directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
+//! (`gpu::probe_light`): for every light kind (point, glTF and linear-angle spots, a spot
+//! projecting an image, projectors with an image and without, directional, a one-sided box of 12 triangles of three sizes, a two-sided quad, a sphere,
 //! an image environment) the photon emission (origin, direction, normal, power scale) and the
 //! shadow-ray sample (point, weight, distant, pdf) and whether it is a delta light
 //! (`is_delta_light`, exactly) on the same random numbers, with the
@@ -83,6 +83,32 @@ intensity = [4.0, 5.0, 6.0]
 inner_angle = 10.0
 outer_angle = 40.0
 falloff = "linear-angle"
+
+[[lights]]
+type = "spot"
+position = [-0.5, 2.5, 0.5]
+target = [0.0, 0.0, 0.0]
+intensity = [6.0, 5.0, 4.0]
+inner_angle = 10.0
+outer_angle = 35.0
+filename = "mitsuba-suite/common/textures/flower.bmp"
+up = [0.0, 0.0, 1.0]
+
+[[lights]]
+type = "projector"
+position = [0.3, 3.0, 0.2]
+target = [0.0, 0.0, 0.0]
+fov = 60.0
+scale = 2.0
+filename = "mitsuba-suite/common/textures/carrot.png"
+
+[[lights]]
+type = "projector"
+position = [-0.2, 3.5, 0.5]
+direction = [0.1, -1.0, -0.2]
+up = [1.0, 0.0, 0.0]
+fov = 110.0
+irradiance = [1.0, 2.0, 3.0]
 
 [[lights]]
 type = "directional"
@@ -182,6 +208,12 @@ const LINEAR_REL: f32 = 5e-4;
 /// relative (tests/environment.rs bounds the lookup itself by its range over nearby
 /// directions).
 const ENV_REL: f32 = 2e-2;
+/// A projecting spot's and a projector's image: looked up (bilinearly) at a uv from the
+/// direction, whose few-ulp difference between the device and the host moves the lookup by
+/// ~1e-6 of the image: on an 8-bit image's sharp edges that is up to ~1e-4 of a texel's
+/// value relative to a dark neighbour's. Measured worst on lavapipe: 6.7e-5 (a projecting
+/// spot's photon scale); bound 1e-3.
+const IMAGE_REL: f32 = 1e-3;
 
 /// The photon budgets of the paths' test (both maps planned).
 fn settings() -> RenderSettings {
@@ -252,6 +284,7 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
     let got = probes.lights(&cases).unwrap();
     let mut worst = Worst::default();
     let mut kinds = std::collections::BTreeMap::new();
+    let mut lit = std::collections::BTreeMap::new();
     for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
         let l = c.light as usize;
         let v = Vec3::from_array;
@@ -268,6 +301,7 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
             abs: if linear { LINEAR_ABS } else { ABS },
             rel: match kind {
                 "spot linear-angle" => LINEAR_REL,
+                "spot projecting" | "projector image" => IMAGE_REL,
                 "environment" => ENV_REL,
                 _ => REL,
             },
@@ -303,6 +337,7 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
         // A distant sample's point is x plus a unit direction: compared as a direction.
         worst.check("sample point", &at, v(g.point), s.point, false);
         worst.check("sample weight", &at, v(g.weight), s.weight, true);
+        *lit.entry(kind).or_insert(0) += (s.weight != Vec3::ZERO) as usize;
         let pdf = host_pdf(scene, &table, l, x, ns, &s);
         worst.check(
             "sample pdf",
@@ -312,13 +347,25 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
             true,
         );
     }
+    // The lights with an edge (the cones, the projectors' images) light some of the random
+    // points and leave others dark: both sides of the edge are compared.
+    let edged = lit
+        .iter()
+        .filter(|(k, _)| k.starts_with("spot") || k.starts_with("projector"));
+    for (kind, n) in edged {
+        let all = kinds[kind];
+        assert!(
+            *n > all / 20 && *n < all,
+            "{kind}: {n} of {all} shadow samples lit"
+        );
+    }
     // Some emissions towards the glass sphere, most elsewhere: both answers occur.
     assert!(
         n_aimed > 20 && n_aimed < cases.len() / 2,
         "{n_aimed} emissions aimed"
     );
     eprintln!(
-        "{n_aimed} emissions aimed; cases per kind {kinds:?}; worst errors / bound: {:?}",
+        "{n_aimed} emissions aimed; cases per kind {kinds:?}, lit {lit:?}; worst errors / bound: {:?}",
         worst.0
     );
 }
@@ -326,10 +373,16 @@ fn emission_and_shadow_samples_equal_the_hosts(scene: &Scene, probes: &mut Scene
 fn kind_of(s: &LightShape) -> &'static str {
     match s {
         LightShape::Point(_) => "point",
+        LightShape::Spot(gpu_photon::lights::spot::Spot {
+            projection: Some(_),
+            ..
+        }) => "spot projecting",
         LightShape::Spot(gpu_photon::lights::spot::Spot { cone, .. }) => match cone.profile {
             SpotFalloff::Gltf => "spot gltf",
             SpotFalloff::LinearAngle => "spot linear-angle",
         },
+        LightShape::Projector(p) if p.texture.is_some() => "projector image",
+        LightShape::Projector(_) => "projector",
         LightShape::Directional(_) => "directional",
         LightShape::Triangles(_) => "triangles",
         LightShape::Sphere(_) => "sphere",

@@ -203,10 +203,9 @@ const SPOT_H: f64 = 1.0;
 const INNER: f32 = 20.0;
 const OUTER: f32 = 30.0;
 
-/// A 2.4 x 2.4 white plane at y = 0 under a spot at height 1 pointing straight down, seen
-/// from straight above (so each pixel is a square of the plane; the view is 2 x 2).
-fn spot_plane(falloff: SpotFalloff) -> Scene {
-    let falloff = falloff.name();
+/// A 2.4 x 2.4 white plane at y = 0 seen from straight above (so each pixel is a square of
+/// the plane; the view is 2 x 2), lit by the `[[lights]]` table `light`.
+fn plane_under(light: &str) -> Scene {
     scene(&format!(
         r#"[camera]
 eye = [0.0, 3.0, 0.0]
@@ -221,7 +220,15 @@ type = "quad"
 corners = [[-1.2, 0.0, 1.2], [1.2, 0.0, 1.2], [1.2, 0.0, -1.2], [-1.2, 0.0, -1.2]]
 material = "white"
 [[lights]]
-type = "spot"
+{light}"#
+    ))
+}
+
+/// [`plane_under`] a spot at height 1 pointing straight down.
+fn spot_plane(falloff: SpotFalloff) -> Scene {
+    let falloff = falloff.name();
+    plane_under(&format!(
+        r#"type = "spot"
 position = [0.0, {SPOT_H}, 0.0]
 target = [0.0, 0.0, 0.0]
 intensity = [12.0, 10.0, 8.0]
@@ -346,18 +353,25 @@ fn spot_on_a_plane(f: SpotFalloff) {
         // sigma). Bias: where fewer than K photons lie within the radius (the ramp's dim
         // outer end) the disc averages a profile convex there, by ~r^2/8 of its Laplacian:
         // with r = 0.1 that was measured at +0.7%, so the radius here is 0.03 (0.06%).
-        let st = RenderSettings {
-            k: 100,
-            radius: 0.03,
-            ..small(Mode::Photon, 100_000, size, 4)
-        };
-        let m = run(&s, &st, backend).mean();
-        let rel = (0..3)
-            .map(|c| (m[c] / scale[c] - mean_want).abs() / mean_want)
-            .fold(0.0, f64::max);
+        let rel = photon_mean_error(&s, backend, size, scale, mean_want);
         eprintln!("spot photon {f:?} {backend:?}: mean rel. error {rel:.4}");
         assert!(rel < 0.016, "{backend:?}: photon-mode mean off by {rel}");
     }
+}
+
+/// The worst channel's relative error of the image mean of `s` rendered in photon mode
+/// (100k photons, K = 100 within 0.03, 4 spp) on `backend`, over `scale` per channel, from
+/// `want`.
+fn photon_mean_error(s: &Scene, backend: Backend, size: u32, scale: [f64; 3], want: f64) -> f64 {
+    let st = RenderSettings {
+        k: 100,
+        radius: 0.03,
+        ..small(Mode::Photon, 100_000, size, 4)
+    };
+    let m = run(s, &st, backend).mean();
+    (0..3)
+        .map(|c| (m[c] / scale[c] - want).abs() / want)
+        .fold(0.0, f64::max)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -387,10 +401,10 @@ fn spot_photons_carry_its_power_and_follow_its_falloff() {
     }
 }
 
-fn spot_photons(f: SpotFalloff) {
-    // A spot inside a closed box: every photon's first hit is a wall, so the depth-0 photons
-    // carry the emitted power, which must be I times the falloff's integral over the sphere.
-    let s = scene(&format!(
+/// A spot inside a closed grey box (every photon's first hit is a wall): half-angles
+/// `inner`, `outer`, falloff `falloff`, more keys of its table in `extra`.
+fn spot_box(inner: f64, outer: f64, falloff: &str, extra: &str) -> Scene {
+    scene(&format!(
         r#"[camera]
 eye = [0.0, 0.0, 0.5]
 target = [0.0, 0.0, 0.0]
@@ -408,18 +422,24 @@ type = "spot"
 position = [0.1, 0.2, -0.1]
 direction = [1.0, -2.0, 0.5]
 intensity = [3.0, 2.0, 1.0]
-inner_angle = 15
-outer_angle = 40
-falloff = "{}"
-"#,
-        f.name()
-    ));
+inner_angle = {inner}
+outer_angle = {outer}
+falloff = "{falloff}"
+{extra}"#
+    ))
+}
+
+fn spot_photons(f: SpotFalloff) {
+    // A spot inside a closed box: every photon's first hit is a wall, so the depth-0 photons
+    // carry the emitted power, which must be I times the falloff's integral over the sphere.
+    let s = spot_box(15.0, 40.0, f.name(), "");
     let omega = falloff_integral(f, 15.0, 40.0, -1.0, 1.0);
     let LightShape::Spot(gpu_photon::lights::spot::Spot {
         position,
         direction,
         intensity,
         cone,
+        ..
     }) = s.lights[0].shape
     else {
         panic!("a spot")
@@ -609,6 +629,7 @@ fn gltf_spot_and_directional_lights_load_in_watts() {
         direction,
         intensity,
         cone,
+        ..
     }) = s.lights[0].shape
     else {
         panic!("a spot: {:?}", s.lights[0])
@@ -669,6 +690,7 @@ fn mitsuba_spot_and_directional_emitters_load() {
         direction,
         intensity,
         cone,
+        ..
     }) = s.lights[0].shape
     else {
         panic!("a spot")
@@ -724,7 +746,34 @@ fn bad_lights_give_file_line_field_messages() {
         ),
         (
             r#"<emitter type="spot"><rgb name="intensity" value="1"/><texture name="texture" type="bitmap"/></emitter>"#,
-            "t.xml:4: emitter[0].texture: unsupported parameter of `spot`",
+            "t.xml:4: emitter[0].texture.filename: missing",
+        ),
+        (
+            r#"<emitter type="spot"><rgb name="intensity" value="1"/><float name="cutoff_angle" value="90"/>
+<texture name="texture" type="checkerboard"/></emitter>"#,
+            "t.xml:4: emitter[0].cutoff_angle: must be under 90 degrees with a texture (got 90)",
+        ),
+        (
+            r#"<emitter type="projector"><transform name="to_world"><scale value="2"/></transform></emitter>"#,
+            "t.xml:4: emitter[0].to_world: must be a rotation and translation (no scale or shear)",
+        ),
+        (
+            r#"<emitter type="projector"><float name="fov" value="180"/></emitter>"#,
+            "t.xml:4: emitter[0].fov: must be in (0, 180) degrees",
+        ),
+        (
+            r#"<emitter type="projector">
+<rgb name="irradiance" value="-1"/></emitter>"#,
+            "t.xml:5: emitter[0].irradiance: components must be >= 0",
+        ),
+        (
+            r#"<emitter type="projector"><rgb name="irradiance" value="1"/>
+<float name="scale" value="-2"/></emitter>"#,
+            "t.xml:5: emitter[0].scale: components must be >= 0",
+        ),
+        (
+            r#"<emitter type="projector"><float name="gamma" value="2"/></emitter>"#,
+            "t.xml:4: emitter[0].gamma: unsupported parameter of `projector`",
         ),
         (
             r#"<emitter type="directional"><rgb name="irradiance" value="1"/>
@@ -745,6 +794,406 @@ fn bad_lights_give_file_line_field_messages() {
         match mitsuba(body) {
             Ok(_) => panic!("loaded: {body}"),
             Err(e) => assert_eq!(e.to_string(), want),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Projected images: projectors and spots with a texture
+// ---------------------------------------------------------------------------------------------
+
+/// The image the projector and projecting-spot tests use (Mitsuba's suite's, 8-bit sRGB).
+const CARROT: &str = "tests/data/mitsuba-suite/common/textures/carrot.png";
+
+/// A projector's or a projecting spot's frame as the scene file's `lookat` makes it (f64,
+/// written out from scenes/README.md): local x, y, z.
+fn lookat_frame(dir: DVec3, up: DVec3) -> [DVec3; 3] {
+    let z = dir.normalize();
+    let x = up.cross(z).normalize();
+    [x, z.cross(x), z]
+}
+
+/// The image-plane coordinates `(a, b)` in [-1, 1] of `v` (from a projector of frame `f` and
+/// half-extent tangents `tx`, `ty`), and `v`'s depth along the axis.
+fn plane_coords(f: &[DVec3; 3], tx: f64, ty: f64, v: DVec3) -> (f64, f64, f64) {
+    let z = v.dot(f[2]);
+    (v.dot(f[0]) / (z * tx), v.dot(f[1]) / (z * ty), z)
+}
+
+/// A projector above the plane y = 0 ([`plane_under`]), tilted 20 degrees, with a
+/// constant irradiance and a 50-degree horizontal field of view.
+const PROJ_POS: [f64; 3] = [0.1, 1.2, -0.1];
+const PROJ_DIR: [f64; 3] = [0.0, -1.0, 0.364];
+const PROJ_FOV: f64 = 50.0;
+
+fn projector_plane() -> Scene {
+    let [px, py, pz] = PROJ_POS;
+    let [dx, dy, dz] = PROJ_DIR;
+    plane_under(&format!(
+        r#"type = "projector"
+position = [{px}, {py}, {pz}]
+direction = [{dx}, {dy}, {dz}]
+up = [1.0, 0.0, 0.0]
+fov = {PROJ_FOV}
+irradiance = [3.0, 2.0, 1.0]
+"#
+    ))
+}
+
+/// Radiance per unit irradiance at `x` on the plane under [`projector_plane`]'s projector,
+/// and whether `x` is inside its image: Mitsuba's `pi E |v| / z^3` times the receiver's
+/// cosine `h / |v|` times `albedo / pi`, that is `albedo E h / z^3`.
+fn projector_radiance(x: DVec3) -> (f64, bool) {
+    let p = DVec3::from_array(PROJ_POS);
+    let f = lookat_frame(DVec3::from_array(PROJ_DIR), DVec3::X);
+    let t = (PROJ_FOV / 2.0).to_radians().tan();
+    let (a, b, z) = plane_coords(&f, t, t, x - p);
+    let inside = z > 0.0 && a.abs() <= 1.0 && b.abs() <= 1.0;
+    (ALBEDO * p.y / z.powi(3), inside)
+}
+
+#[test]
+fn projector_on_a_plane_is_albedo_e_h_over_z_cubed_inside_its_image() {
+    let s = projector_plane();
+    let size = 40;
+    let n = 8;
+    // Per pixel: the analytic mean over the midpoints of an 8 x 8 grid, and how many of the
+    // 9 x 9 grid points from corner to corner are inside the image (pixels with some inside
+    // and some outside lie across its edge: not compared).
+    let at = |x: f64, y: f64| projector_radiance(on_plane(&s.camera, size, size, x, y).unwrap());
+    let mut exact = Vec::new();
+    for py in 0..size {
+        for px in 0..size {
+            let (x0, y0) = (px as f64, py as f64);
+            let mut sum = 0.0;
+            for j in 0..n {
+                for i in 0..n {
+                    let (l, ok) = at(
+                        x0 + (i as f64 + 0.5) / n as f64,
+                        y0 + (j as f64 + 0.5) / n as f64,
+                    );
+                    sum += if ok { l } else { 0.0 };
+                }
+            }
+            let inside = (0..=n)
+                .flat_map(|j| (0..=n).map(move |i| (i, j)))
+                .filter(|&(i, j)| at(x0 + i as f64 / n as f64, y0 + j as f64 / n as f64).1)
+                .count() as u32;
+            exact.push((sum / (n * n) as f64, inside));
+        }
+    }
+    let e = [3.0, 2.0, 1.0];
+    let mean_want = exact.iter().map(|e| e.0).sum::<f64>() / exact.len() as f64;
+    for backend in backends() {
+        let img = run(&s, &small(Mode::Direct, 10_000, size, 64), backend);
+        let (mut worst, mut lit, mut dark) = (0.0f64, 0, 0);
+        for (i, &(want, inside)) in exact.iter().enumerate() {
+            let got = img.pixels[i];
+            if inside == 0 {
+                assert_eq!(
+                    got, [0.0; 3],
+                    "{backend:?}: pixel {i} outside the image is lit"
+                );
+                dark += 1;
+            } else if inside == (n + 1) * (n + 1) {
+                for c in 0..3 {
+                    worst = worst.max((got[c] as f64 / e[c] - want).abs() / want);
+                }
+                lit += 1;
+            }
+        }
+        eprintln!("projector {backend:?}: {lit} pixels inside, {dark} outside; worst rel. error {worst:.2e}");
+        assert!(
+            lit > 300 && dark > 300,
+            "{backend:?}: {lit} inside, {dark} outside"
+        );
+        // The radiance varies smoothly (1 / z^3) within a pixel: its 64 jittered samples
+        // estimate the pixel's mean closely (measured 7.7e-5 on both backends); a projector
+        // without the 1 / cos^3 law is off by 20% at the image's corners.
+        assert!(worst < 1e-3, "{backend:?}: worst relative error {worst}");
+
+        // Photon mode: the image mean from the projector's photons, uniform over its image
+        // plane: ~0.4% noise as for the spot above (100k photons, K = 100), bound 1.6%
+        // (measured 0.23% on both backends).
+        let rel = photon_mean_error(&s, backend, size, e, mean_want);
+        eprintln!("projector photon {backend:?}: mean rel. error {rel:.4}");
+        assert!(rel < 0.016, "{backend:?}: photon-mode mean off by {rel}");
+    }
+}
+
+/// `texture`'s mean over the uv rectangle `[u0, u1] x [v0, v1]` by the midpoints of an
+/// `n x n` grid (f64).
+fn image_mean(t: &gpu_photon::textures::SceneTexture, [u0, u1, v0, v1]: [f64; 4], n: u32) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    for j in 0..n {
+        for i in 0..n {
+            let u = u0 + (u1 - u0) * (i as f64 + 0.5) / n as f64;
+            let v = v0 + (v1 - v0) * (j as f64 + 0.5) / n as f64;
+            sum += t.eval(glam::Vec2::new(u as f32, v as f32)).as_dvec3();
+        }
+    }
+    sum / (n * n) as f64
+}
+
+#[test]
+fn projector_photons_carry_pi_e_a_and_follow_its_image() {
+    // A projector 1 above the floor, looking straight down, projecting the carrot: every
+    // photon lands on the floor at depth 0 (the image spans 1.15 x 0.92 of its 2.4 x 2.4).
+    // Their power in each of 8 x 8 bins of the image is pi E (A / 64) times the image's mean
+    // over the bin, and in all pi E A times its mean (within 5 standard errors).
+    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join(CARROT);
+    let s = plane_under(&format!(
+        r#"type = "projector"
+position = [0.0, 1.0, 0.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 0.0, -1.0]
+fov = 60.0
+irradiance = [1.0, 2.0, 3.0]
+scale = 0.5
+filename = "{}"
+"#,
+        image.display()
+    ));
+    let LightShape::Projector(p) = s.lights[0].shape else {
+        panic!("a projector")
+    };
+    let tex = &s.textures[p.texture.expect("an image") as usize];
+    let gpu_photon::textures::SceneTexture::Bitmap(b) = tex else {
+        panic!("a bitmap")
+    };
+    let aspect = b.width as f64 / b.height as f64;
+    let tx = 30f64.to_radians().tan();
+    let ty = tx / aspect;
+    let e = DVec3::new(0.5, 1.0, 1.5);
+    let area = 4.0 * tx * ty;
+    let want_total = e * PI * area * image_mean(tex, [0.0, 1.0, 0.0, 1.0], 1000);
+    let power = DVec3::from_array(s.lights[0].power.to_array().map(f64::from));
+    assert!(
+        ((power - want_total) / want_total).abs().max_element() < 2e-3,
+        "power {power} vs pi E A mean {want_total}"
+    );
+    let f = lookat_frame(DVec3::NEG_Y, DVec3::NEG_Z);
+    let bins = 8;
+    let (got, dark) = binned_first_hits(&s, bins * bins, |x| {
+        let (a, b, _) = plane_coords(&f, tx, ty, x - DVec3::Y);
+        let (u, v) = (0.5 - 0.5 * a, 0.5 - 0.5 * b);
+        assert!(
+            (-1e-4..=1.0 + 1e-4).contains(&u) && (-1e-4..=1.0 + 1e-4).contains(&v),
+            "a photon outside the image: uv ({u}, {v})"
+        );
+        ((v * bins as f64) as usize).min(bins - 1) * bins
+            + ((u * bins as f64) as usize).min(bins - 1)
+    });
+    let mut want: Vec<DVec3> = (0..bins * bins)
+        .map(|k| {
+            let (i, j) = ((k % bins) as f64, (k / bins) as f64);
+            let r = [i, i + 1.0, j, j + 1.0].map(|x| x / bins as f64);
+            e * PI * area / (bins * bins) as f64 * image_mean(tex, r, 128)
+        })
+        .collect();
+    want.push(want_total);
+    assert_bins_match(&got, &want, "projector image");
+    assert!(dark < 1e-3, "{dark} of the photons carry nothing");
+}
+
+#[test]
+fn projector_photons_go_where_its_image_is_lit() {
+    // A 64 x 32 slide, black but for a 4 x 3 block of texels: a uniform projector would
+    // waste 99% of its photons on black; these pass the lit block but for the uniform tenth
+    // (`distribution::UNIFORM`) and the block's bilinear rim, and carry its power (pi E A
+    // times the image's mean, within 5 standard errors).
+    let dir = common::scratch("slide");
+    let path = dir.join("slide.png");
+    let mut img = image::RgbImage::new(64, 32);
+    for (x, y) in (40..44).flat_map(|x| (10..13).map(move |y| (x, y))) {
+        img.put_pixel(x, y, image::Rgb([200, 100, 50]));
+    }
+    img.save(&path).unwrap();
+    let s = plane_under(&format!(
+        "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\n\
+         up = [0.0, 0.0, -1.0]\nfov = 60.0\nfilename = \"{}\"\n",
+        path.display()
+    ));
+    let LightShape::Projector(p) = s.lights[0].shape else {
+        panic!("a projector")
+    };
+    let tex = &s.textures[p.texture.expect("an image") as usize];
+    let tx = 30f64.to_radians().tan();
+    let want = PI * 4.0 * tx * tx / 2.0 * image_mean(tex, [0.0, 1.0, 0.0, 1.0], 2048);
+    let (got, dark) = binned_first_hits(&s, 1, |_| 0);
+    eprintln!(
+        "slide: photons carry {:.6} W, pi E A mean {want:.6} W; {dark:.4} carry nothing",
+        got[0].0
+    );
+    assert_bins_match(&got, &[want, want], "slide");
+    let uniform = gpu_photon::lights::projector::distribution::UNIFORM;
+    // Measured 14.2%: the uniform tenth on black (9.9%) and the dark parts of the cells
+    // around the block that its bilinear edge reaches (4.3%); a uniform projector's: 99%.
+    assert!(dark < uniform + 0.06, "{dark} of the photons carry nothing");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn projecting_spot_photons_carry_its_textured_power_by_the_image() {
+    // A spot projecting the carrot inside a closed box: every photon's first hit is a wall.
+    // The power in each of 4 x 4 bins of the image's uv must be I times the integral of
+    // falloff x texel over the directions that see that bin (quadrature over the cone, f64).
+    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join(CARROT);
+    let (inner, outer): (f64, f64) = (10.0, 35.0);
+    let extra = format!("up = [0.0, 0.0, 1.0]\nfilename = \"{}\"\n", image.display());
+    let s = spot_box(inner, outer, "linear-angle", &extra);
+    let LightShape::Spot(spot) = s.lights[0].shape else {
+        panic!("a spot")
+    };
+    let tex = &s.textures[spot.projection.expect("a projection").texture as usize];
+    let f = lookat_frame(DVec3::new(1.0, -2.0, 0.5), DVec3::Z);
+    let tan_outer = outer.to_radians().tan();
+    let bins = 4;
+    let bin_of = |local: DVec3| {
+        let (u, v) = (
+            0.5 + 0.5 * local.x / (local.z * tan_outer),
+            0.5 + 0.5 * local.y / (local.z * tan_outer),
+        );
+        ((v * bins as f64) as usize).min(bins - 1) * bins
+            + ((u * bins as f64) as usize).min(bins - 1)
+    };
+    // The quadrature: theta by 600 midpoints over [0, outer], phi by 1200.
+    let intensity = DVec3::new(3.0, 2.0, 1.0);
+    let mut want = vec![DVec3::ZERO; bins * bins];
+    let (nt, np) = (600, 1200);
+    let dt = outer.to_radians() / nt as f64;
+    for i in 0..nt {
+        let theta = (i as f64 + 0.5) * dt;
+        let att = linear_att(theta.cos(), inner, outer);
+        let dphi = 2.0 * PI / np as f64;
+        for j in 0..np {
+            let phi = (j as f64 + 0.5) * dphi;
+            let local = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            let uv = glam::Vec2::new(
+                (0.5 + 0.5 * local.x / (local.z * tan_outer)) as f32,
+                (0.5 + 0.5 * local.y / (local.z * tan_outer)) as f32,
+            );
+            let texel = tex.eval(uv).as_dvec3();
+            want[bin_of(local)] += intensity * att * texel * theta.sin() * dt * dphi;
+        }
+    }
+    let want_total: DVec3 = want.iter().sum();
+    let power = DVec3::from_array(s.lights[0].power.to_array().map(f64::from));
+    eprintln!("projecting spot: power {power}, quadrature {want_total}");
+    // The light's power takes the image's mean over a 64 x 64 grid of the photons' own
+    // draws: measured 2e-5 from the quadrature here; bound 1e-3.
+    assert!(((power - want_total) / want_total).abs().max_element() < 1e-3);
+    let (got, _) = binned_first_hits(&s, bins * bins, |x| {
+        let w = (x - DVec3::new(0.1, 0.2, -0.1)).normalize();
+        bin_of(DVec3::new(w.dot(f[0]), w.dot(f[1]), w.dot(f[2])))
+    });
+    want.push(want_total);
+    assert_bins_match(&got, &want, "projecting spot");
+}
+
+/// The power of 200,000 global photon paths of `s` (traced on the CPU, every path's first
+/// hit stored at depth 0) summed in `bins` bins by where that hit lies (`bin`), with each
+/// sum's standard error from the photons' own spread (all paths are draws; one landing in
+/// another bin adds 0); then the total over all bins, with its own; and the fraction of the
+/// first hits that carry no power.
+fn binned_first_hits(
+    s: &Scene,
+    bins: usize,
+    bin: impl Fn(DVec3) -> usize,
+) -> (Vec<(DVec3, DVec3)>, f64) {
+    let n = 200_000;
+    let st = RenderSettings {
+        photons: n,
+        ..RenderSettings::default()
+    };
+    let (_, photons) = common::trace_global(s, &st);
+    let first: Vec<_> = photons.iter().filter(|p| p.depth() == 0).collect();
+    assert!(
+        first.len() as f64 > n as f64 * (1.0 - 1e-4),
+        "{} first hits",
+        first.len()
+    );
+    let (mut sum, mut sq) = (vec![DVec3::ZERO; bins + 1], vec![DVec3::ZERO; bins + 1]);
+    for ph in &first {
+        let pw = DVec3::from_array(ph.power.map(f64::from));
+        for k in [bin(ph.pos().as_dvec3()), bins] {
+            sum[k] += pw;
+            sq[k] += pw * pw;
+        }
+    }
+    let sigma = |k: usize| {
+        (sq[k] - sum[k] * sum[k] / n as f64)
+            .max(DVec3::ZERO)
+            .powf(0.5)
+    };
+    let dark = first.iter().filter(|p| p.power == [0.0; 3]).count() as f64 / first.len() as f64;
+    ((0..=bins).map(|k| (sum[k], sigma(k))).collect(), dark)
+}
+
+/// Each bin's power (`got`: sum, standard error) within 5 standard errors (plus 1e-4 of the
+/// total, for bins the image leaves black) of `want`; the last is the total.
+fn assert_bins_match(got: &[(DVec3, DVec3)], want: &[DVec3], what: &str) {
+    let total = want[want.len() - 1];
+    for (k, (&(sum, sigma), w)) in got.iter().zip(want).enumerate() {
+        eprintln!("{what} bin {k}: photons {sum:.5}, expected {w:.5} (sigma {sigma:.5})");
+        for c in 0..3 {
+            assert!(
+                (sum[c] - w[c]).abs() <= 5.0 * sigma[c] + 1e-4 * total[c],
+                "{what} bin {k} channel {c}: photons {} vs expected {} (sigma {})",
+                sum[c],
+                w[c],
+                sigma[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_projected_lights_in_toml_give_file_line_field_messages() {
+    let head =
+        "[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov = 40.0\n[[lights]]\n";
+    let cases = [
+        (
+            "type = \"spot\"\nposition = [0.0, 1.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nouter_angle = 30.0\nup = [0.0, 0.0, 1.0]\n",
+            "t.toml:11: lights[0].up: only with `filename` (the projected image's frame)",
+        ),
+        (
+            "type = \"spot\"\nposition = [0.0, 1.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nouter_angle = 30.0\nfilename = \"carrot.png\"\nup = [0.0, 0.0, 1.0]\n",
+            "t.toml:11: lights[0].filename: ",
+        ),
+        (
+            "type = \"spot\"\nposition = [0.0, 1.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nouter_angle = 30.0\nfilename = \"x.png\"\nup = [0.0, 2.0, 0.0]\n",
+            "t.toml:12: lights[0].up: must not be zero or parallel to the direction",
+        ),
+        (
+            "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\n",
+            "t.toml:5: lights[0].fov: missing field `fov`",
+        ),
+        (
+            "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\nfov = 0.0\n",
+            "t.toml:10: lights[0].fov: must be in (0, 180) degrees (got 0)",
+        ),
+        (
+            "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nfov = 30.0\n",
+            "t.toml:5: lights[0].up: the default up (+y) is parallel to the direction: give `up`",
+        ),
+        (
+            "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\nfov = 30.0\nirradiance = [1.0, -1.0, 1.0]\n",
+            "t.toml:11: lights[0].irradiance: ",
+        ),
+        (
+            "type = \"projector\"\nposition = [0.0, 1.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\nfov = 30.0\nintensity = [1.0, 1.0, 1.0]\n",
+            "t.toml:11: lights[0].intensity: `intensity` does not apply to type \"projector\"",
+        ),
+    ];
+    for (body, want) in cases {
+        match load_str(&format!("{head}{body}"), "t.toml", root()) {
+            Ok(_) => panic!("loaded: {body}"),
+            Err(e) => assert!(e.to_string().starts_with(want), "{e}\nwant: {want}"),
         }
     }
 }

@@ -726,8 +726,12 @@ fn malformed_files_name_file_line_and_field() {
             "",
         ),
         (
+            r#"<emitter type="sunsky"><float name="turbidity" value="3"/></emitter>"#,
+            "t.xml:4: emitter[0]: unsupported emitter `sunsky`",
+        ),
+        (
             r#"<emitter type="projector"><string name="filename" value="slide.png"/></emitter>"#,
-            "t.xml:4: emitter[0]: unsupported emitter `projector`",
+            "t.xml:4: emitter[0].filename: unsupported parameter of `projector`",
         ),
         (
             r#"<bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf>"#,

@@ -80,10 +80,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("participating_media/test_homo_obj_inside_medium_volpath.xml", Known::Off(0.1187)),
     ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.9998)),
     ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", Known::Off(0.0614)),
-    ("projector/test_projector_constant_direct.xml", Known::Refused("`projector`")),
-    ("projector/test_projector_textured_direct.xml", Known::Refused("`projector`")),
-    ("spot_light/test_spot_direct.xml", Known::Refused("texture")),
-    ("various_emitters/test_various_emitters_ptracer.xml", Known::Refused("texture")),
     ("various_shapes/test_various_shapes_path.xml", Known::Refused("<shape> in a shape")),
 ];
 

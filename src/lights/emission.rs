@@ -4,7 +4,8 @@
 //! by the texel it lands on; a light's power, which shares the photon budget, includes the
 //! texture's mean over its surface ([`texture_mean`]), and a photon leaving a point carries
 //! that texel over the same mean, so the photons' total is unbiased whatever the mean's
-//! accuracy.
+//! accuracy. A spot's or projector's projected image is its emission texture in the same way
+//! (each kind's mean: `Spot::projected_mean`, `Projector::texture_mean`).
 
 use crate::lights::area::triangle_uv;
 use crate::lights::interface::LightKind;
@@ -18,9 +19,13 @@ const PER_TRIANGLE: u32 = 4;
 /// At most this many texture lookups per light; larger meshes take one per triangle.
 const MAX_LOOKUPS: usize = 1 << 20;
 
-/// The emission texture of light `l`'s material, or [`NO_TEXTURE`] (also for lights without
-/// a surface).
+/// The emission texture of light `l`'s material or the image it projects, or [`NO_TEXTURE`].
 pub fn texture_of(scene: &Scene, l: usize) -> u32 {
+    match scene.lights[l].shape {
+        LightShape::Spot(s) => return s.projection.map_or(NO_TEXTURE, |p| p.texture),
+        LightShape::Projector(p) => return p.texture.unwrap_or(NO_TEXTURE),
+        _ => {}
+    }
     match scene.lights[l]
         .shape
         .material(&scene.triangles, &scene.spheres)
@@ -75,6 +80,8 @@ pub fn texture_mean(scene: &Scene, l: usize) -> Vec3 {
                 weight += 1.0;
             }
         }
+        LightShape::Spot(s) => return s.projected_mean(tex),
+        LightShape::Projector(_) => return crate::lights::projector::Projector::texture_mean(tex),
         _ => return Vec3::ONE,
     }
     if weight > 0.0 {

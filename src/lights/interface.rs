@@ -36,7 +36,8 @@ pub struct LightContext<'a> {
     pub power: Vec3,
     /// Its emitting area (0 without a surface).
     pub area: f32,
-    /// A triangle light's area CDF over its triangles (empty for the others).
+    /// A triangle light's area CDF over its triangles, a projector's image distribution
+    /// ([`LightKind::distribution`]); empty for the others.
     pub cdf: &'a [f32],
     /// Where its data starts in the GPU's `light_cdf`: a triangle light's CDF, the
     /// environment's distribution.
@@ -121,6 +122,13 @@ pub trait LightKind {
     /// to end at 1) by which [`Self::emit`] and [`Self::sample`] pick one.
     fn surface(&self, _triangles: &[Triangle], _spheres: &[Sphere]) -> (f32, Vec<f32>) {
         (0.0, Vec::new())
+    }
+
+    /// Sampling data of its own that the light table appends to [`Self::surface`]'s CDF
+    /// (`LightContext::cdf`, from `cdf_start` in the GPU's `light_cdf`): a projector's image
+    /// distribution. None by default.
+    fn distribution(&self, _textures: &[SceneTexture]) -> Vec<f32> {
+        Vec::new()
     }
 
     /// The material of its emitting surface, for an area light.

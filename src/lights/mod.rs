@@ -14,6 +14,7 @@ pub mod environment;
 pub mod gpu;
 pub mod interface;
 pub mod point;
+pub mod projector;
 pub mod sphere;
 pub mod spot;
 pub mod table;
@@ -21,6 +22,7 @@ pub mod triangles;
 
 use crate::lights::interface::{Emission, LightContext, LightKind, LightSample, ParamWords};
 use crate::scene::shapes::{Sphere, Triangle};
+use crate::textures::SceneTexture;
 use glam::Vec3;
 
 /// Scalar power used to split budgets: the mean of the three channels.
@@ -124,6 +126,9 @@ macro_rules! light_kinds {
             fn surface(&self, triangles: &[Triangle], spheres: &[Sphere]) -> (f32, Vec<f32>) {
                 match self { $(LightShape::$variant(k) => k.surface(triangles, spheres)),+ }
             }
+            fn distribution(&self, textures: &[SceneTexture]) -> Vec<f32> {
+                match self { $(LightShape::$variant(k) => k.distribution(textures)),+ }
+            }
             fn material(&self, triangles: &[Triangle], spheres: &[Sphere]) -> Option<u32> {
                 match self { $(LightShape::$variant(k) => k.material(triangles, spheres)),+ }
             }
@@ -157,6 +162,8 @@ light_kinds! {
     Spot(spot, Spot, "spot/spot.wgsl", true, spot::wgsl_consts, spot::gpu_overrides),
     /// Parallel light from a direction.
     Directional(directional, Directional, "directional/directional.wgsl", true, no_consts, no_overrides),
+    /// A pinhole projecting an image.
+    Projector(projector, Projector, "projector/projector.wgsl", true, no_consts, no_overrides),
     /// The environment: radiance from every direction that leaves the scene; always the last
     /// light.
     Environment(environment, Environment, "environment/environment.wgsl", false, no_consts, no_overrides),
@@ -177,7 +184,8 @@ pub struct Light {
     /// Emitted power per channel (W), as each kind's builder sets it: 4 pi I for a point
     /// light, pi A L for a one-sided emitter, E pi R^2 for a directional light (R the radius of
     /// `Scene::bounding_sphere`), pi R^2 times the radiance's integral over directions for
-    /// the environment.
+    /// the environment, pi E A for a projector (`lights::projector`); times the emission
+    /// texture's mean for a textured one (`lights::emission`).
     pub power: Vec3,
 }
 

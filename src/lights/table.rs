@@ -17,7 +17,8 @@ use glam::Vec3;
 pub struct LightTable {
     /// Per light: where its triangle CDF starts in `tri_cdf` (its end for the other kinds).
     pub cdf_start: Vec<u32>,
-    /// Concatenated per-light triangle CDFs (normalised to end at 1).
+    /// Concatenated per-light triangle CDFs (normalised to end at 1) and projectors' image
+    /// distributions (`LightKind::distribution`).
     pub tri_cdf: Vec<f32>,
     /// Per light: total emitting area (0 for lights without a surface).
     pub area: Vec<f32>,
@@ -56,6 +57,7 @@ impl LightTable {
             let (area, cdf) = l.shape.surface(&scene.triangles, &scene.spheres);
             t.area.push(area);
             t.tri_cdf.extend(cdf);
+            t.tri_cdf.extend(l.shape.distribution(&scene.textures));
         }
         t
     }

@@ -95,7 +95,7 @@ pub struct SceneBuilder {
     pub(super) shading_normals: Vec<VertexNormals>,
     pub(super) uvs: Vec<[Vec2; 3]>,
     pub(crate) tangents: Vec<crate::scene::VertexTangents>,
-    pub(super) textures: Vec<SceneTexture>,
+    pub(crate) textures: Vec<SceneTexture>,
     pub(crate) spheres: Vec<Sphere>,
     pub(crate) lights: Vec<Light>,
     pub(crate) environment: Option<crate::scene::Environment>,

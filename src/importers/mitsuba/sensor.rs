@@ -148,31 +148,7 @@ impl Importer<'_> {
 /// `parse_fov`: a `fov` on `fov_axis`, or a 35 mm-equivalent `focal_length` (default 50mm)
 /// on the 36 x 24 mm frame's diagonal, converted with the film's aspect.
 fn fov_y(cx: &Cx, p: &Plugin, node: Node, settings: &RenderSettings) -> Result<f32> {
-    let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
-    let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
-        (Some(_), Some(_)) => {
-            let message = "give `fov` or `focal_length`, not both";
-            return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
-        }
-        (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
-        (None, focal) => {
-            let focal = focal.unwrap_or_else(|| "50mm".into());
-            let mm = focal
-                .strip_suffix("mm")
-                .unwrap_or(&focal)
-                .trim()
-                .parse::<f32>();
-            let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
-                let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
-                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
-            };
-            let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
-            (fov, "diagonal".into())
-        }
-    };
-    if !(fov > 0.0 && fov < 180.0) {
-        return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
-    }
+    let (fov, axis) = fov_and_axis(cx, p, node)?;
     // Our pinhole's principal point is the film's centre.
     for name in ["principal_point_offset_x", "principal_point_offset_y"] {
         if p.float(cx, name)?.is_some_and(|v| v != 0.0) {
@@ -181,19 +157,7 @@ fn fov_y(cx: &Cx, p: &Plugin, node: Node, settings: &RenderSettings) -> Result<f
         }
     }
     let (w, h) = (settings.width as f32, settings.height as f32);
-    let t = (fov.to_radians() / 2.0).tan();
-    let ty = match axis.as_str() {
-        "x" => t * h / w,
-        "y" => t,
-        "diagonal" => t * h / (w * w + h * h).sqrt(),
-        "smaller" if w < h => t * h / w,
-        "larger" if w > h => t * h / w,
-        "smaller" | "larger" => t,
-        other => {
-            let message = format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
-            return Err(cx.err(node, &p.at("fov_axis"), message));
-        }
-    };
+    let ty = tan_half_y(cx, p, node, (fov, &axis), (w, h))?;
     Ok(2.0 * ty.atan().to_degrees())
 }
 
@@ -243,4 +207,60 @@ fn film(
         r.done(cx)?;
     }
     Ok(filter)
+}
+
+/// Mitsuba's `parse_fov` (sensors and the projector): a `fov` on `fov_axis` (default `x`),
+/// or a 35 mm-equivalent `focal_length` (default 50mm) on the 36 x 24 mm frame's diagonal;
+/// the angle in degrees, in (0, 180), and its axis.
+pub(crate) fn fov_and_axis(cx: &Cx, p: &Plugin, node: Node) -> Result<(f32, String)> {
+    let axis = p.string(cx, "fov_axis")?.map(|a| a.to_lowercase());
+    let (fov, axis) = match (p.float(cx, "fov")?, p.string(cx, "focal_length")?) {
+        (Some(_), Some(_)) => {
+            let message = "give `fov` or `focal_length`, not both";
+            return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+        }
+        (Some(fov), None) => (fov, axis.unwrap_or_else(|| "x".into())),
+        (None, focal) => {
+            let focal = focal.unwrap_or_else(|| "50mm".into());
+            let mm = focal
+                .strip_suffix("mm")
+                .unwrap_or(&focal)
+                .trim()
+                .parse::<f32>();
+            let Some(mm) = mm.ok().filter(|f| *f > 0.0 && f.is_finite()) else {
+                let message = format!("`{focal}` is not a positive length in mm (`50mm`)");
+                return Err(cx.err(p.node_of("focal_length"), &p.at("focal_length"), message));
+            };
+            let fov = 2.0 * (1872f32.sqrt() / (2.0 * mm)).atan().to_degrees();
+            (fov, "diagonal".into())
+        }
+    };
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(cx.err(node, &p.at("fov"), "must be in (0, 180) degrees"));
+    }
+    Ok((fov, axis))
+}
+
+/// `tan(fov_y / 2)` of an image of `w x h` whose `fov` (degrees) spans `axis` (the
+/// module's docs).
+pub(crate) fn tan_half_y(
+    cx: &Cx,
+    p: &Plugin,
+    node: Node,
+    (fov, axis): (f32, &str),
+    (w, h): (f32, f32),
+) -> Result<f32> {
+    let t = (fov.to_radians() / 2.0).tan();
+    Ok(match axis {
+        "x" => t * h / w,
+        "y" => t,
+        "diagonal" => t * h / (w * w + h * h).sqrt(),
+        "smaller" if w < h => t * h / w,
+        "larger" if w > h => t * h / w,
+        "smaller" | "larger" => t,
+        other => {
+            let message = format!("unknown fov_axis `{other}` (x, y, diagonal, smaller, larger)");
+            return Err(cx.err(node, &p.at("fov_axis"), message));
+        }
+    })
 }

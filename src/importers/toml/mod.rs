@@ -8,6 +8,7 @@
 //! [`crate::settings::SETTINGS`].
 
 pub mod media;
+mod projection;
 pub mod table;
 
 use crate::camera::pixel_filter::{PixelFilter, FILTER_NAMES};
@@ -88,9 +89,24 @@ const LIGHT_TYPES: &Types = &[
             "inner_angle",
             "outer_angle",
             "falloff",
+            "filename",
+            "up",
         ],
     ),
     ("directional", &["direction", "irradiance"]),
+    (
+        "projector",
+        &[
+            "position",
+            "direction",
+            "target",
+            "up",
+            "fov",
+            "irradiance",
+            "scale",
+            "filename",
+        ],
+    ),
 ];
 
 /// Reads and loads the scene file at `path`; meshes are resolved relative to its directory.
@@ -146,7 +162,7 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
         shape(&Tab::new(&cx, format!("shapes[{i}]"), s), base_dir, &mut b)?;
     }
     for (i, l) in raw.lights.iter().enumerate() {
-        light(&Tab::new(&cx, format!("lights[{i}]"), l), &mut b)?;
+        light(&Tab::new(&cx, format!("lights[{i}]"), l), base_dir, &mut b)?;
     }
     if let Some(e) = &raw.environment {
         environment(&Tab::new(&cx, "environment".into(), e), base_dir, &mut b)?;
@@ -205,9 +221,12 @@ fn environment(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
     b.set_environment(radiance, image, to_world, &at)
 }
 
-/// A `[[lights]]` table: a point, spot or directional light.
-fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
+/// A `[[lights]]` table: a point, spot, directional light or projector.
+fn light(t: &Tab, base_dir: &Path, b: &mut SceneBuilder) -> Result<()> {
     let kind = t.typed(LIGHT_TYPES, &[])?;
+    if kind == "projector" {
+        return projection::projector(t, base_dir, b);
+    }
     let emission = if kind == "directional" {
         "irradiance"
     } else {
@@ -228,15 +247,7 @@ fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         return b.add_point_light(position, color, &at);
     }
     // A spot aims along `direction`, or at `target` (exactly one of them).
-    let (direction, target) = (t.vec3("direction")?, t.vec3("target")?);
-    let direction = match (direction, target) {
-        (Some(d), None) => d,
-        (None, Some(target)) => target - position,
-        (Some(_), Some(_)) => {
-            return Err(t.fail("target", "give `direction` or `target`, not both"))
-        }
-        (None, None) => return Err(t.fail("direction", "missing field `direction` (or `target`)")),
-    };
+    let (direction, target) = projection::aim(t, position)?;
     let spot = SpotLight {
         position,
         direction,
@@ -254,6 +265,12 @@ fn light(t: &Tab, b: &mut SceneBuilder) -> Result<()> {
         }
         part => at.error(part, message),
     };
+    if t.get("filename").is_some() {
+        return projection::textured_spot(t, base_dir, spot, b, &aimed);
+    }
+    if t.get("up").is_some() {
+        return Err(t.fail("up", "only with `filename` (the projected image's frame)"));
+    }
     b.add_spot_light(spot, &aimed)
 }
 

@@ -1,8 +1,9 @@
-//! The spot light's call of the scene builder: its checks and power (its on-axis intensity
-//! times [`SpotCone::solid_angle`]).
+//! The spot light's calls of the scene builder: their checks and power (its on-axis intensity
+//! times [`SpotCone::solid_angle`]; a projected texture's mean under the falloff is
+//! multiplied in when the scene is finished, `crate::lights::emission`).
 
 use crate::error::Result;
-use crate::lights::spot::{Spot, SpotCone, SpotFalloff};
+use crate::lights::spot::{Spot, SpotCone, SpotFalloff, SpotTexture};
 use crate::lights::{Light, LightShape};
 use crate::scene::builder::SceneBuilder;
 use crate::scene::checks::{check_direction, check_emission};
@@ -34,6 +35,58 @@ impl SceneBuilder {
     /// `Parameter("direction")`, `Part::Emission`, `Parameter("inner_angle")`,
     /// `Parameter("outer_angle")`.
     pub fn add_spot_light(&mut self, spot: SpotLight, at: &dyn Locate) -> Result<()> {
+        let light = self.spot(spot, at)?;
+        self.lights.push(light);
+        Ok(())
+    }
+
+    /// Adds a spot light as [`add_spot_light`](Self::add_spot_light) that projects texture
+    /// `texture` (from [`add_texture`](Self::add_texture)) over its cone: `x_axis` and
+    /// `y_axis` are its frame's local x and y (where u and v grow), orthonormalised about
+    /// the direction (`crate::lights::spot` has the mapping). The outer angle must be under
+    /// 90 degrees. Errors: those of `add_spot_light`, `Part::Emission` (the texture), and
+    /// `Parameter("direction")` (axes parallel to the direction).
+    pub fn add_projecting_spot_light(
+        &mut self,
+        spot: SpotLight,
+        texture: u32,
+        (x_axis, y_axis): (Vec3, Vec3),
+        at: &dyn Locate,
+    ) -> Result<()> {
+        let mut light = self.spot(spot, at)?;
+        if texture as usize >= self.textures.len() {
+            return Err(at.error(Part::Emission, format!("no texture {texture}")));
+        }
+        if spot.outer >= 90.0 {
+            let message = format!(
+                "must be under 90 degrees with a texture (got {})",
+                spot.outer
+            );
+            return Err(at.error(Part::Parameter("outer_angle"), message));
+        }
+        let LightShape::Spot(s) = &mut light.shape else {
+            unreachable!("Self::spot makes a spot")
+        };
+        let x = x_axis - s.direction * s.direction.dot(x_axis);
+        let y = y_axis - s.direction * s.direction.dot(y_axis);
+        let Some(x) = x
+            .try_normalize()
+            .filter(|_| y.length() > 1e-6 * y_axis.length())
+        else {
+            let message = "the frame's x and y axes must not be parallel to the direction";
+            return Err(at.error(Part::Parameter("direction"), message.into()));
+        };
+        s.projection = Some(SpotTexture {
+            texture,
+            x_axis: x,
+            mirrored: s.direction.cross(x).dot(y) < 0.0,
+        });
+        self.lights.push(light);
+        Ok(())
+    }
+
+    /// The spot light of `spot`, checked (`add_spot_light`'s errors).
+    fn spot(&self, spot: SpotLight, at: &dyn Locate) -> Result<Light> {
         if !spot.position.is_finite() {
             return Err(at.error(Part::Geometry, "must be finite".into()));
         }
@@ -60,8 +113,8 @@ impl SceneBuilder {
             direction,
             intensity: spot.intensity,
             cone,
+            projection: None,
         });
-        self.lights.push(Light { shape, power });
-        Ok(())
+        Ok(Light { shape, power })
     }
 }

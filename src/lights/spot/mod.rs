@@ -16,14 +16,22 @@
 //! `D(theta) / (outer - inner)` with `D(theta) = x cos(outer - x) - 2 cos(outer - x/2) sin(x/2)`
 //! and `x = outer - theta` (the integral of `(outer - s) sin s` from `theta` to `outer`); it has
 //! no closed-form inverse, so sampling bisects it [`SpotCone::BISECTIONS`] times.
+//!
+//! A spot may project a texture over its cone ([`SpotTexture`], Mitsuba 3's `texture`): a
+//! direction of local coordinates `(x, y, z)` (z along the axis) reads it at
+//! `uv = 1/2 + (x, y) / (2 z tan(outer))`, so the image's square holds the outer cone's
+//! disc, and the intensity there is multiplied by the texel. Photons still leave by the
+//! falloff, each carrying its texel over the texture's mean under the falloff
+//! (`crate::lights::emission`), which the light's power includes.
 
 mod build;
 
 pub use build::SpotLight;
 
+use crate::lights::area::texel;
 use crate::lights::interface::{word, Emission, LightContext, LightKind, LightSample, ParamWords};
 use crate::math::sampling::to_world;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// A spot light: a point source whose intensity in direction `w` is `intensity` times the
 /// falloff of its [`SpotCone`] at `cos = dot(direction, w)`; invisible to the camera.
@@ -37,6 +45,70 @@ pub struct Spot {
     pub intensity: Vec3,
     /// Its cone (full intensity inside the inner half-angle, none outside the outer).
     pub cone: SpotCone,
+    /// The texture it projects, if any (its index is the light's emission texture,
+    /// `crate::lights::emission::texture_of`).
+    pub projection: Option<SpotTexture>,
+}
+
+/// The texture a spot projects over its cone (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotTexture {
+    /// Index of the texture in the scene's textures.
+    pub texture: u32,
+    /// The light's local x axis: a unit vector across the axis (u grows along it).
+    pub x_axis: Vec3,
+    /// Whether its local y axis is `-direction × x_axis` (a mirrored frame) rather than
+    /// `direction × x_axis`.
+    pub mirrored: bool,
+}
+
+impl Spot {
+    /// The uv at which a projecting spot reads its texture in unit direction `w` (module
+    /// docs; `None` without a texture).
+    pub fn uv(&self, w: Vec3) -> Option<Vec2> {
+        let t = self.projection?;
+        let y = self.direction.cross(t.x_axis) * if t.mirrored { -1.0 } else { 1.0 };
+        Some(spot_uv(
+            Vec3::new(w.dot(t.x_axis), w.dot(y), w.dot(self.direction)),
+            self.cone.cos_outer,
+        ))
+    }
+
+    /// The mean of its projected `texture` over directions drawn as its photons are (by the
+    /// falloff), by the midpoints of a 64 x 64 grid of the two numbers that draw them: the
+    /// mean the photons' texels are divided by (one without a projection).
+    pub fn projected_mean(&self, texture: &crate::textures::SceneTexture) -> Vec3 {
+        let n = 64;
+        let mut sum = glam::DVec3::ZERO;
+        for j in 0..n {
+            let cd = self.cone.sample_cos((j as f32 + 0.5) / n as f32);
+            let s = (1.0 - cd * cd).max(0.0).sqrt();
+            for i in 0..n {
+                let phi = 2.0 * std::f32::consts::PI * (i as f32 + 0.5) / n as f32;
+                let w = to_world(Vec3::new(s * phi.cos(), s * phi.sin(), cd), self.direction);
+                match self.uv(w) {
+                    Some(uv) => sum += texture.eval(uv).as_dvec3(),
+                    None => return Vec3::ONE,
+                }
+            }
+        }
+        (sum / (n * n) as f64).as_vec3()
+    }
+
+    /// The texel its projected texture has in unit direction `w` (one without a texture).
+    fn texel(&self, c: &LightContext, w: Vec3) -> Vec3 {
+        match self.uv(w) {
+            Some(uv) => texel(c, uv),
+            None => Vec3::ONE,
+        }
+    }
+}
+
+/// The uv of local direction `local` (z along the axis) for a cone of outer cosine
+/// `cos_outer` (module docs).
+pub fn spot_uv(local: Vec3, cos_outer: f32) -> Vec2 {
+    let tan_outer = (1.0 - cos_outer * cos_outer).max(0.0).sqrt() / cos_outer;
+    Vec2::splat(0.5) + 0.5 * Vec2::new(local.x, local.y) / (local.z * tan_outer)
 }
 
 impl LightKind for Spot {
@@ -44,24 +116,40 @@ impl LightKind for Spot {
         true
     }
     /// Photons by the falloff (`u[3]` the cosine to the axis, `u[4]` the azimuth), so that
-    /// every photon carries the same power.
-    fn emit(&self, _c: &LightContext, u: [f32; 5]) -> Emission {
-        let c = self.cone.sample_cos(u[3]);
-        let s = (1.0 - c * c).max(0.0).sqrt();
+    /// every photon of a spot without a texture carries the same power; a projecting one's
+    /// carries its texel over the texture's mean.
+    fn emit(&self, c: &LightContext, u: [f32; 5]) -> Emission {
+        let cd = self.cone.sample_cos(u[3]);
+        let s = (1.0 - cd * cd).max(0.0).sqrt();
         let phi = 2.0 * std::f32::consts::PI * u[4];
-        let local = Vec3::new(s * phi.cos(), s * phi.sin(), c);
+        let local = Vec3::new(s * phi.cos(), s * phi.sin(), cd);
+        let dir = to_world(local, self.direction);
+        let mean = c.texture_mean;
+        let scale = match self.projection {
+            Some(_) => Vec3::select(
+                mean.cmpgt(Vec3::ZERO),
+                self.texel(c, dir) / mean,
+                Vec3::ZERO,
+            ),
+            None => Vec3::ONE,
+        };
         Emission {
             origin: self.position,
-            dir: to_world(local, self.direction),
+            dir,
             normal: Vec3::ZERO,
-            scale: Vec3::ONE,
+            scale,
         }
     }
-    fn sample(&self, _c: &LightContext, x: Vec3, _ns: Vec3, _u: [f32; 3]) -> LightSample {
+    fn sample(&self, c: &LightContext, x: Vec3, _ns: Vec3, _u: [f32; 3]) -> LightSample {
         let to_x = x - self.position;
         let d2 = to_x.length_squared().max(1e-20);
-        let att = self.cone.falloff(self.direction.dot(to_x) / d2.sqrt());
-        LightSample::delta(self.position, self.intensity * (att / d2), false)
+        let w = to_x / d2.sqrt();
+        let att = self.cone.falloff(self.direction.dot(w));
+        let texel = match att > 0.0 {
+            true => self.texel(c, w),
+            false => Vec3::ONE,
+        };
+        LightSample::delta(self.position, self.intensity * texel * (att / d2), false)
     }
     fn anchor(&self, _c: &LightContext, _u: [f32; 3]) -> Option<Vec3> {
         Some(self.position)
@@ -71,7 +159,10 @@ impl LightKind for Spot {
             word(self.position, self.cone.profile.code()),
             word(self.direction, self.cone.cos_inner.to_bits()),
             word(self.intensity, self.cone.cos_outer.to_bits()),
-            [0; 4],
+            match self.projection {
+                Some(t) => word(t.x_axis, if t.mirrored { 2 } else { 1 }),
+                None => [0; 4],
+            },
         ]
     }
 }

@@ -1,6 +1,8 @@
 // The spot light (twin of src/lights/spot/mod.rs): p0 = (position, falloff code), p1 = (axis,
-// cos inner), p2 = (on-axis intensity, cos outer). The falloff and its sampling are the twins
-// of SpotCone's. SPOT_* constants come from spot::wgsl_consts. Library, no entry point.
+// cos inner), p2 = (on-axis intensity, cos outer), p3 = (local x axis, 0 without a projected
+// texture, 1 with one, 2 with one in a mirrored frame); the texture is the light's
+// emission_texture. The falloff and its sampling are the twins of SpotCone's. SPOT_* constants
+// come from spot::wgsl_consts. Library, no entry point.
 
 // Some spot light has Mitsuba's falloff, linear in the angle (spot_cos_linear).
 override HAS_LINEAR_SPOTS: bool = true;
@@ -77,21 +79,47 @@ fn spot_cos_linear(c: SpotCone, u: f32) -> f32 {
     return min(cos(outer - 0.5 * (lo + hi)), 1.0);
 }
 
-// Photons by the falloff: u3 the cosine to the axis, u4 the azimuth.
+// The uv of local direction local (z along the axis) for a cone of outer cosine cos_outer
+// (spot::spot_uv).
+fn spot_uv(local: vec3<f32>, cos_outer: f32) -> vec2<f32> {
+    let tan_outer = sqrt(max(1.0 - cos_outer * cos_outer, 0.0)) / cos_outer;
+    return vec2<f32>(0.5) + 0.5 * local.xy / (local.z * tan_outer);
+}
+
+// The projected texture's texel in unit direction w (Spot::texel; one without a texture).
+fn spot_texel(l: Light, w: vec3<f32>) -> vec3<f32> {
+    if l.p3.w == 0u {
+        return vec3<f32>(1.0);
+    }
+    let z = light_vec(l.p1);
+    let x = light_vec(l.p3);
+    let y = cross(z, x) * select(1.0, -1.0, l.p3.w == 2u);
+    return area_texel(l, spot_uv(vec3<f32>(dot(w, x), dot(w, y), dot(w, z)), bitcast<f32>(l.p2.w)));
+}
+
+// Photons by the falloff: u3 the cosine to the axis, u4 the azimuth; a projecting spot's
+// carry their texel over the texture's mean.
 fn spot_emit(l: Light, u0: vec3<f32>, u3: f32, u4: f32) -> Emission {
     let c = spot_cos(spot_cone(l), u3);
     let s = sqrt(max(1.0 - c * c, 0.0));
     let phi = 2.0 * PI * u4;
     let dir = to_world(vec3<f32>(s * cos(phi), s * sin(phi), c), light_vec(l.p1));
-    return Emission(light_vec(l.p0), dir, vec3<f32>(0.0), vec3<f32>(1.0));
+    var scale = vec3<f32>(1.0);
+    if l.p3.w != 0u {
+        let m = l.texture_mean;
+        scale = select(vec3<f32>(0.0), spot_texel(l, dir) / m, m > vec3<f32>(0.0));
+    }
+    return Emission(light_vec(l.p0), dir, vec3<f32>(0.0), scale);
 }
 
 fn spot_sample(l: Light, x: vec3<f32>, ns: vec3<f32>, u: vec3<f32>) -> LightSample {
     let p = light_vec(l.p0);
     let to_x = x - p;
     let d2 = max(dot(to_x, to_x), 1e-20);
-    let att = spot_falloff(spot_cone(l), dot(light_vec(l.p1), to_x) / sqrt(d2));
-    return LightSample(p, light_vec(l.p2) * (att / d2), false, 0.0);
+    let w = to_x / sqrt(d2);
+    let att = spot_falloff(spot_cone(l), dot(light_vec(l.p1), w));
+    let texel = select(vec3<f32>(1.0), spot_texel(l, w), att > 0.0);
+    return LightSample(p, light_vec(l.p2) * texel * (att / d2), false, 0.0);
 }
 
 fn spot_anchor(l: Light, u: vec3<f32>) -> Anchor {
