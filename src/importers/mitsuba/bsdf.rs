@@ -381,10 +381,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     let _ = warnings;
     // Mitsuba's reflective bsdfs reflect nothing from the back unless wrapped in `twosided`
     // (the dielectrics and `null` are two-sided by nature).
+    // (A black one reflects nothing from either side: left two-sided, as our own scenes'.)
     material.one_sided = matches!(
         kind,
         "diffuse" | "conductor" | "roughconductor" | "plastic" | "roughplastic"
-    );
+    ) && !matches!(material.bsdf, crate::bsdfs::Bsdf::Black(_));
     Ok(Read {
         material,
         kd_texture,
