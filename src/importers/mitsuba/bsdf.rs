@@ -1,8 +1,8 @@
 //! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`), each as
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
 //! `twosided`, `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
-//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, and `normalmap` around
-//! any of them.
+//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, `principled`, and
+//! `normalmap` around any of them.
 
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
@@ -32,6 +32,9 @@ pub(crate) struct Read {
     pub normal_texture: Option<SceneTexture>,
     /// The textured opacity of a `mask` bsdf (its luminance; `material.alpha` set).
     pub alpha_texture: Option<SceneTexture>,
+    /// The textures of other parameters (`principled`), each with the channel it reads and
+    /// where it goes.
+    pub param_textures: Vec<crate::importers::mitsuba::principled::ParamTexture>,
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
@@ -113,6 +116,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         return Err(cx.err(extra, field, message));
     }
     let mut kd_texture = None;
+    let mut param_textures = Vec::new();
     let material = match kind {
         "twosided" => {
             // Our materials reflect on both sides already: the nested bsdf is the material.
@@ -214,6 +218,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     kd_texture,
                     normal_texture: None,
                     alpha_texture: None,
+                    param_textures: Vec::new(),
                 });
             }
             match microfacet {
@@ -272,6 +277,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             };
             Material::of(Plastic::new(kd, specular, eta, nonlinear, microfacet))
         }
+        "principled" => {
+            let (kind, textures) = crate::importers::mitsuba::principled::principled(cx, &p)?;
+            param_textures = textures;
+            Material::of(kind)
+        }
         // Mitsuba 3's `null`: an index-matched boundary that only bounds media.
         "null" => Material::null(),
         other => {
@@ -286,5 +296,6 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         kd_texture,
         normal_texture: None,
         alpha_texture: None,
+        param_textures,
     })
 }

@@ -20,6 +20,7 @@ mod include;
 mod integrator;
 mod medium;
 mod plugin;
+mod principled;
 mod round;
 mod sensor;
 mod shape;
@@ -258,6 +259,12 @@ impl<'f> Importer<'f> {
             let id = self.b.add_texture(t, &at)?;
             if let Some(p) = material.bsdf.base_colour_mut() {
                 *p = crate::bsdfs::Param::texture(id);
+            }
+        }
+        for (t, channel, slot) in read.param_textures {
+            let id = self.b.add_texture(t, &at)?;
+            if let Some(p) = slot(&mut material.bsdf) {
+                *p = p.times(id, channel);
             }
         }
         if let Some(t) = read.normal_texture {
