@@ -348,6 +348,29 @@ impl Principled {
         pdf
     }
 
+    /// The visible normal `m` that `u2` picks for `wo` and the sampler's thresholds on `u[0]`
+    /// (the cumulative probabilities of the cosine, clearcoat and transmission components;
+    /// above the last, the reflection), given the cosine component's weight `cos_w`.
+    fn choice(&self, wo: Vec3, u2: Vec2, cos_w: f32) -> (Vec3, [f32; 3]) {
+        let (m, _) = self.microfacet().sample_visible(mulsign(wo, wo.z), u2);
+        let f = fresnel_dielectric(wo.dot(m), self.eta).0;
+        let w = weights(wo.z > 0.0, cos_w, self.clearcoat.float(), self.bsdf(), f);
+        let total = w.iter().sum::<f32>();
+        let c = [w[0] / total, (w[0] + w[1]) / total, (w[0] + w[1] + w[2]) / total];
+        (m, c)
+    }
+
+    /// The thresholds on `u[0]` of [`sample`](BsdfKind::sample) (`lobe` false) or
+    /// [`sample_lobe`](BsdfKind::sample_lobe) for `wo` and `u[1], u[2]` (see `choice`).
+    pub fn sample_thresholds(&self, wo: Vec3, u: [f32; 3], lobe: bool) -> [f32; 3] {
+        let cos_w = if lobe {
+            self.remainder_weight(wo)
+        } else {
+            self.full_weight(wo)
+        };
+        self.choice(wo, Vec2::new(u[1], u[2]), cos_w).1
+    }
+
     /// Mitsuba's sampling strategy with the cosine component weighted `cos_w`: a visible
     /// normal `m` from `u[1], u[2]`, then `u[0]` picks the cosine, clearcoat, transmission or
     /// reflection component (transmission and reflection by the Fresnel term at `m`); the
@@ -367,12 +390,8 @@ impl Principled {
             return None;
         }
         let u2 = Vec2::new(u[1], u[2]);
-        let (m, _) = self.microfacet().sample_visible(mulsign(wo, wo.z), u2);
-        let (f, cos_t, _, eta_ti) = fresnel_dielectric(wo.dot(m), self.eta);
-        let w = weights(front, cos_w, self.clearcoat.float(), bsdf, f);
-        let total = w.iter().sum::<f32>();
-        let (c0, c1) = (w[0] / total, (w[0] + w[1]) / total);
-        let c2 = (w[0] + w[1] + w[2]) / total;
+        let (m, [c0, c1, c2]) = self.choice(wo, u2, cos_w);
+        let (_, cos_t, _, eta_ti) = fresnel_dielectric(wo.dot(m), self.eta);
         let wi = if u[0] < c0 {
             let wi = square_to_cosine_hemisphere(u2);
             (wi.z * wo.z > 0.0).then_some(wi)?

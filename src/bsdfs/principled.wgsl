@@ -172,18 +172,25 @@ fn pr_pdf_with(p: PrParams, wi: vec3<f32>, wo: vec3<f32>, cos_w: f32) -> f32 {
     }
     return pdf;
 }
+// The visible normal u2 picks and the thresholds on u.x (cosine, clearcoat, transmission).
+struct PrChoice { m: vec3<f32>, c: vec3<f32> }
+fn pr_choice(p: PrParams, wo: vec3<f32>, u2: vec2<f32>, cos_w: f32) -> PrChoice {
+    let ms = mf_sample_visible(pr_microfacet(p), mulsign(wo, wo.z), u2);
+    let f = fresnel_dielectric_mi(bsdf_dot(wo, ms.m), p.eta).f;
+    let w = pr_weights(wo.z > 0.0, cos_w, p.clearcoat, pr_bsdf(p), f);
+    let total = w.x + w.y + w.z + w.w;
+    return PrChoice(ms.m, vec3<f32>(w.x / total, (w.x + w.y) / total, (w.x + w.y + w.z) / total));
+}
 fn pr_sample_with(p: PrParams, wo: vec3<f32>, u: vec3<f32>, radiance: bool, cos_w: f32, lobe: bool) -> LobeSampleW {
     let front = wo.z > 0.0;
     let bsdf = pr_bsdf(p);
     if wo.z == 0.0 || (!front && bsdf <= 0.0) { return lobe_none(); }
-    let ms = mf_sample_visible(pr_microfacet(p), mulsign(wo, wo.z), u.yz);
-    let m = ms.m;
+    let ch = pr_choice(p, wo, u.yz, cos_w);
+    let m = ch.m;
     let fr = fresnel_dielectric_mi(bsdf_dot(wo, m), p.eta);
-    let w = pr_weights(front, cos_w, p.clearcoat, bsdf, fr.f);
-    let total = w.x + w.y + w.z + w.w;
-    let c0 = w.x / total;
-    let c1 = (w.x + w.y) / total;
-    let c2 = (w.x + w.y + w.z) / total;
+    let c0 = ch.c.x;
+    let c1 = ch.c.y;
+    let c2 = ch.c.z;
     var wi: vec3<f32>;
     var ok: bool;
     if u.x < c0 {
