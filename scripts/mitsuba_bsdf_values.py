@@ -100,7 +100,7 @@ def mitsuba_dict(params):
             d['type'] = v
         elif k in ('material', 'distribution'):
             d[k] = v
-        elif k == 'nonlinear':
+        elif k in ('nonlinear', 'twosided'):
             d[k] = v == 'true'
         elif k in ('eta', 'k', 'diffuse_reflectance', 'specular_reflectance',
                    'specular_transmittance', 'reflectance', 'base_color') and ' ' in v:
@@ -157,6 +157,9 @@ PRINCIPLED_CASES = [
      'clearcoat=0.6;sheen=0.2;specular=0.4', 'both'),
     ('type=principled;base_color=0.5 0.5 0.5;roughness=0.6;spec_trans=0.4;eta=1.45;flatness=0.6;'
      'metallic=0.1;spec_tint=0.5', 'both'),
+    # Inside `twosided`, as the mitsuba-blender exporter writes a reflective principled.
+    ('type=principled;twosided=true;base_color=0.7 0.4 0.2;roughness=0.35;metallic=0.3;'
+     'clearcoat=0.5;sheen=0.5;specular=0.5', 'both'),
 ]
 
 
@@ -166,7 +169,10 @@ def principled():
     rows = ['row,params,mode,wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,u0,u1,u2,r,g,b,pdf,delta']
     for params, side in PRINCIPLED_CASES:
         d = mitsuba_dict(params)
-        b = mi.load_dict(d)
+        if d.pop('twosided', 0):
+            b = mi.load_dict({'type': 'twosided', 'bsdf': d})
+        else:
+            b = mi.load_dict(d)
         alpha = d.get('roughness', 0.5) ** 2 + 0.05
         eta = d.get('eta', 2.0 / (1.0 - math.sqrt(0.08 * d.get('specular', 0.5))) - 1.0)
         for mode in (['radiance', 'importance'] if side == 'both' else ['radiance']):

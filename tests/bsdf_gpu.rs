@@ -190,6 +190,16 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
             }),
         ),
         (
+            "principled two-sided",
+            principled(&|p| {
+                p.two_sided = true;
+                p.roughness = Param::constant(0.4);
+                p.metallic = Param::constant(0.3);
+                p.sheen = Param::constant(0.5);
+                p.clearcoat = Param::constant(0.5);
+            }),
+        ),
+        (
             "principled flat",
             principled(&|p| {
                 p.flatness = Param::constant(0.5);

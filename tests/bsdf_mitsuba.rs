@@ -89,6 +89,7 @@ fn build(params: &str) -> Bsdf {
                 || Principled::eta_of_specular(f("specular", 0.5)),
                 |v| v.parse().unwrap(),
             );
+            k.two_sided = p.get("twosided") == Some(&"true");
             Bsdf::Principled(k)
         }
         other => panic!("unknown kind {other}"),

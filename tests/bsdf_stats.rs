@@ -410,6 +410,16 @@ fn chi2_principled() {
             true,
         ),
         (
+            "principled two-sided",
+            make(&|p| {
+                p.two_sided = true;
+                p.roughness = c(0.4);
+                p.sheen = c(0.5);
+                p.clearcoat = c(0.5);
+            }),
+            true,
+        ),
+        (
             "principled flat",
             make(&|p| {
                 p.flatness = c(0.7);

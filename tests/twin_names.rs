@@ -185,6 +185,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bsdfs/principled.wgsl", "pr_sample_with", "bsdfs/principled.rs", "sample_with", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_remainder_weight", "bsdfs/principled.rs", "remainder_weight", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_full_weight", "bsdfs/principled.rs", "full_weight", Caller("bsdf_gpu.rs")),
+    ("bsdfs/principled.wgsl", "pr_oriented", "bsdfs/principled.rs", "oriented", Caller("bsdf_gpu.rs")),
     ("bsdfs/phong.wgsl", "phong_lobe_value", "bsdfs/phong.rs", "phong_lobe_value", Oracle("material_gpu.rs")),
     ("bsdfs/phong.wgsl", "phong_pdf_value", "bsdfs/phong.rs", "phong_pdf", Caller("bsdf_gpu.rs")),
     ("bsdfs/phong.wgsl", "classic_bounce", "bsdfs/phong.rs", "classic_bounce", Oracle("material_gpu.rs")),

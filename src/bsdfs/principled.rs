@@ -23,9 +23,11 @@
 //! cosine-weighted). [`Principled::sample`] is Mitsuba's sampler (same uniforms, same
 //! directions); [`Principled::sample_lobe`] is the same strategy with the cosine component
 //! weighted for the lobe part's remainder. The anisotropic roughness is along the local
-//! frame's x (Mitsuba: the surface's `dp/du`). Twin: `principled.wgsl`.
+//! frame's x (Mitsuba: the surface's `dp/du`). Inside Mitsuba's `twosided` (as the
+//! mitsuba-blender exporter writes a reflective one) both sides are the front. Twin:
+//! `principled.wgsl`.
 
-use crate::bsdfs::interface::{BsdfKind, LobeSample, SurfaceClass, Transport};
+use crate::bsdfs::interface::{back_to_side, BsdfKind, LobeSample, SurfaceClass, Transport};
 use crate::bsdfs::math::{
     cosine_hemisphere_pdf, mulsign, reflect, refract, safe_sqrt, square_to_cosine_hemisphere,
 };
@@ -71,6 +73,9 @@ pub struct Principled {
     /// Relative index of refraction, interior / exterior (Mitsuba's `eta`, or derived from
     /// `specular`).
     pub eta: f32,
+    /// Inside Mitsuba's `twosided`: a viewer behind the surface sees it as from the front
+    /// (both directions mirrored), as the mitsuba-blender exporter writes reflective ones.
+    pub two_sided: bool,
 }
 
 /// Mitsuba's RGB luminance.
@@ -183,7 +188,19 @@ impl Principled {
             clearcoat_gloss: z,
             flatness: z,
             eta: Self::eta_of_specular(0.5),
+            two_sided: false,
         }
+    }
+
+    /// Both directions mirrored to the front when the kind is two-sided and `wo` is behind,
+    /// with whether they were. A sign factor, not `flip_z`: with the negations, rustc 1.95
+    /// inlined `sample` then `pdf` so that a sample's own direction had density 0 (caught by
+    /// tests/bsdf_stats.rs chi2_principled).
+    fn oriented(&self, wi: Vec3, wo: Vec3) -> (Vec3, Vec3, bool) {
+        let flip = self.two_sided && wo.z < 0.0;
+        let s = if flip { -1.0 } else { 1.0 };
+        let w = |v: Vec3| Vec3::new(v.x, v.y, v.z * s);
+        (w(wi), w(wo), flip)
     }
 
     /// The index Mitsuba derives from `specular`: `2 / (1 - sqrt(0.08 specular)) - 1`.
@@ -464,7 +481,7 @@ impl BsdfKind for Principled {
             clearcoat: self.clearcoat.resolved(t, uv),
             clearcoat_gloss: self.clearcoat_gloss.resolved(t, uv),
             flatness: self.flatness.resolved(t, uv),
-            eta: self.eta,
+            ..*self
         }
     }
     fn base_colour_mut(&mut self) -> Option<&mut Param> {
@@ -486,9 +503,10 @@ impl BsdfKind for Principled {
         ] {
             out.slot(p);
         }
-        out.floats([self.eta, 0.0, 0.0, 0.0]);
+        out.raw([self.eta.to_bits(), u32::from(self.two_sided), 0, 0]);
     }
     fn diffuse_out(&self, wo: Vec3) -> Vec3 {
+        let (_, wo, _) = self.oriented(Vec3::Z, wo);
         if wo.z > 0.0 {
             self.base_color.get() * (self.diffuse_weight() * Self::half_schlick(wo.z))
         } else {
@@ -496,26 +514,32 @@ impl BsdfKind for Principled {
         }
     }
     fn store_weight(&self, wi: Vec3) -> f32 {
-        if wi.z > 0.0 && self.diffuse_weight() > 0.0 {
-            Self::half_schlick(wi.z)
+        let z = if self.two_sided { wi.z.abs() } else { wi.z };
+        if z > 0.0 && self.diffuse_weight() > 0.0 {
+            Self::half_schlick(z)
         } else {
             0.0
         }
     }
     fn eval_lobe(&self, wi: Vec3, wo: Vec3, t: Transport) -> Vec3 {
+        let (wi, wo, _) = self.oriented(wi, wo);
         self.parts(wi, wo, t).1
     }
     fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
+        let (wi, wo, _) = self.oriented(wi, wo);
         self.pdf_with(wi, wo, self.remainder_weight(wo))
     }
     fn sample_lobe(&self, wo: Vec3, u: [f32; 3], t: Transport) -> Option<LobeSample> {
-        self.sample_with(wo, u, t, self.remainder_weight(wo), true)
+        let (_, wo, flipped) = self.oriented(Vec3::Z, wo);
+        let s = self.sample_with(wo, u, t, self.remainder_weight(wo), true);
+        back_to_side(s, flipped)
     }
     fn has_diffuse(&self) -> bool {
         self.diffuse_weight() > 0.0
     }
     /// The lobes' rough albedo at `wo` against the diffuse part's, inside [0.05, 0.95].
     fn lobe_probability(&self, wo: Vec3) -> f32 {
+        let (_, wo, _) = self.oriented(Vec3::Z, wo);
         let d = mean(self.diffuse_out(wo));
         if d <= 0.0 {
             return 1.0;
@@ -530,14 +554,18 @@ impl BsdfKind for Principled {
         (l / (l + d)).clamp(0.05, 0.95)
     }
     fn eval(&self, wi: Vec3, wo: Vec3, t: Transport) -> Vec3 {
+        let (wi, wo, _) = self.oriented(wi, wo);
         let (d, l) = self.parts(wi, wo, t);
         d + l
     }
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        let (wi, wo, _) = self.oriented(wi, wo);
         self.pdf_with(wi, wo, self.full_weight(wo))
     }
     fn sample(&self, wo: Vec3, u: [f32; 3], t: Transport) -> Option<LobeSample> {
-        self.sample_with(wo, u, t, self.full_weight(wo), false)
+        let (_, wo, flipped) = self.oriented(Vec3::Z, wo);
+        let s = self.sample_with(wo, u, t, self.full_weight(wo), false);
+        back_to_side(s, flipped)
     }
     /// Asked of the material's (unresolved) kind: a textured metalness, transmission or
     /// flatness may leave some diffuse part anywhere on it.

@@ -1,17 +1,17 @@
 // Mitsuba 3.9's principled BSDF (twin of src/bsdfs/principled.rs, same operation order): one
 // interface, wo.z < 0 the viewer inside. Words (slots): 0 base_color, 1 roughness,
 // 2 anisotropic, 3 metallic, 4 spec_trans, 5 spec_tint, 6 sheen, 7 sheen_tint, 8 clearcoat,
-// 9 clearcoat_gloss, 10 flatness; 11 eta. Uses gltf_schlick_weight and gltf_mean
+// 9 clearcoat_gloss, 10 flatness; 11 eta and two-sidedness (u32). Uses gltf_schlick_weight and gltf_mean
 // (metallic_roughness.wgsl). Library.
 
 struct PrParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, metallic: f32, spec_trans: f32,
     spec_tint: f32, sheen: f32, sheen_tint: f32, clearcoat: f32, clearcoat_gloss: f32,
-    flatness: f32, eta: f32,
+    flatness: f32, eta: f32, two_sided: bool,
 }
 fn principled_params(b: Bsdf) -> PrParams {
     return PrParams(w_rgb(b.w0), w_f(b.w1), w_f(b.w2), w_f(b.w3), w_f(b.w4), w_f(b.w5),
-        w_f(b.w6), w_f(b.w7), w_f(b.w8), w_f(b.w9), w_f(b.w10), w_f(b.w11));
+        w_f(b.w6), w_f(b.w7), w_f(b.w8), w_f(b.w9), w_f(b.w10), w_f(b.w11), b.w11.y != 0u);
 }
 fn pr_luminance(c: vec3<f32>) -> f32 { return 0.212671 * c.x + 0.71516 * c.y + 0.072169 * c.z; }
 fn pr_calc_schlick(r0: vec3<f32>, cos_i: f32, eta: f32) -> vec3<f32> {
@@ -222,30 +222,42 @@ fn pr_remainder_weight(p: PrParams, wo: vec3<f32>) -> f32 {
 }
 fn pr_full_weight(p: PrParams, wo: vec3<f32>) -> f32 { return select(0.0, pr_brdf(p), wo.z > 0.0); }
 
-fn principled_diffuse_out(b: Bsdf, wo: vec3<f32>) -> vec3<f32> {
+// Both directions mirrored to the front when two-sided and wo is behind (to_front's result).
+fn pr_oriented(p: PrParams, wi: vec3<f32>, wo: vec3<f32>) -> Front {
+    if p.two_sided && wo.z < 0.0 { return Front(flip_z(wi), flip_z(wo), true, true); }
+    return Front(wi, wo, false, true);
+}
+fn principled_diffuse_out(b: Bsdf, wo_in: vec3<f32>) -> vec3<f32> {
     let p = principled_params(b);
+    let wo = pr_oriented(p, vec3<f32>(0.0, 0.0, 1.0), wo_in).wo;
     if wo.z > 0.0 { return p.base * (pr_diffuse_weight(p) * pr_half_schlick(wo.z)); }
     return vec3<f32>(0.0);
 }
 fn principled_store_weight(b: Bsdf, wi: vec3<f32>) -> f32 {
     let p = principled_params(b);
-    if wi.z > 0.0 && pr_diffuse_weight(p) > 0.0 { return pr_half_schlick(wi.z); }
+    let z = select(wi.z, abs(wi.z), p.two_sided);
+    if z > 0.0 && pr_diffuse_weight(p) > 0.0 { return pr_half_schlick(z); }
     return 0.0;
 }
 fn principled_eval_lobe(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> vec3<f32> {
-    return pr_parts(principled_params(b), wi, wo, radiance).lobe;
+    let p = principled_params(b);
+    let o = pr_oriented(p, wi, wo);
+    return pr_parts(p, o.wi, o.wo, radiance).lobe;
 }
 fn principled_pdf_lobe(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     let p = principled_params(b);
-    return pr_pdf_with(p, wi, wo, pr_remainder_weight(p, wo));
+    let o = pr_oriented(p, wi, wo);
+    return pr_pdf_with(p, o.wi, o.wo, pr_remainder_weight(p, o.wo));
 }
 fn principled_sample_lobe(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeSampleW {
     let p = principled_params(b);
-    return pr_sample_with(p, wo, u, radiance, pr_remainder_weight(p, wo), true);
+    let o = pr_oriented(p, vec3<f32>(0.0, 0.0, 1.0), wo);
+    return back_to_side(pr_sample_with(p, o.wo, u, radiance, pr_remainder_weight(p, o.wo), true), o.flipped);
 }
 fn principled_has_diffuse(b: Bsdf) -> bool { return pr_diffuse_weight(principled_params(b)) > 0.0; }
-fn principled_lobe_probability(b: Bsdf, wo: vec3<f32>) -> f32 {
+fn principled_lobe_probability(b: Bsdf, wo_in: vec3<f32>) -> f32 {
     let p = principled_params(b);
+    let wo = pr_oriented(p, vec3<f32>(0.0, 0.0, 1.0), wo_in).wo;
     let d = gltf_mean(principled_diffuse_out(b, wo));
     if d <= 0.0 { return 1.0; }
     let c = abs(wo.z);
@@ -257,16 +269,20 @@ fn principled_lobe_probability(b: Bsdf, wo: vec3<f32>) -> f32 {
     return clamp(l / (l + d), 0.05, 0.95);
 }
 fn principled_eval(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> vec3<f32> {
-    let parts = pr_parts(principled_params(b), wi, wo, radiance);
+    let p = principled_params(b);
+    let o = pr_oriented(p, wi, wo);
+    let parts = pr_parts(p, o.wi, o.wo, radiance);
     return parts.diffuse + parts.lobe;
 }
 fn principled_pdf(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
     let p = principled_params(b);
-    return pr_pdf_with(p, wi, wo, pr_full_weight(p, wo));
+    let o = pr_oriented(p, wi, wo);
+    return pr_pdf_with(p, o.wi, o.wo, pr_full_weight(p, o.wo));
 }
 fn principled_sample(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeSampleW {
     let p = principled_params(b);
-    return pr_sample_with(p, wo, u, radiance, pr_full_weight(p, wo), false);
+    let o = pr_oriented(p, vec3<f32>(0.0, 0.0, 1.0), wo);
+    return back_to_side(pr_sample_with(p, o.wo, u, radiance, pr_full_weight(p, o.wo), false), o.flipped);
 }
 // A textured metalness, transmission or flatness may leave a diffuse part anywhere.
 fn principled_surface_stores_photons(s: Surface) -> bool {

@@ -119,10 +119,15 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     let mut param_textures = Vec::new();
     let material = match kind {
         "twosided" => {
-            // Our materials reflect on both sides already: the nested bsdf is the material.
+            // Our materials reflect on both sides already: the nested bsdf is the material;
+            // a principled one (one interface, as in Mitsuba) is told it is two-sided.
             let inner = nested_bsdf(cx, &p, node, field)?;
             p.done(cx)?;
-            return bsdf(cx, inner, &format!("{field}.bsdf"), warnings);
+            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
+            if let crate::bsdfs::Bsdf::Principled(k) = &mut read.material.bsdf {
+                k.two_sided = true;
+            }
+            return Ok(read);
         }
         "normalmap" => {
             // Mitsuba 3's `normalmap`: the nested bsdf in the shading frame that the texture's

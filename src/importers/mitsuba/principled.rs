@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
-use crate::textures::SceneTexture;
+use crate::textures::{Checkerboard, SceneTexture};
 use glam::Vec3;
 
 /// Where the caller puts a parameter's texture once it has added it to the scene.
@@ -39,6 +39,20 @@ const FLOATS: &[(&str, f32, f32, ParamSlot)] = &[
     ("flatness", 0.0, 1.0, slot!(flatness)),
 ];
 
+/// A texture as Mitsuba's `eval_1` reads it (a float parameter): a `checkerboard`'s
+/// `eval_1` gives `color0` where its RGB `eval` gives `color1` and the other way round
+/// (Mitsuba 3.9.1; scripts/mitsuba_checkerboard_eval1.py pins it), so its colours swap.
+pub(crate) fn float_texture(t: SceneTexture) -> SceneTexture {
+    match t {
+        SceneTexture::Checkerboard(c) => SceneTexture::Checkerboard(Checkerboard {
+            color0: c.color1,
+            color1: c.color0,
+            ..c
+        }),
+        other => other,
+    }
+}
+
 /// A texture read for a parameter: the texture, the channel the parameter reads, its slot.
 pub(crate) type ParamTexture = (SceneTexture, Channel, ParamSlot);
 
@@ -61,7 +75,7 @@ pub(crate) fn principled(cx: &Cx, p: &Plugin) -> Result<(Bsdf, Vec<ParamTexture>
     for &(name, default, max, slot) in FLOATS {
         let value = match p.texture_param(name) {
             Some(t) => {
-                let t = texture(cx, t, &p.at(name))?;
+                let t = float_texture(texture(cx, t, &p.at(name))?);
                 textures.push((t, Channel::Luminance, slot));
                 Param::constant(1.0)
             }
