@@ -176,34 +176,10 @@ def principled():
         alpha = d.get('roughness', 0.5) ** 2 + 0.05
         eta = d.get('eta', 2.0 / (1.0 - math.sqrt(0.08 * d.get('specular', 0.5))) - 1.0)
         for mode in (['radiance', 'importance'] if side == 'both' else ['radiance']):
-            ctx = mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
-                                 else mi.TransportMode.Importance)
             for i in range(24):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                r = i % 4
-                if r == 0:
-                    wi = rand_dir(rng, 1 if side == 'front' else 0)
-                elif r == 3 and side == 'both':
-                    wi = refract_near(rng, wo, eta, alpha)
-                else:
-                    wi = reflect_near(rng, wo, alpha)
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                val = b.eval(ctx, si, v3(wi))
-                pdf = b.pdf(ctx, si, v3(wi))
-                rows.append(','.join(['eval', params, mode] + [f32(c) for c in wi + wo] +
-                                     ['0', '0', '0'] + [f32(val[j]) for j in range(3)] +
-                                     [f32(pdf), '0']))
+                rows.append(eval_row(rng, b, context(mode), params, mode, side, eta, alpha, i))
             for i in range(16):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                u = [float(f32(rng.random())) for _ in range(3)]
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                bs, w = b.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
-                wi = [bs.wo[0], bs.wo[1], bs.wo[2]]
-                rows.append(','.join(['sample', params, mode] + [f32(c) for c in wi + wo] +
-                                     [f32(c) for c in u] + [f32(w[j]) for j in range(3)] +
-                                     [f32(bs.pdf), '0']))
+                rows.append(sample_row(rng, b, context(mode), params, mode, side))
     path = os.path.join(ROOT, 'tests', 'data', 'bsdf', 'mitsuba_principled.csv')
     with open(path, 'w') as f:
         f.write('# Mitsuba %s scalar_rgb, written by scripts/mitsuba_bsdf_values.py --principled\n'
@@ -214,6 +190,44 @@ def principled():
 
 def v3(v):
     return mi.Vector3f(v[0], v[1], v[2])
+
+
+def eval_row(rng, b, ctx, params, mode, side, eta, alpha, i):
+    """One `eval` row: a random wo (front only, or both sides), and wi random (i % 4 == 0),
+    near the refraction (i % 4 == 3, both sides) or near the mirror direction."""
+    wo = rand_dir(rng, 1 if side == 'front' else 0)
+    r = i % 4
+    if r == 0:
+        wi = rand_dir(rng, 1 if side == 'front' else 0)
+    elif r == 3 and side == 'both':
+        wi = refract_near(rng, wo, eta, alpha)
+    else:
+        wi = reflect_near(rng, wo, alpha)
+    si = mi.SurfaceInteraction3f()
+    si.wi = v3(wo)
+    val = b.eval(ctx, si, v3(wi))
+    pdf = b.pdf(ctx, si, v3(wi))
+    return ','.join(['eval', params, mode] + [f32(c) for c in wi + wo] + ['0', '0', '0'] +
+                    [f32(val[j]) for j in range(3)] + [f32(pdf), '0'])
+
+
+def sample_row(rng, b, ctx, params, mode, side):
+    """One `sample` row: a random wo and three uniforms."""
+    wo = rand_dir(rng, 1 if side == 'front' else 0)
+    u = [float(f32(rng.random())) for _ in range(3)]
+    si = mi.SurfaceInteraction3f()
+    si.wi = v3(wo)
+    bs, w = b.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
+    delta = 1 if mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta) or \
+        mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null) else 0
+    wi = [bs.wo[0], bs.wo[1], bs.wo[2]]
+    return ','.join(['sample', params, mode] + [f32(c) for c in wi + wo] + [f32(c) for c in u] +
+                    [f32(w[j]) for j in range(3)] + [f32(bs.pdf), str(delta)])
+
+
+def context(mode):
+    return mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
+                          else mi.TransportMode.Importance)
 
 
 def main():
@@ -230,40 +244,12 @@ def main():
         for mode in modes:
             n = 24 if mode == 'radiance' else 10
             for i in range(n):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                r = i % 4
-                if r == 0:
-                    wi = rand_dir(rng, 1 if side == 'front' else 0)
-                elif r == 3 and side == 'both':
-                    wi = refract_near(rng, wo, eta, alpha)
-                else:
-                    wi = reflect_near(rng, wo, alpha)
-                ctx = mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
-                                     else mi.TransportMode.Importance)
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                val = b.eval(ctx, si, v3(wi))
-                pdf = b.pdf(ctx, si, v3(wi))
-                rows.append(','.join(['eval', params, mode] + [f32(c) for c in wi + wo] +
-                                     ['0', '0', '0'] + [f32(val[j]) for j in range(3)] +
-                                     [f32(pdf), '0']))
+                rows.append(eval_row(rng, b, context(mode), params, mode, side, eta, alpha, i))
     for params, side in SAMPLE_CASES:
         b = mi.load_dict(mitsuba_dict(params))
         for mode in (['radiance', 'importance'] if side == 'both' else ['radiance']):
             for i in range(12):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                u = [float(f32(rng.random())) for _ in range(3)]
-                ctx = mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
-                                     else mi.TransportMode.Importance)
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                bs, w = b.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
-                delta = 1 if mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta) or \
-                    mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null) else 0
-                wi = [bs.wo[0], bs.wo[1], bs.wo[2]]
-                rows.append(','.join(['sample', params, mode] + [f32(c) for c in wi + wo] +
-                                     [f32(c) for c in u] + [f32(w[j]) for j in range(3)] +
-                                     [f32(bs.pdf), str(delta)]))
+                rows.append(sample_row(rng, b, context(mode), params, mode, side))
     path = os.path.join(out_dir, 'mitsuba_eval.csv')
     with open(path, 'w') as f:
         f.write('# Mitsuba %s scalar_rgb, written by scripts/mitsuba_bsdf_values.py\n' % mi.__version__)

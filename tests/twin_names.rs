@@ -169,7 +169,6 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bsdfs/principled.wgsl", "pr_gtr1_sample", "bsdfs/principled.rs", "gtr1_sample", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_smith_ggx1", "bsdfs/principled.rs", "smith_ggx1", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_compatible", "bsdfs/principled.rs", "compatible", Caller("bsdf_gpu.rs")),
-    ("bsdfs/principled.wgsl", "pr_half", "bsdfs/principled.rs", "half", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_weights", "bsdfs/principled.rs", "weights", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_microfacet", "bsdfs/principled.rs", "microfacet", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_brdf", "bsdfs/principled.rs", "brdf", Caller("bsdf_gpu.rs")),

@@ -34,6 +34,7 @@ use crate::bsdfs::math::{
 use crate::bsdfs::metallic_roughness::schlick_weight;
 use crate::bsdfs::microfacet::{fresnel_dielectric, Distribution, Microfacet};
 use crate::bsdfs::param::{GpuWords, Param};
+use crate::bsdfs::rough_dielectric::half_vector;
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -145,15 +146,6 @@ fn smith_ggx1(v: Vec3, m: Vec3, alpha: f32) -> f32 {
 fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
     let ms = mulsign(m, wo.z);
     wo.dot(ms) > 0.0 && if reflection { wi.dot(ms) > 0.0 } else { wi.dot(ms) < 0.0 }
-}
-
-/// The generalised half vector of `(wi, wo)` facing up, whether it is a reflection, and the
-/// index ratio `eta_path` of the far side over `wo`'s.
-fn half(eta: f32, wi: Vec3, wo: Vec3) -> (Vec3, bool, f32) {
-    let reflect = wo.z * wi.z > 0.0;
-    let eta_path = if wo.z > 0.0 { eta } else { 1.0 / eta };
-    let h = (wo + wi * if reflect { 1.0 } else { eta_path }).normalize();
-    (mulsign(h, h.z), reflect, eta_path)
 }
 
 /// The unnormalised choice weights of the sampler's components at a dielectric Fresnel `f`:
@@ -275,7 +267,7 @@ impl Principled {
         let (brdf, bsdf) = (self.brdf(), self.bsdf());
         let base = self.base_color.get();
         let front = wo.z > 0.0;
-        let (h, reflect, eta_path) = half(self.eta, wi, wo);
+        let (h, reflect, eta_path) = half_vector(self.eta, wi, wo);
         let f = fresnel_dielectric(wo.dot(h), self.eta).0;
         let mf = self.microfacet();
         let (d, g) = (mf.d(h), mf.g(wo, wi, h));
@@ -338,7 +330,7 @@ impl Principled {
         if !front && bsdf <= 0.0 {
             return 0.0;
         }
-        let (h, reflect, eta_path) = half(self.eta, wi, wo);
+        let (h, reflect, eta_path) = half_vector(self.eta, wi, wo);
         let f = fresnel_dielectric(wo.dot(h), self.eta).0;
         let w = weights(front, cos_w, self.clearcoat.float(), bsdf, f);
         let total = w.iter().sum::<f32>();

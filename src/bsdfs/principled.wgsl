@@ -2,7 +2,7 @@
 // interface, wo.z < 0 the viewer inside. Words (slots): 0 base_color, 1 roughness,
 // 2 anisotropic, 3 metallic, 4 spec_trans, 5 spec_tint, 6 sheen, 7 sheen_tint, 8 clearcoat,
 // 9 clearcoat_gloss, 10 flatness; 11 eta and two-sidedness (u32). Uses gltf_schlick_weight and gltf_mean
-// (metallic_roughness.wgsl). Library.
+// (metallic_roughness.wgsl) and rough_dielectric_half_vector. Library.
 
 struct PrParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, metallic: f32, spec_trans: f32,
@@ -47,14 +47,6 @@ fn pr_compatible(m: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>, reflection: bool) -
     if reflection { return bsdf_dot(wi, ms) > 0.0; }
     return bsdf_dot(wi, ms) < 0.0;
 }
-// The half vector facing up, whether (wi, wo) reflects, and eta_path.
-struct PrHalf { h: vec3<f32>, reflect: bool, eta_path: f32 }
-fn pr_half(eta: f32, wi: vec3<f32>, wo: vec3<f32>) -> PrHalf {
-    let reflect = wo.z * wi.z > 0.0;
-    let eta_path = select(1.0 / eta, eta, wo.z > 0.0);
-    let h = bsdf_normalize(wo + wi * select(eta_path, 1.0, reflect));
-    return PrHalf(mulsign(h, h.z), reflect, eta_path);
-}
 // (cosine, clearcoat, transmission, reflection) weights, unnormalised.
 fn pr_weights(front: bool, cos_w: f32, clearcoat: f32, bsdf: f32, f: f32) -> vec4<f32> {
     if front { return vec4<f32>(cos_w, 0.25 * clearcoat, bsdf * (1.0 - f), 1.0 - bsdf * (1.0 - f)); }
@@ -92,8 +84,8 @@ fn pr_parts(p: PrParams, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> PrPart
     let brdf = pr_brdf(p);
     let bsdf = pr_bsdf(p);
     let front = wo.z > 0.0;
-    let hv = pr_half(p.eta, wi, wo);
-    let h = hv.h;
+    let hv = rough_dielectric_half_vector(p.eta, wi, wo);
+    let h = hv.m;
     let f = fresnel_dielectric_mi(bsdf_dot(wo, h), p.eta).f;
     let mf = pr_microfacet(p);
     let d = mf_d(mf, h);
@@ -112,7 +104,7 @@ fn pr_parts(p: PrParams, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> PrPart
         }
     }
     if !hv.reflect && bsdf > 0.0 && f < 1.0 && pr_compatible(h, wo, wi, false) {
-        let e = hv.eta_path;
+        let e = hv.e;
         let scale = select(1.0, 1.0 / (e * e), radiance);
         let dot_o = bsdf_dot(wo, h);
         let dot_i = bsdf_dot(wi, h);
@@ -147,9 +139,9 @@ fn pr_pdf_with(p: PrParams, wi: vec3<f32>, wo: vec3<f32>, cos_w: f32) -> f32 {
     let front = wo.z > 0.0;
     let bsdf = pr_bsdf(p);
     if !front && bsdf <= 0.0 { return 0.0; }
-    let hv = pr_half(p.eta, wi, wo);
-    let h = hv.h;
-    let e = hv.eta_path;
+    let hv = rough_dielectric_half_vector(p.eta, wi, wo);
+    let h = hv.m;
+    let e = hv.e;
     let f = fresnel_dielectric_mi(bsdf_dot(wo, h), p.eta).f;
     let w = pr_weights(front, cos_w, p.clearcoat, bsdf, f);
     let pw = w / (w.x + w.y + w.z + w.w);
