@@ -64,7 +64,10 @@ fn defaults_and_the_index() {
     );
     assert_eq!(p.eta, Principled::eta_of_specular(1e-3));
     // Without transmission eta 1 stays.
-    let p = principled_at(&load(r#"<float name="eta" value="1"/>"#).unwrap(), Vec2::ZERO);
+    let p = principled_at(
+        &load(r#"<float name="eta" value="1"/>"#).unwrap(),
+        Vec2::ZERO,
+    );
     assert_eq!(p.eta, 1.0);
 }
 
@@ -86,10 +89,20 @@ fn float_parameters_read_checkerboards_as_mitsubas_eval_1() {
     let p = principled_at(&s, Vec2::new(0.1, 0.1));
     assert!((p.metallic.float() - 0.1).abs() < 1e-6, "{:?}", p.metallic);
     assert!((p.sheen.float() - 0.1).abs() < 1e-6, "{:?}", p.sheen);
-    assert!((p.base_color.get() - Vec3::new(0.9, 0.5, 0.1)).abs().max_element() < 1e-6);
+    assert!(
+        (p.base_color.get() - Vec3::new(0.9, 0.5, 0.1))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
     let p = principled_at(&s, Vec2::new(0.6, 0.1));
     assert!((p.metallic.float() - 0.7).abs() < 1e-6, "{:?}", p.metallic);
-    assert!((p.base_color.get() - Vec3::new(0.2, 0.3, 0.4)).abs().max_element() < 1e-6);
+    assert!(
+        (p.base_color.get() - Vec3::new(0.2, 0.3, 0.4))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
 }
 
 #[test]
@@ -126,11 +139,17 @@ fn twosided_makes_it_two_sided() {
     assert!(p.two_sided && p.roughness.float() == 0.3, "{p:?}");
     // Seen from behind it reflects as from the front; alone it is black there.
     let b = Bsdf::Principled(p);
-    let (wi, wo) = (Vec3::new(0.3, 0.1, 0.95).normalize(), Vec3::new(-0.2, 0.4, 0.9).normalize());
+    let (wi, wo) = (
+        Vec3::new(0.3, 0.1, 0.95).normalize(),
+        Vec3::new(-0.2, 0.4, 0.9).normalize(),
+    );
     let flip = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
     let t = gpu_photon::bsdfs::Transport::Radiance;
     assert!(b.eval(wi, wo, t).max_element() > 0.0);
     assert_eq!(b.eval(flip(wi), flip(wo), t), b.eval(wi, wo, t));
-    let one_sided = Bsdf::Principled(Principled { two_sided: false, ..p });
+    let one_sided = Bsdf::Principled(Principled {
+        two_sided: false,
+        ..p
+    });
     assert_eq!(one_sided.eval(flip(wi), flip(wo), t), Vec3::ZERO);
 }

@@ -145,7 +145,12 @@ fn smith_ggx1(v: Vec3, m: Vec3, alpha: f32) -> f32 {
 /// reflection, by `wi`, for a transmission from behind (Mitsuba's `mac_mic_compatibility`).
 fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
     let ms = mulsign(m, wo.z);
-    wo.dot(ms) > 0.0 && if reflection { wi.dot(ms) > 0.0 } else { wi.dot(ms) < 0.0 }
+    wo.dot(ms) > 0.0
+        && if reflection {
+            wi.dot(ms) > 0.0
+        } else {
+            wi.dot(ms) < 0.0
+        }
 }
 
 /// The unnormalised choice weights of the sampler's components at a dielectric Fresnel `f`:
@@ -274,8 +279,8 @@ impl Principled {
         let (mut diffuse, mut lobe) = (Vec3::ZERO, Vec3::ZERO);
         if reflect && compatible(h, wo, wi, true) {
             if f > 0.0 {
-                lobe += self.fresnel_p(f, wo.dot(h), front) * (d * g)
-                    / (4.0 * wo.z.abs() * wi.z.abs());
+                lobe +=
+                    self.fresnel_p(f, wo.dot(h), front) * (d * g) / (4.0 * wo.z.abs() * wi.z.abs());
             }
             if front && clearcoat > 0.0 {
                 let fcc = calc_schlick(Vec3::splat(0.04), wo.dot(h), self.eta).x;
@@ -365,7 +370,11 @@ impl Principled {
         let f = fresnel_dielectric(wo.dot(m), self.eta).0;
         let w = weights(wo.z > 0.0, cos_w, self.clearcoat.float(), self.bsdf(), f);
         let total = w.iter().sum::<f32>();
-        let c = [w[0] / total, (w[0] + w[1]) / total, (w[0] + w[1] + w[2]) / total];
+        let c = [
+            w[0] / total,
+            (w[0] + w[1]) / total,
+            (w[0] + w[1] + w[2]) / total,
+        ];
         (m, c)
     }
 
@@ -540,7 +549,9 @@ impl BsdfKind for Principled {
         let f = fresnel_dielectric(c, self.eta).0;
         let base = self.base_color.get();
         let l = mean(self.fresnel_p(f, c, true))
-            + self.bsdf() * (1.0 - f) * mean(Vec3::new(base.x.sqrt(), base.y.sqrt(), base.z.sqrt()))
+            + self.bsdf()
+                * (1.0 - f)
+                * mean(Vec3::new(base.x.sqrt(), base.y.sqrt(), base.z.sqrt()))
             + 0.25 * self.clearcoat.float() * 0.04
             + self.remainder_weight(wo) * mean(base);
         (l / (l + d)).clamp(0.05, 0.95)
