@@ -4,6 +4,7 @@
     pip install mitsuba==3.9.1
     python3 scripts/mitsuba_bsdf_values.py --table   # Rust rows of src/bsdfs/ior.rs (named conductors)
     python3 scripts/mitsuba_bsdf_values.py           # writes tests/data/bsdf/mitsuba_eval.csv
+    python3 scripts/mitsuba_bsdf_values.py --principled   # writes tests/data/bsdf/mitsuba_principled.csv
 
 Naming: in the CSV, `wi` and `wo` use OUR convention (wo = towards the viewer, wi = towards
 the light). Mitsuba's si.wi is our wo and its `wo` argument is our wi; the script converts.
@@ -99,10 +100,10 @@ def mitsuba_dict(params):
             d['type'] = v
         elif k in ('material', 'distribution'):
             d[k] = v
-        elif k == 'nonlinear':
+        elif k in ('nonlinear', 'twosided'):
             d[k] = v == 'true'
         elif k in ('eta', 'k', 'diffuse_reflectance', 'specular_reflectance',
-                   'specular_transmittance', 'reflectance'):
+                   'specular_transmittance', 'reflectance', 'base_color') and ' ' in v:
             c = [float(x) for x in v.split(' ')]
             if k in ('eta', 'k') and d['type'].endswith('conductor'):
                 d[k] = {'type': 'rgb', 'value': c}
@@ -146,8 +147,87 @@ SAMPLE_CASES = [
 ]
 
 
+PRINCIPLED_CASES = [
+    ('type=principled;base_color=0.8 0.3 0.2;roughness=0.3;metallic=0.2;specular=0.6;clearcoat=0.5;'
+     'clearcoat_gloss=0.7;sheen=0.4;sheen_tint=0.5;spec_tint=0.3', 'front'),
+    ('type=principled;base_color=0.2 0.8 0.1;roughness=0.15;anisotropic=0.8;metallic=0.7;'
+     'clearcoat=0.9;sheen=0.9;specular=0.7', 'front'),
+    ('type=principled;base_color=0.9 0.6 0.3;roughness=0.05;metallic=1', 'front'),
+    ('type=principled;base_color=0.3 0.6 0.8;roughness=0.15;anisotropic=0.5;spec_trans=0.7;'
+     'clearcoat=0.6;sheen=0.2;specular=0.4', 'both'),
+    ('type=principled;base_color=0.5 0.5 0.5;roughness=0.6;spec_trans=0.4;eta=1.45;flatness=0.6;'
+     'metallic=0.1;spec_tint=0.5', 'both'),
+    # Inside `twosided`, as the mitsuba-blender exporter writes a reflective principled.
+    ('type=principled;twosided=true;base_color=0.7 0.4 0.2;roughness=0.35;metallic=0.3;'
+     'clearcoat=0.5;sheen=0.5;specular=0.5', 'both'),
+]
+
+
+def principled():
+    """Rows for Mitsuba's principled BSDF, as main() writes them, with their own random stream."""
+    rng = random.Random(4321)
+    rows = ['row,params,mode,wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,u0,u1,u2,r,g,b,pdf,delta']
+    for params, side in PRINCIPLED_CASES:
+        d = mitsuba_dict(params)
+        if d.pop('twosided', 0):
+            b = mi.load_dict({'type': 'twosided', 'bsdf': d})
+        else:
+            b = mi.load_dict(d)
+        alpha = d.get('roughness', 0.5) ** 2 + 0.05
+        eta = d.get('eta', 2.0 / (1.0 - math.sqrt(0.08 * d.get('specular', 0.5))) - 1.0)
+        for mode in (['radiance', 'importance'] if side == 'both' else ['radiance']):
+            for i in range(24):
+                rows.append(eval_row(rng, b, context(mode), params, mode, side, eta, alpha, i))
+            for i in range(16):
+                rows.append(sample_row(rng, b, context(mode), params, mode, side))
+    path = os.path.join(ROOT, 'tests', 'data', 'bsdf', 'mitsuba_principled.csv')
+    with open(path, 'w') as f:
+        f.write('# Mitsuba %s scalar_rgb, written by scripts/mitsuba_bsdf_values.py --principled\n'
+                % mi.__version__)
+        f.write('\n'.join(rows) + '\n')
+    print('wrote %d rows to %s' % (len(rows) - 1, path))
+
+
 def v3(v):
     return mi.Vector3f(v[0], v[1], v[2])
+
+
+def eval_row(rng, b, ctx, params, mode, side, eta, alpha, i):
+    """One `eval` row: a random wo (front only, or both sides), and wi random (i % 4 == 0),
+    near the refraction (i % 4 == 3, both sides) or near the mirror direction."""
+    wo = rand_dir(rng, 1 if side == 'front' else 0)
+    r = i % 4
+    if r == 0:
+        wi = rand_dir(rng, 1 if side == 'front' else 0)
+    elif r == 3 and side == 'both':
+        wi = refract_near(rng, wo, eta, alpha)
+    else:
+        wi = reflect_near(rng, wo, alpha)
+    si = mi.SurfaceInteraction3f()
+    si.wi = v3(wo)
+    val = b.eval(ctx, si, v3(wi))
+    pdf = b.pdf(ctx, si, v3(wi))
+    return ','.join(['eval', params, mode] + [f32(c) for c in wi + wo] + ['0', '0', '0'] +
+                    [f32(val[j]) for j in range(3)] + [f32(pdf), '0'])
+
+
+def sample_row(rng, b, ctx, params, mode, side):
+    """One `sample` row: a random wo and three uniforms."""
+    wo = rand_dir(rng, 1 if side == 'front' else 0)
+    u = [float(f32(rng.random())) for _ in range(3)]
+    si = mi.SurfaceInteraction3f()
+    si.wi = v3(wo)
+    bs, w = b.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
+    delta = 1 if mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta) or \
+        mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null) else 0
+    wi = [bs.wo[0], bs.wo[1], bs.wo[2]]
+    return ','.join(['sample', params, mode] + [f32(c) for c in wi + wo] + [f32(c) for c in u] +
+                    [f32(w[j]) for j in range(3)] + [f32(bs.pdf), str(delta)])
+
+
+def context(mode):
+    return mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
+                          else mi.TransportMode.Importance)
 
 
 def main():
@@ -164,40 +244,12 @@ def main():
         for mode in modes:
             n = 24 if mode == 'radiance' else 10
             for i in range(n):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                r = i % 4
-                if r == 0:
-                    wi = rand_dir(rng, 1 if side == 'front' else 0)
-                elif r == 3 and side == 'both':
-                    wi = refract_near(rng, wo, eta, alpha)
-                else:
-                    wi = reflect_near(rng, wo, alpha)
-                ctx = mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
-                                     else mi.TransportMode.Importance)
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                val = b.eval(ctx, si, v3(wi))
-                pdf = b.pdf(ctx, si, v3(wi))
-                rows.append(','.join(['eval', params, mode] + [f32(c) for c in wi + wo] +
-                                     ['0', '0', '0'] + [f32(val[j]) for j in range(3)] +
-                                     [f32(pdf), '0']))
+                rows.append(eval_row(rng, b, context(mode), params, mode, side, eta, alpha, i))
     for params, side in SAMPLE_CASES:
         b = mi.load_dict(mitsuba_dict(params))
         for mode in (['radiance', 'importance'] if side == 'both' else ['radiance']):
             for i in range(12):
-                wo = rand_dir(rng, 1 if side == 'front' else 0)
-                u = [float(f32(rng.random())) for _ in range(3)]
-                ctx = mi.BSDFContext(mi.TransportMode.Radiance if mode == 'radiance'
-                                     else mi.TransportMode.Importance)
-                si = mi.SurfaceInteraction3f()
-                si.wi = v3(wo)
-                bs, w = b.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
-                delta = 1 if mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta) or \
-                    mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null) else 0
-                wi = [bs.wo[0], bs.wo[1], bs.wo[2]]
-                rows.append(','.join(['sample', params, mode] + [f32(c) for c in wi + wo] +
-                                     [f32(c) for c in u] + [f32(w[j]) for j in range(3)] +
-                                     [f32(bs.pdf), str(delta)]))
+                rows.append(sample_row(rng, b, context(mode), params, mode, side))
     path = os.path.join(out_dir, 'mitsuba_eval.csv')
     with open(path, 'w') as f:
         f.write('# Mitsuba %s scalar_rgb, written by scripts/mitsuba_bsdf_values.py\n' % mi.__version__)
@@ -208,5 +260,7 @@ def main():
 if __name__ == '__main__':
     if '--table' in sys.argv:
         table()
+    elif '--principled' in sys.argv:
+        principled()
     else:
         main()

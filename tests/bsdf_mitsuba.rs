@@ -11,7 +11,9 @@
 
 use glam::Vec3;
 use gpu_photon::bsdfs::BsdfKind;
-use gpu_photon::bsdfs::{named_conductor, Bsdf, Distribution, Microfacet, Plastic, Transport};
+use gpu_photon::bsdfs::{
+    named_conductor, Bsdf, Distribution, Microfacet, Param, Plastic, Principled, Transport,
+};
 use std::collections::HashMap;
 
 /// Mitsuba's index of air, the default `ext_ior` of every dielectric-like plugin.
@@ -66,6 +68,30 @@ fn build(params: &str) -> Bsdf {
             p.get("nonlinear") == Some(&"true"),
             microfacet,
         )),
+        "principled" => {
+            let mut k = Principled::new();
+            k.base_color = Param::rgb(c("base_color", Vec3::splat(0.5)));
+            for (name, slot) in [
+                ("roughness", &mut k.roughness),
+                ("anisotropic", &mut k.anisotropic),
+                ("metallic", &mut k.metallic),
+                ("spec_trans", &mut k.spec_trans),
+                ("spec_tint", &mut k.spec_tint),
+                ("sheen", &mut k.sheen),
+                ("sheen_tint", &mut k.sheen_tint),
+                ("clearcoat", &mut k.clearcoat),
+                ("clearcoat_gloss", &mut k.clearcoat_gloss),
+                ("flatness", &mut k.flatness),
+            ] {
+                *slot = Param::constant(f(name, slot.float()));
+            }
+            k.eta = p.get("eta").map_or_else(
+                || Principled::eta_of_specular(f("specular", 0.5)),
+                |v| v.parse().unwrap(),
+            );
+            k.two_sided = p.get("twosided") == Some(&"true");
+            Bsdf::Principled(k)
+        }
         other => panic!("unknown kind {other}"),
     }
 }
@@ -115,9 +141,9 @@ fn rows(text: &str) -> Vec<Row<'_>> {
         .collect()
 }
 
-#[test]
-fn eval_and_pdf_match_mitsuba() {
-    let text = include_str!("data/bsdf/mitsuba_eval.csv");
+/// Every `eval` row of `text` against ours: (rows checked, rows with a non-zero value,
+/// failures).
+fn check_evals(text: &str, rel: f32) -> (usize, usize, Vec<String>) {
     let mut cache: HashMap<&str, Bsdf> = HashMap::new();
     let (mut checked, mut nonzero, mut failures) = (0, 0, Vec::new());
     for r in rows(text).iter().filter(|r| r.kind == "eval") {
@@ -126,13 +152,20 @@ fn eval_and_pdf_match_mitsuba() {
         let pdf = b.pdf(r.wi, r.wo);
         checked += 1;
         nonzero += (r.value.max_element() > 0.0) as usize;
-        if !close3(value, r.value, 1e-4) || !close(pdf, r.pdf, 1e-4) {
+        if !close3(value, r.value, rel) || !close(pdf, r.pdf, rel) {
             failures.push(format!(
                 "{} {:?} wi {} wo {}: ours {value} pdf {pdf}, Mitsuba {} pdf {}",
                 r.params, r.transport, r.wi, r.wo, r.value, r.pdf
             ));
         }
     }
+    (checked, nonzero, failures)
+}
+
+#[test]
+fn eval_and_pdf_match_mitsuba() {
+    let (checked, nonzero, failures) =
+        check_evals(include_str!("data/bsdf/mitsuba_eval.csv"), 1e-4);
     assert!(
         checked > 300 && nonzero > 200,
         "{checked} rows, {nonzero} non-zero"
@@ -145,9 +178,8 @@ fn eval_and_pdf_match_mitsuba() {
     );
 }
 
-#[test]
-fn samples_match_mitsuba() {
-    let text = include_str!("data/bsdf/mitsuba_eval.csv");
+/// Every `sample` row of `text` against ours: (rows checked, failures).
+fn check_samples(text: &str, rel: f32) -> (usize, Vec<String>) {
     let mut failures = Vec::new();
     let mut checked = 0;
     for r in rows(text).iter().filter(|r| r.kind == "sample") {
@@ -157,10 +189,10 @@ fn samples_match_mitsuba() {
         let ok = match ours {
             None => r.value == Vec3::ZERO,
             Some(s) => {
-                (s.wi - r.wi).abs().max_element() < 1e-4
-                    && close3(s.weight, r.value, 1e-4)
+                (s.wi - r.wi).abs().max_element() < rel
+                    && close3(s.weight, r.value, rel)
                     && s.delta == r.delta
-                    && (s.delta || close(s.pdf, r.pdf, 1e-4))
+                    && (s.delta || close(s.pdf, r.pdf, rel))
             }
         };
         if !ok {
@@ -170,11 +202,39 @@ fn samples_match_mitsuba() {
             ));
         }
     }
+    (checked, failures)
+}
+
+#[test]
+fn samples_match_mitsuba() {
+    let (checked, failures) = check_samples(include_str!("data/bsdf/mitsuba_eval.csv"), 1e-4);
     assert!(checked > 100);
     assert!(
         failures.is_empty(),
         "{} of {checked} differ:\n{}",
         failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Mitsuba's `principled` (tests/data/bsdf/mitsuba_principled.csv, written by
+/// `scripts/mitsuba_bsdf_values.py --principled`): eval, pdf and samples on both sides, with
+/// transmission, anisotropy, clearcoat, sheen, tints and flatness.
+#[test]
+fn principled_matches_mitsuba() {
+    let text = include_str!("data/bsdf/mitsuba_principled.csv");
+    let (checked, nonzero, mut failures) = check_evals(text, 1e-4);
+    let (sampled, sample_failures) = check_samples(text, 1e-4);
+    failures.extend(sample_failures);
+    assert!(
+        checked >= 150 && nonzero > 100 && sampled >= 100,
+        "{checked} rows, {nonzero} non-zero, {sampled} samples"
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {} differ:\n{}",
+        failures.len(),
+        checked + sampled,
         failures.join("\n")
     );
 }

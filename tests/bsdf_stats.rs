@@ -9,7 +9,8 @@
 use glam::Vec3;
 use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
-    Bsdf, Distribution, LobeSample, MetallicRoughness, Microfacet, Plastic, Transport,
+    Bsdf, Distribution, LobeSample, MetallicRoughness, Microfacet, Param, Plastic, Principled,
+    Transport,
 };
 use std::f64::consts::PI;
 
@@ -362,6 +363,80 @@ fn chi2_metallic_roughness() {
             check(name, &b, wo_at(deg, 30.0), Transport::Radiance);
         }
         check(name, &b, -wo_at(40.0, 70.0), Transport::Importance);
+    }
+}
+
+/// Mitsuba's principled BSDF: a dielectric with clearcoat and sheen, an anisotropic metal,
+/// a transmissive one seen from both sides (the viewer inside too), a flat one; `sample`
+/// against `pdf` and `sample_lobe` (the traced part) against `pdf_lobe`.
+#[test]
+fn chi2_principled() {
+    let make = |f: &dyn Fn(&mut Principled)| {
+        let mut p = Principled::new();
+        p.base_color = Param::rgb(Vec3::new(0.8, 0.5, 0.2));
+        f(&mut p);
+        Bsdf::Principled(p)
+    };
+    let c = Param::constant;
+    let cases = [
+        (
+            "principled coat sheen",
+            make(&|p| {
+                p.roughness = c(0.4);
+                p.clearcoat = c(0.8);
+                p.clearcoat_gloss = c(0.3);
+                p.sheen = c(0.6);
+                p.spec_tint = c(0.5);
+            }),
+            false,
+        ),
+        (
+            "principled aniso metal",
+            make(&|p| {
+                p.metallic = c(0.8);
+                p.roughness = c(0.35);
+                p.anisotropic = c(0.7);
+            }),
+            false,
+        ),
+        (
+            "principled transmission",
+            make(&|p| {
+                p.spec_trans = c(0.8);
+                p.roughness = c(0.3);
+                p.clearcoat = c(0.4);
+                p.eta = 1.45;
+            }),
+            true,
+        ),
+        (
+            "principled two-sided",
+            make(&|p| {
+                p.two_sided = true;
+                p.roughness = c(0.4);
+                p.sheen = c(0.5);
+                p.clearcoat = c(0.5);
+            }),
+            true,
+        ),
+        (
+            "principled flat",
+            make(&|p| {
+                p.flatness = c(0.7);
+                p.roughness = c(0.8);
+                p.spec_trans = c(0.3);
+            }),
+            true,
+        ),
+    ];
+    for (name, b, inside) in cases {
+        for deg in ANGLES {
+            check(name, &b, wo_at(deg, 30.0), Transport::Radiance);
+        }
+        if inside {
+            check(name, &b, -wo_at(40.0, 70.0), Transport::Importance);
+            check(name, &b, -wo_at(10.0, 20.0), Transport::Radiance);
+        }
     }
 }
 

@@ -75,7 +75,7 @@ pub struct MetallicRoughness {
 
 /// `(1 - c)^5` for `c` clamped to [0, 1].
 #[inline]
-fn schlick_weight(c: f32) -> f32 {
+pub(crate) fn schlick_weight(c: f32) -> f32 {
     let m = (1.0 - c).clamp(0.0, 1.0);
     let m2 = m * m;
     m2 * m2 * m

@@ -45,6 +45,7 @@ pub mod mirror;
 pub mod null;
 pub mod phong;
 pub mod plastic;
+pub mod principled;
 pub mod rough_conductor;
 pub mod rough_dielectric;
 pub mod thin_dielectric;
@@ -59,6 +60,7 @@ pub use microfacet::{
 };
 pub use param::{Channel, Param};
 pub use plastic::{Plastic, TRANSMITTANCE_RES};
+pub use principled::Principled;
 
 use crate::bsdfs::interface::{Bounce, DeltaEvent, LobeRay};
 use crate::bsdfs::param::GpuWords;
@@ -232,6 +234,8 @@ bsdf_kinds! {
     Plastic(plastic::Plastic) consts plastic::wgsl_consts,
     /// glTF 2.0's metallic-roughness material.
     MetallicRoughness(metallic_roughness::MetallicRoughness) consts metallic_roughness::wgsl_consts,
+    /// Mitsuba's principled BSDF (`principled`).
+    Principled(principled::Principled),
 }
 
 /// A surface that reflects nothing.

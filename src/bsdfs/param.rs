@@ -149,7 +149,7 @@ impl Param {
 }
 
 /// The most words a kind's parameters take on the GPU (`BSDF_WORDS` in WGSL).
-pub const BSDF_WORDS: usize = 7;
+pub const BSDF_WORDS: usize = 12;
 
 /// A kind's parameters as the GPU reads them: up to [`BSDF_WORDS`] words, with the mask of
 /// those that are textured slots.

@@ -96,7 +96,7 @@ impl BsdfKind for RoughDielectric {
 
 /// The generalised half vector of `(wi, wo)` facing up, whether the pair is a reflection, and
 /// `e`, the index ratio of the far side over `wo`'s side.
-fn half_vector(eta: f32, wi: Vec3, wo: Vec3) -> (Vec3, bool, f32) {
+pub(crate) fn half_vector(eta: f32, wi: Vec3, wo: Vec3) -> (Vec3, bool, f32) {
     let reflect = wo.z * wi.z > 0.0;
     let e = if wo.z > 0.0 { eta } else { 1.0 / eta };
     let m = (wo + wi * if reflect { 1.0 } else { e }).normalize();

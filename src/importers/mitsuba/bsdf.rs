@@ -1,8 +1,8 @@
 //! Mitsuba BSDFs as our materials (the mapping is documented in `scenes/README.md`), each as
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
-//! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor` (named materials, eta/k), `dielectric`,
-//! `roughdielectric`, `thindielectric`, `plastic`, `roughplastic`, and `normalmap` around
-//! any of them.
+//! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor`
+//! (named materials, eta/k), `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
+//! `roughplastic`, `principled`, and `normalmap` around any of them.
 
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
@@ -38,6 +38,9 @@ pub(crate) struct Read {
     /// A diffuse reflectance that is a `mesh_attribute`: its name and scale (each shape
     /// gets its own texture of it, `mesh_attribute.rs`).
     pub mesh_attribute: Option<(String, f32)>,
+    /// The textures of other parameters (`principled`), each with the channel it reads and
+    /// where it goes.
+    pub param_textures: Vec<crate::importers::mitsuba::principled::ParamTexture>,
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
@@ -188,13 +191,18 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
     let mut kd_texture = None;
     let mut roughness_textures = [None, None];
     let mut mesh_attribute = None;
+    let mut param_textures = Vec::new();
     let mut material = match kind {
         "twosided" => {
-            // The nested bsdf, seen from both sides alike.
+            // The nested bsdf, seen from both sides alike; a principled one (one interface,
+            // as in Mitsuba) is told it is two-sided.
             let inner = nested_bsdf(cx, &p, node, field)?;
             p.done(cx)?;
             let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
             read.material.one_sided = false;
+            if let crate::bsdfs::Bsdf::Principled(k) = &mut read.material.bsdf {
+                k.two_sided = true;
+            }
             return Ok(read);
         }
         "normalmap" => {
@@ -303,6 +311,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     alpha_texture: None,
                     roughness_textures,
                     mesh_attribute,
+                    param_textures: Vec::new(),
                 });
             }
             match microfacet {
@@ -365,6 +374,11 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             };
             Material::of(Plastic::new(kd, specular, eta, nonlinear, microfacet))
         }
+        "principled" => {
+            let (kind, textures) = crate::importers::mitsuba::principled::principled(cx, &p)?;
+            param_textures = textures;
+            Material::of(kind)
+        }
         // Mitsuba 3's `null`: an index-matched boundary that only bounds media.
         "null" => Material::null(),
         "blendbsdf" => {
@@ -393,5 +407,6 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         alpha_texture: None,
         roughness_textures,
         mesh_attribute,
+        param_textures,
     })
 }

@@ -22,6 +22,7 @@ mod integrator;
 mod medium;
 mod mesh_attribute;
 mod plugin;
+mod principled;
 mod round;
 mod sensor;
 mod serialized;
@@ -288,6 +289,12 @@ impl<'f> Importer<'f> {
             let id = self.b.add_texture(t, &at)?;
             if let Some(p) = material.bsdf.base_colour_mut() {
                 *p = crate::bsdfs::Param::texture(id);
+            }
+        }
+        for (t, channel, slot) in read.param_textures {
+            let id = self.b.add_texture(t, &at)?;
+            if let Some(p) = slot(&mut material.bsdf) {
+                *p = p.times(id, channel);
             }
         }
         if let Some(t) = read.normal_texture {
