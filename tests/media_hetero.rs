@@ -206,3 +206,64 @@ fn uniform_heterogeneous_media_render_as_homogeneous_ones() {
         );
     }
 }
+
+/// TOML's `[media.NAME]` with `type = "heterogeneous"`: grid files placed in `bounds` (or the
+/// file's own box), constants over `bounds`, and their errors at the key.
+#[test]
+fn toml_heterogeneous_media_load_grids_and_constants() {
+    let dir = common::scratch("hetero-toml");
+    // A 2 x 1 x 1 grid of 1 and 3 whose file box is [0, 2] x [0, 1] x [0, 1].
+    let mut ramp = vol([2, 1, 1], 1, &[0.0]);
+    ramp.truncate(48);
+    ramp[36..40].copy_from_slice(&2.0f32.to_le_bytes());
+    for v in [1.0f32, 3.0] {
+        ramp.extend(v.to_le_bytes());
+    }
+    std::fs::write(dir.join("ramp.vol"), &ramp).unwrap();
+    std::fs::write(dir.join("short.vol"), &ramp[..50]).unwrap();
+    let scene = |media: &str| {
+        let text = format!(
+            "[camera]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n{media}\n\
+             [materials.clear]\ntype = \"null\"\n\
+             [[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0.5\nmaterial = \"clear\"\ninterior = \"smoke\"\n\
+             [[lights]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = [1, 1, 1]\n"
+        );
+        gpu_photon::importers::load_str(&text, "s.toml", &dir).map_err(|e| e.to_string())
+    };
+    let hetero = |s: &Scene| match &s.media[0].kind {
+        MediumKind::Heterogeneous(h) => h.clone(),
+        k => panic!("{k:?}"),
+    };
+    let v = |x: f32| glam::Vec3::new(x, 0.5, 0.5);
+    // The file's box: voxel centres at x = 0.5 and 1.5.
+    let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nscale = 2\nalbedo = [0.5, 0.6, 0.7]").unwrap();
+    let h = hetero(&s);
+    assert_eq!(h.majorant, 6.0);
+    assert!((h.sigma_t_at(v(1.0)).x - 4.0).abs() < 1e-6);
+    assert!((h.sigma_t_at(v(1.5)).x - 6.0).abs() < 1e-6);
+    assert_eq!(h.sigma_t_at(v(2.5)).x, 0.0);
+    assert!((h.sigma_s_at(v(0.5)) - glam::Vec3::new(1.0, 1.2, 1.4)).abs().max_element() < 1e-6);
+    // Placed in bounds, nearest filter.
+    let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nbounds = [[-1, -1, -1], [1, 1, 1]]\nfilter = \"nearest\"").unwrap();
+    let h = hetero(&s);
+    assert_eq!(h.sigma_t_at(glam::Vec3::new(0.1, 0.0, 0.0)).x, 3.0);
+    assert_eq!(h.sigma_t_at(glam::Vec3::new(-0.1, 0.0, 0.0)).x, 1.0);
+    // Constants over bounds.
+    let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = [1, 2, 3]\nbounds = [[0, 0, 0], [1, 1, 1]]").unwrap();
+    let h = hetero(&s);
+    assert_eq!(h.sigma_t_at(glam::Vec3::splat(0.5)), glam::Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(h.sigma_t_at(glam::Vec3::splat(-0.5)), glam::Vec3::ZERO);
+    let d = dir.display();
+    let cases = [
+        ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = 2", "s.toml:9: media.smoke.sigma_t: a heterogeneous medium without a grid file for sigma_t needs `bounds`".to_string()),
+        ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"short.vol\"", format!("s.toml:9: media.smoke.sigma_t: {d}/short.vol: truncated: the data ends at byte 50, 2x1x1 voxels of 1 channel(s) need 56 bytes")),
+        ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nbounds = [[0, 0, 0], [0, 1, 1]]", "s.toml:10: media.smoke.bounds: needs min < max on every axis".to_string()),
+        ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nfilter = \"cubic\"", "s.toml:10: media.smoke.filter: must be one of \"trilinear\", \"nearest\"".to_string()),
+        ("[media.smoke]\nsigma_t = 1\nbounds = [[0, 0, 0], [1, 1, 1]]", "s.toml:9: media.smoke.bounds: `bounds` does not apply to type \"homogeneous\"".to_string()),
+        ("[media.smoke]\ntype = \"cloudy\"", "s.toml:8: media.smoke.type: unsupported medium type `cloudy` (\"homogeneous\", \"heterogeneous\")".to_string()),
+    ];
+    for (media, want) in cases {
+        let e = scene(media).map(|_| ()).unwrap_err();
+        assert!(e.starts_with(&want), "{e}\nwanted {want}");
+    }
+}
