@@ -2,9 +2,10 @@
 //! `scale * sigma_t(x)` and albedo `albedo(x)` from volumes ([`Volume`]: constant or a voxel
 //! grid), zero extinction outside the extinction volume's box, and one phase function.
 //!
-//! Tracking runs against a grey majorant, the largest extinction of any channel anywhere
-//! (`scale` times the volume's maximum, as Mitsuba's), over the part of the ray inside the
-//! box; tentative collisions are drawn from it and never bias the result:
+//! Tracking runs against grey majorants over the part of the ray inside the box: per cell of
+//! a coarse grid walked by DDA ([`MajorantGrid`], each cell's largest extinction of any
+//! channel), where Mitsuba takes one global majorant (`scale` times the volume's maximum);
+//! tentative collisions are drawn from them and never bias the result:
 //! - **transmittance** by ratio tracking (Novak et al. 2014): the product over tentative
 //!   collisions of `1 - sigma_t(x) / majorant`, per channel, with Russian roulette once the
 //!   largest channel falls below [`ROULETTE_BELOW`];
@@ -13,12 +14,15 @@
 //!   weighs `sigma_s / mean(sigma_t)`, a null one `(majorant - sigma_t) / (majorant -
 //!   mean(sigma_t))` per channel, so a grey medium is plain delta tracking (weights 1 and
 //!   the albedo) and a coloured one stays unbiased in every channel;
-//! - **points in a segment** from the majorant's exponential truncated to the box, whose
-//!   density is known; their transmittance then comes from ratio tracking.
+//! - **points in a segment** where light scatters towards the camera (single scattering's
+//!   distance for a directional light or the environment, the near gather's, a gather ray's
+//!   point estimates) are free flights too ([`Heterogeneous::track`]): in a sparse medium a
+//!   majorant's exponential would seldom reach the far side of a dense cell.
 
 use crate::math::rng::Rng;
 use crate::media::grid::{Volume, VolumeKind};
-use crate::media::{Flight, SegmentPoint};
+use crate::media::majorant::MajorantGrid;
+use crate::media::{Flight, Scatter};
 use glam::Vec3;
 
 /// Tentative collisions one tracking walk may take: a bound on the work of one ray, reached
@@ -39,19 +43,24 @@ pub struct Heterogeneous {
     pub albedo: Volume,
     /// Multiplies the extinction.
     pub scale: f32,
-    /// The tracking majorant: `scale` times `sigma_t`'s largest value.
+    /// The global majorant: `scale` times `sigma_t`'s largest value (points in a segment
+    /// are drawn from its exponential).
     pub majorant: f32,
+    /// Per-cell majorants, which tracking draws its tentative collisions from.
+    pub majorants: MajorantGrid,
 }
 
 impl Heterogeneous {
     /// A medium of extinction `scale * sigma_t` and albedo `albedo`.
     pub fn new(sigma_t: Volume, albedo: Volume, scale: f32) -> Heterogeneous {
         let majorant = scale * sigma_t.max();
+        let majorants = MajorantGrid::new(&sigma_t, scale);
         Heterogeneous {
             sigma_t,
             albedo,
             scale,
             majorant,
+            majorants,
         }
     }
 
@@ -121,75 +130,91 @@ impl Heterogeneous {
         let Some((t0, t1)) = self.span(o, d, t) else {
             return Vec3::ONE;
         };
-        let mu = self.majorant;
-        let (mut s, mut tr) = (t0, Vec3::ONE);
-        for _ in 0..MAX_TRACKING_STEPS {
-            s -= (1.0 - rng.next()).ln() / mu;
-            if s >= t1 {
-                return tr;
+        let (mut tr, mut steps) = (Vec3::ONE, 0);
+        self.majorants.walk(o, d, t0, t1, |ta, tb, mu| {
+            let mut s = ta;
+            while mu > 0.0 {
+                s -= (1.0 - rng.next()).ln() / mu;
+                if s >= tb {
+                    break;
+                }
+                steps += 1;
+                if steps > MAX_TRACKING_STEPS {
+                    tr = Vec3::ZERO;
+                } else {
+                    // The cell's majorant bounds the density; the max absorbs the filter's
+                    // rounding.
+                    tr *= (Vec3::ONE - self.sigma_t_at(o + d * s) / mu).max(Vec3::ZERO);
+                    let q = tr.max_element();
+                    if q < ROULETTE_BELOW {
+                        tr = match rng.next() < q {
+                            true => tr / q,
+                            false => Vec3::ZERO,
+                        };
+                    }
+                }
+                visit(s, tr);
+                if tr == Vec3::ZERO {
+                    return false;
+                }
             }
-            // The majorant bounds the density; the max only absorbs the filter's rounding.
-            tr *= (Vec3::ONE - self.sigma_t_at(o + d * s) / mu).max(Vec3::ZERO);
-            let q = tr.max_element();
-            if q < ROULETTE_BELOW {
-                tr = match rng.next() < q {
-                    true => tr / q,
-                    false => Vec3::ZERO,
-                };
-            }
-            visit(s, tr);
-            if tr == Vec3::ZERO {
-                return tr;
-            }
-        }
-        visit(s, Vec3::ZERO);
-        Vec3::ZERO
+            true
+        });
+        tr
     }
 
     /// A free flight from `o` along unit `d` towards a surface `t_max` away (delta tracking
     /// with spectral-tracking weights; see the module's header).
     pub fn sample_flight(&self, o: Vec3, d: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
-        let through = |weight| Flight {
-            t: t_max,
-            in_medium: false,
-            weight,
-        };
-        let Some((t0, t1)) = self.span(o, d, t_max) else {
-            return through(Vec3::ONE);
-        };
-        let mu = self.majorant;
-        let (mut s, mut w) = (t0, Vec3::ONE);
-        for _ in 0..MAX_TRACKING_STEPS {
-            s -= (1.0 - rng.next()).ln() / mu;
-            if s >= t1 {
-                return through(w);
-            }
-            let x = o + d * s;
-            let sigma = self.sigma_t_at(x);
-            let mean = sigma.element_sum() / 3.0;
-            if rng.next() * mu < mean {
-                let weight = w * sigma * self.albedo.eval(x) / mean;
-                return Flight {
-                    t: s,
-                    in_medium: true,
-                    weight,
-                };
-            }
-            w *= (Vec3::splat(mu) - sigma).max(Vec3::ZERO) / (mu - mean);
+        match self.track(o, d, t_max, rng) {
+            Ok(s) => Flight {
+                t: s.t,
+                in_medium: true,
+                weight: s.weight(),
+            },
+            Err(weight) => Flight {
+                t: t_max,
+                in_medium: false,
+                weight,
+            },
         }
-        through(Vec3::ZERO)
     }
 
-    /// A distance in `[0, t_max)` drawn from the majorant's exponential within the box, with
-    /// its density; `None` when the segment misses the box (nothing scatters there).
-    pub fn sample_in_segment(&self, o: Vec3, d: Vec3, u: f32, t_max: f32) -> Option<SegmentPoint> {
-        let (t0, t1) = self.span(o, d, t_max)?;
-        let mu = self.majorant;
-        let mass = -(-mu * (t1 - t0)).exp_m1();
-        let s = -(-u * mass).ln_1p() / mu;
-        let t = (t0 + s).min(t1 * (1.0 - f32::EPSILON)).max(t0);
-        let pdf = mu * (-mu * (t - t0)).exp() / mass;
-        (pdf > 0.0 && pdf.is_finite()).then_some(SegmentPoint { t, pdf })
+    /// Delta tracking: the event (its `T / pdf` estimate and `sigma_s` apart), or the weight
+    /// of a flight that reaches `t_max`.
+    pub fn track(&self, o: Vec3, d: Vec3, t_max: f32, rng: &mut Rng) -> Result<Scatter, Vec3> {
+        let Some((t0, t1)) = self.span(o, d, t_max) else {
+            return Err(Vec3::ONE);
+        };
+        let (mut w, mut steps, mut event) = (Vec3::ONE, 0, None);
+        self.majorants.walk(o, d, t0, t1, |ta, tb, mu| {
+            let mut s = ta;
+            while mu > 0.0 {
+                s -= (1.0 - rng.next()).ln() / mu;
+                if s >= tb {
+                    break;
+                }
+                steps += 1;
+                if steps > MAX_TRACKING_STEPS {
+                    w = Vec3::ZERO;
+                    return false;
+                }
+                let x = o + d * s;
+                let sigma = self.sigma_t_at(x);
+                let mean = sigma.element_sum() / 3.0;
+                if rng.next() * mu < mean {
+                    event = Some(Scatter {
+                        t: s,
+                        tr_over_pdf: w / mean,
+                        sigma_s: sigma * self.albedo.eval(x),
+                    });
+                    return false;
+                }
+                w *= (Vec3::splat(mu) - sigma).max(Vec3::ZERO) / (mu - mean);
+            }
+            true
+        });
+        event.ok_or(w)
     }
 }
 
@@ -201,14 +226,20 @@ mod tests {
     use glam::Affine3A;
     use std::sync::Arc;
 
-    /// A density ramp along x over the unit cube: 2 x 1 x 1 voxels of `a` and `b` filtered
-    /// trilinearly, so `sigma_t(x) = a` for x < 1/4, `b` beyond 3/4, linear between.
+    /// A density step along x over the unit cube, in a grid of 16 x 1 x 1 voxels: `a` in the
+    /// first eight, `b` in the rest, filtered trilinearly, so `sigma_t(x) = a` up to the
+    /// eighth voxel's centre (7.5 / 16), `b` from the ninth's (8.5 / 16), linear between;
+    /// the majorant grid's four cells along x hold `a`, the larger twice, then `b`.
     fn ramp(a: Vec3, b: Vec3, albedo: Vec3) -> Heterogeneous {
+        let data = (0..16).flat_map(|i| match i < 8 {
+            true => a.to_array(),
+            false => b.to_array(),
+        });
         let grid = VolumeGrid {
-            res: [2, 1, 1],
+            res: [16, 1, 1],
             channels: 3,
             bbox: [Vec3::ZERO, Vec3::ONE],
-            data: vec![a.x, a.y, a.z, b.x, b.y, b.z],
+            data: data.collect(),
         };
         let kind = VolumeKind::Grid {
             grid: Arc::new(grid),
@@ -216,20 +247,22 @@ mod tests {
             filter: Filter::Trilinear,
         };
         let unit = Affine3A::IDENTITY;
-        Heterogeneous::new(
+        let h = Heterogeneous::new(
             Volume::new(kind, unit),
             Volume::new(VolumeKind::Constant(albedo), unit),
             1.0,
-        )
+        );
+        assert_eq!(h.majorants.cell_count(), 64);
+        h
     }
 
     /// The optical depth along x from -1 to `x` (clipped to the cube) of [`ramp`].
     fn depth(a: f32, b: f32, x: f32) -> f32 {
+        let (x1, w) = (7.5 / 16.0, 1.0 / 16.0);
         let x = x.clamp(0.0, 1.0);
-        let below = a * x.min(0.25);
-        // Between the centres sigma rises linearly from a to b over half a unit.
-        let lin = |s: f32| a * (s - 0.25) + (b - a) * (s - 0.25).powi(2);
-        below + lin(x.clamp(0.25, 0.75)) + b * (x - 0.75).max(0.0)
+        // Between the centres sigma rises linearly from a to b over w.
+        let lin = |s: f32| a * (s - x1) + (b - a) * (s - x1).powi(2) / (2.0 * w);
+        a * x.min(x1) + lin(x.clamp(x1, x1 + w)) + b * (x - x1 - w).max(0.0)
     }
 
     #[test]
@@ -327,23 +360,5 @@ mod tests {
             let s = albedo[c] * (1.0 - tr);
             assert!((scattered[c] - s).abs() < 0.01, "{scattered} vs {s}");
         }
-    }
-
-    /// Points drawn in a segment: the density integrates to one over the part in the box,
-    /// and a segment that misses the box gives none.
-    #[test]
-    fn segment_points_have_their_density() {
-        let m = ramp(Vec3::splat(1.0), Vec3::splat(2.0), Vec3::ONE);
-        let o = Vec3::new(-1.0, 0.5, 0.5);
-        let mut integral = 0.0f64;
-        let n = 4096;
-        for i in 0..n {
-            let p = m.sample_in_segment(o, Vec3::X, (i as f32 + 0.5) / n as f32, 1.5).unwrap();
-            assert!(p.t >= 1.0 && p.t < 1.5, "{p:?}");
-            integral += 1.0 / p.pdf as f64 / n as f64;
-        }
-        // E[1 / pdf] = the length of the part in the box.
-        assert!((integral - 0.5).abs() < 1e-3, "{integral}");
-        assert_eq!(m.sample_in_segment(o, Vec3::Y, 0.5, 9.0), None);
     }
 }

@@ -16,6 +16,7 @@
 pub mod builder;
 pub mod grid;
 pub mod heterogeneous;
+pub mod majorant;
 pub mod phase;
 
 use crate::math::rng::Rng;
@@ -163,6 +164,26 @@ pub struct Flight {
     pub weight: Vec3,
 }
 
+/// A point drawn in a segment by [`Medium::scatter_in_segment`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scatter {
+    /// Distance along the segment.
+    pub t: f32,
+    /// The transmittance to it over its density, `T(t) / pdf(t)` (an estimate in a
+    /// heterogeneous medium).
+    pub tr_over_pdf: Vec3,
+    /// The scattering coefficient there.
+    pub sigma_s: Vec3,
+}
+
+impl Scatter {
+    /// `sigma_s T(t) / pdf(t)`: what the light scattered there towards the segment's origin
+    /// is multiplied by.
+    pub fn weight(&self) -> Vec3 {
+        self.tr_over_pdf * self.sigma_s
+    }
+}
+
 /// A distance drawn in a segment by [`Medium::sample_in_segment`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SegmentPoint {
@@ -235,21 +256,31 @@ impl Medium {
         }
     }
 
-    /// A distance in `[0, t_max)` of the ray from `o` along unit `d` with its density, where
-    /// the medium scatters: in proportion to `sigma_t T(t)` ([`Self::sample_in_segment`])
-    /// for a homogeneous medium, to the majorant's within the volume's box for a
-    /// heterogeneous one (`u_channel` unused).
-    pub fn point_in_segment(
+    /// A point in `[0, t_max)` of the ray from `o` along unit `d` where light scatters
+    /// towards `o`, with the weight `sigma_s(x) T(t) / pdf(t)` that estimates the scattered
+    /// light's integral over the segment from one point: for a homogeneous medium drawn in
+    /// proportion to `sigma_t T(t)` ([`Self::sample_in_segment`], `u_channel` and `u`); for a
+    /// heterogeneous one a free flight by delta tracking (numbers from `rng`; `None` when it
+    /// leaves the segment, which the estimate counts as zero), so the points follow the
+    /// density where a majorant's exponential would seldom reach a sparse medium's far side.
+    pub fn scatter_in_segment(
         &self,
         o: Vec3,
         d: Vec3,
-        u_channel: f32,
-        u: f32,
+        (u_channel, u): (f32, f32),
         t_max: f32,
-    ) -> Option<SegmentPoint> {
+        rng: &mut Rng,
+    ) -> Option<Scatter> {
         match &self.kind {
-            MediumKind::Homogeneous => self.sample_in_segment(u_channel, u, t_max),
-            MediumKind::Heterogeneous(h) => h.sample_in_segment(o, d, u, t_max),
+            MediumKind::Homogeneous => {
+                let p = self.sample_in_segment(u_channel, u, t_max)?;
+                Some(Scatter {
+                    t: p.t,
+                    tr_over_pdf: self.transmittance(p.t) / p.pdf,
+                    sigma_s: self.sigma_s(),
+                })
+            }
+            MediumKind::Heterogeneous(h) => h.track(o, d, t_max, rng).ok(),
         }
     }
 

@@ -83,7 +83,7 @@ impl Gatherer<'_> {
         let m = &self.scene.media[medium as usize];
         let (uc, ut) = (rng.next(), rng.next());
         let (u1, u2) = (rng.next(), rng.next());
-        let Some(p) = m.point_in_segment(ray.origin, ray.dir, uc, ut, zn) else {
+        let Some(p) = m.scatter_in_segment(ray.origin, ray.dir, (uc, ut), zn, rng) else {
             return Vec3::ZERO;
         };
         let gather = Ray {
@@ -91,8 +91,7 @@ impl Gatherer<'_> {
             dir: m.phase.sample(ray.dir, u1, u2),
         };
         let li = self.gather_ray(&gather, depth + 1, rng, medium);
-        let tr = m.transmittance_along(ray.origin, ray.dir, p.t, rng);
-        tr / p.pdf * m.sigma_s_at(gather.origin) * li
+        p.weight() * li
     }
 
     /// The light scattered towards a final-gather ray's origin along its segment of `ray`,
@@ -113,12 +112,14 @@ impl Gatherer<'_> {
         let mut sum = Vec3::ZERO;
         for i in 0..GATHER_MEDIUM_POINTS {
             let ui = (i as f32 + u) / GATHER_MEDIUM_POINTS as f32;
-            let Some(p) = m.point_in_segment(ray.origin, ray.dir, uc, ui, t) else {
-                return Vec3::ZERO;
+            // None: the chosen channel cannot scatter (homogeneous), or the flight left the
+            // segment (heterogeneous): no light from this point.
+            let Some(p) = m.scatter_in_segment(ray.origin, ray.dir, (uc, ui), t, rng) else {
+                continue;
             };
             let x = ray.origin + ray.dir * p.t;
-            let tr = m.transmittance_along(ray.origin, ray.dir, p.t, rng);
-            sum += tr / p.pdf * v.point(x, -ray.dir, m, medium);
+            // The point estimate holds sigma_s already (in the photons' power).
+            sum += p.tr_over_pdf * v.point(x, -ray.dir, m, medium);
         }
         sum / GATHER_MEDIUM_POINTS as f32
     }

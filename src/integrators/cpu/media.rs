@@ -124,21 +124,33 @@ pub fn single_scattering(
             Some(y) => sample_equiangular(origin, dir, t_seg, y, ut),
             None => None,
         };
-        let Some(p) = p.or_else(|| m.point_in_segment(origin, dir, uc, ut, t_seg)) else {
-            continue;
+        // The equiangular point's transmittance comes after its shadow ray (the order the
+        // random numbers are drawn in): `None` here.
+        let s = match p {
+            Some(p) => {
+                let x = origin + dir * p.t;
+                (p.t, None, m.sigma_s_at(x), p.pdf)
+            }
+            None => match m.scatter_in_segment(origin, dir, (uc, ut), t_seg, rng) {
+                Some(s) => (s.t, Some(s.tr_over_pdf), s.sigma_s, 1.0),
+                None => continue,
+            },
         };
-        let x = origin + dir * p.t;
-        let sigma_s = m.sigma_s_at(x);
+        let (t, tr_over_pdf, sigma_s, pdf) = s;
         if sigma_s == Vec3::ZERO {
             continue;
         }
+        let x = origin + dir * t;
+        let seg = |rng: &mut Rng| match tr_over_pdf {
+            Some(w) => w,
+            None => m.transmittance_along(origin, dir, t, rng) / pdf,
+        };
         if let LightShape::Environment(e) = light.shape {
             // A direction drawn from the phase function (which then cancels): the
             // environment's own sampling covers a surface's hemisphere.
             let wi = m.phase.sample(dir, u[1], u[2]);
             let tr = transmittance(scene, bvh, x, wi, f32::INFINITY, medium, rng);
-            let tr_seg = m.transmittance_along(origin, dir, p.t, rng);
-            l += sigma_s * (tr_seg / p.pdf) * e.eval(&scene.textures, wi) * tr;
+            l += sigma_s * seg(rng) * e.eval(&scene.textures, wi) * tr;
             continue;
         }
         let ls = lights.sample(scene, li, x, -dir, u);
@@ -162,8 +174,7 @@ pub fn single_scattering(
             }
         };
         let tr = transmittance(scene, bvh, x, wi, t_max, medium, rng);
-        let tr_seg = m.transmittance_along(origin, dir, p.t, rng);
-        l += sigma_s * (tr_seg / p.pdf) * ls.weight * phase * tr;
+        l += sigma_s * seg(rng) * ls.weight * phase * tr;
     }
     l / samples.max(1) as f32
 }
