@@ -94,8 +94,8 @@ fn toml_media_errors_name_their_line_and_field() {
             "m.toml:8: media.juice.g: must be in (-1, 1) (got 1)",
         ),
         (
-            format!("{CAMERA}[media.juice]\ntype = \"heterogeneous\"\n{SHAPES}"),
-            "m.toml:8: media.juice.type: unsupported medium type `heterogeneous` (only \"homogeneous\")",
+            format!("{CAMERA}[media.juice]\ntype = \"cloudy\"\n{SHAPES}"),
+            "m.toml:8: media.juice.type: unsupported medium type `cloudy` (\"homogeneous\", \"heterogeneous\")",
         ),
         (
             format!("{CAMERA}[media.juice]\nsigma_t = -1\n{SHAPES}"),

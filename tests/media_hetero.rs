@@ -53,7 +53,8 @@ fn fog_box(medium: &str) -> String {
 const SIGMA_T: [f32; 3] = [1.2, 0.7, 0.3];
 const ALBEDO: [f32; 3] = [0.9, 0.6, 0.8];
 /// The cube's box as a volume's `to_world`: the unit cube scaled by 2, then moved by -1.
-const CUBE: &str = r#"<transform name="to_world"><scale value="2"/><translate value="-1"/></transform>"#;
+const CUBE: &str =
+    r#"<transform name="to_world"><scale value="2"/><translate value="-1"/></transform>"#;
 
 fn load(xml: &str, dir: &Path) -> Result<Scene, String> {
     import(xml, "t.xml", dir)
@@ -102,9 +103,17 @@ fn mitsuba_heterogeneous_media_load() {
         let x = glam::Vec3::new(0.3, -0.2, 0.7);
         let want = glam::Vec3::from(SIGMA_T);
         assert!((h.sigma_t_at(x) - want).abs().max_element() < 1e-6);
-        assert!((h.sigma_s_at(x) - want * glam::Vec3::from(ALBEDO)).abs().max_element() < 1e-6);
+        assert!(
+            (h.sigma_s_at(x) - want * glam::Vec3::from(ALBEDO))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
         // Outside the box: nothing.
-        assert_eq!(h.sigma_t_at(glam::Vec3::new(0.0, 1.5, 0.0)), glam::Vec3::ZERO);
+        assert_eq!(
+            h.sigma_t_at(glam::Vec3::new(0.0, 1.5, 0.0)),
+            glam::Vec3::ZERO
+        );
     }
 }
 
@@ -242,7 +251,12 @@ fn toml_heterogeneous_media_load_grids_and_constants() {
     assert!((h.sigma_t_at(v(1.0)).x - 4.0).abs() < 1e-6);
     assert!((h.sigma_t_at(v(1.5)).x - 6.0).abs() < 1e-6);
     assert_eq!(h.sigma_t_at(v(2.5)).x, 0.0);
-    assert!((h.sigma_s_at(v(0.5)) - glam::Vec3::new(1.0, 1.2, 1.4)).abs().max_element() < 1e-6);
+    assert!(
+        (h.sigma_s_at(v(0.5)) - glam::Vec3::new(1.0, 1.2, 1.4))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
     // Placed in bounds, nearest filter.
     let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nbounds = [[-1, -1, -1], [1, 1, 1]]\nfilter = \"nearest\"").unwrap();
     let h = hetero(&s);
@@ -251,7 +265,10 @@ fn toml_heterogeneous_media_load_grids_and_constants() {
     // Constants over bounds.
     let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = [1, 2, 3]\nbounds = [[0, 0, 0], [1, 1, 1]]").unwrap();
     let h = hetero(&s);
-    assert_eq!(h.sigma_t_at(glam::Vec3::splat(0.5)), glam::Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(
+        h.sigma_t_at(glam::Vec3::splat(0.5)),
+        glam::Vec3::new(1.0, 2.0, 3.0)
+    );
     assert_eq!(h.sigma_t_at(glam::Vec3::splat(-0.5)), glam::Vec3::ZERO);
     let d = dir.display();
     let cases = [

@@ -4,9 +4,9 @@
 //! Every importer (TOML `[media.NAME]`, Mitsuba `homogeneous`) calls these.
 
 use crate::error::Result;
-use crate::media::phase::HenyeyGreenstein;
 use crate::media::grid::{Volume, VolumeGrid, VolumeKind};
 use crate::media::heterogeneous::Heterogeneous;
+use crate::media::phase::HenyeyGreenstein;
 use crate::media::{Medium, MediumInterface, MediumKind, NO_MEDIUM};
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::SceneBuilder;

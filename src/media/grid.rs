@@ -321,7 +321,10 @@ mod tests {
         assert_eq!(g.max(), 6.0);
         // z slowest: a 1 x 1 x 2 grid's second value is at z = 0.75.
         let g = read(&vol([1, 1, 2], 1, &[0.0, 8.0])).unwrap();
-        assert_eq!(g.lookup(Vec3::new(0.5, 0.5, 0.75), Filter::Trilinear).x, 8.0);
+        assert_eq!(
+            g.lookup(Vec3::new(0.5, 0.5, 0.75), Filter::Trilinear).x,
+            8.0
+        );
     }
 
     #[test]
@@ -333,7 +336,10 @@ mod tests {
         version[3] = 2;
         let cases: Vec<(Vec<u8>, &str)> = vec![
             (good[..20].to_vec(), "truncated header: 20 bytes"),
-            (b"VOX".iter().chain(&good[3..]).copied().collect(), "byte 0: not a .vol"),
+            (
+                b"VOX".iter().chain(&good[3..]).copied().collect(),
+                "byte 0: not a .vol",
+            ),
             (version, "byte 3: version 2"),
             (vol([0, 2, 2], 1, &[]), "byte 8 (xres): 0"),
             (vol([2, -5, 2], 1, &[]), "byte 12 (yres): -5"),
@@ -352,8 +358,8 @@ mod tests {
 
     #[test]
     fn a_volume_box_is_its_unit_cube_in_world_space() {
-        let to_world = Affine3A::from_translation(Vec3::splat(-0.5))
-            * Affine3A::from_scale(Vec3::splat(1.5));
+        let to_world =
+            Affine3A::from_translation(Vec3::splat(-0.5)) * Affine3A::from_scale(Vec3::splat(1.5));
         let v = Volume::new(VolumeKind::Constant(Vec3::ONE), to_world.inverse());
         assert!((v.lo - Vec3::splat(-0.5)).abs().max_element() < 1e-6);
         assert!((v.hi - Vec3::splat(1.0)).abs().max_element() < 1e-6);

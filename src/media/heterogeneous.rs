@@ -92,7 +92,7 @@ impl Heterogeneous {
     /// The part `[t0, t1)` of `[0, t_max)` along the ray from `o` along unit `d` inside the
     /// extinction's box, `None` where it misses or the majorant is zero.
     fn span(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
-        if !(self.majorant > 0.0) {
+        if self.majorant <= 0.0 {
             return None;
         }
         let inv = d.recip();
@@ -118,6 +118,43 @@ impl Heterogeneous {
         steps
     }
 
+    /// Draws the tentative collisions in `[t0, t1)` of the ray from `o` along unit `d`, cell
+    /// by cell of the majorant grid (fresh exponential steps from each cell's entry), calling
+    /// `at(s, majorant, rng)` at each until it returns false. `Err(s)` when it would take more
+    /// than [`MAX_TRACKING_STEPS`] (`s` where it stopped).
+    fn collisions(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        (t0, t1): (f32, f32),
+        rng: &mut Rng,
+        mut at: impl FnMut(f32, f32, &mut Rng) -> bool,
+    ) -> Result<(), f32> {
+        let (mut steps, mut result) = (0, Ok(()));
+        self.majorants.walk(o, d, t0, t1, |ta, tb, mu| {
+            // An empty cell: no collision to draw.
+            if mu <= 0.0 {
+                return true;
+            }
+            let mut s = ta;
+            loop {
+                s -= (1.0 - rng.next()).ln() / mu;
+                if s >= tb {
+                    return true;
+                }
+                steps += 1;
+                if steps > MAX_TRACKING_STEPS {
+                    result = Err(s);
+                    return false;
+                }
+                if !at(s, mu, rng) {
+                    return false;
+                }
+            }
+        });
+        result
+    }
+
     /// Ratio tracking over `[0, t)`, calling `visit(s, T)` after each tentative collision.
     fn ratio_track(
         &self,
@@ -130,36 +167,24 @@ impl Heterogeneous {
         let Some((t0, t1)) = self.span(o, d, t) else {
             return Vec3::ONE;
         };
-        let (mut tr, mut steps) = (Vec3::ONE, 0);
-        self.majorants.walk(o, d, t0, t1, |ta, tb, mu| {
-            let mut s = ta;
-            while mu > 0.0 {
-                s -= (1.0 - rng.next()).ln() / mu;
-                if s >= tb {
-                    break;
-                }
-                steps += 1;
-                if steps > MAX_TRACKING_STEPS {
-                    tr = Vec3::ZERO;
-                } else {
-                    // The cell's majorant bounds the density; the max absorbs the filter's
-                    // rounding.
-                    tr *= (Vec3::ONE - self.sigma_t_at(o + d * s) / mu).max(Vec3::ZERO);
-                    let q = tr.max_element();
-                    if q < ROULETTE_BELOW {
-                        tr = match rng.next() < q {
-                            true => tr / q,
-                            false => Vec3::ZERO,
-                        };
-                    }
-                }
-                visit(s, tr);
-                if tr == Vec3::ZERO {
-                    return false;
-                }
+        let mut tr = Vec3::ONE;
+        let walk = self.collisions(o, d, (t0, t1), rng, |s, mu, rng| {
+            // The cell's majorant bounds the density; the max absorbs the filter's rounding.
+            tr *= (Vec3::ONE - self.sigma_t_at(o + d * s) / mu).max(Vec3::ZERO);
+            let q = tr.max_element();
+            if q < ROULETTE_BELOW {
+                tr = match rng.next() < q {
+                    true => tr / q,
+                    false => Vec3::ZERO,
+                };
             }
-            true
+            visit(s, tr);
+            tr != Vec3::ZERO
         });
+        if let Err(s) = walk {
+            tr = Vec3::ZERO;
+            visit(s, tr);
+        }
         tr
     }
 
@@ -186,34 +211,25 @@ impl Heterogeneous {
         let Some((t0, t1)) = self.span(o, d, t_max) else {
             return Err(Vec3::ONE);
         };
-        let (mut w, mut steps, mut event) = (Vec3::ONE, 0, None);
-        self.majorants.walk(o, d, t0, t1, |ta, tb, mu| {
-            let mut s = ta;
-            while mu > 0.0 {
-                s -= (1.0 - rng.next()).ln() / mu;
-                if s >= tb {
-                    break;
-                }
-                steps += 1;
-                if steps > MAX_TRACKING_STEPS {
-                    w = Vec3::ZERO;
-                    return false;
-                }
-                let x = o + d * s;
-                let sigma = self.sigma_t_at(x);
-                let mean = sigma.element_sum() / 3.0;
-                if rng.next() * mu < mean {
-                    event = Some(Scatter {
-                        t: s,
-                        tr_over_pdf: w / mean,
-                        sigma_s: sigma * self.albedo.eval(x),
-                    });
-                    return false;
-                }
-                w *= (Vec3::splat(mu) - sigma).max(Vec3::ZERO) / (mu - mean);
+        let (mut w, mut event) = (Vec3::ONE, None);
+        let walk = self.collisions(o, d, (t0, t1), rng, |s, mu, rng| {
+            let x = o + d * s;
+            let sigma = self.sigma_t_at(x);
+            let mean = sigma.element_sum() / 3.0;
+            if rng.next() * mu < mean {
+                event = Some(Scatter {
+                    t: s,
+                    tr_over_pdf: w / mean,
+                    sigma_s: sigma * self.albedo.eval(x),
+                });
+                return false;
             }
+            w *= (Vec3::splat(mu) - sigma).max(Vec3::ZERO) / (mu - mean);
             true
         });
+        if walk.is_err() {
+            w = Vec3::ZERO;
+        }
         event.ok_or(w)
     }
 }
@@ -328,16 +344,27 @@ mod tests {
                 let x = f.t - 1.0;
                 counts[edges.iter().filter(|&&e| x >= e).count()] += 1;
                 events += 1;
-                assert!((f.weight - Vec3::ONE).abs().max_element() < 1e-4, "{}", f.weight);
+                assert!(
+                    (f.weight - Vec3::ONE).abs().max_element() < 1e-4,
+                    "{}",
+                    f.weight
+                );
             } else {
                 assert_eq!(f.t, 5.0);
-                assert!((f.weight - Vec3::ONE).abs().max_element() < 1e-4, "{}", f.weight);
+                assert!(
+                    (f.weight - Vec3::ONE).abs().max_element() < 1e-4,
+                    "{}",
+                    f.weight
+                );
             }
         }
         let p_event = events as f64 / n as f64;
         assert!((p_event - total as f64).abs() < 4.0 * (total as f64 / n as f64).sqrt());
         let expect = events as f64 / 10.0;
-        let chi2: f64 = counts.iter().map(|&c| (c as f64 - expect).powi(2) / expect).sum();
+        let chi2: f64 = counts
+            .iter()
+            .map(|&c| (c as f64 - expect).powi(2) / expect)
+            .sum();
         // 9 degrees of freedom: P(chi2 > 27.9) = 0.001.
         assert!(chi2 < 27.9, "chi2 {chi2}: {counts:?}");
 

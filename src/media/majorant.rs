@@ -53,13 +53,16 @@ impl MajorantGrid {
                     // The cell's box in the grid's unit cube, then in voxel centres.
                     let (mut a, mut b) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
                     for k in 0..8 {
-                        let corner = Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, (k >> 2) as f32);
+                        let corner =
+                            Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, (k >> 2) as f32);
                         let p = to_local.transform_point3(c0 + size * corner);
                         (a, b) = (a.min(p), b.max(p));
                     }
                     let res_f = voxels.as_vec3();
-                    let first = ((a * res_f - 0.5).floor().as_ivec3()).clamp(IVec3::ZERO, voxels - 1);
-                    let last = ((b * res_f - 0.5).floor().as_ivec3() + 1).clamp(IVec3::ZERO, voxels - 1);
+                    let first =
+                        ((a * res_f - 0.5).floor().as_ivec3()).clamp(IVec3::ZERO, voxels - 1);
+                    let last =
+                        ((b * res_f - 0.5).floor().as_ivec3() + 1).clamp(IVec3::ZERO, voxels - 1);
                     let mut m = 0.0f32;
                     for vz in first.z..=last.z {
                         for vy in first.y..=last.y {
@@ -88,14 +91,24 @@ impl MajorantGrid {
 
     /// Calls `f(ta, tb, majorant)` for each cell the ray from `o` along unit `d` crosses
     /// within `[t0, t1)` (inside the box), in order, until `f` returns false.
-    pub fn walk(&self, o: Vec3, d: Vec3, t0: f32, t1: f32, mut f: impl FnMut(f32, f32, f32) -> bool) {
+    pub fn walk(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        t0: f32,
+        t1: f32,
+        mut f: impl FnMut(f32, f32, f32) -> bool,
+    ) {
         let n = self.res.as_ivec3();
         if self.cells.len() == 1 {
             f(t0, t1, self.cells[0]);
             return;
         }
         let p = o + d * t0;
-        let mut c = ((p - self.lo) / self.size).floor().as_ivec3().clamp(IVec3::ZERO, n - 1);
+        let mut c = ((p - self.lo) / self.size)
+            .floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, n - 1);
         let step = IVec3::new(sign(d.x), sign(d.y), sign(d.z));
         let inv = d.recip();
         let boundary = |c: IVec3, axis: usize| match step[axis] {
@@ -110,7 +123,11 @@ impl MajorantGrid {
         let mut ta = t0;
         // A ray crosses at most one cell per axis step.
         for _ in 0..(n.x + n.y + n.z) {
-            let axis = match (t_next.x <= t_next.y, t_next.x <= t_next.z, t_next.y <= t_next.z) {
+            let axis = match (
+                t_next.x <= t_next.y,
+                t_next.x <= t_next.z,
+                t_next.y <= t_next.z,
+            ) {
                 (true, true, _) => 0,
                 (_, _, true) => 1,
                 _ => 2,
@@ -181,12 +198,13 @@ mod tests {
             assert_eq!(m.res, UVec3::splat(4));
             let centre = 0.5 * (v.lo + v.hi);
             for _ in 0..300 {
-                let dir = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalize();
+                let dir =
+                    Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5).normalize();
                 let o = centre - dir * 4.0 + Vec3::new(rng.next(), rng.next(), rng.next()) - 0.5;
                 let inv = dir.recip();
                 let (a, b) = ((v.lo - o) * inv, (v.hi - o) * inv);
                 let (t0, t1) = (a.min(b).max_element().max(0.0), a.max(b).min_element());
-                if !(t0 < t1) {
+                if t0 >= t1 {
                     continue;
                 }
                 let mut end = t0;

@@ -85,11 +85,9 @@ impl Transmittances {
     /// The transmittance to distance `t`.
     pub fn at(&self, t: f32) -> Vec3 {
         match self {
-            Transmittances::Exact(sigma_t) => Vec3::select(
-                sigma_t.cmpgt(Vec3::ZERO),
-                (-*sigma_t * t).exp(),
-                Vec3::ONE,
-            ),
+            Transmittances::Exact(sigma_t) => {
+                Vec3::select(sigma_t.cmpgt(Vec3::ZERO), (-*sigma_t * t).exp(), Vec3::ONE)
+            }
             Transmittances::Steps(steps) => match steps.partition_point(|&(s, _)| s <= t) {
                 0 => Vec3::ONE,
                 i => steps[i - 1].1,

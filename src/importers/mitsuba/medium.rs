@@ -12,8 +12,8 @@ use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::Importer;
 use crate::media::builder::{MediumId, MediumParams};
 use crate::media::grid::{Volume, VolumeKind};
-use glam::Affine3A;
 use crate::scene::locate::Part;
+use glam::Affine3A;
 use glam::Vec3;
 use roxmltree::Node;
 
@@ -80,7 +80,10 @@ impl Importer<'_> {
                         }
                     }
                 };
-                Some((volume("sigma_t", Vec3::ONE)?, volume("albedo", Vec3::splat(0.75))?))
+                Some((
+                    volume("sigma_t", Vec3::ONE)?,
+                    volume("albedo", Vec3::splat(0.75))?,
+                ))
             }
             false => None,
         };

@@ -26,7 +26,8 @@ impl Importer<'_> {
         let to_world = p.transform(cx, "to_world")?.unwrap_or_default();
         let to_world = Affine3A::from_mat4(to_world);
         let det = to_world.matrix3.determinant();
-        if !(det.is_finite() && det.abs() > 1e-20) || !to_world.translation.is_finite() {
+        let invertible = det.is_finite() && det.abs() > 1e-20;
+        if !invertible || !to_world.translation.is_finite() {
             let message = "the transform cannot be inverted";
             return Err(cx.err(p.node_of("to_world"), &p.at("to_world"), message));
         }
@@ -57,8 +58,8 @@ impl Importer<'_> {
                     .map_err(|e| cx.err(p.node_of("filename"), &p.at("filename"), e))?;
                 if p.boolean(cx, "use_grid_bbox")? {
                     let [lo, hi] = grid.bbox;
-                    let to_unit = Affine3A::from_scale((hi - lo).recip())
-                        * Affine3A::from_translation(-lo);
+                    let to_unit =
+                        Affine3A::from_scale((hi - lo).recip()) * Affine3A::from_translation(-lo);
                     to_local = to_unit * to_local;
                 }
                 VolumeKind::Grid {

@@ -32,15 +32,18 @@ pub(crate) fn medium(t: &Tab, name: &str, base_dir: &Path, b: &mut SceneBuilder)
         None | Some("homogeneous") => false,
         Some("heterogeneous") => true,
         Some(kind) => {
-            let message = format!(
-                "unsupported medium type `{kind}` (\"homogeneous\", \"heterogeneous\")"
-            );
+            let message =
+                format!("unsupported medium type `{kind}` (\"homogeneous\", \"heterogeneous\")");
             return Err(t.fail("type", message));
         }
     };
     match heterogeneous {
         true => t.only(&[MEDIUM_KEYS, HETEROGENEOUS_KEYS].concat(), |_| false, "")?,
-        false => t.only(MEDIUM_KEYS, |k| HETEROGENEOUS_KEYS.contains(&k), "homogeneous")?,
+        false => t.only(
+            MEDIUM_KEYS,
+            |k| HETEROGENEOUS_KEYS.contains(&k),
+            "homogeneous",
+        )?,
     }
     let at = |part: Part, message: String| match part {
         Part::Parameter(key) => t.fail(key, message),
@@ -66,7 +69,15 @@ pub(crate) fn medium(t: &Tab, name: &str, base_dir: &Path, b: &mut SceneBuilder)
         let filter = filter.unwrap_or(Filter::Trilinear);
         let sigma_t = volume(t, "sigma_t", Vec3::ONE, bounds, filter, base_dir, b)?;
         let albedo_bounds = bounds.or(Some([sigma_t.lo, sigma_t.hi]));
-        let albedo = volume(t, "albedo", Vec3::splat(0.75), albedo_bounds, filter, base_dir, b)?;
+        let albedo = volume(
+            t,
+            "albedo",
+            Vec3::splat(0.75),
+            albedo_bounds,
+            filter,
+            base_dir,
+            b,
+        )?;
         let (scale, g) = (t.num("scale")?.unwrap_or(1.0), t.num("g")?.unwrap_or(0.0));
         b.add_heterogeneous_medium(Some(name), sigma_t, albedo, scale, g, &at)?;
         return Ok(());

@@ -64,13 +64,13 @@ impl Gatherer<'_> {
         // One transmittance walk serves every photon of the segment (exact if homogeneous).
         let tr = m.transmittances(ray.origin, ray.dir, t, rng);
         if !(zn > 0.0 && zn.is_finite()) {
-            return l + v.beam_through(ray.origin, ray.dir, t, m, medium, which, &tr);
+            return l + v.beam_through((ray.origin, ray.dir, t), (m, medium), which, &tr);
         }
         let far = ray.origin + ray.dir * zn;
         let (tr_zn, tr_far) = tr.split(zn);
-        l += tr_zn * v.beam_through(far, ray.dir, t - zn, m, medium, which, &tr_far);
+        l += tr_zn * v.beam_through((far, ray.dir, t - zn), (m, medium), which, &tr_far);
         let caustic = BeamPhotons::Caustic;
-        l += v.beam_through(ray.origin, ray.dir, zn, m, medium, caustic, &tr);
+        l += v.beam_through((ray.origin, ray.dir, zn), (m, medium), caustic, &tr);
         l + self.near_gather(ray, zn, medium, depth, rng)
     }
 

@@ -210,19 +210,16 @@ impl VolumeMap {
         which: BeamPhotons,
     ) -> Vec3 {
         let tr = Transmittances::Exact(medium.sigma_t);
-        self.beam_through(o, d, t_max, medium, medium_index, which, &tr)
+        self.beam_through((o, d, t_max), (medium, medium_index), which, &tr)
     }
 
-    /// [`Self::beam`] with the transmittance from `o` to each photon's nearest point read
-    /// from `tr` (a heterogeneous medium's: [`Medium::transmittances`]).
-    #[allow(clippy::too_many_arguments)]
+    /// [`Self::beam`] of the segment `(o, d, t_max)` in `(medium, medium_index)`, with the
+    /// transmittance from `o` to each photon's nearest point read from `tr` (a heterogeneous
+    /// medium's: [`Medium::transmittances`]).
     pub fn beam_through(
         &self,
-        o: Vec3,
-        d: Vec3,
-        t_max: f32,
-        medium: &Medium,
-        medium_index: u32,
+        (o, d, t_max): (Vec3, Vec3, f32),
+        (medium, medium_index): (&Medium, u32),
         which: BeamPhotons,
         tr: &Transmittances,
     ) -> Vec3 {
