@@ -5,7 +5,7 @@
 
 use crate::error::Result;
 use crate::media::grid::{Volume, VolumeGrid, VolumeKind};
-use crate::media::heterogeneous::Heterogeneous;
+use crate::media::heterogeneous::{Heterogeneous, MAX_OPTICAL_DEPTH};
 use crate::media::phase::HenyeyGreenstein;
 use crate::media::{Medium, MediumInterface, MediumKind, NO_MEDIUM};
 use crate::scene::locate::{unknown_name, Locate, Part};
@@ -141,6 +141,15 @@ impl SceneBuilder {
         let h = Heterogeneous::new(sigma_t, albedo, scale);
         if !h.majorant.is_finite() {
             return fail("scale", "sigma_t x scale is not finite".into());
+        }
+        let depth = h.majorant * (h.sigma_t.hi - h.sigma_t.lo).length();
+        if !(depth <= MAX_OPTICAL_DEPTH) {
+            let message = format!(
+                "sigma_t x scale reaches {:e} per unit, an optical depth of {depth:e} across the \
+                 volume's box, more than {MAX_OPTICAL_DEPTH:e} (nothing would pass it)",
+                h.majorant
+            );
+            return fail("sigma_t", message);
         }
         let bound = Vec3::splat(h.albedo.max().min(1.0));
         let m = Medium {

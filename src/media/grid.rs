@@ -73,7 +73,7 @@ impl VolumeGrid {
         let mut head = [0u8; HEADER_BYTES as usize];
         if len < HEADER_BYTES {
             return Err(format!(
-                "truncated header: {len} bytes, a .vol file's header takes {HEADER_BYTES}"
+                "byte {len}: truncated header (a .vol file's header takes {HEADER_BYTES} bytes)"
             ));
         }
         r.read_exact(&mut head)
@@ -125,15 +125,15 @@ impl VolumeGrid {
         let bytes = values * 4;
         if bytes > room {
             return Err(format!(
-                "{}x{}x{} voxels of {channels} channel(s) would take {bytes} bytes, more than \
-                 the {room} the scene's budget has room for",
+                "byte 8: {}x{}x{} voxels of {channels} channel(s) would take {bytes} bytes, \
+                 more than the {room} the scene's budget has room for",
                 res[0], res[1], res[2]
             ));
         }
         if len < HEADER_BYTES + bytes {
             return Err(format!(
-                "truncated: the data ends at byte {len}, {}x{}x{} voxels of {channels} \
-                 channel(s) need {} bytes",
+                "byte {len}: truncated data ({}x{}x{} voxels of {channels} channel(s) need {} \
+                 bytes)",
                 res[0],
                 res[1],
                 res[2],
@@ -335,7 +335,7 @@ mod tests {
         let mut version = good.clone();
         version[3] = 2;
         let cases: Vec<(Vec<u8>, &str)> = vec![
-            (good[..20].to_vec(), "truncated header: 20 bytes"),
+            (good[..20].to_vec(), "byte 20: truncated header"),
             (
                 b"VOX".iter().chain(&good[3..]).copied().collect(),
                 "byte 0: not a .vol",
@@ -344,9 +344,15 @@ mod tests {
             (vol([0, 2, 2], 1, &[]), "byte 8 (xres): 0"),
             (vol([2, -5, 2], 1, &[]), "byte 12 (yres): -5"),
             (vol([2, 2, 2], 2, &[]), "byte 20 (channels): 2"),
-            (good[..60].to_vec(), "truncated: the data ends at byte 60"),
+            (
+                good[..60].to_vec(),
+                "byte 60: truncated data (2x2x2 voxels of 1 channel(s) need 80 bytes)",
+            ),
             (nan, "byte 68: value NaN is not finite"),
-            (vol([65536, 65536, 65536], 3, &[]), "more than the 1048576"),
+            (
+                vol([65536, 65536, 65536], 3, &[]),
+                "byte 8: 65536x65536x65536 voxels",
+            ),
         ];
         for (bytes, want) in cases {
             let e = read(&bytes).expect_err(want);

@@ -26,9 +26,15 @@ use crate::media::{Flight, Scatter};
 use glam::Vec3;
 
 /// Tentative collisions one tracking walk may take: a bound on the work of one ray, reached
-/// only past an optical depth of the majorant of about this many (a walk that reaches it
-/// counts as absorbed).
-pub const MAX_TRACKING_STEPS: u32 = 1 << 16;
+/// only past an optical depth of the majorants of about this many where the medium is not
+/// that dense (a dense one ends the walk by roulette or a real collision first); a walk that
+/// reaches it counts as absorbed.
+pub const MAX_TRACKING_STEPS: u32 = 4096;
+
+/// Most optical depth the majorant may have across the extinction volume's box (its
+/// diagonal): a medium beyond it lets nothing through, and a grid value that large (a
+/// corrupt file) would make every walk near it take [`MAX_TRACKING_STEPS`].
+pub const MAX_OPTICAL_DEPTH: f32 = 1e6;
 
 /// Ratio tracking plays Russian roulette once the largest channel of the transmittance
 /// estimate falls below this.
