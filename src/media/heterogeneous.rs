@@ -20,9 +20,9 @@
 //!   majorant's exponential would seldom reach the far side of a dense cell.
 
 use crate::math::rng::Rng;
+use crate::media::flight::{Flight, Scatter};
 use crate::media::grid::{Volume, VolumeKind};
 use crate::media::majorant::MajorantGrid;
-use crate::media::{Flight, Scatter};
 use glam::Vec3;
 
 /// Tentative collisions one tracking walk may take: a bound on the work of one ray, reached

@@ -14,6 +14,7 @@
 //! in [`grid`]) are the other [`MediumKind`]; the methods that take a ray dispatch on it.
 
 pub mod builder;
+pub mod flight;
 pub mod grid;
 pub mod heterogeneous;
 pub mod majorant;
@@ -24,6 +25,8 @@ use crate::media::heterogeneous::Heterogeneous;
 use crate::media::phase::HenyeyGreenstein;
 use glam::Vec3;
 use std::sync::Arc;
+
+pub use crate::media::flight::{Flight, Scatter};
 
 /// Distances at which a final-gather ray's segment through a medium takes the volume map's
 /// point estimate (the CPU's `Gatherer::gathered_in_medium`, the GPU's `gathered_in_medium`).
@@ -146,39 +149,6 @@ impl MediumInterface {
             (false, true) => self.exterior,
             (false, false) => self.interior,
         }
-    }
-}
-
-/// What a free flight of [`Medium::sample_flight`] ended in.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Flight {
-    /// Distance travelled.
-    pub t: f32,
-    /// Whether it ended in the medium (a scattering or absorption event) rather than at the
-    /// surface `t_max` away.
-    pub in_medium: bool,
-    /// What the path's throughput is multiplied by: at an event `sigma_s T(t) / pdf(t)` (the
-    /// albedo-weighted scattering), at the surface `T(t_max) / P(t >= t_max)`.
-    pub weight: Vec3,
-}
-
-/// A point drawn in a segment by [`Medium::scatter_in_segment`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scatter {
-    /// Distance along the segment.
-    pub t: f32,
-    /// The transmittance to it over its density, `T(t) / pdf(t)` (an estimate in a
-    /// heterogeneous medium).
-    pub tr_over_pdf: Vec3,
-    /// The scattering coefficient there.
-    pub sigma_s: Vec3,
-}
-
-impl Scatter {
-    /// `sigma_s T(t) / pdf(t)`: what the light scattered there towards the segment's origin
-    /// is multiplied by.
-    pub fn weight(&self) -> Vec3 {
-        self.tr_over_pdf * self.sigma_s
     }
 }
 
