@@ -25,8 +25,8 @@ use std::time::{Duration, Instant};
 
 /// The formats and the extensions of the files a case of each mutates.
 const FORMATS: &[(&str, &[&str])] = &[
-    ("toml", &["toml"]),
-    ("xml", &["xml"]),
+    ("toml", &["toml", "vol"]),
+    ("xml", &["xml", "vol"]),
     ("gltf", &["gltf", "bin"]),
     ("glb", &["glb"]),
     ("ply", &["ply"]),

@@ -9,7 +9,7 @@ use glam::Vec3;
 use gpu_photon::importers::load_str;
 use gpu_photon::importers::mitsuba::import;
 use gpu_photon::media::phase::HenyeyGreenstein;
-use gpu_photon::media::{Medium, MediumInterface, NO_MEDIUM};
+use gpu_photon::media::{Medium, MediumInterface, MediumKind, NO_MEDIUM};
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::scene::Scene;
@@ -51,11 +51,13 @@ fn toml_media_bound_shapes_and_hold_the_camera() {
                 sigma_t: Vec3::splat(0.3),
                 albedo: Vec3::splat(0.8),
                 phase: HenyeyGreenstein { g: 0.0 },
+                kind: MediumKind::Homogeneous,
             },
             Medium {
                 sigma_t: Vec3::new(0.5, 1.0, 2.0),
                 albedo: Vec3::new(0.9, 0.5, 0.1),
                 phase: HenyeyGreenstein { g: 0.7 },
+                kind: MediumKind::Homogeneous,
             },
         ]
     );
@@ -92,8 +94,8 @@ fn toml_media_errors_name_their_line_and_field() {
             "m.toml:8: media.juice.g: must be in (-1, 1) (got 1)",
         ),
         (
-            format!("{CAMERA}[media.juice]\ntype = \"heterogeneous\"\n{SHAPES}"),
-            "m.toml:8: media.juice.type: unsupported medium type `heterogeneous` (only \"homogeneous\")",
+            format!("{CAMERA}[media.juice]\ntype = \"cloudy\"\n{SHAPES}"),
+            "m.toml:8: media.juice.type: unsupported medium type `cloudy` (\"homogeneous\", \"heterogeneous\")",
         ),
         (
             format!("{CAMERA}[media.juice]\nsigma_t = -1\n{SHAPES}"),
@@ -165,8 +167,8 @@ fn mitsuba_media_errors_name_their_line_and_field() {
             "t.xml:4: medium[fog2].phase: unsupported phase `rayleigh` (`isotropic`, `hg`)",
         ),
         (
-            r#"<medium type="heterogeneous" id="fog"/>"#.to_string(),
-            "t.xml:4: medium[fog]: unsupported medium `heterogeneous` (only `homogeneous`)",
+            r#"<medium type="foggy" id="fog"/>"#.to_string(),
+            "t.xml:4: medium[fog]: unsupported medium `foggy` (`homogeneous`, `heterogeneous`)",
         ),
         (
             r#"<medium type="homogeneous" id="fog"><float name="albedo" value="2"/></medium>"#.to_string(),
@@ -313,7 +315,7 @@ fn gltf_volume_attenuation_is_an_absorbing_interior() {
     ));
     let m = s.materials[s.triangles[0].material as usize];
     assert_eq!(m.media.exterior, NO_MEDIUM);
-    let medium = s.media[m.media.interior as usize];
+    let medium = &s.media[m.media.interior as usize];
     let want = Vec3::new(-(0.5f32.ln()), -(0.8f32.ln()), 0.0) / 2.0;
     assert!(
         (medium.sigma_t - want).abs().max_element() < 1e-6,

@@ -134,7 +134,7 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
     let Some(ctx) = gpu() else { return };
     let text = fog_box_text([0.3, 1.0, 0.0], 0.8, 0.6) + BOUNDED_MEDIA;
     let scene = load_str(&text, "media.toml", Path::new(".")).unwrap();
-    let m = scene.media[0];
+    let m = scene.media[0].clone();
     let mut r = common::TestRng(11);
     let cases: Vec<MediumCase> = (0..2000)
         .map(|i| MediumCase {
@@ -514,7 +514,7 @@ fn device_beam_estimate_equals_the_cpu_volume_map() {
     use probes::media::{beam, BeamQuery};
     let Some(ctx) = gpu() else { return };
     let mut scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
-    let mut other = scene.media[0];
+    let mut other = scene.media[0].clone();
     other.phase.g = -0.3;
     other.sigma_t = Vec3::new(0.2, 0.1, 0.05);
     scene.media.push(other);

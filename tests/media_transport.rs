@@ -96,6 +96,8 @@ fn single_scattering(c: usize) -> f64 {
 fn transmittance_through_a_slab_is_beer_lambert() {
     let scene = slab(10.0);
     let bvh = CpuBvh::build(&scene);
+    // A homogeneous medium's transmittance is exact: it draws none of these numbers.
+    let mut rng = gpu_photon::math::rng::Rng::new(1, gpu_photon::math::rng::Stream::Camera, 0, 0);
     // From the camera's side, through both faces, to well beyond the slab.
     let tr = transmittance(
         &scene,
@@ -104,6 +106,7 @@ fn transmittance_through_a_slab_is_beer_lambert() {
         Vec3::NEG_Z,
         6.0,
         scene.camera_medium,
+        &mut rng,
     );
     for c in 0..3 {
         let want = (-(SIGMA_T[c] as f64) * D as f64).exp();
@@ -112,11 +115,27 @@ fn transmittance_through_a_slab_is_beer_lambert() {
     }
     // Slanted: the path in the slab is D / cos long.
     let dir = Vec3::new(0.6, 0.0, -0.8);
-    let tr = transmittance(&scene, &bvh, Vec3::Z, dir, 5.0, scene.camera_medium);
+    let tr = transmittance(
+        &scene,
+        &bvh,
+        Vec3::Z,
+        dir,
+        5.0,
+        scene.camera_medium,
+        &mut rng,
+    );
     let want = (-(SIGMA_T[1] as f64) * D as f64 / 0.8).exp();
     assert!((tr[1] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
     // Stopping inside the slab: only the part travelled inside attenuates.
-    let tr = transmittance(&scene, &bvh, Vec3::Z, Vec3::NEG_Z, 1.3, scene.camera_medium);
+    let tr = transmittance(
+        &scene,
+        &bvh,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        1.3,
+        scene.camera_medium,
+        &mut rng,
+    );
     let want = (-(SIGMA_T[2] as f64) * 0.3).exp();
     assert!((tr[2] as f64 - want).abs() < 2e-6 * want, "{tr} vs {want}");
 }

@@ -4,12 +4,15 @@
 //! Every importer (TOML `[media.NAME]`, Mitsuba `homogeneous`) calls these.
 
 use crate::error::Result;
+use crate::media::grid::{Volume, VolumeGrid, VolumeKind};
+use crate::media::heterogeneous::{Heterogeneous, MAX_OPTICAL_DEPTH};
 use crate::media::phase::HenyeyGreenstein;
-use crate::media::{Medium, MediumInterface, NO_MEDIUM};
+use crate::media::{Medium, MediumInterface, MediumKind, NO_MEDIUM};
 use crate::scene::locate::{unknown_name, Locate, Part};
 use crate::scene::SceneBuilder;
 use glam::Vec3;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// A medium of the scene being built, as [`SceneBuilder::add_medium`] returns it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,16 +90,88 @@ impl SceneBuilder {
         if !sigma_t.is_finite() {
             return fail("scale", "sigma_t x scale is not finite".into());
         }
-        self.media.media.push(Medium {
-            sigma_t,
-            albedo: p.albedo,
-            phase: HenyeyGreenstein { g: p.g },
-        });
+        Ok(self.push_medium(
+            name,
+            Medium {
+                sigma_t,
+                albedo: p.albedo,
+                phase: HenyeyGreenstein { g: p.g },
+                kind: MediumKind::Homogeneous,
+            },
+        ))
+    }
+
+    fn push_medium(&mut self, name: Option<&str>, m: Medium) -> MediumId {
+        self.media.media.push(m);
         let id = MediumId(self.media.media.len() as u32 - 1);
         if let Some(name) = name {
             self.media.names.insert(name.to_string(), id);
         }
-        Ok(id)
+        id
+    }
+
+    /// Adds a heterogeneous medium (Mitsuba's `heterogeneous`): extinction `scale *
+    /// sigma_t(x)` (zero outside `sigma_t`'s box), albedo `albedo(x)`, Henyey-Greenstein `g`.
+    /// Every value of `sigma_t` must be >= 0 and of `albedo` in [0, 1] (a grid's first
+    /// offender is named by its byte offset), `scale` finite and >= 0, `g` in (-1, 1);
+    /// errors are on `Part::Parameter("sigma_t" | "albedo" | "scale" | "g")`.
+    pub fn add_heterogeneous_medium(
+        &mut self,
+        name: Option<&str>,
+        sigma_t: Volume,
+        albedo: Volume,
+        scale: f32,
+        g: f32,
+        at: &dyn Locate,
+    ) -> Result<MediumId> {
+        let fail =
+            |key: &'static str, message: String| Err(at.error(Part::Parameter(key), message));
+        if let Some(m) = out_of_range(&sigma_t, 0.0, f32::INFINITY) {
+            return fail("sigma_t", format!("must be >= 0: {m}"));
+        }
+        if let Some(m) = out_of_range(&albedo, 0.0, 1.0) {
+            return fail("albedo", format!("must be in [0, 1]: {m}"));
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return fail("scale", format!("must be finite and >= 0 (got {scale})"));
+        }
+        if !(g > -1.0 && g < 1.0) {
+            return fail("g", format!("must be in (-1, 1) (got {g})"));
+        }
+        let h = Heterogeneous::new(sigma_t, albedo, scale);
+        if !h.majorant.is_finite() {
+            return fail("scale", "sigma_t x scale is not finite".into());
+        }
+        let depth = h.majorant * (h.sigma_t.hi - h.sigma_t.lo).length();
+        if !(depth <= MAX_OPTICAL_DEPTH) {
+            let message = format!(
+                "sigma_t x scale reaches {:e} per unit, an optical depth of {depth:e} across the \
+                 volume's box, more than {MAX_OPTICAL_DEPTH:e} (nothing would pass it)",
+                h.majorant
+            );
+            return fail("sigma_t", message);
+        }
+        let bound = Vec3::splat(h.albedo.max().min(1.0));
+        let m = Medium {
+            sigma_t: Vec3::splat(h.majorant),
+            albedo: bound,
+            phase: HenyeyGreenstein { g },
+            kind: MediumKind::Heterogeneous(Arc::new(h)),
+        };
+        Ok(self.push_medium(name, m))
+    }
+
+    /// Bytes a medium's grid file may still take: the scene's budget less its geometry,
+    /// texels and the grids read so far. Read a grid against it before allocating
+    /// ([`VolumeGrid::open`]).
+    pub fn grid_room(&self) -> u64 {
+        let grids: u64 = (self.media.media.iter())
+            .filter_map(|m| match &m.kind {
+                MediumKind::Heterogeneous(h) => Some(h.grid_bytes()),
+                MediumKind::Homogeneous => None,
+            })
+            .sum();
+        self.byte_room().saturating_sub(grids)
     }
 
     /// The medium called `name`; an unknown name is an error on `part` that lists the
@@ -117,6 +192,21 @@ impl SceneBuilder {
     /// Medium `m` as added (its `sigma_t` already times `scale`).
     pub fn medium(&self, m: MediumId) -> &Medium {
         &self.media.media[m.0 as usize]
+    }
+}
+
+/// Where a volume's value leaves `[lo, hi]`: the value and where (a grid's byte offset).
+fn out_of_range(v: &Volume, lo: f32, hi: f32) -> Option<String> {
+    let bad = |x: f32| !(x >= lo && x <= hi);
+    match &v.kind {
+        VolumeKind::Constant(c) => (c.to_array().into_iter().any(bad)).then(|| format!("{c}")),
+        VolumeKind::Grid { grid, .. } => grid.data.iter().position(|&x| bad(x)).map(|i| {
+            format!(
+                "the grid's value {} at byte {}",
+                grid.data[i],
+                VolumeGrid::offset_of(i)
+            )
+        }),
     }
 }
 

@@ -9,12 +9,24 @@
 //! distance from one channel chosen uniformly and weighs by the mean of the three channels'
 //! densities (the one-sample MIS over channels of spectral tracking), so a grey medium
 //! samples exactly and a coloured one without bias.
+//!
+//! Heterogeneous media (issue 41, Mitsuba's `heterogeneous`: [`heterogeneous`], voxel grids
+//! in [`grid`]) are the other [`MediumKind`]; the methods that take a ray dispatch on it.
 
 pub mod builder;
+pub mod flight;
+pub mod grid;
+pub mod heterogeneous;
+pub mod majorant;
 pub mod phase;
 
+use crate::math::rng::Rng;
+use crate::media::heterogeneous::Heterogeneous;
 use crate::media::phase::HenyeyGreenstein;
 use glam::Vec3;
+use std::sync::Arc;
+
+pub use crate::media::flight::{Flight, Scatter};
 
 /// Distances at which a final-gather ray's segment through a medium takes the volume map's
 /// point estimate (the CPU's `Gatherer::gathered_in_medium`, the GPU's `gathered_in_medium`).
@@ -33,15 +45,70 @@ pub const NEAR_GATHER_FRACTION: f32 = 0.5;
 /// Marks "no medium" (vacuum) in a [`MediumInterface`] or `Scene::camera_medium`.
 pub const NO_MEDIUM: u32 = u32::MAX;
 
-/// A homogeneous medium.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A medium: homogeneous, or heterogeneous ([`MediumKind`]). The integrators reach a medium
+/// only through the methods that take a ray ([`Medium::transmittance_along`],
+/// [`Medium::flight`], [`Medium::point_in_segment`], [`Medium::sigma_s_at`],
+/// [`Medium::transmittances`]), which dispatch on the kind here, in one place.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Medium {
-    /// Extinction coefficient per channel, per scene unit (>= 0).
+    /// Extinction coefficient per channel, per scene unit (>= 0); of a heterogeneous medium,
+    /// its majorant in every channel (a bound).
     pub sigma_t: Vec3,
-    /// Single-scattering albedo per channel, in [0, 1].
+    /// Single-scattering albedo per channel, in [0, 1]; of a heterogeneous medium, the
+    /// albedo's largest value in every channel (a bound).
     pub albedo: Vec3,
     /// Its phase function.
     pub phase: HenyeyGreenstein,
+    /// How its extinction and albedo vary over space.
+    pub kind: MediumKind,
+}
+
+/// The kinds of medium.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum MediumKind {
+    /// `sigma_t` and `albedo` everywhere (Beer-Lambert, exact sampling).
+    #[default]
+    Homogeneous,
+    /// Extinction and albedo from volumes (tracking against a majorant).
+    Heterogeneous(Arc<Heterogeneous>),
+}
+
+/// The transmittance from a ray's origin to any distance along it, for an estimate that
+/// reads many distances of one segment (the beam estimate): exact for a homogeneous medium,
+/// one ratio-tracking walk's steps for a heterogeneous one (each distance unbiased).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Transmittances {
+    /// Beer-Lambert with this extinction.
+    Exact(Vec3),
+    /// `(s, T)`: the estimate is `T` beyond `s`, 1 before the first step.
+    Steps(Vec<(f32, Vec3)>),
+}
+
+impl Transmittances {
+    /// The transmittance to distance `t`.
+    pub fn at(&self, t: f32) -> Vec3 {
+        match self {
+            Transmittances::Exact(sigma_t) => {
+                Vec3::select(sigma_t.cmpgt(Vec3::ZERO), (-*sigma_t * t).exp(), Vec3::ONE)
+            }
+            Transmittances::Steps(steps) => match steps.partition_point(|&(s, _)| s <= t) {
+                0 => Vec3::ONE,
+                i => steps[i - 1].1,
+            },
+        }
+    }
+
+    /// The transmittance to `z`, and the transmittances from there on (`at(z + t)` is the
+    /// pair's `T(z) * at(t)`): how a segment split at `z` reads its far part.
+    pub fn split(&self, z: f32) -> (Vec3, Transmittances) {
+        match self {
+            Transmittances::Exact(_) => (self.at(z), self.clone()),
+            Transmittances::Steps(steps) => {
+                let beyond = steps.iter().map(|&(s, tr)| (s - z, tr)).collect();
+                (Vec3::ONE, Transmittances::Steps(beyond))
+            }
+        }
+    }
 }
 
 /// The media on either side of a surface: `interior` behind it (against its normal),
@@ -85,19 +152,6 @@ impl MediumInterface {
     }
 }
 
-/// What a free flight of [`Medium::sample_flight`] ended in.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Flight {
-    /// Distance travelled.
-    pub t: f32,
-    /// Whether it ended in the medium (a scattering or absorption event) rather than at the
-    /// surface `t_max` away.
-    pub in_medium: bool,
-    /// What the path's throughput is multiplied by: at an event `sigma_s T(t) / pdf(t)` (the
-    /// albedo-weighted scattering), at the surface `T(t_max) / P(t >= t_max)`.
-    pub weight: Vec3,
-}
-
 /// A distance drawn in a segment by [`Medium::sample_in_segment`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SegmentPoint {
@@ -138,6 +192,79 @@ pub fn sample_equiangular(o: Vec3, d: Vec3, t_max: f32, y: Vec3, u: f32) -> Opti
 }
 
 impl Medium {
+    /// The transmittance over `[0, t)` of the ray from `o` along unit `d` (`t` may be
+    /// infinite): exact ([`Self::transmittance`], no random numbers) for a homogeneous
+    /// medium, an unbiased estimate by ratio tracking for a heterogeneous one.
+    pub fn transmittance_along(&self, o: Vec3, d: Vec3, t: f32, rng: &mut Rng) -> Vec3 {
+        match &self.kind {
+            MediumKind::Homogeneous => self.transmittance(t),
+            MediumKind::Heterogeneous(h) => h.transmittance(o, d, t, rng),
+        }
+    }
+
+    /// The transmittance to every distance of the segment `[0, t_max)` of the ray from `o`
+    /// along unit `d` (see [`Transmittances`]).
+    pub fn transmittances(&self, o: Vec3, d: Vec3, t_max: f32, rng: &mut Rng) -> Transmittances {
+        match &self.kind {
+            MediumKind::Homogeneous => Transmittances::Exact(self.sigma_t),
+            MediumKind::Heterogeneous(h) => Transmittances::Steps(h.steps(o, d, t_max, rng)),
+        }
+    }
+
+    /// A free flight along the ray from `o` along unit `d` towards a surface `t_max` away:
+    /// [`Self::sample_flight`] from two numbers for a homogeneous medium, delta tracking
+    /// for a heterogeneous one.
+    pub fn flight(&self, o: Vec3, d: Vec3, t_max: f32, rng: &mut Rng) -> Flight {
+        match &self.kind {
+            MediumKind::Homogeneous => {
+                let (uc, u) = (rng.next(), rng.next());
+                self.sample_flight(uc, u, t_max)
+            }
+            MediumKind::Heterogeneous(h) => h.sample_flight(o, d, t_max, rng),
+        }
+    }
+
+    /// A point in `[0, t_max)` of the ray from `o` along unit `d` where light scatters
+    /// towards `o`, with the weight `sigma_s(x) T(t) / pdf(t)` that estimates the scattered
+    /// light's integral over the segment from one point: for a homogeneous medium drawn in
+    /// proportion to `sigma_t T(t)` ([`Self::sample_in_segment`], `u_channel` and `u`); for a
+    /// heterogeneous one a free flight by delta tracking (numbers from `rng`; `None` when it
+    /// leaves the segment, which the estimate counts as zero), so the points follow the
+    /// density where a majorant's exponential would seldom reach a sparse medium's far side.
+    pub fn scatter_in_segment(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        (u_channel, u): (f32, f32),
+        t_max: f32,
+        rng: &mut Rng,
+    ) -> Option<Scatter> {
+        match &self.kind {
+            MediumKind::Homogeneous => {
+                let p = self.sample_in_segment(u_channel, u, t_max)?;
+                Some(Scatter {
+                    t: p.t,
+                    tr_over_pdf: self.transmittance(p.t) / p.pdf,
+                    sigma_s: self.sigma_s(),
+                })
+            }
+            MediumKind::Heterogeneous(h) => h.track(o, d, t_max, rng).ok(),
+        }
+    }
+
+    /// The scattering coefficient at `x`.
+    pub fn sigma_s_at(&self, x: Vec3) -> Vec3 {
+        match &self.kind {
+            MediumKind::Homogeneous => self.sigma_s(),
+            MediumKind::Heterogeneous(h) => h.sigma_s_at(x),
+        }
+    }
+
+    /// Whether it is homogeneous (the GPU backend renders only those yet).
+    pub fn is_homogeneous(&self) -> bool {
+        matches!(self.kind, MediumKind::Homogeneous)
+    }
+
     /// Draws a distance in `[0, t_max)` (`t_max` may be infinite) in proportion to one
     /// channel's `sigma_t T(t)`, the channel chosen uniformly by `u_channel` (the density is
     /// the channels' mean, as in [`Self::sample_flight`]): single scattering's next-event
@@ -179,11 +306,7 @@ impl Medium {
     /// may be infinite (a ray that leaves the scene): only clear channels then transmit
     /// (`exp(-0 * inf)` would be NaN).
     pub fn transmittance(&self, t: f32) -> Vec3 {
-        Vec3::select(
-            self.sigma_t.cmpgt(Vec3::ZERO),
-            (-self.sigma_t * t).exp(),
-            Vec3::ONE,
-        )
+        Transmittances::Exact(self.sigma_t).at(t)
     }
 
     /// Samples how far a path travels before an interaction, up to a surface `t_max` away
@@ -233,6 +356,7 @@ mod tests {
             sigma_t,
             albedo,
             phase: HenyeyGreenstein { g: 0.0 },
+            kind: MediumKind::Homogeneous,
         }
     }
 

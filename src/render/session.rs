@@ -72,7 +72,9 @@ pub fn open<'s>(
     match choice {
         BackendChoice::Cpu => open_backend(Backend::Cpu, scene, settings),
         BackendChoice::Gpu => open_backend(Backend::Gpu, scene, settings),
-        BackendChoice::Auto => match auto_rule() {
+        BackendChoice::Auto => match crate::integrators::gpu::renderer::unsupported(scene)
+            .map_or_else(auto_rule, Err)
+        {
             Err(why) => {
                 crate::warning::warn(format!("{why}; rendering on the CPU"));
                 open_backend(Backend::Cpu, scene, settings)

@@ -32,6 +32,15 @@ impl SceneBuilder {
         count.min(bytes / TRIANGLE_BYTES)
     }
 
+    /// Bytes the scene's budget ([`super::SceneBudgets::max_bytes`]) has room for beyond
+    /// its geometry and texels (a medium's grid file is read against it).
+    pub(crate) fn byte_room(&self) -> u64 {
+        let texels: u64 = self.textures.iter().map(SceneTexture::bytes).sum();
+        (self.budgets.max_bytes)
+            .saturating_sub(self.geometry().bytes())
+            .saturating_sub(texels)
+    }
+
     /// The geometry the scene holds so far.
     pub(super) fn geometry(&self) -> MeshCost {
         MeshCost {

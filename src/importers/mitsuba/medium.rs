@@ -3,13 +3,17 @@
 //! `interior` / `exterior` or in the sensor, or declared at the top level with an `id` and
 //! referenced (`<ref name="interior" id="..."/>`). Mitsuba's defaults: `sigma_t` 1,
 //! `albedo` 0.75, `scale` 1, isotropic. `sample_emitters` and `has_spectral_extinction`
-//! change how Mitsuba samples, not what it renders: ignored.
+//! change how Mitsuba samples, not what it renders: ignored. `heterogeneous` (issue 41) takes
+//! `sigma_t` and `albedo` as colours or nested `<volume>`s (`volume.rs`); a colour is a
+//! constant volume over the unit cube, as in Mitsuba, where the medium's extinction ends.
 
 use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::Importer;
 use crate::media::builder::{MediumId, MediumParams};
+use crate::media::grid::{Volume, VolumeKind};
 use crate::scene::locate::Part;
+use glam::Affine3A;
 use glam::Vec3;
 use roxmltree::Node;
 
@@ -22,14 +26,33 @@ impl Importer<'_> {
         }
         let cx = &self.cx;
         let p = Plugin::new(cx, node, field.to_string())?;
-        if p.kind != "homogeneous" {
-            let message = format!("unsupported medium `{}` (only `homogeneous`)", p.kind);
-            return Err(cx.err(node, field, message));
-        }
+        let heterogeneous = match p.kind.as_str() {
+            "homogeneous" => false,
+            "heterogeneous" => true,
+            other => {
+                let message =
+                    format!("unsupported medium `{other}` (`homogeneous`, `heterogeneous`)");
+                return Err(cx.err(node, field, message));
+            }
+        };
         let mut g = 0.0;
+        let mut volumes = Vec::new();
         for child in &p.objects {
             let tag = child.tag_name().name();
             let sub = format!("{field}.{tag}");
+            if tag == "volume" && heterogeneous {
+                let name = cx.need_attr(*child, &sub, "name")?;
+                if name != "sigma_t" && name != "albedo" {
+                    let message = format!("unsupported volume `{name}` (`sigma_t`, `albedo`)");
+                    return Err(cx.err(*child, &sub, message));
+                }
+                if volumes.iter().any(|(n, _)| *n == name) || p.node_of(&name) != node {
+                    let message = format!("parameter `{name}` given twice");
+                    return Err(cx.err(*child, &format!("{field}.{name}"), message));
+                }
+                volumes.push((name, *child));
+                continue;
+            }
             if tag != "phase" {
                 let message = format!("unsupported <{tag}> in a medium");
                 return Err(cx.err(*child, field, message));
@@ -45,11 +68,34 @@ impl Importer<'_> {
             };
             phase.done(cx)?;
         }
-        let params = MediumParams {
-            sigma_t: p.color(cx, "sigma_t")?.unwrap_or(Vec3::ONE),
-            albedo: p.albedo(cx, "albedo", 0.75)?,
-            scale: p.float(cx, "scale")?.unwrap_or(1.0),
-            g,
+        let scale = p.float(cx, "scale")?.unwrap_or(1.0);
+        let hetero = match heterogeneous {
+            true => {
+                let mut volume = |name: &str, default: Vec3| -> Result<Volume> {
+                    match volumes.iter().find(|(n, _)| n == name) {
+                        Some(&(_, child)) => self.volume(child, &format!("{field}.{name}")),
+                        None => {
+                            let c = p.color(&self.cx, name)?.unwrap_or(default);
+                            Ok(Volume::new(VolumeKind::Constant(c), Affine3A::IDENTITY))
+                        }
+                    }
+                };
+                Some((
+                    volume("sigma_t", Vec3::ONE)?,
+                    volume("albedo", Vec3::splat(0.75))?,
+                ))
+            }
+            false => None,
+        };
+        let cx = &self.cx;
+        let kind = match hetero {
+            Some((sigma_t, albedo)) => Err((sigma_t, albedo)),
+            None => Ok(MediumParams {
+                sigma_t: p.color(cx, "sigma_t")?.unwrap_or(Vec3::ONE),
+                albedo: p.albedo(cx, "albedo", 0.75)?,
+                scale,
+                g,
+            }),
         };
         p.ignore(&["sample_emitters", "has_spectral_extinction"]);
         p.done(cx)?;
@@ -62,7 +108,13 @@ impl Importer<'_> {
             Part::Parameter(name) => cx.err(p.node_of(name), &p.at(name), message),
             _ => cx.err(node, field, message),
         };
-        let m = self.b.add_medium(id, params, &at)?;
+        // Ok: homogeneous parameters; Err: a heterogeneous medium's volumes.
+        let m = match kind {
+            Ok(params) => self.b.add_medium(id, params, &at)?,
+            Err((sigma_t, albedo)) => {
+                (self.b).add_heterogeneous_medium(id, sigma_t, albedo, scale, g, &at)?
+            }
+        };
         if let Some(id) = id {
             self.media.insert(id.to_string(), m);
         }

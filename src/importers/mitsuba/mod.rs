@@ -31,6 +31,7 @@ mod spectrum;
 mod texture;
 mod upgrade;
 mod values;
+mod volume;
 
 pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 

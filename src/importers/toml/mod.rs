@@ -136,7 +136,8 @@ pub fn load_str(text: &str, file: &str, base_dir: &Path) -> Result<Scene> {
     let mut media: Vec<_> = raw.media.iter().collect();
     media.sort_by_key(|(_, m)| m.span().start);
     for (name, m) in media {
-        toml_media::medium(&Tab::new(&cx, format!("media.{name}"), m), name, &mut b)?;
+        let t = Tab::new(&cx, format!("media.{name}"), m);
+        toml_media::medium(&t, name, base_dir, &mut b)?;
     }
     let no_camera = |_: Part, _: String| cx.err(0..0, "camera", "missing table [camera]");
     let Some(camera_table) = &raw.camera else {

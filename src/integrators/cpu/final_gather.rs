@@ -78,7 +78,8 @@ impl Gatherer<'_> {
             if medium != NO_MEDIUM {
                 let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
                 sum += throughput * self.gathered_in_medium(&ray, t, medium, rng);
-                throughput *= self.scene.media[medium as usize].transmittance(t);
+                let m = &self.scene.media[medium as usize];
+                throughput *= m.transmittance_along(ray.origin, ray.dir, t, rng);
                 if throughput == Vec3::ZERO {
                     return sum;
                 }

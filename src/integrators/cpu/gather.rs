@@ -154,7 +154,8 @@ impl Gatherer<'_> {
             depth,
             rng,
         );
-        let tr = self.scene.media[medium as usize].transmittance(t);
+        let m = &self.scene.media[medium as usize];
+        let tr = m.transmittance_along(ray.origin, ray.dir, t, rng);
         if tr == Vec3::ZERO {
             return scattered;
         }
@@ -475,7 +476,7 @@ impl Gatherer<'_> {
                     let tr = match t_max > 0.0 {
                         true => {
                             let m = medium_after(self.scene, hit, medium, dir);
-                            transmittance(self.scene, self.bvh, origin, dir, t_max, m)
+                            transmittance(self.scene, self.bvh, origin, dir, t_max, m, rng)
                         }
                         false => Vec3::ONE,
                     };

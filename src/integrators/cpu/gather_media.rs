@@ -61,12 +61,16 @@ impl Gatherer<'_> {
             true => BeamPhotons::SkipDirect,
             false => BeamPhotons::All,
         };
+        // One transmittance walk serves every photon of the segment (exact if homogeneous).
+        let tr = m.transmittances(ray.origin, ray.dir, t, rng);
         if !(zn > 0.0 && zn.is_finite()) {
-            return l + v.beam(ray.origin, ray.dir, t, m, medium, which);
+            return l + v.beam_through((ray.origin, ray.dir, t), (m, medium), which, &tr);
         }
         let far = ray.origin + ray.dir * zn;
-        l += m.transmittance(zn) * v.beam(far, ray.dir, t - zn, m, medium, which);
-        l += v.beam(ray.origin, ray.dir, zn, m, medium, BeamPhotons::Caustic);
+        let (tr_zn, tr_far) = tr.split(zn);
+        l += tr_zn * v.beam_through((far, ray.dir, t - zn), (m, medium), which, &tr_far);
+        let caustic = BeamPhotons::Caustic;
+        l += v.beam_through((ray.origin, ray.dir, zn), (m, medium), caustic, &tr);
         l + self.near_gather(ray, zn, medium, depth, rng)
     }
 
@@ -79,7 +83,7 @@ impl Gatherer<'_> {
         let m = &self.scene.media[medium as usize];
         let (uc, ut) = (rng.next(), rng.next());
         let (u1, u2) = (rng.next(), rng.next());
-        let Some(p) = m.sample_in_segment(uc, ut, zn) else {
+        let Some(p) = m.scatter_in_segment(ray.origin, ray.dir, (uc, ut), zn, rng) else {
             return Vec3::ZERO;
         };
         let gather = Ray {
@@ -87,7 +91,7 @@ impl Gatherer<'_> {
             dir: m.phase.sample(ray.dir, u1, u2),
         };
         let li = self.gather_ray(&gather, depth + 1, rng, medium);
-        m.transmittance(p.t) / p.pdf * m.sigma_s() * li
+        p.weight() * li
     }
 
     /// The light scattered towards a final-gather ray's origin along its segment of `ray`,
@@ -108,11 +112,14 @@ impl Gatherer<'_> {
         let mut sum = Vec3::ZERO;
         for i in 0..GATHER_MEDIUM_POINTS {
             let ui = (i as f32 + u) / GATHER_MEDIUM_POINTS as f32;
-            let Some(p) = m.sample_in_segment(uc, ui, t) else {
-                return Vec3::ZERO;
+            // None: the chosen channel cannot scatter (homogeneous), or the flight left the
+            // segment (heterogeneous): no light from this point.
+            let Some(p) = m.scatter_in_segment(ray.origin, ray.dir, (uc, ui), t, rng) else {
+                continue;
             };
             let x = ray.origin + ray.dir * p.t;
-            sum += m.transmittance(p.t) / p.pdf * v.point(x, -ray.dir, m, medium);
+            // The point estimate holds sigma_s already (in the photons' power).
+            sum += p.tr_over_pdf * v.point(x, -ray.dir, m, medium);
         }
         sum / GATHER_MEDIUM_POINTS as f32
     }

@@ -48,6 +48,7 @@ pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
 /// to the scene's end) starting in `medium`: the media's Beer-Lambert transmittance, through
 /// index-matched boundaries (changing medium there); zero when any other surface is in the
 /// way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
+/// A heterogeneous medium's is an unbiased estimate (ratio tracking, numbers from `rng`).
 pub fn transmittance(
     scene: &Scene,
     bvh: &CpuBvh,
@@ -55,6 +56,7 @@ pub fn transmittance(
     dir: Vec3,
     t_max: f32,
     medium: u32,
+    rng: &mut Rng,
 ) -> Vec3 {
     let (mut ray, mut left, mut medium) = (Ray { origin, dir }, t_max, medium);
     let mut tr = Vec3::ONE;
@@ -69,7 +71,7 @@ pub fn transmittance(
             (None, false) => f32::INFINITY,
         };
         if medium != NO_MEDIUM {
-            tr *= scene.media[medium as usize].transmittance(run);
+            tr *= scene.media[medium as usize].transmittance_along(at, dir, run, rng);
         }
         let Some(hit) = hit else {
             return tr;
@@ -112,7 +114,6 @@ pub fn single_scattering(
     rng: &mut Rng,
 ) -> Vec3 {
     let m = &scene.media[medium as usize];
-    let sigma_s = m.sigma_s();
     let mut l = Vec3::ZERO;
     let lights_samples = (0..scene.lights.len()).flat_map(|li| (0..samples).map(move |_| li));
     for li in lights_samples {
@@ -123,16 +124,33 @@ pub fn single_scattering(
             Some(y) => sample_equiangular(origin, dir, t_seg, y, ut),
             None => None,
         };
-        let Some(p) = p.or_else(|| m.sample_in_segment(uc, ut, t_seg)) else {
-            continue;
+        // The equiangular point's transmittance comes after its shadow ray (the order the
+        // random numbers are drawn in): `None` here.
+        let s = match p {
+            Some(p) => {
+                let x = origin + dir * p.t;
+                (p.t, None, m.sigma_s_at(x), p.pdf)
+            }
+            None => match m.scatter_in_segment(origin, dir, (uc, ut), t_seg, rng) {
+                Some(s) => (s.t, Some(s.tr_over_pdf), s.sigma_s, 1.0),
+                None => continue,
+            },
         };
-        let x = origin + dir * p.t;
+        let (t, tr_over_pdf, sigma_s, pdf) = s;
+        if sigma_s == Vec3::ZERO {
+            continue;
+        }
+        let x = origin + dir * t;
+        let seg = |rng: &mut Rng| match tr_over_pdf {
+            Some(w) => w,
+            None => m.transmittance_along(origin, dir, t, rng) / pdf,
+        };
         if let LightShape::Environment(e) = light.shape {
             // A direction drawn from the phase function (which then cancels): the
             // environment's own sampling covers a surface's hemisphere.
             let wi = m.phase.sample(dir, u[1], u[2]);
-            let tr = transmittance(scene, bvh, x, wi, f32::INFINITY, medium);
-            l += (m.transmittance(p.t) / p.pdf) * e.eval(&scene.textures, wi) * tr;
+            let tr = transmittance(scene, bvh, x, wi, f32::INFINITY, medium, rng);
+            l += sigma_s * seg(rng) * e.eval(&scene.textures, wi) * tr;
             continue;
         }
         let ls = lights.sample(scene, li, x, -dir, u);
@@ -155,8 +173,8 @@ pub fn single_scattering(
                 dist - OFFSET_SCALE * (ls.point.abs().max_element() + OFFSET_FLOOR) * 4.0
             }
         };
-        let tr = transmittance(scene, bvh, x, wi, t_max, medium);
-        l += (m.transmittance(p.t) / p.pdf) * ls.weight * phase * tr;
+        let tr = transmittance(scene, bvh, x, wi, t_max, medium, rng);
+        l += sigma_s * seg(rng) * ls.weight * phase * tr;
     }
-    sigma_s * l / samples.max(1) as f32
+    l / samples.max(1) as f32
 }

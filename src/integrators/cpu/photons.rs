@@ -185,7 +185,7 @@ fn trace_path(
         if medium != NO_MEDIUM {
             let m = &scene.media[medium as usize];
             let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-            let flight = m.sample_flight(rng.next(), rng.next(), t_max);
+            let flight = m.flight(ray.origin, ray.dir, t_max, &mut rng);
             if flight.in_medium {
                 let x = ray.origin + ray.dir * flight.t;
                 let scattered = power * flight.weight;

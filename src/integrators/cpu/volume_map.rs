@@ -12,7 +12,7 @@
 //! once.
 
 use crate::integrators::photon::{BeamPhotons, Photon};
-use crate::media::Medium;
+use crate::media::{Medium, Transmittances};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -198,7 +198,8 @@ impl VolumeMap {
     /// that medium whose sphere the segment passes through, each at its nearest point t on
     /// the ray, of `T(t) p(cos) power / (pi r^2)` (a disc kernel across the ray; `cos`
     /// between the photon's travel and the way to the camera, `-d`), over the photons
-    /// `which` keeps.
+    /// `which` keeps. For a homogeneous medium (its exact transmittance);
+    /// [`Self::beam_through`] takes any.
     pub fn beam(
         &self,
         o: Vec3,
@@ -207,6 +208,20 @@ impl VolumeMap {
         medium: &Medium,
         medium_index: u32,
         which: BeamPhotons,
+    ) -> Vec3 {
+        let tr = Transmittances::Exact(medium.sigma_t);
+        self.beam_through((o, d, t_max), (medium, medium_index), which, &tr)
+    }
+
+    /// [`Self::beam`] of the segment `(o, d, t_max)` in `(medium, medium_index)`, with the
+    /// transmittance from `o` to each photon's nearest point read from `tr` (a heterogeneous
+    /// medium's: [`Medium::transmittances`]).
+    pub fn beam_through(
+        &self,
+        (o, d, t_max): (Vec3, Vec3, f32),
+        (medium, medium_index): (&Medium, u32),
+        which: BeamPhotons,
+        tr: &Transmittances,
     ) -> Vec3 {
         if self.photons.is_empty() {
             return Vec3::ZERO;
@@ -263,7 +278,7 @@ impl VolumeMap {
                     continue;
                 }
                 let phase = medium.phase.eval(Vec3::from(p.dir).dot(-d));
-                sum += medium.transmittance(t) * phase * Vec3::from(p.power);
+                sum += tr.at(t) * phase * Vec3::from(p.power);
             }
             if t_exit >= t1 {
                 break;
@@ -323,6 +338,7 @@ mod tests {
             sigma_t: Vec3::ZERO,
             albedo: Vec3::ONE,
             phase: HenyeyGreenstein { g: 0.0 },
+            kind: crate::media::MediumKind::Homogeneous,
         };
         let density = 0.9 * n as f32 * phi / (4.0 * PI);
         let mut mean = 0.0;

@@ -37,10 +37,25 @@ fn check_k(s: &RenderSettings) -> Result<()> {
     Ok(())
 }
 
+/// What in `scene` the GPU backend cannot render yet, as the refusal's message; `None` when
+/// it renders all of it. Heterogeneous media have no device twin yet (issue 41): the GPU
+/// refuses them rather than render them wrong.
+pub fn unsupported(scene: &Scene) -> Option<String> {
+    let i = scene.media.iter().position(|m| !m.is_homogeneous())?;
+    Some(format!(
+        "medium {i} is heterogeneous (a grid or volume), which only the CPU backend renders \
+         yet: use --backend cpu"
+    ))
+}
+
 impl<'s> GpuRenderer<'s> {
     /// Opens the device, checks that the image fits one storage binding, uploads `scene` and
-    /// creates every pipeline, for a render with `settings`.
+    /// creates every pipeline, for a render with `settings`. A scene the GPU cannot render
+    /// ([`unsupported`]) is an [`Error::Unsupported`].
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
+        if let Some(why) = unsupported(scene) {
+            return Err(Error::Unsupported(why));
+        }
         let s = settings;
         let mut report = RenderReport::default();
         let t = Instant::now();
