@@ -64,7 +64,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
     ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Off(0.0108)),
-    ("bsdf_spheres/test_texturedprincipled1_path.xml", Known::Off(0.0024)),
     ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
     ("instancing/test_instancing_path.xml", Known::Refused("<shape> in a shape")),
     ("mesh_attributes/test_mesh_attributes_1_face_direct.xml", Known::Refused("`mesh_attribute`")),
