@@ -31,6 +31,12 @@ def empty_scene(width, height):
     return scene
 
 
+# Principled BSDF inputs renamed in Blender 4.0 (the v2 node), for the same meaning at the
+# values the tests use: "Specular" 0.5 (F0 0.04 at IOR 1.5) and 0 are "Specular IOR Level" 0.5
+# (the IOR's own F0) and 0.
+PRINCIPLED_V4 = {"Transmission": "Transmission Weight", "Specular": "Specular IOR Level"}
+
+
 def material(name, kind, **params):
     """A node material: ``kind`` is "diffuse", "glass", "mirror", "emission" or
     "principled" (then ``params`` are Principled inputs by name)."""
@@ -44,6 +50,8 @@ def material(name, kind, **params):
     if kind == "principled":
         node = nodes.new("ShaderNodeBsdfPrincipled")
         for key, value in params.items():
+            if bpy.app.version >= (4, 0, 0):
+                key = PRINCIPLED_V4.get(key, key)
             node.inputs[key].default_value = value
     elif kind == "diffuse":
         node = nodes.new("ShaderNodeBsdfDiffuse")
