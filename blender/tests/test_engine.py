@@ -118,14 +118,26 @@ def test_unsupported_node_is_reported():
                  "the scene still renders (the documented fallbacks)")
 
 
-def render_pass(scene, name, pass_name):
-    """Renders with the compositor routing ``pass_name`` to the Composite output."""
+def compositor(scene):
+    """The scene's compositor, emptied, and its output node (its input "Image" is the image):
+    the Composite node of `scene.node_tree` up to 4.x, a Group Output of the node group
+    `scene.compositing_node_group` from 5.0 (which removed both)."""
+    if bpy.app.version >= (5, 0, 0):
+        tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+        tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+        scene.compositing_node_group = tree
+        return tree, tree.nodes.new("NodeGroupOutput")
     scene.use_nodes = True
     tree = scene.node_tree
     for n in list(tree.nodes):
         tree.nodes.remove(n)
+    return tree, tree.nodes.new("CompositorNodeComposite")
+
+
+def render_pass(scene, name, pass_name):
+    """Renders with the compositor routing ``pass_name`` to the Composite output."""
+    tree, out = compositor(scene)
     layers = tree.nodes.new("CompositorNodeRLayers")
-    out = tree.nodes.new("CompositorNodeComposite")
     if pass_name == "Denoise":
         denoise = tree.nodes.new("CompositorNodeDenoise")
         tree.links.new(layers.outputs["Image"], denoise.inputs["Image"])
