@@ -496,7 +496,7 @@ fn run_suite(label: &str, backend: BackendChoice, budget: Budget) -> Vec<Outcome
 
 #[test]
 fn mitsuba_suite_cpu() {
-    let outcomes = run_suite("CPU", BackendChoice::Cpu, CPU_BUDGET);
+    let outcomes = run_suite("CPU", BackendChoice::Cpu, budget(CPU_BUDGET));
     for (name, _) in KNOWN_CPU {
         assert!(
             scenes().iter().any(|s| s == name),
@@ -523,5 +523,24 @@ fn mitsuba_suite_gpu() {
     if common::gpu().is_none() {
         return;
     }
-    run_suite("GPU", BackendChoice::Gpu, GPU_BUDGET);
+    run_suite("GPU", BackendChoice::Gpu, budget(GPU_BUDGET));
+}
+
+/// `default`, or the budget `MITSUBA_SUITE_BUDGET=PASSES,SPP,PHOTONS` names: the suite at
+/// another budget, e.g. the GPU suite's short one on the CPU to tell the budget's failures from
+/// the backend's (the CPU ratchet's figures hold at [`CPU_BUDGET`] only).
+fn budget(default: Budget) -> Budget {
+    let Ok(v) = std::env::var("MITSUBA_SUITE_BUDGET") else {
+        return default;
+    };
+    let n: Vec<u32> = v
+        .split(',')
+        .map(|x| x.trim().parse().expect("MITSUBA_SUITE_BUDGET: PASSES,SPP,PHOTONS"))
+        .collect();
+    assert_eq!(n.len(), 3, "MITSUBA_SUITE_BUDGET: PASSES,SPP,PHOTONS, got {v:?}");
+    Budget {
+        passes: n[0],
+        spp: n[1],
+        photons: n[2],
+    }
 }
