@@ -139,11 +139,6 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
         self.index.is_empty()
     }
 
-    /// Slots holding at least one point (about the cells occupied: collisions are rare).
-    pub fn occupied(&self) -> usize {
-        self.starts.windows(2).filter(|w| w[1] > w[0]).count()
-    }
-
     /// The slot runs `(first, last)` of `count` cells along x from cell `c` (one run, or two
     /// where the slots wrap around the table).
     #[inline]
