@@ -223,18 +223,14 @@ fn grid_radiance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::rng::pcg_hash;
+    use crate::integrators::cpu::point_grid::tests::uniform;
 
     /// A map built for a radius estimates from its grid what the kd-tree's fixed-radius
     /// search gives (the same photons, summed in another order), for every filter and for
     /// radii up to the one it was built for.
     #[test]
     fn grid_estimates_equal_the_kd_tree_estimates() {
-        let mut s = 11u32;
-        let mut next = || {
-            s = pcg_hash(s);
-            s as f32 / u32::MAX as f32
-        };
+        let mut next = uniform(11);
         let photons: Vec<Photon> = (0..20_000)
             .map(|i| {
                 // The floor y = 0 and the wall x = 0 of a room, lit from above and the side.

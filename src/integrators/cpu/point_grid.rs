@@ -322,19 +322,24 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::math::rng::pcg_hash;
+
+    /// Uniform numbers in [0, 1] from `seed` (the tests' points).
+    pub(crate) fn uniform(seed: u32) -> impl FnMut() -> f32 {
+        let mut s = seed;
+        move || {
+            s = pcg_hash(s);
+            s as f32 / u32::MAX as f32
+        }
+    }
 
     /// Every search finds exactly the points a test of every point finds, on clustered
     /// points, radii up to the cell's side and queries on, near and off the points.
     #[test]
     fn searches_find_what_brute_force_finds() {
-        let mut s = 3u32;
-        let mut next = || {
-            s = pcg_hash(s);
-            s as f32 / u32::MAX as f32
-        };
+        let mut next = uniform(3);
         let mut pts: Vec<[f32; 3]> = (0..5000)
             .map(|_| [next() * 2.0 - 1.0, next() * 0.1, next() * 2.0 - 1.0])
             .collect();
@@ -370,11 +375,7 @@ mod tests {
     /// nearest point (ties by index), or none where no point is within the radius.
     #[test]
     fn nearest_finds_the_brute_force_nearest() {
-        let mut s = 5u32;
-        let mut next = || {
-            s = pcg_hash(s);
-            s as f32 / u32::MAX as f32
-        };
+        let mut next = uniform(5);
         let pts: Vec<[f32; 3]> = (0..4000).map(|_| [next(), next() * 0.05, next()]).collect();
         let r = 0.06f32;
         for cell in [r, r / 2.0, r / 3.0] {
@@ -414,6 +415,3 @@ mod tests {
         }
     }
 }
-
-pub static DBG: [std::sync::atomic::AtomicU64; 4] =
-    [const { std::sync::atomic::AtomicU64::new(0) }; 4];
