@@ -39,10 +39,17 @@ pub const FACING_COS: f32 = 0.5;
 /// inside of a closed box's wall next to a point on its outer top face).
 #[inline]
 pub fn photon_faces(p: &Photon, x: Vec3, ns: Vec3) -> bool {
-    if Vec3::from(p.dir).dot(ns) >= 0.0 {
+    faces(Vec3::from(p.dir), || p.normal(), p.pos(), x, ns)
+}
+
+/// [`photon_faces`] of a photon travelling along `dir`, stored at `pos` with the unit normal
+/// `normal()` (read only when the direction passes; the CPU's photon grid keeps it unpacked).
+#[inline]
+pub fn faces(dir: Vec3, normal: impl FnOnce() -> Vec3, pos: Vec3, x: Vec3, ns: Vec3) -> bool {
+    if dir.dot(ns) >= 0.0 {
         return false;
     }
-    let np = p.normal();
+    let np = normal();
     let c = np.dot(ns);
     if c > FACING_COS {
         return true;
@@ -50,7 +57,6 @@ pub fn photon_faces(p: &Photon, x: Vec3, ns: Vec3) -> bool {
     if c < -FACING_COS {
         return false;
     }
-    let pos = p.pos();
     ((pos - x).dot(ns) > 0.0) == ((x - pos).dot(np) > 0.0)
 }
 

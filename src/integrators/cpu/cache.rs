@@ -2,21 +2,18 @@
 //! `plan::CACHE_NORMAL_COS`): built once per pass from the global map, read where a gather
 //! ray lands. Its points are the global photons chosen by identity; each holds the outgoing
 //! radiance of a white Lambertian surface there, and a lookup returns the value of the
-//! nearest point within the global radius whose normal matches the query's.
+//! nearest point within the global radius whose normal matches the query's, found in a
+//! hashed grid of cells of that radius (`point_grid`).
 
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
+use crate::integrators::cpu::point_grid::{GridPoint, PointGrid};
 use crate::integrators::photon::{Photon, DEPTH_MASK};
 use crate::integrators::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
 use crate::settings::Filter;
 use glam::Vec3;
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
+use std::cell::Cell;
 use std::f32::consts::PI;
-use std::num::NonZeroUsize;
-
-/// Candidates a lookup asks the kd-tree for before it scans the whole radius (the nearest
-/// point almost always passes the normal test; walls meeting at a corner are the exception).
-pub const LOOKUP_FIRST: usize = 4;
 
 /// Whether global photon `p` is a cache point (`(id + depth) % CACHE_STRIDE == 0`).
 #[inline]
@@ -40,46 +37,75 @@ pub struct CachePoint {
     pub value: Vec3,
 }
 
-/// Cache points in a kd-tree over their positions (`tree` item `i` is `points[i]`).
+/// What a lookup reads of a cache point besides its position: its normal, its value, and
+/// its index in `RadianceCache::points` (for ties).
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    normal: Vec3,
+    value: Vec3,
+    index: u32,
+}
+
+/// Cache points in a hashed grid over their positions.
 pub struct RadianceCache {
-    /// The points, in the order the tree indexes them (the global map's order).
+    /// The points, in the global map's order.
     pub points: Vec<CachePoint>,
-    tree: Option<ImmutableKdTree<f32, 3>>,
+    /// Cells of the lookup radius (none where the radius is not positive and
+    /// finite: no lookup then finds a point).
+    grid: Option<PointGrid<Entry>>,
     /// Squared lookup radius (the global radius of the pass).
     radius2: f32,
 }
 
 impl RadianceCache {
-    /// Builds the cache of `global` (rayon over the points): each point's value is the
-    /// global map's estimate there with `k` nearest (0: every photon) within `radius`,
-    /// `filter`, and BRDF 1/pi. Lookups search within `radius` too.
+    /// Builds the cache of `global` (rayon over the points, in a grid's order so that
+    /// neighbouring estimates read neighbouring photons): each point's value is the global
+    /// map's estimate there with `k` nearest (0: every photon) within `radius`, `filter`,
+    /// and BRDF 1/pi. Lookups search within `radius` too.
     pub fn build(global: &PhotonMap, k: u32, radius: f32, filter: Filter) -> Self {
         let r2 = radius * radius;
         let f = Vec3::splat(1.0 / PI);
-        let points: Vec<CachePoint> = global
+        let chosen: Vec<&Photon> = global
             .photons
-            .par_iter()
+            .iter()
             .filter(|p| is_cache_point(p))
-            .map(|p| {
-                let normal = p.normal();
-                CachePoint {
-                    position: p.position,
-                    normal,
-                    id: p.id,
-                    flags: p.flags,
-                    value: estimate_at(global, p.pos(), normal, k as usize, r2, filter, f),
-                }
+            .collect();
+        let positions: Vec<[f32; 3]> = chosen.iter().map(|p| p.position).collect();
+        let usable = radius > 0.0 && radius.is_finite();
+        // Every point once: a grid's order, then any point the grid left out.
+        let mut order: Vec<u32> = match usable {
+            true => PointGrid::build(&positions, radius, |_| ()).index,
+            false => Vec::new(),
+        };
+        if order.len() != chosen.len() {
+            let mut listed = vec![false; chosen.len()];
+            order.iter().for_each(|&i| listed[i as usize] = true);
+            order.extend((0..chosen.len() as u32).filter(|&i| !listed[i as usize]));
+        }
+        let values: Vec<Vec3> = order
+            .par_iter()
+            .map(|&i| {
+                let p = chosen[i as usize];
+                estimate_at(global, p.pos(), p.normal(), k as usize, r2, filter, f)
             })
             .collect();
-        let positions: Vec<[f32; 3]> = points.iter().map(|p| p.position).collect();
-        let tree = if positions.is_empty() {
-            None
-        } else {
-            ImmutableKdTree::new_from_slice(&positions).ok()
-        };
+        let mut points: Vec<CachePoint> = chosen
+            .iter()
+            .map(|p| CachePoint {
+                position: p.position,
+                normal: p.normal(),
+                id: p.id,
+                flags: p.flags,
+                value: Vec3::ZERO,
+            })
+            .collect();
+        for (&i, v) in order.iter().zip(values) {
+            points[i as usize].value = v;
+        }
+        let grid = usable.then(|| lookup_grid(&points, radius));
         RadianceCache {
             points,
-            tree,
+            grid,
             radius2: r2,
         }
     }
@@ -95,49 +121,46 @@ impl RadianceCache {
 
     /// The value of the nearest cache point to `x` within the lookup radius whose normal has
     /// a cosine of at least `CACHE_NORMAL_COS` with `n` (ties: lower id, then lower flags),
-    /// or zero. Asks the tree for `LOOKUP_FIRST` candidates first; only when no candidate
-    /// nearer than the farthest of them passes (so a farther or tied point could win) does
-    /// it scan the whole radius.
+    /// or zero. The grid's search goes out ring by ring from `x`'s cell, skipping the cells
+    /// farther than the best point so far.
     pub fn lookup(&self, x: Vec3, n: Vec3) -> Vec3 {
-        let Some(tree) = &self.tree else {
+        let Some(grid) = &self.grid else {
             return Vec3::ZERO;
         };
-        let q = x.to_array();
-        let first = tree
-            .query(&q)
-            .nearest_n::<SquaredEuclidean<f32>>(NonZeroUsize::new(LOOKUP_FIRST).unwrap())
-            .within(self.radius2)
-            .execute();
-        let farthest = first.iter().map(|r| r.distance).fold(0.0f32, f32::max);
-        let complete = first.len() < LOOKUP_FIRST;
-        let best = self.best(first.iter().map(|r| (r.distance, r.item as usize)), n);
-        match best {
-            // Exact when every point within the radius was found, or when the winner is
-            // strictly nearer than the farthest candidate (nothing unseen can tie or beat it).
-            Some((d2, i)) if complete || d2 < farthest => self.points[i].value,
-            None if complete => Vec3::ZERO,
-            _ => {
-                let all = tree
-                    .query(&q)
-                    .within::<SquaredEuclidean<f32>>(self.radius2)
-                    .unsorted()
-                    .execute();
-                self.best(all.iter().map(|r| (r.distance, r.item as usize)), n)
-                    .map_or(Vec3::ZERO, |(_, i)| self.points[i].value)
-            }
-        }
+        let best_d2 = Cell::new(self.radius2);
+        let mut best: Option<&GridPoint<Entry>> = None;
+        grid.nearest(
+            x.to_array(),
+            self.radius2,
+            || best_d2.get(),
+            |p, d2| {
+                if d2 > best_d2.get() || p.data.normal.dot(n) < CACHE_NORMAL_COS {
+                    return;
+                }
+                // Not farther than the best: nearer, or tied and first by identity.
+                let key = |e: &Entry| {
+                    let p = &self.points[e.index as usize];
+                    (p.id, p.flags)
+                };
+                let better = best.is_none_or(|b| d2 < best_d2.get() || key(&p.data) < key(&b.data));
+                if better {
+                    best = Some(p);
+                    best_d2.set(d2);
+                }
+            },
+        );
+        best.map_or(Vec3::ZERO, |p| p.data.value)
     }
+}
 
-    /// The candidate `(squared distance, index)` that passes the normal test with the least
-    /// (distance, id, flags).
-    fn best(&self, found: impl Iterator<Item = (f32, usize)>, n: Vec3) -> Option<(f32, usize)> {
-        found
-            .filter(|&(_, i)| self.points[i].normal.dot(n) >= CACHE_NORMAL_COS)
-            .min_by(|a, b| {
-                let (pa, pb) = (&self.points[a.1], &self.points[b.1]);
-                a.0.total_cmp(&b.0)
-                    .then(pa.id.cmp(&pb.id))
-                    .then(pa.flags.cmp(&pb.flags))
-            })
-    }
+/// A grid over `points` for lookups within `radius`, in cells of that radius (on the Cornell
+/// box's default render, about ten points to an occupied cell, these were faster than cells
+/// of half the radius: fewer rows of cells read, each a run of memory).
+fn lookup_grid(points: &[CachePoint], radius: f32) -> PointGrid<Entry> {
+    let positions: Vec<[f32; 3]> = points.iter().map(|p| p.position).collect();
+    PointGrid::build(&positions, radius, |i| Entry {
+        normal: points[i].normal,
+        value: points[i].value,
+        index: i as u32,
+    })
 }

@@ -1,23 +1,49 @@
-//! A photon map: photons in a kd-tree (kiddo) for K-nearest-neighbour queries, and the
-//! radiance estimate from it (read by the camera pass and the radiance cache).
+//! A photon map: photons in a kd-tree (kiddo) for K-nearest-neighbour queries, and for a
+//! map built for one radius a hashed grid for its fixed-radius estimates; the radiance
+//! estimate from them (read by the camera pass and the radiance cache).
 
 use crate::integrators::cpu::density::{DensityTable, NARROWED_K};
+use crate::integrators::cpu::point_grid::PointGrid;
 use crate::integrators::estimate;
 use crate::integrators::photon::Photon;
+use crate::settings::Filter;
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use std::num::NonZeroUsize;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
+
+/// What a fixed-radius estimate reads of a photon besides its position: its direction,
+/// unpacked normal and power.
+#[derive(Clone, Copy, Debug)]
+struct GridPhoton {
+    dir: Vec3,
+    normal: Vec3,
+    power: Vec3,
+}
 
 /// Photons and a kd-tree over their positions (`tree` item `i` is `photons[i]`).
 pub struct PhotonMap {
     /// The photons, in the order the tree indexes them.
     pub photons: Vec<Photon>,
-    tree: Option<ImmutableKdTree<f32, 3>>,
+    /// Built on first use for a map with a grid (only K-nearest searches read it).
+    tree: OnceLock<Option<ImmutableKdTree<f32, 3>>>,
+    /// Fixed-radius searches of at most the radius a bounded map was built for (cells of
+    /// that radius).
+    grid: Option<PointGrid<GridPhoton>>,
     /// Bounds the work of fixed-radius searches ([`PhotonMap::build_bounded`]).
     density: Option<DensityTable>,
     /// Fixed-radius searches narrowed so far.
     narrowed: AtomicU64,
+}
+
+/// A kd-tree over `points`, none when there are none.
+fn kd_tree(points: &[[f32; 3]]) -> Option<ImmutableKdTree<f32, 3>> {
+    if points.is_empty() {
+        None
+    } else {
+        ImmutableKdTree::new_from_slice(points).ok()
+    }
 }
 
 impl PhotonMap {
@@ -34,21 +60,41 @@ impl PhotonMap {
         Self::build_with(photons, Some(radius))
     }
 
-    /// The kd-tree, and the density table for searches of at most `radius` if given, over
-    /// one list of the photons' positions.
+    /// The kd-tree, and for searches of at most `radius` if given the density table and the
+    /// grid (the tree then waits for a K-nearest search), over one list of the positions.
     fn build_with(photons: Vec<Photon>, radius: Option<f32>) -> Self {
         let points: Vec<[f32; 3]> = photons.iter().map(|p| p.position).collect();
-        let tree = if points.is_empty() {
-            None
-        } else {
-            ImmutableKdTree::new_from_slice(&points).ok()
-        };
+        let grid = radius.filter(|r| *r > 0.0 && r.is_finite()).map(|r| {
+            PointGrid::build(&points, r, |i| {
+                let p = &photons[i];
+                GridPhoton {
+                    dir: Vec3::from(p.dir),
+                    normal: p.normal(),
+                    power: Vec3::from(p.power),
+                }
+            })
+        });
+        let tree = OnceLock::new();
+        if grid.is_none() {
+            let _ = tree.set(kd_tree(&points));
+        }
         PhotonMap {
             density: radius.and_then(|r| DensityTable::build(&points, r)),
             photons,
             tree,
+            grid,
             narrowed: AtomicU64::new(0),
         }
+    }
+
+    /// The kd-tree (built now if it was left for later).
+    fn tree(&self) -> Option<&ImmutableKdTree<f32, 3>> {
+        self.tree
+            .get_or_init(|| {
+                let points: Vec<[f32; 3]> = self.photons.iter().map(|p| p.position).collect();
+                kd_tree(&points)
+            })
+            .as_ref()
     }
 
     /// Fixed-radius searches narrowed so far (a smaller radius or the nearest photons).
@@ -81,7 +127,7 @@ impl PhotonMap {
     /// Every photon within squared distance `r2` of `x`, as `(squared distance, photon)`.
     pub fn within<'a>(&'a self, x: [f32; 3], r2: f32, out: &mut Vec<(f32, &'a Photon)>) {
         out.clear();
-        let Some(tree) = &self.tree else { return };
+        let Some(tree) = self.tree() else { return };
         let found = tree
             .query(&x)
             .within::<SquaredEuclidean<f32>>(r2)
@@ -104,7 +150,7 @@ impl PhotonMap {
         out: &mut Vec<(f32, &'a Photon)>,
     ) {
         out.clear();
-        let (Some(tree), Some(k)) = (&self.tree, NonZeroUsize::new(k)) else {
+        let (Some(tree), Some(k)) = (self.tree(), NonZeroUsize::new(k)) else {
             return;
         };
         let found = tree
@@ -129,7 +175,7 @@ pub fn estimate_at(
     ns: Vec3,
     k: usize,
     max_r2: f32,
-    filter: crate::settings::Filter,
+    filter: Filter,
     f: Vec3,
 ) -> Vec3 {
     let mut found = Vec::with_capacity(k.max(16));
@@ -138,9 +184,85 @@ pub fn estimate_at(
             map.nearest(x.to_array(), NARROWED_K, max_r2, &mut found);
             return estimate::radiance(&found, NARROWED_K, max_r2, filter, x, ns, |_| f);
         };
+        if let Some(grid) = map.grid.as_ref().filter(|g| r2 <= g.cell().powi(2)) {
+            return grid_radiance(grid, r2, filter, x, ns, f);
+        }
         map.within(x.to_array(), r2, &mut found);
         return estimate::radiance(&found, usize::MAX, r2, filter, x, ns, |_| f);
     }
     map.nearest(x.to_array(), k, max_r2, &mut found);
     estimate::radiance(&found, k, max_r2, filter, x, ns, |_| f)
+}
+
+/// `estimate::radiance` over every photon within `r2` of `x` (no K: the whole disc), read
+/// from the grid: the same photons and terms, summed in the grid's order.
+fn grid_radiance(
+    grid: &PointGrid<GridPhoton>,
+    r2: f32,
+    filter: Filter,
+    x: Vec3,
+    ns: Vec3,
+    f: Vec3,
+) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    let mut found = false;
+    grid.search(x.to_array(), r2, |p, d2| {
+        found = true;
+        let q = &p.data;
+        let pos = Vec3::from(p.position);
+        if estimate::faces(q.dir, || q.normal, pos, x, ns) {
+            sum += f * q.power * estimate::kernel_weight(filter, d2, r2);
+        }
+    });
+    if !found {
+        return Vec3::ZERO;
+    }
+    sum * estimate::kernel_norm(filter, r2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::cpu::point_grid::tests::uniform;
+
+    /// A map built for a radius estimates from its grid what the kd-tree's fixed-radius
+    /// search gives (the same photons, summed in another order), for every filter and for
+    /// radii up to the one it was built for.
+    #[test]
+    fn grid_estimates_equal_the_kd_tree_estimates() {
+        let mut next = uniform(11);
+        let photons: Vec<Photon> = (0..20_000)
+            .map(|i| {
+                // The floor y = 0 and the wall x = 0 of a room, lit from above and the side.
+                let (pos, n) = if i % 3 == 0 {
+                    (Vec3::new(0.0, next(), next()), Vec3::X)
+                } else {
+                    (Vec3::new(next(), 0.0, next()), Vec3::Y)
+                };
+                let dir = (Vec3::new(next(), next(), next()) - 0.5 - n).normalize();
+                let power = Vec3::new(next(), next(), next());
+                Photon::new(pos, power, dir, n, i, i % 3, false)
+            })
+            .collect();
+        let r = 0.1f32;
+        let grid = PhotonMap::build_bounded(photons.clone(), r);
+        let tree = PhotonMap::build(photons);
+        let f = Vec3::new(0.2, 0.3, 0.4);
+        for q in 0..300 {
+            let (x, ns) = match q % 3 {
+                0 => (Vec3::new(0.0, next(), next()), Vec3::X),
+                1 => (Vec3::new(next(), 0.0, next()), Vec3::Y),
+                _ => (Vec3::new(next() * 0.05, 0.0, next()), Vec3::Y),
+            };
+            let filter = [Filter::Cone, Filter::Disc, Filter::Epanechnikov][q % 3];
+            let r2 = (r * [1.0, 0.5, 0.999][q / 3 % 3]).powi(2);
+            let a = estimate_at(&grid, x, ns, 0, r2, filter, f);
+            let b = estimate_at(&tree, x, ns, 0, r2, filter, f);
+            assert!(b.max_element() > 0.0, "query {q}");
+            assert!(
+                (a - b).abs().max_element() <= 1e-5 * b.max_element(),
+                "query {q}: grid {a} != kd-tree {b}"
+            );
+        }
+    }
 }
