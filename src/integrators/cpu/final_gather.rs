@@ -130,6 +130,7 @@ impl Gatherer<'_> {
                                     if f.refraction_leaks(t) {
                                         return sum;
                                     }
+                                    throughput *= g.refracted_radiance();
                                     t
                                 }
                                 _ if f.reflection_leaks(g.reflected) => return sum,

@@ -252,7 +252,12 @@ impl Gatherer<'_> {
                             if leaks {
                                 return Vec3::ZERO;
                             }
-                            self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
+                            // Radiance-mode transmission (`Dielectric::refracted_radiance`).
+                            let k = match Some(dir) == g.refracted {
+                                true => g.refracted_radiance(),
+                                false => 1.0,
+                            };
+                            k * self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
