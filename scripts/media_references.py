@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The participating-media scenes' Mitsuba 3.9.1 references (issue 24).
 
-Renders scenes/mitsuba/fog-cornell.xml and scenes/mitsuba/volume-caustic.xml with the
+Renders scenes/mitsuba/fog-cornell.xml, scenes/mitsuba/volume-caustic.xml and
+scenes/mitsuba/fog-box-null.xml (issue 41: the fog inside a null cube, camera and light outside) with the
 files' own integrator (Mitsuba's `volpath`, max_depth 64, rr_depth 16) in the llvm_ad_rgb
 variant as two independent halves (mitsuba_refs.render_halves: seeds 1 and 2, each half
 rendered in chunks of CHUNK samples per pixel, half h's k-th chunk with seed h + 2k, since
@@ -39,7 +40,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mitsuba_refs import block_rmse, render_halves  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-SCENES = {"fog-cornell": 20480, "volume-caustic": 11264}
+SCENES = {"fog-cornell": 20480, "volume-caustic": 11264, "fog-box-null": 1536}
 VARIANT = "llvm_ad_rgb"
 
 

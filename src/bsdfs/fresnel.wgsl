@@ -41,6 +41,9 @@ struct Dielectric {
     reflected: vec3<f32>,
     refracted: vec3<f32>,
     reflectance: f32,
+    // n_i / n_t along the refracted ray (1 for a thin sheet): a camera path's radiance along
+    // it scales by eta^2 (twin of Dielectric::refracted_radiance).
+    eta: f32,
 }
 
 // The geometric normal ng says whether the ray enters (which index is inside), the shading
@@ -54,6 +57,7 @@ fn dielectric(d: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, ior: f32) -> Dielectri
     let eta = n_i / n_t;
     let sin2_t = eta * eta * max(1.0 - cos_i * cos_i, 0.0);
     var out: Dielectric;
+    out.eta = eta;
     out.reflected = reflect_dir(d, nn);
     if sin2_t >= 1.0 {
         out.refracted = vec3<f32>(0.0);

@@ -25,6 +25,7 @@ fn glass_surface_delta(hit: Hit, s: Surface, f: Facing, d: ptr<function, vec3<f3
     let g = dielectric(*d, hit.normal, hit.shading, w_f(s.b.w0));
     let u = rng_next(rng);
     let reflects = u < g.reflectance;
+    *t *= select(g.eta * g.eta, 1.0, reflects);
     *d = select(g.refracted, g.reflected, reflects);
     return !select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
 }

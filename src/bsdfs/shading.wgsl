@@ -219,7 +219,7 @@ fn default_surface_delta(hit: Hit, s: Surface, f: Facing, d: ptr<function, vec3<
 }
 // Kinds without a split (only glass and the thin dielectric have one).
 fn default_surface_split(hit: Hit, s: Surface, f: Facing, d: vec3<f32>) -> Dielectric {
-    return Dielectric(reflect_dir(d, f.ns), vec3<f32>(0.0), 1.0);
+    return Dielectric(reflect_dir(d, f.ns), vec3<f32>(0.0), 1.0, 1.0);
 }
 // A photon along d at `hit` (three uniforms u), twin of BsdfKind::photon_bounce: the BSDF
 // sampled without roulette, a kind with both parts picking its lobe with

@@ -80,6 +80,7 @@ impl BsdfKind for ThinDielectric {
             reflected: reflect_world(d, f.ns),
             refracted: Some(d),
             reflectance: if r < 1.0 { 2.0 * r / (1.0 + r) } else { 1.0 },
+            eta: 1.0,
         })
     }
 }

@@ -15,7 +15,7 @@ fn thin_dielectric_sample_lobe(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: b
 }
 fn thin_dielectric_surface_split(hit: Hit, s: Surface, f: Facing, d: vec3<f32>) -> Dielectric {
     let r = fresnel_dielectric_mi(abs(dot(d, f.ns)), w_f(s.b.w0)).f;
-    return Dielectric(reflect_dir(d, f.ns), d, select(1.0, 2.0 * r / (1.0 + r), r < 1.0));
+    return Dielectric(reflect_dir(d, f.ns), d, select(1.0, 2.0 * r / (1.0 + r), r < 1.0), 1.0);
 }
 fn thin_dielectric_surface_delta(hit: Hit, s: Surface, f: Facing, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) -> bool {
     let r = fresnel_dielectric_mi(abs(dot(*d, f.ns)), w_f(s.b.w0)).f;

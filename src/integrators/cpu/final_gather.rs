@@ -13,7 +13,7 @@
 use crate::bsdfs::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::bvh::Hit;
 use crate::integrators::cpu::gather::Gatherer;
-use crate::integrators::cpu::media::medium_after;
+use crate::integrators::cpu::media::{medium_after, MAX_CROSSINGS};
 use crate::math::geometry::{offset_origin, Facing, Ray};
 use crate::math::rng::Rng;
 use crate::math::sampling::cosine_hemisphere;
@@ -71,6 +71,8 @@ impl Gatherer<'_> {
         let (mut ray, mut depth, mut throughput) = (*ray, depth, Vec3::ONE);
         let mut medium = medium;
         let mut sum = Vec3::ZERO;
+        // Index-matched boundaries crossed in a row: not bounces (as the camera path's).
+        let mut crossings = 0;
         loop {
             // Emission is never counted here: light reaching x from a light (direct) or over
             // delta and glossy lobes (L (S|G)+ D) is in the shadow rays and the caustic map.
@@ -89,6 +91,7 @@ impl Gatherer<'_> {
             };
             let bsdf = bsdf_at(self.scene, &hit, ray.dir);
             let can_recurse = depth < self.settings.max_depth;
+            let crosses = bsdf.class() == SurfaceClass::Null && crossings < MAX_CROSSINGS;
             let dir = match bsdf.class() {
                 SurfaceClass::Black => return sum,
                 SurfaceClass::Shaded => {
@@ -111,6 +114,7 @@ impl Gatherer<'_> {
                     throughput *= lobe.weight;
                     lobe.dir
                 }
+                SurfaceClass::Null if crossings < MAX_CROSSINGS => ray.dir,
                 _ if !can_recurse => return sum,
                 SurfaceClass::Null => ray.dir,
                 SurfaceClass::Delta => {
@@ -130,6 +134,7 @@ impl Gatherer<'_> {
                                     if f.refraction_leaks(t) {
                                         return sum;
                                     }
+                                    throughput *= g.refracted_radiance();
                                     t
                                 }
                                 _ if f.reflection_leaks(g.reflected) => return sum,
@@ -144,7 +149,10 @@ impl Gatherer<'_> {
                 origin: offset_origin(hit.position, hit.normal, dir),
                 dir,
             };
-            depth += 1;
+            match crosses {
+                true => crossings += 1,
+                false => (crossings, depth) = (0, depth + 1),
+            }
         }
     }
 }

@@ -18,7 +18,7 @@ use crate::bsdfs::shading::{
 use crate::bsdfs::BsdfKind;
 use crate::bvh::{CpuBvh, Hit};
 use crate::integrators::cpu::cache::RadianceCache;
-use crate::integrators::cpu::media::{medium_after, transmittance};
+use crate::integrators::cpu::media::{medium_after, transmittance, MAX_CROSSINGS};
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::integrators::cpu::volume_map::VolumeMap;
 use crate::integrators::plan::{caustic_weight, Terms, VolumeSpec};
@@ -133,33 +133,46 @@ impl Gatherer<'_> {
         mis: Option<Mis>,
         medium: u32,
     ) -> Vec3 {
-        let hit = self.bvh.intersect(self.scene, ray, f32::INFINITY);
-        if medium == NO_MEDIUM {
-            return self.arriving(ray, hit, depth, rng, first, cw, mis, medium);
+        let (mut ray, mut medium) = (*ray, medium);
+        let (mut sum, mut tr) = (Vec3::ZERO, Vec3::ONE);
+        // Index-matched boundaries are crossed here, not counted as bounces (Mitsuba's
+        // volpath counts only scattering events), at most `MAX_CROSSINGS` in a row.
+        for crossing in 0..=MAX_CROSSINGS {
+            let hit = self.bvh.intersect(self.scene, &ray, f32::INFINITY);
+            if medium != NO_MEDIUM {
+                let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+                let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
+                // The near part's gather ray runs where nothing else draws numbers before the
+                // next shading (the GPU's camera path takes it after its chain of mirrors and
+                // glass).
+                let near = hit.as_ref().is_none_or(|h| {
+                    self.scene.materials[h.material as usize].bsdf.class() == SurfaceClass::Shaded
+                });
+                // A scattering event in the medium is a bounce: past max_depth, none.
+                let nee = self.terms.direct && depth < self.settings.max_depth;
+                sum += tr * self.in_scattered(&ray, t, medium, nee, skip_direct, near, depth, rng);
+                let m = &self.scene.media[medium as usize];
+                tr *= m.transmittance_along(ray.origin, ray.dir, t, rng);
+                if tr == Vec3::ZERO {
+                    return sum;
+                }
+            }
+            let crosses = hit.as_ref().is_some_and(|h| {
+                let material = &self.scene.materials[h.material as usize];
+                material.bsdf.class() == SurfaceClass::Null
+                    && crossing < MAX_CROSSINGS
+                    && bsdf_at(self.scene, h, ray.dir).emitted(ray.dir.dot(h.normal) < 0.0)
+                        == Vec3::ZERO
+            });
+            match hit {
+                Some(h) if crosses => {
+                    medium = medium_after(self.scene, &h, medium, ray.dir);
+                    ray.origin = offset_origin(h.position, h.normal, ray.dir);
+                }
+                _ => return sum + tr * self.arriving(&ray, hit, depth, rng, first, cw, mis, medium),
+            }
         }
-        let t = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-        let skip_direct = self.volume_spec.is_some_and(|v| v.camera_skips_direct);
-        // The near part's gather ray runs where nothing else draws numbers before the next
-        // shading (the GPU's camera path takes it after its chain of mirrors and glass).
-        let near = hit.as_ref().is_none_or(|h| {
-            self.scene.materials[h.material as usize].bsdf.class() == SurfaceClass::Shaded
-        });
-        let scattered = self.in_scattered(
-            ray,
-            t,
-            medium,
-            self.terms.direct,
-            skip_direct,
-            near,
-            depth,
-            rng,
-        );
-        let m = &self.scene.media[medium as usize];
-        let tr = m.transmittance_along(ray.origin, ray.dir, t, rng);
-        if tr == Vec3::ZERO {
-            return scattered;
-        }
-        scattered + tr * self.arriving(ray, hit, depth, rng, first, cw, mis, medium)
+        sum
     }
 
     /// What arrives along `ray` at its hit (`None`: it left the scene), `ray` having travelled
@@ -202,8 +215,9 @@ impl Gatherer<'_> {
         let after = |dir: Vec3| medium_after(self.scene, &hit, medium, dir);
         match bsdf.class() {
             SurfaceClass::Black => emitted,
-            // An index-matched boundary: straight on in the medium behind it (a step of the
-            // depth, which bounds the work of a ray through nested boundaries).
+            // An index-matched boundary that emits (or one past `MAX_CROSSINGS` in a row, which
+            // `radiance` crosses itself): straight on in the medium behind it, as a step of
+            // the depth, which bounds the work.
             SurfaceClass::Null => {
                 if !can_recurse {
                     return emitted;
@@ -252,7 +266,12 @@ impl Gatherer<'_> {
                             if leaks {
                                 return Vec3::ZERO;
                             }
-                            self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
+                            // Radiance-mode transmission (`Dielectric::refracted_radiance`).
+                            let k = match Some(dir) == g.refracted {
+                                true => g.refracted_radiance(),
+                                false => 1.0,
+                            };
+                            k * self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);

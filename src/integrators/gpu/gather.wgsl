@@ -119,10 +119,12 @@ struct ChainEnd {
 // *t times what it scatters towards the viewer (camera paths, `emission`: in_scattered, with
 // next-event estimation and without the single-scattering photons in modes with direct
 // light; gather rays: gathered_in_medium) and multiplies *t by its
-// transmittance; `null` boundaries pass the ray on (a step of *depth) in the medium behind.
+// transmittance; `null` boundaries pass the ray on (not a step of *depth) in the medium behind.
 fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: ptr<function, u32>, medium: ptr<function, u32>, emission: bool, rng: ptr<function, Rng>, mis_pdf: f32, mis_from: vec3<f32>, mis_ns: vec3<f32>) -> ChainEnd {
     var end: ChainEnd;
     var pdf = mis_pdf;
+    // Index-matched boundaries crossed in a row: not bounces (twin of cpu::gather::radiance).
+    var crossings = 0u;
     while *depth <= params.max_depth && spend() {
         let hit = trace_ray(*o, *d, 3.0e38, false);
         if HAS_MEDIA && *medium != NO_MEDIUM {
@@ -134,7 +136,9 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
                 if hit.found {
                     near = material_class(load_material(hit.material).kind) == CLASS_SHADED;
                 }
-                let sl = in_scattered(*o, *d, hit.t, !hit.found, *medium, direct, direct, near, *depth, rng);
+                // A scattering event in the medium is a bounce: past max_depth, none.
+                let nee = direct && *depth < params.max_depth;
+                let sl = in_scattered(*o, *d, hit.t, !hit.found, *medium, nee, direct, near, *depth, rng);
                 end.emitted += *t * sl.l;
                 if sl.gather {
                     end.gather = true;
@@ -181,14 +185,21 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
         }
         let kind_class = surface_class(m);
         // An index-matched boundary: straight on in the medium behind it (a lobe sample's
-        // weighing of the light it meets carries over).
+        // weighing of the light it meets carries over), not a bounce; one that emits (camera
+        // paths) or past MAX_CROSSINGS in a row is a step of the depth, which bounds the work.
         if HAS_MEDIA && kind_class == CLASS_NULL {
-            if *depth >= params.max_depth {
-                break;
+            let emits = emission && any(surface_emitted(m, dot(*d, hit.normal) < 0.0) != vec3<f32>(0.0));
+            if emits || crossings >= MAX_CROSSINGS {
+                if *depth >= params.max_depth {
+                    break;
+                }
+                *depth += 1u;
+                crossings = 0u;
+            } else {
+                crossings += 1u;
             }
             *medium = medium_after(hit, *medium, *d);
             *o = offset_origin(hit.position, hit.normal, *d);
-            *depth += 1u;
             continue;
         }
         pdf = 0.0;
@@ -212,6 +223,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
                 *medium = medium_after(hit, *medium, *d);
             }
             *depth += 1u;
+            crossings = 0u;
             continue;
         }
         end.hit = hit;

@@ -89,13 +89,14 @@ fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<functi
                 bm = medium_after(hit, medium, later);
             }
             let bo = offset_origin(hit.position, hit.normal, later);
-            let w = select(g.reflectance, 1.0 - g.reflectance, reflects);
+            let w = select(g.reflectance, (1.0 - g.reflectance) * g.eta * g.eta, reflects);
             branch_stacks.stacks[stack_at].b[n_branches] = Branch(bo, depth + 1u, later, bm, *t * w, 0u);
             n_branches += 1u;
         }
-        *t *= select(1.0 - g.reflectance, g.reflectance, reflects);
+        *t *= select((1.0 - g.reflectance) * g.eta * g.eta, g.reflectance, reflects);
     } else if refracts {
         reflects = rng_next(rng) < g.reflectance;
+        *t *= select(g.eta * g.eta, 1.0, reflects);
     }
     *d = select(g.refracted, g.reflected, reflects);
     *o = offset_origin(hit.position, hit.normal, *d);
