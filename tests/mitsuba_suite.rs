@@ -59,6 +59,8 @@ enum Known {
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
+    // Chance at seed 1, not bias: block 54's G and B 2% low in both plastics (same random
+    // numbers, same layout); at seeds 2 and 3 both pass every block (docs/conformance.md).
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
     ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
