@@ -196,7 +196,11 @@ fn generated_tangents_point_the_bitangent_to_the_image_top() {
     let mut f = File::new(Some(Vec4::new(0.0, 1.0, 0.0, 1.0)));
     f.normals = false;
     let s = loaded(&f.write("no-normals.gltf"));
-    assert!(s.tangents.iter().flatten().all(|t| t.truncate().normalize() == Vec3::X));
+    assert!(s
+        .tangents
+        .iter()
+        .flatten()
+        .all(|t| t.truncate().normalize() == Vec3::X));
     assert_close(
         shading_at(&s),
         spec_normal(Vec3::X, 1.0, Vec3::Z),

@@ -314,9 +314,20 @@ fn shading_frame_tangents_are_mitsubas() {
                 dir: v(3),
             };
             let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect(name);
-            assert!((hit.position - v(6)).length() < 1e-4, "{name}: {} vs {}", hit.position, v(6));
+            assert!(
+                (hit.position - v(6)).length() < 1e-4,
+                "{name}: {} vs {}",
+                hit.position,
+                v(6)
+            );
             let e = (hit.tangent - v(9)).abs().max_element();
-            assert!(e < 1e-4, "{name} at {}: tangent {} vs Mitsuba's {}", v(6), hit.tangent, v(9));
+            assert!(
+                e < 1e-4,
+                "{name} at {}: tangent {} vs Mitsuba's {}",
+                v(6),
+                hit.tangent,
+                v(9)
+            );
             worst = worst.max(e);
         }
     }

@@ -552,7 +552,9 @@ fn mesh_attribute_weights_a_blend_per_shape() {
     // One blend per shape, both of the same components.
     assert_eq!(s.triangles[0].material, s.triangles[1].material);
     assert_ne!(s.triangles[0].material, s.triangles[2].material);
-    assert!(blends.iter().all(|b| (b.first, b.second) == (blends[0].first, blends[0].second)));
+    assert!(blends
+        .iter()
+        .all(|b| (b.first, b.second) == (blends[0].first, blends[0].second)));
     for (i, b) in blends.iter().enumerate() {
         let texture = &s.textures[b.weight.texture as usize];
         let want = [0.7, 0.2][i % 2] * 0.5;
@@ -560,11 +562,15 @@ fn mesh_attribute_weights_a_blend_per_shape() {
             let uv = s.uvs[i];
             let at = (1.0 - b1 - b2) * uv[0] + b1 * uv[1] + b2 * uv[2];
             let got = b.weight.value * texture.eval(at);
-            assert!(close(got, Vec3::splat(want), 2e-5), "triangle {i}: {got} vs {want}");
+            assert!(
+                close(got, Vec3::splat(want), 2e-5),
+                "triangle {i}: {got} vs {want}"
+            );
         }
     }
     // A textured component would read the attribute's uvs.
-    let textured = r#"<bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf>"#;
+    let textured =
+        r#"<bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf>"#;
     let e = scene(textured).unwrap_err().to_string();
     let want = "t.xml:6: bsdf[b].weight: a `blendbsdf` weighted by a `mesh_attribute` takes \
                 untextured bsdfs (the mesh's uvs become the attribute's)";

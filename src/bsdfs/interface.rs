@@ -113,7 +113,11 @@ impl Frame {
     #[inline]
     pub fn new(n: Vec3, tangent: Vec3) -> Frame {
         match crate::math::geometry::orthogonal_tangent(n, tangent) {
-            Some(s) => Frame { s, t: n.cross(s), n },
+            Some(s) => Frame {
+                s,
+                t: n.cross(s),
+                n,
+            },
             None => {
                 let (s, t) = basis(n);
                 Frame { s, t, n }

@@ -123,7 +123,8 @@ pub fn photon_bounce_at(
         uv: glam::Vec2::ZERO,
         tangent: Vec3::ZERO,
     };
-    m.bsdf.photon_bounce(Frame::new(ns, Vec3::ZERO), d, &hit, fresnel, u)
+    m.bsdf
+        .photon_bounce(Frame::new(ns, Vec3::ZERO), d, &hit, fresnel, u)
 }
 
 /// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's

@@ -84,9 +84,11 @@ pub(crate) fn primitive_tangents(
 pub(crate) fn face_tangents(tris: &[[Vec3; 3]], uvs: &[[Vec2; 3]]) -> Vec<VertexTangents> {
     use crate::math::geometry::triangle_tangent;
     (tris.iter().zip(uvs))
-        .map(|(p, uv)| match triangle_tangent(p[1] - p[0], p[2] - p[0], uv) {
-            Some((t, flipped)) => [t.extend(if flipped { -1.0 } else { 1.0 }); 3],
-            None => [Vec4::ZERO; 3],
-        })
+        .map(
+            |(p, uv)| match triangle_tangent(p[1] - p[0], p[2] - p[0], uv) {
+                Some((t, flipped)) => [t.extend(if flipped { -1.0 } else { 1.0 }); 3],
+                None => [Vec4::ZERO; 3],
+            },
+        )
         .collect()
 }

@@ -8,10 +8,12 @@ use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
 use crate::bsdfs::rough_dielectric::RoughDielectric;
 use crate::bsdfs::thin_dielectric::ThinDielectric;
-use crate::bsdfs::{named_conductor, Bsdf, Channel, Distribution, Microfacet, Param, Plastic, METAL_NAMES};
-use crate::importers::mitsuba::principled::{ParamSlot, ParamTexture};
+use crate::bsdfs::{
+    named_conductor, Bsdf, Channel, Distribution, Microfacet, Param, Plastic, METAL_NAMES,
+};
 use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::principled::{ParamSlot, ParamTexture};
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
