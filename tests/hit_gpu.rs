@@ -47,6 +47,10 @@ const SHADING_ABS: f32 = 1e-5;
 /// times the uv's difference) and goes through `normal_mapped` (tests/intersect_gpu.rs holds
 /// it to 1e-4).
 const MAPPED_ABS: f32 = 1e-4;
+/// The shading frame's tangent: `dp/du` made orthogonal to a shading normal that the device
+/// gives within `SHADING_ABS`, normalised (a tangent short against the normal's component
+/// magnifies that).
+const TANGENT_ABS: f32 = 1e-4;
 /// `offset_origin`: `p +- n eps` with the same `eps`, which the device may fuse into one
 /// multiply-add: a rounding or two of the origin's largest coordinate.
 const OFFSET_ULPS: f32 = 2.0;
@@ -333,7 +337,7 @@ fn alpha_margin(scene: &Scene, id: u32, ray: &Ray, t: f32, [u, v]: [f32; 2]) -> 
 /// Compares every case of `scene`; returns the report's counts and worst errors.
 fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> String {
     let bvh = Bvh::build(scene);
-    let (mut smooth, mut passes, mut near, mut frames, mut worst) = (0, [0, 0], 0, 0, [0f32; 4]);
+    let (mut smooth, mut passes, mut near, mut frames, mut worst) = (0, [0, 0], 0, 0, [0f32; 5]);
     let mut fallbacks = [0; 3];
     let mut packed_exact = 0;
     for (i, (c, g)) in cases.iter().zip(got).enumerate() {
@@ -440,13 +444,19 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         let mapped = scene.materials[h.material as usize].normal_texture != NO_TEXTURE;
         let e = close(ns, f.ns, if mapped { MAPPED_ABS } else { SHADING_ABS });
         worst[1 + mapped as usize] = worst[1 + mapped as usize].max(e);
+        // The shading frame's tangent (Mitsuba's sh_frame.s, before the normal map): dp/du,
+        // the first edge without uvs or the normal's basis for a degenerate mapping, made
+        // orthogonal to the shading normal.
+        let e = close(g.tangent, h.tangent, TANGENT_ABS);
+        worst[4] = worst[4].max(e);
         frames += 1;
     }
     format!(
         "{kind}: {} cases, {smooth} smooth ({} vanish: ng), {} degenerate uv maps, {} \
          vanishing vertex tangents, alpha passes {} / stops {} ({near} near the threshold \
          skipped), {frames} frames; worst shading normal {:e}, frame ns {:e} (normal-mapped \
-         {:e}), tangents {} ulp, {packed_exact} packed directions bit for bit",
+         {:e}), tangents {} ulp, frame tangents {:e}, {packed_exact} packed directions bit \
+         for bit",
         cases.len(),
         fallbacks[0],
         fallbacks[1],
@@ -456,7 +466,8 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         worst[0],
         worst[1],
         worst[2],
-        worst[3]
+        worst[3],
+        worst[4]
     )
 }
 

@@ -227,6 +227,7 @@ fn device_samplers_equal_the_rust_ones_on_the_same_numbers() {
             material,
             light: NO_LIGHT,
             uv: Vec2::ZERO,
+            tangent: Vec3::ZERO,
         };
         let want = medium_after(&scene, &hit, current, d);
         assert_eq!(g.medium_after, want, "{c:?}: medium_after");

@@ -519,6 +519,65 @@ fn mesh_attribute_is_interpolated_exactly() {
 }
 
 #[test]
+fn mesh_attribute_weights_a_blend_per_shape() {
+    // Mitsuba's blendbsdf with a mesh_attribute weight (the suite's
+    // test_mesh_attributes_1_face_direct): each shape gets a blend of the same two
+    // components whose weight, at every point of a triangle, is the face's value times scale.
+    let dir = std::env::temp_dir().join(format!("gpu-photon-battr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+               property float z\nelement face 2\nproperty list uchar int vertex_indices\n\
+               property float weight_0\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n\
+               3 0 1 2 0.7\n3 0 2 3 0.2\n";
+    std::fs::write(dir.join("q.ply"), ply).unwrap();
+    let scene = |second: &str| {
+        let text = format!(
+            "<scene version=\"3.0.0\">{SENSOR}<texture type=\"mesh_attribute\" id=\"t\">\
+             <string name=\"name\" value=\"face_weight\"/><float name=\"scale\" value=\"0.5\"/>\
+             </texture>\n<bsdf type=\"blendbsdf\" id=\"b\"><ref name=\"weight\" id=\"t\"/>\
+             <bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0 .5 .5\"/></bsdf>\
+             \n{second}</bsdf>\n\
+             <shape type=\"ply\"><string name=\"filename\" value=\"q.ply\"/><ref id=\"b\"/></shape>\n\
+             <shape type=\"ply\"><string name=\"filename\" value=\"q.ply\"/><ref id=\"b\"/></shape>\n\
+             </scene>\n"
+        );
+        import(&text, "t.xml", &dir)
+    };
+    let plain = r#"<bsdf type="diffuse"><rgb name="reflectance" value="1 1 0"/></bsdf>"#;
+    let s = scene(plain).unwrap_or_else(|e| panic!("{e}")).scene;
+    assert_eq!(s.triangles.len(), 4);
+    let blends: Vec<_> = (s.triangles.iter())
+        .map(|t| s.materials[t.material as usize].blend.expect("a blend"))
+        .collect();
+    // One blend per shape, both of the same components.
+    assert_eq!(s.triangles[0].material, s.triangles[1].material);
+    assert_ne!(s.triangles[0].material, s.triangles[2].material);
+    assert!(blends
+        .iter()
+        .all(|b| (b.first, b.second) == (blends[0].first, blends[0].second)));
+    for (i, b) in blends.iter().enumerate() {
+        let texture = &s.textures[b.weight.texture as usize];
+        let want = [0.7, 0.2][i % 2] * 0.5;
+        for (b1, b2) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.2, 0.3), (0.5, 0.5)] {
+            let uv = s.uvs[i];
+            let at = (1.0 - b1 - b2) * uv[0] + b1 * uv[1] + b2 * uv[2];
+            let got = b.weight.value * texture.eval(at);
+            assert!(
+                close(got, Vec3::splat(want), 2e-5),
+                "triangle {i}: {got} vs {want}"
+            );
+        }
+    }
+    // A textured component would read the attribute's uvs.
+    let textured =
+        r#"<bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf>"#;
+    let e = scene(textured).unwrap_err().to_string();
+    let want = "t.xml:6: bsdf[b].weight: a `blendbsdf` weighted by a `mesh_attribute` takes \
+                untextured bsdfs (the mesh's uvs become the attribute's)";
+    assert_eq!(e, want);
+}
+
+#[test]
 fn transforms_compose_in_order() {
     // scale 2, then rotate 90 degrees about +x, then translate: the rectangle [-1,1]^2 in
     // z = 0 (front +z) becomes [-2,2] x {1} x [-2,2] + (0, 0, -1) facing -y... rotate +z by

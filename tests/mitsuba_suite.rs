@@ -59,14 +59,12 @@ enum Known {
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
-    ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", Known::Off(0.0486)),
-    ("bsdf_spheres/test_normalmap_roughconductor_path.xml", Known::Off(0.1006)),
+    // Chance at seed 1, not bias: block 54's G and B 2% low in both plastics (same random
+    // numbers, same layout); at seeds 2 and 3 both pass every block (docs/conformance.md).
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
-    ("bsdf_spheres/test_textured_roughconductor_path.xml", Known::Off(0.0108)),
     ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
     ("instancing/test_instancing_path.xml", Known::Refused("<shape> in a shape")),
-    ("mesh_attributes/test_mesh_attributes_1_face_direct.xml", Known::Refused("`mesh_attribute`")),
     ("participating_media/test_hetero_sigmat_albedo_volpath.xml", Known::Off(0.0250)),
     ("participating_media/test_hetero_spectral_sigmat_no_scattering_volpath.xml", Known::Off(0.0300)),
     ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0872)),

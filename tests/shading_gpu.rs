@@ -2,7 +2,8 @@
 //! src/bsdfs/shading.rs, through the probe `probe_shading` (tests/probes/probe_shading.wgsl,
 //! `gpu::probe_shading`) on a scene built by the scene builder and uploaded as a render
 //! uploads it: a sphere of every material kind (the classic ones, crate::bsdf's, a textured
-//! Lambertian, plastic and glTF material, emitters one- and two-sided with a texture) and a
+//! Lambertian, plastic and glTF material, an anisotropic normal-mapped conductor, emitters
+//! one- and two-sided with a texture) and a
 //! floor cell of each on smooth triangles (shading normals off the face: the leak tests),
 //! under a lat-long environment. Each ray's nearest hit on the device is read back and
 //! shaded on both sides from the same bits: `bsdf_at` and every `surface_*` question (class, flags,
@@ -194,11 +195,14 @@ fn scene(r: &mut TestRng) -> Scene {
         .add_blend(textured_blend, ids[8], Param::constant(0.3), &at)
         .unwrap();
     ids.extend([half, nested]);
-    // A normal map that shadows grazing light (Mitsuba's use_shadowing_function).
+    // A normal map that shadows grazing light (Mitsuba's use_shadowing_function), on an
+    // anisotropic conductor: its frame's tangent (the hit's, made orthogonal to the
+    // perturbed normal) turns every answer.
+    let anisotropic = Some(Microfacet::new(Distribution::Ggx, 0.4, 0.15));
     let shadowed = Material {
         normal_texture: tex,
         normal_shadowing: true,
-        ..Material::from_bsdf(cond(ggx(0.3)))
+        ..Material::from_bsdf(cond(anisotropic))
     };
     ids.push(b.add_material(None, shadowed, &at).unwrap());
     // A floor of every material below the spheres, in cells of two smooth triangles whose

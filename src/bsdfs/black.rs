@@ -2,7 +2,7 @@
 //! at it (after its emission); photons are absorbed. Its WGSL twin holds the answers that differ
 //! from the defaults.
 
-use crate::bsdfs::interface::{Bounce, BsdfKind, SurfaceClass};
+use crate::bsdfs::interface::{Bounce, BsdfKind, Frame, SurfaceClass};
 use crate::bsdfs::param::GpuWords;
 use crate::bvh::hit::Hit;
 use crate::settings::FresnelMode;
@@ -31,16 +31,16 @@ impl BsdfKind for Black {
     fn has_lobe(&self) -> bool {
         false
     }
-    fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, _: Frame, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn surface_store_weight(&self, _: Vec3, _: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, _: Frame, _: Vec3) -> Option<f32> {
         None
     }
-    fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, _: Frame, _: Vec3, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn photon_bounce(&self, _: Vec3, _: Vec3, _: &Hit, _: FresnelMode, _: [f32; 3]) -> Bounce {
+    fn photon_bounce(&self, _: Frame, _: Vec3, _: &Hit, _: FresnelMode, _: [f32; 3]) -> Bounce {
         Bounce::Absorb
     }
 }

@@ -3,7 +3,7 @@
 //! albedo ([`crate::bsdfs::phong::classic_bounce`]). Twin: `diffuse.wgsl`.
 
 use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
-use crate::bsdfs::interface::{Bounce, BsdfKind, SurfaceClass};
+use crate::bsdfs::interface::{Bounce, BsdfKind, Frame, SurfaceClass};
 use crate::bsdfs::math::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bsdfs::phong::classic_bounce;
@@ -106,19 +106,19 @@ impl BsdfKind for Diffuse {
         });
         back_to_side(s, flipped)
     }
-    fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, _: Frame, _: Vec3) -> Vec3 {
         self.reflectance.get()
     }
-    fn surface_store_weight(&self, _: Vec3, _: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, _: Frame, _: Vec3) -> Option<f32> {
         None
     }
-    fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, _: Frame, _: Vec3, _: Vec3) -> Vec3 {
         self.reflectance.get() / PI
     }
-    fn surface_eval(&self, _: Vec3, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval(&self, _: Frame, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
         self.reflectance.get() / PI
     }
-    fn photon_bounce(&self, _: Vec3, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
+    fn photon_bounce(&self, _: Frame, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
         classic_bounce(self.reflectance.get(), Vec3::ZERO, 0.0, d, hit, u)
     }
 }

@@ -6,7 +6,7 @@
 //! Twin: `glass.wgsl`.
 
 use crate::bsdfs::fresnel::dielectric_shading;
-use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, SurfaceClass};
+use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, Frame, SurfaceClass};
 use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::microfacet::fresnel_dielectric;
@@ -127,7 +127,7 @@ impl BsdfKind for Glass {
     }
     fn delta_event(
         &self,
-        _: Vec3,
+        _: Frame,
         d: Vec3,
         hit: &Hit,
         _: &Facing,
@@ -141,18 +141,18 @@ impl BsdfKind for Glass {
             fresnel,
         ))
     }
-    fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, _: Frame, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn surface_store_weight(&self, _: Vec3, _: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, _: Frame, _: Vec3) -> Option<f32> {
         None
     }
-    fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, _: Frame, _: Vec3, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
     fn photon_bounce(
         &self,
-        _: Vec3,
+        _: Frame,
         d: Vec3,
         hit: &Hit,
         fresnel: FresnelMode,

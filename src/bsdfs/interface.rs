@@ -20,7 +20,7 @@ use crate::bvh::hit::Hit;
 use crate::error::Result;
 use crate::math::geometry::Facing;
 use crate::math::rng::Rng;
-use crate::math::sampling::{basis, cosine_hemisphere, to_world};
+use crate::math::sampling::{basis, cosine_hemisphere};
 use crate::scene::locate::Locate;
 use crate::settings::FresnelMode;
 use crate::textures::SceneTexture;
@@ -91,19 +91,65 @@ pub enum Bounce {
     Absorb,
 }
 
-/// `w` in the local frame of shading normal `n` (z the normal; the tangents of `basis`).
-#[inline]
-pub fn local(n: Vec3, w: Vec3) -> Vec3 {
-    let (t, b) = basis(n);
-    Vec3::new(w.dot(t), w.dot(b), w.dot(n))
+/// The local shading frame a BSDF is evaluated in (Mitsuba's `Frame3f`): unit tangent `s`,
+/// bitangent `t = n x s` and the shading normal `n`. An anisotropic BSDF's `alpha_u` runs along
+/// `s`, which is the surface's `dp/du` (Mitsuba's `sh_frame.s`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// The tangent (local x).
+    pub s: Vec3,
+    /// The bitangent (local y).
+    pub t: Vec3,
+    /// The unit shading normal (local z).
+    pub n: Vec3,
 }
 
-/// A local sample direction in world space (frame of normal `n`) with its weight, or `None`
+impl Frame {
+    /// The frame of unit normal `n` whose tangent is `tangent` made orthogonal to `n` and
+    /// normalised (Gram-Schmidt, as Mitsuba's `initialize_sh_frame` and the normal map's
+    /// perturbed frame build it); where that vanishes (a zero tangent, one along `n`) the
+    /// orthonormal basis `basis(n)` (Mitsuba's `coordinate_system`). Twin: `frame_tangent` in
+    /// `src/bsdfs/shading.wgsl`.
+    #[inline]
+    pub fn new(n: Vec3, tangent: Vec3) -> Frame {
+        match crate::math::geometry::orthogonal_tangent(n, tangent) {
+            Some(s) => Frame {
+                s,
+                t: n.cross(s),
+                n,
+            },
+            None => {
+                let (s, t) = basis(n);
+                Frame { s, t, n }
+            }
+        }
+    }
+
+    /// `w` in this frame.
+    #[inline]
+    pub fn local(&self, w: Vec3) -> Vec3 {
+        Vec3::new(w.dot(self.s), w.dot(self.t), w.dot(self.n))
+    }
+
+    /// Local direction `l` in world space.
+    #[inline]
+    pub fn world(&self, l: Vec3) -> Vec3 {
+        self.s * l.x + self.t * l.y + self.n * l.z
+    }
+}
+
+/// `w` in the local shading frame `n` (z the normal).
+#[inline]
+pub fn local(n: Frame, w: Vec3) -> Vec3 {
+    n.local(w)
+}
+
+/// A local sample direction in world space (frame `n`) with its weight, or `None`
 /// when it leaks through the geometric surface (a reflection below it, a transmission above
 /// it) or carries nothing.
 #[inline]
-pub fn world_direction(n: Vec3, wi: Vec3, weight: Vec3, f: &Facing) -> Option<(Vec3, Vec3)> {
-    let dir = to_world(wi, n).normalize();
+pub fn world_direction(n: Frame, wi: Vec3, weight: Vec3, f: &Facing) -> Option<(Vec3, Vec3)> {
+    let dir = n.world(wi).normalize();
     let reflects = dir.dot(f.ns) > 0.0;
     let leaks = if reflects {
         f.reflection_leaks(dir) || dir.dot(f.ng) <= 0.0
@@ -244,7 +290,7 @@ pub trait BsdfKind: Copy {
     /// direction, weighted by the lobe's own delta sample.
     fn delta_event(
         &self,
-        n: Vec3,
+        n: Frame,
         d: Vec3,
         _hit: &Hit,
         f: &Facing,
@@ -261,18 +307,18 @@ pub trait BsdfKind: Copy {
 
     /// The diffuse part's albedo towards the viewer at `wo` (world space): photon estimates
     /// weigh incident light by it over pi.
-    fn surface_diffuse_albedo(&self, n: Vec3, wo: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, n: Frame, wo: Vec3) -> Vec3 {
         self.diffuse_out(local(n, wo))
     }
 
     /// The diffuse part's factor for light arriving from `wi` (world space); `None` when it is
     /// exactly 1.
-    fn surface_store_weight(&self, n: Vec3, wi: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, n: Frame, wi: Vec3) -> Option<f32> {
         Some(self.store_weight(local(n, wi)))
     }
 
     /// The diffuse part's BSDF value `f_D(wi, wo)` (world space).
-    fn surface_eval_diffuse(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, n: Frame, wi: Vec3, wo: Vec3) -> Vec3 {
         let (wi, wo) = (local(n, wi), local(n, wo));
         if wi.z * wo.z <= 0.0 {
             return Vec3::ZERO;
@@ -281,17 +327,17 @@ pub trait BsdfKind: Copy {
     }
 
     /// The lobe part's value (world space; `ns` the caller's shading normal).
-    fn surface_eval_lobe(&self, n: Vec3, wi: Vec3, wo: Vec3, _ns: Vec3) -> Vec3 {
+    fn surface_eval_lobe(&self, n: Frame, wi: Vec3, wo: Vec3, _ns: Vec3) -> Vec3 {
         self.eval_lobe(local(n, wi), local(n, wo), Transport::Radiance)
     }
 
     /// The whole non-delta BSDF `f(wi, wo)` (world space).
-    fn surface_eval(&self, n: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
+    fn surface_eval(&self, n: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
         self.surface_eval_diffuse(n, wi, wo) + self.surface_eval_lobe(n, wi, wo, ns)
     }
 
     /// The density with which [`surface_sample_lobe`](Self::surface_sample_lobe) draws `wi`.
-    fn surface_pdf_lobe(&self, n: Vec3, wi: Vec3, wo: Vec3, _ns: Vec3) -> f32 {
+    fn surface_pdf_lobe(&self, n: Frame, wi: Vec3, wo: Vec3, _ns: Vec3) -> f32 {
         self.pdf_lobe(local(n, wi), local(n, wo))
     }
 
@@ -302,7 +348,7 @@ pub trait BsdfKind: Copy {
 
     /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), normals
     /// `f` facing `-d`; by default three numbers from `rng` through the local frame.
-    fn surface_sample_lobe(&self, n: Vec3, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
+    fn surface_sample_lobe(&self, n: Frame, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let u = [rng.next(), rng.next(), rng.next()];
         let s = self.sample_lobe(local(n, -d), u, Transport::Radiance)?;
         let (dir, weight) = world_direction(n, s.wi, s.weight, f)?;
@@ -319,7 +365,7 @@ pub trait BsdfKind: Copy {
     /// lobe or a cosine-weighted base direction (`u[1], u[2]`).
     fn photon_bounce(
         &self,
-        n: Vec3,
+        n: Frame,
         d: Vec3,
         hit: &Hit,
         _fresnel: FresnelMode,

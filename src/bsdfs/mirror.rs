@@ -3,7 +3,7 @@
 
 use crate::bsdfs::fresnel::reflect;
 use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
-use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, SurfaceClass};
+use crate::bsdfs::interface::{Bounce, BsdfKind, DeltaEvent, Frame, SurfaceClass};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bvh::hit::Hit;
@@ -70,22 +70,22 @@ impl BsdfKind for Mirror {
         };
         back_to_side(Some(s), flipped)
     }
-    fn delta_event(&self, _: Vec3, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
+    fn delta_event(&self, _: Frame, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
         DeltaEvent::Reflect {
             dir: reflect(d, f.ns),
             weight: self.reflectance.get(),
         }
     }
-    fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, _: Frame, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn surface_store_weight(&self, _: Vec3, _: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, _: Frame, _: Vec3) -> Option<f32> {
         None
     }
-    fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, _: Frame, _: Vec3, _: Vec3) -> Vec3 {
         Vec3::ZERO
     }
-    fn photon_bounce(&self, _: Vec3, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
+    fn photon_bounce(&self, _: Frame, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
         let f = Facing::new(hit.normal, hit.shading, d.dot(hit.normal) < 0.0);
         let ks = self.reflectance.get();
         let p = ks.max_element();

@@ -62,7 +62,7 @@ pub use param::{Channel, Param};
 pub use plastic::{Plastic, TRANSMITTANCE_RES};
 pub use principled::Principled;
 
-use crate::bsdfs::interface::{Bounce, DeltaEvent, LobeRay};
+use crate::bsdfs::interface::{Bounce, DeltaEvent, Frame, LobeRay};
 use crate::bsdfs::param::GpuWords;
 use crate::bvh::hit::Hit;
 use crate::math::geometry::Facing;
@@ -177,32 +177,32 @@ macro_rules! bsdf_kinds {
                 match self { $(Bsdf::$variant(k) => k.lobe_takes_point_lights()),+ }
             }
             fn splits(&self) -> bool { match self { $(Bsdf::$variant(k) => k.splits()),+ } }
-            fn delta_event(&self, n: Vec3, d: Vec3, hit: &Hit, f: &Facing, fr: FresnelMode) -> DeltaEvent {
+            fn delta_event(&self, n: Frame, d: Vec3, hit: &Hit, f: &Facing, fr: FresnelMode) -> DeltaEvent {
                 match self { $(Bsdf::$variant(k) => k.delta_event(n, d, hit, f, fr)),+ }
             }
-            fn surface_diffuse_albedo(&self, n: Vec3, wo: Vec3) -> Vec3 {
+            fn surface_diffuse_albedo(&self, n: Frame, wo: Vec3) -> Vec3 {
                 match self { $(Bsdf::$variant(k) => k.surface_diffuse_albedo(n, wo)),+ }
             }
-            fn surface_store_weight(&self, n: Vec3, wi: Vec3) -> Option<f32> {
+            fn surface_store_weight(&self, n: Frame, wi: Vec3) -> Option<f32> {
                 match self { $(Bsdf::$variant(k) => k.surface_store_weight(n, wi)),+ }
             }
-            fn surface_eval_diffuse(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+            fn surface_eval_diffuse(&self, n: Frame, wi: Vec3, wo: Vec3) -> Vec3 {
                 match self { $(Bsdf::$variant(k) => k.surface_eval_diffuse(n, wi, wo)),+ }
             }
-            fn surface_eval_lobe(&self, n: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
+            fn surface_eval_lobe(&self, n: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
                 match self { $(Bsdf::$variant(k) => k.surface_eval_lobe(n, wi, wo, ns)),+ }
             }
-            fn surface_eval(&self, n: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
+            fn surface_eval(&self, n: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
                 match self { $(Bsdf::$variant(k) => k.surface_eval(n, wi, wo, ns)),+ }
             }
-            fn surface_pdf_lobe(&self, n: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
+            fn surface_pdf_lobe(&self, n: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
                 match self { $(Bsdf::$variant(k) => k.surface_pdf_lobe(n, wi, wo, ns)),+ }
             }
             fn lobe_is_glossy(&self) -> bool { match self { $(Bsdf::$variant(k) => k.lobe_is_glossy()),+ } }
-            fn surface_sample_lobe(&self, n: Vec3, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
+            fn surface_sample_lobe(&self, n: Frame, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
                 match self { $(Bsdf::$variant(k) => k.surface_sample_lobe(n, d, f, rng)),+ }
             }
-            fn photon_bounce(&self, n: Vec3, d: Vec3, hit: &Hit, fr: FresnelMode, u: [f32; 3]) -> Bounce {
+            fn photon_bounce(&self, n: Frame, d: Vec3, hit: &Hit, fr: FresnelMode, u: [f32; 3]) -> Bounce {
                 match self { $(Bsdf::$variant(k) => k.photon_bounce(n, d, hit, fr, u)),+ }
             }
         }

@@ -5,7 +5,7 @@
 
 use crate::bsdfs::fresnel::reflect;
 use crate::bsdfs::interface::{back_to_side, to_front, LobeSample, Transport};
-use crate::bsdfs::interface::{Bounce, BsdfKind, LobeRay, SurfaceClass};
+use crate::bsdfs::interface::{Bounce, BsdfKind, Frame, LobeRay, SurfaceClass};
 use crate::bsdfs::math::{cosine_hemisphere_pdf, reflect_z, square_to_cosine_hemisphere};
 use crate::bsdfs::param::{GpuWords, Param};
 use crate::bvh::hit::Hit;
@@ -256,22 +256,22 @@ impl BsdfKind for Phong {
     fn lobe_takes_point_lights(&self) -> bool {
         true
     }
-    fn surface_diffuse_albedo(&self, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_diffuse_albedo(&self, _: Frame, _: Vec3) -> Vec3 {
         self.kd.get()
     }
-    fn surface_store_weight(&self, _: Vec3, _: Vec3) -> Option<f32> {
+    fn surface_store_weight(&self, _: Frame, _: Vec3) -> Option<f32> {
         None
     }
-    fn surface_eval_diffuse(&self, _: Vec3, _: Vec3, _: Vec3) -> Vec3 {
+    fn surface_eval_diffuse(&self, _: Frame, _: Vec3, _: Vec3) -> Vec3 {
         self.kd.get() / PI
     }
-    fn surface_eval_lobe(&self, _: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
+    fn surface_eval_lobe(&self, _: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {
         self.ks.get() * phong_lobe_value(wi, wo, ns, self.exponent)
     }
-    fn surface_pdf_lobe(&self, _: Vec3, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
+    fn surface_pdf_lobe(&self, _: Frame, wi: Vec3, wo: Vec3, ns: Vec3) -> f32 {
         phong_pdf(wi, wo, ns, self.exponent)
     }
-    fn surface_sample_lobe(&self, _: Vec3, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
+    fn surface_sample_lobe(&self, _: Frame, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let (u1, u2) = rng.next2();
         let dir = phong_lobe(reflect(d, f.ns), self.exponent, u1, u2);
         let cos = dir.dot(f.ns);
@@ -281,7 +281,7 @@ impl BsdfKind for Phong {
             pdf: phong_pdf(dir, -d, f.ns, self.exponent),
         })
     }
-    fn photon_bounce(&self, _: Vec3, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
+    fn photon_bounce(&self, _: Frame, d: Vec3, hit: &Hit, _: FresnelMode, u: [f32; 3]) -> Bounce {
         classic_bounce(self.kd.get(), self.ks.get(), self.exponent, d, hit, u)
     }
 }

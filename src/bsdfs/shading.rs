@@ -12,6 +12,7 @@
 pub use crate::bsdfs::interface::{Bounce, DeltaEvent, Dielectric, LobeRay, SurfaceClass};
 
 use crate::bsdfs::blend::choose;
+use crate::bsdfs::interface::Frame;
 use crate::bsdfs::material::terminator;
 use crate::bsdfs::{Bsdf, BsdfKind};
 use crate::bvh::hit::Hit;
@@ -46,8 +47,8 @@ pub struct SurfaceBsdf<'a> {
     m: &'a Material,
     /// The material's BSDF with its textured parameters looked up.
     b: Bsdf,
-    /// The unflipped shading normal: the local frame's z.
-    n: Vec3,
+    /// The local frame: the unflipped shading normal (z) and the hit's tangent (x).
+    n: Frame,
     /// The emitted radiance, with its texture looked up.
     emission: Vec3,
     /// A one-sided material seen from the back: `b` is black.
@@ -93,7 +94,7 @@ pub fn bsdf_at<'a>(scene: &'a Scene, hit: &Hit, d: Vec3) -> SurfaceBsdf<'a> {
     SurfaceBsdf {
         m,
         b,
-        n: hit.shading,
+        n: Frame::new(hit.shading, hit.tangent),
         emission,
         back,
         shadowing: (m.normal_shadowing && m.normal_texture != crate::textures::NO_TEXTURE)
@@ -120,8 +121,10 @@ pub fn photon_bounce_at(
         material: 0,
         light: crate::scene::NO_LIGHT,
         uv: glam::Vec2::ZERO,
+        tangent: Vec3::ZERO,
     };
-    m.bsdf.photon_bounce(ns, d, &hit, fresnel, u)
+    m.bsdf
+        .photon_bounce(Frame::new(ns, Vec3::ZERO), d, &hit, fresnel, u)
 }
 
 /// Radiance arriving along a ray that leaves the scene in direction `dir`: the environment's

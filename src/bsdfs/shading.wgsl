@@ -10,6 +10,8 @@ struct Surface {
     m: Material,
     b: Bsdf,
     n: vec3<f32>,
+    // The local frame's tangent (x; y is cross(n, t)): the hit's, made orthogonal to n.
+    t: vec3<f32>,
     emission: vec3<f32>,
     // The normal map's shadowing (Material::normal_shadowing): the cosine of the perturbed to
     // the unperturbed (geometric) normal, 0 without it, and that normal.
@@ -26,6 +28,7 @@ fn bsdf_at(hit: Hit, d: vec3<f32>) -> Surface {
         s.shadow_cos = abs(dot(hit.shading, hit.normal));
     }
     s.n = hit.shading;
+    s.t = frame_tangent(hit.shading, hit.tangent);
     s.emission = s.m.emission;
     if HAS_TEXTURES && hit.light != NO_LIGHT {
         // An emitter's texture is its light's (one material per light).
@@ -56,8 +59,21 @@ fn bsdf_at(hit: Hit, d: vec3<f32>) -> Surface {
     return s;
 }
 
+// The local frame's tangent at unit normal n for a hit's tangent: it made orthogonal to n, else
+// the basis of n (twin of Frame::new in src/bsdfs/interface.rs).
+fn frame_tangent(n: vec3<f32>, tangent: vec3<f32>) -> vec3<f32> {
+    let t = orthogonal_tangent(n, tangent);
+    return select(t, basis_t(n), all(t == vec3<f32>(0.0)));
+}
+
+// w in the surface's local frame (Frame::local).
 fn surface_local(s: Surface, w: vec3<f32>) -> vec3<f32> {
-    return vec3<f32>(dot(w, basis_t(s.n)), dot(w, basis_b(s.n)), dot(w, s.n));
+    return vec3<f32>(dot(w, s.t), dot(w, cross(s.n, s.t)), dot(w, s.n));
+}
+
+// Local direction l in world space (Frame::world).
+fn surface_world(s: Surface, l: vec3<f32>) -> vec3<f32> {
+    return s.t * l.x + cross(s.n, s.t) * l.y + s.n * l.z;
 }
 
 // CLASS_BLACK, CLASS_DELTA, CLASS_SHADED or CLASS_NULL (shading::SurfaceClass).
@@ -141,7 +157,7 @@ struct Bounce {
 // A local sample direction in world space; not ok when it leaks through the geometric
 // surface (a reflection below it, a transmission above it) or carries nothing.
 fn surface_world_ray(s: Surface, ls: LobeSampleW, f: Facing) -> LobeRay {
-    let dir = normalize(to_world(ls.wi, s.n));
+    let dir = normalize(surface_world(s, ls.wi));
     let reflects = dot(dir, f.ns) > 0.0;
     var leaks = false;
     if reflects {

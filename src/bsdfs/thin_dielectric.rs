@@ -3,7 +3,7 @@
 //! side alike. Camera paths split at it as at glass. Twin: `thin_dielectric.wgsl`.
 
 use crate::bsdfs::fresnel::reflect as reflect_world;
-use crate::bsdfs::interface::{BsdfKind, DeltaEvent, Dielectric, SurfaceClass};
+use crate::bsdfs::interface::{BsdfKind, DeltaEvent, Dielectric, Frame, SurfaceClass};
 use crate::bsdfs::interface::{LobeSample, Transport};
 use crate::bsdfs::math::reflect_z;
 use crate::bsdfs::microfacet::fresnel_dielectric;
@@ -74,7 +74,7 @@ impl BsdfKind for ThinDielectric {
     fn splits(&self) -> bool {
         true
     }
-    fn delta_event(&self, _: Vec3, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
+    fn delta_event(&self, _: Frame, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
         let r = fresnel_dielectric(d.dot(f.ns).abs(), self.eta).0;
         DeltaEvent::Split(Dielectric {
             reflected: reflect_world(d, f.ns),

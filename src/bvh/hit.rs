@@ -24,6 +24,11 @@ pub struct Hit {
     /// Texture coordinates: a triangle's interpolated corner uvs (`Scene::uvs`), a sphere's
     /// Mitsuba parameterisation; zero when the scene has no textures.
     pub uv: Vec2,
+    /// Unit tangent of the shading frame before any normal map (Mitsuba's `sh_frame.s`): the
+    /// surface's `dp/du` made orthogonal to the unperturbed shading normal (a triangle's uv
+    /// tangent, or its first edge without uvs; a sphere's azimuth direction); zero where it
+    /// vanishes. The BSDF's frame is `crate::bsdfs::interface::Frame::new(shading, tangent)`.
+    pub tangent: Vec3,
 }
 
 impl Hit {

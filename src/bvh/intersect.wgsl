@@ -15,6 +15,9 @@ struct Hit {
     // Texture coordinates (zero without textures).
     uv: vec2<f32>,
     found: bool,
+    // Unit tangent of the shading frame before any normal map (Mitsuba's sh_frame.s; zero
+    // where it vanishes): the BSDF frame's x (shading.wgsl's frame_tangent).
+    tangent: vec3<f32>,
 }
 
 fn max_abs(p: vec3<f32>) -> f32 {
@@ -77,7 +80,7 @@ fn vertex_tangent(r: u32, bc: vec2<f32>) -> vec4<f32> {
 }
 
 // Triangle id's uv tangent at barycentrics bc: its vertex tangents' where it has them, else
-// its corner uvs' (twin of Bvh::intersect's choice). A mesh without uvs reads the
+// its corner uvs', unflipped (twin of uv_tangent in src/bvh/surface.rs). A mesh without uvs reads the
 // placeholder's zeros: degenerate, so normal_mapped takes the basis.
 fn uv_tangent(id: u32, e1: vec3<f32>, e2: vec3<f32>, bc: vec2<f32>) -> vec4<f32> {
     let r = uv_record(id);
@@ -88,7 +91,27 @@ fn uv_tangent(id: u32, e1: vec3<f32>, e2: vec3<f32>, bc: vec2<f32>) -> vec4<f32>
         }
     }
     let a = uvs[r];
-    return triangle_tangent(e1, e2, a.xy, a.zw, uvs[r + 1u].xy);
+    // Never flipped from corner uvs (Mitsuba 3.9.1's t = n x s): w 1 becomes 0.
+    let t = triangle_tangent(e1, e2, a.xy, a.zw, uvs[r + 1u].xy);
+    return vec4<f32>(t.xyz, min(t.w, 0.0));
+}
+
+// t made orthogonal to unit n and normalised; zero where that vanishes or is not finite (twin
+// of orthogonal_tangent in src/math/geometry.rs).
+fn orthogonal_tangent(n: vec3<f32>, t: vec3<f32>) -> vec3<f32> {
+    let s = t - n * dot(n, t);
+    let l2 = dot(s, s);
+    if l2 > 0.0 && l2 <= 3.4028235e38 {
+        return s / sqrt(l2);
+    }
+    return vec3<f32>(0.0);
+}
+
+// The unit tangent of a hit's shading frame at shading normal ns: the uv tangent dp_du, or
+// fallback where that is zero, made orthogonal to ns (twin of shading_tangent in
+// src/math/geometry.rs).
+fn shading_tangent(ns: vec3<f32>, dp_du: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    return orthogonal_tangent(ns, select(dp_du, fallback, all(dp_du == vec3<f32>(0.0))));
 }
 
 // Mitsuba's normalmap: the shading normal that linear texel c gives at a hit with front normal
@@ -298,7 +321,7 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
 }
 
 fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
-    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false);
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false, vec3<f32>(0.0));
     var best_id = 0u;
     var best_uv = vec2<f32>(0.0);
     let inv = 1.0 / d;
@@ -394,12 +417,19 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             }
             best.material = tri.material;
             best.light = tri.light;
+            // The uv tangent (zero without uvs or for a degenerate mapping), then the frame's
+            // tangent: without it, the first edge in a scene without uvs, else the
+            // geometric normal's basis (Bvh's hit_at).
+            var tg = vec4<f32>(0.0);
+            if HAS_UVS {
+                tg = uv_tangent(best_id, e1, e2, best_uv);
+            }
+            best.tangent = shading_tangent(best.shading, tg.xyz, select(basis_t(best.normal), e1, !HAS_UVS));
             if HAS_TEXTURES {
                 best.uv = triangle_uv(best_id, best_uv);
                 if HAS_NORMAL_MAPS {
                     let nt = materials[MATERIAL_WORDS * tri.material + MATERIAL_NORMAL_WORD].w;
                     if nt != NO_TEXTURE {
-                        let tg = uv_tangent(best_id, e1, e2, best_uv);
                         best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
                             tg.w > 0.5, texture_eval(nt, best.uv), d);
                     }
@@ -413,6 +443,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             best.shading = n;
             best.material = s.material;
             best.light = s.light;
+            best.tangent = orthogonal_tangent(n, vec3<f32>(-n.y, n.x, 0.0));
             if HAS_TEXTURES {
                 best.uv = sphere_uv(n);
                 if HAS_NORMAL_MAPS {

@@ -3,13 +3,14 @@
 //! itself makes or needs: whether an alpha-tested surface lets the ray pass, and a
 //! triangle's uv tangent for its normal map.
 //!
-//! Twins: `facing`, `alpha_passes`, `uv_tangent` and `trace_ray`'s hit in
+//! Twins: `facing`, `alpha_passes`, `uv_tangent` and `trace_ray`'s hit (its tangent included) in
 //! `src/bvh/intersect.wgsl`.
 
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
-    inset, normal_mapped, shading_normal, sphere_tangent, triangle_tangent, vertex_tangent, Ray,
+    inset, normal_mapped, shading_normal, shading_tangent, sphere_tangent, triangle_tangent,
+    vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
@@ -39,6 +40,7 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
             material: tri.material,
             light: tri.light,
             uv,
+            tangent: Vec3::ZERO,
         }
     } else {
         let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
@@ -57,17 +59,26 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
             material: s.material,
             light: s.light,
             uv,
+            tangent: Vec3::ZERO,
         }
     };
+    // The uv tangent: a triangle's vertex tangents where it has them, else its corner
+    // uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
+    let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
+        uv_tangent(scene, id, u, v).unwrap_or((Vec3::ZERO, false))
+    } else {
+        (sphere_tangent(hit.normal), false)
+    };
+    // Without a uv tangent, Mitsuba's: a triangle's first edge in a scene without uvs, the
+    // geometric normal's basis for a degenerate mapping; none on a sphere's poles.
+    let fallback = match id & SPHERE_BIT {
+        0 if scene.uvs.is_empty() => scene.triangles[id as usize].e1(),
+        0 => crate::math::sampling::basis(hit.normal).0,
+        _ => Vec3::ZERO,
+    };
+    hit.tangent = shading_tangent(hit.shading, dp_du, fallback);
     let normal_texture = scene.materials[hit.material as usize].normal_texture;
     if normal_texture != NO_TEXTURE {
-        // The uv tangent: a triangle's vertex tangents where it has them, else its
-        // corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
-        let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
-            uv_tangent(scene, id, u, v).unwrap_or((Vec3::ZERO, false))
-        } else {
-            (sphere_tangent(hit.normal), false)
-        };
         let c = scene.textures[normal_texture as usize].eval(hit.uv);
         hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, ray.dir);
     }
@@ -76,8 +87,8 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
 
 /// The uv tangent of triangle `id` of `scene` at barycentrics `(1 - u - v, u, v)` and
 /// whether its frame is flipped, as a normal map reads it: the triangle's vertex tangents'
-/// ([`vertex_tangent`]) where it has them and they do not vanish there, else its corner
-/// uvs' ([`triangle_tangent`]); `None` without uvs or for a degenerate mapping (the normal
+/// ([`vertex_tangent`], flipped by their `w`) where it has them and they do not vanish there,
+/// else its corner uvs' ([`triangle_tangent`], never flipped, as in Mitsuba 3.9.1); `None` without uvs or for a degenerate mapping (the normal
 /// map then takes the shading normal's basis). Twin: `uv_tangent` in
 /// `src/bvh/intersect.wgsl`.
 pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)> {
@@ -85,8 +96,11 @@ pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)
     (scene.tangents.get(id as usize))
         .and_then(|t| vertex_tangent(t, u, v))
         .or_else(|| {
+            // Mitsuba 3.9.1's frame from corner uvs is never flipped (`initialize_sh_frame`:
+            // t = n x s), which the suite's normal-mapped references follow.
             let uvs = scene.uvs.get(id as usize);
-            uvs.and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c))
+            let t = uvs.and_then(|c| triangle_tangent(tri.e1(), tri.e2(), c));
+            t.map(|(t, _)| (t, false))
         })
 }
 

@@ -99,6 +99,25 @@ pub fn vertex_tangent(
     (dir != Vec3::ZERO && dir.is_finite()).then_some((dir, m.w < 0.0))
 }
 
+/// `tangent` made orthogonal to unit `n` and normalised (Gram-Schmidt), or `None` where that
+/// vanishes or is not finite. Twin: `orthogonal_tangent` in `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn orthogonal_tangent(n: Vec3, tangent: Vec3) -> Option<Vec3> {
+    let s = tangent - n * n.dot(tangent);
+    let l2 = s.length_squared();
+    (l2 > 0.0 && l2.is_finite()).then(|| s / l2.sqrt())
+}
+
+/// The unit tangent of a hit's shading frame (Mitsuba 3.9.1's `sh_frame.s`, from
+/// `initialize_sh_frame`) at unit shading normal `ns`: the surface's uv tangent `dp_du`, or
+/// `fallback` where that is zero, made orthogonal to `ns` and normalised; zero where that
+/// vanishes. Twin: `shading_tangent` in `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn shading_tangent(ns: Vec3, dp_du: Vec3, fallback: Vec3) -> Vec3 {
+    let t = if dp_du == Vec3::ZERO { fallback } else { dp_du };
+    orthogonal_tangent(ns, t).unwrap_or(Vec3::ZERO)
+}
+
 /// The tangent of Mitsuba's sphere parameterisation at outward unit normal `n` (`dp_du` up
 /// to its positive scale, `(-y, x, 0)`: towards increasing azimuth); zero at the poles.
 #[inline]

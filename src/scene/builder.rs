@@ -223,12 +223,17 @@ impl SceneBuilder {
         self.add_material(None, material, at)
     }
 
-    /// A blend's components exist, its weight is finite (its texture too) and the nest is at
-    /// most `MAX_BLEND_DEPTH` deep.
+    /// A blend is [`Blend::new`]'s of its components (which exist; its derived fields are
+    /// theirs), its weight is finite (its texture too) and the nest is at most
+    /// `MAX_BLEND_DEPTH` deep.
     fn check_blend(&self, b: &Blend, at: &dyn Locate) -> Result<()> {
-        let n = self.materials.len() as u32;
-        if b.first >= n || b.second >= n {
+        // Components are added before their blends, so a nest has no cycle.
+        let Some(made) = Blend::new(b.first, b.second, b.weight, &self.materials) else {
             return Err(at.error(Part::Material, "a blend of unknown materials".into()));
+        };
+        if made != *b {
+            let message = "a blend's derived fields must be its components' (Blend::new)";
+            return Err(at.error(Part::Material, message.into()));
         }
         let w = b.weight;
         let texture_ok = w.texture == NO_TEXTURE || (w.texture as usize) < self.textures.len();
@@ -236,9 +241,7 @@ impl SceneBuilder {
             let message = "a blend's weight must be finite (its texture one of the scene's)";
             return Err(at.error(Part::Parameter("weight"), message.into()));
         }
-        // Components are added before their blends, so a nest has no cycle.
-        let depth = Blend::new(b.first, b.second, w, &self.materials).map_or(0, |b| b.depth);
-        if depth > MAX_BLEND_DEPTH {
+        if b.depth > MAX_BLEND_DEPTH {
             let message = format!("blends nested deeper than {MAX_BLEND_DEPTH}");
             return Err(at.error(Part::Material, message));
         }

@@ -54,13 +54,15 @@ pub struct HitProbe {
     pub offset: [f32; 3],
     /// `pack_normal(dir)`.
     pub packed: u32,
+    /// The nearest hit's shading-frame tangent (`Hit::tangent`).
+    pub tangent: [f32; 3],
 }
 
 impl SceneProbes {
     /// The device's surface functions at each case (`probe_hit`).
     pub fn hits(&mut self, cases: &[HitCase]) -> Result<Vec<HitProbe>> {
         let n = cases.len().max(1);
-        let mut init = vec![[0f32; 4]; 12 * n];
+        let mut init = vec![[0f32; 4]; 13 * n];
         for (i, c) in cases.iter().enumerate() {
             let (o, d, ng) = (c.origin, c.dir, c.ng);
             init[i] = [o[0], o[1], o[2], c.t];
@@ -86,6 +88,7 @@ impl SceneProbes {
                     facing: (xyz(at(9, i)), xyz(at(10, i)), h[3] == 1.0),
                     offset: xyz(at(11, i)),
                     packed: at(11, i)[3].to_bits(),
+                    tangent: xyz(at(12, i)),
                 }
             })
             .collect())

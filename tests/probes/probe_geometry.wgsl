@@ -80,6 +80,7 @@ fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     s.b.w1 = bitcast<vec4<u32>>(accum[slot(15u, i)]);
     s.b.w2 = bitcast<vec4<u32>>(accum[slot(18u, i)]);
     s.n = ns;
+    s.t = basis_t(ns);
     var h: Hit;
     h.normal = ng;
     h.shading = ns;
@@ -100,7 +101,8 @@ const NOT_RUN: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, -2.0);
 // (NOT_RUN without uvs, or tangents for vertex_tangent); (alpha_passes(id, t, bc, o, d),
 // found, material, interpolated) of trace_ray(o, d, t_max)'s nearest hit to accum[8 w + i],
 // the facing(hit, d . normal < 0) frame's ng and ns to accum[9 w + i], accum[10 w + i], and
-// (offset_origin(o, ng, d), pack_normal(d) as bits) to accum[11 w + i].
+// (offset_origin(o, ng, d), pack_normal(d) as bits) to accum[11 w + i], and the nearest hit's
+// (tangent, 0) to accum[12 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -141,4 +143,5 @@ fn probe_hit(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(9u, i)] = vec4<f32>(f.ng, 0.0);
     accum[slot(10u, i)] = vec4<f32>(f.ns, 0.0);
     accum[slot(11u, i)] = vec4<f32>(offset_origin(o, c.xyz, d), bitcast<f32>(pack_normal(d)));
+    accum[slot(12u, i)] = vec4<f32>(h.tangent, 0.0);
 }

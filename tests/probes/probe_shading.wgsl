@@ -24,7 +24,8 @@ fn shading_flags(s: Surface) -> u32 {
 // surface_sample_lobe(d, f, Rng(key, 0)) as (dir, ok), (weight, pdf) to accum[15, 16 w + i];
 // for a delta class, surface_delta(h, s, d, Rng(key, 0)) as (dir, not leaking), (throughput
 // from 1, 0), (origin, 0) to accum[17..19 w + i] (w = -2 for another class); and
-// surface_photon_bounce(s, d, h, u) as (dir, kind), (weight, 0) to accum[20, 21 w + i].
+// surface_photon_bounce(s, d, h, u) as (dir, kind), (weight, 0) to accum[20, 21 w + i]; the
+// hit's tangent as (tangent, 0) to accum[23 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_shading(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -47,6 +48,7 @@ fn probe_shading(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(5u, i)] = vec4<f32>(h.position, f32(h.material));
     accum[slot(6u, i)] = vec4<f32>(h.normal, bitcast<f32>(h.light));
     accum[slot(7u, i)] = vec4<f32>(h.shading, h.t);
+    accum[slot(23u, i)] = vec4<f32>(h.tangent, 0.0);
     accum[slot(8u, i)] = vec4<f32>(h.uv, f32(surface_class(s)), f32(shading_flags(s)));
     accum[slot(9u, i)] = vec4<f32>(surface_emitted(s, true), surface_store_weight(s, wi.xyz));
     let pdf = surface_pdf_lobe(s, wi.xyz, wo.xyz, f.ns);

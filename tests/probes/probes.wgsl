@@ -107,7 +107,7 @@ fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
     let lo = accum[slot(9u, i)];
     let n = accum[slot(5u, i)].xyz;
     let material = bitcast<u32>(lo.w);
-    let hit = Hit(1.0, vec3<f32>(0.0), n, n, material, NO_LIGHT, vec2<f32>(0.0), true);
+    let hit = Hit(1.0, vec3<f32>(0.0), n, n, material, NO_LIGHT, vec2<f32>(0.0), true, vec3<f32>(0.0));
     let e = Emission(vec3<f32>(0.0), b.xyz, n, vec3<f32>(1.0));
     let keep = select(0.0, 1.0, keep_photon(k.x, k.y));
     let cache_point = select(0.0, 1.0, is_cache_point(k.x, k.z));

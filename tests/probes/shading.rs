@@ -89,7 +89,7 @@ pub struct ShadingProbe {
 }
 
 /// vec4 slots per case of `probe_shading`.
-const SLOTS: usize = 23;
+const SLOTS: usize = 24;
 
 impl SceneProbes {
     /// The device's shading functions (src/bsdfs/shading.wgsl) at each case's nearest
@@ -121,6 +121,7 @@ impl SceneProbes {
                         material: p[3] as u32,
                         light: n6[3].to_bits(),
                         uv: Vec2::new(m8[0], m8[1]),
+                        tangent: v(at(23, i)),
                     };
                     let (l, w, dl) = (at(15, i), at(16, i), at(17, i));
                     ShadedSurface {

@@ -445,6 +445,9 @@ impl Importer<'_> {
                 };
                 tangents::primitive_tangents(primitive, &self.buffers, &v, world).map_err(&fail)?
             }
+            (None, Some(_)) if primitive.material().normal_texture().is_some() => {
+                tangents::face_tangents(&tris, &corner_uvs)
+            }
             _ => vec![],
         };
         let material = self.material(&primitive.material())?;

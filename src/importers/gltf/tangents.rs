@@ -1,9 +1,9 @@
 //! The vertex tangents of a normal-mapped glTF primitive, as the specification asks: its
 //! `TANGENT` attribute (xyz the tangent, w the sign of its bitangent `w (n x t)`, which
 //! points to the top of the normal map's image), MikkTSpace's tangents where it has none,
-//! and none at all without `NORMAL` (then the supplied tangents MUST be ignored, and each
-//! triangle's own uv frame serves). Returned per world-space corner, in
-//! [`crate::scene::VertexTangents`]' convention.
+//! and without `NORMAL` each triangle's own uv frame (the supplied tangents MUST then be
+//! ignored), its bitangent negated where the mapping mirrors, as MikkTSpace's. Returned per
+//! world-space corner, in [`crate::scene::VertexTangents`]' convention.
 
 use crate::importers::gltf::data;
 use crate::scene::tangents::mikktspace;
@@ -75,4 +75,20 @@ pub(crate) fn primitive_tangents(
             }
         })
         .collect())
+}
+
+/// The tangents of triangles without `NORMAL` (world-space corners `tris`, uvs `uvs`): each
+/// triangle's own uv tangent at its three corners, `w` -1 where its mapping mirrors
+/// (`geometry::triangle_tangent`; zero for a degenerate one). The scene's frame from corner
+/// uvs is Mitsuba's, never flipped; glTF's flips as MikkTSpace does.
+pub(crate) fn face_tangents(tris: &[[Vec3; 3]], uvs: &[[Vec2; 3]]) -> Vec<VertexTangents> {
+    use crate::math::geometry::triangle_tangent;
+    (tris.iter().zip(uvs))
+        .map(
+            |(p, uv)| match triangle_tangent(p[1] - p[0], p[2] - p[0], uv) {
+                Some((t, flipped)) => [t.extend(if flipped { -1.0 } else { 1.0 }); 3],
+                None => [Vec4::ZERO; 3],
+            },
+        )
+        .collect()
 }

@@ -8,9 +8,12 @@ use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
 use crate::bsdfs::rough_dielectric::RoughDielectric;
 use crate::bsdfs::thin_dielectric::ThinDielectric;
-use crate::bsdfs::{named_conductor, Distribution, Microfacet, Param, Plastic, METAL_NAMES};
+use crate::bsdfs::{
+    named_conductor, Bsdf, Channel, Distribution, Microfacet, Param, Plastic, METAL_NAMES,
+};
 use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::principled::{ParamSlot, ParamTexture};
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
 use crate::scene::{Alpha, AlphaMode, Material, NO_TEXTURE};
@@ -32,15 +35,12 @@ pub(crate) struct Read {
     pub normal_texture: Option<SceneTexture>,
     /// The textured opacity of a `mask` bsdf (its luminance; `material.alpha` set).
     pub alpha_texture: Option<SceneTexture>,
-    /// The textured `alpha_u` and `alpha_v` of a rough conductor or dielectric (their
-    /// luminance; the caller puts them in the kind's roughness slots).
-    pub roughness_textures: [Option<SceneTexture>; 2],
     /// A diffuse reflectance that is a `mesh_attribute`: its name and scale (each shape
     /// gets its own texture of it, `mesh_attribute.rs`).
     pub mesh_attribute: Option<(String, f32)>,
-    /// The textures of other parameters (`principled`), each with the channel it reads and
-    /// where it goes.
-    pub param_textures: Vec<crate::importers::mitsuba::principled::ParamTexture>,
+    /// The textures of other parameters (a rough conductor's or dielectric's `alpha_u` and
+    /// `alpha_v`, `principled`'s), each with the channel it reads and where it goes.
+    pub param_textures: Vec<ParamTexture>,
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
@@ -67,6 +67,25 @@ fn nested_bsdf<'f>(
 /// `alpha_v` (not one alone, nor with `alpha`). Where `textured` (`roughconductor`,
 /// `roughdielectric`), each may be a `<texture>`, read as its luminance (Mitsuba's `eval_1`):
 /// its slot is returned (u, v) and the constant is then 1.
+/// A rough conductor's or dielectric's textured `alpha_u` and `alpha_v` as parameter
+/// textures: Mitsuba evaluates them as floats, their luminance.
+fn roughness_textures(textures: [Option<SceneTexture>; 2]) -> Vec<ParamTexture> {
+    fn roughness(b: &mut Bsdf) -> Option<&mut crate::bsdfs::microfacet::Roughness> {
+        match b {
+            Bsdf::RoughConductor(k) => Some(&mut k.roughness),
+            Bsdf::RoughDielectric(k) => Some(&mut k.roughness),
+            _ => None,
+        }
+    }
+    let slots: [ParamSlot; 2] = [
+        |b| roughness(b).map(|r| &mut r.alpha_u),
+        |b| roughness(b).map(|r| &mut r.alpha_v),
+    ];
+    (textures.into_iter().zip(slots))
+        .filter_map(|(t, slot)| Some((t?, Channel::Luminance, slot)))
+        .collect()
+}
+
 fn microfacet(
     cx: &Cx,
     p: &Plugin,
@@ -189,7 +208,6 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         return Err(cx.err(extra, field, message));
     }
     let mut kd_texture = None;
-    let mut roughness_textures = [None, None];
     let mut mesh_attribute = None;
     let mut param_textures = Vec::new();
     let mut material = match kind {
@@ -294,7 +312,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 "conductor" => None,
                 _ => {
                     let (mf, textures) = microfacet(cx, &p, true)?;
-                    roughness_textures = textures;
+                    param_textures = roughness_textures(textures);
                     Some(mf)
                 }
             };
@@ -309,9 +327,8 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                     kd_texture,
                     normal_texture: None,
                     alpha_texture: None,
-                    roughness_textures,
                     mesh_attribute,
-                    param_textures: Vec::new(),
+                    param_textures,
                 });
             }
             match microfacet {
@@ -345,7 +362,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 )),
                 _ => {
                     let (mf, textures) = microfacet(cx, &p, true)?;
-                    roughness_textures = textures;
+                    param_textures = roughness_textures(textures);
                     Material::of(RoughDielectric::new(
                         eta,
                         specular_reflectance,
@@ -405,7 +422,6 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         kd_texture,
         normal_texture: None,
         alpha_texture: None,
-        roughness_textures,
         mesh_attribute,
         param_textures,
     })

@@ -1,5 +1,5 @@
 //! Mitsuba's `mesh_attribute` texture (`name`: a `vertex_...` or `face_...` attribute of the
-//! shape's mesh, `scale`), as a diffuse reflectance: its value at a hit is the face's row, or
+//! shape's mesh, `scale`), as a diffuse reflectance or a `blendbsdf`'s weight: its value at a hit is the face's row, or
 //! the corners' rows interpolated barycentrically, times `scale`, as Mitsuba 3.9's
 //! `Mesh::eval_attribute` gives it.
 //!
@@ -13,6 +13,7 @@
 use crate::error::Result;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::values::Cx;
+use crate::scene::builder::MaterialId;
 use crate::scene::Material;
 use crate::textures::{Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use glam::{Vec2, Vec3};
@@ -28,6 +29,8 @@ pub(crate) struct AttributeUse {
     pub name: String,
     /// Mitsuba's `scale`.
     pub scale: f32,
+    /// For a `blendbsdf`'s weight: its two components (`material` is then unused).
+    pub blend: Option<[MaterialId; 2]>,
 }
 
 /// `node`, a `<texture>` at `field`: its attribute name and scale when it is a

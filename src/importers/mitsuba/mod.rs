@@ -35,7 +35,7 @@ mod volume;
 
 pub use include::{MAX_INCLUDED_BYTES, MAX_INCLUDED_FILES, MAX_INCLUDE_DEPTH};
 
-use crate::bsdfs::{Bsdf, BsdfKind, Channel};
+use crate::bsdfs::BsdfKind;
 use crate::error::{Error, Result};
 use crate::importers::file;
 use crate::scene::builder::{MaterialId, SceneBuilder};
@@ -304,21 +304,6 @@ impl<'f> Importer<'f> {
         if let (Some(t), Some(alpha)) = (read.alpha_texture, material.alpha.as_mut()) {
             alpha.texture = self.b.add_texture(t, &at)?;
         }
-        // A textured roughness (only read for these kinds): Mitsuba evaluates it as a
-        // float, its luminance.
-        let roughness = match &mut material.bsdf {
-            Bsdf::RoughConductor(k) => Some(&mut k.roughness),
-            Bsdf::RoughDielectric(k) => Some(&mut k.roughness),
-            _ => None,
-        };
-        if let Some(r) = roughness {
-            let [u, v] = read.roughness_textures;
-            for (t, slot) in [(u, &mut r.alpha_u), (v, &mut r.alpha_v)] {
-                if let Some(t) = t {
-                    *slot = slot.times(self.b.add_texture(t, &at)?, Channel::Luminance);
-                }
-            }
-        }
         let Some((name, scale)) = read.mesh_attribute else {
             return self.b.add_material(None, material, &at);
         };
@@ -333,6 +318,7 @@ impl<'f> Importer<'f> {
             material,
             name,
             scale,
+            blend: None,
         };
         self.attribute_materials.push((id, attribute));
         Ok(id)

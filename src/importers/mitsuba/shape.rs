@@ -336,12 +336,26 @@ impl<'f> Importer<'f> {
                 .err(p.node, &p.field, format!("mesh attribute: {m}"))
         })?;
         let texture = self.b.add_texture(texture, &at)?;
-        let mut material = used.material;
-        if let Some(base) = material.bsdf.base_colour_mut() {
-            *base = Param::texture(texture);
-            base.value = Vec3::splat(used.scale);
-        }
-        surface.material = Some(self.b.add_material(None, material, &at)?);
+        surface.material = Some(match used.blend {
+            // A blend's weight: a float texture, read as Mitsuba's eval_1 (one channel
+            // repeated, so its luminance).
+            Some([first, second]) => {
+                let weight = Param {
+                    value: Vec3::splat(used.scale),
+                    texture,
+                    channel: crate::bsdfs::Channel::Luminance,
+                };
+                self.b.add_blend(first, second, weight, &at)?
+            }
+            None => {
+                let mut material = used.material;
+                if let Some(base) = material.bsdf.base_colour_mut() {
+                    *base = Param::texture(texture);
+                    base.value = Vec3::splat(used.scale);
+                }
+                self.b.add_material(None, material, &at)?
+            }
+        });
         mesh.uvs = Some(uvs);
         Ok((mesh, surface))
     }

@@ -64,6 +64,7 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
                 .iter()
                 .any(|m| m.normal_texture != crate::scene::NO_TEXTURE) as u32 as f64,
         ),
+        ("HAS_UVS", !scene.uvs.is_empty() as u32 as f64),
         ("HAS_TANGENTS", !scene.tangents.is_empty() as u32 as f64),
         (
             "HAS_ALPHA",

@@ -47,6 +47,9 @@ override HAS_TEXTURES: bool = true;
 // Some material has a normal map (Mitsuba's normalmap): the nearest hit perturbs its shading
 // normal (intersect.wgsl's normal_mapped). Implies HAS_TEXTURES.
 override HAS_NORMAL_MAPS: bool = true;
+// Some triangle has uvs: the uv record of every triangle is bound and gives the shading frame's
+// tangent (without textures too: an anisotropic BSDF's frame follows dp/du).
+override HAS_UVS: bool = true;
 // Some triangle has vertex tangents (glTF's TANGENT or MikkTSpace's): its uv record carries
 // them after its uvs (UV_TANGENT_WORDS words a triangle instead of UV_WORDS).
 override HAS_TANGENTS: bool = true;
