@@ -18,7 +18,17 @@ use glam::{Vec2, Vec3};
 /// The hit on primitive `id` of `scene` at distance `t` along `ray` (a triangle's
 /// barycentrics `u`, `v`: the weights of `v1`, `v2`), as the walk found it.
 pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
-    let mut hit = if id & SPHERE_BIT == 0 {
+    let hit = geometric_hit(scene, ray, id, t, u, v);
+    normal_map(scene, hit, ray.dir, || {
+        tangent_at(scene, id, u, v, hit.normal)
+    })
+}
+
+/// The hit on primitive `id` of `geometry` before any normal map: its point, normals,
+/// material, light and uv (a sphere's uv only where `geometry` has textures).
+pub(crate) fn geometric_hit(geometry: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
+    let scene = geometry;
+    if id & SPHERE_BIT == 0 {
         let tri = &scene.triangles[id as usize];
         let normal = tri.normal();
         let shading = match tri.shading {
@@ -58,18 +68,33 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
             light: s.light,
             uv,
         }
-    };
+    }
+}
+
+/// The uv tangent a normal map reads at primitive `id` of `geometry` (geometric normal
+/// `normal`) and whether its frame is flipped: a triangle's vertex tangents where it has them,
+/// else its corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
+pub(crate) fn tangent_at(geometry: &Scene, id: u32, u: f32, v: f32, normal: Vec3) -> (Vec3, bool) {
+    if id & SPHERE_BIT == 0 {
+        uv_tangent(geometry, id, u, v).unwrap_or((Vec3::ZERO, false))
+    } else {
+        (sphere_tangent(normal), false)
+    }
+}
+
+/// `hit` with its shading normal perturbed by its material's normal map, if it has one
+/// (`tangent`: the uv tangent there and whether its frame is flipped); `dir` the ray's.
+pub(crate) fn normal_map(
+    scene: &Scene,
+    mut hit: Hit,
+    dir: Vec3,
+    tangent: impl FnOnce() -> (Vec3, bool),
+) -> Hit {
     let normal_texture = scene.materials[hit.material as usize].normal_texture;
     if normal_texture != NO_TEXTURE {
-        // The uv tangent: a triangle's vertex tangents where it has them, else its
-        // corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
-        let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
-            uv_tangent(scene, id, u, v).unwrap_or((Vec3::ZERO, false))
-        } else {
-            (sphere_tangent(hit.normal), false)
-        };
+        let (dp_du, flipped) = tangent();
         let c = scene.textures[normal_texture as usize].eval(hit.uv);
-        hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, ray.dir);
+        hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, dir);
     }
     hit
 }

@@ -30,6 +30,9 @@ pub struct MeshCost {
     pub uvs: bool,
     /// Whether vertex tangents come with them.
     pub tangents: bool,
+    /// Instances of meshes stored once (`super::instances`): each costs
+    /// [`super::instances::INSTANCE_BYTES`], not its mesh's triangles.
+    pub instances: u64,
 }
 
 impl MeshCost {
@@ -41,6 +44,7 @@ impl MeshCost {
             smooth: if normals { triangles } else { 0 },
             uvs,
             tangents,
+            instances: 0,
         }
     }
 
@@ -51,6 +55,7 @@ impl MeshCost {
             smooth: self.smooth.saturating_add(other.smooth),
             uvs: self.uvs || other.uvs,
             tangents: self.tangents || other.tangents,
+            instances: self.instances.saturating_add(other.instances),
         }
     }
 
@@ -59,6 +64,7 @@ impl MeshCost {
         MeshCost {
             triangles: self.triangles.saturating_mul(n),
             smooth: self.smooth.saturating_mul(n),
+            instances: self.instances.saturating_mul(n),
             ..self
         }
     }
@@ -69,7 +75,10 @@ impl MeshCost {
             + if self.uvs { UVS_BYTES } else { 0 }
             + if self.tangents { TANGENTS_BYTES } else { 0 };
         let all = self.triangles.saturating_mul(per_triangle);
-        all.saturating_add(self.smooth.saturating_mul(NORMALS_BYTES))
+        let instances = self
+            .instances
+            .saturating_mul(super::instances::INSTANCE_BYTES);
+        (all.saturating_add(self.smooth.saturating_mul(NORMALS_BYTES))).saturating_add(instances)
     }
 }
 
