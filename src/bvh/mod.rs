@@ -7,6 +7,7 @@
 //! The GPU walks a copy laid out for its traversal (src/bvh/gpu_layout.rs,
 //! `src/bvh/intersect.wgsl`).
 
+pub mod gpu_instances;
 pub mod gpu_layout;
 
 use crate::math::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};

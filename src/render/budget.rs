@@ -76,7 +76,10 @@ pub fn estimate(scene: &Scene, s: &RenderSettings, host_maps: bool) -> Vec<Part>
         let tris: u64 = inst.meshes.iter().map(|m| m.triangles.len() as u64).sum();
         let n = inst.instances.len() as u64;
         parts.push(Part {
-            what: format!("{n} instances of {} meshes of {tris} triangles", inst.meshes.len()),
+            what: format!(
+                "{n} instances of {} meshes of {tris} triangles",
+                inst.meshes.len()
+            ),
             bytes: tris * BYTES_PER_TRIANGLE + n * (2 * 32 + 4),
             remedy: "simplify the scene",
         });

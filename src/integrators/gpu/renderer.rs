@@ -41,13 +41,6 @@ fn check_k(s: &RenderSettings) -> Result<()> {
 /// it renders all of it. Heterogeneous media have no device twin yet (issue 41): the GPU
 /// refuses them rather than render them wrong.
 pub fn unsupported(scene: &Scene) -> Option<String> {
-    if !scene.instancing.is_empty() {
-        let n = scene.instancing.instances.len();
-        return Some(format!(
-            "the scene has {n} instances (shapegroup + instance), which only the CPU backend \
-             traces yet: use --backend cpu"
-        ));
-    }
     let i = scene.media.iter().position(|m| !m.is_homogeneous())?;
     Some(format!(
         "medium {i} is heterogeneous (a grid or volume), which only the CPU backend renders \

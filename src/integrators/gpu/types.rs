@@ -394,14 +394,14 @@ pub fn materials(scene: &Scene) -> (Vec<GpuMaterial>, crate::bsdfs::gpu::PackedB
 /// Each triangle's uv record: corner uvs as vec4 words `(u0, v0, u1, v1), (u2, v2, 0, 0)`
 /// (`UV_WORDS`), then with vertex tangents its corners' `(x, y, z, w)` (`UV_TANGENT_WORDS` in
 /// all); one zeroed record when the scene has none or no texture reads them.
-pub fn triangle_uvs(scene: &Scene) -> Vec<[f32; 4]> {
+pub fn triangle_uvs(scene: &Scene, textured: bool) -> Vec<[f32; 4]> {
     let words = if scene.tangents.is_empty() {
         crate::integrators::gpu::codes::UV_WORDS
     } else {
         crate::integrators::gpu::codes::UV_TANGENT_WORDS
     } as usize;
     // Without textures no kernel reads them (HAS_TEXTURES is false).
-    if scene.textures.is_empty() || scene.uvs.is_empty() {
+    if !textured || scene.uvs.is_empty() {
         return vec![[0.0; 4]; words];
     }
     let mut out = Vec::with_capacity(words * scene.uvs.len());
