@@ -687,3 +687,69 @@ fn instanced_gpu_render_is_within_seed_noise_of_the_cpus() {
     let (pixels, blocks) = common::within_seed_noise(&d, &noise, 1e-4);
     assert!(pixels && blocks, "gpu vs cpu {d:?}; cpu seeds {noise:?}");
 }
+
+/// The fuzzer's glTF sphere seed (4,096 smooth triangles) with its mesh placed by three
+/// nodes (one twice at one place), as one mesh named three times (`shared`) or as three
+/// meshes over the same accessors; the scene file's path.
+fn gltf_spheres(shared: bool) -> std::path::PathBuf {
+    let seed = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz/gltf/sphere");
+    let d = std::env::temp_dir().join(format!(
+        "gpu-photon-instancing-gltf-{}-{shared}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::copy(seed.join("scene.bin"), d.join("scene.bin")).unwrap();
+    let text = std::fs::read_to_string(seed.join("scene.gltf")).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mesh = json["meshes"][0].clone();
+    json["meshes"] = serde_json::json!([mesh.clone(), mesh.clone(), mesh]);
+    let m = |i: usize| if shared { 0 } else { i };
+    json["nodes"][0]["scale"] = serde_json::json!([0.5, 1.0, 0.8]);
+    let extra = [
+        serde_json::json!({"mesh": m(1), "translation": [1.5, 0.0, -1.0], "rotation": [0.0, 0.38268343, 0.0, 0.92387953]}),
+        serde_json::json!({"mesh": m(2), "translation": [-1.5, 0.5, -2.0], "scale": [1.0, -1.0, 1.0]}),
+    ];
+    json["nodes"].as_array_mut().unwrap().extend(extra);
+    // Node 0 twice at one place: one placement.
+    json["scenes"][0]["nodes"] = serde_json::json!([0, 0, 1, 2, 3, 4]);
+    let path = d.join("scene.gltf");
+    std::fs::write(&path, serde_json::to_string(&json).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn gltf_meshes_named_at_several_places_are_instanced() {
+    let shared = gpu_photon::importers::load(&gltf_spheres(true)).unwrap();
+    let copies = gpu_photon::importers::load(&gltf_spheres(false)).unwrap();
+    // One mesh stored once for three placements; the three single meshes are copies.
+    assert_eq!(shared.triangles.len(), 0);
+    assert_eq!(shared.instancing.meshes.len(), 1);
+    assert_eq!(shared.instancing.meshes[0].triangles.len(), 4096);
+    assert_eq!(shared.instancing.instances.len(), 3);
+    assert_eq!(
+        (copies.triangles.len(), copies.instancing.instances.len()),
+        (3 * 4096, 0)
+    );
+    // The same surfaces: every ray hits alike (the mirrored node's normals included).
+    let (bs, bc) = (CpuBvh::build(&shared), CpuBvh::build(&copies));
+    let (mut hits, mut differ) = (0, 0);
+    for ray in rays(5000) {
+        let (a, b) = (
+            bs.intersect(&shared, &ray, f32::INFINITY),
+            bc.intersect(&copies, &ray, f32::INFINITY),
+        );
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                hits += 1;
+                let same = (a.t - b.t).abs() <= 1e-4 * b.t
+                    && a.normal.dot(b.normal) > 1.0 - 1e-5
+                    && a.material == b.material;
+                differ += usize::from(!same);
+            }
+            (None, None) => {}
+            _ => differ += 1,
+        }
+    }
+    assert!(hits > 1000, "{hits} hits");
+    assert!(differ * 1000 <= 5000, "{differ} rays differ");
+}

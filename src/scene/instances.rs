@@ -224,6 +224,12 @@ impl SceneBuilder {
         Ok(())
     }
 
+    /// The bounding box of the world's primitives and the instances added so far.
+    pub(crate) fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let flat = super::bounds_of(&self.triangles, &self.spheres);
+        super::join_bounds(flat, self.instancing.bounds())
+    }
+
     fn swap_stash(&mut self, s: &mut GroupStash) {
         std::mem::swap(&mut self.triangles, &mut s.triangles);
         std::mem::swap(&mut self.shading_normals, &mut s.shading_normals);

@@ -166,15 +166,25 @@ impl Scene {
     }
     /// The bounding box `(min, max)` of every primitive and instance; `None` when empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let flat = bounds_of(&self.triangles, &self.spheres);
-        match (flat, self.instancing.bounds()) {
-            (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
-            (f, i) => f.or(i),
-        }
+        join_bounds(
+            bounds_of(&self.triangles, &self.spheres),
+            self.instancing.bounds(),
+        )
     }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.lights.iter().map(|l| l.power).sum()
+    }
+}
+
+/// The box around two boxes, either of which may be absent.
+pub(crate) fn join_bounds(
+    a: Option<(Vec3, Vec3)>,
+    b: Option<(Vec3, Vec3)>,
+) -> Option<(Vec3, Vec3)> {
+    match (a, b) {
+        (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+        (a, b) => a.or(b),
     }
 }
 
