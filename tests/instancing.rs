@@ -25,6 +25,18 @@ fn at(field: &str) -> Origin {
     }
 }
 
+/// A builder with a camera at `eye` looking at the origin and one grey diffuse material.
+fn grey_builder(eye: Vec3, budgets: SceneBudgets) -> (SceneBuilder, gpu_photon::scene::MaterialId) {
+    let mut b = SceneBuilder::new();
+    b.set_budgets(budgets);
+    b.camera(eye, Vec3::ZERO, Vec3::Z, 50.0, &at("camera"))
+        .unwrap();
+    let m = b
+        .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at("m"))
+        .unwrap();
+    (b, m)
+}
+
 /// A deterministic generator of uniforms in [0, 1).
 struct Lcg(u64);
 impl Lcg {
@@ -270,18 +282,7 @@ fn normals_of_a_non_uniformly_scaled_instance_follow_the_inverse_transpose() {
     // A unit sphere scaled by (1, 1, 4) and turned: the ellipsoid x^2 + y^2 + (z/4)^2 = 1
     // before the turn, whose normal at p is (x, y, z / 16) (the linear map's would be
     // (x, y, 4 z)).
-    let mut b = SceneBuilder::new();
-    b.camera(
-        Vec3::new(0.0, -9.0, 0.0),
-        Vec3::ZERO,
-        Vec3::Z,
-        50.0,
-        &at("camera"),
-    )
-    .unwrap();
-    let m = b
-        .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at("m"))
-        .unwrap();
+    let (mut b, m) = grey_builder(Vec3::new(0.0, -9.0, 0.0), SceneBudgets::default());
     b.begin_shape_group(&at("group")).unwrap();
     b.add_sphere(Vec3::ZERO, 1.0, Surface::of(m), &at("ball"))
         .unwrap();
@@ -344,19 +345,7 @@ fn many_instances_cost_mesh_plus_instances() {
         max_bytes: 64 << 20,
         ..SceneBudgets::default()
     };
-    let mut b = SceneBuilder::new();
-    b.set_budgets(budgets);
-    b.camera(
-        Vec3::new(0.0, -9.0, 0.0),
-        Vec3::ZERO,
-        Vec3::Z,
-        50.0,
-        &at("camera"),
-    )
-    .unwrap();
-    let m = b
-        .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at("m"))
-        .unwrap();
+    let (mut b, m) = grey_builder(Vec3::new(0.0, -9.0, 0.0), budgets);
     b.begin_shape_group(&at("group")).unwrap();
     b.add_mesh(strip(10_000), Surface::of(m), &at("mesh"))
         .unwrap();
@@ -631,18 +620,7 @@ fn device_walks_instances_as_the_host() {
 /// A scene of instances only (no world primitive), one mirrored and non-uniformly scaled,
 /// with the meshes' spheres and smooth triangles.
 fn nested_normals_scene() -> Scene {
-    let mut b = SceneBuilder::new();
-    b.camera(
-        Vec3::new(0.0, -9.0, 1.0),
-        Vec3::ZERO,
-        Vec3::Z,
-        50.0,
-        &at("camera"),
-    )
-    .unwrap();
-    let m = b
-        .add_material(None, Material::diffuse(Vec3::splat(0.5)), &at("m"))
-        .unwrap();
+    let (mut b, m) = grey_builder(Vec3::new(0.0, -9.0, 1.0), SceneBudgets::default());
     let (tris, normals) = uv_sphere(6, 10);
     b.begin_shape_group(&at("group")).unwrap();
     b.add_smooth_mesh(tris, Some(normals), Surface::of(m), &at("mesh"))

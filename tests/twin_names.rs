@@ -82,6 +82,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bvh/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Oracle("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "dominant_axis", "", "", Helper),
+    ("bvh/intersect.wgsl", "next_leaf", "", "", Helper),
     ("bvh/intersect.wgsl", "walk_bvh", "bvh/mod.rs", "closest", Caller("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "affine_row", "", "", Helper),
     ("bvh/intersect.wgsl", "affine_point", "", "", Helper),

@@ -56,6 +56,21 @@ impl InstanceBvh {
         top + self.meshes.iter().map(WideBvh::memory_bytes).sum::<usize>()
     }
 
+    /// Instance `i` of `scene`, its mesh and the mesh's hierarchy, and `ray` in its object
+    /// space with the distance factor ([`object_ray`]).
+    #[inline]
+    fn enter<'a>(
+        &'a self,
+        scene: &'a Scene,
+        i: u32,
+        ray: &Ray,
+    ) -> (&'a Instance, &'a Scene, &'a WideBvh, Ray, f32) {
+        let inst = &scene.instancing.instances[i as usize];
+        let (r, k) = object_ray(inst, ray);
+        let m = inst.mesh as usize;
+        (inst, &scene.instancing.meshes[m], &self.meshes[m], r, k)
+    }
+
     /// The nearest instance hit along `ray` before `t_max`: (instance, primitive id, world
     /// `t`, object-space `t`, `u`, `v`).
     pub fn closest(
@@ -68,10 +83,8 @@ impl InstanceBvh {
         self.top.walk(
             ray,
             |i, t_lim| {
-                let inst = &scene.instancing.instances[i as usize];
-                let mesh = &scene.instancing.meshes[inst.mesh as usize];
-                let (r, k) = object_ray(inst, ray);
-                let (id, t, u, v) = self.meshes[inst.mesh as usize].closest(mesh, &r, t_lim * k)?;
+                let (_, mesh, bvh, r, k) = self.enter(scene, i, ray);
+                let (id, t, u, v) = bvh.closest(mesh, &r, t_lim * k)?;
                 let tw = (t / k).min(t_lim);
                 best = Some((i, id, tw, t, u, v));
                 Some(tw)
@@ -84,9 +97,7 @@ impl InstanceBvh {
     /// Nearest instance hit along `ray` before `t_max`, in world space.
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
         let (i, id, tw, t, u, v) = self.closest(scene, ray, t_max)?;
-        let inst = &scene.instancing.instances[i as usize];
-        let mesh = &scene.instancing.meshes[inst.mesh as usize];
-        let (r, _) = object_ray(inst, ray);
+        let (inst, mesh, _, r, _) = self.enter(scene, i, ray);
         let local = geometric_hit(mesh, &r, id, t, u, v);
         let nm = inst.normal_matrix();
         let mut hit = Hit {
@@ -113,10 +124,8 @@ impl InstanceBvh {
         self.top.walk(
             ray,
             |i, t_lim| {
-                let inst = &scene.instancing.instances[i as usize];
-                let mesh = &scene.instancing.meshes[inst.mesh as usize];
-                let (r, k) = object_ray(inst, ray);
-                if self.meshes[inst.mesh as usize].occluded(mesh, &r, t_lim * k) {
+                let (_, mesh, bvh, r, k) = self.enter(scene, i, ray);
+                if bvh.occluded(mesh, &r, t_lim * k) {
                     hit = true;
                     return Some(-1.0);
                 }

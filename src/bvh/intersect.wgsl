@@ -315,6 +315,29 @@ fn dominant_axis(d: vec3<f32>) -> u32 {
     return 2u;
 }
 
+// The next leaf whose box the ray enters before t_max, from node *ni of the copy at
+// first_word (n_nodes nodes; boxes on the grid base, step): its (first entry, count), and *ni
+// past it; count 0 when the walk is over (or the loop budget spent). Nodes only: a SIMD
+// group's lanes then test their leaves together, instead of every node step waiting on the
+// lanes that are in a leaf.
+fn next_leaf(first_word: u32, n_nodes: u32, ni: ptr<function, u32>, grid_base: vec3<i32>, step: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max: f32) -> vec2<u32> {
+    while *ni < n_nodes && spend() {
+        let node = nodes[first_word + NODE_WORDS * *ni];
+        let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
+        let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
+        let c = node.w >> LEAF_COUNT_SHIFT;
+        if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, t_max) {
+            *ni = select(*ni + 1u, node.w, c == 0u);
+            continue;
+        }
+        *ni += 1u;
+        if c != 0u {
+            return vec2<u32>(node.w & ((1u << LEAF_COUNT_SHIFT) - 1u), c);
+        }
+    }
+    return vec2<u32>(0u);
+}
+
 // Walks the hierarchy whose BvhFrame starts at word `frame` of `nodes` (the world's at 0, a
 // mesh's after it) for the primitive nearest along o + t d before best.t (the first found
 // when any_hit).
@@ -335,30 +358,13 @@ fn walk_bvh(frame: u32, o: vec3<f32>, d: vec3<f32>, best_in: PrimHit, any_hit: b
     let left_first = d[axis] >= 0.0;
     let first_word = frame + FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
     var ni = 0u;
-    // While-while: the inner loop walks nodes only, up to the next leaf whose box the ray
-    // hits; its primitives are tested after it. A SIMD group's lanes then test their leaves
-    // together, instead of every node step waiting on the lanes that are in a leaf. The outer
-    // loop is bounded by the budget too: it ends when the inner one finds no leaf, which it
-    // does once spend() refuses.
+    // While-while: next_leaf walks nodes only, up to the next leaf whose box the ray hits;
+    // its primitives are tested after it. The outer loop is bounded by the budget too: it
+    // ends when next_leaf finds no leaf, which it does once spend() refuses.
     loop {
-        var first = 0u;
-        var count = 0u;
-        while ni < n_nodes && spend() {
-            let node = nodes[first_word + NODE_WORDS * ni];
-            let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
-            let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
-            let c = node.w >> LEAF_COUNT_SHIFT;
-            if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
-                ni = select(ni + 1u, node.w, c == 0u);
-                continue;
-            }
-            ni += 1u;
-            if c != 0u {
-                first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
-                count = c;
-                break;
-            }
-        }
+        let leaf = next_leaf(first_word, n_nodes, &ni, grid_base, step, o, inv, best.t);
+        let first = leaf.x;
+        let count = leaf.y;
         if count == 0u {
             break;
         }
@@ -427,24 +433,9 @@ fn walk_instances(top: u32, o: vec3<f32>, d: vec3<f32>, best: ptr<function, Prim
     var ni = 0u;
     // As walk_bvh's, with instances in the leaves.
     loop {
-        var first = 0u;
-        var count = 0u;
-        while ni < n_nodes && spend() {
-            let node = nodes[first_word + NODE_WORDS * ni];
-            let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
-            let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
-            let c = node.w >> LEAF_COUNT_SHIFT;
-            if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, (*best).t) {
-                ni = select(ni + 1u, node.w, c == 0u);
-                continue;
-            }
-            ni += 1u;
-            if c != 0u {
-                first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
-                count = c;
-                break;
-            }
-        }
+        let leaf = next_leaf(first_word, n_nodes, &ni, grid_base, step, o, inv, (*best).t);
+        let first = leaf.x;
+        let count = leaf.y;
         if count == 0u {
             break;
         }
