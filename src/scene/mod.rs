@@ -11,6 +11,7 @@ pub mod builder;
 pub mod checks;
 pub mod cost;
 pub mod geometry_budget;
+mod group_build;
 pub mod instances;
 pub mod locate;
 pub mod normals;
