@@ -14,6 +14,7 @@
 //! Each test gathers every mismatch it finds and fails once with the whole list.
 
 use gpu_photon::bvh;
+use gpu_photon::bvh::gpu_instances::GpuInstance;
 use gpu_photon::bvh::gpu_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
 use gpu_photon::integrators::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
@@ -165,7 +166,11 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Sphere",
             fields!(GpuSphere: center, radius, material, light, _pad0, _pad1),
         ),
-        ("BvhFrame", fields!(GpuBvhFrame: base, nodes, step, _pad)),
+        ("BvhFrame", fields!(GpuBvhFrame: base, nodes, step, next)),
+        (
+            "InstanceRecord",
+            fields!(GpuInstance: to_object, to_world, frame, _pad0, _pad1, _pad2),
+        ),
         ("TraversalNode", fields!(GpuTraversalNode: qx, qy, qz, link)),
         (
             "LeafPrim",

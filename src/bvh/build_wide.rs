@@ -45,6 +45,7 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
             blocks: Vec::new(),
             alpha: bin.alpha,
             isa: super::isa::Isa::detect(),
+            instances: None,
         },
     };
     c.out.nodes.push(Node8::EMPTY);

@@ -62,8 +62,10 @@ pub struct GpuBvhFrame {
     pub nodes: u32,
     /// Grid spacing per axis, a power of two.
     pub step: [f32; 3],
-    /// Padding.
-    pub _pad: u32,
+    /// The word where the next level starts (`super::gpu_instances`): in the world
+    /// hierarchy's frame the instances' top level (0: no instances), in the top level's the
+    /// instance records.
+    pub next: u32,
 }
 
 /// Twin of WGSL `TraversalNode`: one node of one copy. `qx`, `qy`, `qz` hold the box's lower
@@ -178,7 +180,7 @@ pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
         base: grid.map(|g| g.0 as i32),
         nodes: n as u32,
         step: grid.map(|g| 2f32.powi(g.1)),
-        _pad: 0,
+        next: 0,
     };
     // Outward-rounded grid coordinates of a node's box (zero for a non-finite one: only the
     // placeholder of a scene without primitives, which is never walked).

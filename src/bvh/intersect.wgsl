@@ -320,58 +320,74 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
     return !(to_unit(key) < opacity);
 }
 
-fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
-    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false, vec3<f32>(0.0));
-    var best_id = 0u;
-    var best_uv = vec2<f32>(0.0);
+// One walk's nearest (or first) primitive: t, id (as in leaf_prims), barycentrics, found.
+struct PrimHit {
+    t: f32,
+    id: u32,
+    bc: vec2<f32>,
+    found: bool,
+}
+
+// The dominant axis of d (x, then y, on ties as the CPU's walk).
+fn dominant_axis(d: vec3<f32>) -> u32 {
+    if abs(d.x) > abs(d.y) && abs(d.x) > abs(d.z) {
+        return 0u;
+    } else if abs(d.y) > abs(d.z) {
+        return 1u;
+    }
+    return 2u;
+}
+
+// The next leaf whose box the ray enters before t_max, from node *ni of the copy at
+// first_word (n_nodes nodes; boxes on the grid base, step): its (first entry, count), and *ni
+// past it; count 0 when the walk is over (or the loop budget spent). Nodes only: a SIMD
+// group's lanes then test their leaves together, instead of every node step waiting on the
+// lanes that are in a leaf.
+fn next_leaf(first_word: u32, n_nodes: u32, ni: ptr<function, u32>, grid_base: vec3<i32>, step: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max: f32) -> vec2<u32> {
+    while *ni < n_nodes && spend() {
+        let node = nodes[first_word + NODE_WORDS * *ni];
+        let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
+        let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
+        let c = node.w >> LEAF_COUNT_SHIFT;
+        if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, t_max) {
+            *ni = select(*ni + 1u, node.w, c == 0u);
+            continue;
+        }
+        *ni += 1u;
+        if c != 0u {
+            return vec2<u32>(node.w & ((1u << LEAF_COUNT_SHIFT) - 1u), c);
+        }
+    }
+    return vec2<u32>(0u);
+}
+
+// Walks the hierarchy whose BvhFrame starts at word `frame` of `nodes` (the world's at 0, a
+// mesh's after it) for the primitive nearest along o + t d before best.t (the first found
+// when any_hit).
+fn walk_bvh(frame: u32, o: vec3<f32>, d: vec3<f32>, best_in: PrimHit, any_hit: bool) -> PrimHit {
+    var best = best_in;
     let inv = 1.0 / d;
     let sh = make_shear(d);
-    var axis = 2u;
-    if abs(d.x) > abs(d.y) && abs(d.x) > abs(d.z) {
-        axis = 0u;
-    } else if abs(d.y) > abs(d.z) {
-        axis = 1u;
-    }
-    // The BvhFrame's words: (base, nodes per copy), (step, _pad).
-    let f0 = nodes[0];
+    let axis = dominant_axis(d);
+    // The BvhFrame's words: (base, nodes per copy), (step, next).
+    let f0 = nodes[frame];
     let grid_base = bitcast<vec3<i32>>(f0.xyz);
     let n_nodes = f0.w;
-    let step = bitcast<vec3<f32>>(nodes[1].xyz);
+    let step = bitcast<vec3<f32>>(nodes[frame + 1u].xyz);
     // Stackless: the depth-first order that enters the left child first when the ray runs
     // up its dominant axis, else the right child first. `nodes` holds every node once per
     // order, numbered in that order's preorder: entering a node or finishing a leaf goes to
     // the next node, missing an interior node's box to the end of its subtree (its link).
     let left_first = d[axis] >= 0.0;
-    let first_word = FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
+    let first_word = frame + FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
     var ni = 0u;
-    // A scene without primitives binds a placeholder node that must not be walked.
-    if params.n_triangles == 0u && !HAS_SPHERES {
-        ni = n_nodes;
-    }
-    // While-while: the inner loop walks nodes only, up to the next leaf whose box the ray
-    // hits; its primitives are tested after it. A SIMD group's lanes then test their leaves
-    // together, instead of every node step waiting on the lanes that are in a leaf. The outer
-    // loop is bounded by the budget too: it ends when the inner one finds no leaf, which it
-    // does once spend() refuses.
+    // While-while: next_leaf walks nodes only, up to the next leaf whose box the ray hits;
+    // its primitives are tested after it. The outer loop is bounded by the budget too: it
+    // ends when next_leaf finds no leaf, which it does once spend() refuses.
     loop {
-        var first = 0u;
-        var count = 0u;
-        while ni < n_nodes && spend() {
-            let node = nodes[first_word + NODE_WORDS * ni];
-            let lo = vec3<i32>(node.xyz & vec3<u32>(0xffffu));
-            let hi = vec3<i32>(node.xyz >> vec3<u32>(16u));
-            let c = node.w >> LEAF_COUNT_SHIFT;
-            if !hit_box(vec3<f32>(grid_base + lo) * step, vec3<f32>(grid_base + hi) * step, o, inv, best.t) {
-                ni = select(ni + 1u, node.w, c == 0u);
-                continue;
-            }
-            ni += 1u;
-            if c != 0u {
-                first = node.w & ((1u << LEAF_COUNT_SHIFT) - 1u);
-                count = c;
-                break;
-            }
-        }
+        let leaf = next_leaf(first_word, n_nodes, &ni, grid_base, step, o, inv, best.t);
+        let first = leaf.x;
+        let count = leaf.y;
         if count == 0u {
             break;
         }
@@ -386,17 +402,12 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                 let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
                 let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
                 if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
-                    best.t = h.x;
-                    best.found = true;
-                    best_id = id;
-                    best_uv = h.yz;
+                    best = PrimHit(h.x, id, h.yz, true);
                 }
             } else if HAS_SPHERES {
                 let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
                 if t > 0.0 && !(HAS_ALPHA && alpha_passes(id, t, vec2<f32>(0.0), o, d)) {
-                    best.t = t;
-                    best.found = true;
-                    best_id = id;
+                    best = PrimHit(t, id, vec2<f32>(0.0), true);
                 }
             }
         }
@@ -404,57 +415,169 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
             return best;
         }
     }
-    if best.found {
-        if (best_id & SPHERE_BIT) == 0u {
-            let tri = load_triangle(best_id);
-            let e1 = tri.v1 - tri.v0;
-            let e2 = tri.v2 - tri.v0;
-            best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
-            best.normal = normalize(cross(e1, e2));
-            best.shading = best.normal;
-            if HAS_SMOOTH && tri.shading != FLAT {
-                best.shading = shading_normal(best.normal, tri.shading, best_uv);
-            }
-            best.material = tri.material;
-            best.light = tri.light;
-            // The uv tangent (zero without uvs or for a degenerate mapping), then the frame's
-            // tangent: without it, the first edge in a scene without uvs, else the
-            // geometric normal's basis (Bvh's hit_at).
-            var tg = vec4<f32>(0.0);
-            if HAS_UVS {
-                tg = uv_tangent(best_id, e1, e2, best_uv);
-            }
-            best.tangent = shading_tangent(best.shading, tg.xyz, select(basis_t(best.normal), e1, !HAS_UVS));
-            if HAS_TEXTURES {
-                best.uv = triangle_uv(best_id, best_uv);
-                if HAS_NORMAL_MAPS {
-                    let nt = materials[MATERIAL_WORDS * tri.material + MATERIAL_NORMAL_WORD].w;
-                    if nt != NO_TEXTURE {
-                        best.shading = normal_mapped(best.normal, best.shading, tg.xyz,
-                            tg.w > 0.5, texture_eval(nt, best.uv), d);
-                    }
-                }
-            }
-        } else {
-            let s = load_sphere(best_id & ~SPHERE_BIT);
-            let n = normalize(o + best.t * d - s.center);
-            best.position = s.center + n * s.radius;
-            best.normal = n;
-            best.shading = n;
-            best.material = s.material;
-            best.light = s.light;
-            best.tangent = orthogonal_tangent(n, vec3<f32>(-n.y, n.x, 0.0));
-            if HAS_TEXTURES {
-                best.uv = sphere_uv(n);
-                if HAS_NORMAL_MAPS {
-                    let nt = materials[MATERIAL_WORDS * s.material + MATERIAL_NORMAL_WORD].w;
-                    if nt != NO_TEXTURE {
-                        best.shading = normal_mapped(n, n, vec3<f32>(-n.y, n.x, 0.0), false,
-                            texture_eval(nt, best.uv), d);
-                    }
+    return best;
+}
+
+// Row r of the affine map whose rows start at word w of `nodes` (an InstanceRecord's).
+fn affine_row(w: u32, r: u32) -> vec4<f32> {
+    return bitcast<vec4<f32>>(nodes[w + r]);
+}
+
+fn affine_point(w: u32, p: vec3<f32>) -> vec3<f32> {
+    let q = vec4<f32>(p, 1.0);
+    return vec3<f32>(dot(affine_row(w, 0u), q), dot(affine_row(w, 1u), q), dot(affine_row(w, 2u), q));
+}
+
+fn affine_vector(w: u32, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(affine_row(w, 0u).xyz, v), dot(affine_row(w, 1u).xyz, v), dot(affine_row(w, 2u).xyz, v));
+}
+
+// The transpose of the linear part at word w times n: with w an instance's world-to-object
+// map, a normal to world space (the inverse transpose of object-to-world).
+fn affine_normal(w: u32, n: vec3<f32>) -> vec3<f32> {
+    return affine_row(w, 0u).xyz * n.x + affine_row(w, 1u).xyz * n.y + affine_row(w, 2u).xyz * n.z;
+}
+
+// Walks the instances' top level (its frame at word `top`) for the nearest hit before
+// best.t (world distances), each instance's mesh in its object space (unit direction,
+// distances scaled by k = |to_object d|). Returns the instance hit (NO_LIGHT: none) and
+// updates best (t in world units).
+fn walk_instances(top: u32, o: vec3<f32>, d: vec3<f32>, best: ptr<function, PrimHit>, any_hit: bool) -> u32 {
+    var found = NO_LIGHT;
+    let inv = 1.0 / d;
+    let f0 = nodes[top];
+    let f1 = nodes[top + 1u];
+    let grid_base = bitcast<vec3<i32>>(f0.xyz);
+    let n_nodes = f0.w;
+    let step = bitcast<vec3<f32>>(f1.xyz);
+    let records = f1.w;
+    let left_first = d[dominant_axis(d)] >= 0.0;
+    let first_word = top + FRAME_WORDS + select(n_nodes, 0u, left_first) * NODE_WORDS;
+    var ni = 0u;
+    // As walk_bvh's, with instances in the leaves.
+    loop {
+        let leaf = next_leaf(first_word, n_nodes, &ni, grid_base, step, o, inv, (*best).t);
+        let first = leaf.x;
+        let count = leaf.y;
+        if count == 0u {
+            break;
+        }
+        for (var i = 0u; i < count && spend(); i += 1u) {
+            let inst = leaf_prims[LEAF_PRIM_WORDS * (first + i)].w;
+            let r = records + INSTANCE_WORDS * inst;
+            let od = affine_vector(r, d);
+            let k = length(od);
+            let oo = affine_point(r, o);
+            let t_world = (*best).t;
+            let h = walk_bvh(nodes[r + 6u].x, oo, od / k, PrimHit(t_world * k, 0u, vec2<f32>(0.0), false), any_hit);
+            if h.found {
+                *best = PrimHit(min(h.t / k, t_world), h.id, h.bc, true);
+                found = inst;
+                if any_hit {
+                    return found;
                 }
             }
         }
+    }
+    return found;
+}
+
+// Nearest hit (any_hit = false) or the first hit found (any_hit = true) before t_max: the
+// world's hierarchy, then, with instances, theirs with what is left of the ray.
+fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
+    var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false, vec3<f32>(0.0));
+    var w = PrimHit(t_max_in, 0u, vec2<f32>(0.0), false);
+    // A scene without primitives binds a placeholder node that must not be walked.
+    if !(params.n_triangles == 0u && !HAS_SPHERES) {
+        w = walk_bvh(0u, o, d, w, any_hit);
+    }
+    var inst = NO_LIGHT;
+    if HAS_INSTANCES && !(any_hit && w.found) {
+        let top = nodes[1].w;
+        if top != 0u {
+            inst = walk_instances(top, o, d, &w, any_hit);
+        }
+    }
+    best.t = w.t;
+    best.found = w.found;
+    if any_hit || !w.found {
+        return best;
+    }
+    // The hit is assembled where it was found: an instance's in its object space, then
+    // carried to world space.
+    var ho = o;
+    var hd = d;
+    var ht = w.t;
+    var rec = 0u;
+    if HAS_INSTANCES && inst != NO_LIGHT {
+        rec = nodes[nodes[1].w + 1u].w + INSTANCE_WORDS * inst;
+        let od = affine_vector(rec, d);
+        let k = length(od);
+        ho = affine_point(rec, o);
+        hd = od / k;
+        ht = w.t * k;
+    }
+    let best_id = w.id;
+    let best_uv = w.bc;
+    // The normal map's texture, the uv tangent (w: flipped; zero without uvs or for a
+    // degenerate mapping) and the frame's tangent without it: the first edge in a scene
+    // without uvs, else the geometric normal's basis (Bvh's hit_at); none on a sphere.
+    var nt = NO_TEXTURE;
+    var tg = vec4<f32>(0.0);
+    var fallback = vec3<f32>(0.0);
+    if (best_id & SPHERE_BIT) == 0u {
+        let tri = load_triangle(best_id);
+        let e1 = tri.v1 - tri.v0;
+        let e2 = tri.v2 - tri.v0;
+        best.position = inset(tri, tri.v0 + best_uv.x * e1 + best_uv.y * e2);
+        best.normal = normalize(cross(e1, e2));
+        best.shading = best.normal;
+        if HAS_SMOOTH && tri.shading != FLAT {
+            best.shading = shading_normal(best.normal, tri.shading, best_uv);
+        }
+        best.material = tri.material;
+        best.light = tri.light;
+        if HAS_UVS {
+            tg = uv_tangent(best_id, e1, e2, best_uv);
+        }
+        fallback = select(basis_t(best.normal), e1, !HAS_UVS);
+        if HAS_TEXTURES {
+            best.uv = triangle_uv(best_id, best_uv);
+            if HAS_NORMAL_MAPS {
+                nt = materials[MATERIAL_WORDS * tri.material + MATERIAL_NORMAL_WORD].w;
+            }
+        }
+    } else {
+        let s = load_sphere(best_id & ~SPHERE_BIT);
+        let n = normalize(ho + ht * hd - s.center);
+        best.position = s.center + n * s.radius;
+        best.normal = n;
+        best.shading = n;
+        best.material = s.material;
+        best.light = s.light;
+        tg = vec4<f32>(-n.y, n.x, 0.0, 0.0);
+        if HAS_TEXTURES {
+            best.uv = sphere_uv(n);
+            if HAS_NORMAL_MAPS {
+                nt = materials[MATERIAL_WORDS * s.material + MATERIAL_NORMAL_WORD].w;
+            }
+        }
+    }
+    if HAS_INSTANCES && inst != NO_LIGHT {
+        // Points by to_world, normals by the inverse transpose, the tangent by to_world (a
+        // mirroring map flips its frame).
+        let to_world = rec + 3u;
+        best.position = affine_point(to_world, best.position);
+        best.normal = normalize(affine_normal(rec, best.normal));
+        best.shading = normalize(affine_normal(rec, best.shading));
+        let l = array<vec3<f32>, 3>(affine_row(to_world, 0u).xyz, affine_row(to_world, 1u).xyz, affine_row(to_world, 2u).xyz);
+        let flips = dot(l[0], cross(l[1], l[2])) < 0.0;
+        tg = vec4<f32>(affine_vector(to_world, tg.xyz), select(tg.w, 1.0 - tg.w, flips));
+        fallback = affine_vector(to_world, fallback);
+    }
+    best.tangent = shading_tangent(best.shading, tg.xyz, fallback);
+    if HAS_TEXTURES && HAS_NORMAL_MAPS && nt != NO_TEXTURE {
+        best.shading = normal_mapped(best.normal, best.shading, tg.xyz, tg.w > 0.5, texture_eval(nt, best.uv), d);
     }
     return best;
 }

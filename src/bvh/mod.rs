@@ -7,6 +7,7 @@
 //! The GPU walks a copy laid out for its traversal (src/bvh/gpu_layout.rs,
 //! `src/bvh/intersect.wgsl`).
 
+pub mod gpu_instances;
 pub mod gpu_layout;
 
 use crate::math::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
@@ -17,6 +18,7 @@ use glam::Vec3;
 mod build_binned;
 mod build_wide;
 pub mod hit;
+pub mod instances;
 mod isa;
 // std::arch intrinsics and the run-time choice between them.
 #[allow(unsafe_code)]
@@ -100,27 +102,31 @@ impl Bvh {
 
     /// Builds the hierarchy over every triangle and sphere of `scene` for a walk of `costs`.
     pub fn build_with(scene: &Scene, costs: BuildCosts) -> Self {
-        let mut items: Vec<Item> = Vec::with_capacity(scene.triangles.len() + scene.spheres.len());
-        for (i, t) in scene.triangles.iter().enumerate() {
-            let b = Aabb::of_triangle(t);
+        let tris = (scene.triangles.iter().map(Aabb::of_triangle)).zip(0u32..);
+        let balls =
+            (scene.spheres.iter().map(Aabb::of_sphere)).zip((0u32..).map(|i| i | SPHERE_BIT));
+        let n = scene.triangles.len() + scene.spheres.len();
+        let mut bvh = Self::over_boxes(tris.chain(balls), n, costs);
+        bvh.alpha = scene.materials.iter().any(|m| m.alpha.is_some());
+        bvh
+    }
+
+    /// Builds the hierarchy over `boxes` (each with the id its leaves list; `n` of them)
+    /// for a walk of `costs`: the instances' top level uses it with instance indices.
+    pub fn over_boxes(
+        boxes: impl Iterator<Item = (Aabb, u32)>,
+        n: usize,
+        costs: BuildCosts,
+    ) -> Self {
+        let mut items: Vec<Item> = Vec::with_capacity(n);
+        for (b, id) in boxes {
             items.push(Item {
                 bounds: b,
                 centroid: b.centroid(),
-                id: i as u32,
+                id,
             });
         }
-        for (i, s) in scene.spheres.iter().enumerate() {
-            let b = Aabb::of_sphere(s);
-            items.push(Item {
-                bounds: b,
-                centroid: b.centroid(),
-                id: i as u32 | SPHERE_BIT,
-            });
-        }
-        let mut bvh = Bvh {
-            alpha: scene.materials.iter().any(|m| m.alpha.is_some()),
-            ..Bvh::default()
-        };
+        let mut bvh = Bvh::default();
         if items.is_empty() {
             // One empty leaf whose box no ray enters.
             bvh.nodes.push(BvhNode {

@@ -19,7 +19,17 @@ use glam::{Vec2, Vec3};
 /// The hit on primitive `id` of `scene` at distance `t` along `ray` (a triangle's
 /// barycentrics `u`, `v`: the weights of `v1`, `v2`), as the walk found it.
 pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
-    let mut hit = if id & SPHERE_BIT == 0 {
+    let hit = geometric_hit(scene, ray, id, t, u, v);
+    let tangent = tangent_at(scene, id, u, v, hit.normal);
+    let fallback = tangent_fallback(scene, id, hit.normal);
+    shading_frame(scene, hit, ray.dir, tangent, fallback)
+}
+
+/// The hit on primitive `id` of `geometry` before any normal map: its point, normals,
+/// material, light and uv (a sphere's uv only where `geometry` has textures).
+pub(crate) fn geometric_hit(geometry: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) -> Hit {
+    let scene = geometry;
+    if id & SPHERE_BIT == 0 {
         let tri = &scene.triangles[id as usize];
         let normal = tri.normal();
         let shading = match tri.shading {
@@ -61,26 +71,46 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
             uv,
             tangent: Vec3::ZERO,
         }
-    };
-    // The uv tangent: a triangle's vertex tangents where it has them, else its corner
-    // uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
-    let (dp_du, flipped) = if id & SPHERE_BIT == 0 {
-        uv_tangent(scene, id, u, v).unwrap_or((Vec3::ZERO, false))
+    }
+}
+
+/// The uv tangent a normal map reads at primitive `id` of `geometry` (geometric normal
+/// `normal`) and whether its frame is flipped: a triangle's vertex tangents where it has them,
+/// else its corner uvs' (none without uvs); a sphere's from Mitsuba's parameterisation.
+pub(crate) fn tangent_at(geometry: &Scene, id: u32, u: f32, v: f32, normal: Vec3) -> (Vec3, bool) {
+    if id & SPHERE_BIT == 0 {
+        uv_tangent(geometry, id, u, v).unwrap_or((Vec3::ZERO, false))
     } else {
-        (sphere_tangent(hit.normal), false)
-    };
-    // Without a uv tangent, Mitsuba's: a triangle's first edge in a scene without uvs, the
-    // geometric normal's basis for a degenerate mapping; none on a sphere's poles.
-    let fallback = match id & SPHERE_BIT {
-        0 if scene.uvs.is_empty() => scene.triangles[id as usize].e1(),
-        0 => crate::math::sampling::basis(hit.normal).0,
+        (sphere_tangent(normal), false)
+    }
+}
+
+/// Without a uv tangent at primitive `id` of `geometry` (geometric normal `normal`),
+/// Mitsuba's: a triangle's first edge in a scene without uvs, the geometric normal's basis for
+/// a degenerate mapping; none on a sphere's poles.
+pub(crate) fn tangent_fallback(geometry: &Scene, id: u32, normal: Vec3) -> Vec3 {
+    match id & SPHERE_BIT {
+        0 if geometry.uvs.is_empty() => geometry.triangles[id as usize].e1(),
+        0 => crate::math::sampling::basis(normal).0,
         _ => Vec3::ZERO,
-    };
+    }
+}
+
+/// `hit` with its shading frame: the tangent from the uv tangent `tangent` (dp/du and whether
+/// its frame is flipped) or `fallback` made orthogonal to the shading normal, then the shading
+/// normal perturbed by its material's normal map, if it has one; `dir` the ray's.
+pub(crate) fn shading_frame(
+    scene: &Scene,
+    mut hit: Hit,
+    dir: Vec3,
+    (dp_du, flipped): (Vec3, bool),
+    fallback: Vec3,
+) -> Hit {
     hit.tangent = shading_tangent(hit.shading, dp_du, fallback);
     let normal_texture = scene.materials[hit.material as usize].normal_texture;
     if normal_texture != NO_TEXTURE {
         let c = scene.textures[normal_texture as usize].eval(hit.uv);
-        hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, ray.dir);
+        hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, dir);
     }
     hit
 }

@@ -20,7 +20,9 @@ impl WideBvh {
     /// Builds the hierarchy over every triangle and sphere of `scene`, walked with the best
     /// instruction set this CPU has.
     pub fn build(scene: &Scene) -> Self {
-        Self::from_binary(&super::build_binned::build(scene), scene)
+        let mut bvh = Self::from_binary(&super::build_binned::build(scene), scene);
+        bvh.instances = super::instances::InstanceBvh::build(scene).map(Box::new);
+        bvh
     }
 
     /// Collapses the binary hierarchy `bvh` of `scene` (whose leaves hold at most
@@ -39,10 +41,14 @@ impl WideBvh {
     /// Bytes the hierarchy takes (nodes and blocks).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
-        self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>()
+        let instances = self.instances.as_ref().map_or(0, |i| i.memory_bytes());
+        self.nodes.len() * size_of::<Node8>()
+            + self.blocks.len() * size_of::<TriBlock>()
+            + instances
     }
 
-    /// The closest hit along `ray` before `t_max`, without assembling the surface.
+    /// The closest hit along `ray` before `t_max`, without assembling the surface (the
+    /// scene's own primitives only, not its instances).
     #[inline]
     pub fn closest(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Closest> {
         simd::closest(self, scene, ray, t_max)
@@ -51,7 +57,14 @@ impl WideBvh {
     /// Nearest hit along `ray` before `t_max` (as [`Bvh::intersect`]).
     #[inline]
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (id, t, u, v) = self.closest(scene, ray, t_max)?;
+        let flat = self.closest(scene, ray, t_max);
+        if let Some(instances) = &self.instances {
+            let t = flat.map_or(t_max, |c| c.1);
+            if let Some(hit) = instances.intersect(scene, ray, t) {
+                return Some(hit);
+            }
+        }
+        let (id, t, u, v) = flat?;
         Some(surface::hit_at(scene, ray, id, t, u, v))
     }
 
@@ -59,5 +72,6 @@ impl WideBvh {
     #[inline]
     pub fn occluded(&self, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
         simd::occluded(self, scene, ray, t_max)
+            || (self.instances.as_ref()).is_some_and(|i| i.occluded(scene, ray, t_max))
     }
 }

@@ -97,6 +97,8 @@ pub struct WideBvh {
     pub alpha: bool,
     /// The instruction set the walks use.
     pub isa: Isa,
+    /// The scene's instances (`super::instances`); `None` in a scene without them.
+    pub instances: Option<Box<super::instances::InstanceBvh>>,
 }
 
 /// The closest hit of a walk: primitive id (as in `Bvh::prim_ids`), `t` and a triangle's

@@ -70,6 +70,20 @@ pub fn estimate(scene: &Scene, s: &RenderSettings, host_maps: bool) -> Vec<Part>
         bytes: scene.triangles.len() as u64 * BYTES_PER_TRIANGLE,
         remedy: "simplify the scene",
     });
+    if !scene.instancing.is_empty() {
+        // Each mesh's hierarchy once, and the top level's node and id per instance.
+        let inst = &scene.instancing;
+        let tris: u64 = inst.meshes.iter().map(|m| m.triangles.len() as u64).sum();
+        let n = inst.instances.len() as u64;
+        parts.push(Part {
+            what: format!(
+                "{n} instances of {} meshes of {tris} triangles",
+                inst.meshes.len()
+            ),
+            bytes: tris * BYTES_PER_TRIANGLE + n * (2 * 32 + 4),
+            remedy: "simplify the scene",
+        });
+    }
     parts
 }
 

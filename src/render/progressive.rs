@@ -58,7 +58,8 @@ pub const VOLUME_PHOTONS_PER_PATH: f64 = 2.0;
 /// volume photons (N global paths) spread evenly through the box:
 /// `pi r^2 V^(1/3) (2 N / V) = K / 4`. At most `volume_radius`.
 pub fn initial_volume_radius(scene: &Scene, s: &RenderSettings) -> f32 {
-    let volume = crate::scene::bounds_of(&scene.triangles, &scene.spheres)
+    let volume = scene
+        .bounds()
         .map_or(0.0, |(lo, hi)| (hi - lo).as_dvec3().element_product())
         .max(1e-12);
     let photons = VOLUME_PHOTONS_PER_PATH * s.photons.max(1) as f64;

@@ -103,6 +103,10 @@ pub struct SceneBuilder {
     settings: RenderSettings,
     optics: Option<(PixelFilter, f32, f32)>,
     pub(super) budgets: SceneBudgets,
+    /// The world geometry set aside while a shape group is recorded (`instances.rs`).
+    pub(super) group: Option<super::instances::GroupStash>,
+    /// The meshes of shape groups and their instances.
+    pub(super) instancing: super::instances::Instancing,
 }
 
 impl SceneBuilder {
@@ -439,6 +443,9 @@ impl SceneBuilder {
         let Some(mut camera) = self.camera else {
             return Err(at.error(Part::Camera, "the scene has no camera".into()));
         };
+        if self.group.is_some() {
+            self.end_shape_group();
+        }
         if let Some((filter, aperture, focus)) = self.optics {
             (camera.filter, camera.aperture_radius, camera.focus_distance) =
                 (filter, aperture, focus);
@@ -463,6 +470,7 @@ impl SceneBuilder {
             media: self.media.media,
             camera_medium: self.media.camera,
             settings: self.settings,
+            instancing: self.instancing,
         };
         // A textured emitter's power includes its texture's mean (crate::lights::emission).
         for l in 0..scene.lights.len() {
@@ -496,6 +504,11 @@ impl SceneBuilder {
         };
         let mut material = base;
         material.emission = surface.emission.unwrap_or(base.emission);
+        if self.group.is_some() && material.is_emissive() {
+            let message = "an emitter in a shape group (instancing of emitters is not \
+                           supported, as in Mitsuba)";
+            return Err(at.error(Part::Emission, message.into()));
+        }
         if let Some(t) = surface.emission_texture {
             if !material.is_emissive() || t as usize >= self.textures.len() {
                 let message = "an emission texture needs an emissive shape and a texture";

@@ -17,6 +17,10 @@ pub const UVS_BYTES: u64 = size_of::<[Vec2; 3]>() as u64;
 /// Bytes per triangle of [`Scene::tangents`](super::Scene::tangents), likewise.
 pub const TANGENTS_BYTES: u64 = size_of::<VertexTangents>() as u64;
 
+/// Bytes per instance of a mesh (its two affine maps and the mesh's index; the instancing
+/// module asserts it is its `Instance`'s size).
+pub const INSTANCE_BYTES: u64 = 144;
+
 /// Geometry as the scene will hold it: how many triangles, how many of them smooth-shaded,
 /// and whether any has texture coordinates or vertex tangents (the scene then keeps them for
 /// all its triangles). Counts saturate rather than wrap.
@@ -30,6 +34,9 @@ pub struct MeshCost {
     pub uvs: bool,
     /// Whether vertex tangents come with them.
     pub tangents: bool,
+    /// Instances of meshes stored once (the scene's instancing): each costs
+    /// [`INSTANCE_BYTES`], not its mesh's triangles.
+    pub instances: u64,
 }
 
 impl MeshCost {
@@ -41,6 +48,7 @@ impl MeshCost {
             smooth: if normals { triangles } else { 0 },
             uvs,
             tangents,
+            instances: 0,
         }
     }
 
@@ -51,6 +59,7 @@ impl MeshCost {
             smooth: self.smooth.saturating_add(other.smooth),
             uvs: self.uvs || other.uvs,
             tangents: self.tangents || other.tangents,
+            instances: self.instances.saturating_add(other.instances),
         }
     }
 
@@ -59,6 +68,7 @@ impl MeshCost {
         MeshCost {
             triangles: self.triangles.saturating_mul(n),
             smooth: self.smooth.saturating_mul(n),
+            instances: self.instances.saturating_mul(n),
             ..self
         }
     }
@@ -69,7 +79,8 @@ impl MeshCost {
             + if self.uvs { UVS_BYTES } else { 0 }
             + if self.tangents { TANGENTS_BYTES } else { 0 };
         let all = self.triangles.saturating_mul(per_triangle);
-        all.saturating_add(self.smooth.saturating_mul(NORMALS_BYTES))
+        let instances = self.instances.saturating_mul(INSTANCE_BYTES);
+        (all.saturating_add(self.smooth.saturating_mul(NORMALS_BYTES))).saturating_add(instances)
     }
 }
 

@@ -43,11 +43,13 @@ impl SceneBuilder {
 
     /// The geometry the scene holds so far.
     pub(super) fn geometry(&self) -> MeshCost {
-        MeshCost {
+        let world = MeshCost {
             triangles: self.triangles.len() as u64,
             smooth: self.shading_normals.len() as u64,
             uvs: !self.uvs.is_empty(),
             tangents: !self.tangents.is_empty(),
-        }
+            instances: 0,
+        };
+        world.and(self.instanced_geometry())
     }
 }

@@ -11,6 +11,8 @@ pub mod builder;
 pub mod checks;
 pub mod cost;
 pub mod geometry_budget;
+mod group_build;
+pub mod instances;
 pub mod locate;
 pub mod normals;
 pub mod shapes;
@@ -22,6 +24,7 @@ pub use crate::lights::{Light, LightShape};
 pub use builder::{MaterialId, SceneBuilder, Surface};
 pub use checks::{SceneBudgets, MAX_SCENE_BYTES, MAX_TEXTURE_BYTES, MAX_TRIANGLES};
 pub use cost::MeshCost;
+pub use instances::{Instance, Instancing, MeshId};
 pub use locate::{Locate, Origin, Part};
 pub use shapes::{Sphere, Triangle, VertexNormals, VertexTangents, FLAT, NO_LIGHT};
 
@@ -62,6 +65,8 @@ pub struct Scene {
     /// Render settings from the file's `[camera]` and `[render]` tables (defaults where
     /// absent).
     pub settings: RenderSettings,
+    /// Meshes stored once and their instances (`instances.rs`); empty in most scenes.
+    pub instancing: Instancing,
 }
 
 impl Scene {
@@ -89,6 +94,7 @@ impl Scene {
             media: vec![],
             camera_medium: crate::media::NO_MEDIUM,
             settings: RenderSettings::default(),
+            instancing: Instancing::default(),
         }
     }
 
@@ -111,7 +117,7 @@ impl Scene {
             .filter(|s| stores(s.material))
             .map(|s| 4.0 * std::f32::consts::PI * s.radius * s.radius)
             .sum();
-        tris + spheres
+        tris + spheres + self.instancing.storing_area(stores)
     }
 
     /// Whether some triangle is smooth-shaded.
@@ -126,7 +132,7 @@ impl Scene {
     /// the diagonal of their bounding box, the radius grown by 0.1% (and 1e-4) so that a
     /// directional light's photons start clear of the scene. `(0, 0)` for an empty scene.
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let Some((lo, hi)) = bounds_of(&self.triangles, &self.spheres) else {
+        let Some((lo, hi)) = self.bounds() else {
             return (Vec3::ZERO, 0.0);
         };
         let centre = 0.5 * (lo + hi);
@@ -136,8 +142,7 @@ impl Scene {
     /// box (1 when it is empty or a point). Scenes of half-diagonal 1 to 2, such as the Cornell
     /// box's [-1, 1]^3, have 1; the same scene in millimetres has 1024.
     pub fn size_unit(&self) -> f32 {
-        let half = bounds_of(&self.triangles, &self.spheres)
-            .map_or(0.0, |(lo, hi)| 0.5 * (hi - lo).length());
+        let half = (self.bounds()).map_or(0.0, |(lo, hi)| 0.5 * (hi - lo).length());
         if !(half > 0.0 && half.is_finite()) {
             return 1.0;
         }
@@ -160,9 +165,27 @@ impl Scene {
             self.settings.volume_radius *= unit;
         }
     }
+    /// The bounding box `(min, max)` of every primitive and instance; `None` when empty.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        join_bounds(
+            bounds_of(&self.triangles, &self.spheres),
+            self.instancing.bounds(),
+        )
+    }
     /// Total emitted power per channel.
     pub fn total_power(&self) -> Vec3 {
         self.lights.iter().map(|l| l.power).sum()
+    }
+}
+
+/// The box around two boxes, either of which may be absent.
+pub(crate) fn join_bounds(
+    a: Option<(Vec3, Vec3)>,
+    b: Option<(Vec3, Vec3)>,
+) -> Option<(Vec3, Vec3)> {
+    match (a, b) {
+        (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+        (a, b) => a.or(b),
     }
 }
 

@@ -38,12 +38,15 @@ impl Importer<'_> {
     /// budgets; the error is on the scene's `nodes`, naming the triangles, the bytes and the
     /// instances. A node nested deeper than [`MAX_DEPTH`] (a cycle) is the traversal's error.
     pub(super) fn check_instances(&self, scene: &gltf::Scene) -> Result<()> {
-        let mut memo = HashMap::new();
+        let (mut memo, mut meshes) = (HashMap::new(), HashMap::new());
         let (mut total, mut instances) = (MeshCost::default(), 0u64);
         for node in scene.nodes() {
-            let (cost, count) = self.subtree(&node, 0, &mut memo)?;
+            let (cost, count) = self.subtree(&node, 0, &mut memo, &mut meshes)?;
             total = total.and(cost);
             instances = instances.saturating_add(count);
+        }
+        for cost in meshes.values() {
+            total = total.and(*cost);
         }
         let field = format!("scenes[{}].nodes", scene.index());
         let what = format!("its {instances} node instances");
@@ -74,12 +77,20 @@ impl Importer<'_> {
         false
     }
 
+    /// What one copy of `mesh` adds to the scene.
+    fn mesh_cost(&self, mesh: &gltf::Mesh) -> MeshCost {
+        (mesh.primitives()).fold(MeshCost::default(), |c, p| {
+            c.and(primitive_cost(&p, &self.buffers))
+        })
+    }
+
     /// The geometry and instance count of `node` and its descendants.
     fn subtree(
         &self,
         node: &gltf::Node,
         depth: usize,
         memo: &mut HashMap<usize, Subtree>,
+        meshes: &mut HashMap<usize, MeshCost>,
     ) -> Result<Subtree> {
         if let Some(&known) = memo.get(&node.index()) {
             return Ok(known);
@@ -88,14 +99,24 @@ impl Importer<'_> {
             let message = format!("nodes nested deeper than {MAX_DEPTH} (a cycle?)");
             return Err(self.cx.err(&format!("nodes[{}]", node.index()), message));
         }
-        let mut cost = node.mesh().map_or(MeshCost::default(), |m| {
-            m.primitives().fold(MeshCost::default(), |c, p| {
-                c.and(primitive_cost(&p, &self.buffers))
-            })
-        });
+        // An instanced mesh (`mesh_groups.rs`) costs an instance here, its geometry once in
+        // `check_instances`.
+        let mut cost = match node.mesh() {
+            Some(m) if self.instanced(&m) => {
+                meshes
+                    .entry(m.index())
+                    .or_insert_with(|| self.mesh_cost(&m));
+                MeshCost {
+                    instances: 1,
+                    ..MeshCost::default()
+                }
+            }
+            Some(m) => self.mesh_cost(&m),
+            None => MeshCost::default(),
+        };
         let mut count = 1u64;
         for child in node.children() {
-            let (c, n) = self.subtree(&child, depth + 1, memo)?;
+            let (c, n) = self.subtree(&child, depth + 1, memo, meshes)?;
             cost = cost.and(c);
             count = count.saturating_add(n);
         }

@@ -4,7 +4,8 @@
 //!
 //! The default scene (else the first) is walked from its root nodes; every node's world
 //! transform is its parents' times its own (matrix or TRS), so instanced meshes appear once
-//! per node. Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
+//! per node (a mesh named at several places is stored once and instanced, `mesh_groups.rs`).
+//! Each primitive (triangles, strips, fans; indexed or not) becomes one shape, and
 //! a transform that mirrors reverses the winding so front faces stay on the same side. Vertex
 //! normals (`NORMAL`, through the inverse transpose of the world matrix) make a primitive
 //! smooth-shaded; without them it is flat. Texture coordinates (`TEXCOORD_n`, n the set the
@@ -23,6 +24,7 @@ mod data;
 mod instances;
 mod json_line;
 mod material;
+mod mesh_groups;
 mod refs;
 mod surface;
 mod tangents;
@@ -111,8 +113,11 @@ pub fn load_slice(
         warned: Vec::new(),
         instances: 0,
         placed: Default::default(),
+        mesh_groups: Default::default(),
     };
-    // What every node instance will cost, checked before the first is built.
+    // Which meshes are instanced, then what every node instance will cost, checked before
+    // the first is built.
+    im.count_mesh_uses(&scene);
     im.check_instances(&scene)?;
     for node in scene.nodes() {
         im.node(&node, Mat4::IDENTITY, 0)?;
@@ -122,10 +127,7 @@ pub fn load_slice(
     }
     let at = |_: Part, m: String| cx.err("cameras", m);
     // No camera: the glTF-Sample-Viewer's default view of the scene's bounds.
-    if let (false, Some((min, max))) = (
-        im.has_camera,
-        crate::scene::bounds_of(&im.b.triangles, &im.b.spheres),
-    ) {
+    if let (false, Some((min, max))) = (im.has_camera, im.b.bounds()) {
         let s = im.b.settings();
         let (eye, target) = fit_view(min, max, s.width as f32 / s.height as f32);
         im.b.camera(eye, target, Vec3::Y, DEFAULT_FOV_Y, &at)?;
@@ -219,6 +221,8 @@ struct Importer<'a> {
     /// The places of the instances built so far, and the nodes warned about a copy
     /// (`instances.rs`).
     placed: instances::Placed,
+    /// The meshes stored once and instanced (`mesh_groups.rs`).
+    mesh_groups: mesh_groups::MeshGroups,
 }
 
 impl Importer<'_> {
@@ -249,8 +253,10 @@ impl Importer<'_> {
                 self.light(&light, world)?;
             }
             if let Some(mesh) = node.mesh() {
-                for primitive in mesh.primitives() {
-                    self.primitive(&mesh, &primitive, world)?;
+                if !self.place_instance(&mesh, world)? {
+                    for primitive in mesh.primitives() {
+                        self.primitive(&mesh, &primitive, world)?;
+                    }
                 }
             }
         }

@@ -18,6 +18,7 @@ mod bsdf;
 mod cie;
 mod emitter;
 mod include;
+mod instance;
 mod integrator;
 mod medium;
 mod mesh_attribute;
@@ -158,6 +159,7 @@ pub fn import_with(
         default_material: None,
         media: HashMap::new(),
         attribute_materials: Vec::new(),
+        groups: HashMap::new(),
         warnings: Vec::new(),
     };
     let mut counts: HashMap<&str, usize> = HashMap::new();
@@ -254,6 +256,8 @@ struct Importer<'f> {
     /// The materials whose diffuse reflectance is a `mesh_attribute`, which each shape
     /// makes its own copy of.
     attribute_materials: Vec<(MaterialId, mesh_attribute::AttributeUse)>,
+    /// Meshes of the `shapegroup`s read so far, by id (`instance.rs`).
+    groups: HashMap<String, crate::scene::MeshId>,
     warnings: Vec<String>,
 }
 

@@ -47,6 +47,11 @@ fn quad(normal: Vec3, u: Vec3, v: Vec3) -> [[Vec3; 3]; 2] {
 impl<'f> Importer<'f> {
     /// A `<shape>` element: its surface, then its geometry.
     pub(crate) fn shape(&mut self, node: Node, field: &str) -> Result<()> {
+        match node.attribute("type") {
+            Some("shapegroup") => return self.shape_group(node, field).map(|_| ()),
+            Some("instance") => return self.instance(node, field),
+            _ => {}
+        }
         let p = Plugin::new(&self.cx, node, field.to_string())?;
         let mut material = None;
         let mut emission = None;
@@ -276,6 +281,11 @@ impl<'f> Importer<'f> {
                 let mesh = serialized::read_serialized(&path, index as u32, room)
                     .map_err(|m| cx.err(p.node_of("filename"), &p.at("filename"), m))?;
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
+            }
+            "sdfgrid" => {
+                let message = "unsupported shape `sdfgrid` (a signed distance field on a grid: \
+                               not supported)";
+                return Err(cx.err(p.node, &p.field, message));
             }
             other => {
                 let message = format!("unsupported shape `{other}`");

@@ -169,7 +169,9 @@ impl Gatherer<'_> {
                     medium = medium_after(self.scene, &h, medium, ray.dir);
                     ray.origin = offset_origin(h.position, h.normal, ray.dir);
                 }
-                _ => return sum + tr * self.arriving(&ray, hit, depth, rng, first, cw, mis, medium),
+                _ => {
+                    return sum + tr * self.arriving(&ray, hit, depth, rng, first, cw, mis, medium)
+                }
             }
         }
         sum
@@ -271,7 +273,15 @@ impl Gatherer<'_> {
                                 true => g.refracted_radiance(),
                                 false => 1.0,
                             };
-                            k * self.radiance(&next(dir), depth + 1, rng, first, cw, None, after(dir))
+                            k * self.radiance(
+                                &next(dir),
+                                depth + 1,
+                                rng,
+                                first,
+                                cw,
+                                None,
+                                after(dir),
+                            )
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);

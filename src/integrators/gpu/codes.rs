@@ -297,6 +297,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("NODE_WORDS", U32(crate::bvh::gpu_layout::NODE_WORDS)),
         ("FRAME_WORDS", U32(crate::bvh::gpu_layout::FRAME_WORDS)),
         (
+            "INSTANCE_WORDS",
+            U32(crate::bvh::gpu_instances::INSTANCE_WORDS),
+        ),
+        (
             "LEAF_PRIM_WORDS",
             U32(crate::bvh::gpu_layout::LEAF_PRIM_WORDS),
         ),

@@ -47,11 +47,17 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
             let has = scene.materials.iter().any(|m| m.bsdf.code() == code as u32);
             (flag.as_str(), has as u32 as f64)
         });
+    // A mesh of the scene's instances counts as its own geometry (uploaded after it).
+    let meshes = |f: fn(&Scene) -> bool| f(scene) || scene.instancing.meshes.iter().any(f);
     let mut features = vec![
-        ("HAS_SPHERES", (!scene.spheres.is_empty()) as u32 as f64),
+        (
+            "HAS_SPHERES",
+            meshes(|s| !s.spheres.is_empty()) as u32 as f64,
+        ),
+        ("HAS_INSTANCES", !scene.instancing.is_empty() as u32 as f64),
         // Some light is a delta light (LightKind::is_delta): the gather's shadow rays for them.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
-        ("HAS_SMOOTH", scene.has_smooth() as u32 as f64),
+        ("HAS_SMOOTH", meshes(Scene::has_smooth) as u32 as f64),
         (
             "HAS_ENVIRONMENT",
             scene.environment().is_some() as u32 as f64,
@@ -64,8 +70,11 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
                 .iter()
                 .any(|m| m.normal_texture != crate::scene::NO_TEXTURE) as u32 as f64,
         ),
-        ("HAS_UVS", !scene.uvs.is_empty() as u32 as f64),
-        ("HAS_TANGENTS", !scene.tangents.is_empty() as u32 as f64),
+        ("HAS_UVS", meshes(|s| !s.uvs.is_empty()) as u32 as f64),
+        (
+            "HAS_TANGENTS",
+            meshes(|s| !s.tangents.is_empty()) as u32 as f64,
+        ),
         (
             "HAS_ALPHA",
             scene.materials.iter().any(|m| m.alpha.is_some()) as u32 as f64,

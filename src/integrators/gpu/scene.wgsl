@@ -37,6 +37,8 @@
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.
 override HAS_SPHERES: bool = true;
+// The scene has instances (src/bvh/gpu_instances.rs): trace_ray walks their top level.
+override HAS_INSTANCES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;
 // The scene has an environment light (its last light).
 override HAS_ENVIRONMENT: bool = true;

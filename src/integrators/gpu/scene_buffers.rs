@@ -1,7 +1,7 @@
 //! The scene in device buffers (group 0): geometry, BVH, materials, lights with their photon
 //! budgets, the caustic bounds, one parameter slot per camera sample, and the stats counters.
 
-use crate::bvh::gpu_layout::{leaf_prims, traversal_nodes};
+use crate::bvh::gpu_instances::GpuGeometry;
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
 use crate::integrators::gpu::bindings::{bind_group, Layouts, PARAMS, SCENE_GROUP};
@@ -44,13 +44,22 @@ impl SceneBuffers {
     ) -> Result<Self> {
         let dev = &ctx.device;
         let none = wgpu::BufferUsages::empty();
-        let tris: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::from).collect();
-        let spheres: Vec<GpuSphere> = scene.spheres.iter().map(GpuSphere::from).collect();
+        let geometry = GpuGeometry::of(scene, bvh).ok_or_else(|| {
+            Error::Gpu(format!(
+                "the scene's BVH ({} nodes over {} primitives) does not fit the GPU's traversal layout (too many nodes, or coordinates beyond about 1e34); use --backend cpu",
+                bvh.nodes.len(),
+                bvh.prim_ids.len()
+            ))
+        })?;
+        // A scene with instances uploads its meshes' primitives after its own.
+        let geo = geometry.merged.as_ref().unwrap_or(scene);
+        let tris: Vec<GpuTriangle> = geo.triangles.iter().map(GpuTriangle::from).collect();
+        let spheres: Vec<GpuSphere> = geo.spheres.iter().map(GpuSphere::from).collect();
         let (mats, packed) = materials(scene);
-        let uvs = triangle_uvs(scene);
+        let uvs = triangle_uvs(geo);
         let textures = PackedTextures::pack(&scene.textures, ctx.max_binding)?;
         // One placeholder when every triangle is flat (a binding cannot be empty).
-        let mut normals: Vec<GpuShadingNormals> = scene
+        let mut normals: Vec<GpuShadingNormals> = geo
             .shading_normals
             .iter()
             .map(GpuShadingNormals::from)
@@ -58,15 +67,7 @@ impl SceneBuffers {
         if normals.is_empty() {
             normals.push(GpuShadingNormals::default());
         }
-        let layout = traversal_nodes(bvh).ok_or_else(|| {
-            Error::Gpu(format!(
-                "the scene's BVH ({} nodes over {} primitives) does not fit the GPU's traversal layout (too many nodes, or coordinates beyond about 1e34); use --backend cpu",
-                bvh.nodes.len(),
-                bvh.prim_ids.len()
-            ))
-        })?;
-        let node_bytes = layout.bytes();
-        let leaf_prims = leaf_prims(bvh, scene);
+        let (node_bytes, leaf_prims) = (geometry.nodes, geometry.leaf_prims);
         let sizes = [
             ("triangles", std::mem::size_of_val(&tris[..])),
             ("nodes", node_bytes.len()),

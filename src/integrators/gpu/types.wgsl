@@ -33,11 +33,25 @@ struct Sphere {
 
 // The grid of the quantised node boxes (src/bvh/gpu_layout.rs): grid coordinate q on axis
 // a is the point f32(base[a] + q) * step[a], exactly; `nodes` nodes per copy.
+// `next`: the word of the next level (src/bvh/gpu_instances.rs): the world's frame names the
+// instances' top level (0: none), the top level's the instance records.
 struct BvhFrame {
     base: vec3<i32>,
     nodes: u32,
     step: vec3<f32>,
-    _pad: u32,
+    next: u32,
+}
+
+// One instance (src/bvh/gpu_instances.rs): the rows of its world-to-object and
+// object-to-world affine maps (xyz the linear part's row, w the translation's), and the word
+// of its mesh's BvhFrame.
+struct InstanceRecord {
+    to_object: array<vec4<f32>, 3>,
+    to_world: array<vec4<f32>, 3>,
+    frame: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // One BVH node in one copy's preorder: qx, qy, qz = lower | upper << 16 grid coordinates of
