@@ -1,7 +1,7 @@
 """Meshes from the evaluated depsgraph: modifiers applied (``Object.to_mesh``), triangulated
 (``loop_triangles``), with the corner (custom split) normals, the active render UV map, the
 tangents a normal map needs (Blender's MikkTSpace, ``calc_tangents``) and each triangle's
-material slot, as NumPy arrays in object space. :func:`add_instance` places one in the scene.
+material slot, as NumPy arrays in object space. :func:`add_placements` places one in the scene.
 """
 
 from dataclasses import dataclass
@@ -81,7 +81,7 @@ def mesh_data(obj, want_tangents):
 
 
 class Budget:
-    """The triangles placed so far against the scene's budget."""
+    """The triangles the scene stores so far against the scene's budget."""
 
     def __init__(self, limit):
         self.limit = limit
@@ -90,21 +90,33 @@ class Budget:
     def take(self, name, count):
         if self.used + count > self.limit:
             raise RuntimeError(
-                f"{name}: the scene would have {self.used + count} triangles once its "
-                f"instances are placed, more than the budget of {self.limit} (Render "
-                "Properties > gpu-photon > Triangle Budget)")
+                f"{name}: the scene would store {self.used + count} triangles, more than the "
+                f"budget of {self.limit} (Render Properties > gpu-photon > Triangle Budget; "
+                "a mesh placed many times counts once unless its materials emit or are "
+                "alpha-tested)")
         self.used += count
 
 
-def add_instance(builder, name, data, materials, matrix, budget):
-    """Places mesh ``data`` at ``matrix`` (object to world) with ``materials`` (builder
-    indices by slot): the one place instances are made. gpu-photon has no two-level BVH yet,
-    so each instance is flattened into world-space triangles (the mesh's arrays are shared
-    between its instances on this side and transformed by the builder), within the triangle
-    budget."""
-    budget.take(name, data.triangle_count)
+def add_placements(builder, data, materials, places, budget):
+    """Places mesh ``data`` with ``materials`` (builder indices by slot) at each of ``places``
+    ((name, object-to-world matrix) pairs): the one place instances are made. A mesh placed
+    twice or more whose materials may be instanced (neither emissive nor alpha-tested:
+    ``SceneBuilder.material_instanceable``) is stored once as a mesh group, gpu-photon's
+    two-level BVH, and placed by instances; otherwise each placement is a copy in world
+    space. The budget counts the triangles stored."""
     slots = np.clip(data.slots, 0, max(len(materials) - 1, 0))
     per_triangle = np.asarray(materials, dtype=np.uint32)[slots]
-    transform = np.array(matrix, dtype=np.float32)
-    builder.add_mesh(name, data.positions, data.triangles, per_triangle, normals=data.normals,
-                     uvs=data.uvs, tangents=data.tangents, transform=transform)
+    arrays = dict(normals=data.normals, uvs=data.uvs, tangents=data.tangents)
+    used = {int(m) for m in np.unique(per_triangle)}
+    if len(places) >= 2 and all(builder.material_instanceable(m) for m in used):
+        name = places[0][0]
+        budget.take(name, data.triangle_count)
+        group = builder.add_mesh_group(name, data.positions, data.triangles, per_triangle,
+                                       **arrays)
+        for name, matrix in places:
+            builder.add_instance(name, group, np.array(matrix, dtype=np.float32))
+        return
+    for name, matrix in places:
+        budget.take(name, data.triangle_count)
+        builder.add_mesh(name, data.positions, data.triangles, per_triangle,
+                         transform=np.array(matrix, dtype=np.float32), **arrays)

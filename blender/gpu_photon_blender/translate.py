@@ -35,7 +35,8 @@ def _slot_materials(obj, materials):
 
 
 def build(depsgraph, report, max_triangles):
-    """The ``gpu_photon.Scene`` of ``depsgraph`` and the count of triangles it holds."""
+    """The ``gpu_photon.Scene`` of ``depsgraph`` and the count of triangles it stores (a mesh
+    placed many times and stored once as a mesh group counts once)."""
     import gpu_photon
 
     scene = depsgraph.scene
@@ -44,6 +45,8 @@ def build(depsgraph, report, max_triangles):
     materials = Materials(builder, images, report)
     budget = mesh.Budget(max_triangles)
     shared = {}
+    # Each mesh's placements, in the depsgraph's order: (key, name, object-to-world).
+    placements = {}
     count = 0
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -56,17 +59,19 @@ def build(depsgraph, report, max_triangles):
             if key not in shared:
                 tangents = any(materials.needs_tangents(m) for m in slots)
                 shared[key] = (mesh.mesh_data(obj, tangents), _slot_materials(obj, materials))
-            data, slot_ids = shared[key]
-            if data is None:
+            if shared[key][0] is None:
                 continue
             count += 1
             name = f"{obj.name}#{count}" if inst.is_instance else obj.name
-            mesh.add_instance(builder, name, data, slot_ids, inst.matrix_world, budget)
+            placements.setdefault(key, []).append((name, inst.matrix_world.copy()))
         elif obj.type == "LIGHT":
             lights.add_light(builder, materials, obj.name, _Placed(obj, inst), report)
         elif obj.type not in ("CAMERA", "EMPTY", "ARMATURE", "LATTICE", "SPEAKER",
                               "LIGHT_PROBE"):
             report.warn(f"object {obj.name}: type {obj.type} is not rendered")
+    for key, places in placements.items():
+        data, slot_ids = shared[key]
+        mesh.add_placements(builder, data, slot_ids, places, budget)
     width, height = camera.resolution(scene)
     cam = scene.camera
     if cam is None:

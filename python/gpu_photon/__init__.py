@@ -13,6 +13,9 @@ add-on does so); every value goes through the same scene builder as the file imp
     lamp = b.add_material("lamp", {"kind": "black", "emission": (20, 20, 20)})
     b.add_mesh("floor", positions, triangles, np.array([white], np.uint32))  # (N,3), (T,3)
     b.add_mesh("lamp", quad, two_triangles, np.array([lamp], np.uint32), transform=matrix)
+    tile = b.add_mesh_group("tile", positions, triangles, np.array([white], np.uint32))
+    for i, m in enumerate(matrices):  # stored once, placed many times (two-level BVH)
+        b.add_instance(f"tile{i}", tile, m)
     b.set_camera(eye, forward, up, fov_y, width, height)
     scene = b.finish()
     features = scene.aovs(["albedo", "normal"])  # for denoisers, as Cycles defines them

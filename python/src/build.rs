@@ -140,6 +140,59 @@ fn rows<const K: usize, T: numpy::Element + Copy + Default>(
         .collect())
 }
 
+/// A 4x4 row-major matrix as glam's columns.
+fn matrix(t: &PyReadonlyArray2<'_, f32>) -> PyResult<[[f32; 4]; 4]> {
+    let r = rows::<4, f32>(t, "transform")?;
+    if r.len() != 4 {
+        return Err(PyValueError::new_err("transform: expected a 4x4 matrix"));
+    }
+    Ok(std::array::from_fn(|c| std::array::from_fn(|i| r[i][c])))
+}
+
+/// A mesh's arrays, read from NumPy (shapes checked by `rows`).
+struct MeshArrays {
+    positions: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+    materials: Vec<u32>,
+    normals: Option<Vec<[f32; 3]>>,
+    uvs: Option<Vec<[f32; 2]>>,
+    tangents: Option<Vec<[f32; 4]>>,
+}
+
+impl MeshArrays {
+    fn read(
+        positions: PyReadonlyArray2<'_, f32>,
+        triangles: PyReadonlyArray2<'_, u32>,
+        materials: numpy::PyReadonlyArray1<'_, u32>,
+        normals: Option<PyReadonlyArray2<'_, f32>>,
+        uvs: Option<PyReadonlyArray2<'_, f32>>,
+        tangents: Option<PyReadonlyArray2<'_, f32>>,
+    ) -> PyResult<Self> {
+        Ok(MeshArrays {
+            positions: rows::<3, f32>(&positions, "positions")?,
+            triangles: rows::<3, u32>(&triangles, "triangles")?,
+            materials: materials.as_array().iter().copied().collect(),
+            normals: normals.map(|a| rows::<3, f32>(&a, "normals")).transpose()?,
+            uvs: uvs.map(|a| rows::<2, f32>(&a, "uvs")).transpose()?,
+            tangents: tangents
+                .map(|a| rows::<4, f32>(&a, "tangents"))
+                .transpose()?,
+        })
+    }
+
+    fn spec(&self, transform: Option<[[f32; 4]; 4]>) -> gp::MeshSpec<'_> {
+        gp::MeshSpec {
+            positions: &self.positions,
+            triangles: &self.triangles,
+            materials: &self.materials,
+            normals: self.normals.as_deref(),
+            uvs: self.uvs.as_deref(),
+            tangents: self.tangents.as_deref(),
+            transform,
+        }
+    }
+}
+
 /// Builds a scene from arrays and dicts; `finish()` returns a `gpu_photon.Scene`.
 #[pyclass(module = "gpu_photon", name = "SceneBuilder")]
 pub struct PySceneBuilder {
@@ -242,37 +295,53 @@ impl PySceneBuilder {
         tangents: Option<PyReadonlyArray2<'_, f32>>,
         transform: Option<PyReadonlyArray2<'_, f32>>,
     ) -> PyResult<()> {
-        let positions = rows::<3, f32>(&positions, "positions")?;
-        let triangles = rows::<3, u32>(&triangles, "triangles")?;
-        let materials: Vec<u32> = materials.as_array().iter().copied().collect();
-        let normals = normals.map(|a| rows::<3, f32>(&a, "normals")).transpose()?;
-        let uvs = uvs.map(|a| rows::<2, f32>(&a, "uvs")).transpose()?;
-        let tangents = tangents
-            .map(|a| rows::<4, f32>(&a, "tangents"))
-            .transpose()?;
-        let transform = match transform {
-            Some(t) => {
-                let r = rows::<4, f32>(&t, "transform")?;
-                if r.len() != 4 {
-                    return Err(PyValueError::new_err("transform: expected a 4x4 matrix"));
-                }
-                // Row-major rows to glam's columns.
-                Some(std::array::from_fn(|c| std::array::from_fn(|i| r[i][c])))
-            }
-            None => None,
-        };
-        let mesh = gp::MeshSpec {
-            positions: &positions,
-            triangles: &triangles,
-            materials: &materials,
-            normals: normals.as_deref(),
-            uvs: uvs.as_deref(),
-            tangents: tangents.as_deref(),
-            transform,
-        };
+        let m = MeshArrays::read(positions, triangles, materials, normals, uvs, tangents)?;
+        let transform = transform.map(|t| matrix(&t)).transpose()?;
         let b = self.b()?;
-        py.detach(|| b.add_mesh(name, &mesh))
+        py.detach(|| b.add_mesh(name, &m.spec(transform)))
             .map_err(|e| to_py(py, e))
+    }
+
+    /// Adds a mesh (the arrays of `add_mesh`, in its object space) as a group stored once;
+    /// returns its index for `add_instance`. Its materials must pass `material_instanceable`.
+    #[pyo3(signature = (name, positions, triangles, materials, normals = None, uvs = None, tangents = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_mesh_group(
+        &mut self,
+        py: Python<'_>,
+        name: &str,
+        positions: PyReadonlyArray2<'_, f32>,
+        triangles: PyReadonlyArray2<'_, u32>,
+        materials: numpy::PyReadonlyArray1<'_, u32>,
+        normals: Option<PyReadonlyArray2<'_, f32>>,
+        uvs: Option<PyReadonlyArray2<'_, f32>>,
+        tangents: Option<PyReadonlyArray2<'_, f32>>,
+    ) -> PyResult<u32> {
+        let m = MeshArrays::read(positions, triangles, materials, normals, uvs, tangents)?;
+        let b = self.b()?;
+        py.detach(|| b.add_mesh_group(name, &m.spec(None)))
+            .map_err(|e| to_py(py, e))
+    }
+
+    /// Places mesh group `group` by a 4x4 object-to-world `transform` (row-major); `name`
+    /// names it in errors.
+    fn add_instance(
+        &mut self,
+        py: Python<'_>,
+        name: &str,
+        group: u32,
+        transform: PyReadonlyArray2<'_, f32>,
+    ) -> PyResult<()> {
+        let t = matrix(&transform)?;
+        self.b()?
+            .add_instance(name, group, t)
+            .map_err(|e| to_py(py, e))
+    }
+
+    /// Whether material `material` may be in a mesh group (it neither emits nor is
+    /// alpha-tested).
+    fn material_instanceable(&mut self, material: u32) -> PyResult<bool> {
+        Ok(self.b()?.material_instanceable(material))
     }
 
     /// Adds an analytic sphere of material `material`.

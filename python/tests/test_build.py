@@ -92,3 +92,44 @@ def test_aovs_are_arrays_by_name():
     assert np.allclose(a["normal"][10, 16], [0, 0, -1], atol=1e-5)
     with pytest.raises(g.SettingError, match="unknown AOV `depth`"):
         scene.aovs(["depth"])
+
+
+def test_a_mesh_group_placed_thrice_renders_as_three_copies():
+    # Three boxes' worth of the back wall: stored once as a group, or added three times.
+    def scene(grouped):
+        b = g.SceneBuilder("group")
+        red = b.add_material("red", {"kind": "diffuse", "colour": (0.6, 0.1, 0.05)})
+        lamp = b.add_material("lamp", {"kind": "black", "emission": (20, 20, 20)})
+        assert b.material_instanceable(red) and not b.material_instanceable(lamp)
+        unit = np.array([[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]], np.float32)
+        place = np.array([[0.3, 0, 0, 0], [0, 1, 0, 0.99], [0, 0, 0.3, 0], [0, 0, 0, 1]],
+                         np.float32)
+        b.add_mesh("lamp", unit, QUAD, np.array([lamp], np.uint32), transform=place)
+        tile = np.array([[-0.3, -0.3, 0], [0.3, -0.3, 0], [0.3, 0.3, 0], [-0.3, 0.3, 0]],
+                        np.float32)
+        places = [np.array([[1, 0, 0, x], [0, 1, 0, -0.2], [0, 0, 1, -1], [0, 0, 0, 1]],
+                           np.float32) for x in (-0.7, 0.0, 0.7)]
+        if grouped:
+            group = b.add_mesh_group("tile", tile, QUAD, np.array([red], np.uint32))
+            for i, p in enumerate(places):
+                b.add_instance(f"tile{i}", group, p)
+        else:
+            for i, p in enumerate(places):
+                b.add_mesh(f"tile{i}", tile, QUAD, np.array([red], np.uint32), transform=p)
+        b.set_camera((0, 0, 3), (0, 0, -1), (0, 1, 0), 45.0, 24, 20)
+        return b.finish()
+
+    grouped, copies = render(scene(True)), render(scene(False))
+    assert grouped.mean() > 0.01
+    # The same hits on the same rays, so the same image but for float rounding.
+    assert np.abs(grouped - copies).max() <= 1e-3 * max(copies.max(), 1.0)
+
+
+def test_a_mesh_group_refuses_an_emitter_and_an_unknown_group():
+    b = g.SceneBuilder("group")
+    lamp = b.add_material("lamp", {"kind": "black", "emission": (1, 1, 1)})
+    tile = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
+    with pytest.raises(g.Error, match=r"group:0: meshes\[tile\]: material 0 emits or is alpha-tested"):
+        b.add_mesh_group("tile", tile, QUAD, np.array([lamp], np.uint32))
+    with pytest.raises(g.Error, match=r"group:0: instances\[a\]: no mesh group 3 \(the build has 0\)"):
+        b.add_instance("a", 3, np.eye(4, dtype=np.float32))

@@ -18,7 +18,7 @@ use crate::camera::pixel_filter::PixelFilter;
 use crate::error::{Error, Result};
 use crate::lights::spot::SpotFalloff;
 use crate::lights::spot::SpotLight;
-use crate::scene::{Locate, MaterialId, Origin, Part, SceneBuilder, Surface};
+use crate::scene::{Locate, MaterialId, MeshId, Origin, Part, SceneBuilder, Surface};
 use crate::textures::{Filter, Sampler, SceneTexture, Texture, UvTransform, Wrap};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
@@ -89,6 +89,8 @@ pub struct SceneBuild {
     name: String,
     materials: Vec<MaterialId>,
     textures: u32,
+    /// The meshes of [`SceneBuild::add_mesh_group`], by group index.
+    groups: Vec<MeshId>,
 }
 
 impl SceneBuild {
@@ -99,6 +101,7 @@ impl SceneBuild {
             name: name.to_string(),
             materials: Vec::new(),
             textures: 0,
+            groups: Vec::new(),
         }
     }
 
@@ -268,6 +271,54 @@ impl SceneBuild {
             }
         }
         Ok(())
+    }
+
+    /// Whether material `m` (an index of [`Self::add_material`]) may be in a mesh group:
+    /// neither emissive nor alpha-tested. A mesh with another material is added as copies.
+    pub fn material_instanceable(&self, m: u32) -> bool {
+        self.materials
+            .get(m as usize)
+            .is_some_and(|&id| self.b.instanceable(id))
+    }
+
+    /// Adds `mesh` (in its object space: its transform, if any, places it there) as a mesh
+    /// group stored once, which [`Self::add_instance`] places; returns the group's index.
+    /// Its materials must be instanceable ([`Self::material_instanceable`]).
+    pub fn add_mesh_group(&mut self, name: &str, mesh: &MeshSpec) -> Result<u32> {
+        let item = format!("meshes[{name}]");
+        if let Some(&m) = mesh
+            .materials
+            .iter()
+            .find(|&&m| !self.material_instanceable(m))
+        {
+            let message = format!(
+                "material {m} emits or is alpha-tested: a mesh group cannot use it (add the \
+                 mesh's copies with add_mesh)"
+            );
+            return Err(self.at(&item).error(Part::Geometry, message));
+        }
+        self.b.begin_shape_group(&self.at(&item))?;
+        let added = self.add_mesh(name, mesh);
+        let id = self.b.end_shape_group();
+        added?;
+        self.groups.push(id);
+        Ok(self.groups.len() as u32 - 1)
+    }
+
+    /// Places mesh group `group` by the object-to-world `transform` (glam's column-major
+    /// `[[f32; 4]; 4]`: finite, invertible, affine); `name` names it in errors. The scene
+    /// stores the group's triangles once, whatever the number of its instances.
+    pub fn add_instance(&mut self, name: &str, group: u32, transform: [[f32; 4]; 4]) -> Result<()> {
+        let at = self.at(&format!("instances[{name}]"));
+        let Some(&mesh) = self.groups.get(group as usize) else {
+            let message = format!(
+                "no mesh group {group} (the build has {})",
+                self.groups.len()
+            );
+            return Err(at.error(Part::Geometry, message));
+        };
+        self.b
+            .add_instance(mesh, Mat4::from_cols_array_2d(&transform), &at)
     }
 
     /// Adds an analytic sphere of `material` (an emissive one is one area light).

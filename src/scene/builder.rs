@@ -89,7 +89,7 @@ impl Surface {
 #[derive(Debug, Default)]
 pub struct SceneBuilder {
     camera: Option<Camera>,
-    materials: Vec<Material>,
+    pub(super) materials: Vec<Material>,
     names: HashMap<String, MaterialId>,
     pub(crate) triangles: Vec<Triangle>,
     pub(super) shading_normals: Vec<VertexNormals>,

@@ -1,7 +1,7 @@
 //! The scene builder's calls for instancing (`instances.rs`): recording a shape group into
 //! a mesh, placing it, and what both cost the budgets.
 
-use super::builder::SceneBuilder;
+use super::builder::{MaterialId, SceneBuilder};
 use super::instances::{GroupStash, Instance, MeshId};
 use super::locate::{Locate, Part};
 use super::Scene;
@@ -53,6 +53,13 @@ impl SceneBuilder {
         );
         self.instancing.meshes.push(mesh);
         MeshId(self.instancing.meshes.len() as u32 - 1)
+    }
+
+    /// Whether material `m` may be in a shape group: it neither emits (Mitsuba refuses
+    /// emitters in groups) nor is alpha-tested (the instances' walk makes no alpha test).
+    pub fn instanceable(&self, m: MaterialId) -> bool {
+        let material = &self.materials[m.index() as usize];
+        !material.is_emissive() && material.alpha.is_none()
     }
 
     /// Whether a shape group is being recorded (its shapes may not emit).
