@@ -13,8 +13,8 @@
 
 use crate::bsdfs::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::bvh::Hit;
-use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::cache::RadianceCache;
+use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::media::{medium_after, MAX_CROSSINGS};
 use crate::integrators::cpu::photon_map::estimate_at;
 use crate::math::geometry::{offset_origin, Facing, Ray};
