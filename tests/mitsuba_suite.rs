@@ -68,12 +68,9 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
     // One silhouette block (3 of 768 tests), the same with the rectangle flattened.
     ("instancing/test_instancing_path.xml", Known::Off(0.0001)),
-    ("participating_media/test_hetero_sigmat_albedo_volpath.xml", Known::Off(0.0250)),
-    ("participating_media/test_hetero_spectral_sigmat_no_scattering_volpath.xml", Known::Off(0.0300)),
     ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0872)),
     ("participating_media/test_homo_dielectric_envmap_volpath.xml", Known::Off(0.0074)),
     ("participating_media/test_homo_emitter_inside_medium_volpath.xml", Known::Off(0.1990)),
-    ("participating_media/test_homo_null_envmap_volpath.xml", Known::Off(0.0393)),
     ("participating_media/test_homo_obj_inside_medium_volpath.xml", Known::Off(0.1187)),
     ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.9998)),
     ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", Known::Off(0.0610)),

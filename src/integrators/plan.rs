@@ -291,7 +291,9 @@ pub const CACHE_STRIDE: u32 = 4;
 /// global radius, or in progressive passes every photon within the pass's radius) with
 /// BRDF 1/pi. A lookup at `x` with normal `n` returns the value of the nearest cache point
 /// within the global radius whose normal has a cosine of at least this with `n` (ties by
-/// photon id, then flags), or zero when there is none; the caller multiplies by its kd.
+/// photon id, then flags); when there is none (sparse points in dim regions), the global
+/// map's estimate at `x` with normal `n` made as a point's value is. The caller multiplies
+/// by its kd.
 pub const CACHE_NORMAL_COS: f32 = 0.9;
 
 /// Weight of the caustic-map estimate in camera sample `sample` of a pixel's `spp`, when the

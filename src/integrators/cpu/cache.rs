@@ -3,7 +3,8 @@
 //! ray lands. Its points are the global photons chosen by identity; each holds the outgoing
 //! radiance of a white Lambertian surface there, and a lookup returns the value of the
 //! nearest point within the global radius whose normal matches the query's, found in a
-//! hashed grid of cells of that radius (`point_grid`).
+//! hashed grid of cells of that radius (`point_grid`), or none (the gather ray then reads
+//! the global map there itself).
 
 use crate::integrators::cpu::photon_map::{estimate_at, PhotonMap};
 use crate::integrators::cpu::point_grid::{GridPoint, PointGrid};
@@ -121,11 +122,11 @@ impl RadianceCache {
 
     /// The value of the nearest cache point to `x` within the lookup radius whose normal has
     /// a cosine of at least `CACHE_NORMAL_COS` with `n` (ties: lower id, then lower flags),
-    /// or zero. The grid's search goes out ring by ring from `x`'s cell, skipping the cells
+    /// or `None` (the caller then estimates from the global map). The grid's search goes out ring by ring from `x`'s cell, skipping the cells
     /// farther than the best point so far.
-    pub fn lookup(&self, x: Vec3, n: Vec3) -> Vec3 {
+    pub fn lookup(&self, x: Vec3, n: Vec3) -> Option<Vec3> {
         let Some(grid) = &self.grid else {
-            return Vec3::ZERO;
+            return None;
         };
         let best_d2 = Cell::new(self.radius2);
         let mut best: Option<&GridPoint<Entry>> = None;
@@ -149,7 +150,7 @@ impl RadianceCache {
                 }
             },
         );
-        best.map_or(Vec3::ZERO, |p| p.data.value)
+        best.map(|p| p.data.value)
     }
 }
 

@@ -4,7 +4,8 @@
 //! sample's first shaded hit Sobol pair `sobol::PAIR_GATHER` instead); the ray follows
 //! mirrors (times ks) and glass (always one branch: one `rng.next()` < reflectance
 //! reflects), depth + 1 per bounce up to `max_depth`, and at its first shaded hit y adds the
-//! diffuse albedo of y times the radiance cache at y (normal facing the ray). Where y has a
+//! diffuse albedo of y times the radiance cache at y (normal facing the ray; where no cache
+//! point matches, the global map's estimate at y). Where y has a
 //! lobe the ray goes on along one direction drawn from it (weight as the camera's lobe ray).
 //! It never counts emission: light from a light directly (shadow rays) or over delta and
 //! glossy lobes (L (S|G)+ D: the caustic map) is counted elsewhere. The caller multiplies by
@@ -12,8 +13,10 @@
 
 use crate::bsdfs::shading::{bsdf_at, DeltaEvent, SurfaceBsdf, SurfaceClass};
 use crate::bvh::Hit;
+use crate::integrators::cpu::cache::RadianceCache;
 use crate::integrators::cpu::gather::Gatherer;
 use crate::integrators::cpu::media::{medium_after, MAX_CROSSINGS};
+use crate::integrators::cpu::photon_map::estimate_at;
 use crate::math::geometry::{offset_origin, Facing, Ray};
 use crate::math::rng::Rng;
 use crate::math::sampling::cosine_hemisphere;
@@ -62,6 +65,21 @@ impl Gatherer<'_> {
         }
     }
 
+    /// The radiance cache's value at `x` (normal `n`), or where no cache point matches, the
+    /// global map's estimate there as a cache point's value is made (K nearest within the
+    /// global radius, BRDF 1/pi): sparse cache points (one photon in `CACHE_STRIDE`) leave
+    /// dim regions without one, and a zero there darkened the indirect light (rule:
+    /// `plan::CACHE_NORMAL_COS`).
+    fn cached(&self, cache: &RadianceCache, x: Vec3, n: Vec3) -> Vec3 {
+        cache.lookup(x, n).unwrap_or_else(|| {
+            let s = self.settings;
+            let white = Vec3::splat(std::f32::consts::FRAC_1_PI);
+            self.global.map_or(Vec3::ZERO, |g| {
+                estimate_at(g, x, n, s.k as usize, s.radius * s.radius, s.filter, white)
+            })
+        })
+    }
+
     /// Radiance the cache gives along `ray` (its hit at depth `depth`): the specular chain,
     /// then kd times the cache at the first diffuse or glossy hit, continued over glossy
     /// lobes; nothing more on a miss, at a black surface or past `max_depth`. Through a
@@ -101,7 +119,7 @@ impl Gatherer<'_> {
                     let f = Facing::new(hit.normal, hit.shading, ray.dir.dot(hit.normal) <= 0.0);
                     sum += throughput
                         * bsdf.diffuse_albedo(-ray.dir)
-                        * cache.lookup(hit.position, f.ng);
+                        * self.cached(cache, hit.position, f.ng);
                     // A lobe is not in the cache (it holds Lambertian radiance): the ray goes
                     // on along one direction drawn from the lobe, weighted as the camera's
                     // lobe ray is.

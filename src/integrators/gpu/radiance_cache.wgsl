@@ -1,7 +1,8 @@
 // radiance_cache: the radiance cache of final gathering (mode gather), twin of the CPU's cache
 // (src/integrators/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS): cache[i] = (the global estimate at photon i
 // with BRDF 1/pi, 1) at cache points, 0 elsewhere, written by cache_build.wgsl; cache_find and
-// cache_lookup read it (gather.wgsl, probes.wgsl). Library, no entry point; composed after
+// cache_lookup read it (gather.wgsl, probes.wgsl; a lookup that finds no point estimates the
+// global map there). Library, no entry point; composed after
 // common/estimate.wgsl.
 
 @group(1) @binding(7) var<storage, read_write> cache: array<vec4<f32>>;
@@ -123,11 +124,13 @@ fn cache_find(y: vec3<f32>, n: vec3<f32>) -> u32 {
     return best;
 }
 
-// The cached radiance (white Lambertian) nearest y with normal n; zero when none.
+// The cached radiance (white Lambertian) nearest y with normal n; where no cache point
+// matches (sparse points in dim regions), the global map's estimate at y as a point's value
+// is made (the CPU's Gatherer::cached).
 fn cache_lookup(y: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let j = cache_find(y, n);
     if j == CACHE_NONE {
-        return vec3<f32>(0.0);
+        return estimate(0u, y, n, vec3<f32>(BSDF_FRAC_1_PI));
     }
     return cache[j].xyz;
 }
