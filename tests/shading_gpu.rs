@@ -350,7 +350,13 @@ fn host_delta(s: &SurfaceBsdf, probe: &ShadedSurface, d: Vec3, i: usize) -> (Vec
             } else {
                 f.refraction_leaks(dir)
             };
-            (dir, !leaks, Vec3::ONE)
+            // Radiance mode: a refracted camera path carries (n_i/n_t)^2, as the CPU's chain
+            // does (`Dielectric::refracted_radiance`).
+            let weight = match reflects || g.refracted.is_none() {
+                true => Vec3::ONE,
+                false => Vec3::splat(g.refracted_radiance()),
+            };
+            (dir, !leaks, weight)
         }
     }
 }
