@@ -260,7 +260,8 @@ impl Gatherer<'_> {
                         // A branch that ends on the wrong side of the geometric surface
                         // carries nothing (smooth triangles only).
                         let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
-                            let leaks = if Some(dir) == g.refracted {
+                            let refracts = Some(dir) == g.refracted;
+                            let leaks = if refracts {
                                 f.refraction_leaks(dir)
                             } else {
                                 f.reflection_leaks(dir)
@@ -269,9 +270,10 @@ impl Gatherer<'_> {
                                 return Vec3::ZERO;
                             }
                             // Radiance-mode transmission (`Dielectric::refracted_radiance`).
-                            let k = match Some(dir) == g.refracted {
-                                true => g.refracted_radiance(),
-                                false => 1.0,
+                            let k = if refracts {
+                                g.refracted_radiance()
+                            } else {
+                                1.0
                             };
                             k * self.radiance(
                                 &next(dir),
