@@ -1,9 +1,8 @@
 // radiance_cache: the radiance cache of final gathering (mode gather), twin of the CPU's cache
-// (src/integrators/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS): cache[i] = (the global estimate at photon i
-// with BRDF 1/pi, 1) at cache points, 0 elsewhere, written by cache_build.wgsl; cache_find and
-// cache_lookup read it (gather.wgsl, probes.wgsl; a lookup that finds no point estimates the
-// global map there). Library, no entry point; composed after
-// common/estimate.wgsl.
+// (src/integrators/plan.rs CACHE_STRIDE, CACHE_NORMAL_COS): cache[i] = (the global estimate at
+// photon i with BRDF 1/pi, 1) at cache points, 0 elsewhere, written by cache_build.wgsl; read by
+// cache_find and cache_lookup (gather.wgsl, probes.wgsl; a lookup that finds no point estimates
+// the global map there). Library, no entry point; composed after common/estimate.wgsl.
 
 @group(1) @binding(7) var<storage, read_write> cache: array<vec4<f32>>;
 // build_cache's dispatch, the number of cache points and their sorted indices (in no fixed
