@@ -198,7 +198,7 @@ fn the_gpu_renders_textured_emission_as_the_cpu_does() {
     let settings = direct(&s, 4);
     let (cpu, _) = render(&s, &settings, Backend::Cpu, Progress::default()).unwrap();
     let (gpu, _) = render(&s, &settings, Backend::Gpu, Progress::default()).unwrap();
-    let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
+    let d = gpu_photon::render::image_diff::diff(&gpu, &cpu, 8).unwrap();
     assert!(
         d.max_error < 1e-4,
         "emitter seen directly, gpu vs cpu: {d:?}"

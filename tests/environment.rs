@@ -706,7 +706,7 @@ fn envlight_default_render_matches_the_mitsuba_reference() {
     let s = scene.settings.as_default_render();
     let (img, _) = render(&scene, &s, Backend::Cpu, Progress::default()).unwrap();
     let reference = Image::read(&root.join("tests/data/envlight.exr")).unwrap();
-    let d = gpu_photon::render::film::diff(&img, &reference, 16).unwrap();
+    let d = gpu_photon::render::image_diff::diff(&img, &reference, 16).unwrap();
     eprintln!("envlight, default render vs Mitsuba: {d:?}");
     for (c, r) in d.mean_ratio.iter().enumerate() {
         assert!((r - 1.0).abs() < 0.01, "channel {c}: mean ratio {r}");

@@ -246,7 +246,7 @@ fn tangents_render_alike_on_both_backends() {
     );
     for (name, (cpu, gpu)) in [("x", along_x), ("y", along_y), ("mikk", mikk)] {
         if let Some(gpu) = gpu {
-            let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
+            let d = gpu_photon::render::image_diff::diff(&gpu, &cpu, 8).unwrap();
             assert!(d.max_error < 2e-3, "{name}: gpu vs cpu: {d:?}");
         }
     }

@@ -346,7 +346,7 @@ fn textured_quad_renders_each_texel_in_its_quadrant() {
     // The GPU renders the textured glTF scene as the CPU does: same random numbers, the
     // same texels bit for bit (tests/texture_gpu.rs), so only f32 rounding apart.
     if let Some(gpu) = gpu {
-        let d = gpu_photon::render::film::diff(&gpu, &img, 8).unwrap();
+        let d = gpu_photon::render::image_diff::diff(&gpu, &img, 8).unwrap();
         assert!(d.max_error < 1e-4, "gpu vs cpu: {d:?}");
     }
 }
@@ -385,7 +385,7 @@ fn metallic_roughness_textures_render_alike_on_both_backends() {
     let mean: f32 = cpu.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>();
     assert!(mean > 0.0 && mean.is_finite(), "the quad renders: {mean}");
     if let Some(gpu) = gpu {
-        let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
+        let d = gpu_photon::render::image_diff::diff(&gpu, &cpu, 8).unwrap();
         assert!(d.max_error < 2e-3, "gpu vs cpu: {d:?}");
     }
 }

@@ -321,7 +321,7 @@ fn gpu_gather_over_glossy_lobes_equals_the_cpu() {
     };
     let cpu = run(gpu_photon::render::session::BackendChoice::Cpu);
     let gpu = run(gpu_photon::render::session::BackendChoice::Gpu);
-    let d = gpu_photon::render::film::diff(&gpu, &cpu, 8).unwrap();
+    let d = gpu_photon::render::image_diff::diff(&gpu, &cpu, 8).unwrap();
     eprintln!("glossy sphere, gather, GPU vs CPU: {d:?}");
     assert!(d.rmse < 1e-3, "GPU vs CPU RMSE {}", d.rmse);
 }

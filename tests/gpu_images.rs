@@ -13,7 +13,7 @@
 mod common;
 
 use common::gpu;
-use gpu_photon::render::film::diff;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;

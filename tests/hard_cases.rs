@@ -17,7 +17,8 @@
 mod common;
 
 use gpu_photon::importers::{load, load_str};
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::scene::{LightShape, Scene};

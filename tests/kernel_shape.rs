@@ -17,7 +17,7 @@ use gpu_photon::integrators::gpu::shaders::{validate, Kernel};
 use gpu_photon::integrators::gpu::shape::{
     cache_build_bytes, AdapterFacts, KernelShape, SHAPE_ENV,
 };
-use gpu_photon::render::film::diff;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;

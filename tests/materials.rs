@@ -8,7 +8,8 @@ mod common;
 
 use gpu_photon::bsdfs::Bsdf;
 use gpu_photon::importers::mitsuba::import;
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;

@@ -11,7 +11,8 @@
 //! block difference) and the reference's, in quadrature. A bias shows as more.
 
 use gpu_photon::importers::load;
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::settings::RenderSettings;

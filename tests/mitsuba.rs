@@ -8,7 +8,8 @@ use gpu_photon::bsdfs::{named_conductor, Bsdf, BsdfKind, Distribution, Microface
 use gpu_photon::error::Error;
 use gpu_photon::importers::load;
 use gpu_photon::importers::mitsuba::{import, Imported};
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::scene::{LightShape, Scene};

@@ -4,7 +4,8 @@
 
 mod common;
 
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::progressive::{radius2_factor, Flow};
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render_progressive, Backend};

@@ -2,7 +2,8 @@
 //! comparison `gpu-photon diff` prints.
 
 use crate::error::{Error, Result};
-use crate::render::film::{DiffStats, Image};
+use crate::render::film::Image;
+use crate::render::image_diff::DiffStats;
 use std::path::Path;
 
 impl Image {
@@ -60,6 +61,6 @@ impl Image {
     /// How this image differs from the reference `b` (same size): RMSE, block RMSE over
     /// `block` x `block` means (0 counts as 1), relative MSE, per-channel mean ratio, largest error.
     pub fn diff(&self, b: &Image, block: u32) -> Result<DiffStats> {
-        crate::render::film::diff(self, b, block).map_err(Error::Sizes)
+        crate::render::image_diff::diff(self, b, block).map_err(Error::Sizes)
     }
 }

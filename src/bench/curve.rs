@@ -3,7 +3,8 @@
 
 use crate::bench::{backend_name, BenchBackends};
 use crate::error::{Error, Result};
-use crate::render::film::{diff, Image};
+use crate::render::film::Image;
+use crate::render::image_diff::diff;
 use crate::render::progressive::Flow;
 use crate::render::report::Progress;
 use crate::render::session::render_progressive;

@@ -163,7 +163,7 @@ pub fn ladder(
                 ..base.clone()
             };
             let (img, r) = render(scene, &s, b, Progress::default())?;
-            let d = crate::render::film::diff(&img, reference, 16).map_err(|m| {
+            let d = crate::render::image_diff::diff(&img, reference, 16).map_err(|m| {
                 crate::Error::Setting {
                     field: "reference",
                     message: m,

@@ -5,6 +5,7 @@
 pub mod budget;
 pub mod calibration;
 pub mod film;
+pub mod image_diff;
 pub mod memory;
 pub mod merge;
 pub mod progressive;

@@ -11,7 +11,7 @@ use gpu_photon::integrators::cpu::photons::{trace_photons, TraceContext};
 use gpu_photon::integrators::gpu::GpuContext;
 use gpu_photon::integrators::photon::{Budget, Photon};
 use gpu_photon::lights::table::LightTable;
-use gpu_photon::render::film::DiffStats;
+use gpu_photon::render::image_diff::DiffStats;
 use gpu_photon::scene::Scene;
 use gpu_photon::settings::RenderSettings;
 use std::f64::consts::PI;
@@ -374,8 +374,8 @@ pub fn gpu_and_seed_diffs(scene: &Scene, s: &RenderSettings) -> (DiffStats, Diff
         at(2, Backend::Cpu),
         at(1, Backend::Gpu),
     );
-    let noise = gpu_photon::render::film::diff(&cpu2, &cpu, 8).unwrap();
-    let d = gpu_photon::render::film::diff(&gpu, &cpu2, 8).unwrap();
+    let noise = gpu_photon::render::image_diff::diff(&cpu2, &cpu, 8).unwrap();
+    let d = gpu_photon::render::image_diff::diff(&gpu, &cpu2, 8).unwrap();
     (d, noise)
 }
 

@@ -9,7 +9,8 @@ use crate::common;
 
 use glam::{Quat, Vec3};
 use gpu_photon::importers::{load, load_gltf, load_str, load_with_camera};
-use gpu_photon::render::film::{diff, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::diff;
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::scene::{LightShape, Scene};

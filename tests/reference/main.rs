@@ -15,7 +15,8 @@ mod gltf;
 
 use glam::DVec3;
 use gpu_photon::importers::load;
-use gpu_photon::render::film::{diff, DiffStats, Image};
+use gpu_photon::render::film::Image;
+use gpu_photon::render::image_diff::{diff, DiffStats};
 use gpu_photon::render::report::Progress;
 use gpu_photon::render::session::{render, Backend};
 use gpu_photon::scene::{LightShape, Scene};
