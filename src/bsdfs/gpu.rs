@@ -111,7 +111,7 @@ const fn local(
     }
 }
 
-/// A method of the surface: `surface_<suffix>(s: Surface, ...)`.
+/// A method of the surface: `surface_<suffix>(s: Surface, ...)`, dispatched on its BSDF's kind.
 const fn surface(
     suffix: &'static str,
     name: &'static str,
@@ -120,12 +120,8 @@ const fn surface(
     ret: &'static str,
 ) -> Method {
     Method {
-        name,
-        suffix,
-        params,
-        args,
-        ret,
         kind: "s.b.kind",
+        ..local(suffix, name, params, args, ret)
     }
 }
 
