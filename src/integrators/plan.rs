@@ -111,11 +111,12 @@ impl MapPlan {
     /// photons included).
     ///
     /// - The global map: in every mode that estimates indirect light from photons, when the
-    ///   scene has a light.
+    ///   scene has a light and some photon can stay in it (not in the direct mode when paths
+    ///   end at their first bounce and no medium scatters).
     /// - The caustic map: in the modes that estimate caustics, when caustic photons are
-    ///   asked for and some surface has a delta or glossy lobe; its attempts per light are
-    ///   the wanted photons divided by the fraction of pilot emissions that hit those
-    ///   surfaces' bounds.
+    ///   asked for, photon paths may bounce and some surface has a delta or glossy lobe; its
+    ///   attempts per light are the wanted photons divided by the fraction of pilot emissions
+    ///   that hit those surfaces' bounds.
     /// - Which photons the global map drops ([`StoreFilter`]): `direct` drops direct
     ///   photons (shadow rays do that light); `photon` and `direct` drop L S+ D photons when
     ///   the caustic map carries them. `gather` keeps every photon: its radiance cache is the
@@ -129,6 +130,13 @@ impl MapPlan {
             s.mode,
             Mode::Photon | Mode::Direct | Mode::Gather | Mode::CausticOnly
         );
+        // Paths of one bounce store only direct photons: none is a caustic, and the direct
+        // mode drops them all from the global map (a Mitsuba file's max_depth 2), unless a
+        // scattering medium keeps some.
+        let scatters = scene.media.iter().any(|m| m.sigma_s().max_element() > 0.0);
+        let one_bounce = s.max_photon_bounces <= 1;
+        let uses_global = uses_global && !(one_bounce && s.mode == Mode::Direct && !scatters);
+        let uses_caustic = uses_caustic && !one_bounce;
         let bounds = specular_bounds(scene);
         let caustic = (uses_caustic
             && s.caustic_photons > 0
@@ -169,7 +177,6 @@ impl MapPlan {
                 },
             }
         });
-        let scatters = scene.media.iter().any(|m| m.sigma_s().max_element() > 0.0);
         let volume = (scatters && scene.uses_media() && (global.is_some() || caustic.is_some()))
             .then_some(VolumeSpec {
                 drop_caustic: caustic.is_some(),
