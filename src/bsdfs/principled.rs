@@ -81,18 +81,18 @@ pub struct Principled {
 
 /// Mitsuba's RGB luminance.
 #[inline]
-fn luminance(c: Vec3) -> f32 {
+pub(crate) fn luminance(c: Vec3) -> f32 {
     0.212_671 * c.x + 0.715_160 * c.y + 0.072_169 * c.z
 }
 
 #[inline]
-fn mean(v: Vec3) -> f32 {
+pub(crate) fn mean(v: Vec3) -> f32 {
     (v.x + v.y + v.z) / 3.0
 }
 
 /// Schlick's approximation with reflectance `r0` at `cos_i` (Mitsuba's `calc_schlick`: the
 /// transmitted cosine when the index seen from `cos_i`'s side is below 1).
-fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
+pub(crate) fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
     let outside = cos_i >= 0.0;
     let (eta_it, eta_ti) = if outside {
         (eta, 1.0 / eta)
@@ -143,7 +143,7 @@ fn smith_ggx1(v: Vec3, m: Vec3, alpha: f32) -> f32 {
 
 /// Whether `m` (flipped to `wo`'s side) is seen from the front by `wo` and, for a
 /// reflection, by `wi`, for a transmission from behind (Mitsuba's `mac_mic_compatibility`).
-fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
+pub(crate) fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
     let ms = mulsign(m, wo.z);
     wo.dot(ms) > 0.0
         && if reflection {
