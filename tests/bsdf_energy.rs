@@ -570,6 +570,83 @@ fn principled_thin_furnace() {
     }
 }
 
+/// Photons at a thin principled sheet (`photon_bounce_at`, the photon tracer's scattering on
+/// both backends' host side): from either face, the mean weight is the BSDF's albedo by
+/// quadrature, and the part that continues through the sheet (towards the far side, the
+/// sheet's medium unchanged, no refraction) is the quadrature over the far hemisphere; a
+/// diffuse bounce stays on the near side. Four standard errors plus the quadrature's 3e-3.
+#[test]
+fn principled_thin_photon_bounce() {
+    use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
+    use gpu_photon::scene::Material;
+    use gpu_photon::settings::FresnelMode;
+    let mut k = PrincipledThin::new();
+    k.base_color = Param::rgb(Vec3::new(0.9, 0.6, 0.3));
+    k.roughness = Param::constant(0.6);
+    k.spec_trans = Param::constant(0.4);
+    k.diff_trans = Param::constant(0.8);
+    k.sheen = Param::constant(0.5);
+    k.eta = Param::constant(1.4);
+    let (b, m) = (Bsdf::PrincipledThin(k), Material::of(k));
+    // The albedo of the far side's hemisphere (`far`) or the whole sphere, by quadrature.
+    let quadrature = |wo: Vec3, far: bool| {
+        let (nt, np) = (600, 240);
+        let mut sum = 0.0f64;
+        for i in 0..nt {
+            let t = (i as f32 + 0.5) / nt as f32 * PI;
+            for j in 0..np {
+                let p = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
+                let wi = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+                if !far || wi.z * wo.z < 0.0 {
+                    sum += (b.eval_cos(wi, wo, Transport::Importance).x * t.sin()) as f64;
+                }
+            }
+        }
+        sum * (PI / nt as f32) as f64 * (2.0 * PI / np as f32) as f64
+    };
+    for deg in [0.0f32, 40.0, 75.0] {
+        for side in [1.0f32, -1.0] {
+            let wo = wo_at(deg, 0.0) * side;
+            let (d, n) = (-wo, Vec3::Z);
+            let mut rng = TestRng(17);
+            let count = 200_000;
+            let (mut all, mut all2, mut through) = (0.0f64, 0.0f64, 0.0f64);
+            for _ in 0..count {
+                let u = [rng.f32(), rng.f32(), rng.f32()];
+                let (dir, w) = match photon_bounce_at(&m, d, n, n, FresnelMode::Exact, u) {
+                    Bounce::Absorb => continue,
+                    Bounce::Diffuse { dir, weight } => {
+                        assert!(dir.z * wo.z > 0.0, "a diffuse bounce through the sheet");
+                        (dir, weight.x as f64)
+                    }
+                    Bounce::Specular { dir, weight, delta } => {
+                        assert!(!delta);
+                        (dir, weight.x as f64)
+                    }
+                };
+                all += w;
+                all2 += w * w;
+                if dir.z * wo.z < 0.0 {
+                    through += w;
+                }
+            }
+            let mean = all / count as f64;
+            let se = ((all2 / count as f64 - mean * mean) / count as f64).sqrt();
+            let (q, q_far) = (quadrature(wo, false), quadrature(wo, true));
+            let through = through / count as f64;
+            assert!(
+                (mean - q).abs() < 4.0 * se + 3e-3,
+                "wo {wo}: photons keep {mean} +- {se}, the albedo is {q}"
+            );
+            assert!(
+                (through - q_far).abs() < 4.0 * se + 3e-3,
+                "wo {wo}: {through} passes the sheet, the far side's albedo is {q_far}"
+            );
+            assert!(q_far > 0.2, "wo {wo}: transmits {q_far}");
+        }
+    }
+}
+
 /// The diffuse part's albedo `diffuse_out(wo)` times the cosine-weighted mean of
 /// `store_weight(wi)` over the hemisphere of `wo`, by quadrature.
 fn split_diffuse_quadrature(b: &Bsdf, wo: Vec3) -> f32 {
