@@ -453,22 +453,7 @@ fn principled_furnace() {
                     assert_eq!(a, 0.0, "{name} wo {wo}");
                 }
                 assert!(a < 1.25, "{name} wo {wo}: albedo {a}");
-                // The split: diffuse part by quadrature, the lobe part by its own sampler.
-                let diffuse = split_diffuse_quadrature(&b, wo);
-                let mut rng = TestRng(3);
-                let mut sum = 0.0f64;
-                let n = 40_000;
-                for _ in 0..n {
-                    let u = [rng.f32(), rng.f32(), rng.f32()];
-                    if let Some(s) = b.sample_lobe(wo, u, Transport::Importance) {
-                        sum += s.weight.x as f64;
-                    }
-                }
-                let split = diffuse + (sum / n as f64) as f32;
-                assert!(
-                    (split - q).abs() < 4.0 * err + 5e-3,
-                    "{name} wo {wo}: diffuse {diffuse} + lobe = {split}, whole {q}"
-                );
+                assert_split(name, &b, wo, q, err);
             }
         }
     }
@@ -551,21 +536,7 @@ fn principled_thin_furnace() {
                 }
                 None => assert!(a > 0.3 && a < 1.25, "{name} wo {wo}: albedo {a}"),
             }
-            let diffuse = split_diffuse_quadrature(&b, wo);
-            let mut rng = TestRng(3);
-            let n = 40_000;
-            let lobe: f64 = (0..n)
-                .filter_map(|_| {
-                    let u = [rng.f32(), rng.f32(), rng.f32()];
-                    b.sample_lobe(wo, u, Transport::Importance)
-                })
-                .map(|s| s.weight.x as f64)
-                .sum();
-            let split = diffuse + (lobe / n as f64) as f32;
-            assert!(
-                (split - q).abs() < 4.0 * err + 5e-3,
-                "{name} wo {wo}: diffuse {diffuse} + lobe = {split}, whole {q}"
-            );
+            assert_split(name, &b, wo, q, err);
         }
     }
 }
@@ -645,6 +616,27 @@ fn principled_thin_photon_bounce() {
             assert!(q_far > 0.2, "wo {wo}: transmits {q_far}");
         }
     }
+}
+
+/// The photon mapper's split of `b` at `wo`: its diffuse part by quadrature plus its lobe part
+/// by its own sampler equals the whole albedo `q` (sampled with standard error `err`).
+#[track_caller]
+fn assert_split(name: &str, b: &Bsdf, wo: Vec3, q: f32, err: f32) {
+    let diffuse = split_diffuse_quadrature(b, wo);
+    let mut rng = TestRng(3);
+    let n = 40_000;
+    let lobe: f64 = (0..n)
+        .filter_map(|_| {
+            let u = [rng.f32(), rng.f32(), rng.f32()];
+            b.sample_lobe(wo, u, Transport::Importance)
+        })
+        .map(|s| s.weight.x as f64)
+        .sum();
+    let split = diffuse + (lobe / n as f64) as f32;
+    assert!(
+        (split - q).abs() < 4.0 * err + 5e-3,
+        "{name} wo {wo}: diffuse {diffuse} + lobe = {split}, whole {q}"
+    );
 }
 
 /// The diffuse part's albedo `diffuse_out(wo)` times the cosine-weighted mean of

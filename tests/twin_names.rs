@@ -190,6 +190,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bsdfs/principled.wgsl", "principled_params", "", "", Helper),
     ("bsdfs/principled.wgsl", "pr_luminance", "bsdfs/principled.rs", "luminance", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_calc_schlick", "bsdfs/principled.rs", "calc_schlick", Caller("bsdf_gpu.rs")),
+    ("bsdfs/principled.wgsl", "pr_disney_diffuse", "bsdfs/principled.rs", "disney_diffuse", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_gtr1_d", "bsdfs/principled.rs", "gtr1_d", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_gtr1_sample", "bsdfs/principled.rs", "gtr1_sample", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled.wgsl", "pr_smith_ggx1", "bsdfs/principled.rs", "smith_ggx1", Caller("bsdf_gpu.rs")),

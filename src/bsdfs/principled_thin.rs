@@ -31,7 +31,7 @@ use crate::bsdfs::math::{cosine_hemisphere_pdf, mulsign, reflect, square_to_cosi
 use crate::bsdfs::metallic_roughness::schlick_weight;
 use crate::bsdfs::microfacet::{fresnel_dielectric, Distribution, Microfacet};
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::principled::{calc_schlick, compatible, luminance, mean};
+use crate::bsdfs::principled::{calc_schlick, compatible, disney_diffuse, mean, tint, Principled};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -134,15 +134,9 @@ impl PrincipledThin {
         (1.0 - self.flatness.float()) * self.brdf()
     }
 
-    /// The base colour over its luminance (one where the luminance is zero).
+    /// The base colour's tint.
     fn tint(&self) -> Vec3 {
-        let base = self.base_color.get();
-        let lum = luminance(base);
-        if lum > 0.0 {
-            base / lum
-        } else {
-            Vec3::ONE
-        }
+        tint(self.base_color.get())
     }
 
     /// f(wi, wo) of front-side `wo` in two parts: the separable diffuse one and the rest.
@@ -174,18 +168,12 @@ impl PrincipledThin {
             }
         }
         if reflect && st < 1.0 && dt < 1.0 {
-            let (fo, fi) = (schlick_weight(co), schlick_weight(ci));
-            let flatness = self.flatness.float();
-            let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
             let cos_d = h.dot(wi);
-            let rr = 2.0 * self.roughness.float() * cos_d * cos_d;
-            let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-            let fss90 = rr / 2.0;
-            let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-            let f_ss = 1.25 * (fss * (1.0 / (co + ci) - 0.5) + 0.5);
+            let (roughness, flatness) = (self.roughness.float(), self.flatness.float());
+            let (d, rest) = disney_diffuse(co, ci, cos_d, roughness, flatness);
             let k = base * (self.brdf() * FRAC_1_PI);
-            diffuse += k * ((1.0 - flatness) * f_diff);
-            lobe += k * ((1.0 - flatness) * f_retro + flatness * f_ss);
+            diffuse += k * d;
+            lobe += k * rest;
             let sheen = self.sheen.float();
             if sheen > 0.0 {
                 let c_sheen = Vec3::ONE + (self.tint() - Vec3::ONE) * self.sheen_tint.float();
@@ -290,11 +278,6 @@ impl PrincipledThin {
         let retro = (1.0 - flatness) * 2.0 * self.roughness.float() * g + flatness;
         self.brdf() * (retro + self.sheen.float() * g)
     }
-
-    /// The diffuse part's separable factor `1 - (1 - |cos|)^5 / 2` of one direction.
-    fn half_schlick(cos: f32) -> f32 {
-        1.0 - 0.5 * schlick_weight(cos.abs())
-    }
 }
 
 impl Default for PrincipledThin {
@@ -344,11 +327,11 @@ impl BsdfKind for PrincipledThin {
         if wo.z == 0.0 {
             return Vec3::ZERO;
         }
-        self.base_color.get() * (self.diffuse_weight() * Self::half_schlick(wo.z))
+        self.base_color.get() * (self.diffuse_weight() * Principled::half_schlick(wo.z))
     }
     fn store_weight(&self, wi: Vec3) -> f32 {
         if wi.z != 0.0 && self.diffuse_weight() > 0.0 {
-            Self::half_schlick(wi.z)
+            Principled::half_schlick(wi.z)
         } else {
             0.0
         }

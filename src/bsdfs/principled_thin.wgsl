@@ -1,8 +1,8 @@
 // Mitsuba 3.9's principledthin BSDF (twin of src/bsdfs/principled_thin.rs, same operation
 // order): a sheet seen alike from both sides, transmission unbent. Words (slots): 0 base_color,
 // 1 roughness, 2 anisotropic, 3 spec_trans, 4 diff_trans, 5 eta, 6 sheen, 7 sheen_tint,
-// 8 flatness, 9 spec_tint. Uses principled.wgsl's pr_luminance, pr_calc_schlick, pr_compatible
-// and gltf_schlick_weight, gltf_mean (metallic_roughness.wgsl). Library.
+// 8 flatness, 9 spec_tint. Uses principled.wgsl's pr_luminance, pr_calc_schlick, pr_compatible,
+// pr_disney_diffuse and gltf_schlick_weight, gltf_mean (metallic_roughness.wgsl). Library.
 
 struct PtParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, spec_trans: f32, diff_trans: f32,
@@ -63,18 +63,11 @@ fn pt_parts(p: PtParams, wi: vec3<f32>, wo: vec3<f32>) -> PtParts {
         }
     }
     if reflect && st < 1.0 && dt < 1.0 {
-        let fo = gltf_schlick_weight(co);
-        let fi = gltf_schlick_weight(ci);
-        let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
         let cos_d = bsdf_dot(h, wi);
-        let rr = 2.0 * p.roughness * cos_d * cos_d;
-        let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-        let fss90 = rr / 2.0;
-        let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-        let f_ss = 1.25 * (fss * (1.0 / (co + ci) - 0.5) + 0.5);
+        let dd = pr_disney_diffuse(co, ci, cos_d, p.roughness, p.flatness);
         let k = p.base * (pt_brdf(p) * BSDF_FRAC_1_PI);
-        diffuse += k * ((1.0 - p.flatness) * f_diff);
-        lobe += k * ((1.0 - p.flatness) * f_retro + p.flatness * f_ss);
+        diffuse += k * dd.x;
+        lobe += k * dd.y;
         if p.sheen > 0.0 {
             let c_sheen = vec3<f32>(1.0) + (pt_tint(p) - vec3<f32>(1.0)) * p.sheen_tint;
             lobe += c_sheen * (p.sheen * pt_brdf(p) * gltf_schlick_weight(abs(cos_d)));
