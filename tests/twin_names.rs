@@ -219,7 +219,6 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bsdfs/principled_thin.wgsl", "pt_brdf", "bsdfs/principled_thin.rs", "brdf", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled_thin.wgsl", "pt_diffuse_weight", "bsdfs/principled_thin.rs", "diffuse_weight", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled_thin.wgsl", "pt_tint", "bsdfs/principled_thin.rs", "tint", Caller("bsdf_gpu.rs")),
-    ("bsdfs/principled_thin.wgsl", "pt_half_schlick", "bsdfs/principled_thin.rs", "half_schlick", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled_thin.wgsl", "pt_half", "bsdfs/principled_thin.rs", "half", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled_thin.wgsl", "pt_parts", "bsdfs/principled_thin.rs", "parts", Caller("bsdf_gpu.rs")),
     ("bsdfs/principled_thin.wgsl", "pt_probabilities", "bsdfs/principled_thin.rs", "probabilities", Caller("bsdf_gpu.rs")),

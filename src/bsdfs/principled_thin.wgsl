@@ -2,7 +2,7 @@
 // order): a sheet seen alike from both sides, transmission unbent. Words (slots): 0 base_color,
 // 1 roughness, 2 anisotropic, 3 spec_trans, 4 diff_trans, 5 eta, 6 sheen, 7 sheen_tint,
 // 8 flatness, 9 spec_tint. Uses principled.wgsl's pr_luminance, pr_calc_schlick, pr_compatible,
-// pr_disney_diffuse and gltf_schlick_weight, gltf_mean (metallic_roughness.wgsl). Library.
+// pr_half_schlick, pr_disney_diffuse, and metallic_roughness.wgsl's gltf_schlick_weight. Library.
 
 struct PtParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, spec_trans: f32, diff_trans: f32,
@@ -29,7 +29,6 @@ fn pt_tint(p: PtParams) -> vec3<f32> {
     if lum > 0.0 { return p.base / lum; }
     return vec3<f32>(1.0);
 }
-fn pt_half_schlick(c: f32) -> f32 { return 1.0 - 0.5 * gltf_schlick_weight(abs(c)); }
 // The half vector of the front-side wo and wi mirrored to wo's side.
 fn pt_half(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     return bsdf_normalize(wo + vec3<f32>(wi.x, wi.y, abs(wi.z)));
@@ -141,11 +140,11 @@ fn pt_cos_weight(p: PtParams, wo: vec3<f32>, lobe: bool) -> f32 {
 fn principled_thin_diffuse_out(b: Bsdf, wo: vec3<f32>) -> vec3<f32> {
     let p = principled_thin_params(b);
     if wo.z == 0.0 { return vec3<f32>(0.0); }
-    return p.base * (pt_diffuse_weight(p) * pt_half_schlick(wo.z));
+    return p.base * (pt_diffuse_weight(p) * pr_half_schlick(wo.z));
 }
 fn principled_thin_store_weight(b: Bsdf, wi: vec3<f32>) -> f32 {
     let p = principled_thin_params(b);
-    if wi.z != 0.0 && pt_diffuse_weight(p) > 0.0 { return pt_half_schlick(wi.z); }
+    if wi.z != 0.0 && pt_diffuse_weight(p) > 0.0 { return pr_half_schlick(wi.z); }
     return 0.0;
 }
 fn principled_thin_eval_lobe(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> vec3<f32> {
