@@ -2,7 +2,7 @@
 // order): a sheet seen alike from both sides, transmission unbent. Words (slots): 0 base_color,
 // 1 roughness, 2 anisotropic, 3 spec_trans, 4 diff_trans, 5 eta, 6 sheen, 7 sheen_tint,
 // 8 flatness, 9 spec_tint. Uses principled.wgsl's pr_luminance, pr_calc_schlick, pr_compatible,
-// pr_half_schlick, pr_disney_diffuse, and metallic_roughness.wgsl's gltf_schlick_weight. Library.
+// pr_half_schlick, pr_disney_diffuse; metallic_roughness.wgsl's gltf_schlick_weight, gltf_mean.
 
 struct PtParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, spec_trans: f32, diff_trans: f32,
