@@ -5,6 +5,7 @@
     python3 scripts/mitsuba_bsdf_values.py --table   # Rust rows of src/bsdfs/ior.rs (named conductors)
     python3 scripts/mitsuba_bsdf_values.py           # writes tests/data/bsdf/mitsuba_eval.csv
     python3 scripts/mitsuba_bsdf_values.py --principled   # writes tests/data/bsdf/mitsuba_principled.csv
+    python3 scripts/mitsuba_bsdf_values.py --principledthin   # tests/data/bsdf/mitsuba_principledthin.csv
 
 Naming: in the CSV, `wi` and `wo` use OUR convention (wo = towards the viewer, wi = towards
 the light). Mitsuba's si.wi is our wo and its `wo` argument is our wi; the script converts.
@@ -188,6 +189,43 @@ def principled():
     print('wrote %d rows to %s' % (len(rows) - 1, path))
 
 
+PRINCIPLEDTHIN_CASES = [
+    'type=principledthin;base_color=0.8 0.3 0.2;roughness=0.3;spec_trans=0.6;diff_trans=0.8;'
+    'eta=1.45;sheen=0.4;sheen_tint=0.5;spec_tint=0.3',
+    'type=principledthin;base_color=0.3 0.6 0.8;roughness=0.4;anisotropic=0.7;spec_trans=0.9;'
+    'diff_trans=1.2;eta=1.33;flatness=0.5',
+    # No spec_trans: no specular lobe at all (Mitsuba's quirk).
+    'type=principledthin;base_color=0.5 0.7 0.2;roughness=0.6;diff_trans=0.5;flatness=0.3;sheen=0.8',
+    # As the render suite's scene (test_texturedprincipledthin) at one of its checker cells.
+    'type=principledthin;base_color=0.7 0.1 0.1;anisotropic=0.05;spec_trans=0.2;diff_trans=1.4;'
+    'sheen=0.8;eta=1.33',
+    'type=principledthin;base_color=0.9 0.8 0.4;roughness=0.2;spec_trans=1;eta=1.6;spec_tint=1',
+]
+
+
+def principledthin():
+    """Rows for Mitsuba's principledthin BSDF, as principled() writes them: both sides, wi
+    random, near the mirror direction or near the unbent transmission (-wo)."""
+    rng = random.Random(8765)
+    rows = ['row,params,mode,wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,u0,u1,u2,r,g,b,pdf,delta']
+    for params in PRINCIPLEDTHIN_CASES:
+        d = mitsuba_dict(params)
+        b = mi.load_dict(d)
+        alpha = d.get('roughness', 0.5) ** 2 + 0.05
+        for mode in ['radiance', 'importance']:
+            for i in range(24):
+                # eta 1: refract_near's direction is the straight one.
+                rows.append(eval_row(rng, b, context(mode), params, mode, 'both', 1.0, alpha, i))
+            for i in range(16):
+                rows.append(sample_row(rng, b, context(mode), params, mode, 'both'))
+    path = os.path.join(ROOT, 'tests', 'data', 'bsdf', 'mitsuba_principledthin.csv')
+    with open(path, 'w') as f:
+        f.write('# Mitsuba %s scalar_rgb, written by scripts/mitsuba_bsdf_values.py --principledthin\n'
+                % mi.__version__)
+        f.write('\n'.join(rows) + '\n')
+    print('wrote %d rows to %s' % (len(rows) - 1, path))
+
+
 def v3(v):
     return mi.Vector3f(v[0], v[1], v[2])
 
@@ -260,6 +298,8 @@ def main():
 if __name__ == '__main__':
     if '--table' in sys.argv:
         table()
+    elif '--principledthin' in sys.argv:
+        principledthin()
     elif '--principled' in sys.argv:
         principled()
     else:

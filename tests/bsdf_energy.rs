@@ -5,7 +5,9 @@
 
 use glam::Vec3;
 use gpu_photon::bsdfs::BsdfKind;
-use gpu_photon::bsdfs::{Bsdf, Distribution, Microfacet, Param, Plastic, Principled, Transport};
+use gpu_photon::bsdfs::{
+    Bsdf, Distribution, Microfacet, Param, Plastic, Principled, PrincipledThin, Transport,
+};
 use std::f32::consts::PI;
 
 mod common;
@@ -451,25 +453,190 @@ fn principled_furnace() {
                     assert_eq!(a, 0.0, "{name} wo {wo}");
                 }
                 assert!(a < 1.25, "{name} wo {wo}: albedo {a}");
-                // The split: diffuse part by quadrature, the lobe part by its own sampler.
-                let diffuse = split_diffuse_quadrature(&b, wo);
-                let mut rng = TestRng(3);
-                let mut sum = 0.0f64;
-                let n = 40_000;
-                for _ in 0..n {
-                    let u = [rng.f32(), rng.f32(), rng.f32()];
-                    if let Some(s) = b.sample_lobe(wo, u, Transport::Importance) {
-                        sum += s.weight.x as f64;
-                    }
-                }
-                let split = diffuse + (sum / n as f64) as f32;
-                assert!(
-                    (split - q).abs() < 4.0 * err + 5e-3,
-                    "{name} wo {wo}: diffuse {diffuse} + lobe = {split}, whole {q}"
-                );
+                assert_split(name, &b, wo, q, err);
             }
         }
     }
+}
+
+/// The thin principled BSDF's furnace (white): all glossy (`spec_trans` 1: a GGX reflection
+/// and an unbent GGX transmission, `F + (1 - F)` less what masking loses) and all diffuse
+/// transmission (`diff_trans` 2: Lambertian, exactly 1) conserve energy; the Disney mix with
+/// sheen does not (as `principled_furnace`'s), below 1.25. Every case's albedo by Mitsuba's
+/// sampler equals the quadrature of its eval, the photon mapper's split (diffuse part by
+/// quadrature, lobe part by `sample_lobe`) equals it too, and the sheet is the same from both
+/// sides (eval at mirrored directions, and the sampled albedo, bit for bit).
+#[test]
+fn principled_thin_furnace() {
+    let make = |f: &dyn Fn(&mut PrincipledThin)| {
+        let mut p = PrincipledThin::new();
+        p.base_color = Param::rgb(Vec3::ONE);
+        f(&mut p);
+        Bsdf::PrincipledThin(p)
+    };
+    let c = Param::constant;
+    let cases = [
+        (
+            "glossy",
+            make(&|p| {
+                // Transmission GGX alpha (0.625 * 0.55)^2 = 0.12: a sharper lobe at 85 degrees
+                // outruns albedo_quadrature's grid (roughness 0.4 reads 0.729 where a 4x finer
+                // grid and sampling read 0.699).
+                p.spec_trans = c(1.0);
+                p.roughness = c(0.55);
+            }),
+            Some(0.85),
+        ),
+        (
+            "diffuse transmission",
+            make(&|p| p.diff_trans = c(2.0)),
+            Some(0.999),
+        ),
+        (
+            "disney",
+            make(&|p| {
+                p.roughness = c(0.7);
+                p.sheen = c(1.0);
+                p.spec_trans = c(0.3);
+                p.diff_trans = c(0.8);
+                p.flatness = c(0.3);
+                p.anisotropic = c(0.4);
+            }),
+            None,
+        ),
+    ];
+    for (name, b, least) in cases {
+        for deg in [0.0, 30.0, 60.0, 85.0] {
+            let wo = wo_at(deg, 20.0);
+            let (a, err) = albedo_sampled(&b, wo, Transport::Radiance, 40_000, 11);
+            let q = albedo_quadrature(&b, wo, Transport::Radiance);
+            assert!(
+                (a - q).abs() < 4.0 * err + 3e-3,
+                "{name} wo {wo}: sampled {a} +- {err}, quadrature {q}"
+            );
+            assert_eq!(
+                (a, err),
+                albedo_sampled(&b, -wo, Transport::Radiance, 40_000, 11),
+                "{name}: the back differs"
+            );
+            let mut rng = TestRng(5);
+            for _ in 0..100 {
+                let wi = wo_at(rng.range(0.0, 180.0), rng.range(0.0, 360.0));
+                assert_eq!(
+                    b.eval(wi, wo, Transport::Radiance),
+                    b.eval(-wi, -wo, Transport::Radiance)
+                );
+            }
+            match least {
+                Some(least) => {
+                    assert!(a <= 1.0 + 4.0 * err + 2e-3, "{name} wo {wo}: albedo {a}");
+                    if deg < 70.0 {
+                        assert!(a > least, "{name} wo {wo}: albedo {a}");
+                    }
+                }
+                None => assert!(a > 0.3 && a < 1.25, "{name} wo {wo}: albedo {a}"),
+            }
+            assert_split(name, &b, wo, q, err);
+        }
+    }
+}
+
+/// Photons at a thin principled sheet (`photon_bounce_at`, the photon tracer's scattering on
+/// both backends' host side): from either face, the mean weight is the BSDF's albedo by
+/// quadrature, and the part that continues through the sheet (towards the far side, the
+/// sheet's medium unchanged, no refraction) is the quadrature over the far hemisphere; a
+/// diffuse bounce stays on the near side. Four standard errors plus the quadrature's 3e-3.
+#[test]
+fn principled_thin_photon_bounce() {
+    use gpu_photon::bsdfs::shading::{photon_bounce_at, Bounce};
+    use gpu_photon::scene::Material;
+    use gpu_photon::settings::FresnelMode;
+    let mut k = PrincipledThin::new();
+    k.base_color = Param::rgb(Vec3::new(0.9, 0.6, 0.3));
+    k.roughness = Param::constant(0.6);
+    k.spec_trans = Param::constant(0.4);
+    k.diff_trans = Param::constant(0.8);
+    k.sheen = Param::constant(0.5);
+    k.eta = Param::constant(1.4);
+    let (b, m) = (Bsdf::PrincipledThin(k), Material::of(k));
+    // The albedo of the far side's hemisphere (`far`) or the whole sphere, by quadrature.
+    let quadrature = |wo: Vec3, far: bool| {
+        let (nt, np) = (600, 240);
+        let mut sum = 0.0f64;
+        for i in 0..nt {
+            let t = (i as f32 + 0.5) / nt as f32 * PI;
+            for j in 0..np {
+                let p = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
+                let wi = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+                if !far || wi.z * wo.z < 0.0 {
+                    sum += (b.eval_cos(wi, wo, Transport::Importance).x * t.sin()) as f64;
+                }
+            }
+        }
+        sum * (PI / nt as f32) as f64 * (2.0 * PI / np as f32) as f64
+    };
+    for deg in [0.0f32, 40.0, 75.0] {
+        for side in [1.0f32, -1.0] {
+            let wo = wo_at(deg, 0.0) * side;
+            let (d, n) = (-wo, Vec3::Z);
+            let mut rng = TestRng(17);
+            let count = 200_000;
+            let (mut all, mut all2, mut through) = (0.0f64, 0.0f64, 0.0f64);
+            for _ in 0..count {
+                let u = [rng.f32(), rng.f32(), rng.f32()];
+                let (dir, w) = match photon_bounce_at(&m, d, n, n, FresnelMode::Exact, u) {
+                    Bounce::Absorb => continue,
+                    Bounce::Diffuse { dir, weight } => {
+                        assert!(dir.z * wo.z > 0.0, "a diffuse bounce through the sheet");
+                        (dir, weight.x as f64)
+                    }
+                    Bounce::Specular { dir, weight, delta } => {
+                        assert!(!delta);
+                        (dir, weight.x as f64)
+                    }
+                };
+                all += w;
+                all2 += w * w;
+                if dir.z * wo.z < 0.0 {
+                    through += w;
+                }
+            }
+            let mean = all / count as f64;
+            let se = ((all2 / count as f64 - mean * mean) / count as f64).sqrt();
+            let (q, q_far) = (quadrature(wo, false), quadrature(wo, true));
+            let through = through / count as f64;
+            assert!(
+                (mean - q).abs() < 4.0 * se + 3e-3,
+                "wo {wo}: photons keep {mean} +- {se}, the albedo is {q}"
+            );
+            assert!(
+                (through - q_far).abs() < 4.0 * se + 3e-3,
+                "wo {wo}: {through} passes the sheet, the far side's albedo is {q_far}"
+            );
+            assert!(q_far > 0.2, "wo {wo}: transmits {q_far}");
+        }
+    }
+}
+
+/// The photon mapper's split of `b` at `wo`: its diffuse part by quadrature plus its lobe part
+/// by its own sampler equals the whole albedo `q` (sampled with standard error `err`).
+#[track_caller]
+fn assert_split(name: &str, b: &Bsdf, wo: Vec3, q: f32, err: f32) {
+    let diffuse = split_diffuse_quadrature(b, wo);
+    let mut rng = TestRng(3);
+    let n = 40_000;
+    let lobe: f64 = (0..n)
+        .filter_map(|_| {
+            let u = [rng.f32(), rng.f32(), rng.f32()];
+            b.sample_lobe(wo, u, Transport::Importance)
+        })
+        .map(|s| s.weight.x as f64)
+        .sum();
+    let split = diffuse + (lobe / n as f64) as f32;
+    assert!(
+        (split - q).abs() < 4.0 * err + 5e-3,
+        "{name} wo {wo}: diffuse {diffuse} + lobe = {split}, whole {q}"
+    );
 }
 
 /// The diffuse part's albedo `diffuse_out(wo)` times the cosine-weighted mean of

@@ -20,7 +20,7 @@ use gpu_photon::bsdfs::math::{erf, erfinv, mulsign, square_to_cosine_hemisphere}
 use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
     fresnel_conductor, fresnel_dielectric, Bsdf, Distribution, LobeSample, MetallicRoughness,
-    Microfacet, Param, Plastic, Principled, Transport, KINDS,
+    Microfacet, Param, Plastic, Principled, PrincipledThin, Transport, KINDS,
 };
 use gpu_photon::integrators::gpu::GpuContext;
 use gpu_photon::scene::{Material, Scene};
@@ -102,6 +102,12 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
         p.base_color = Param::rgb(Vec3::new(0.7, 0.4, 0.2));
         f(&mut p);
         Bsdf::Principled(p)
+    };
+    let thin = |f: &dyn Fn(&mut PrincipledThin)| {
+        let mut p = PrincipledThin::new();
+        p.base_color = Param::rgb(Vec3::new(0.7, 0.4, 0.2));
+        f(&mut p);
+        Bsdf::PrincipledThin(p)
     };
     use Distribution::{Beckmann, Ggx};
     vec![
@@ -208,6 +214,27 @@ fn bsdfs() -> Vec<(&'static str, Bsdf)> {
                 p.metallic = Param::constant(0.1);
             }),
         ),
+        (
+            "principledthin glossy sheen",
+            thin(&|p| {
+                p.spec_trans = Param::constant(0.6);
+                p.diff_trans = Param::constant(0.8);
+                p.roughness = Param::constant(0.3);
+                p.anisotropic = Param::constant(0.5);
+                p.eta = Param::constant(1.45);
+                p.sheen = Param::constant(0.6);
+                p.sheen_tint = Param::constant(0.5);
+                p.spec_tint = Param::constant(0.4);
+            }),
+        ),
+        (
+            "principledthin diffuse flat",
+            thin(&|p| {
+                p.diff_trans = Param::constant(1.4);
+                p.roughness = Param::constant(0.7);
+                p.flatness = Param::constant(0.5);
+            }),
+        ),
     ]
 }
 
@@ -218,6 +245,7 @@ fn microfacet_of(b: &Bsdf) -> Option<Microfacet> {
         Bsdf::Plastic(p) => p.microfacet,
         Bsdf::MetallicRoughness(g) => Some(g.microfacet()),
         Bsdf::Principled(p) => Some(p.microfacet()),
+        Bsdf::PrincipledThin(p) => Some(p.microfacet()),
         _ => None,
     }
 }
@@ -229,6 +257,7 @@ fn eta_of(b: &Bsdf) -> Option<f32> {
         Bsdf::ThinDielectric(t) => Some(t.eta),
         Bsdf::Plastic(p) => Some(p.eta),
         Bsdf::Principled(p) => Some(p.eta),
+        Bsdf::PrincipledThin(p) => Some(p.eta.float()),
         _ => None,
     }
 }
@@ -525,6 +554,20 @@ fn near_boundary(b: &Bsdf, wo: Vec3, u: [f32; 3], samples: &[Option<LobeSample>]
                 || close(gpu_photon::bsdfs::math::reflect(wo, m).z)
                 || close(t.z)
         }
+        Bsdf::PrincipledThin(p) => {
+            // u[0] against the thresholds of both samplers; the glossy directions (through
+            // either distribution's visible normal) against the horizon.
+            let u2 = Vec2::new(u[1], u[2]);
+            let r = |mf: Microfacet| {
+                gpu_photon::bsdfs::math::reflect(wof, mf.sample_visible(wof, u2).0)
+            };
+            [false, true]
+                .iter()
+                .flat_map(|&lobe| p.sample_thresholds(wo, lobe))
+                .any(|c| close(u[0] - c))
+                || close(r(p.microfacet()).z)
+                || close(r(p.transmission_microfacet()).z)
+        }
         _ => false,
     }
 }
@@ -565,7 +608,7 @@ fn wgsl_bsdfs_equal_rust_bsdfs() {
         let r_disk = (2.0 * c.u[1] - 1.0).abs().max((2.0 * c.u[2] - 1.0).abs());
         let z = wo.z.abs().min((1.0 - r_disk * r_disk).max(0.0).sqrt());
         let factor = if beckmann { BECKMANN_FACTOR } else { 1.0 };
-        let ratio = if matches!(b, Bsdf::Principled(_)) {
+        let ratio = if matches!(b, Bsdf::Principled(_) | Bsdf::PrincipledThin(_)) {
             RATIO_FACTOR
         } else {
             1.0

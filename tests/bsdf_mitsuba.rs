@@ -12,7 +12,8 @@
 use glam::Vec3;
 use gpu_photon::bsdfs::BsdfKind;
 use gpu_photon::bsdfs::{
-    named_conductor, Bsdf, Distribution, Microfacet, Param, Plastic, Principled, Transport,
+    named_conductor, Bsdf, Distribution, Microfacet, Param, Plastic, Principled, PrincipledThin,
+    Transport,
 };
 use std::collections::HashMap;
 
@@ -91,6 +92,24 @@ fn build(params: &str) -> Bsdf {
             );
             k.two_sided = p.get("twosided") == Some(&"true");
             Bsdf::Principled(k)
+        }
+        "principledthin" => {
+            let mut k = PrincipledThin::new();
+            k.base_color = Param::rgb(c("base_color", Vec3::splat(0.5)));
+            for (name, slot) in [
+                ("roughness", &mut k.roughness),
+                ("anisotropic", &mut k.anisotropic),
+                ("spec_trans", &mut k.spec_trans),
+                ("diff_trans", &mut k.diff_trans),
+                ("eta", &mut k.eta),
+                ("sheen", &mut k.sheen),
+                ("sheen_tint", &mut k.sheen_tint),
+                ("flatness", &mut k.flatness),
+                ("spec_tint", &mut k.spec_tint),
+            ] {
+                *slot = Param::constant(f(name, slot.float()));
+            }
+            Bsdf::PrincipledThin(k)
         }
         other => panic!("unknown kind {other}"),
     }
@@ -222,12 +241,20 @@ fn samples_match_mitsuba() {
 /// transmission, anisotropy, clearcoat, sheen, tints and flatness.
 #[test]
 fn principled_matches_mitsuba() {
-    let text = include_str!("data/bsdf/mitsuba_principled.csv");
+    check_file(
+        include_str!("data/bsdf/mitsuba_principled.csv"),
+        [150, 100, 100],
+    );
+}
+
+/// Every eval and sample row of `text` against ours (1e-4), with at least `least` (eval
+/// rows, non-zero ones, sample rows) checked.
+fn check_file(text: &str, least: [usize; 3]) {
     let (checked, nonzero, mut failures) = check_evals(text, 1e-4);
     let (sampled, sample_failures) = check_samples(text, 1e-4);
     failures.extend(sample_failures);
     assert!(
-        checked >= 150 && nonzero > 100 && sampled >= 100,
+        checked >= least[0] && nonzero >= least[1] && sampled >= least[2],
         "{checked} rows, {nonzero} non-zero, {sampled} samples"
     );
     assert!(
@@ -236,5 +263,17 @@ fn principled_matches_mitsuba() {
         failures.len(),
         checked + sampled,
         failures.join("\n")
+    );
+}
+
+/// Mitsuba's `principledthin` (tests/data/bsdf/mitsuba_principledthin.csv, written by
+/// `scripts/mitsuba_bsdf_values.py --principledthin`): eval, pdf and samples from both sides,
+/// with glossy and diffuse transmission, anisotropy, sheen, tints and flatness, and without
+/// `spec_trans` (no specular lobe).
+#[test]
+fn principled_thin_matches_mitsuba() {
+    check_file(
+        include_str!("data/bsdf/mitsuba_principledthin.csv"),
+        [200, 150, 150],
     );
 }

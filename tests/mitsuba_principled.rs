@@ -153,3 +153,60 @@ fn twosided_makes_it_two_sided() {
     });
     assert_eq!(one_sided.eval(flip(wi), flip(wo), t), Vec3::ZERO);
 }
+
+/// The thin kind of the scene's one material (a `principledthin` with `params`), resolved at
+/// `uv`, and whether the material is one-sided.
+fn thin_at(params: &str, uv: Vec2) -> Result<(gpu_photon::bsdfs::PrincipledThin, bool), String> {
+    let s = load_bsdf(&format!(r#"<bsdf type="principledthin">{params}</bsdf>"#))?;
+    let m = &s.materials[s.triangles[0].material as usize];
+    match m.bsdf.resolve(&s.textures, uv) {
+        Bsdf::PrincipledThin(p) => Ok((p, m.one_sided)),
+        other => panic!("not principledthin: {other:?}"),
+    }
+}
+
+/// `principledthin`: Mitsuba's defaults, two-sided by nature, textured parameters read as
+/// Mitsuba's `eval_1` (a checkerboard's colours swapped), `eta` a number or a texture, and
+/// located errors for values out of range (`diff_trans` up to 2).
+#[test]
+fn principled_thin_reads_as_mitsuba() {
+    let (p, one_sided) = thin_at("", Vec2::ZERO).unwrap();
+    assert!(!one_sided);
+    assert_eq!(p.base_color.get(), Vec3::splat(0.5));
+    assert_eq!((p.roughness.float(), p.eta.float()), (0.5, 1.5));
+    assert_eq!((p.spec_trans.float(), p.diff_trans.float()), (0.0, 0.0));
+    let checker = |name: &str, c0: f32, c1: f32| {
+        format!(
+            r#"<texture name="{name}" type="checkerboard"><float name="color0" value="{c0}"/><float name="color1" value="{c1}"/></texture>"#
+        )
+    };
+    let params = format!(
+        r#"{}{}<float name="diff_trans" value="1.4"/><float name="sheen" value="0.3"/>"#,
+        checker("spec_trans", 0.2, 0.8),
+        checker("eta", 1.3, 1.6)
+    );
+    // uv (0.1, 0.1): eval_1 reads color1.
+    let (p, _) = thin_at(&params, Vec2::new(0.1, 0.1)).unwrap();
+    assert!(
+        (p.spec_trans.float() - 0.8).abs() < 1e-6,
+        "{:?}",
+        p.spec_trans
+    );
+    assert!((p.eta.float() - 1.6).abs() < 1e-6, "{:?}", p.eta);
+    assert_eq!((p.diff_trans.float(), p.sheen.float()), (1.4, 0.3));
+    let (p, _) = thin_at(&params, Vec2::new(0.6, 0.1)).unwrap();
+    assert!(
+        (p.spec_trans.float() - 0.2).abs() < 1e-6,
+        "{:?}",
+        p.spec_trans
+    );
+    let e = thin_at(r#"<float name="diff_trans" value="2.5"/>"#, Vec2::ZERO).unwrap_err();
+    assert!(
+        e.contains("p.xml:3") && e.contains("diff_trans") && e.contains("must be in [0, 2]"),
+        "{e}"
+    );
+    let e = thin_at(r#"<float name="eta" value="0"/>"#, Vec2::ZERO).unwrap_err();
+    assert!(e.contains("eta") && e.contains("must be positive"), "{e}");
+    let e = thin_at(r#"<float name="metallic" value="0.5"/>"#, Vec2::ZERO).unwrap_err();
+    assert!(e.contains("metallic"), "{e}");
+}

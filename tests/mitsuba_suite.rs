@@ -65,7 +65,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     // numbers, same layout); at seeds 2 and 3 both pass every block (docs/conformance.md).
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
-    ("bsdf_spheres/test_texturedprincipledthin_path.xml", Known::Refused("`principledthin`")),
     // One silhouette block (3 of 768 tests), the same with the rectangle flattened.
     ("instancing/test_instancing_path.xml", Known::Off(0.0001)),
     ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0872)),

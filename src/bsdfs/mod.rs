@@ -46,6 +46,7 @@ pub mod null;
 pub mod phong;
 pub mod plastic;
 pub mod principled;
+pub mod principled_thin;
 pub mod rough_conductor;
 pub mod rough_dielectric;
 pub mod thin_dielectric;
@@ -61,6 +62,7 @@ pub use microfacet::{
 pub use param::{Channel, Param};
 pub use plastic::{Plastic, TRANSMITTANCE_RES};
 pub use principled::Principled;
+pub use principled_thin::PrincipledThin;
 
 use crate::bsdfs::interface::{Bounce, DeltaEvent, Frame, LobeRay};
 use crate::bsdfs::param::GpuWords;
@@ -236,6 +238,8 @@ bsdf_kinds! {
     MetallicRoughness(metallic_roughness::MetallicRoughness) consts metallic_roughness::wgsl_consts,
     /// Mitsuba's principled BSDF (`principled`).
     Principled(principled::Principled),
+    /// Mitsuba's thin principled BSDF (`principledthin`).
+    PrincipledThin(principled_thin::PrincipledThin),
 }
 
 /// A surface that reflects nothing.

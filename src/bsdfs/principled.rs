@@ -81,18 +81,18 @@ pub struct Principled {
 
 /// Mitsuba's RGB luminance.
 #[inline]
-fn luminance(c: Vec3) -> f32 {
+pub(crate) fn luminance(c: Vec3) -> f32 {
     0.212_671 * c.x + 0.715_160 * c.y + 0.072_169 * c.z
 }
 
 #[inline]
-fn mean(v: Vec3) -> f32 {
+pub(crate) fn mean(v: Vec3) -> f32 {
     (v.x + v.y + v.z) / 3.0
 }
 
 /// Schlick's approximation with reflectance `r0` at `cos_i` (Mitsuba's `calc_schlick`: the
 /// transmitted cosine when the index seen from `cos_i`'s side is below 1).
-fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
+pub(crate) fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
     let outside = cos_i >= 0.0;
     let (eta_it, eta_ti) = if outside {
         (eta, 1.0 / eta)
@@ -106,6 +106,40 @@ fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
         schlick_weight(cos_t)
     };
     Vec3::splat(w) + (Vec3::ONE - Vec3::splat(w)) * r0
+}
+
+/// `base` over its luminance (one where the luminance is zero): the tint of the sheen and of
+/// the tinted specular.
+pub(crate) fn tint(base: Vec3) -> Vec3 {
+    let lum = luminance(base);
+    if lum > 0.0 {
+        base / lum
+    } else {
+        Vec3::ONE
+    }
+}
+
+/// Disney's diffuse response at the cosines `cos_o`, `cos_i` (both positive) and `cos_d` (the
+/// half vector's with a direction), split as the photon mapper splits it: the separable
+/// `(1 - flatness) f_diff` and the rest, `(1 - flatness) f_retro + flatness f_ss`.
+pub(crate) fn disney_diffuse(
+    cos_o: f32,
+    cos_i: f32,
+    cos_d: f32,
+    roughness: f32,
+    flatness: f32,
+) -> (f32, f32) {
+    let (fo, fi) = (schlick_weight(cos_o), schlick_weight(cos_i));
+    let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
+    let rr = 2.0 * roughness * cos_d * cos_d;
+    let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
+    let fss90 = rr / 2.0;
+    let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
+    let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
+    (
+        (1.0 - flatness) * f_diff,
+        (1.0 - flatness) * f_retro + flatness * f_ss,
+    )
 }
 
 /// GTR1's distribution of normals (clearcoat) of roughness `alpha`.
@@ -143,7 +177,7 @@ fn smith_ggx1(v: Vec3, m: Vec3, alpha: f32) -> f32 {
 
 /// Whether `m` (flipped to `wo`'s side) is seen from the front by `wo` and, for a
 /// reflection, by `wi`, for a transmission from behind (Mitsuba's `mac_mic_compatibility`).
-fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
+pub(crate) fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
     let ms = mulsign(m, wo.z);
     wo.dot(ms) > 0.0
         && if reflection {
@@ -224,15 +258,9 @@ impl Principled {
         (1.0 - self.metallic.float()) * self.spec_trans.float()
     }
 
-    /// The base colour over its luminance (one where the luminance is zero).
+    /// The base colour's tint.
     fn tint(&self) -> Vec3 {
-        let base = self.base_color.get();
-        let lum = luminance(base);
-        if lum > 0.0 {
-            base / lum
-        } else {
-            Vec3::ONE
-        }
+        tint(self.base_color.get())
     }
 
     /// The main reflection's Fresnel term at `c = wo . h` (Mitsuba's `principled_fresnel`).
@@ -254,7 +282,7 @@ impl Principled {
     }
 
     /// The diffuse part's separable factor `1 - (1 - cos)^5 / 2` of one direction.
-    fn half_schlick(cos: f32) -> f32 {
+    pub(crate) fn half_schlick(cos: f32) -> f32 {
         1.0 - 0.5 * schlick_weight(cos.abs())
     }
 
@@ -301,19 +329,13 @@ impl Principled {
             lobe += Vec3::new(base.x.sqrt(), base.y.sqrt(), base.z.sqrt()) * (bsdf * v);
         }
         if reflect && front {
-            let (fo, fi) = (schlick_weight(wo.z), schlick_weight(wi.z));
             let cos_d = h.dot(wi);
             if brdf > 0.0 {
-                let flatness = self.flatness.float();
-                let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
-                let rr = 2.0 * self.roughness.float() * cos_d * cos_d;
-                let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-                let fss90 = rr / 2.0;
-                let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-                let f_ss = 1.25 * (fss * (1.0 / (wo.z + wi.z) - 0.5) + 0.5);
+                let (roughness, flatness) = (self.roughness.float(), self.flatness.float());
+                let (d, rest) = disney_diffuse(wo.z, wi.z, cos_d, roughness, flatness);
                 let k = base * (brdf * FRAC_1_PI);
-                diffuse += k * ((1.0 - flatness) * f_diff);
-                lobe += k * ((1.0 - flatness) * f_retro + flatness * f_ss);
+                diffuse += k * d;
+                lobe += k * rest;
             }
             let sheen = self.sheen.float();
             if sheen > 0.0 && 1.0 - metallic > 0.0 {

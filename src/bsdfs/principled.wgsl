@@ -22,6 +22,18 @@ fn pr_calc_schlick(r0: vec3<f32>, cos_i: f32, eta: f32) -> vec3<f32> {
     let w = select(gltf_schlick_weight(cos_t), gltf_schlick_weight(abs(cos_i)), eta_it > 1.0);
     return vec3<f32>(w) + (vec3<f32>(1.0) - vec3<f32>(w)) * r0;
 }
+// Disney's diffuse at positive cosines: ((1 - flatness) f_diff, the rest) (disney_diffuse).
+fn pr_disney_diffuse(cos_o: f32, cos_i: f32, cos_d: f32, roughness: f32, flatness: f32) -> vec2<f32> {
+    let fo = gltf_schlick_weight(cos_o);
+    let fi = gltf_schlick_weight(cos_i);
+    let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
+    let rr = 2.0 * roughness * cos_d * cos_d;
+    let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
+    let fss90 = rr / 2.0;
+    let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
+    let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
+    return vec2<f32>((1.0 - flatness) * f_diff, (1.0 - flatness) * f_retro + flatness * f_ss);
+}
 fn pr_gtr1_d(alpha: f32, m: vec3<f32>) -> f32 {
     let a2 = alpha * alpha;
     let r = (a2 - 1.0) / (PI * log(a2) * (1.0 + (a2 - 1.0) * m.z * m.z));
@@ -113,19 +125,12 @@ fn pr_parts(p: PrParams, wi: vec3<f32>, wo: vec3<f32>, radiance: bool) -> PrPart
         lobe += sqrt(p.base) * (bsdf * v);
     }
     if hv.reflect && front {
-        let fo = gltf_schlick_weight(wo.z);
-        let fi = gltf_schlick_weight(wi.z);
         let cos_d = bsdf_dot(h, wi);
         if brdf > 0.0 {
-            let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
-            let rr = 2.0 * p.roughness * cos_d * cos_d;
-            let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-            let fss90 = rr / 2.0;
-            let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-            let f_ss = 1.25 * (fss * (1.0 / (wo.z + wi.z) - 0.5) + 0.5);
+            let dd = pr_disney_diffuse(wo.z, wi.z, cos_d, p.roughness, p.flatness);
             let k = p.base * (brdf * BSDF_FRAC_1_PI);
-            diffuse += k * ((1.0 - p.flatness) * f_diff);
-            lobe += k * ((1.0 - p.flatness) * f_retro + p.flatness * f_ss);
+            diffuse += k * dd.x;
+            lobe += k * dd.y;
         }
         if p.sheen > 0.0 && 1.0 - p.metallic > 0.0 {
             let c_sheen = vec3<f32>(1.0) + (pr_tint(p) - vec3<f32>(1.0)) * p.sheen_tint;

@@ -2,7 +2,7 @@
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
 //! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor`
 //! (named materials, eta/k), `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
-//! `roughplastic`, `principled`, and `normalmap` around any of them.
+//! `roughplastic`, `principled`, `principledthin`, and `normalmap` around any of them.
 
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
@@ -393,6 +393,12 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
         }
         "principled" => {
             let (kind, textures) = crate::importers::mitsuba::principled::principled(cx, &p)?;
+            param_textures = textures;
+            Material::of(kind)
+        }
+        "principledthin" => {
+            let read = crate::importers::mitsuba::principled::principled_thin;
+            let (kind, textures) = read(cx, &p)?;
             param_textures = textures;
             Material::of(kind)
         }
