@@ -32,6 +32,9 @@
 //! run it with `MITSUBA_SUITE_BUDGET=8,16,100000 cargo test --release --test mitsuba_suite --
 //! --ignored`. It reports without a ratchet. `MITSUBA_SUITE_BUDGET=PASSES,SPP,PHOTONS` sets
 //! either suite's budget (docs/conformance.md compares both backends at one budget).
+//! `MITSUBA_SUITE_SEED=N` renders at seed N instead of 1 (the ratchet's figures hold at seed
+//! 1 only) and `MITSUBA_SUITE_BLOCKS=1` prints each failing block (its position in blocks,
+//! channel, our mean over the reference's): to tell chance from bias.
 
 mod common;
 
@@ -308,6 +311,14 @@ fn judge(
             let (m, v) = mean_and_var(&xs);
             let p = p_value(m - theirs[b][c], v, theirs_var[b][c], dof);
             min_p = min_p.min(p);
+            if p <= alpha && std::env::var_os("MITSUBA_SUITE_BLOCKS").is_some() {
+                eprintln!(
+                    "  failing block ({}, {}) channel {c}: ours / reference {:.4}, p {p:.2e}",
+                    b as u32 % (w / BLOCK),
+                    b as u32 / (w / BLOCK),
+                    m / theirs[b][c]
+                );
+            }
             passed += usize::from(p > alpha);
         }
     }
@@ -346,7 +357,9 @@ fn run_scene(name: &str, backend: BackendChoice, budget: Budget) -> Outcome {
         photons: budget.photons,
         caustic_photons: budget.photons / 2,
         passes: budget.passes,
-        seed: 1,
+        seed: std::env::var("MITSUBA_SUITE_SEED").map_or(1, |s| {
+            s.parse().expect("MITSUBA_SUITE_SEED: an integer")
+        }),
         ..scene.settings.clone()
     }
     .as_default_render();

@@ -19,6 +19,7 @@ mod build_binned;
 mod build_wide;
 pub mod hit;
 pub mod instances;
+pub mod sdf;
 mod isa;
 // std::arch intrinsics and the run-time choice between them.
 #[allow(unsafe_code)]

@@ -5,7 +5,8 @@
 //! in a file without them, normals computed from the faces as Mitsuba computes them; flat when
 //! `face_normals` is true; the file's texture coordinates with v flipped when
 //! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), `serialized`
-//! meshes (`shape_index`, `face_normals`; [`serialized`]), each with its
+//! meshes (`shape_index`, `face_normals`; [`serialized`]), `sdfgrid` (a signed distance field
+//! on a grid, `crate::scene::sdf_grid`), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use crate::bsdfs::{BsdfKind, Param};
@@ -15,7 +16,10 @@ use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::{mesh_attribute, round, serialized, Importer};
 use crate::media::builder::{interface, MediumId};
+use crate::media::grid::VolumeGrid;
 use crate::scene::builder::Surface;
+use crate::scene::sdf_grid::SdfData;
+use std::sync::Arc;
 use crate::textures::uv;
 use crate::textures::SceneTexture;
 use glam::{Mat4, Vec3};
@@ -282,11 +286,7 @@ impl<'f> Importer<'f> {
                     .map_err(|m| cx.err(p.node_of("filename"), &p.at("filename"), m))?;
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
-            "sdfgrid" => {
-                let message = "unsupported shape `sdfgrid` (a signed distance field on a grid: \
-                               not supported)";
-                return Err(cx.err(p.node, &p.field, message));
-            }
+            "sdfgrid" => return self.sdf_grid(p, m, surface),
             other => {
                 let message = format!("unsupported shape `{other}`");
                 return Err(cx.err(p.node, &p.field, message));
@@ -306,6 +306,36 @@ impl<'f> Importer<'f> {
                 .b
                 .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
         }
+    }
+
+    /// An `sdfgrid` (`crate::scene::sdf_grid`): its `filename` (a one-channel `.vol`;
+    /// Mitsuba's `grid` tensor cannot be given in XML) and `normals` (`smooth` or
+    /// `analytic`), placed by `to_world` `m`.
+    fn sdf_grid(&mut self, p: &Plugin, m: Mat4, surface: Surface) -> Result<()> {
+        let cx = &self.cx;
+        let Some(file) = p.string(cx, "filename")? else {
+            return Err(cx.err(p.node, &p.at("filename"), "missing"));
+        };
+        let smooth = match p.string(cx, "normals")?.as_deref() {
+            None | Some("smooth") => true,
+            Some("analytic") => false,
+            Some(other) => {
+                let message = format!("`{other}` is not `analytic` or `smooth`");
+                return Err(cx.err(p.node_of("normals"), &p.at("normals"), message));
+            }
+        };
+        let held: u64 = (self.b.sdf_grids.iter())
+            .map(|g| 4 * g.data.grid.data.len() as u64)
+            .sum();
+        let room = self.b.grid_room().saturating_sub(held);
+        let path = cx.resolve(&file);
+        let at_file = |m: String| cx.err(p.node_of("filename"), &p.at("filename"), m);
+        let grid = VolumeGrid::open(&path, room).map_err(at_file)?;
+        let name = crate::escape::escape(&path.display().to_string()).into_owned();
+        let data = SdfData::new(grid).map_err(|m| at_file(format!("{name}: {m}")))?;
+        p.done(cx)?;
+        let at = self.origin(p.node, &p.field);
+        self.b.add_sdf_grid(Arc::new(data), m, smooth, surface, &at)
     }
 
     /// `mesh` and `surface`, or, when the surface's material reads a `mesh_attribute`, the
