@@ -117,3 +117,36 @@ fn shape_uvs_equal_mitsuba() {
         failures.join("\n")
     );
 }
+
+/// The Mitsuba importer's `cube` carries Mitsuba's per-face uvs: a ray from outside through
+/// each cube point of the table hits it with Mitsuba's uv there (barycentric interpolation:
+/// 1e-5).
+#[test]
+fn imported_cube_has_mitsuba_uvs() {
+    let dir = std::env::temp_dir().join(format!("gpu_photon_cube_uv_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cube.xml");
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+    <shape type="cube"><bsdf type="diffuse"><texture name="reflectance" type="checkerboard"/></bsdf></shape>
+</scene>"#;
+    std::fs::write(&file, xml).unwrap();
+    let scene = gpu_photon::importers::load(&file).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let bvh = gpu_photon::bvh::CpuBvh::build(&scene);
+    let mut checked = 0;
+    for r in rows("mitsuba_uv.csv").iter().filter(|r| r[0] == "cube") {
+        let p = Vec3::new(num(&r[1]), num(&r[2]), num(&r[3]));
+        let want = Vec2::new(num(&r[4]), num(&r[5]));
+        let ray = gpu_photon::math::geometry::Ray {
+            origin: 3.0 * p,
+            dir: -p.normalize(),
+        };
+        let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect("the cube");
+        assert!((hit.position - p).abs().max_element() < 1e-4, "{p}: hit {}", hit.position);
+        let got = hit.uv;
+        assert!((got - want).abs().max_element() < 1e-5, "{p}: ours {got}, Mitsuba {want}");
+        checked += 1;
+    }
+    assert_eq!(checked, 60);
+}

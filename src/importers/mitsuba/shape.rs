@@ -1,4 +1,5 @@
-//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
+//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward,
+//! each face's uvs as Mitsuba's cube mesh has them: `uv::cube`),
 //! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `disk`
 //! and `cylinder` (`p0`, `p1`, `radius`; both as meshes of `round::SEGMENTS` facets around,
 //! with a warning), `obj` and `ply` meshes (smooth-shaded with the file's vertex normals, or,
@@ -216,16 +217,29 @@ impl<'f> Importer<'f> {
                     attributes: Vec::new(),
                 }
             }
-            "cube" => MeshData {
-                tris: CUBE_FACES
+            "cube" => {
+                let tris: Vec<[Vec3; 3]> = CUBE_FACES
                     .iter()
                     .flat_map(|&[n, u, v]| quad(n, u, v))
-                    .collect(),
-                normals: None,
-                uvs: None,
-                vertices: None,
-                attributes: Vec::new(),
-            },
+                    .collect();
+                // Mitsuba's cube has uvs per face (`uv::cube`, affine on a face): read at a
+                // point half way to the face's centre, where the face is not ambiguous.
+                let corner_uv = |n: Vec3, c: Vec3| {
+                    let centre = uv::cube(n);
+                    centre + 2.0 * (uv::cube(n + 0.5 * (c - n)) - centre)
+                };
+                let normals = CUBE_FACES.iter().flat_map(|&[n, _, _]| [n, n]);
+                let uvs = (tris.iter().zip(normals))
+                    .map(|(t, n)| t.map(|c| corner_uv(n, c)))
+                    .collect();
+                MeshData {
+                    tris,
+                    normals: None,
+                    uvs: Some(uvs),
+                    vertices: None,
+                    attributes: Vec::new(),
+                }
+            }
             "disk" | "cylinder" => {
                 let what = format!(
                     "{}: {}: a `{}` is rendered as {} facets around (its area kept)",
