@@ -276,6 +276,19 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
+        self.add_oriented_sphere(center, radius, glam::Quat::IDENTITY, surface, at)
+    }
+
+    /// Adds a sphere as [`Self::add_sphere`] whose parameterisation (uv, dp/du) is turned by
+    /// the unit quaternion `frame` (object to world: Mitsuba's rotating `to_world`).
+    pub fn add_oriented_sphere(
+        &mut self,
+        center: Vec3,
+        radius: f32,
+        frame: glam::Quat,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
         let surface = self.resolve(surface, at)?;
         if !center.is_finite() {
             return Err(at.error(Part::Geometry, "the centre must be finite".into()));
@@ -300,6 +313,7 @@ impl SceneBuilder {
             radius,
             material,
             light,
+            frame: Sphere::quantized_frame(frame),
         });
         Ok(())
     }

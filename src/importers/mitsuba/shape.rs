@@ -204,7 +204,17 @@ impl<'f> Importer<'f> {
                     return Err(cx.err(p.node, &p.at("to_world"), message));
                 }
                 let center = m.transform_point3(center);
-                return self.b.add_sphere(center, radius * s, surface, &at);
+                // Mitsuba's uv and dp/du are its object space's: keep the rotation (a
+                // mirroring to_world keeps the world frame, as before).
+                let rotation = glam::Mat3::from_cols(cols[0] / s, cols[1] / s, cols[2] / s);
+                let frame = if rotation.determinant() > 0.0 {
+                    glam::Quat::from_mat3(&rotation).normalize()
+                } else {
+                    glam::Quat::IDENTITY
+                };
+                return self
+                    .b
+                    .add_oriented_sphere(center, radius * s, frame, surface, &at);
             }
             "rectangle" => {
                 let tris = quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec();
