@@ -359,9 +359,8 @@ fn run_scene(name: &str, backend: BackendChoice, budget: Budget) -> Outcome {
         photons: budget.photons,
         caustic_photons: budget.photons / 2,
         passes: budget.passes,
-        seed: std::env::var("MITSUBA_SUITE_SEED").map_or(1, |s| {
-            s.parse().expect("MITSUBA_SUITE_SEED: an integer")
-        }),
+        seed: std::env::var("MITSUBA_SUITE_SEED")
+            .map_or(1, |s| s.parse().expect("MITSUBA_SUITE_SEED: an integer")),
         ..scene.settings.clone()
     }
     .as_default_render();

@@ -87,7 +87,11 @@ fn various_shapes() -> PathBuf {
 #[test]
 fn hits_and_normals_match_mitsuba() {
     let scene = load(&various_shapes()).unwrap();
-    assert_eq!(scene.sdf_grids.len(), 1, "the torus, placed by its instance");
+    assert_eq!(
+        scene.sdf_grids.len(),
+        1,
+        "the torus, placed by its instance"
+    );
     assert!(scene.sdf_grids[0].smooth);
     let bvh = CpuBvh::build(&scene);
     let origin = Vec3::new(-24.0, 0.0, 0.0);
@@ -100,17 +104,40 @@ fn hits_and_normals_match_mitsuba() {
         };
         let hit = bvh.intersect(&scene, &ray, f32::INFINITY);
         if t < 0.0 {
-            assert!(hit.is_none(), "ray {i}: Mitsuba misses, we hit at {:?}", hit.map(|h| h.t));
-            assert!(!bvh.occluded(&scene, &ray, f32::INFINITY), "ray {i}: occluded");
+            assert!(
+                hit.is_none(),
+                "ray {i}: Mitsuba misses, we hit at {:?}",
+                hit.map(|h| h.t)
+            );
+            assert!(
+                !bvh.occluded(&scene, &ray, f32::INFINITY),
+                "ray {i}: occluded"
+            );
             misses += 1;
             continue;
         }
         let hit = hit.unwrap_or_else(|| panic!("ray {i}: Mitsuba hits at t = {t}, we miss"));
-        assert!((hit.t - t).abs() < 1e-5 * t, "ray {i}: t {} against {t}", hit.t);
+        assert!(
+            (hit.t - t).abs() < 1e-5 * t,
+            "ray {i}: t {} against {t}",
+            hit.t
+        );
         let close = |a: Vec3, b: [f32; 3], tol: f32| (a - Vec3::from(b)).abs().max_element() < tol;
-        assert!(close(hit.position, p, 1e-4), "ray {i}: p {} against {p:?}", hit.position);
-        assert!(close(hit.normal, n, 1e-4), "ray {i}: n {} against {n:?}", hit.normal);
-        assert!(close(hit.shading, ns, 1e-4), "ray {i}: ns {} against {ns:?}", hit.shading);
+        assert!(
+            close(hit.position, p, 1e-4),
+            "ray {i}: p {} against {p:?}",
+            hit.position
+        );
+        assert!(
+            close(hit.normal, n, 1e-4),
+            "ray {i}: n {} against {n:?}",
+            hit.normal
+        );
+        assert!(
+            close(hit.shading, ns, 1e-4),
+            "ray {i}: ns {} against {ns:?}",
+            hit.shading
+        );
         let err = |a: Vec3, b: [f32; 3]| (a - Vec3::from(b)).abs().max_element();
         for (w, e) in worst.iter_mut().zip([
             (hit.t - t).abs() / t,
@@ -120,12 +147,22 @@ fn hits_and_normals_match_mitsuba() {
         ]) {
             *w = w.max(e);
         }
-        assert_eq!(hit.uv, glam::Vec2::ZERO, "ray {i}: an sdfgrid has no uv: {hit:?}");
+        assert_eq!(
+            hit.uv,
+            glam::Vec2::ZERO,
+            "ray {i}: an sdfgrid has no uv: {hit:?}"
+        );
         assert!(bvh.occluded(&scene, &ray, t * 1.001));
-        assert!(!bvh.occluded(&scene, &ray, t * 0.999), "ray {i}: occluded before its hit");
+        assert!(
+            !bvh.occluded(&scene, &ray, t * 0.999),
+            "ray {i}: occluded before its hit"
+        );
         hits += 1;
     }
-    eprintln!("largest differences: t {:.1e} (relative), p {:.1e}, n {:.1e}, ns {:.1e}", worst[0], worst[1], worst[2], worst[3]);
+    eprintln!(
+        "largest differences: t {:.1e} (relative), p {:.1e}, n {:.1e}, ns {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
+    );
     assert!(hits >= 20 && misses >= 30, "{hits} hits, {misses} misses");
 }
 
@@ -159,14 +196,21 @@ fn a_plane_is_hit_exactly() {
         for (x, y) in [(0.1, 0.2), (0.7, 0.4), (0.5, 0.5), (0.93, 0.81)] {
             let o = placed.transform_point3(Vec3::new(x, y, 0.9));
             let dir = -Vec3::Z;
-            let found = (0..4).filter_map(|c| g.intersect_cell(c, o, dir, f32::INFINITY)).next();
+            let found = (0..4)
+                .filter_map(|c| g.intersect_cell(c, o, dir, f32::INFINITY))
+                .next();
             let t = found.expect("a hit");
             // From z 0.9 to 0.3 in object space is 0.6 * 4 in the world.
             assert!((t - 2.4).abs() < 1e-4, "t {t}");
             let (p, n, ns) = g.surface_at(o + t * dir);
             assert!((p.z - (3.0 + 4.0 * 0.3)).abs() < 1e-4, "p {p}");
-            assert!((n - Vec3::Z).length() < 1e-5 && (ns - Vec3::Z).length() < 1e-5, "{n} {ns}");
-            let parallel = (0..4).filter_map(|c| g.intersect_cell(c, o, Vec3::X, 1e3)).next();
+            assert!(
+                (n - Vec3::Z).length() < 1e-5 && (ns - Vec3::Z).length() < 1e-5,
+                "{n} {ns}"
+            );
+            let parallel = (0..4)
+                .filter_map(|c| g.intersect_cell(c, o, Vec3::X, 1e3))
+                .next();
             assert!(parallel.is_none());
         }
     }
@@ -177,7 +221,10 @@ fn write_vol(path: &Path, res: [u32; 3], channels: u32, values: &[f32]) {
     for v in [1, res[0], res[1], res[2], channels] {
         b.extend_from_slice(&v.to_le_bytes());
     }
-    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0].into_iter().chain(values.iter().copied()) {
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0]
+        .into_iter()
+        .chain(values.iter().copied())
+    {
         b.extend_from_slice(&v.to_le_bytes());
     }
     std::fs::write(path, b).unwrap();
@@ -207,22 +254,49 @@ fn importer_errors_and_the_gpu_refusal() {
     write_vol(&dir.join("plane.vol"), [2, 2, 2], 1, &plane);
     write_vol(&dir.join("same.vol"), [2, 2, 2], 1, &[1.0; 8]);
     write_vol(&dir.join("rgb.vol"), [2, 2, 2], 3, &[1.0; 24]);
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/><string name="normals" value="flat"/></shape>"#);
-    assert!(e.contains(":3:") && e.contains("normals") && e.contains("`flat` is not"), "{e}");
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/><string name="normals" value="flat"/></shape>"#,
+    );
+    assert!(
+        e.contains(":3:") && e.contains("normals") && e.contains("`flat` is not"),
+        "{e}"
+    );
     let e = scene_with(&dir, r#"<shape type="sdfgrid"/>"#);
     assert!(e.contains("filename") && e.contains("missing"), "{e}");
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="same.vol"/></shape>"#);
-    assert!(e.contains("same.vol") && e.contains("no cell holds a surface"), "{e}");
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="rgb.vol"/></shape>"#);
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="same.vol"/></shape>"#,
+    );
+    assert!(
+        e.contains("same.vol") && e.contains("no cell holds a surface"),
+        "{e}"
+    );
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="rgb.vol"/></shape>"#,
+    );
     assert!(e.contains("rgb.vol") && e.contains("3 channels"), "{e}");
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="nowhere.vol"/></shape>"#);
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="nowhere.vol"/></shape>"#,
+    );
     assert!(e.contains("nowhere.vol") && e.contains("filename"), "{e}");
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#);
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#,
+    );
     assert!(e.contains("area emitter"), "{e}");
-    let e = scene_with(&dir, r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/></shape>"#);
+    let e = scene_with(
+        &dir,
+        r#"<shape type="sdfgrid"><string name="filename" value="plane.vol"/></shape>"#,
+    );
     assert_eq!(e, "loaded");
     let scene = load(&dir.join("scene.xml")).unwrap();
     let why = gpu_photon::integrators::gpu::renderer::unsupported(&scene).unwrap();
-    assert!(why.contains("`sdfgrid`") && why.contains("--backend cpu"), "{why}");
+    assert!(
+        why.contains("`sdfgrid`") && why.contains("--backend cpu"),
+        "{why}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -142,10 +142,19 @@ fn imported_cube_has_mitsuba_uvs() {
             origin: 3.0 * p,
             dir: -p.normalize(),
         };
-        let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect("the cube");
-        assert!((hit.position - p).abs().max_element() < 1e-4, "{p}: hit {}", hit.position);
+        let hit = bvh
+            .intersect(&scene, &ray, f32::INFINITY)
+            .expect("the cube");
+        assert!(
+            (hit.position - p).abs().max_element() < 1e-4,
+            "{p}: hit {}",
+            hit.position
+        );
         let got = hit.uv;
-        assert!((got - want).abs().max_element() < 1e-5, "{p}: ours {got}, Mitsuba {want}");
+        assert!(
+            (got - want).abs().max_element() < 1e-5,
+            "{p}: ours {got}, Mitsuba {want}"
+        );
         checked += 1;
     }
     assert_eq!(checked, 60);
@@ -199,11 +208,17 @@ fn rotated_sphere_uv_equals_mitsuba() {
             origin: centre + 4.0 * n,
             dir: -n,
         };
-        let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect("the sphere");
+        let hit = bvh
+            .intersect(&scene, &ray, f32::INFINITY)
+            .expect("the sphere");
         let want = Vec2::new(u, v);
         let d = (hit.uv - want).abs();
         // u wraps at the seam.
         let du = d.x.min(1.0 - d.x);
-        assert!(du < 1e-4 && d.y < 1e-4, "{p:?}: ours {}, Mitsuba {want}", hit.uv);
+        assert!(
+            du < 1e-4 && d.y < 1e-4,
+            "{p:?}: ours {}, Mitsuba {want}",
+            hit.uv
+        );
     }
 }

@@ -19,8 +19,8 @@ mod build_binned;
 mod build_wide;
 pub mod hit;
 pub mod instances;
-pub mod sdf;
 mod isa;
+pub mod sdf;
 // std::arch intrinsics and the run-time choice between them.
 #[allow(unsafe_code)]
 mod simd;

@@ -26,9 +26,10 @@ impl SdfBvh {
         let cells: Vec<(u32, u32)> = (scene.sdf_grids.iter().zip(0u32..))
             .flat_map(|(g, gi)| (0..g.data.cells.len() as u32).map(move |c| (gi, c)))
             .collect();
-        let boxes = cells.iter().zip(0u32..).map(|(&(g, c), i)| {
-            (scene.sdf_grids[g as usize].cell_world_box(c as usize), i)
-        });
+        let boxes = cells
+            .iter()
+            .zip(0u32..)
+            .map(|(&(g, c), i)| (scene.sdf_grids[g as usize].cell_world_box(c as usize), i));
         let tree = Bvh::over_boxes(boxes, cells.len(), BuildCosts::CPU);
         Some(SdfBvh { tree, cells })
     }
@@ -40,20 +41,24 @@ impl SdfBvh {
             + self.cells.len() * 8
     }
 
+    /// The hit of `ray` on entry `i`'s cell before `t_lim` (the walk takes a hit at its
+    /// limit as a new, equal limit): (grid, distance).
+    fn hit_cell(&self, scene: &Scene, i: u32, ray: &Ray, t_lim: f32) -> Option<(u32, f32)> {
+        let (g, c) = self.cells[i as usize];
+        let grid = &scene.sdf_grids[g as usize];
+        let t = grid.intersect_cell(c as usize, ray.origin, ray.dir, t_lim)?;
+        (t < t_lim).then_some((g, t))
+    }
+
     /// The nearest hit along `ray` before `t_max`: (grid, distance).
     fn closest(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<(u32, f32)> {
         let mut best = None;
         self.tree.walk(
             ray,
             |i, t_lim| {
-                let (g, c) = self.cells[i as usize];
-                let grid = &scene.sdf_grids[g as usize];
-                let t = grid.intersect_cell(c as usize, ray.origin, ray.dir, t_lim)?;
-                // The walk takes a hit at its limit as a new, equal limit.
-                (t < t_lim).then(|| {
-                    best = Some((g, t));
-                    t
-                })
+                let (g, t) = self.hit_cell(scene, i, ray, t_lim)?;
+                best = Some((g, t));
+                Some(t)
             },
             t_max,
         );
@@ -85,10 +90,7 @@ impl SdfBvh {
         self.tree.walk(
             ray,
             |i, t_lim| {
-                let (g, c) = self.cells[i as usize];
-                let grid = &scene.sdf_grids[g as usize];
-                grid.intersect_cell(c as usize, ray.origin, ray.dir, t_lim)
-                    .filter(|&t| t < t_lim)?;
+                self.hit_cell(scene, i, ray, t_lim)?;
                 hit = true;
                 Some(-1.0)
             },

@@ -9,8 +9,7 @@
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
-    inset, normal_mapped, shading_normal, shading_tangent, triangle_tangent,
-    vertex_tangent, Ray,
+    inset, normal_mapped, shading_normal, shading_tangent, triangle_tangent, vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};

@@ -63,7 +63,9 @@ impl SdfData {
         }
         if grid.res.iter().any(|&r| r < 2) {
             let [x, y, z] = grid.res;
-            return Err(format!("{x}x{y}x{z} values: an sdfgrid needs 2 or more per axis"));
+            return Err(format!(
+                "{x}x{y}x{z} values: an sdfgrid needs 2 or more per axis"
+            ));
         }
         let mut data = SdfData {
             grid,
@@ -199,9 +201,8 @@ impl SdfData {
         });
         let mut w = scaled - (v000 + IVec3::ONE).as_vec3() + 0.5;
         // An axis along which every cell on one side is left out takes the other side.
-        let none = |bit: i32, side: i32| {
-            (0..8).all(|i| (i >> bit) & 1 != side || !valid[i as usize])
-        };
+        let none =
+            |bit: i32, side: i32| (0..8).all(|i| (i >> bit) & 1 != side || !valid[i as usize]);
         for axis in 0..3 {
             if none(axis as i32, 0) {
                 w[axis] = 1.0;
@@ -218,7 +219,13 @@ impl SdfData {
     /// Mitsuba's cell intersection: the first zero of the trilinear function of `cell` along
     /// the object-space ray `origin + t dir` (`dir` need not be unit) with `0 <= t <=
     /// t_max`, or `None`.
-    pub fn intersect_cell(&self, cell: &SdfCell, origin: Vec3, dir: Vec3, t_max: f32) -> Option<f32> {
+    pub fn intersect_cell(
+        &self,
+        cell: &SdfCell,
+        origin: Vec3,
+        dir: Vec3,
+        t_max: f32,
+    ) -> Option<f32> {
         let h = self.cell_size();
         let c = cell.corner.as_vec3();
         let (t_beg, t_end) = slab(c * h, (c + 1.0) * h, origin, dir)?;
@@ -344,7 +351,12 @@ impl SdfGrid {
 
     /// The same grid placed by `m` after its own `to_world` (an instance's placement).
     pub fn placed(&self, m: Affine3A) -> Self {
-        Self::new(self.data.clone(), m * self.to_world, self.material, self.smooth)
+        Self::new(
+            self.data.clone(),
+            m * self.to_world,
+            self.material,
+            self.smooth,
+        )
     }
 
     /// The matrix normals are carried to the world by (the inverse transpose).
@@ -356,10 +368,18 @@ impl SdfGrid {
     pub fn cell_world_box(&self, i: usize) -> Aabb {
         let b = self.data.cells[i].bounds;
         let corner = |k: usize| {
-            let pick = |axis: usize| if k >> axis & 1 == 0 { b.min[axis] } else { b.max[axis] };
+            let pick = |axis: usize| {
+                if k >> axis & 1 == 0 {
+                    b.min[axis]
+                } else {
+                    b.max[axis]
+                }
+            };
             Vec3::new(pick(0), pick(1), pick(2))
         };
-        (0..8).fold(Aabb::EMPTY, |a, k| a.grow(self.to_world.transform_point3(corner(k))))
+        (0..8).fold(Aabb::EMPTY, |a, k| {
+            a.grow(self.to_world.transform_point3(corner(k)))
+        })
     }
 
     /// The world box around every occupied cell.

@@ -78,7 +78,7 @@ pub struct Sphere {
 impl Sphere {
     /// World direction `v` in the sphere's object space (its frame's inverse rotation).
     pub fn local(&self, v: Vec3) -> Vec3 {
-        rotate(-Vec3::from(self.frame.xyz()), self.frame.w, v)
+        rotate(-self.frame.xyz(), self.frame.w, v)
     }
     /// Mitsuba's uv at the outward unit normal `n` (world): its parameterisation in the
     /// sphere's object space. Twin: `sphere_uv(sphere_local(s, n))` in
@@ -90,7 +90,7 @@ impl Sphere {
     /// increasing azimuth about the object's z axis; zero at its poles.
     pub fn tangent(&self, n: Vec3) -> Vec3 {
         let t = crate::math::geometry::sphere_tangent(self.local(n));
-        rotate(Vec3::from(self.frame.xyz()), self.frame.w, t)
+        rotate(self.frame.xyz(), self.frame.w, t)
     }
     /// `q` (a unit quaternion) rounded to four snorm16 (the GPU record's
     /// [`Sphere::frame_words`]), read back as the device does and normalised.

@@ -20,11 +20,11 @@ use crate::media::builder::{interface, MediumId};
 use crate::media::grid::VolumeGrid;
 use crate::scene::builder::Surface;
 use crate::scene::sdf_grid::SdfData;
-use std::sync::Arc;
 use crate::textures::uv;
 use crate::textures::SceneTexture;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
+use std::sync::Arc;
 
 /// The outward faces of the cube [-1,1]^3: the normal and two edges `u`, `v` with
 /// `cross(u, v)` = normal.
@@ -219,13 +219,7 @@ impl<'f> Importer<'f> {
             "rectangle" => {
                 let tris = quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec();
                 let uvs = tris.iter().map(|t| t.map(uv::rectangle)).collect();
-                MeshData {
-                    tris,
-                    normals: None,
-                    uvs: Some(uvs),
-                    vertices: None,
-                    attributes: Vec::new(),
-                }
+                round::uv_mesh(tris, uvs)
             }
             "cube" => {
                 let tris: Vec<[Vec3; 3]> = CUBE_FACES
@@ -242,13 +236,7 @@ impl<'f> Importer<'f> {
                 let uvs = (tris.iter().zip(normals))
                     .map(|(t, n)| t.map(|c| corner_uv(n, c)))
                     .collect();
-                MeshData {
-                    tris,
-                    normals: None,
-                    uvs: Some(uvs),
-                    vertices: None,
-                    attributes: Vec::new(),
-                }
+                round::uv_mesh(tris, uvs)
             }
             "disk" | "cylinder" => {
                 let what = format!(
