@@ -89,7 +89,10 @@ impl Sphere {
     /// The direction of Mitsuba's dp/du at the outward unit normal `n` (world): towards
     /// increasing azimuth about the object's z axis; zero at its poles.
     pub fn tangent(&self, n: Vec3) -> Vec3 {
-        let t = crate::math::geometry::sphere_tangent(self.local(n));
+        // Mitsuba's dp/du at the object's direction l, up to its scale (as
+        // `math::geometry::sphere_tangent`, which imports this module).
+        let l = self.local(n);
+        let t = Vec3::new(-l.y, l.x, 0.0);
         rotate(self.frame.xyz(), self.frame.w, t)
     }
     /// `q` (a unit quaternion) rounded to four snorm16 (the GPU record's
