@@ -784,6 +784,7 @@ fn sealed_box(albedo: Vec3) -> Scene {
         tangents: vec![],
         textures: vec![],
         spheres: vec![],
+        sdf_grids: vec![],
         lights: vec![],
         media: vec![],
         camera_medium: gpu_photon::media::NO_MEDIUM,

@@ -164,7 +164,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
         ),
         (
             "Sphere",
-            fields!(GpuSphere: center, radius, material, light, _pad0, _pad1),
+            fields!(GpuSphere: center, radius, material, light, frame),
         ),
         ("BvhFrame", fields!(GpuBvhFrame: base, nodes, step, next)),
         (

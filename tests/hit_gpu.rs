@@ -222,8 +222,16 @@ fn scene(kind: &str, r: &mut TestRng) -> Scene {
     let (tris, normals, uvs, _) = patch(-0.8, r);
     b.add_uv_mesh(tris, Some(normals), uvs, Surface::of(mapped), &at)
         .unwrap();
-    b.add_sphere(Vec3::new(3.0, 2.5, 0.5), 0.6, Surface::of(blend), &at)
-        .unwrap();
+    // Turned: its uv (the blend's alpha) and tangent are its object space's.
+    let turned = glam::Quat::from_axis_angle(Vec3::new(0.3, -0.8, 0.5).normalize(), 1.1);
+    b.add_oriented_sphere(
+        Vec3::new(3.0, 2.5, 0.5),
+        0.6,
+        turned,
+        Surface::of(blend),
+        &at,
+    )
+    .unwrap();
     b.add_sphere(Vec3::new(-3.5, -2.5, 0.5), 0.6, Surface::of(constant), &at)
         .unwrap();
     let lit = Surface {

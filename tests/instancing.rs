@@ -508,7 +508,7 @@ fn mitsuba_groups_and_instances() {
         ),
         (
             "<shape type='shapegroup' id='g'><shape type='sdfgrid'/></shape>",
-            "`sdfgrid`",
+            "shape[g].shape[0].filename: missing",
         ),
     ];
     for (i, (body, want)) in cases.iter().enumerate() {

@@ -779,7 +779,7 @@ fn malformed_files_name_file_line_and_field() {
         ),
         (
             r#"<shape type="sdfgrid"/>"#,
-            "t.xml:4: shape[0]: unsupported shape `sdfgrid` (a signed distance field on a grid: not supported)",
+            "t.xml:4: shape[0].filename: missing",
         ),
         (
             r#"<shape type="ply"><string name="filename" value="missing.ply"/></shape>"#,

@@ -32,6 +32,9 @@
 //! run it with `MITSUBA_SUITE_BUDGET=8,16,100000 cargo test --release --test mitsuba_suite --
 //! --ignored`. It reports without a ratchet. `MITSUBA_SUITE_BUDGET=PASSES,SPP,PHOTONS` sets
 //! either suite's budget (docs/conformance.md compares both backends at one budget).
+//! `MITSUBA_SUITE_SEED=N` renders at seed N instead of 1 (the ratchet's figures hold at seed
+//! 1 only) and `MITSUBA_SUITE_BLOCKS=1` prints each failing block (its position in blocks,
+//! channel, our mean over the reference's): to tell chance from bias.
 
 mod common;
 
@@ -61,11 +64,14 @@ enum Known {
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
     ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
-    // Chance at seed 1, not bias: block 54's G and B 2% low in both plastics (same random
-    // numbers, same layout); at seeds 2 and 3 both pass every block (docs/conformance.md).
+    // Chance at seed 1, not bias (docs/conformance.md): block (6, 4)'s G and B 2-3% low in
+    // both plastics (same random numbers); at seeds 2 to 8 both pass, and seed 1's own 32
+    // passes bring that block to 0.99 and pass every block.
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),
     ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", Known::Off(0.0024)),
-    // One silhouette block (3 of 768 tests), the same with the rectangle flattened.
+    // One silhouette block (3 of 768 tests): a pixel 0.4% covered that none of its 128
+    // samples hits at seed 1 (nor at 3, 4, 5, 7; P = 0.6); 256 passes give it 0.88 of the
+    // reference's and pass every block (docs/conformance.md).
     ("instancing/test_instancing_path.xml", Known::Off(0.0001)),
     ("participating_media/test_homo_area_light_volpath.xml", Known::Off(0.0872)),
     ("participating_media/test_homo_dielectric_envmap_volpath.xml", Known::Off(0.0074)),
@@ -73,7 +79,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     ("participating_media/test_homo_obj_inside_medium_volpath.xml", Known::Off(0.1187)),
     ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.9998)),
     ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", Known::Off(0.0610)),
-    ("various_shapes/test_various_shapes_path.xml", Known::Refused("`sdfgrid`")),
 ];
 
 /// A render's budget: `passes` progressive passes of `spp` camera samples and `photons`
@@ -307,6 +312,14 @@ fn judge(
             let (m, v) = mean_and_var(&xs);
             let p = p_value(m - theirs[b][c], v, theirs_var[b][c], dof);
             min_p = min_p.min(p);
+            if p <= alpha && std::env::var_os("MITSUBA_SUITE_BLOCKS").is_some() {
+                eprintln!(
+                    "  failing block ({}, {}) channel {c}: ours / reference {:.4}, p {p:.2e}",
+                    b as u32 % (w / BLOCK),
+                    b as u32 / (w / BLOCK),
+                    m / theirs[b][c]
+                );
+            }
             passed += usize::from(p > alpha);
         }
     }
@@ -345,7 +358,8 @@ fn run_scene(name: &str, backend: BackendChoice, budget: Budget) -> Outcome {
         photons: budget.photons,
         caustic_photons: budget.photons / 2,
         passes: budget.passes,
-        seed: 1,
+        seed: std::env::var("MITSUBA_SUITE_SEED")
+            .map_or(1, |s| s.parse().expect("MITSUBA_SUITE_SEED: an integer")),
         ..scene.settings.clone()
     }
     .as_default_render();

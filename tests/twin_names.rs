@@ -80,6 +80,8 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bvh/intersect.wgsl", "intersect_triangle", "math/geometry.rs", "intersect_triangle", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "intersect_sphere", "math/geometry.rs", "intersect_sphere", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "hit_box", "math/geometry.rs", "hit", Oracle("intersect_gpu.rs")),
+    ("bvh/intersect.wgsl", "sphere_rotate", "scene/shapes.rs", "rotate", Caller("hit_gpu.rs")),
+    ("bvh/intersect.wgsl", "sphere_frame", "", "", Helper),
     ("bvh/intersect.wgsl", "sphere_uv", "textures/uv.rs", "sphere", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "alpha_passes", "bvh/surface.rs", "alpha_passes", Oracle("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),

@@ -169,6 +169,7 @@ fn soup(seed: u32, n: usize) -> Scene {
             radius: 0.05 + r.f(),
             material: (i % 2) as u32,
             light: NO_LIGHT,
+            frame: glam::Quat::IDENTITY,
         });
     }
     scene

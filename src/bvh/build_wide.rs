@@ -46,6 +46,7 @@ pub fn collapse(bin: &Bvh, scene: &Scene) -> WideBvh {
             alpha: bin.alpha,
             isa: super::isa::Isa::detect(),
             instances: None,
+            sdf: None,
         },
     };
     c.out.nodes.push(Node8::EMPTY);

@@ -110,7 +110,7 @@ impl InstanceBvh {
         };
         if id & SPHERE_BIT != 0 && !scene.textures.is_empty() {
             // The mesh holds no textures, so its sphere left the uv out.
-            hit.uv = crate::textures::uv::sphere(local.normal);
+            hit.uv = mesh.spheres[(id & !SPHERE_BIT) as usize].uv(local.normal);
         }
         let flips = inst.to_world.matrix3.determinant() < 0.0;
         // Tangents are directions: the instance's linear part carries them.

@@ -267,6 +267,17 @@ fn hit_box(bmin: vec3<f32>, bmax: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_max
     return tmin <= tmax;
 }
 
+// v turned by the unit quaternion (u, w): v + 2 u x (u x v + w v); exact for the identity.
+// Twin of rotate in src/scene/shapes.rs.
+fn sphere_rotate(u: vec3<f32>, w: f32, v: vec3<f32>) -> vec3<f32> {
+    return v + 2.0 * cross(u, cross(u, v) + w * v);
+}
+
+// Sphere s's frame, object to world (Sphere::frame_words: four snorm16), normalised.
+fn sphere_frame(s: Sphere) -> vec4<f32> {
+    return normalize(vec4<f32>(unpack2x16snorm(s.frame.x), unpack2x16snorm(s.frame.y)));
+}
+
 // Mitsuba's sphere parameterisation of the unit direction n: u = phi / 2 pi with phi the
 // azimuth from +x towards +y in [0, 2 pi), v = theta / pi from +z (texture::uv::sphere).
 fn sphere_uv(n: vec3<f32>) -> vec2<f32> {
@@ -293,7 +304,8 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
         let s = load_sphere(id & ~SPHERE_BIT);
         mat = s.material;
         if HAS_TEXTURES {
-            uv = sphere_uv(normalize(o + t * d - s.center));
+            let q = sphere_frame(s);
+            uv = sphere_uv(sphere_rotate(-q.xyz, q.w, normalize(o + t * d - s.center)));
         }
     }
     let w = materials[MATERIAL_WORDS * mat + MATERIAL_ALPHA_WORD];
@@ -555,9 +567,12 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         best.shading = n;
         best.material = s.material;
         best.light = s.light;
-        tg = vec4<f32>(-n.y, n.x, 0.0, 0.0);
+        // Mitsuba's uv and dp/du are the sphere's object space's (Sphere::uv, ::tangent).
+        let q = sphere_frame(s);
+        let l = sphere_rotate(-q.xyz, q.w, n);
+        tg = vec4<f32>(sphere_rotate(q.xyz, q.w, vec3<f32>(-l.y, l.x, 0.0)), 0.0);
         if HAS_TEXTURES {
-            best.uv = sphere_uv(n);
+            best.uv = sphere_uv(l);
             if HAS_NORMAL_MAPS {
                 nt = materials[MATERIAL_WORDS * s.material + MATERIAL_NORMAL_WORD].w;
             }

@@ -20,6 +20,7 @@ mod build_wide;
 pub mod hit;
 pub mod instances;
 mod isa;
+pub mod sdf;
 // std::arch intrinsics and the run-time choice between them.
 #[allow(unsafe_code)]
 mod simd;

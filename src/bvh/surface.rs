@@ -9,8 +9,7 @@
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
-    inset, normal_mapped, shading_normal, shading_tangent, sphere_tangent, triangle_tangent,
-    vertex_tangent, Ray,
+    inset, normal_mapped, shading_normal, shading_tangent, triangle_tangent, vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
@@ -59,7 +58,7 @@ pub(crate) fn geometric_hit(geometry: &Scene, ray: &Ray, id: u32, t: f32, u: f32
         let uv = if scene.textures.is_empty() {
             Vec2::ZERO
         } else {
-            crate::textures::uv::sphere(n)
+            s.uv(n)
         };
         Hit {
             t,
@@ -81,7 +80,8 @@ pub(crate) fn tangent_at(geometry: &Scene, id: u32, u: f32, v: f32, normal: Vec3
     if id & SPHERE_BIT == 0 {
         uv_tangent(geometry, id, u, v).unwrap_or((Vec3::ZERO, false))
     } else {
-        (sphere_tangent(normal), false)
+        let s = &geometry.spheres[(id & !SPHERE_BIT) as usize];
+        (s.tangent(normal), false)
     }
 }
 
@@ -155,7 +155,7 @@ pub fn alpha_test(
     } else {
         let s = &scene.spheres[(id & !SPHERE_BIT) as usize];
         let n = (ray.origin + t * ray.dir - s.center).normalize_or_zero();
-        (s.material, crate::textures::uv::sphere(n))
+        (s.material, s.uv(n))
     };
     let m = &scene.materials[material as usize];
     let alpha = m.alpha.filter(|_| !m.is_emissive())?;

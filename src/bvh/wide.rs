@@ -22,6 +22,7 @@ impl WideBvh {
     pub fn build(scene: &Scene) -> Self {
         let mut bvh = Self::from_binary(&super::build_binned::build(scene), scene);
         bvh.instances = super::instances::InstanceBvh::build(scene).map(Box::new);
+        bvh.sdf = super::sdf::SdfBvh::build(scene).map(Box::new);
         bvh
     }
 
@@ -42,9 +43,11 @@ impl WideBvh {
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
         let instances = self.instances.as_ref().map_or(0, |i| i.memory_bytes());
+        let sdf = self.sdf.as_ref().map_or(0, |s| s.memory_bytes());
         self.nodes.len() * size_of::<Node8>()
             + self.blocks.len() * size_of::<TriBlock>()
             + instances
+            + sdf
     }
 
     /// The closest hit along `ray` before `t_max`, without assembling the surface (the
@@ -58,11 +61,21 @@ impl WideBvh {
     #[inline]
     pub fn intersect(&self, scene: &Scene, ray: &Ray, t_max: f32) -> Option<Hit> {
         let flat = self.closest(scene, ray, t_max);
+        let mut t = flat.map_or(t_max, |c| c.1);
+        let mut nearer = None;
         if let Some(instances) = &self.instances {
-            let t = flat.map_or(t_max, |c| c.1);
             if let Some(hit) = instances.intersect(scene, ray, t) {
+                t = hit.t;
+                nearer = Some(hit);
+            }
+        }
+        if let Some(sdf) = &self.sdf {
+            if let Some(hit) = sdf.intersect(scene, ray, t) {
                 return Some(hit);
             }
+        }
+        if nearer.is_some() {
+            return nearer;
         }
         let (id, t, u, v) = flat?;
         Some(surface::hit_at(scene, ray, id, t, u, v))
@@ -73,5 +86,6 @@ impl WideBvh {
     pub fn occluded(&self, scene: &Scene, ray: &Ray, t_max: f32) -> bool {
         simd::occluded(self, scene, ray, t_max)
             || (self.instances.as_ref()).is_some_and(|i| i.occluded(scene, ray, t_max))
+            || (self.sdf.as_ref()).is_some_and(|s| s.occluded(scene, ray, t_max))
     }
 }

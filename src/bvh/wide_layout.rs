@@ -99,6 +99,8 @@ pub struct WideBvh {
     pub isa: Isa,
     /// The scene's instances (`super::instances`); `None` in a scene without them.
     pub instances: Option<Box<super::instances::InstanceBvh>>,
+    /// The scene's SDF grids (`super::sdf`); `None` in a scene without them.
+    pub sdf: Option<Box<super::sdf::SdfBvh>>,
 }
 
 /// The closest hit of a walk: primitive id (as in `Bvh::prim_ids`), `t` and a triangle's

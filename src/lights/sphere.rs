@@ -23,7 +23,7 @@ impl SphereLight {
             p: s.center + s.radius * n,
             n,
             material: s.material,
-            texel: area::texel(c, crate::textures::uv::sphere(n)),
+            texel: area::texel(c, s.uv(n)),
         }
     }
 }

@@ -9,7 +9,8 @@ fn sphere_point(l: Light, u: vec3<f32>) -> SurfacePoint {
     sp.p = s.center + s.radius * n;
     sp.n = n;
     sp.material = s.material;
-    sp.texel = area_texel(l, sphere_uv(n));
+    let q = sphere_frame(s);
+    sp.texel = area_texel(l, sphere_uv(sphere_rotate(-q.xyz, q.w, n)));
     return sp;
 }
 

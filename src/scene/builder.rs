@@ -97,6 +97,7 @@ pub struct SceneBuilder {
     pub(crate) tangents: Vec<crate::scene::VertexTangents>,
     pub(crate) textures: Vec<SceneTexture>,
     pub(crate) spheres: Vec<Sphere>,
+    pub(crate) sdf_grids: Vec<super::sdf_grid::SdfGrid>,
     pub(crate) lights: Vec<Light>,
     pub(crate) environment: Option<crate::scene::Environment>,
     pub(crate) media: crate::media::builder::Media,
@@ -275,6 +276,19 @@ impl SceneBuilder {
         surface: Surface,
         at: &dyn Locate,
     ) -> Result<()> {
+        self.add_oriented_sphere(center, radius, glam::Quat::IDENTITY, surface, at)
+    }
+
+    /// Adds a sphere as [`Self::add_sphere`] whose parameterisation (uv, dp/du) is turned by
+    /// the unit quaternion `frame` (object to world: Mitsuba's rotating `to_world`).
+    pub fn add_oriented_sphere(
+        &mut self,
+        center: Vec3,
+        radius: f32,
+        frame: glam::Quat,
+        surface: Surface,
+        at: &dyn Locate,
+    ) -> Result<()> {
         let surface = self.resolve(surface, at)?;
         if !center.is_finite() {
             return Err(at.error(Part::Geometry, "the centre must be finite".into()));
@@ -299,6 +313,7 @@ impl SceneBuilder {
             radius,
             material,
             light,
+            frame: Sphere::quantized_frame(frame),
         });
         Ok(())
     }
@@ -466,6 +481,7 @@ impl SceneBuilder {
             tangents: self.tangents,
             textures: self.textures,
             spheres: self.spheres,
+            sdf_grids: self.sdf_grids,
             lights: self.lights,
             media: self.media.media,
             camera_medium: self.media.camera,
@@ -492,7 +508,7 @@ impl SceneBuilder {
 
     /// The material a shape of `surface` gets, and its radiance; changes nothing yet (a
     /// shape that fails its checks leaves no trace).
-    fn resolve(&self, surface: Surface, at: &dyn Locate) -> Result<Resolved> {
+    pub(super) fn resolve(&self, surface: Surface, at: &dyn Locate) -> Result<Resolved> {
         if let Some(emission) = surface.emission {
             check_emission(emission, at)?;
         }
@@ -538,7 +554,7 @@ impl SceneBuilder {
     }
 
     /// The index of `surface`'s material, adding its copy when it has one.
-    fn commit(&mut self, surface: &Resolved) -> u32 {
+    pub(super) fn commit(&mut self, surface: &Resolved) -> u32 {
         match surface.existing {
             Some(index) => index,
             None => self.push_material(surface.material).index(),
@@ -553,10 +569,10 @@ impl SceneBuilder {
 
 /// A shape's surface, resolved: its material (an existing one, or a copy still to add) and,
 /// when it emits, its radiance (doubled when two-sided).
-struct Resolved {
+pub(super) struct Resolved {
     existing: Option<u32>,
     material: Material,
-    radiance: Option<Vec3>,
+    pub(super) radiance: Option<Vec3>,
 }
 
 /// The 12 outward-facing triangles of the box `min..max` turned `degrees` about +y around its

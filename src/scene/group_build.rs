@@ -44,12 +44,14 @@ impl SceneBuilder {
             mesh.uvs,
             mesh.tangents,
             mesh.spheres,
+            mesh.sdf_grids,
         ) = (
             stash.triangles,
             stash.shading_normals,
             stash.uvs,
             stash.tangents,
             stash.spheres,
+            stash.sdf_grids,
         );
         self.instancing.meshes.push(mesh);
         MeshId(self.instancing.meshes.len() as u32 - 1)
@@ -85,6 +87,10 @@ impl SceneBuilder {
             let message = "an instance's to_world must be a finite, invertible affine transform";
             return Err(at.error(Part::Geometry, message.into()));
         };
+        // SDF grids are placed in the world, one copy per instance sharing the values.
+        let grids = &self.instancing.meshes[mesh.0 as usize].sdf_grids;
+        let placed = grids.iter().map(|g| g.placed(instance.to_world));
+        self.sdf_grids.extend(placed.collect::<Vec<_>>());
         self.instancing.instances.push(instance);
         Ok(())
     }
@@ -101,6 +107,7 @@ impl SceneBuilder {
         std::mem::swap(&mut self.uvs, &mut s.uvs);
         std::mem::swap(&mut self.tangents, &mut s.tangents);
         std::mem::swap(&mut self.spheres, &mut s.spheres);
+        std::mem::swap(&mut self.sdf_grids, &mut s.sdf_grids);
     }
 
     /// The geometry set aside by a group being recorded and held by the meshes and

@@ -146,4 +146,5 @@ pub(crate) struct GroupStash {
     pub(super) uvs: Vec<[Vec2; 3]>,
     pub(super) tangents: Vec<VertexTangents>,
     pub(super) spheres: Vec<Sphere>,
+    pub(super) sdf_grids: Vec<super::sdf_grid::SdfGrid>,
 }

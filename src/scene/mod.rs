@@ -15,6 +15,8 @@ mod group_build;
 pub mod instances;
 pub mod locate;
 pub mod normals;
+pub mod sdf_build;
+pub mod sdf_grid;
 pub mod shapes;
 pub mod tangents;
 
@@ -56,6 +58,8 @@ pub struct Scene {
     pub textures: Vec<SceneTexture>,
     /// Analytic spheres.
     pub spheres: Vec<Sphere>,
+    /// Signed distance fields on grids (Mitsuba's `sdfgrid`), placed in the world.
+    pub sdf_grids: Vec<sdf_grid::SdfGrid>,
     /// Lights, in the order their shapes (then point lights) were added.
     pub lights: Vec<Light>,
     /// Participating media, indexed by `Material::media` and [`Self::camera_medium`].
@@ -90,6 +94,7 @@ impl Scene {
             tangents: vec![],
             textures: vec![],
             spheres: vec![],
+            sdf_grids: vec![],
             lights: vec![],
             media: vec![],
             camera_medium: crate::media::NO_MEDIUM,
@@ -117,7 +122,11 @@ impl Scene {
             .filter(|s| stores(s.material))
             .map(|s| 4.0 * std::f32::consts::PI * s.radius * s.radius)
             .sum();
-        tris + spheres + self.instancing.storing_area(stores)
+        let sdf: f32 = (self.sdf_grids.iter())
+            .filter(|g| stores(g.material))
+            .map(sdf_grid::SdfGrid::area_estimate)
+            .sum();
+        tris + spheres + sdf + self.instancing.storing_area(stores)
     }
 
     /// Whether some triangle is smooth-shaded.
@@ -167,8 +176,12 @@ impl Scene {
     }
     /// The bounding box `(min, max)` of every primitive and instance; `None` when empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let sdf = (self.sdf_grids.iter()).fold(crate::math::geometry::Aabb::EMPTY, |b, g| {
+            b.union(g.world_box())
+        });
+        let sdf = (!sdf.is_empty()).then_some((sdf.min, sdf.max));
         join_bounds(
-            bounds_of(&self.triangles, &self.spheres),
+            join_bounds(bounds_of(&self.triangles, &self.spheres), sdf),
             self.instancing.bounds(),
         )
     }

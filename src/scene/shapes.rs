@@ -1,7 +1,7 @@
 //! The primitives a scene is made of: triangles (with their vertex normals and tangents) and
 //! analytic spheres, below everything that intersects or shades them.
 
-use glam::{Vec3, Vec4};
+use glam::{Quat, Vec2, Vec3, Vec4};
 
 /// A world-space triangle `v0, v1, v2`; front normal = normalize(cross(e1, e2)) with
 /// `e1 = v1 - v0`, `e2 = v2 - v0`. The vertices are kept as given (not as edges) so that two
@@ -69,6 +69,57 @@ pub struct Sphere {
     pub material: u32,
     /// Index into `Scene::lights` when the sphere is emissive, else [`NO_LIGHT`].
     pub light: u32,
+    /// The rotation from the sphere's object space, where Mitsuba's parameterisation (its uv
+    /// and dp/du) is defined, to the world: the identity unless a Mitsuba `to_world` rotates
+    /// it. Held at its GPU record's precision ([`Sphere::quantized_frame`]).
+    pub frame: Quat,
+}
+
+impl Sphere {
+    /// World direction `v` in the sphere's object space (its frame's inverse rotation).
+    pub fn local(&self, v: Vec3) -> Vec3 {
+        rotate(-self.frame.xyz(), self.frame.w, v)
+    }
+    /// Mitsuba's uv at the outward unit normal `n` (world): its parameterisation in the
+    /// sphere's object space. Twin: `sphere_uv(sphere_local(s, n))` in
+    /// `src/bvh/intersect.wgsl`.
+    pub fn uv(&self, n: Vec3) -> Vec2 {
+        crate::textures::uv::sphere(self.local(n))
+    }
+    /// The direction of Mitsuba's dp/du at the outward unit normal `n` (world): towards
+    /// increasing azimuth about the object's z axis; zero at its poles.
+    pub fn tangent(&self, n: Vec3) -> Vec3 {
+        // Mitsuba's dp/du at the object's direction l, up to its scale (as
+        // `math::geometry::sphere_tangent`, which imports this module).
+        let l = self.local(n);
+        let t = Vec3::new(-l.y, l.x, 0.0);
+        rotate(self.frame.xyz(), self.frame.w, t)
+    }
+    /// `q` (a unit quaternion) rounded to four snorm16 (the GPU record's
+    /// [`Sphere::frame_words`]), read back as the device does and normalised.
+    pub fn quantized_frame(q: Quat) -> Quat {
+        let w = frame_words(q);
+        let half = |x: u32| f32::from(x as u16 as i16) / 32767.0;
+        let c = |x: u32| half(x).max(-1.0);
+        Quat::from_xyzw(c(w[0]), c(w[0] >> 16), c(w[1]), c(w[1] >> 16)).normalize()
+    }
+    /// The frame as the GPU record holds it: x, y then z, w as snorm16 pairs (WGSL's
+    /// `pack2x16snorm`).
+    pub fn frame_words(&self) -> [u32; 2] {
+        frame_words(self.frame)
+    }
+}
+
+/// `q`'s components as two words of two snorm16 each.
+fn frame_words(q: Quat) -> [u32; 2] {
+    let s = |x: f32| ((x.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
+    [s(q.x) | (s(q.y) << 16), s(q.z) | (s(q.w) << 16)]
+}
+
+/// `v` rotated by the unit quaternion `(u, w)`: `v + 2 u x (u x v + w v)` (the same
+/// arithmetic as `sphere_local` in `src/bvh/intersect.wgsl`; exact for the identity).
+fn rotate(u: Vec3, w: f32, v: Vec3) -> Vec3 {
+    v + 2.0 * u.cross(u.cross(v) + w * v)
 }
 
 /// Marks a primitive that is not a light.

@@ -29,6 +29,11 @@ pub(crate) fn disk() -> MeshData {
         let mid = Vec2::new(0.0, 0.5 * (a + b));
         uvs.push([mid, Vec2::new(1.0, a), Vec2::new(1.0, b)]);
     }
+    uv_mesh(tris, uvs)
+}
+
+/// The flat mesh `tris` with corner uvs `uvs` (the shapes' own meshes).
+pub(super) fn uv_mesh(tris: Vec<[Vec3; 3]>, uvs: Vec<[Vec2; 3]>) -> MeshData {
     MeshData {
         tris,
         normals: None,

@@ -1,11 +1,13 @@
-//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward),
+//! Mitsuba shapes: `rectangle` ([-1,1]^2 in z = 0, front +z), `cube` ([-1,1]^3, outward,
+//! each face's uvs as Mitsuba's cube mesh has them: `uv::cube`),
 //! `sphere` (analytic; `center`, `radius`, and a `to_world` that scales uniformly), `disk`
 //! and `cylinder` (`p0`, `p1`, `radius`; both as meshes of `round::SEGMENTS` facets around,
 //! with a warning), `obj` and `ply` meshes (smooth-shaded with the file's vertex normals, or,
 //! in a file without them, normals computed from the faces as Mitsuba computes them; flat when
 //! `face_normals` is true; the file's texture coordinates with v flipped when
 //! `flip_tex_coords`, Mitsuba's default true for `obj` and false for `ply`), `serialized`
-//! meshes (`shape_index`, `face_normals`; [`serialized`]), each with its
+//! meshes (`shape_index`, `face_normals`; [`serialized`]), `sdfgrid` (a signed distance field
+//! on a grid, `crate::scene::sdf_grid`), each with its
 //! bsdf (nested or `ref`) and optionally an `area` emitter.
 
 use crate::bsdfs::{BsdfKind, Param};
@@ -15,11 +17,14 @@ use crate::importers::mitsuba::medium::side;
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::{mesh_attribute, round, serialized, Importer};
 use crate::media::builder::{interface, MediumId};
+use crate::media::grid::VolumeGrid;
 use crate::scene::builder::Surface;
+use crate::scene::sdf_grid::SdfData;
 use crate::textures::uv;
 use crate::textures::SceneTexture;
 use glam::{Mat4, Vec3};
 use roxmltree::Node;
+use std::sync::Arc;
 
 /// The outward faces of the cube [-1,1]^3: the normal and two edges `u`, `v` with
 /// `cross(u, v)` = normal.
@@ -199,29 +204,40 @@ impl<'f> Importer<'f> {
                     return Err(cx.err(p.node, &p.at("to_world"), message));
                 }
                 let center = m.transform_point3(center);
-                return self.b.add_sphere(center, radius * s, surface, &at);
+                // Mitsuba's uv and dp/du are its object space's: keep the rotation (a
+                // mirroring to_world keeps the world frame, as before).
+                let rotation = glam::Mat3::from_cols(cols[0] / s, cols[1] / s, cols[2] / s);
+                let frame = if rotation.determinant() > 0.0 {
+                    glam::Quat::from_mat3(&rotation).normalize()
+                } else {
+                    glam::Quat::IDENTITY
+                };
+                return self
+                    .b
+                    .add_oriented_sphere(center, radius * s, frame, surface, &at);
             }
             "rectangle" => {
                 let tris = quad(Vec3::ZERO, Vec3::X, Vec3::Y).to_vec();
                 let uvs = tris.iter().map(|t| t.map(uv::rectangle)).collect();
-                MeshData {
-                    tris,
-                    normals: None,
-                    uvs: Some(uvs),
-                    vertices: None,
-                    attributes: Vec::new(),
-                }
+                round::uv_mesh(tris, uvs)
             }
-            "cube" => MeshData {
-                tris: CUBE_FACES
+            "cube" => {
+                let tris: Vec<[Vec3; 3]> = CUBE_FACES
                     .iter()
                     .flat_map(|&[n, u, v]| quad(n, u, v))
-                    .collect(),
-                normals: None,
-                uvs: None,
-                vertices: None,
-                attributes: Vec::new(),
-            },
+                    .collect();
+                // Mitsuba's cube has uvs per face (`uv::cube`, affine on a face): read at a
+                // point half way to the face's centre, where the face is not ambiguous.
+                let corner_uv = |n: Vec3, c: Vec3| {
+                    let centre = uv::cube(n);
+                    centre + 2.0 * (uv::cube(n + 0.5 * (c - n)) - centre)
+                };
+                let normals = CUBE_FACES.iter().flat_map(|&[n, _, _]| [n, n]);
+                let uvs = (tris.iter().zip(normals))
+                    .map(|(t, n)| t.map(|c| corner_uv(n, c)))
+                    .collect();
+                round::uv_mesh(tris, uvs)
+            }
             "disk" | "cylinder" => {
                 let what = format!(
                     "{}: {}: a `{}` is rendered as {} facets around (its area kept)",
@@ -282,11 +298,7 @@ impl<'f> Importer<'f> {
                     .map_err(|m| cx.err(p.node_of("filename"), &p.at("filename"), m))?;
                 mesh.flat_if(p.boolean(cx, "face_normals")?)
             }
-            "sdfgrid" => {
-                let message = "unsupported shape `sdfgrid` (a signed distance field on a grid: \
-                               not supported)";
-                return Err(cx.err(p.node, &p.field, message));
-            }
+            "sdfgrid" => return self.sdf_grid(p, m, surface),
             other => {
                 let message = format!("unsupported shape `{other}`");
                 return Err(cx.err(p.node, &p.field, message));
@@ -306,6 +318,36 @@ impl<'f> Importer<'f> {
                 .b
                 .add_smooth_mesh(mesh.tris, mesh.normals, surface, &at),
         }
+    }
+
+    /// An `sdfgrid` (`crate::scene::sdf_grid`): its `filename` (a one-channel `.vol`;
+    /// Mitsuba's `grid` tensor cannot be given in XML) and `normals` (`smooth` or
+    /// `analytic`), placed by `to_world` `m`.
+    fn sdf_grid(&mut self, p: &Plugin, m: Mat4, surface: Surface) -> Result<()> {
+        let cx = &self.cx;
+        let Some(file) = p.string(cx, "filename")? else {
+            return Err(cx.err(p.node, &p.at("filename"), "missing"));
+        };
+        let smooth = match p.string(cx, "normals")?.as_deref() {
+            None | Some("smooth") => true,
+            Some("analytic") => false,
+            Some(other) => {
+                let message = format!("`{other}` is not `analytic` or `smooth`");
+                return Err(cx.err(p.node_of("normals"), &p.at("normals"), message));
+            }
+        };
+        let held: u64 = (self.b.sdf_grids.iter())
+            .map(|g| 4 * g.data.grid.data.len() as u64)
+            .sum();
+        let room = self.b.grid_room().saturating_sub(held);
+        let path = cx.resolve(&file);
+        let at_file = |m: String| cx.err(p.node_of("filename"), &p.at("filename"), m);
+        let grid = VolumeGrid::open(&path, room).map_err(at_file)?;
+        let name = crate::escape::escape(&path.display().to_string()).into_owned();
+        let data = SdfData::new(grid).map_err(|m| at_file(format!("{name}: {m}")))?;
+        p.done(cx)?;
+        let at = self.origin(p.node, &p.field);
+        self.b.add_sdf_grid(Arc::new(data), m, smooth, surface, &at)
     }
 
     /// `mesh` and `surface`, or, when the surface's material reads a `mesh_attribute`, the

@@ -65,10 +65,8 @@ pub struct GpuSphere {
     pub material: u32,
     /// Index of its light, or NO_LIGHT.
     pub light: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
+    /// Its frame (`Sphere::frame_words`: the quaternion as four snorm16).
+    pub frame: [u32; 2],
 }
 
 /// Twin of WGSL `Material`: what wraps a material's BSDF (its emission, normal map and mask)
@@ -328,8 +326,7 @@ impl From<&Sphere> for GpuSphere {
             radius: s.radius,
             material: s.material,
             light: s.light,
-            _pad0: 0,
-            _pad1: 0,
+            frame: s.frame_words(),
         }
     }
 }

@@ -27,8 +27,7 @@ struct Sphere {
     radius: f32,
     material: u32,
     light: u32,
-    _pad0: u32,
-    _pad1: u32,
+    frame: vec2<u32>,
 }
 
 // The grid of the quantised node boxes (src/bvh/gpu_layout.rs): grid coordinate q on axis
