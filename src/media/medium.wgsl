@@ -8,7 +8,7 @@
 fn load_medium(i: u32) -> Medium {
     let a = media[MEDIUM_WORDS * i];
     let b = media[MEDIUM_WORDS * i + 1u];
-    return Medium(a.xyz, a.w, b.xyz, 0u);
+    return Medium(a.xyz, a.w, b.xyz, bitcast<u32>(b.w));
 }
 
 // MediumInterface::after (Mitsuba's volpath rule): the medium a ray that was in `current` is
