@@ -378,6 +378,41 @@ fn device_photon_paths_through_fog_equal_the_cpus() {
     assert!(g.volume.iter().all(|p| p.normal == 0));
 }
 
+/// Heterogeneous fog (issue 41): a coloured 8 x 6 x 4 grid of lumpy density over the box, so
+/// the majorant walk crosses cells; the device's delta-tracked photon paths are the CPU's
+/// (`medium_flight`, on the same streams).
+#[test]
+fn device_photon_paths_through_grid_fog_equal_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let dir = common::scratch("media-gpu-grid-fog");
+    let mut vol = b"VOL\x03".to_vec();
+    for v in [1i32, 8, 6, 4, 3] {
+        vol.extend(v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+        vol.extend(v.to_le_bytes());
+    }
+    for i in 0..8 * 6 * 4 * 3 {
+        vol.extend((((i * 7919) % 23) as f32 * 0.1).to_le_bytes());
+    }
+    std::fs::write(dir.join("fog.vol"), vol).unwrap();
+    let homogeneous = "[media.fog]\nsigma_t = [0.6, 1, 1.5]\nalbedo = 0.8\ng = 0.4\n";
+    let text = fog_box_text([0.6, 1.0, 1.5], 0.8, 0.4);
+    assert!(text.contains(homogeneous), "the fog box's medium moved");
+    let grid = "[media.fog]\ntype = \"heterogeneous\"\nsigma_t = \"fog.vol\"\nalbedo = 0.8\ng = 0.4\n\
+        bounds = [[-1, -1, -1], [1, 1, 1]]\n";
+    let scene = load_str(&text.replace(homogeneous, grid), "box.toml", &dir).unwrap();
+    assert!(!scene.media[0].is_homogeneous());
+    let s = RenderSettings {
+        photons: 20_000,
+        ..scene.settings.clone()
+    };
+    let cpu = cpu_trace(&scene, &s);
+    let g = gpu_trace(&ctx, &scene, &s);
+    assert_same_photons(&cpu.volume, &g.volume, "volume photons", 0.02);
+    assert_same_photons(&cpu.surface, &g.surface[0], "surface photons", 0.02);
+}
+
 /// The volume caustic scene: the caustic map's paths store L S+ V photons (and end there),
 /// the global paths leave those to them.
 #[test]

@@ -67,6 +67,19 @@ fn sample_flight(m: Medium, u_channel: f32, u: f32, t_max: f32) -> Flight {
     return Flight(t_max, false, select(vec3<f32>(0.0), tr / p, p > 0.0));
 }
 
+// Medium::flight, the one dispatch point of a free flight on the medium's kind: from o along
+// unit d towards a surface t_max away, sample_flight from two numbers for a homogeneous
+// medium, delta tracking (hetero_sample_flight, src/media/heterogeneous.wgsl) for a
+// heterogeneous one; either draws from rng as the CPU does.
+fn medium_flight(m: Medium, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: ptr<function, Rng>) -> Flight {
+    if HAS_HETERO_MEDIA && m.grid != NO_MEDIUM {
+        return hetero_sample_flight(hetero_record(m), o, d, t_max, rng);
+    }
+    let uc = rng_next(rng);
+    let u = rng_next(rng);
+    return sample_flight(m, uc, u, t_max);
+}
+
 // HenyeyGreenstein::eval: the density per steradian at cosine `c` between the travel
 // directions before and after scattering (the floor on the denominator as in phase.rs).
 fn hg_eval(g: f32, c: f32) -> f32 {
