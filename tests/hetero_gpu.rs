@@ -11,31 +11,18 @@
 mod common;
 mod probes;
 
-use common::gpu;
+use common::{gpu, vol_file as vol};
 use glam::Vec3;
+use gpu_photon::bvh::CpuBvh;
 use gpu_photon::importers::mitsuba::import;
+use gpu_photon::integrators::cpu::media::transmittance;
 use gpu_photon::math::rng::{Rng, Stream};
 use gpu_photon::media::heterogeneous::Heterogeneous;
 use gpu_photon::media::MediumKind;
 use gpu_photon::scene::Scene;
+use gpu_photon::settings::RenderSettings;
 use probes::media::{hetero, HeteroCase, HeteroSample};
 use std::path::Path;
-
-/// A `.vol` file of `res` voxels of `channels` values from `value(i)`.
-fn vol(res: [i32; 3], channels: i32, value: impl Fn(usize) -> f32) -> Vec<u8> {
-    let mut b = b"VOL\x03".to_vec();
-    for v in [1, res[0], res[1], res[2], channels] {
-        b.extend(v.to_le_bytes());
-    }
-    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
-        b.extend(v.to_le_bytes());
-    }
-    let n = (res[0] * res[1] * res[2] * channels) as usize;
-    for i in 0..n {
-        b.extend(value(i).to_le_bytes());
-    }
-    b
-}
 
 /// A sparse, lumpy grid in a rotated and scaled box, with a coarser albedo grid.
 fn scene(dir: &Path) -> Scene {
@@ -198,4 +185,34 @@ fn lookup_walk_and_tracking_are_the_cpus() {
         "{n} cases: {inside} inside, {events} events; {tr_off} transmittances and \
          {flight_off} flights differ"
     );
+}
+
+/// The shadow walk (`shadow_transmittance`, through `medium_transmittance_along`) from points
+/// in the smoke's null cube, crossing its boundary or ending inside: the CPU's
+/// `cpu::media::transmittance` on the same stream, case by case but for rare flipped
+/// decisions.
+#[test]
+fn shadow_walk_through_the_grid_is_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let dir = common::scratch("hetero-gpu-shadow");
+    let scene = scene(&dir);
+    let h = medium(&scene);
+    let bvh = CpuBvh::build(&scene);
+    let seed = RenderSettings::default().seed;
+    let cases: Vec<([f32; 3], [f32; 3], f32, u32)> = cases(h, 2000)
+        .iter()
+        .map(|c| (c.o, c.d, c.t, 0))
+        .collect();
+    let device = probes::media::transmittance(&ctx, &scene, &cases).expect("the probe runs");
+    let (mut off, mut dark) = (0, 0);
+    for (i, ((o, d, t, m), g)) in cases.iter().zip(&device).enumerate() {
+        let t_max = if *t > 1e30 { f32::INFINITY } else { *t };
+        let mut rng = Rng::new(seed, Stream::Photon, 0, i as u32);
+        let want = transmittance(&scene, &bvh, Vec3::from(*o), Vec3::from(*d), t_max, *m, &mut rng);
+        off += !close(*g, want.to_array(), 1e-4) as u32;
+        dark += (want.max_element() < 0.5) as u32;
+    }
+    assert!(off <= 20, "{off} of 2000 shadow walks differ");
+    assert!(dark > 100 && dark < 1900, "{dark} of 2000 dark");
+    eprintln!("2000 shadow walks: {dark} dark, {off} differ");
 }

@@ -275,6 +275,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("media/medium.wgsl", "medium_interface_after", "media/mod.rs", "after", Oracle("media_gpu.rs")),
     ("media/medium.wgsl", "medium_transmittance", "media/mod.rs", "transmittance", Caller("media_gpu.rs")),
     ("media/medium.wgsl", "sample_flight", "media/mod.rs", "sample_flight", Oracle("media_gpu.rs")),
+    ("media/medium.wgsl", "medium_transmittance_along", "media/mod.rs", "transmittance_along", Caller("hetero_gpu.rs")),
     ("media/medium.wgsl", "medium_flight", "media/mod.rs", "flight", Caller("media_gpu.rs")),
     ("media/medium.wgsl", "hg_eval", "media/phase.rs", "eval", Oracle("media_gpu.rs")),
     ("media/medium.wgsl", "hg_sample_cos", "media/phase.rs", "sample_cos", Caller("media_gpu.rs")),

@@ -67,6 +67,16 @@ fn sample_flight(m: Medium, u_channel: f32, u: f32, t_max: f32) -> Flight {
     return Flight(t_max, false, select(vec3<f32>(0.0), tr / p, p > 0.0));
 }
 
+// Medium::transmittance_along, the one dispatch point of a transmittance on the medium's
+// kind: over [0, t) of the ray from o along unit d, Beer-Lambert for a homogeneous medium (no
+// number drawn), ratio tracking (hetero_transmittance) on rng for a heterogeneous one.
+fn medium_transmittance_along(m: Medium, o: vec3<f32>, d: vec3<f32>, t: f32, rng: ptr<function, Rng>) -> vec3<f32> {
+    if HAS_HETERO_MEDIA && m.grid != NO_MEDIUM {
+        return hetero_transmittance(hetero_record(m), o, d, t, rng);
+    }
+    return medium_transmittance(m, t);
+}
+
 // Medium::flight, the one dispatch point of a free flight on the medium's kind: from o along
 // unit d towards a surface t_max away, sample_flight from two numbers for a homogeneous
 // medium, delta tracking (hetero_sample_flight, src/media/heterogeneous.wgsl) for a

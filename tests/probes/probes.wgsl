@@ -133,15 +133,16 @@ fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // probe_transmittance: the shadow walk for case i < width: (o, t_max) = accum[i] (endless
-// when t_max >= 3e38), (d, medium as bits) = accum[width + i]; writes
-// shadow_transmittance(...) to accum[2 width + i].
+// when t_max >= 3e38), (d, medium as bits) = accum[width + i], on the stream
+// (params.seed, STREAM_PHOTON, 0, i); writes shadow_transmittance(...) to accum[2 width + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if i >= params.width { return; }
     let a = accum[slot(0u, i)];
     let b = accum[slot(1u, i)];
-    let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w));
+    var rng = Rng(path_key(params.seed, STREAM_PHOTON, 0u, i), 0u);
+    let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w), &rng);
     accum[slot(2u, i)] = vec4<f32>(tr, 0.0);
 }
 
