@@ -179,7 +179,10 @@ fn lookup_walk_and_tracking_are_the_cpus() {
         let nf = n as f64;
         let sd = ((sum2[k] / nf - (sum_cpu[k] / nf).powi(2)).max(0.0) / nf).sqrt();
         let (a, b) = (sum_gpu[k] / nf, sum_cpu[k] / nf);
-        assert!((a - b).abs() <= 4.0 * sd + 1e-6, "channel {k}: {a} vs {b} (sd {sd})");
+        assert!(
+            (a - b).abs() <= 4.0 * sd + 1e-6,
+            "channel {k}: {a} vs {b} (sd {sd})"
+        );
     }
     eprintln!(
         "{n} cases: {inside} inside, {events} events; {tr_off} transmittances and \
@@ -199,16 +202,22 @@ fn shadow_walk_through_the_grid_is_the_cpus() {
     let h = medium(&scene);
     let bvh = CpuBvh::build(&scene);
     let seed = RenderSettings::default().seed;
-    let cases: Vec<([f32; 3], [f32; 3], f32, u32)> = cases(h, 2000)
-        .iter()
-        .map(|c| (c.o, c.d, c.t, 0))
-        .collect();
+    let cases: Vec<([f32; 3], [f32; 3], f32, u32)> =
+        cases(h, 2000).iter().map(|c| (c.o, c.d, c.t, 0)).collect();
     let device = probes::media::transmittance(&ctx, &scene, &cases).expect("the probe runs");
     let (mut off, mut dark) = (0, 0);
     for (i, ((o, d, t, m), g)) in cases.iter().zip(&device).enumerate() {
         let t_max = if *t > 1e30 { f32::INFINITY } else { *t };
         let mut rng = Rng::new(seed, Stream::Photon, 0, i as u32);
-        let want = transmittance(&scene, &bvh, Vec3::from(*o), Vec3::from(*d), t_max, *m, &mut rng);
+        let want = transmittance(
+            &scene,
+            &bvh,
+            Vec3::from(*o),
+            Vec3::from(*d),
+            t_max,
+            *m,
+            &mut rng,
+        );
         off += !close(*g, want.to_array(), 1e-4) as u32;
         dark += (want.max_element() < 0.5) as u32;
     }

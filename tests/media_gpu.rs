@@ -362,7 +362,10 @@ fn gpu_trace(
 
 /// 20,000 photon paths of `scene` on both backends: the same volume and surface photons
 /// ([`assert_same_photons`], 2%); the device's.
-fn assert_same_paths(ctx: &gpu_photon::integrators::gpu::GpuContext, scene: &Scene) -> TracedPhotons {
+fn assert_same_paths(
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
+    scene: &Scene,
+) -> TracedPhotons {
     let s = RenderSettings {
         photons: 20_000,
         ..scene.settings.clone()
@@ -396,7 +399,8 @@ fn device_photon_paths_through_grid_fog_equal_the_cpus() {
     let homogeneous = "[media.fog]\nsigma_t = [0.6, 1, 1.5]\nalbedo = 0.8\ng = 0.4\n";
     let text = fog_box_text([0.6, 1.0, 1.5], 0.8, 0.4);
     assert!(text.contains(homogeneous), "the fog box's medium moved");
-    let grid = "[media.fog]\ntype = \"heterogeneous\"\nsigma_t = \"fog.vol\"\nalbedo = 0.8\ng = 0.4\n\
+    let grid =
+        "[media.fog]\ntype = \"heterogeneous\"\nsigma_t = \"fog.vol\"\nalbedo = 0.8\ng = 0.4\n\
         bounds = [[-1, -1, -1], [1, 1, 1]]\n";
     let scene = load_str(&text.replace(homogeneous, grid), "box.toml", &dir).unwrap();
     assert!(!scene.media[0].is_homogeneous());

@@ -167,8 +167,19 @@ fn compose(own: &[&str]) -> String {
     let lights = crate::lights::gpu::wgsl_library();
     let textures = crate::integrators::gpu::textures::wgsl_library();
     let libs: &[&str] = &[
-        &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, &lights, &bsdfs, &textures,
-        MEDIUM, HETEROGENEOUS, GRID,
+        &prelude,
+        TYPES,
+        PHOTON,
+        RNG,
+        SAMPLING,
+        SCENE,
+        INTERSECT,
+        &lights,
+        &bsdfs,
+        &textures,
+        MEDIUM,
+        HETEROGENEOUS,
+        GRID,
     ];
     libs.iter()
         .chain(own)
