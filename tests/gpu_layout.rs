@@ -200,7 +200,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
                 aperture_radius, focus_distance, camera_medium, first_row, branch_round, orthographic,
                 _pad),
         ),
-        ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, _pad)),
+        ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, grid)),
         ("Branch", fields!(GpuBranch: o, depth, d, medium, t, _pad)),
         ("BranchStack", fields!(GpuBranchStack: n, resume, queue, b)),
         (

@@ -360,22 +360,51 @@ fn gpu_trace(
     trace_photons(ctx, scene, s, 0).expect("the device traces")
 }
 
+/// 20,000 photon paths of `scene` on both backends: the same volume and surface photons
+/// ([`assert_same_photons`], 2%); the device's.
+fn assert_same_paths(
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
+    scene: &Scene,
+) -> TracedPhotons {
+    let s = RenderSettings {
+        photons: 20_000,
+        ..scene.settings.clone()
+    };
+    let cpu = cpu_trace(scene, &s);
+    let g = gpu_trace(ctx, scene, &s);
+    assert_same_photons(&cpu.volume, &g.volume, "volume photons", 0.02);
+    assert_same_photons(&cpu.surface, &g.surface[0], "surface photons", 0.02);
+    g
+}
+
 /// Coloured fog, forward scattering: the device's photon paths are the CPU's (the same
 /// random-number streams: emission, free flights, roulette, phase and surface bounces).
 #[test]
 fn device_photon_paths_through_fog_equal_the_cpus() {
     let Some(ctx) = gpu() else { return };
-    let scene = fog_box([0.6, 1.0, 1.5], 0.8, 0.4);
-    let s = RenderSettings {
-        photons: 20_000,
-        ..scene.settings.clone()
-    };
-    let cpu = cpu_trace(&scene, &s);
-    let g = gpu_trace(&ctx, &scene, &s);
-    assert_same_photons(&cpu.volume, &g.volume, "volume photons", 0.02);
-    assert_same_photons(&cpu.surface, &g.surface[0], "surface photons", 0.02);
+    let g = assert_same_paths(&ctx, &fog_box([0.6, 1.0, 1.5], 0.8, 0.4));
     // Every volume photon carries its medium's index where a surface photon's normal is.
     assert!(g.volume.iter().all(|p| p.normal == 0));
+}
+
+/// Heterogeneous fog (issue 41): a coloured 8 x 6 x 4 grid of lumpy density over the box, so
+/// the majorant walk crosses cells; the device's delta-tracked photon paths are the CPU's
+/// (`medium_flight`, on the same streams).
+#[test]
+fn device_photon_paths_through_grid_fog_equal_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let dir = common::scratch("media-gpu-grid-fog");
+    let vol = common::vol_file([8, 6, 4], 3, |i| ((i * 7919) % 23) as f32 * 0.1);
+    std::fs::write(dir.join("fog.vol"), vol).unwrap();
+    let homogeneous = "[media.fog]\nsigma_t = [0.6, 1, 1.5]\nalbedo = 0.8\ng = 0.4\n";
+    let text = fog_box_text([0.6, 1.0, 1.5], 0.8, 0.4);
+    assert!(text.contains(homogeneous), "the fog box's medium moved");
+    let grid =
+        "[media.fog]\ntype = \"heterogeneous\"\nsigma_t = \"fog.vol\"\nalbedo = 0.8\ng = 0.4\n\
+        bounds = [[-1, -1, -1], [1, 1, 1]]\n";
+    let scene = load_str(&text.replace(homogeneous, grid), "box.toml", &dir).unwrap();
+    assert!(!scene.media[0].is_homogeneous());
+    assert_same_paths(&ctx, &scene);
 }
 
 /// The volume caustic scene: the caustic map's paths store L S+ V photons (and end there),

@@ -89,6 +89,12 @@ impl MajorantGrid {
         self.cells.len()
     }
 
+    /// Its layout for the device (`media/gpu.rs`): the lower corner, a cell's size, the
+    /// cells per axis and the bounds, x fastest.
+    pub fn parts(&self) -> (Vec3, Vec3, UVec3, &[f32]) {
+        (self.lo, self.size, self.res, &self.cells)
+    }
+
     /// Calls `f(ta, tb, majorant)` for each cell the ray from `o` along unit `d` crosses
     /// within `[t0, t1)` (inside the box), in order, until `f` returns false.
     pub fn walk(

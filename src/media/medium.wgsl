@@ -8,7 +8,7 @@
 fn load_medium(i: u32) -> Medium {
     let a = media[MEDIUM_WORDS * i];
     let b = media[MEDIUM_WORDS * i + 1u];
-    return Medium(a.xyz, a.w, b.xyz, 0u);
+    return Medium(a.xyz, a.w, b.xyz, bitcast<u32>(b.w));
 }
 
 // MediumInterface::after (Mitsuba's volpath rule): the medium a ray that was in `current` is
@@ -65,6 +65,29 @@ fn sample_flight(m: Medium, u_channel: f32, u: f32, t_max: f32) -> Flight {
     let tr = medium_transmittance(m, t_max);
     let p = (tr.x + tr.y + tr.z) / 3.0;
     return Flight(t_max, false, select(vec3<f32>(0.0), tr / p, p > 0.0));
+}
+
+// Medium::transmittance_along, the one dispatch point of a transmittance on the medium's
+// kind: over [0, t) of the ray from o along unit d, Beer-Lambert for a homogeneous medium (no
+// number drawn), ratio tracking (hetero_transmittance) on rng for a heterogeneous one.
+fn medium_transmittance_along(m: Medium, o: vec3<f32>, d: vec3<f32>, t: f32, rng: ptr<function, Rng>) -> vec3<f32> {
+    if HAS_HETERO_MEDIA && m.grid != NO_MEDIUM {
+        return hetero_transmittance(hetero_record(m), o, d, t, rng);
+    }
+    return medium_transmittance(m, t);
+}
+
+// Medium::flight, the one dispatch point of a free flight on the medium's kind: from o along
+// unit d towards a surface t_max away, sample_flight from two numbers for a homogeneous
+// medium, delta tracking (hetero_sample_flight, src/media/heterogeneous.wgsl) for a
+// heterogeneous one; either draws from rng as the CPU does.
+fn medium_flight(m: Medium, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: ptr<function, Rng>) -> Flight {
+    if HAS_HETERO_MEDIA && m.grid != NO_MEDIUM {
+        return hetero_sample_flight(hetero_record(m), o, d, t_max, rng);
+    }
+    let uc = rng_next(rng);
+    let u = rng_next(rng);
+    return sample_flight(m, uc, u, t_max);
 }
 
 // HenyeyGreenstein::eval: the density per steradian at cosine `c` between the travel

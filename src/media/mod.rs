@@ -15,6 +15,7 @@
 
 pub mod builder;
 pub mod flight;
+pub mod gpu;
 pub mod grid;
 pub mod heterogeneous;
 pub mod majorant;

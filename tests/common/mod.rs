@@ -428,3 +428,19 @@ pub fn scratch(name: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+/// A Mitsuba `.vol` file's bytes (float32, box [0, 1]^3): `res` voxels of `channels` values,
+/// value `i` (x fastest, channels innermost) from `value(i)`.
+pub fn vol_file(res: [i32; 3], channels: i32, value: impl Fn(usize) -> f32) -> Vec<u8> {
+    let mut b = b"VOL\x03".to_vec();
+    for v in [1, res[0], res[1], res[2], channels] {
+        b.extend(v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+        b.extend(v.to_le_bytes());
+    }
+    for i in 0..(res[0] * res[1] * res[2] * channels) as usize {
+        b.extend(value(i).to_le_bytes());
+    }
+    b
+}

@@ -298,3 +298,58 @@ pub fn transmittance(
         .map(|i| [out[2 * n + i][0], out[2 * n + i][1], out[2 * n + i][2]])
         .collect())
 }
+
+/// One case of [`hetero`]: a ray's origin, unit direction and length, and the seed of its
+/// random-number streams.
+#[derive(Clone, Copy, Debug)]
+pub struct HeteroCase {
+    /// The origin (also where the extinction and scattering are looked up).
+    pub o: [f32; 3],
+    /// The unit direction.
+    pub d: [f32; 3],
+    /// The segment's length (a surface's distance).
+    pub t: f32,
+    /// The seed: transmittance on `(seed, Photon, 0, i)`, the flight on `(seed, Caustic, 0, i)`.
+    pub seed: u32,
+}
+
+/// What the device gave for one [`HeteroCase`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeteroSample {
+    /// `hetero_sigma_t_at(o)`.
+    pub sigma_t: [f32; 3],
+    /// `hetero_sigma_s_at(o)`.
+    pub sigma_s: [f32; 3],
+    /// `hetero_transmittance` over the segment.
+    pub transmittance: [f32; 3],
+    /// `hetero_sample_flight`'s weight, distance and whether it ended in the medium.
+    pub flight: ([f32; 3], f32, bool),
+    /// The majorant walk over the segment's span: cells visited, the sum of majorant times
+    /// length, whether it ran out.
+    pub walk: (u32, f32, bool),
+}
+
+/// The device's heterogeneous-medium functions (src/media/heterogeneous.wgsl) on `scene`'s
+/// medium 0, which must be heterogeneous, per case (`probe_hetero`).
+pub fn hetero(ctx: &GpuContext, scene: &Scene, cases: &[HeteroCase]) -> Result<Vec<HeteroSample>> {
+    let n = cases.len().max(1);
+    let mut init = vec![[0f32; 4]; 7 * n];
+    for (i, c) in cases.iter().enumerate() {
+        init[i] = [c.o[0], c.o[1], c.o[2], c.t];
+        init[n + i] = [c.d[0], c.d[1], c.d[2], f32::from_bits(c.seed)];
+    }
+    let out = probe_cases(ctx, scene, "probe_hetero", &init, n)?;
+    let v3 = |v: [f32; 4]| [v[0], v[1], v[2]];
+    Ok((0..cases.len())
+        .map(|i| {
+            let (f, w) = (out[5 * n + i], out[6 * n + i]);
+            HeteroSample {
+                sigma_t: v3(out[2 * n + i]),
+                sigma_s: v3(out[3 * n + i]),
+                transmittance: v3(out[4 * n + i]),
+                flight: (v3(f), f[3], w[0] == 1.0),
+                walk: (w[1] as u32, w[2], w[3] == 1.0),
+            }
+        })
+        .collect())
+}

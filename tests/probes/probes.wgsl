@@ -133,14 +133,51 @@ fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // probe_transmittance: the shadow walk for case i < width: (o, t_max) = accum[i] (endless
-// when t_max >= 3e38), (d, medium as bits) = accum[width + i]; writes
-// shadow_transmittance(...) to accum[2 width + i].
+// when t_max >= 3e38), (d, medium as bits) = accum[width + i], on the stream
+// (params.seed, STREAM_PHOTON, 0, i); writes shadow_transmittance(...) to accum[2 width + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if i >= params.width { return; }
     let a = accum[slot(0u, i)];
     let b = accum[slot(1u, i)];
-    let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w));
+    var rng = Rng(path_key(params.seed, STREAM_PHOTON, 0u, i), 0u);
+    let tr = shadow_transmittance(a.xyz, b.xyz, a.w, a.w >= 3.0e38, bitcast<u32>(b.w), &rng);
     accum[slot(2u, i)] = vec4<f32>(tr, 0.0);
+}
+
+// probe_hetero: the scene's medium 0 (heterogeneous) for case i < width: (o, t) =
+// accum[i], (d, seed as bits) = accum[width + i]; writes hetero_sigma_t_at(o) to
+// accum[2 width + i], hetero_sigma_s_at(o) to accum[3 width + i], hetero_transmittance over
+// [0, t) on the stream (seed, STREAM_PHOTON, 0, i) to accum[4 width + i],
+// hetero_sample_flight towards t on (seed, STREAM_CAUSTIC, 0, i) as (weight, t) to
+// accum[5 width + i], and (1 when that flight ended in the medium, the cells the majorant
+// walk over the span visits, the sum of their majorants times their lengths, 1 when the
+// walk ran out) to accum[6 width + i].
+@compute @workgroup_size(WG_SIZE)
+fn probe_hetero(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width { return; }
+    let h = hetero_record(load_medium(0u));
+    let a = accum[slot(0u, i)];
+    let b = accum[slot(1u, i)];
+    let seed = bitcast<u32>(b.w);
+    accum[slot(2u, i)] = vec4<f32>(hetero_sigma_t_at(h, a.xyz), 0.0);
+    accum[slot(3u, i)] = vec4<f32>(hetero_sigma_s_at(h, a.xyz), 0.0);
+    var rng = Rng(path_key(seed, STREAM_PHOTON, 0u, i), 0u);
+    accum[slot(4u, i)] = vec4<f32>(hetero_transmittance(h, a.xyz, b.xyz, a.w, &rng), 0.0);
+    var rng2 = Rng(path_key(seed, STREAM_CAUSTIC, 0u, i), 0u);
+    let f = hetero_sample_flight(h, a.xyz, b.xyz, a.w, &rng2);
+    accum[slot(5u, i)] = vec4<f32>(f.weight, f.t);
+    var cells = 0.0;
+    var depth = 0.0;
+    let span = hetero_span(h, a.xyz, b.xyz, a.w);
+    var w = majorant_walk_start(h, a.xyz, b.xyz, span.x, span.y);
+    if span.x < span.y {
+        while majorant_walk_next(&w) {
+            cells += 1.0;
+            depth += (w.b - w.a) * w.mu;
+        }
+    }
+    accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, f.in_medium), cells, depth, select(0.0, 1.0, w.exhausted));
 }

@@ -382,7 +382,14 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
             "ERF_2_SQRT_2",
             F32(crate::camera::pixel_filter::ERF_2_SQRT_2),
         ),
+        (
+            "ROULETTE_BELOW",
+            F32(crate::media::heterogeneous::ROULETTE_BELOW),
+        ),
     ]
+    .into_iter()
+    .chain(crate::media::gpu::WGSL_U32.map(|(name, v)| (name, U32(v))))
+    .collect()
 }
 
 /// The WGSL code of a surface class (`shading::SurfaceClass`).

@@ -74,7 +74,7 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
             if HAS_MEDIA {
                 var tr = vec3<f32>(1.0);
                 if t_max > 0.0 {
-                    tr = shadow_transmittance(o, dir, t_max, ls.distant, medium_after(hit, medium, dir));
+                    tr = shadow_transmittance(o, dir, t_max, ls.distant, medium_after(hit, medium, dir), rng);
                 }
                 acc += f * ls.weight * c * tr;
                 continue;
@@ -151,7 +151,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             } else {
                 end.emitted += *t * gathered_in_medium(*o, *d, hit.t, !hit.found, *medium, rng);
             }
-            *t *= medium_transmittance(load_medium(*medium), select(3.0e38, hit.t, hit.found));
+            *t *= medium_transmittance_along(load_medium(*medium), *o, *d, select(3.0e38, hit.t, hit.found), rng);
             if all(*t == vec3<f32>(0.0)) {
                 break;
             }

@@ -65,7 +65,8 @@ fn sample_in_segment(m: Medium, uc: f32, u: f32, t_max: f32, endless: bool) -> S
 // cpu::media::transmittance: what travels from `origin` along unit `dir` over t_max (or to
 // the scene's end when `endless`) starting in `medium`, through index-matched boundaries
 // (changing medium there); zero behind any other surface or past MAX_CROSSINGS boundaries.
-fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: bool, medium_in: u32) -> vec3<f32> {
+// A heterogeneous medium's is an unbiased estimate (ratio tracking, numbers from rng).
+fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: bool, medium_in: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     var o = origin;
     var left = select(t_max, 3.0e38, endless);
     var medium = medium_in;
@@ -82,7 +83,7 @@ fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: 
             run = length(end - at);
         }
         if medium != NO_MEDIUM {
-            tr *= medium_transmittance(load_medium(medium), run);
+            tr *= medium_transmittance_along(load_medium(medium), at, dir, run, rng);
         }
         if !hit.found {
             return tr;
@@ -161,7 +162,7 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
         let w = medium_transmittance(m, p.t) / p.pdf;
         if HAS_ENVIRONMENT && light.kind == LIGHT_ENVIRONMENT {
             let wi = hg_sample(m.g, d, u3.y, u3.z);
-            l += w * env_radiance(light, wi) * shadow_transmittance(x, wi, 3.0e38, true, medium);
+            l += w * env_radiance(light, wi) * shadow_transmittance(x, wi, 3.0e38, true, medium, rng);
             continue;
         }
         let ls = sample_light(light, x, -d, u3);
@@ -181,7 +182,7 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
         if !ls.distant && !is_delta_light(light) {
             t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
         }
-        l += w * ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium);
+        l += w * ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium, rng);
     }
     return m.sigma_s * l / f32(n);
 }

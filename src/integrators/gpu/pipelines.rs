@@ -81,6 +81,10 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
         ),
         ("KNN", knn as u32 as f64),
         ("HAS_MEDIA", scene.has_media_transport() as u32 as f64),
+        (
+            "HAS_HETERO_MEDIA",
+            scene.media.iter().any(|m| !m.is_homogeneous()) as u32 as f64,
+        ),
         ("GLASS_SPLIT", glass_split(scene) as u32 as f64),
     ];
     features.extend(kinds);

@@ -67,6 +67,9 @@ override KNN: bool = true;
 // boundary): free flights, volume photons, transmittance and in-scattering
 // (src/media/medium.wgsl); without, none of it is compiled.
 override HAS_MEDIA: bool = true;
+// Some medium is heterogeneous (a grid or volume, src/media/heterogeneous.wgsl): the media
+// functions dispatch on a medium's kind; without, only the homogeneous code is compiled.
+override HAS_HETERO_MEDIA: bool = true;
 // A camera path may meet glass or a thin dielectric (crate::gpu::pipelines::glass_split):
 // the gather splits such hits below GLASS_SPLIT_DEPTH and defers a branch to a later round
 // (src/integrators/gpu/glass_branches.wgsl); without, the branch stack and its rounds fold away.

@@ -109,13 +109,28 @@ impl SceneBuffers {
                 sigma_t: m.sigma_t.to_array(),
                 g: m.phase.g,
                 sigma_s: m.sigma_s().to_array(),
-                _pad: 0,
+                grid: crate::media::NO_MEDIUM,
             })
             .collect();
         if media.is_empty() {
             media.push(GpuMedium::default());
         }
-        let media = storage_buffer(dev, "media", &media, none);
+        // Heterogeneous media's grids follow the table in the same buffer (media/gpu.rs).
+        let table = (media.len() * std::mem::size_of::<GpuMedium>() / 16) as u64;
+        let (grids, records) = crate::media::gpu::pack(&scene.media, table, ctx.max_binding)
+            .map_err(|bytes| {
+                Error::Gpu(format!(
+                    "the scene's media grids need {} MiB, over this device's {} MiB storage binding limit; use --backend cpu",
+                    bytes >> 20,
+                    ctx.max_binding >> 20
+                ))
+            })?;
+        for (m, r) in media.iter_mut().zip(records) {
+            m.grid = r;
+        }
+        let mut words: Vec<[f32; 4]> = bytemuck::cast_slice(&media).to_vec();
+        words.extend(grids);
+        let media = storage_buffer(dev, "media and their grids", &words, none);
         let mut interfaces: Vec<[u32; 2]> = scene
             .materials
             .iter()

@@ -32,6 +32,7 @@ const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
+const HETEROGENEOUS: &str = include_str!("../../media/heterogeneous.wgsl");
 const GRID: &str = include_str!("grid.wgsl");
 const MAP: &str = include_str!("map.wgsl");
 const ESTIMATE: &str = include_str!("../estimate.wgsl");
@@ -50,7 +51,7 @@ const GATHER: &str = include_str!("gather.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 23] = [
+const WGSL_FILES: [(&str, &str); 24] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
@@ -60,6 +61,7 @@ const WGSL_FILES: [(&str, &str); 23] = [
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
     ("media/medium.wgsl", MEDIUM),
+    ("media/heterogeneous.wgsl", HETEROGENEOUS),
     ("integrators/gpu/grid.wgsl", GRID),
     ("integrators/gpu/map.wgsl", MAP),
     ("integrators/estimate.wgsl", ESTIMATE),
@@ -165,8 +167,19 @@ fn compose(own: &[&str]) -> String {
     let lights = crate::lights::gpu::wgsl_library();
     let textures = crate::integrators::gpu::textures::wgsl_library();
     let libs: &[&str] = &[
-        &prelude, TYPES, PHOTON, RNG, SAMPLING, SCENE, INTERSECT, &lights, &bsdfs, &textures,
-        MEDIUM, GRID,
+        &prelude,
+        TYPES,
+        PHOTON,
+        RNG,
+        SAMPLING,
+        SCENE,
+        INTERSECT,
+        &lights,
+        &bsdfs,
+        &textures,
+        MEDIUM,
+        HETEROGENEOUS,
+        GRID,
     ];
     libs.iter()
         .chain(own)

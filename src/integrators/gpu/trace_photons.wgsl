@@ -63,9 +63,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         let hit = trace_ray(o, d, 3.0e38, false);
         if HAS_MEDIA && medium != NO_MEDIUM {
             let md = load_medium(medium);
-            let uc = rng_next(&rng);
-            let uf = rng_next(&rng);
-            let f = sample_flight(md, uc, uf, select(3.0e38, hit.t, hit.found));
+            let f = medium_flight(md, o, d, select(3.0e38, hit.t, hit.found), &rng);
             if f.in_medium {
                 let x = o + d * f.t;
                 let scattered = power * f.weight;

@@ -241,8 +241,9 @@ pub struct GpuMedium {
     pub g: f32,
     /// Scattering per channel per scene unit.
     pub sigma_s: [f32; 3],
-    /// Padding.
-    pub _pad: u32,
+    /// A heterogeneous medium's record in the media buffer (its vec4 index, `media/gpu.rs`);
+    /// `NO_MEDIUM` for a homogeneous one.
+    pub grid: u32,
 }
 
 /// Twin of WGSL `MapParams`: what one photon map traces and how its hash grid is laid out.

@@ -181,7 +181,8 @@ struct Medium {
     sigma_t: vec3<f32>,
     g: f32,
     sigma_s: vec3<f32>,
-    _pad: u32,
+    // A heterogeneous medium's record in `media` (src/media/gpu.rs), NO_MEDIUM for none.
+    grid: u32,
 }
 
 // Per photon map: what to trace and how its hash grid is laid out.
