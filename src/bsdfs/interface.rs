@@ -279,6 +279,12 @@ pub trait BsdfKind: Copy {
         self.has_lobe() && !self.lobe_is_delta()
     }
 
+    /// Whether the lobe transmits light across the surface (a rough dielectric): then shadow
+    /// rays to delta lights are also taken through it, from below the shading normal.
+    fn lobe_transmits(&self) -> bool {
+        false
+    }
+
     /// Whether a camera path's delta event here is a [`DeltaEvent::Split`] (glass and the
     /// thin dielectric), which camera paths split into two branches below a depth.
     fn splits(&self) -> bool {

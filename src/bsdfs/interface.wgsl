@@ -44,3 +44,5 @@ fn default_sample(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeS
 }
 // What a kind recomputes after its textured words are looked up (nothing by default).
 fn default_finish(b: Bsdf) -> Bsdf { return b; }
+// Whether shadow rays to delta lights also cross the surface (a transmitting lobe).
+fn default_lobe_transmits(b: Bsdf) -> bool { return false; }

@@ -225,6 +225,13 @@ impl SurfaceBsdf<'_> {
         self.b.lobe_takes_point_lights()
     }
 
+    /// Whether the lobe transmits across the surface: shadow rays to delta lights are then
+    /// taken from below the shading normal too (a rough dielectric's transmission).
+    #[inline]
+    pub fn lobe_transmits(&self) -> bool {
+        self.b.lobe_transmits()
+    }
+
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {

@@ -416,7 +416,7 @@ impl Gatherer<'_> {
     /// delta lights' glossy lobe. A directional light's shadow ray has no end.
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
-    /// nothing.
+    /// nothing, unless it is a delta light and the lobe transmits (a rough dielectric).
     /// In scenes with media, shadow rays carry the transmittance of the media they cross
     /// (starting in the one a ray leaving the hit is in, `medium` the viewer's).
     #[allow(clippy::too_many_arguments)]
@@ -459,9 +459,17 @@ impl Gatherer<'_> {
                 let wi = to_light / to_light.length();
                 let ns = f.ns;
                 let cos = wi.dot(ns);
-                if cos <= 0.0 || f.reflection_leaks(wi) {
+                // A delta light behind a transmitting lobe is lit through it (no lobe ray
+                // can reach it); an area light there is the lobe ray's alone (`Mis::ns`).
+                let through = cos < 0.0 && is_delta && bsdf.lobe_transmits();
+                let leaks = match through {
+                    true => f.refraction_leaks(wi),
+                    false => cos <= 0.0 || f.reflection_leaks(wi),
+                };
+                if leaks {
                     continue;
                 }
+                let cos = cos.abs();
                 let f = match (is_delta, self.terms.direct) {
                     (true, true) => bsdf.eval(wi, wo, ns),
                     (true, false) => bsdf.eval_lobe(wi, wo, ns),

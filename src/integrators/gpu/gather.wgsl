@@ -10,7 +10,7 @@
 // through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 // The BRDF and cosine use the shading normal f.ns; a light below the geometric surface
-// gives nothing. With media, shadow rays carry the transmittance of those they cross, from
+// gives nothing, unless it is a delta light and the lobe transmits (a rough dielectric). With media, shadow rays carry the transmittance of those they cross, from
 // the one a ray leaving `hit` is in (`medium` the viewer's).
 fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool, medium: u32) -> vec3<f32> {
     let x = hit.position;
@@ -43,10 +43,15 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
             let to_light = ls.point - x;
             let dist = length(to_light);
             let wi = to_light / dist;
-            let c = dot(wi, ns);
-            if c <= 0.0 || reflection_leaks(f, wi) {
+            let c_signed = dot(wi, ns);
+            // A delta light behind a transmitting lobe is lit through it (no lobe ray can
+            // reach it); an area light there is the lobe ray's alone.
+            let through = c_signed < 0.0 && is_delta && bsdf_lobe_transmits(m.b);
+            let leaks = select(c_signed <= 0.0 || reflection_leaks(f, wi), refraction_leaks(f, wi), through);
+            if leaks {
                 continue;
             }
+            let c = abs(c_signed);
             var f = surface_eval_diffuse(m, wi, wo);
             if is_delta {
                 f = select(surface_eval_lobe(m, wi, wo, ns), f + surface_eval_lobe(m, wi, wo, ns), with_direct);
