@@ -44,6 +44,45 @@ pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
     media.after(scene.camera_medium, e.normal, e.dir)
 }
 
+/// The medium a photon of light `l` emitted as `e` starts in from `origin` (its ray's offset
+/// start): [`light_medium`], except for an area light whose shape bounds no medium in a scene
+/// with media. Mitsuba traces from the camera only, so its files need not say which medium
+/// such an emitter sits in (a glowing torus inside a medium-filled sphere): the photon's
+/// medium is then the one [`enclosing_medium`] finds along its ray, point by point of the
+/// emitter, so an emitter that straddles a boundary is right on both sides.
+pub fn photon_medium(scene: &Scene, bvh: &CpuBvh, l: usize, e: &Emission, origin: Vec3) -> u32 {
+    let medium = light_medium(scene, l, e);
+    let unnamed = scene.lights[l]
+        .shape
+        .material(&scene.triangles, &scene.spheres)
+        .is_some_and(|m| scene.materials[m as usize].media.is_vacuum());
+    match unnamed && !scene.media.is_empty() {
+        true => enclosing_medium(scene, bvh, origin, e.dir),
+        false => medium,
+    }
+}
+
+/// The medium at `origin`: the side of the first surface bounding a medium that a ray along
+/// `dir` meets (the interior when the ray leaves through its front), past surfaces that bound
+/// none, at most [`MAX_CROSSINGS`] of them; the camera's medium when it meets none.
+pub fn enclosing_medium(scene: &Scene, bvh: &CpuBvh, origin: Vec3, dir: Vec3) -> u32 {
+    let mut ray = Ray { origin, dir };
+    for _ in 0..MAX_CROSSINGS {
+        let Some(hit) = bvh.intersect(scene, &ray, f32::INFINITY) else {
+            break;
+        };
+        let media = scene.materials[hit.material as usize].media;
+        if !media.is_vacuum() {
+            return match dir.dot(hit.normal) > 0.0 {
+                true => media.interior,
+                false => media.exterior,
+            };
+        }
+        ray.origin = offset_origin(hit.position, hit.normal, dir);
+    }
+    scene.camera_medium
+}
+
 /// The fraction of light that travels from `origin` along unit `dir` over `t_max` (infinite:
 /// to the scene's end) starting in `medium`: the media's Beer-Lambert transmittance, through
 /// index-matched boundaries (changing medium there); zero when any other surface is in the

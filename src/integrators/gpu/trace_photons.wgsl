@@ -55,7 +55,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     // NO_MEDIUM in a scene without media.
     var medium = NO_MEDIUM;
     if HAS_MEDIA {
-        medium = light_medium(light, e);
+        medium = photon_medium(light, e, o);
     }
     var crossings = 0u;
     var depth = 0u;
