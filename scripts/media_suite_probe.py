@@ -63,6 +63,8 @@ def main():
     ap.add_argument("--box", default=None)
     ap.add_argument("--keep", default=None, help="folder to keep the EXRs in")
     ap.add_argument("--extra", default="", help="more arguments for gpu-photon render")
+    ap.add_argument("--our-depth-add", type=int, default=0,
+                    help="render ours at max_depth + this (what a bounce-counted pass-through costs)")
     args = ap.parse_args()
     box = [int(v) for v in args.box.split(",")] if args.box else None
     mi.set_variant("llvm_ad_rgb")
@@ -78,12 +80,18 @@ def main():
         fd, path = tempfile.mkstemp(suffix=".xml", prefix="_probe_", dir=SUITE)
         with os.fdopen(fd, "w") as f:
             f.write(t)
+        ours_path = path
+        if args.our_depth_add:
+            fd2, ours_path = tempfile.mkstemp(suffix=".xml", prefix="_probe_", dir=SUITE)
+            with os.fdopen(fd2, "w") as f:
+                f.write(re.sub(r'(name="max_depth"\s+value=")\d+',
+                               rf"\g<1>{depth + args.our_depth_add}", text))
         try:
             scene = mi.load_file(path)
             ref = mi.render(scene, spp=args.mspp, seed=7)
             m_ref = means(ref, box)
             out = tempfile.mktemp(suffix=".exr", prefix="gp_probe_")
-            cmd = [BIN, "render", path, "-o", out, "--backend", "cpu", "-q",
+            cmd = [BIN, "render", ours_path, "-o", out, "--backend", "cpu", "-q",
                    "--passes", str(args.passes), "--spp", str(args.spp),
                    "--photons", str(args.photons), "--seed", "1"]
             if args.mode:
@@ -100,6 +108,8 @@ def main():
                 os.remove(out)
         finally:
             os.remove(path)
+            if ours_path != path:
+                os.remove(ours_path)
         ratio = m_ours / np.maximum(m_ref, 1e-12)
         fmt = lambda v: " ".join(f"{x:.5f}" for x in v)  # noqa: E731
         print(f"max_depth {depth:3}: mitsuba {fmt(m_ref)}  ours {fmt(m_ours)}  ratio {fmt(ratio)}",

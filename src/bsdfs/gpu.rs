@@ -147,6 +147,7 @@ const METHODS: &[Method] = &[
     local("sample", "bsdf_sample", "b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool", "b, wo, u, radiance", "LobeSampleW"),
     local("finish", "bsdf_finish", "b: Bsdf", "b", "Bsdf"),
     local("lobe_transmits", "bsdf_lobe_transmits", "b: Bsdf", "b", "bool"),
+    local("passes_null", "bsdf_passes_null", "b: Bsdf", "b", "bool"),
     surface("surface_diffuse_albedo", "surface_diffuse_albedo", "s: Surface, wo: vec3<f32>", "s, wo", "vec3<f32>"),
     surface("surface_store_weight", "surface_store_weight_unshadowed", "s: Surface, wi: vec3<f32>", "s, wi", "f32"),
     surface("surface_eval_diffuse", "surface_eval_diffuse_unshadowed", "s: Surface, wi: vec3<f32>, wo: vec3<f32>", "s, wi, wo", "vec3<f32>"),

@@ -285,6 +285,13 @@ pub trait BsdfKind: Copy {
         false
     }
 
+    /// Whether passing straight through is a *null* event, as Mitsuba's `volpath` counts a
+    /// thin dielectric's transmission: in scenes with media a path crossing it is no bounce
+    /// longer (its depth, towards `max_depth`, stays), and camera paths choose one branch there.
+    fn passes_null(&self) -> bool {
+        false
+    }
+
     /// Whether a camera path's delta event here is a [`DeltaEvent::Split`] (glass and the
     /// thin dielectric), which camera paths split into two branches below a depth.
     fn splits(&self) -> bool {

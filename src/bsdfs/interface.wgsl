@@ -46,3 +46,5 @@ fn default_sample(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeS
 fn default_finish(b: Bsdf) -> Bsdf { return b; }
 // Whether shadow rays to delta lights also cross the surface (a transmitting lobe).
 fn default_lobe_transmits(b: Bsdf) -> bool { return false; }
+// Whether passing straight through is a null event (no bounce in scenes with media).
+fn default_passes_null(b: Bsdf) -> bool { return false; }

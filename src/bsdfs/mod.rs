@@ -176,6 +176,7 @@ macro_rules! bsdf_kinds {
             fn lobe_takes_point_lights(&self) -> bool {
                 match self { $(Bsdf::$variant(k) => k.lobe_takes_point_lights()),+ }
             }
+            fn passes_null(&self) -> bool { match self { $(Bsdf::$variant(k) => k.passes_null()),+ } }
             fn lobe_transmits(&self) -> bool { match self { $(Bsdf::$variant(k) => k.lobe_transmits()),+ } }
             fn splits(&self) -> bool { match self { $(Bsdf::$variant(k) => k.splits()),+ } }
             fn delta_event(&self, n: Frame, d: Vec3, hit: &Hit, f: &Facing, fr: FresnelMode) -> DeltaEvent {

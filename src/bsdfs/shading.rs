@@ -232,6 +232,13 @@ impl SurfaceBsdf<'_> {
         self.b.lobe_transmits()
     }
 
+    /// Whether passing straight through is a null event in scenes with media (a thin
+    /// dielectric's transmission, as Mitsuba's `volpath` counts it: no bounce).
+    #[inline]
+    pub fn passes_null(&self) -> bool {
+        self.b.passes_null()
+    }
+
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {

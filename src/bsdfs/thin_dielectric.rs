@@ -74,6 +74,9 @@ impl BsdfKind for ThinDielectric {
     fn splits(&self) -> bool {
         true
     }
+    fn passes_null(&self) -> bool {
+        true
+    }
     fn delta_event(&self, _: Frame, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
         let r = fresnel_dielectric(d.dot(f.ns).abs(), self.eta).0;
         DeltaEvent::Split(Dielectric {

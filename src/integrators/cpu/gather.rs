@@ -257,6 +257,9 @@ impl Gatherer<'_> {
                                 )
                     }
                     DeltaEvent::Split(g) => {
+                        // A thin sheet's pass-through in a scene with media is a null event
+                        // (Mitsuba's volpath): no bounce, and one branch chosen, not split.
+                        let null_pass = self.media && bsdf.passes_null();
                         // A branch that ends on the wrong side of the geometric surface
                         // carries nothing (smooth triangles only).
                         let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
@@ -275,9 +278,10 @@ impl Gatherer<'_> {
                             } else {
                                 1.0
                             };
+                            let d = if refracts && null_pass { depth } else { depth + 1 };
                             k * self.radiance(
                                 &next(dir),
-                                depth + 1,
+                                d,
                                 rng,
                                 first,
                                 cw,
@@ -288,7 +292,7 @@ impl Gatherer<'_> {
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
                         };
-                        if depth < GLASS_SPLIT_DEPTH {
+                        if depth < GLASS_SPLIT_DEPTH && !null_pass {
                             // The heavier branch first: it gets the Sobol hit if one is left.
                             let (r, tr) = if g.reflectance >= 0.5 {
                                 let r = trace(g.reflected, rng, first);

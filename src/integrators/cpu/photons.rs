@@ -180,7 +180,10 @@ fn trace_path(
     let mut all_specular = true;
     let mut depth = 0;
     let mut crossings = 0;
-    while depth < s.max_photon_bounces {
+    // Null events among the bounces counted in `depth` (a thin sheet passed in a scene with
+    // media): they take none of `max_photon_bounces`, as Mitsuba's volpath counts them.
+    let mut null_passes = 0;
+    while depth - null_passes < s.max_photon_bounces {
         let hit = ctx.bvh.intersect(scene, &ray, f32::INFINITY);
         if medium != NO_MEDIUM {
             let m = &scene.media[medium as usize];
@@ -275,6 +278,10 @@ fn trace_path(
         power *= weight;
         if power_ends(power) {
             return PathEnds::add(&mut out.ends.cut, power);
+        }
+        let crossed = dir.dot(hit.normal) * ray.dir.dot(hit.normal) > 0.0;
+        if crossed && bsdf.passes_null() && scene.has_media_transport() {
+            null_passes += 1;
         }
         medium = medium_after(scene, &hit, medium, dir);
         ray = Ray {

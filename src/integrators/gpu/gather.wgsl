@@ -215,8 +215,12 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             if *depth >= params.max_depth {
                 break;
             }
+            // A thin sheet's pass-through in a media scene is a null event (Mitsuba's volpath):
+            // no bounce, and the camera path chooses one branch there (twin of cpu::gather).
+            let null_pass = HAS_MEDIA && emission && bsdf_passes_null(m.b);
+            let d_in = *d;
             var goes_on: bool;
-            if emission {
+            if emission && !null_pass {
                 goes_on = camera_delta(hit, m, d, o, t, *depth, *medium, rng);
             } else {
                 goes_on = surface_delta(hit, m, d, o, t, rng);
@@ -227,7 +231,9 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             if HAS_MEDIA {
                 *medium = medium_after(hit, *medium, *d);
             }
-            *depth += 1u;
+            if !(null_pass && dot(*d, hit.normal) * dot(d_in, hit.normal) > 0.0) {
+                *depth += 1u;
+            }
             crossings = 0u;
             continue;
         }

@@ -59,7 +59,10 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     var crossings = 0u;
     var depth = 0u;
-    while depth < params.max_photon_bounces && spend() {
+    // Null events among the bounces counted in depth (a thin sheet passed; this kernel's
+    // media scenes): they take none of max_photon_bounces (twin of cpu::photons).
+    var null_passes = 0u;
+    while depth - null_passes < params.max_photon_bounces && spend() {
         let hit = trace_ray(o, d, 3.0e38, false);
         if HAS_MEDIA && medium != NO_MEDIUM {
             let md = load_medium(medium);
@@ -143,6 +146,9 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         power *= b.weight;
         if power_ends(power) {
             return;
+        }
+        if HAS_MEDIA && dot(b.dir, hit.normal) * dot(d, hit.normal) > 0.0 && bsdf_passes_null(m.b) {
+            null_passes += 1u;
         }
         d = b.dir;
         if HAS_MEDIA {
