@@ -148,6 +148,7 @@ const METHODS: &[Method] = &[
     local("finish", "bsdf_finish", "b: Bsdf", "b", "Bsdf"),
     local("lobe_transmits", "bsdf_lobe_transmits", "b: Bsdf", "b", "bool"),
     local("passes_null", "bsdf_passes_null", "b: Bsdf", "b", "bool"),
+    local("null_transmission", "bsdf_null_transmission", "b: Bsdf, wo: vec3<f32>", "b, wo", "vec3<f32>"),
     surface("surface_diffuse_albedo", "surface_diffuse_albedo", "s: Surface, wo: vec3<f32>", "s, wo", "vec3<f32>"),
     surface("surface_store_weight", "surface_store_weight_unshadowed", "s: Surface, wi: vec3<f32>", "s, wi", "f32"),
     surface("surface_eval_diffuse", "surface_eval_diffuse_unshadowed", "s: Surface, wi: vec3<f32>, wo: vec3<f32>", "s, wi, wo", "vec3<f32>"),

@@ -292,6 +292,15 @@ pub trait BsdfKind: Copy {
         false
     }
 
+    /// What a shadow ray keeps crossing the surface from `wo` (local) as a null event, in
+    /// scenes with media (Mitsuba's `eval_null_transmission`): zero but for [`passes_null`]
+    /// kinds.
+    ///
+    /// [`passes_null`]: Self::passes_null
+    fn null_transmission(&self, _wo: Vec3) -> Vec3 {
+        Vec3::ZERO
+    }
+
     /// Whether a camera path's delta event here is a [`DeltaEvent::Split`] (glass and the
     /// thin dielectric), which camera paths split into two branches below a depth.
     fn splits(&self) -> bool {

@@ -48,3 +48,5 @@ fn default_finish(b: Bsdf) -> Bsdf { return b; }
 fn default_lobe_transmits(b: Bsdf) -> bool { return false; }
 // Whether passing straight through is a null event (no bounce in scenes with media).
 fn default_passes_null(b: Bsdf) -> bool { return false; }
+// What a shadow ray keeps crossing a passes_null surface from wo (local); zero for the rest.
+fn default_null_transmission(b: Bsdf, wo: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }

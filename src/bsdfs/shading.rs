@@ -239,6 +239,13 @@ impl SurfaceBsdf<'_> {
         self.b.passes_null()
     }
 
+    /// What a shadow ray along `d` keeps crossing the surface as a null event, in scenes with
+    /// media (a thin dielectric's `1 - R'`); zero where the surface blocks it.
+    #[inline]
+    pub fn null_transmission(&self, d: Vec3) -> Vec3 {
+        self.b.null_transmission(self.n.local(-d))
+    }
+
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {

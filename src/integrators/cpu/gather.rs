@@ -278,14 +278,19 @@ impl Gatherer<'_> {
                             } else {
                                 1.0
                             };
-                            let d = if refracts && null_pass { depth } else { depth + 1 };
+                            // Past a null pass the lobe sample's weighing of the light it
+                            // meets carries over (shadow rays cross the sheet too).
+                            let (d, m) = match refracts && null_pass {
+                                true => (depth, mis),
+                                false => (depth + 1, None),
+                            };
                             k * self.radiance(
                                 &next(dir),
                                 d,
                                 rng,
                                 first,
                                 cw,
-                                None,
+                                m,
                                 after(dir),
                             )
                         };

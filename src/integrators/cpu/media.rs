@@ -4,6 +4,7 @@
 //! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
 //! its beam estimate in `volume_map.rs`. Scenes without media never call these.
 
+use crate::bsdfs::shading::bsdf_at;
 use crate::bsdfs::{BsdfKind, SurfaceClass};
 use crate::bvh::{CpuBvh, Hit};
 use crate::lights::interface::Emission;
@@ -85,8 +86,9 @@ pub fn enclosing_medium(scene: &Scene, bvh: &CpuBvh, origin: Vec3, dir: Vec3) ->
 
 /// The fraction of light that travels from `origin` along unit `dir` over `t_max` (infinite:
 /// to the scene's end) starting in `medium`: the media's Beer-Lambert transmittance, through
-/// index-matched boundaries (changing medium there); zero when any other surface is in the
-/// way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
+/// index-matched boundaries (changing medium there) and thin dielectric sheets (times their
+/// `SurfaceBsdf::null_transmission`, as Mitsuba's volpath); zero when any other surface is in
+/// the way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
 /// A heterogeneous medium's is an unbiased estimate (ratio tracking, numbers from `rng`).
 pub fn transmittance(
     scene: &Scene,
@@ -116,7 +118,12 @@ pub fn transmittance(
             return tr;
         };
         if scene.materials[hit.material as usize].bsdf.class() != SurfaceClass::Null {
-            return Vec3::ZERO;
+            // A thin sheet lets through its null transmission (Mitsuba's volpath).
+            let w = bsdf_at(scene, &hit, dir).null_transmission(dir);
+            if w == Vec3::ZERO {
+                return Vec3::ZERO;
+            }
+            tr *= w;
         }
         medium = medium_after(scene, &hit, medium, dir);
         at = hit.position;

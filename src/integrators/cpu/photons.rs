@@ -180,10 +180,7 @@ fn trace_path(
     let mut all_specular = true;
     let mut depth = 0;
     let mut crossings = 0;
-    // Null events among the bounces counted in `depth` (a thin sheet passed in a scene with
-    // media): they take none of `max_photon_bounces`, as Mitsuba's volpath counts them.
-    let mut null_passes = 0;
-    while depth - null_passes < s.max_photon_bounces {
+    while depth < s.max_photon_bounces {
         let hit = ctx.bvh.intersect(scene, &ray, f32::INFINITY);
         if medium != NO_MEDIUM {
             let m = &scene.media[medium as usize];
@@ -279,16 +276,18 @@ fn trace_path(
         if power_ends(power) {
             return PathEnds::add(&mut out.ends.cut, power);
         }
+        // A thin sheet passed in a scene with media is a null event (Mitsuba's volpath): no
+        // bounce, not a caustic's specular event (shadow rays cross it: L-thin-D is direct).
         let crossed = dir.dot(hit.normal) * ray.dir.dot(hit.normal) > 0.0;
-        if crossed && bsdf.passes_null() && scene.has_media_transport() {
-            null_passes += 1;
-        }
+        let null_pass = crossed && bsdf.passes_null() && scene.has_media_transport();
         medium = medium_after(scene, &hit, medium, dir);
         ray = Ray {
             origin: offset_origin(hit.position, hit.normal, dir),
             dir,
         };
-        depth += 1;
+        if !null_pass {
+            depth += 1;
+        }
     }
     PathEnds::add(&mut out.ends.cut, power);
 }

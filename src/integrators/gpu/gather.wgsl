@@ -207,6 +207,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             *o = offset_origin(hit.position, hit.normal, *d);
             continue;
         }
+        let pdf_in = pdf;
         pdf = 0.0;
         if kind_class == CLASS_BLACK {
             break;
@@ -231,7 +232,10 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             if HAS_MEDIA {
                 *medium = medium_after(hit, *medium, *d);
             }
-            if !(null_pass && dot(*d, hit.normal) * dot(d_in, hit.normal) > 0.0) {
+            if null_pass && dot(*d, hit.normal) * dot(d_in, hit.normal) > 0.0 {
+                // The lobe sample's weighing of the light it meets carries over.
+                pdf = pdf_in;
+            } else {
                 *depth += 1u;
             }
             crossings = 0u;

@@ -59,10 +59,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     }
     var crossings = 0u;
     var depth = 0u;
-    // Null events among the bounces counted in depth (a thin sheet passed; this kernel's
-    // media scenes): they take none of max_photon_bounces (twin of cpu::photons).
-    var null_passes = 0u;
-    while depth - null_passes < params.max_photon_bounces && spend() {
+    while depth < params.max_photon_bounces && spend() {
         let hit = trace_ray(o, d, 3.0e38, false);
         if HAS_MEDIA && medium != NO_MEDIUM {
             let md = load_medium(medium);
@@ -147,14 +144,16 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if power_ends(power) {
             return;
         }
-        if HAS_MEDIA && dot(b.dir, hit.normal) * dot(d, hit.normal) > 0.0 && bsdf_passes_null(m.b) {
-            null_passes += 1u;
-        }
+        // A thin sheet passed in a media scene is a null event: no bounce, not a caustic's
+        // specular event (twin of cpu::photons).
+        let null_pass = HAS_MEDIA && dot(b.dir, hit.normal) * dot(d, hit.normal) > 0.0 && bsdf_passes_null(m.b);
         d = b.dir;
         if HAS_MEDIA {
             medium = medium_after(hit, medium, d);
         }
         o = offset_origin(hit.position, hit.normal, d);
-        depth += 1u;
+        if !null_pass {
+            depth += 1u;
+        }
     }
 }
