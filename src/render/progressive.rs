@@ -77,8 +77,18 @@ fn media_box(scene: &Scene) -> Option<(glam::Vec3, glam::Vec3)> {
         return scene.bounds();
     }
     let bounding = |m: u32| !scene.materials[m as usize].media.is_vacuum();
-    let triangles: Vec<_> = scene.triangles.iter().filter(|t| bounding(t.material)).copied().collect();
-    let spheres: Vec<_> = scene.spheres.iter().filter(|s| bounding(s.material)).copied().collect();
+    let triangles: Vec<_> = scene
+        .triangles
+        .iter()
+        .filter(|t| bounding(t.material))
+        .copied()
+        .collect();
+    let spheres: Vec<_> = scene
+        .spheres
+        .iter()
+        .filter(|s| bounding(s.material))
+        .copied()
+        .collect();
     crate::scene::bounds_of(&triangles, &spheres).or_else(|| scene.bounds())
 }
 

@@ -284,15 +284,7 @@ impl Gatherer<'_> {
                                 true => (depth, mis),
                                 false => (depth + 1, None),
                             };
-                            k * self.radiance(
-                                &next(dir),
-                                d,
-                                rng,
-                                first,
-                                cw,
-                                m,
-                                after(dir),
-                            )
+                            k * self.radiance(&next(dir), d, rng, first, cw, m, after(dir))
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
