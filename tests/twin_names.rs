@@ -289,6 +289,8 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("media/medium.wgsl", "load_medium", "", "", Helper),
     ("media/medium.wgsl", "medium_after", "integrators/cpu/media.rs", "medium_after", Oracle("media_gpu.rs")),
     ("media/medium.wgsl", "light_medium", "integrators/cpu/media.rs", "light_medium", Oracle("media_gpu.rs")),
+    ("media/medium.wgsl", "photon_medium", "integrators/cpu/media.rs", "photon_medium", Caller("media_gpu.rs")),
+    ("media/medium.wgsl", "enclosing_medium", "integrators/cpu/media.rs", "enclosing_medium", Caller("media_gpu.rs")),
     ("media/medium.wgsl", "medium_interface_after", "media/mod.rs", "after", Oracle("media_gpu.rs")),
     ("media/medium.wgsl", "medium_transmittance", "media/mod.rs", "transmittance", Caller("media_gpu.rs")),
     ("media/medium.wgsl", "sample_flight", "media/mod.rs", "sample_flight", Oracle("media_gpu.rs")),

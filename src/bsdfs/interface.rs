@@ -279,6 +279,28 @@ pub trait BsdfKind: Copy {
         self.has_lobe() && !self.lobe_is_delta()
     }
 
+    /// Whether the lobe transmits light across the surface (a rough dielectric): then shadow
+    /// rays to delta lights are also taken through it, from below the shading normal.
+    fn lobe_transmits(&self) -> bool {
+        false
+    }
+
+    /// Whether passing straight through is a *null* event, as Mitsuba's `volpath` counts a
+    /// thin dielectric's transmission: in scenes with media a path crossing it is no bounce
+    /// longer (its depth, towards `max_depth`, stays), and camera paths choose one branch there.
+    fn passes_null(&self) -> bool {
+        false
+    }
+
+    /// What a shadow ray keeps crossing the surface from `wo` (local) as a null event, in
+    /// scenes with media (Mitsuba's `eval_null_transmission`): zero but for [`passes_null`]
+    /// kinds.
+    ///
+    /// [`passes_null`]: Self::passes_null
+    fn null_transmission(&self, _wo: Vec3) -> Vec3 {
+        Vec3::ZERO
+    }
+
     /// Whether a camera path's delta event here is a [`DeltaEvent::Split`] (glass and the
     /// thin dielectric), which camera paths split into two branches below a depth.
     fn splits(&self) -> bool {

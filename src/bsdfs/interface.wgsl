@@ -44,3 +44,9 @@ fn default_sample(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeS
 }
 // What a kind recomputes after its textured words are looked up (nothing by default).
 fn default_finish(b: Bsdf) -> Bsdf { return b; }
+// Whether shadow rays to delta lights also cross the surface (a transmitting lobe).
+fn default_lobe_transmits(b: Bsdf) -> bool { return false; }
+// Whether passing straight through is a null event (no bounce in scenes with media).
+fn default_passes_null(b: Bsdf) -> bool { return false; }
+// What a shadow ray keeps crossing a passes_null surface from wo (local); zero for the rest.
+fn default_null_transmission(b: Bsdf, wo: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }

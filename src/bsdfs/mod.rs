@@ -178,6 +178,11 @@ macro_rules! bsdf_kinds {
             fn lobe_takes_point_lights(&self) -> bool {
                 match self { $(Bsdf::$variant(k) => k.lobe_takes_point_lights()),+ }
             }
+            fn passes_null(&self) -> bool { match self { $(Bsdf::$variant(k) => k.passes_null()),+ } }
+            fn null_transmission(&self, wo: Vec3) -> Vec3 {
+                match self { $(Bsdf::$variant(k) => k.null_transmission(wo)),+ }
+            }
+            fn lobe_transmits(&self) -> bool { match self { $(Bsdf::$variant(k) => k.lobe_transmits()),+ } }
             fn splits(&self) -> bool { match self { $(Bsdf::$variant(k) => k.splits()),+ } }
             fn delta_event(&self, n: Frame, d: Vec3, hit: &Hit, f: &Facing, fr: FresnelMode) -> DeltaEvent {
                 match self { $(Bsdf::$variant(k) => k.delta_event(n, d, hit, f, fr)),+ }

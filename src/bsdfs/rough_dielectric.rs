@@ -81,6 +81,9 @@ impl BsdfKind for RoughDielectric {
     fn pdf_lobe(&self, wi: Vec3, wo: Vec3) -> f32 {
         pdf(&self.microfacet(), self.eta, wi, wo)
     }
+    fn lobe_transmits(&self) -> bool {
+        true
+    }
     fn sample_lobe(&self, wo: Vec3, u: [f32; 3], t: Transport) -> Option<LobeSample> {
         sample(
             &self.microfacet(),

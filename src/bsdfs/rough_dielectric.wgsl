@@ -77,3 +77,4 @@ fn rough_dielectric_pdf_lobe(b: Bsdf, wi: vec3<f32>, wo: vec3<f32>) -> f32 {
 fn rough_dielectric_sample_lobe(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeSampleW {
     return rough_dielectric_front_sample(rough_dielectric_microfacet(b), w_f(b.w0), w_rgb(b.w1), w_rgb(b.w2), wo, u, radiance);
 }
+fn rough_dielectric_lobe_transmits(b: Bsdf) -> bool { return true; }

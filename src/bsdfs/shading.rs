@@ -225,6 +225,27 @@ impl SurfaceBsdf<'_> {
         self.b.lobe_takes_point_lights()
     }
 
+    /// Whether the lobe transmits across the surface: shadow rays to delta lights are then
+    /// taken from below the shading normal too (a rough dielectric's transmission).
+    #[inline]
+    pub fn lobe_transmits(&self) -> bool {
+        self.b.lobe_transmits()
+    }
+
+    /// Whether passing straight through is a null event in scenes with media (a thin
+    /// dielectric's transmission, as Mitsuba's `volpath` counts it: no bounce).
+    #[inline]
+    pub fn passes_null(&self) -> bool {
+        self.b.passes_null()
+    }
+
+    /// What a shadow ray along `d` keeps crossing the surface as a null event, in scenes with
+    /// media (a thin dielectric's `1 - R'`); zero where the surface blocks it.
+    #[inline]
+    pub fn null_transmission(&self, d: Vec3) -> Vec3 {
+        self.b.null_transmission(self.n.local(-d))
+    }
+
     /// The lobe part's value `f_lobe(wi, wo)` about the shading normal `ns`.
     #[inline]
     pub fn eval_lobe(&self, wi: Vec3, wo: Vec3, ns: Vec3) -> Vec3 {

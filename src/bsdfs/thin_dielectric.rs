@@ -74,6 +74,15 @@ impl BsdfKind for ThinDielectric {
     fn splits(&self) -> bool {
         true
     }
+    fn passes_null(&self) -> bool {
+        true
+    }
+    /// `1 - R'` of the inter-reflected Fresnel reflectance, times the transmittance tint.
+    fn null_transmission(&self, wo: Vec3) -> Vec3 {
+        let r = fresnel_dielectric(wo.z.abs(), self.eta).0;
+        let r = if r < 1.0 { 2.0 * r / (1.0 + r) } else { 1.0 };
+        self.specular_transmittance.get() * (1.0 - r)
+    }
     fn delta_event(&self, _: Frame, d: Vec3, _: &Hit, f: &Facing, _: FresnelMode) -> DeltaEvent {
         let r = fresnel_dielectric(d.dot(f.ns).abs(), self.eta).0;
         DeltaEvent::Split(Dielectric {

@@ -10,6 +10,11 @@ fn thin_dielectric_front_sample(eta: f32, reflectance: vec3<f32>, transmittance:
     return LobeSampleW(-wo, transmittance, 0.0, true, true);
 }
 fn thin_dielectric_lobe_is_delta(b: Bsdf) -> bool { return true; }
+fn thin_dielectric_passes_null(b: Bsdf) -> bool { return true; }
+fn thin_dielectric_null_transmission(b: Bsdf, wo: vec3<f32>) -> vec3<f32> {
+    let r = fresnel_dielectric_mi(abs(wo.z), w_f(b.w0)).f;
+    return w_rgb(b.w2) * (1.0 - select(1.0, 2.0 * r / (1.0 + r), r < 1.0));
+}
 fn thin_dielectric_sample_lobe(b: Bsdf, wo: vec3<f32>, u: vec3<f32>, radiance: bool) -> LobeSampleW {
     return thin_dielectric_front_sample(w_f(b.w0), w_rgb(b.w1), w_rgb(b.w2), wo, u);
 }

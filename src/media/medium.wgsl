@@ -36,6 +36,36 @@ fn light_medium(l: Light, e: Emission) -> u32 {
     return medium_interface_after(material_media[s.material], params.camera_medium, e.normal, e.dir);
 }
 
+// cpu::media::photon_medium: light_medium, except for an area light whose shape bounds no
+// medium (callers are behind HAS_MEDIA): the medium enclosing_medium finds along the photon's ray
+// from o.
+fn photon_medium(l: Light, e: Emission, o: vec3<f32>) -> u32 {
+    let s = light_material(l);
+    if !s.ok || any(material_media[s.material] != vec2<u32>(NO_MEDIUM)) {
+        return light_medium(l, e);
+    }
+    return enclosing_medium(o, e.dir);
+}
+
+// cpu::media::enclosing_medium: the side of the first surface bounding a medium along the ray
+// from o (interior when leaving through its front), past at most MAX_CROSSINGS that bound
+// none; the camera's medium when there is none.
+fn enclosing_medium(o_in: vec3<f32>, d: vec3<f32>) -> u32 {
+    var o = o_in;
+    for (var k = 0u; k < MAX_CROSSINGS && spend(); k += 1u) {
+        let hit = trace_ray(o, d, 3.0e38, false);
+        if !hit.found {
+            break;
+        }
+        let iface = material_media[hit.material];
+        if any(iface != vec2<u32>(NO_MEDIUM)) {
+            return select(iface.y, iface.x, dot(d, hit.normal) > 0.0);
+        }
+        o = offset_origin(hit.position, hit.normal, d);
+    }
+    return params.camera_medium;
+}
+
 // Medium::transmittance: exp(-sigma_t t) per channel; a clear channel transmits everything
 // (also over an endless run).
 fn medium_transmittance(m: Medium, t: f32) -> vec3<f32> {

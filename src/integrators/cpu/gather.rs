@@ -257,6 +257,9 @@ impl Gatherer<'_> {
                                 )
                     }
                     DeltaEvent::Split(g) => {
+                        // A thin sheet's pass-through in a scene with media is a null event
+                        // (Mitsuba's volpath): no bounce, and one branch chosen, not split.
+                        let null_pass = self.media && bsdf.passes_null();
                         // A branch that ends on the wrong side of the geometric surface
                         // carries nothing (smooth triangles only).
                         let trace = |dir: Vec3, rng: &mut Rng, first: &mut Option<SobolStream>| {
@@ -275,20 +278,18 @@ impl Gatherer<'_> {
                             } else {
                                 1.0
                             };
-                            k * self.radiance(
-                                &next(dir),
-                                depth + 1,
-                                rng,
-                                first,
-                                cw,
-                                None,
-                                after(dir),
-                            )
+                            // Past a null pass the lobe sample's weighing of the light it
+                            // meets carries over (shadow rays cross the sheet too).
+                            let (d, m) = match refracts && null_pass {
+                                true => (depth, mis),
+                                false => (depth + 1, None),
+                            };
+                            k * self.radiance(&next(dir), d, rng, first, cw, m, after(dir))
                         };
                         let Some(t) = g.refracted else {
                             return emitted + trace(g.reflected, rng, first);
                         };
-                        if depth < GLASS_SPLIT_DEPTH {
+                        if depth < GLASS_SPLIT_DEPTH && !null_pass {
                             // The heavier branch first: it gets the Sobol hit if one is left.
                             let (r, tr) = if g.reflectance >= 0.5 {
                                 let r = trace(g.reflected, rng, first);
@@ -416,7 +417,7 @@ impl Gatherer<'_> {
     /// delta lights' glossy lobe. A directional light's shadow ray has no end.
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
-    /// nothing.
+    /// nothing, unless it is a delta light and the lobe transmits (a rough dielectric).
     /// In scenes with media, shadow rays carry the transmittance of the media they cross
     /// (starting in the one a ray leaving the hit is in, `medium` the viewer's).
     #[allow(clippy::too_many_arguments)]
@@ -459,9 +460,17 @@ impl Gatherer<'_> {
                 let wi = to_light / to_light.length();
                 let ns = f.ns;
                 let cos = wi.dot(ns);
-                if cos <= 0.0 || f.reflection_leaks(wi) {
+                // A delta light behind a transmitting lobe is lit through it (no lobe ray
+                // can reach it); an area light there is the lobe ray's alone (`Mis::ns`).
+                let through = cos < 0.0 && is_delta && bsdf.lobe_transmits();
+                let leaks = match through {
+                    true => f.refraction_leaks(wi),
+                    false => cos <= 0.0 || f.reflection_leaks(wi),
+                };
+                if leaks {
                     continue;
                 }
+                let cos = cos.abs();
                 let f = match (is_delta, self.terms.direct) {
                     (true, true) => bsdf.eval(wi, wo, ns),
                     (true, false) => bsdf.eval_lobe(wi, wo, ns),

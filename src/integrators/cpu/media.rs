@@ -4,6 +4,7 @@
 //! segment by next-event estimation. The photon side is in `photons.rs`, the volume map and
 //! its beam estimate in `volume_map.rs`. Scenes without media never call these.
 
+use crate::bsdfs::shading::bsdf_at;
 use crate::bsdfs::{BsdfKind, SurfaceClass};
 use crate::bvh::{CpuBvh, Hit};
 use crate::lights::interface::Emission;
@@ -44,10 +45,50 @@ pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
     media.after(scene.camera_medium, e.normal, e.dir)
 }
 
+/// The medium a photon of light `l` emitted as `e` starts in from `origin` (its ray's offset
+/// start): [`light_medium`], except for an area light whose shape bounds no medium in a scene
+/// with media. Mitsuba traces from the camera only, so its files need not say which medium
+/// such an emitter sits in (a glowing torus inside a medium-filled sphere): the photon's
+/// medium is then the one [`enclosing_medium`] finds along its ray, point by point of the
+/// emitter, so an emitter that straddles a boundary is right on both sides.
+pub fn photon_medium(scene: &Scene, bvh: &CpuBvh, l: usize, e: &Emission, origin: Vec3) -> u32 {
+    let medium = light_medium(scene, l, e);
+    let unnamed = scene.lights[l]
+        .shape
+        .material(&scene.triangles, &scene.spheres)
+        .is_some_and(|m| scene.materials[m as usize].media.is_vacuum());
+    match unnamed && !scene.media.is_empty() {
+        true => enclosing_medium(scene, bvh, origin, e.dir),
+        false => medium,
+    }
+}
+
+/// The medium at `origin`: the side of the first surface bounding a medium that a ray along
+/// `dir` meets (the interior when the ray leaves through its front), past surfaces that bound
+/// none, at most [`MAX_CROSSINGS`] of them; the camera's medium when it meets none.
+pub fn enclosing_medium(scene: &Scene, bvh: &CpuBvh, origin: Vec3, dir: Vec3) -> u32 {
+    let mut ray = Ray { origin, dir };
+    for _ in 0..MAX_CROSSINGS {
+        let Some(hit) = bvh.intersect(scene, &ray, f32::INFINITY) else {
+            break;
+        };
+        let media = scene.materials[hit.material as usize].media;
+        if !media.is_vacuum() {
+            return match dir.dot(hit.normal) > 0.0 {
+                true => media.interior,
+                false => media.exterior,
+            };
+        }
+        ray.origin = offset_origin(hit.position, hit.normal, dir);
+    }
+    scene.camera_medium
+}
+
 /// The fraction of light that travels from `origin` along unit `dir` over `t_max` (infinite:
 /// to the scene's end) starting in `medium`: the media's Beer-Lambert transmittance, through
-/// index-matched boundaries (changing medium there); zero when any other surface is in the
-/// way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
+/// index-matched boundaries (changing medium there) and thin dielectric sheets (times their
+/// `SurfaceBsdf::null_transmission`, as Mitsuba's volpath); zero when any other surface is in
+/// the way (a shadow ray does not see through glass) or after [`MAX_CROSSINGS`] boundaries.
 /// A heterogeneous medium's is an unbiased estimate (ratio tracking, numbers from `rng`).
 pub fn transmittance(
     scene: &Scene,
@@ -77,7 +118,12 @@ pub fn transmittance(
             return tr;
         };
         if scene.materials[hit.material as usize].bsdf.class() != SurfaceClass::Null {
-            return Vec3::ZERO;
+            // A thin sheet lets through its null transmission (Mitsuba's volpath).
+            let w = bsdf_at(scene, &hit, dir).null_transmission(dir);
+            if w == Vec3::ZERO {
+                return Vec3::ZERO;
+            }
+            tr *= w;
         }
         medium = medium_after(scene, &hit, medium, dir);
         at = hit.position;

@@ -4,7 +4,7 @@
 use crate::bsdfs::interface::Bounce;
 use crate::bsdfs::shading::{bsdf_at, SurfaceClass};
 use crate::bvh::CpuBvh;
-use crate::integrators::cpu::media::{light_medium, medium_after, MAX_CROSSINGS};
+use crate::integrators::cpu::media::{medium_after, photon_medium, MAX_CROSSINGS};
 use crate::integrators::photon::{power_ends, Budget, Photon};
 use crate::integrators::plan::VolumeSpec;
 use crate::lights::table::{aims_at, LightTable};
@@ -176,7 +176,7 @@ fn trace_path(
         dir: e.dir,
     };
     // NO_MEDIUM in a scene without media (vacuum interfaces, no camera medium).
-    let mut medium = light_medium(scene, l, &e);
+    let mut medium = photon_medium(scene, ctx.bvh, l, &e, ray.origin);
     let mut all_specular = true;
     let mut depth = 0;
     let mut crossings = 0;
@@ -276,12 +276,18 @@ fn trace_path(
         if power_ends(power) {
             return PathEnds::add(&mut out.ends.cut, power);
         }
+        // A thin sheet passed in a scene with media is a null event (Mitsuba's volpath): no
+        // bounce, not a caustic's specular event (shadow rays cross it: L-thin-D is direct).
+        let crossed = dir.dot(hit.normal) * ray.dir.dot(hit.normal) > 0.0;
+        let null_pass = crossed && bsdf.passes_null() && scene.has_media_transport();
         medium = medium_after(scene, &hit, medium, dir);
         ray = Ray {
             origin: offset_origin(hit.position, hit.normal, dir),
             dir,
         };
-        depth += 1;
+        if !null_pass {
+            depth += 1;
+        }
     }
     PathEnds::add(&mut out.ends.cut, power);
 }

@@ -10,7 +10,7 @@
 // through the whole BRDF (or only the glossy lobe without TERM_DIRECT). With use_sobol, the first area-light sample
 // takes u from the Sobol stream sob (pair SOBOL_PAIR_LIGHT, dimension SOBOL_DIM_LIGHT_THIRD).
 // The BRDF and cosine use the shading normal f.ns; a light below the geometric surface
-// gives nothing. With media, shadow rays carry the transmittance of those they cross, from
+// gives nothing, unless it is a delta light and the lobe transmits (a rough dielectric). With media, shadow rays carry the transmittance of those they cross, from
 // the one a ray leaving `hit` is in (`medium` the viewer's).
 fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<function, Rng>, sob: SobolStream, use_sobol: bool, medium: u32) -> vec3<f32> {
     let x = hit.position;
@@ -43,10 +43,15 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
             let to_light = ls.point - x;
             let dist = length(to_light);
             let wi = to_light / dist;
-            let c = dot(wi, ns);
-            if c <= 0.0 || reflection_leaks(f, wi) {
+            let c_signed = dot(wi, ns);
+            // A delta light behind a transmitting lobe is lit through it (no lobe ray can
+            // reach it); an area light there is the lobe ray's alone.
+            let through = c_signed < 0.0 && is_delta && bsdf_lobe_transmits(m.b);
+            let leaks = select(c_signed <= 0.0 || reflection_leaks(f, wi), refraction_leaks(f, wi), through);
+            if leaks {
                 continue;
             }
+            let c = abs(c_signed);
             var f = surface_eval_diffuse(m, wi, wo);
             if is_delta {
                 f = select(surface_eval_lobe(m, wi, wo, ns), f + surface_eval_lobe(m, wi, wo, ns), with_direct);
@@ -202,6 +207,7 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             *o = offset_origin(hit.position, hit.normal, *d);
             continue;
         }
+        let pdf_in = pdf;
         pdf = 0.0;
         if kind_class == CLASS_BLACK {
             break;
@@ -210,8 +216,12 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             if *depth >= params.max_depth {
                 break;
             }
+            // A thin sheet's pass-through in a media scene is a null event (Mitsuba's volpath):
+            // no bounce, and the camera path chooses one branch there (twin of cpu::gather).
+            let null_pass = HAS_MEDIA && emission && bsdf_passes_null(m.b);
+            let d_in = *d;
             var goes_on: bool;
-            if emission {
+            if emission && !null_pass {
                 goes_on = camera_delta(hit, m, d, o, t, *depth, *medium, rng);
             } else {
                 goes_on = surface_delta(hit, m, d, o, t, rng);
@@ -222,7 +232,12 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
             if HAS_MEDIA {
                 *medium = medium_after(hit, *medium, *d);
             }
-            *depth += 1u;
+            if null_pass && dot(*d, hit.normal) * dot(d_in, hit.normal) > 0.0 {
+                // The lobe sample's weighing of the light it meets carries over.
+                pdf = pdf_in;
+            } else {
+                *depth += 1u;
+            }
             crossings = 0u;
             continue;
         }

@@ -64,8 +64,9 @@ fn sample_in_segment(m: Medium, uc: f32, u: f32, t_max: f32, endless: bool) -> S
 
 // cpu::media::transmittance: what travels from `origin` along unit `dir` over t_max (or to
 // the scene's end when `endless`) starting in `medium`, through index-matched boundaries
-// (changing medium there); zero behind any other surface or past MAX_CROSSINGS boundaries.
-// A heterogeneous medium's is an unbiased estimate (ratio tracking, numbers from rng).
+// (changing medium there) and thin sheets (times bsdf_null_transmission); zero behind any
+// other surface or past MAX_CROSSINGS boundaries. A heterogeneous medium's is an unbiased
+// estimate (ratio tracking, numbers from rng).
 fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: bool, medium_in: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     var o = origin;
     var left = select(t_max, 3.0e38, endless);
@@ -89,7 +90,13 @@ fn shadow_transmittance(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, endless: 
             return tr;
         }
         if material_class(load_material(hit.material).kind) != CLASS_NULL {
-            return vec3<f32>(0.0);
+            // A thin sheet lets through its null transmission (Mitsuba's volpath).
+            let s = bsdf_at(hit, dir);
+            let w = bsdf_null_transmission(s.b, surface_local(s, -dir));
+            if all(w == vec3<f32>(0.0)) {
+                return vec3<f32>(0.0);
+            }
+            tr *= w;
         }
         medium = medium_after(hit, medium, dir);
         at = hit.position;

@@ -55,7 +55,7 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     // NO_MEDIUM in a scene without media.
     var medium = NO_MEDIUM;
     if HAS_MEDIA {
-        medium = light_medium(light, e);
+        medium = photon_medium(light, e, o);
     }
     var crossings = 0u;
     var depth = 0u;
@@ -142,11 +142,16 @@ fn trace_photons(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
         if power_ends(power) {
             return;
         }
+        // A thin sheet passed in a media scene is a null event: no bounce, not a caustic's
+        // specular event (twin of cpu::photons).
+        let null_pass = HAS_MEDIA && dot(b.dir, hit.normal) * dot(d, hit.normal) > 0.0 && bsdf_passes_null(m.b);
         d = b.dir;
         if HAS_MEDIA {
             medium = medium_after(hit, medium, d);
         }
         o = offset_origin(hit.position, hit.normal, d);
-        depth += 1u;
+        if !null_pass {
+            depth += 1u;
+        }
     }
 }
