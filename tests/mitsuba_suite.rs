@@ -60,7 +60,6 @@ enum Known {
 /// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
-    ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
     // Chance at seed 1, not bias: block 54's G and B 2% low in both plastics (same random
     // numbers, same layout); at seeds 2 and 3 both pass every block (docs/conformance.md).
     ("bsdf_spheres/test_roughplastic_linear_path.xml", Known::Off(0.0016)),

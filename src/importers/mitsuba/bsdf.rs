@@ -2,7 +2,7 @@
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
 //! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor`
 //! (named materials, eta/k), `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
-//! `roughplastic`, `principled`, and `normalmap` around any of them.
+//! `roughplastic`, `principled`, and `normalmap` or `bumpmap` (`bumpmap.rs`) around any of them.
 
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
@@ -45,7 +45,7 @@ pub(crate) struct Read {
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
 /// `normalmap`, `mask`) at `node`.
-fn nested_bsdf<'f>(
+pub(super) fn nested_bsdf<'f>(
     cx: &Cx<'f>,
     p: &Plugin<'f>,
     node: Node<'f, 'f>,
@@ -201,7 +201,7 @@ fn conductor_ior(cx: &Cx, p: &Plugin) -> Result<(Vec3, Vec3)> {
 pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
     let kind = p.kind.as_str();
-    let wrapper = kind == "twosided" || kind == "normalmap" || kind == "mask";
+    let wrapper = matches!(kind, "twosided" | "normalmap" | "bumpmap" | "mask");
     if let Some(&extra) = p.objects.get(usize::from(wrapper)) {
         let tag = extra.tag_name().name();
         let message = format!("unsupported <{tag}> inside a `{kind}` bsdf");
@@ -251,6 +251,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             read.material.normal_shadowing = shadowing;
             return Ok(read);
         }
+        "bumpmap" => return crate::importers::mitsuba::bumpmap::read(cx, &p, field, warnings),
         "mask" => {
             // Mitsuba 3's `mask`: the nested bsdf where a stochastic choice of probability
             // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on

@@ -1,0 +1,52 @@
+//! Mitsuba 3's `bumpmap` bsdf: its nested bsdf in the shading frame that the gradient of a
+//! height texture tilts (src/bsdfs/bumpmap.cpp). The texture is its one `<texture>` of any
+//! name, a `bitmap` (the one texture with a gradient, `eval_1_grad`, in Mitsuba 3.9.1), read
+//! as Mitsuba reads any bitmap: sRGB-decoded unless `raw`. It becomes the material's
+//! `normal_texture` with `bump` set to `scale` (default 1); the intersection tilts the normal
+//! (`crate::math::geometry::bump_mapped`), and the normal map's shadowing applies as
+//! Mitsuba's `use_shadowing_function` (default on) says.
+
+use crate::error::Result;
+use crate::importers::mitsuba::bsdf::{bsdf, nested_bsdf, Read};
+use crate::importers::mitsuba::plugin::Plugin;
+use crate::importers::mitsuba::texture::texture;
+use crate::importers::mitsuba::values::Cx;
+
+/// Reads the `bumpmap` plugin `p` at `field`.
+pub(super) fn read(cx: &Cx, p: &Plugin, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
+    let inner = nested_bsdf(cx, p, p.node, field)?;
+    let names = p.texture_names();
+    let Some(name) = names.first() else {
+        return Err(cx.err(p.node, field, "`bumpmap` needs a <texture>"));
+    };
+    if let Some(extra) = names.get(1) {
+        let message = "`bumpmap` takes one <texture>";
+        return Err(cx.err(p.node_of(extra), &p.at(extra), message));
+    }
+    let t = p.texture_param(name).expect("a texture parameter");
+    if t.attribute("type") != Some("bitmap") {
+        let message = "a `bumpmap` needs a `bitmap` (Mitsuba's other textures have no gradient)";
+        return Err(cx.err(t, &p.at(name), message));
+    }
+    let tex = texture(cx, t, &p.at(name))?;
+    let scale = p.float(cx, "scale")?.unwrap_or(1.0);
+    if !scale.is_finite() {
+        return Err(cx.err(p.node_of("scale"), &p.at("scale"), "must be finite"));
+    }
+    if !p.boolean_or(cx, "flip_invalid_normals", true)? {
+        let message = "only Mitsuba's default `true` is supported";
+        let name = "flip_invalid_normals";
+        return Err(cx.err(p.node_of(name), &p.at(name), message));
+    }
+    let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
+    p.done(cx)?;
+    let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
+    if read.normal_texture.is_some() {
+        let message = "a `normalmap` or `bumpmap` inside a `bumpmap` is not supported";
+        return Err(cx.err(inner, field, message));
+    }
+    read.normal_texture = Some(tex);
+    read.material.normal_shadowing = shadowing;
+    read.material.bump = Some(scale);
+    Ok(read)
+}
