@@ -27,6 +27,8 @@ import random
 
 import mitsuba as mi
 
+from mitsuba_shading_frame import random_hits
+
 mi.set_variant('scalar_rgb')
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -117,21 +119,10 @@ def main():
             bsdf = mi.load_dict({'type': 'bumpmap', 'height': tex, 'scale': scale,
                                  'use_shadowing_function': False,
                                  'bsdf': {'type': 'diffuse', 'reflectance': 1.0}})
+            hits = random_hits(scene, rng, name == 'mirror')
             got = 0
             while got < 12:
-                z = rng.uniform(-1, 1)
-                phi = rng.uniform(0, 2 * math.pi)
-                r = math.sqrt(1 - z * z)
-                o = [4 * r * math.cos(phi), 4 * r * math.sin(phi), 4 * z]
-                if name == 'mirror':
-                    o[2] = abs(o[2]) + 1.0
-                t = [rng.uniform(-0.4, 0.4) for _ in range(3)]
-                d = [t[i] - o[i] for i in range(3)]
-                n = math.sqrt(sum(c * c for c in d))
-                d = [c / n for c in d]
-                si = scene.ray_intersect(mi.Ray3f(o, d))
-                if not si.is_valid():
-                    continue
+                o, d, si = next(hits)
                 local, resid = bumped_normal(bsdf, si)
                 if local is None:
                     continue

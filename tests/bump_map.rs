@@ -9,11 +9,8 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use gpu_photon::bvh::Bvh;
 use gpu_photon::error::Error;
-use gpu_photon::importers::load;
 use gpu_photon::importers::mitsuba::import;
-use gpu_photon::math::geometry::Ray;
 use std::path::Path;
 
 /// The gradient, relative to the texture's side (2048; the luminance's spread is 1): the same
@@ -81,51 +78,26 @@ fn gradients_and_bumped_normals_are_mitsubas() {
             ),
         ),
     ];
-    let csv = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba_bumpmap.csv"),
-    )
-    .unwrap();
     let (mut worst_grad, mut worst_normal, mut tilted) = (0f32, 0f32, 0);
-    for (name, shape) in shapes {
-        let text = format!(
-            r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/>
-<transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>{shape}</scene>"#
-        );
-        let path = dir.join(format!("{name}.xml"));
-        std::fs::write(&path, text).unwrap();
-        let scene = load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let bvh = Bvh::build(&scene);
-        let rows: Vec<Vec<f32>> = (csv.lines())
-            .filter(|l| l.starts_with(&format!("{name},")))
-            .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
-            .collect();
-        assert_eq!(rows.len(), 12, "{name}");
-        for r in rows {
-            let v = |i: usize| Vec3::new(r[i], r[i + 1], r[i + 2]);
-            let ray = Ray {
-                origin: v(0),
-                dir: v(3),
-            };
-            let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect(name);
-            let at = format!("{name} at {}", v(6));
+    common::mitsuba_hits(
+        &dir,
+        "mitsuba_bumpmap.csv",
+        &shapes,
+        |name, scene, hit, r| {
+            let at = format!("{name} at {}", hit.position);
+            let uv = Vec2::new(r[9], r[10]);
             assert!(
-                (hit.position - v(6)).length() < 1e-4,
-                "{at}: {}",
-                hit.position
-            );
-            assert!(
-                (hit.uv - Vec2::new(r[9], r[10])).abs().max_element() < 1e-5,
-                "{at}: uv {}",
+                (hit.uv - uv).abs().max_element() < 1e-5,
+                "{at}: uv {} vs {uv}",
                 hit.uv
             );
             let m = &scene.materials[hit.material as usize];
-            let texture = &scene.textures[m.normal_texture as usize];
-            let grad = texture.eval_grad(hit.uv);
+            let grad = scene.textures[m.normal_texture as usize].eval_grad(hit.uv);
             let want = Vec2::new(r[11], r[12]);
             let e = (grad - want).abs().max_element() / 2048.0;
             assert!(e < GRAD_REL, "{at}: gradient {grad} vs Mitsuba's {want}");
             worst_grad = worst_grad.max(e);
-            let n = v(13);
+            let n = Vec3::new(r[13], r[14], r[15]);
             let e = (hit.shading - n).abs().max_element();
             assert!(
                 e < NORMAL_ABS,
@@ -134,8 +106,8 @@ fn gradients_and_bumped_normals_are_mitsubas() {
             );
             worst_normal = worst_normal.max(e);
             tilted += (hit.shading.dot(hit.normal) < 0.999) as usize;
-        }
-    }
+        },
+    );
     // Most hits are tilted: the test compares bumps, not unperturbed normals.
     assert!(tilted > 18, "{tilted} tilted");
     eprintln!(
@@ -188,7 +160,7 @@ fn malformed_bump_maps_name_file_line_and_field() {
         ),
         (
             format!(r#"<bsdf type="bumpmap">{tex}{}</bsdf>"#, bumpmap(tex, 1.0)),
-            "t.xml:4: shape[0].bsdf: a `normalmap` or `bumpmap` inside a `bumpmap` is not supported".into(),
+            "t.xml:4: shape[0].bsdf: a `bumpmap` inside a `bumpmap` is not supported".into(),
         ),
         (
             format!(r#"<bsdf type="bumpmap"><float name="sigma" value="1"/>{tex}{DIFFUSE}</bsdf>"#),

@@ -108,6 +108,27 @@ fn textures() -> Vec<(SceneTexture, bool)> {
     out
 }
 
+/// The textures under test, `uvs`, and the probe's answer at every (texture, point), texture
+/// after texture: `texture_grad` where `grad`, else `texture_eval` and `texture_alpha`.
+#[allow(clippy::type_complexity)]
+fn probe_textures(
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
+    uvs: Vec<Vec2>,
+    grad: bool,
+) -> (Vec<(SceneTexture, bool)>, Vec<Vec2>, Vec<[f32; 4]>) {
+    let cases = textures();
+    let list: Vec<SceneTexture> = cases.iter().map(|(t, _)| t.clone()).collect();
+    let packed = PackedTextures::pack(&list, ctx.max_binding).unwrap();
+    let bufs = packed.upload(ctx).unwrap();
+    let mode = grad as u32 as f32;
+    let mut input = Vec::new();
+    for id in 0..list.len() as u32 {
+        input.extend(uvs.iter().map(|p| [p.x, p.y, f32::from_bits(id), mode]));
+    }
+    let got = run_probe(ctx, &bufs, &input);
+    (cases, uvs, got)
+}
+
 /// uv points: uniform over [-3, 4]^2, then the texel-centre lattice of a 4x3 image.
 fn points(n: usize, seed: u64) -> Vec<Vec2> {
     let mut r = common::TestRng(seed);
@@ -142,16 +163,7 @@ fn texture_library_validates_and_matches_the_rust_record() {
 #[test]
 fn wgsl_texture_eval_equals_rust() {
     let Some(ctx) = common::gpu() else { return };
-    let cases = textures();
-    let list: Vec<SceneTexture> = cases.iter().map(|(t, _)| t.clone()).collect();
-    let packed = PackedTextures::pack(&list, ctx.max_binding).unwrap();
-    let bufs = packed.upload(&ctx).unwrap();
-    let uvs = points(4000, 5);
-    let mut input = Vec::new();
-    for id in 0..list.len() as u32 {
-        input.extend(uvs.iter().map(|p| [p.x, p.y, f32::from_bits(id), 0.0]));
-    }
-    let got = run_probe(&ctx, &bufs, &input);
+    let (cases, uvs, got) = probe_textures(&ctx, points(4000, 5), false);
     // On lavapipe every operation keeps its written order (the uv transform is written in the
     // order Mesa would otherwise reorder it to): every lookup must be bit for bit equal.
     let strict = ctx.adapter.get_info().name.contains("llvmpipe");
@@ -201,16 +213,7 @@ fn wgsl_texture_eval_equals_rust() {
 #[test]
 fn wgsl_texture_grad_equals_rust() {
     let Some(ctx) = common::gpu() else { return };
-    let cases = textures();
-    let list: Vec<SceneTexture> = cases.iter().map(|(t, _)| t.clone()).collect();
-    let packed = PackedTextures::pack(&list, ctx.max_binding).unwrap();
-    let bufs = packed.upload(&ctx).unwrap();
-    let uvs = points(2000, 9);
-    let mut input = Vec::new();
-    for id in 0..list.len() as u32 {
-        input.extend(uvs.iter().map(|p| [p.x, p.y, f32::from_bits(id), 1.0]));
-    }
-    let got = run_probe(&ctx, &bufs, &input);
+    let (cases, uvs, got) = probe_textures(&ctx, points(2000, 9), true);
     let (mut checked, mut worst) = (0, 0f32);
     for (id, (tex, exact)) in cases.iter().enumerate() {
         let (range, peak) = texel_spread(tex);

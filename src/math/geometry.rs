@@ -210,7 +210,8 @@ pub fn bump_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, dp_dv: Vec3, grad: Vec2, d: 
     let dv = dp_dv + ns * (grad.y - ns.dot(dp_dv));
     let c = du.cross(dv);
     // Partials that vanish or are parallel (a degenerate mapping) leave rounding noise.
-    if !(c.length_squared() > 1e-12 * du.length_squared() * dv.length_squared()) {
+    let crossed = c.length_squared() > 1e-12 * du.length_squared() * dv.length_squared();
+    if !crossed {
         return ns;
     }
     let n = c.normalize();

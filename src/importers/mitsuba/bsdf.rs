@@ -62,6 +62,40 @@ pub(super) fn nested_bsdf<'f>(
     Ok(inner)
 }
 
+/// The rest of a `normalmap` or `bumpmap` `p` (nested bsdf `inner`, at `field`) once its
+/// texture `tex` is read: Mitsuba's `flip_invalid_normals` (only its default) and
+/// `use_shadowing_function` (the perturbed normal's shadowing of grazing light, default on),
+/// then the nested bsdf with `tex` as its `normal_texture` (one a material).
+pub(super) fn perturbed(
+    cx: &Cx,
+    p: &Plugin,
+    inner: Node,
+    field: &str,
+    warnings: &mut Vec<String>,
+    tex: SceneTexture,
+) -> Result<Read> {
+    if !p.boolean_or(cx, "flip_invalid_normals", true)? {
+        let message = "only Mitsuba's default `true` is supported";
+        let name = "flip_invalid_normals";
+        return Err(cx.err(p.node_of(name), &p.at(name), message));
+    }
+    let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
+    p.done(cx)?;
+    let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
+    if read.normal_texture.is_some() {
+        let nested = if read.material.bump.is_some() {
+            "bumpmap"
+        } else {
+            "normalmap"
+        };
+        let message = format!("a `{nested}` inside a `{}` is not supported", p.kind);
+        return Err(cx.err(inner, field, message));
+    }
+    read.normal_texture = Some(tex);
+    read.material.normal_shadowing = shadowing;
+    Ok(read)
+}
+
 /// The microfacet roughness of a rough plugin, as Mitsuba's microfacet plugins read it:
 /// `distribution` (`beckmann` default, `ggx`), and `alpha` (default 0.1) or both `alpha_u` and
 /// `alpha_v` (not one alone, nor with `alpha`). Where `textured` (`roughconductor`,
@@ -234,22 +268,7 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 return Err(cx.err(p.node_of("normalmap"), field, message));
             };
             let tex = texture(cx, t, &p.at("normalmap"))?;
-            if !p.boolean_or(cx, "flip_invalid_normals", true)? {
-                let message = "only Mitsuba's default `true` is supported";
-                let name = "flip_invalid_normals";
-                return Err(cx.err(p.node_of(name), &p.at(name), message));
-            }
-            // Mitsuba's shadowing of grazing light by the perturbed normal (default on).
-            let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
-            p.done(cx)?;
-            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
-            if read.normal_texture.is_some() {
-                let message = "a `normalmap` inside a `normalmap` is not supported";
-                return Err(cx.err(inner, field, message));
-            }
-            read.normal_texture = Some(tex);
-            read.material.normal_shadowing = shadowing;
-            return Ok(read);
+            return perturbed(cx, &p, inner, field, warnings, tex);
         }
         "bumpmap" => return crate::importers::mitsuba::bumpmap::read(cx, &p, field, warnings),
         "mask" => {

@@ -7,7 +7,7 @@
 //! Mitsuba's `use_shadowing_function` (default on) says.
 
 use crate::error::Result;
-use crate::importers::mitsuba::bsdf::{bsdf, nested_bsdf, Read};
+use crate::importers::mitsuba::bsdf::{nested_bsdf, perturbed, Read};
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
@@ -16,14 +16,16 @@ use crate::importers::mitsuba::values::Cx;
 pub(super) fn read(cx: &Cx, p: &Plugin, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
     let inner = nested_bsdf(cx, p, p.node, field)?;
     let names = p.texture_names();
-    let Some(name) = names.first() else {
-        return Err(cx.err(p.node, field, "`bumpmap` needs a <texture>"));
-    };
     if let Some(extra) = names.get(1) {
         let message = "`bumpmap` takes one <texture>";
         return Err(cx.err(p.node_of(extra), &p.at(extra), message));
     }
-    let t = p.texture_param(name).expect("a texture parameter");
+    let (Some(name), Some(t)) = (
+        names.first(),
+        names.first().and_then(|n| p.texture_param(n)),
+    ) else {
+        return Err(cx.err(p.node, field, "`bumpmap` needs a <texture>"));
+    };
     if t.attribute("type") != Some("bitmap") {
         let message = "a `bumpmap` needs a `bitmap` (Mitsuba's other textures have no gradient)";
         return Err(cx.err(t, &p.at(name), message));
@@ -33,20 +35,7 @@ pub(super) fn read(cx: &Cx, p: &Plugin, field: &str, warnings: &mut Vec<String>)
     if !scale.is_finite() {
         return Err(cx.err(p.node_of("scale"), &p.at("scale"), "must be finite"));
     }
-    if !p.boolean_or(cx, "flip_invalid_normals", true)? {
-        let message = "only Mitsuba's default `true` is supported";
-        let name = "flip_invalid_normals";
-        return Err(cx.err(p.node_of(name), &p.at(name), message));
-    }
-    let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
-    p.done(cx)?;
-    let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
-    if read.normal_texture.is_some() {
-        let message = "a `normalmap` or `bumpmap` inside a `bumpmap` is not supported";
-        return Err(cx.err(inner, field, message));
-    }
-    read.normal_texture = Some(tex);
-    read.material.normal_shadowing = shadowing;
+    let mut read = perturbed(cx, p, inner, field, warnings, tex)?;
     read.material.bump = Some(scale);
     Ok(read)
 }
