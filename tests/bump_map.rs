@@ -1,7 +1,9 @@
 //! Mitsuba 3's `bumpmap` bsdf (src/bsdfs/bumpmap.cpp): at the hits
 //! `scripts/mitsuba_bumpmap.py` measured with Mitsuba 3.9.1, the height texture's gradient
-//! (`SceneTexture::eval_grad`, Mitsuba's bitmap `eval_1_grad`) and the bumped shading normal
-//! (`Hit::shading`, through `bump_mapped`) equal Mitsuba's: on the suite's uv sphere mesh
+//! (`SceneTexture::eval_grad`, Mitsuba's bitmap `eval_1_grad`), the bumped shading normal
+//! (`Hit::shading`, through `bump_mapped`) and the bumped frame's tangent (`Hit::tangent`,
+//! `bump_tangent`: 3.9.1's Gram-Schmidt of the world dp/du against the local normal) equal
+//! the frame Mitsuba hands its nested bsdf: on the suite's uv sphere mesh
 //! rotated (its `floor_tiles_bumpmap.png`, raw, scale 0.02 as `test_bumpmap_path.xml`), an OBJ
 //! quad with mirrored uvs (sRGB-decoded) and an analytic sphere with a sheared `to_uv`.
 //! Malformed `bumpmap`s are `FILE:LINE: field:` errors.
@@ -16,8 +18,8 @@ use std::path::Path;
 /// The gradient, relative to the texture's side (2048; the luminance's spread is 1): the same
 /// texels and weights, each rounded in its own order (fused or not); measured 3.8e-6.
 const GRAD_REL: f32 = 2e-5;
-/// The bumped normal: Mitsuba's measured by least squares on its diffuse (residual below
-/// 1e-7), ours from the same partials and gradient; measured 5.8e-6.
+/// The bumped frame's normal and tangent: ours from the same partials and gradient as
+/// Mitsuba's, each rounded in its own order.
 const NORMAL_ABS: f32 = 5e-5;
 
 const MIRROR_OBJ: &str = "v -1 -1 0\nv 1 -1 0.2\nv 1 1 0\nv -1 1 -0.3\n\
@@ -78,7 +80,8 @@ fn gradients_and_bumped_normals_are_mitsubas() {
             ),
         ),
     ];
-    let (mut worst_grad, mut worst_normal, mut tilted) = (0f32, 0f32, 0);
+    let (mut worst_grad, mut worst_normal, mut worst_tangent) = (0f32, 0f32, 0f32);
+    let mut tilted = 0;
     common::mitsuba_hits(
         &dir,
         "mitsuba_bumpmap.csv",
@@ -105,6 +108,14 @@ fn gradients_and_bumped_normals_are_mitsubas() {
                 hit.shading
             );
             worst_normal = worst_normal.max(e);
+            let want = Vec3::new(r[16], r[17], r[18]);
+            let e = (hit.tangent - want).abs().max_element();
+            assert!(
+                e < NORMAL_ABS,
+                "{at}: tangent {} vs Mitsuba's {want}",
+                hit.tangent
+            );
+            worst_tangent = worst_tangent.max(e);
             tilted += (hit.shading.dot(hit.normal) < 0.999) as usize;
         },
     );
@@ -112,7 +123,7 @@ fn gradients_and_bumped_normals_are_mitsubas() {
     assert!(tilted > 18, "{tilted} tilted");
     eprintln!(
         "worst gradient difference from Mitsuba 3.9.1: {worst_grad:e} of 2048; worst normal \
-         {worst_normal:e}; {tilted} of 36 tilted"
+         {worst_normal:e}, tangent {worst_tangent:e}; {tilted} of 36 tilted"
     );
 }
 

@@ -74,6 +74,7 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bvh/intersect.wgsl", "uv_jacobian", "math/geometry.rs", "uv_jacobian", Caller("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "sphere_partials", "math/geometry.rs", "sphere_partials", Caller("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "bump_mapped", "math/geometry.rs", "bump_mapped", Oracle("intersect_gpu.rs")),
+    ("bvh/intersect.wgsl", "bump_tangent", "math/geometry.rs", "bump_tangent", Caller("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "facing", "bvh/hit.rs", "facing", Oracle("hit_gpu.rs")),
     ("bvh/intersect.wgsl", "reflection_leaks", "math/geometry.rs", "reflection_leaks", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "refraction_leaks", "math/geometry.rs", "refraction_leaks", Oracle("intersect_gpu.rs")),

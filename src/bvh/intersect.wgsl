@@ -16,7 +16,7 @@ struct Hit {
     uv: vec2<f32>,
     found: bool,
     // Unit tangent of the shading frame before any normal map (Mitsuba's sh_frame.s; zero
-    // where it vanishes): the BSDF frame's x (shading.wgsl's frame_tangent).
+    // where it vanishes; a bump map's: bump_tangent): the BSDF frame's x (frame_tangent).
     tangent: vec3<f32>,
 }
 
@@ -191,6 +191,20 @@ fn bump_mapped(ng: vec3<f32>, ns: vec3<f32>, p: UvPartials, grad: vec2<f32>, d: 
     }
     n = n / l;
     return select(n, -n, dot(n, ng) < 0.0);
+}
+
+// The tangent of Mitsuba 3.9.1's bumped frame: the world dp_du made orthogonal, as if it were
+// local, to the bumped normal n written in the unperturbed frame (ns, tangent s or, where s
+// is zero, basis_t(ns)), taken back to world space; s where that vanishes (twin of
+// bump_tangent in src/math/geometry.rs, which documents it).
+fn bump_tangent(ns: vec3<f32>, s_in: vec3<f32>, dp_du: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let s = select(s_in, basis_t(ns), all(s_in == vec3<f32>(0.0)));
+    let t = cross(ns, s);
+    let l = orthogonal_tangent(vec3<f32>(dot(n, s), dot(n, t), dot(n, ns)), dp_du);
+    if all(l == vec3<f32>(0.0)) {
+        return s;
+    }
+    return s * l.x + t * l.y + ns * l.z;
 }
 
 // The hit's normals turned to the side a ray arrives from (`front`), twin of Facing in
@@ -649,7 +663,9 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         }
         if bump.y != 0u {
             let grad = bitcast<f32>(bump.x) * texture_grad(nt, best.uv);
-            best.shading = bump_mapped(best.normal, best.shading, pd, grad, d);
+            let n = bump_mapped(best.normal, best.shading, pd, grad, d);
+            best.tangent = bump_tangent(best.shading, best.tangent, pd.du, n);
+            best.shading = n;
         } else {
             best.shading = normal_mapped(best.normal, best.shading, tg.xyz, tg.w > 0.5, texture_eval(nt, best.uv), d);
         }

@@ -9,8 +9,8 @@
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
-    bump_mapped, inset, normal_mapped, shading_normal, shading_tangent, sphere_partials,
-    sphere_tangent, triangle_tangent, uv_jacobian, vertex_tangent, Ray,
+    bump_mapped, bump_tangent, inset, normal_mapped, shading_normal, shading_tangent,
+    sphere_partials, sphere_tangent, triangle_tangent, uv_jacobian, vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
@@ -137,7 +137,9 @@ pub(crate) fn shading_frame(
             Some(scale) => {
                 let (pu, pv) = partials();
                 let grad = scale * texture.eval_grad(hit.uv);
-                bump_mapped(hit.normal, hit.shading, pu, pv, grad, dir)
+                let n = bump_mapped(hit.normal, hit.shading, pu, pv, grad, dir);
+                hit.tangent = bump_tangent(hit.shading, hit.tangent, pu, n);
+                n
             }
         };
     }

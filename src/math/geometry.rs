@@ -232,6 +232,29 @@ pub fn bump_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, dp_dv: Vec3, grad: Vec2, d: 
     }
 }
 
+/// The tangent of Mitsuba 3.9.1's bumped frame (`bumpmap.cpp`'s `frame`): with `n` the bumped
+/// normal [`bump_mapped`] gave, written in the unperturbed shading frame (unit normal `ns`,
+/// unit tangent `s` orthogonal to it, or zero for the basis `crate::math::sampling::basis(ns)`
+/// as the BSDF frame takes it; `t = ns x s`) as `n'`, Mitsuba orthogonalises the world `dp_du` *as if it
+/// were local* against `n'` (`s' = normalize(dp_du - n' (n' . dp_du))`); `s'` taken back to
+/// world space is the tangent here. Only a nested anisotropic BSDF sees it (an isotropic one
+/// reads the normal alone); `s` itself where `s'` vanishes. Twin: `bump_tangent` in
+/// `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn bump_tangent(ns: Vec3, s: Vec3, dp_du: Vec3, n: Vec3) -> Vec3 {
+    let s = if s == Vec3::ZERO {
+        crate::math::sampling::basis(ns).0
+    } else {
+        s
+    };
+    let t = ns.cross(s);
+    let local = Vec3::new(n.dot(s), n.dot(t), n.dot(ns));
+    match orthogonal_tangent(local, dp_du) {
+        Some(l) => s * l.x + t * l.y + ns * l.z,
+        None => s,
+    }
+}
+
 /// The facing frame of a hit for a ray travelling along `d`: the geometric normal `ng` and
 /// the shading normal `ns` turned to the side the ray arrives from (`d . ng < 0` keeps them),
 /// and whether the shading normal differs from the geometric one (a smooth triangle).

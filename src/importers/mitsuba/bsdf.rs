@@ -44,8 +44,8 @@ pub(crate) struct Read {
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
-/// `normalmap`, `mask`) at `node`.
-pub(super) fn nested_bsdf<'f>(
+/// `normalmap`, `bumpmap`, `mask`) at `node`.
+fn nested_bsdf<'f>(
     cx: &Cx<'f>,
     p: &Plugin<'f>,
     node: Node<'f, 'f>,
@@ -66,7 +66,7 @@ pub(super) fn nested_bsdf<'f>(
 /// texture `tex` is read: Mitsuba's `flip_invalid_normals` (only its default) and
 /// `use_shadowing_function` (the perturbed normal's shadowing of grazing light, default on),
 /// then the nested bsdf with `tex` as its `normal_texture` (one a material).
-pub(super) fn perturbed(
+fn perturbed(
     cx: &Cx,
     p: &Plugin,
     inner: Node,
@@ -270,7 +270,15 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
             let tex = texture(cx, t, &p.at("normalmap"))?;
             return perturbed(cx, &p, inner, field, warnings, tex);
         }
-        "bumpmap" => return crate::importers::mitsuba::bumpmap::read(cx, &p, field, warnings),
+        "bumpmap" => {
+            // Mitsuba 3's `bumpmap`: the nested bsdf with the normal that the gradient of a
+            // height texture tilts (bumpmap.rs).
+            let inner = nested_bsdf(cx, &p, node, field)?;
+            let (tex, scale) = crate::importers::mitsuba::bumpmap::height(cx, &p, field)?;
+            let mut read = perturbed(cx, &p, inner, field, warnings, tex)?;
+            read.material.bump = Some(scale);
+            return Ok(read);
+        }
         "mask" => {
             // Mitsuba 3's `mask`: the nested bsdf where a stochastic choice of probability
             // `opacity` (float or texture, default 0.5) stops the ray, else the ray passes on

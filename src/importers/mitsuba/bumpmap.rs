@@ -1,20 +1,18 @@
-//! Mitsuba 3's `bumpmap` bsdf: its nested bsdf in the shading frame that the gradient of a
-//! height texture tilts (src/bsdfs/bumpmap.cpp). The texture is its one `<texture>` of any
-//! name, a `bitmap` (the one texture with a gradient, `eval_1_grad`, in Mitsuba 3.9.1), read
-//! as Mitsuba reads any bitmap: sRGB-decoded unless `raw`. It becomes the material's
-//! `normal_texture` with `bump` set to `scale` (default 1); the intersection tilts the normal
-//! (`crate::math::geometry::bump_mapped`), and the normal map's shadowing applies as
-//! Mitsuba's `use_shadowing_function` (default on) says.
+//! Mitsuba 3's `bumpmap` bsdf (src/bsdfs/bumpmap.cpp): its height texture and `scale`. The
+//! texture is its one `<texture>` of any name, a `bitmap` (the one texture with a gradient,
+//! `eval_1_grad`, in Mitsuba 3.9.1), read as Mitsuba reads any bitmap: sRGB-decoded unless
+//! `raw`. The caller (`bsdf.rs`) makes it the material's `normal_texture` with `bump` set to
+//! the scale; the intersection tilts the normal (`crate::math::geometry::bump_mapped`), and
+//! the normal map's shadowing applies as Mitsuba's `use_shadowing_function` (default on) says.
 
 use crate::error::Result;
-use crate::importers::mitsuba::bsdf::{nested_bsdf, perturbed, Read};
 use crate::importers::mitsuba::plugin::Plugin;
 use crate::importers::mitsuba::texture::texture;
 use crate::importers::mitsuba::values::Cx;
+use crate::textures::SceneTexture;
 
-/// Reads the `bumpmap` plugin `p` at `field`.
-pub(super) fn read(cx: &Cx, p: &Plugin, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
-    let inner = nested_bsdf(cx, p, p.node, field)?;
+/// The height texture and `scale` (default 1) of the `bumpmap` plugin `p` at `field`.
+pub(super) fn height(cx: &Cx, p: &Plugin, field: &str) -> Result<(SceneTexture, f32)> {
     let names = p.texture_names();
     if let Some(extra) = names.get(1) {
         let message = "`bumpmap` takes one <texture>";
@@ -35,7 +33,5 @@ pub(super) fn read(cx: &Cx, p: &Plugin, field: &str, warnings: &mut Vec<String>)
     if !scale.is_finite() {
         return Err(cx.err(p.node_of("scale"), &p.at("scale"), "must be finite"));
     }
-    let mut read = perturbed(cx, p, inner, field, warnings, tex)?;
-    read.material.bump = Some(scale);
-    Ok(read)
+    Ok((tex, scale))
 }
