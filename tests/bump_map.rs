@@ -100,22 +100,19 @@ fn gradients_and_bumped_normals_are_mitsubas() {
             let e = (grad - want).abs().max_element() / 2048.0;
             assert!(e < GRAD_REL, "{at}: gradient {grad} vs Mitsuba's {want}");
             worst_grad = worst_grad.max(e);
-            let n = Vec3::new(r[13], r[14], r[15]);
-            let e = (hit.shading - n).abs().max_element();
-            assert!(
-                e < NORMAL_ABS,
-                "{at}: normal {} vs Mitsuba's {n}",
-                hit.shading
-            );
-            worst_normal = worst_normal.max(e);
-            let want = Vec3::new(r[16], r[17], r[18]);
-            let e = (hit.tangent - want).abs().max_element();
-            assert!(
-                e < NORMAL_ABS,
-                "{at}: tangent {} vs Mitsuba's {want}",
-                hit.tangent
-            );
-            worst_tangent = worst_tangent.max(e);
+            // The frame's normal (columns 13-15) and tangent (16-18).
+            for (k, got, worst) in [
+                (13, hit.shading, &mut worst_normal),
+                (16, hit.tangent, &mut worst_tangent),
+            ] {
+                let want = Vec3::new(r[k], r[k + 1], r[k + 2]);
+                let e = (got - want).abs().max_element();
+                assert!(
+                    e < NORMAL_ABS,
+                    "{at}: column {k}: {got} vs Mitsuba's {want}"
+                );
+                *worst = worst.max(e);
+            }
             tilted += (hit.shading.dot(hit.normal) < 0.999) as usize;
         },
     );
