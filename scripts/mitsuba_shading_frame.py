@@ -52,30 +52,34 @@ def shapes(tmp):
     }
 
 
+def random_hits(scene, rng, above):
+    """Endless hits of `scene` (origin, direction, interaction): rays from a point at distance 4
+    (above z = 1 where `above`) towards a point near the origin, the misses skipped."""
+    while True:
+        z = rng.uniform(-1, 1)
+        phi = rng.uniform(0, 2 * math.pi)
+        r = math.sqrt(1 - z * z)
+        o = [4 * r * math.cos(phi), 4 * r * math.sin(phi), 4 * z]
+        if above:
+            o[2] = abs(o[2]) + 1.0
+        t = [rng.uniform(-0.4, 0.4) for _ in range(3)]
+        d = [t[i] - o[i] for i in range(3)]
+        n = math.sqrt(sum(c * c for c in d))
+        d = [c / n for c in d]
+        si = scene.ray_intersect(mi.Ray3f(o, d))
+        if si.is_valid():
+            yield o, d, si
+
+
 def main():
+    import itertools
     import tempfile
     rng = random.Random(7)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for name, shape in shapes(tmp).items():
             scene = mi.load_dict({'type': 'scene', 'shape': shape})
-            got = 0
-            while got < 12:
-                # From a point at distance 4 towards a point near the origin.
-                z = rng.uniform(-1, 1)
-                phi = rng.uniform(0, 2 * math.pi)
-                r = math.sqrt(1 - z * z)
-                o = [4 * r * math.cos(phi), 4 * r * math.sin(phi), 4 * z]
-                if name == 'nouv':
-                    o[2] = abs(o[2]) + 1.0
-                t = [rng.uniform(-0.4, 0.4) for _ in range(3)]
-                d = [t[i] - o[i] for i in range(3)]
-                n = math.sqrt(sum(c * c for c in d))
-                d = [c / n for c in d]
-                si = scene.ray_intersect(mi.Ray3f(o, d))
-                if not si.is_valid():
-                    continue
-                got += 1
+            for o, d, si in itertools.islice(random_hits(scene, rng, name == 'nouv'), 12):
                 s = si.sh_frame.s
                 rows.append([name] + o + d + [si.p[0], si.p[1], si.p[2], s[0], s[1], s[2]])
     out = os.path.join(ROOT, 'tests', 'data', 'mitsuba_shading_frame.csv')

@@ -180,7 +180,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             "Material",
             fields!(GpuMaterial: emission, two_sided, kind, textured, one_sided, normal_texture,
                 alpha_mode, alpha_texture, alpha_factor, alpha_cutoff, blend_first, blend_second,
-                blend_stores, normal_shadowing, blend_weight),
+                blend_stores, normal_shadowing, blend_weight, bump_scale, bump, _pad0, _pad1),
         ),
         (
             "Light",

@@ -7,7 +7,9 @@
 //! `vertex_tangent` (tangents that cancel at a point), `uv_tangent` (vertex tangents, the
 //! corner uvs' fallback, triangles without uvs or tangents), `alpha_passes` (a masked
 //! texture's alpha, a blend of a texture's luminance, a constant blend, an alpha-tested
-//! sphere, an emitter whose alpha is ignored) and `facing` at the nearest hit, from both
+//! sphere, an emitter whose alpha is ignored) and `facing` at the nearest hit (its normal
+//! mapped, or bump mapped through `uv_jacobian`, `sphere_partials`, `texture_grad` and
+//! `bump_mapped`), from both
 //! sides, on a scene with vertex tangents, one with uvs but none, and a flat one; and each
 //! ray's `offset_origin` and `pack_normal` (the two functions photon paths checked before).
 //! Tolerances: `UNIT_ABS` on normals, `TANGENT_ULPS` on tangents, `SHADING_ABS` and
@@ -197,6 +199,13 @@ fn scene(kind: &str, r: &mut TestRng) -> Scene {
         ..Material::diffuse(Vec3::splat(0.4))
     };
     let mapped = b.add_material(None, mapped, &at).unwrap();
+    // The same texture as a bump map's heights (Mitsuba's bumpmap).
+    let bumped = Material {
+        normal_texture: normal_map,
+        bump: Some(0.3),
+        ..Material::diffuse(Vec3::splat(0.6))
+    };
+    let bumped = b.add_material(None, bumped, &at).unwrap();
     let mask = alpha(AlphaMode::Mask(0.5), 1.0, alpha_map, false);
     let mask = b.add_material(None, mask, &at).unwrap();
     let blend = alpha(AlphaMode::Blend, 0.9, alpha_map, true);
@@ -218,6 +227,8 @@ fn scene(kind: &str, r: &mut TestRng) -> Scene {
     add(&mut b, mask, patch(1.0, r));
     add(&mut b, blend, patch(2.0, r));
     add(&mut b, mapped, edge_cases(0.0));
+    add(&mut b, bumped, patch(3.2, r));
+    add(&mut b, bumped, edge_cases(-0.7));
     // Uvs but no tangents (zero tangents in a scene that has them).
     let (tris, normals, uvs, _) = patch(-0.8, r);
     b.add_uv_mesh(tris, Some(normals), uvs, Surface::of(mapped), &at)
@@ -233,6 +244,8 @@ fn scene(kind: &str, r: &mut TestRng) -> Scene {
     )
     .unwrap();
     b.add_sphere(Vec3::new(-3.5, -2.5, 0.5), 0.6, Surface::of(constant), &at)
+        .unwrap();
+    b.add_sphere(Vec3::new(0.0, -3.5, 0.5), 0.6, Surface::of(bumped), &at)
         .unwrap();
     let lit = Surface {
         emission: Some(Vec3::ONE),
@@ -347,7 +360,7 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
     let bvh = Bvh::build(scene);
     let (mut smooth, mut passes, mut near, mut frames, mut worst) = (0, [0, 0], 0, 0, [0f32; 5]);
     let mut fallbacks = [0; 3];
-    let mut packed_exact = 0;
+    let (mut packed_exact, mut bumped) = (0, 0);
     for (i, (c, g)) in cases.iter().zip(got).enumerate() {
         let ctx = format!("{kind} case {i} {c:?}");
         let ray = Ray {
@@ -449,7 +462,9 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         let (ng, ns, interpolated) = g.facing;
         assert_eq!(interpolated, f.interpolated, "{ctx}: facing.interpolated");
         close(ng, f.ng, UNIT_ABS);
-        let mapped = scene.materials[h.material as usize].normal_texture != NO_TEXTURE;
+        let m = &scene.materials[h.material as usize];
+        let mapped = m.normal_texture != NO_TEXTURE;
+        bumped += m.bump.is_some() as usize;
         let e = close(ns, f.ns, if mapped { MAPPED_ABS } else { SHADING_ABS });
         worst[1 + mapped as usize] = worst[1 + mapped as usize].max(e);
         // The shading frame's tangent (Mitsuba's sh_frame.s, before the normal map): dp/du,
@@ -459,11 +474,11 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         worst[4] = worst[4].max(e);
         frames += 1;
     }
-    format!(
+    let report = format!(
         "{kind}: {} cases, {smooth} smooth ({} vanish: ng), {} degenerate uv maps, {} \
          vanishing vertex tangents, alpha passes {} / stops {} ({near} near the threshold \
-         skipped), {frames} frames; worst shading normal {:e}, frame ns {:e} (normal-mapped \
-         {:e}), tangents {} ulp, frame tangents {:e}, {packed_exact} packed directions bit \
+         skipped), {frames} frames ({bumped} bump-mapped); worst shading normal {:e}, frame ns \
+         {:e} (normal- or bump-mapped {:e}), tangents {} ulp, frame tangents {:e}, {packed_exact} packed directions bit \
          for bit",
         cases.len(),
         fallbacks[0],
@@ -476,7 +491,12 @@ fn check(kind: &str, scene: &Scene, cases: &[HitCase], got: &[HitProbe]) -> Stri
         worst[2],
         worst[3],
         worst[4]
-    )
+    );
+    assert!(
+        kind == "flat" || bumped > 50,
+        "{kind}: {bumped} bump-mapped frames"
+    );
+    report
 }
 
 #[test]

@@ -14,7 +14,7 @@ mod common;
 mod probes;
 
 use common::{gpu, TestRng};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gpu_photon::bvh::{Bvh, SPHERE_BIT};
 use gpu_photon::importers::load_str;
 use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
@@ -339,12 +339,13 @@ fn device_intersection_equals_the_hosts() {
 
 /// The surface frame's helpers on the device equal their Rust twins: `phong_lobe`
 /// (`sampling::phong_lobe`), `sphere_uv` (`texture::uv::sphere`), `reflection_leaks` and
-/// `refraction_leaks` (`geometry::Facing`), `normal_mapped` (`geometry::normal_mapped`), on
+/// `refraction_leaks` (`geometry::Facing`), `normal_mapped` (`geometry::normal_mapped`),
+/// `bump_mapped` (`geometry::bump_mapped`; zero partials give `ns`), on
 /// random cases plus the edges: exponents 0 and 10^4, u at 0 and 1, the poles, a degenerate
 /// dp/du, mirrored frames, a flat frame (never leaks), directions in the geometric plane.
 #[test]
 fn surface_helpers_equal_the_hosts() {
-    use gpu_photon::math::geometry::{normal_mapped, Facing};
+    use gpu_photon::math::geometry::{bump_mapped, normal_mapped, Facing};
     use probes::{surface, SurfaceCase};
     let Some(ctx) = gpu() else {
         eprintln!("no GPU adapter: skipped");
@@ -382,7 +383,18 @@ fn surface_helpers_equal_the_hosts() {
         } else {
             r.dir()
         };
-        let dp_du = if i % 13 == 0 { ns * 2.0 } else { r.dir() * 3.0 };
+        // A degenerate mapping (zero partials: no bump normal) every 17th case.
+        let dp_du = match i {
+            _ if i % 17 == 0 => Vec3::ZERO,
+            _ if i % 13 == 0 => ns * 2.0,
+            _ => r.dir() * 3.0,
+        };
+        let dp_dv = if i % 17 == 0 {
+            Vec3::ZERO
+        } else {
+            r.dir() * 2.0
+        };
+        let grad = [r.range(-3.0, 3.0), r.range(-3.0, 3.0)];
         cases.push(SurfaceCase {
             axis: axis.to_array(),
             exponent,
@@ -393,12 +405,14 @@ fn surface_helpers_equal_the_hosts() {
             flipped: i % 3 == 0,
             c: [r.f32(), r.f32(), r.f32()],
             d: d.to_array(),
+            dp_dv: dp_dv.to_array(),
+            grad,
             ..Default::default()
         });
     }
     let got = surface(&ctx, &cases).unwrap();
     let close = |a: Vec3, b: [f32; 3], tol: f32| (a - Vec3::from(b)).abs().max_element() <= tol;
-    let mut mapped_checked = 0;
+    let (mut mapped_checked, mut bumped_checked) = (0, 0);
     for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
         let (axis, ng, ns, d) = (
             Vec3::from(c.axis),
@@ -443,6 +457,27 @@ fn surface_helpers_equal_the_hosts() {
                 g.mapped
             );
         }
+        // The bump's flip is a sign test too: skip the cases within rounding of it (and of
+        // the turn to ng's side).
+        let (du, dv, grad) = (Vec3::from(c.dp_du), Vec3::from(c.dp_dv), Vec2::from(c.grad));
+        let b = bump_mapped(ng, ns, du, dv, grad, d);
+        let lift = |p: Vec3, g: f32| p + ns * (g - ns.dot(p));
+        let raw = lift(du, grad.x).cross(lift(dv, grad.y)).normalize_or_zero();
+        if du == Vec3::ZERO {
+            assert_eq!(
+                (b, Vec3::from(g.bumped)),
+                (ns, ns),
+                "case {i}: no bump normal"
+            );
+        } else if d.dot(ns).abs() > 1e-3 && d.dot(raw).abs() > 1e-3 && raw.dot(ng).abs() > 1e-3 {
+            bumped_checked += 1;
+            assert!(
+                close(b, g.bumped, 1e-4),
+                "case {i}: bumped {b} vs {:?}",
+                g.bumped
+            );
+        }
     }
     assert!(mapped_checked > 1500, "{mapped_checked}");
+    assert!(bumped_checked > 1500, "{bumped_checked}");
 }

@@ -273,8 +273,6 @@ fn malformed_texture_coordinates_give_exact_messages() {
 /// an analytic sphere's azimuth direction.
 #[test]
 fn shading_frame_tangents_are_mitsubas() {
-    use gpu_photon::bvh::Bvh;
-    use gpu_photon::math::geometry::Ray;
     let dir = common::scratch("shading-frame");
     let suite = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-suite/common");
     let nouv = "v -1 -1 0\nv 1 -1 0.2\nv 1 1 0\nv -1 1 -0.3\nvn 0.1 0 1\nvn 0 0.2 1\n\
@@ -288,48 +286,22 @@ fn shading_frame_tangents_are_mitsubas() {
         ("nouv", r#"<shape type="obj"><string name="filename" value="nouv.obj"/></shape>"#.into()),
         ("sphere", r#"<shape type="sphere"><point name="center" value="0.3, -0.2, 0.1"/><float name="radius" value="0.8"/></shape>"#.into()),
     ];
-    let csv = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba_shading_frame.csv"),
-    )
-    .unwrap();
     let mut worst = 0f32;
-    for (name, shape) in shapes {
-        let text = format!(
-            r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/>
-<transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>{shape}</scene>"#
-        );
-        let path = dir.join(format!("{name}.xml"));
-        std::fs::write(&path, text).unwrap();
-        let scene = load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let bvh = Bvh::build(&scene);
-        let rows: Vec<Vec<f32>> = (csv.lines())
-            .filter(|l| l.starts_with(&format!("{name},")))
-            .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
-            .collect();
-        assert_eq!(rows.len(), 12, "{name}");
-        for r in rows {
-            let v = |i: usize| Vec3::new(r[i], r[i + 1], r[i + 2]);
-            let ray = Ray {
-                origin: v(0),
-                dir: v(3),
-            };
-            let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect(name);
-            assert!(
-                (hit.position - v(6)).length() < 1e-4,
-                "{name}: {} vs {}",
-                hit.position,
-                v(6)
-            );
-            let e = (hit.tangent - v(9)).abs().max_element();
+    common::mitsuba_hits(
+        &dir,
+        "mitsuba_shading_frame.csv",
+        &shapes,
+        |name, _, hit, r| {
+            let want = Vec3::new(r[9], r[10], r[11]);
+            let e = (hit.tangent - want).abs().max_element();
             assert!(
                 e < 1e-4,
-                "{name} at {}: tangent {} vs Mitsuba's {}",
-                v(6),
+                "{name} at {}: tangent {} vs Mitsuba's {want}",
+                hit.position,
                 hit.tangent,
-                v(9)
             );
             worst = worst.max(e);
-        }
-    }
+        },
+    );
     eprintln!("worst tangent difference from Mitsuba 3.9.1: {worst:e}");
 }

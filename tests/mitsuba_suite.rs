@@ -63,7 +63,6 @@ enum Known {
 /// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
-    ("bsdf_spheres/test_bumpmap_path.xml", Known::Refused("`bumpmap`")),
     // Chance at seed 1, not bias (docs/conformance.md): block (6, 4)'s G and B 2-3% low in
     // both plastics (same random numbers); at seeds 2 to 8 both pass, and seed 1's own 32
     // passes bring that block to 0.99 and pass every block.

@@ -2,7 +2,8 @@
 //! probe kernel of this test's own (the library, the two bindings it expects, one entry
 //! point) evaluates colour and alpha at a few thousand uv per texture: 8-bit sRGB and raw,
 //! float RGB and RGBA, grey+alpha, every wrap mode, both filters, uv transforms, a
-//! checkerboard. On lavapipe every lookup must be bit for bit equal (it is: same LUT words,
+//! checkerboard; and the luminance gradient (`texture_grad`, `SceneTexture::eval_grad`) at
+//! the same points. On lavapipe every lookup must be bit for bit equal (it is: same LUT words,
 //! same operations in the same order). Other drivers may fuse a multiply and an add or
 //! reorder a sum (Vulkan allows both): there a single fetch (nearest, checkerboard) must
 //! still be bit for bit equal except within rounding of a texel boundary, and a bilinear
@@ -36,7 +37,11 @@ fn probe_texture(@builtin(global_invocation_id) g: vec3<u32>) {
     }
     let q = probe_in[i];
     let id = bitcast<u32>(q.z);
-    probe_out[i] = vec4<f32>(texture_eval(id, q.xy), texture_alpha(id, q.xy));
+    if q.w != 0.0 {
+        probe_out[i] = vec4<f32>(texture_grad(id, q.xy), 0.0, 0.0);
+    } else {
+        probe_out[i] = vec4<f32>(texture_eval(id, q.xy), texture_alpha(id, q.xy));
+    }
 }
 ";
 
@@ -103,6 +108,27 @@ fn textures() -> Vec<(SceneTexture, bool)> {
     out
 }
 
+/// The textures under test, `uvs`, and the probe's answer at every (texture, point), texture
+/// after texture: `texture_grad` where `grad`, else `texture_eval` and `texture_alpha`.
+#[allow(clippy::type_complexity)]
+fn probe_textures(
+    ctx: &gpu_photon::integrators::gpu::GpuContext,
+    uvs: Vec<Vec2>,
+    grad: bool,
+) -> (Vec<(SceneTexture, bool)>, Vec<Vec2>, Vec<[f32; 4]>) {
+    let cases = textures();
+    let list: Vec<SceneTexture> = cases.iter().map(|(t, _)| t.clone()).collect();
+    let packed = PackedTextures::pack(&list, ctx.max_binding).unwrap();
+    let bufs = packed.upload(ctx).unwrap();
+    let mode = grad as u32 as f32;
+    let mut input = Vec::new();
+    for id in 0..list.len() as u32 {
+        input.extend(uvs.iter().map(|p| [p.x, p.y, f32::from_bits(id), mode]));
+    }
+    let got = run_probe(ctx, &bufs, &input);
+    (cases, uvs, got)
+}
+
 /// uv points: uniform over [-3, 4]^2, then the texel-centre lattice of a 4x3 image.
 fn points(n: usize, seed: u64) -> Vec<Vec2> {
     let mut r = common::TestRng(seed);
@@ -137,16 +163,7 @@ fn texture_library_validates_and_matches_the_rust_record() {
 #[test]
 fn wgsl_texture_eval_equals_rust() {
     let Some(ctx) = common::gpu() else { return };
-    let cases = textures();
-    let list: Vec<SceneTexture> = cases.iter().map(|(t, _)| t.clone()).collect();
-    let packed = PackedTextures::pack(&list, ctx.max_binding).unwrap();
-    let bufs = packed.upload(&ctx).unwrap();
-    let uvs = points(4000, 5);
-    let mut input = Vec::new();
-    for id in 0..list.len() as u32 {
-        input.extend(uvs.iter().map(|p| [p.x, p.y, f32::from_bits(id), 0.0]));
-    }
-    let got = run_probe(&ctx, &bufs, &input);
+    let (cases, uvs, got) = probe_textures(&ctx, points(4000, 5), false);
     // On lavapipe every operation keeps its written order (the uv transform is written in the
     // order Mesa would otherwise reorder it to): every lookup must be bit for bit equal.
     let strict = ctx.adapter.get_info().name.contains("llvmpipe");
@@ -186,6 +203,54 @@ fn wgsl_texture_eval_equals_rust() {
         ));
     }
     eprintln!("{}\n{}", ctx.describe(), report.join("\n"));
+}
+
+/// `texture_grad` (a bump map's luminance gradient) equals `SceneTexture::eval_grad` on the
+/// same textures and points, away from the texel-centre lines where the bilinear gradient
+/// jumps: within the luminance's spread times the pixel coordinate's rounding (the weights'
+/// error) plus 16 ulp of its peak, carried through the uv transform and the resolution. Zero
+/// exactly for nearest lookups and checkerboards.
+#[test]
+fn wgsl_texture_grad_equals_rust() {
+    let Some(ctx) = common::gpu() else { return };
+    let (cases, uvs, got) = probe_textures(&ctx, points(2000, 9), true);
+    let (mut checked, mut worst) = (0, 0f32);
+    for (id, (tex, exact)) in cases.iter().enumerate() {
+        let (range, peak) = texel_spread(tex);
+        let (range, peak) = (
+            range[..3].iter().sum::<f32>(),
+            peak[..3].iter().sum::<f32>(),
+        );
+        for (k, p) in uvs.iter().enumerate() {
+            let g = got[id * uvs.len() + k];
+            let want = tex.eval_grad(*p);
+            let what = format!("texture {id} uv {p}: gpu {g:?} cpu {want}");
+            if *exact {
+                assert_eq!(want, Vec2::ZERO, "{what}");
+                assert_eq!([g[0], g[1]], [0.0, 0.0], "{what}");
+                continue;
+            }
+            let SceneTexture::Bitmap(t) = tex else {
+                unreachable!()
+            };
+            let (near, dpx) = slack(tex, *p);
+            if near {
+                continue;
+            }
+            let [r0, r1] = t.sampler.to_uv.rows;
+            let per_texel = 4.0 * range * dpx + 16.0 * f32::EPSILON * peak;
+            let tol = Vec2::new(
+                t.width as f32 * (r0[0].abs() + r1[0].abs()),
+                t.height as f32 * (r0[1].abs() + r1[1].abs()),
+            ) * per_texel;
+            let e = (Vec2::new(g[0], g[1]) - want).abs();
+            assert!(e.x <= tol.x && e.y <= tol.y, "{what}: bound {tol}");
+            worst = worst.max((e / tol.max(Vec2::splat(f32::MIN_POSITIVE))).max_element());
+            checked += 1;
+        }
+    }
+    assert!(checked > 10_000, "{checked}");
+    eprintln!("{checked} bilinear gradients, worst at {worst:.3} of the bound");
 }
 
 /// How far apart the device's and the host's pixel coordinates may be at `uv`, summed over

@@ -31,6 +31,10 @@ pub struct Material {
     /// Shadowing Function to Solve the Bump Terminator Problem", 2019): the light side of the
     /// BSDF is multiplied by [`terminator`] (`crate::bsdfs::shading`).
     pub normal_shadowing: bool,
+    /// `normal_texture` is a height map, not a normal map: Mitsuba's `bumpmap`, whose
+    /// luminance gradient times this scale tilts the shading normal
+    /// (`crate::math::geometry::bump_mapped`); `None` for a normal map.
+    pub bump: Option<f32>,
     /// Index into [`Scene::textures`](crate::scene::Scene::textures) of a texture multiplying `emission` at each point (glTF
     /// `emissiveTexture`, Mitsuba's textured `radiance`; `crate::lights::emission`), or
     /// [`NO_TEXTURE`].
@@ -191,6 +195,7 @@ impl Material {
             one_sided: false,
             normal_texture: NO_TEXTURE,
             normal_shadowing: false,
+            bump: None,
             emission_texture: NO_TEXTURE,
             alpha: None,
             media: MediumInterface::default(),

@@ -27,7 +27,7 @@ pub struct Hit {
     /// Unit tangent of the shading frame before any normal map (Mitsuba's `sh_frame.s`): the
     /// surface's `dp/du` made orthogonal to the unperturbed shading normal (a triangle's uv
     /// tangent, or its first edge without uvs; a sphere's azimuth direction); zero where it
-    /// vanishes. The BSDF's frame is `crate::bsdfs::interface::Frame::new(shading, tangent)`.
+    /// vanishes. A bump map's frame has its own (`crate::math::geometry::bump_tangent`). The BSDF's frame is `crate::bsdfs::interface::Frame::new(shading, tangent)`.
     pub tangent: Vec3,
 }
 

@@ -8,7 +8,7 @@
 //!
 //! Scenes without instances build none of it (`WideBvh::instances` is `None`).
 
-use super::surface::{geometric_hit, shading_frame, tangent_at, tangent_fallback};
+use super::surface::{geometric_hit, shading_frame, tangent_at, tangent_fallback, uv_partials};
 use super::{BuildCosts, Bvh, Hit, WideBvh, SPHERE_BIT};
 use crate::math::geometry::Ray;
 use crate::scene::{Instance, Scene};
@@ -117,12 +117,17 @@ impl InstanceBvh {
         let (dp_du, flipped) = tangent_at(mesh, id, u, v, local.normal);
         let fallback = tangent_fallback(mesh, id, local.normal);
         let to_world = |d: Vec3| inst.to_world.transform_vector3(d);
+        let partials = || {
+            let (pu, pv) = uv_partials(mesh, id, local.normal);
+            (to_world(pu), to_world(pv))
+        };
         Some(shading_frame(
             scene,
             hit,
             ray.dir,
             (to_world(dp_du), flipped ^ flips),
             to_world(fallback),
+            partials,
         ))
     }
 

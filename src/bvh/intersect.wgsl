@@ -16,7 +16,7 @@ struct Hit {
     uv: vec2<f32>,
     found: bool,
     // Unit tangent of the shading frame before any normal map (Mitsuba's sh_frame.s; zero
-    // where it vanishes): the BSDF frame's x (shading.wgsl's frame_tangent).
+    // where it vanishes; a bump map's: bump_tangent): the BSDF frame's x (frame_tangent).
     tangent: vec3<f32>,
 }
 
@@ -141,6 +141,70 @@ fn normal_mapped(ng: vec3<f32>, ns: vec3<f32>, dp_du: vec3<f32>, flipped: bool, 
     }
     let n = w / len;
     return select(n, -n, dot(n, ng) < 0.0);
+}
+
+// A triangle's uv partials (dp_du, dp_dv) from its corner uvs; both zero for a degenerate
+// mapping (twin of uv_jacobian in src/math/geometry.rs).
+struct UvPartials {
+    du: vec3<f32>,
+    dv: vec3<f32>,
+}
+
+fn uv_jacobian(e1: vec3<f32>, e2: vec3<f32>, uv0: vec2<f32>, uv1: vec2<f32>, uv2: vec2<f32>) -> UvPartials {
+    let d0 = uv1 - uv0;
+    let d1 = uv2 - uv0;
+    let det = d0.x * d1.y - d0.y * d1.x;
+    let inv = select(0.0, 1.0 / det, det != 0.0);
+    return UvPartials((d1.y * e1 - d0.y * e2) * inv, (d0.x * e2 - d1.x * e1) * inv);
+}
+
+// Mitsuba's sphere parameterisation's uv partials at outward unit normal n, radius r (twin of
+// sphere_partials in src/math/geometry.rs).
+fn sphere_partials(n: vec3<f32>, r: f32) -> UvPartials {
+    let rd = sqrt(n.x * n.x + n.y * n.y);
+    var polar = vec3<f32>(1.0, 0.0, 0.0);
+    if rd != 0.0 {
+        polar = vec3<f32>(n.z * (n.x / rd), n.z * (n.y / rd), -rd);
+    }
+    return UvPartials(2.0 * PI * r * vec3<f32>(-n.y, n.x, 0.0), PI * r * polar);
+}
+
+// Mitsuba's bumpmap: the shading normal that height gradient grad (times the scale) gives at a
+// hit with front normal ng, shading normal ns (side of ng), uv partials p, for a ray along d
+// (twin of bump_mapped in src/math/geometry.rs, which documents it).
+fn bump_mapped(ng: vec3<f32>, ns: vec3<f32>, p: UvPartials, grad: vec2<f32>, d: vec3<f32>) -> vec3<f32> {
+    let du = p.du + ns * (grad.x - dot(ns, p.du));
+    let dv = p.dv + ns * (grad.y - dot(ns, p.dv));
+    let c = cross(du, dv);
+    if !(dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
+        return ns;
+    }
+    var n = normalize(c);
+    n = select(n, -n, dot(n, ng) < 0.0);
+    let wi = -d;
+    if dot(wi, ns) * dot(wi, n) <= 0.0 {
+        n = 2.0 * dot(ns, n) * ns - n;
+    }
+    let l = length(n);
+    if !(l > 0.0) {
+        return ns;
+    }
+    n = n / l;
+    return select(n, -n, dot(n, ng) < 0.0);
+}
+
+// The tangent of Mitsuba 3.9.1's bumped frame: the world dp_du made orthogonal, as if it were
+// local, to the bumped normal n written in the unperturbed frame (ns, tangent s or, where s
+// is zero, basis_t(ns)), taken back to world space; s where that vanishes (twin of
+// bump_tangent in src/math/geometry.rs, which documents it).
+fn bump_tangent(ns: vec3<f32>, s_in: vec3<f32>, dp_du: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let s = select(s_in, basis_t(ns), all(s_in == vec3<f32>(0.0)));
+    let t = cross(ns, s);
+    let l = orthogonal_tangent(vec3<f32>(dot(n, s), dot(n, t), dot(n, ns)), dp_du);
+    if all(l == vec3<f32>(0.0)) {
+        return s;
+    }
+    return s * l.x + t * l.y + ns * l.z;
 }
 
 // The hit's normals turned to the side a ray arrives from (`front`), twin of Facing in
@@ -537,6 +601,8 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var nt = NO_TEXTURE;
     var tg = vec4<f32>(0.0);
     var fallback = vec3<f32>(0.0);
+    // A bump map's uv partials (Bvh's uv_partials), made only where a scene has bump maps.
+    var pd = UvPartials(vec3<f32>(0.0), vec3<f32>(0.0));
     if (best_id & SPHERE_BIT) == 0u {
         let tri = load_triangle(best_id);
         let e1 = tri.v1 - tri.v0;
@@ -551,6 +617,13 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         best.light = tri.light;
         if HAS_UVS {
             tg = uv_tangent(best_id, e1, e2, best_uv);
+        }
+        if HAS_BUMP_MAPS {
+            pd = UvPartials(e1, e2);
+            if HAS_UVS {
+                let r = uv_record(best_id);
+                pd = uv_jacobian(e1, e2, uvs[r].xy, uvs[r].zw, uvs[r + 1u].xy);
+            }
         }
         fallback = select(basis_t(best.normal), e1, !HAS_UVS);
         if HAS_TEXTURES {
@@ -571,6 +644,10 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         let q = sphere_frame(s);
         let l = sphere_rotate(-q.xyz, q.w, n);
         tg = vec4<f32>(sphere_rotate(q.xyz, q.w, vec3<f32>(-l.y, l.x, 0.0)), 0.0);
+        if HAS_BUMP_MAPS {
+            let p = sphere_partials(l, s.radius);
+            pd = UvPartials(sphere_rotate(q.xyz, q.w, p.du), sphere_rotate(q.xyz, q.w, p.dv));
+        }
         if HAS_TEXTURES {
             best.uv = sphere_uv(l);
             if HAS_NORMAL_MAPS {
@@ -589,10 +666,25 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
         let flips = dot(l[0], cross(l[1], l[2])) < 0.0;
         tg = vec4<f32>(affine_vector(to_world, tg.xyz), select(tg.w, 1.0 - tg.w, flips));
         fallback = affine_vector(to_world, fallback);
+        if HAS_BUMP_MAPS {
+            pd = UvPartials(affine_vector(to_world, pd.du), affine_vector(to_world, pd.dv));
+        }
     }
     best.tangent = shading_tangent(best.shading, tg.xyz, fallback);
     if HAS_TEXTURES && HAS_NORMAL_MAPS && nt != NO_TEXTURE {
-        best.shading = normal_mapped(best.normal, best.shading, tg.xyz, tg.w > 0.5, texture_eval(nt, best.uv), d);
+        // The bump map's scale and flag (x, y), read only where a scene has bump maps.
+        var bump = vec2<u32>(0u);
+        if HAS_BUMP_MAPS {
+            bump = materials[MATERIAL_WORDS * best.material + MATERIAL_BUMP_WORD].xy;
+        }
+        if bump.y != 0u {
+            let grad = bitcast<f32>(bump.x) * texture_grad(nt, best.uv);
+            let n = bump_mapped(best.normal, best.shading, pd, grad, d);
+            best.tangent = bump_tangent(best.shading, best.tangent, pd.du, n);
+            best.shading = n;
+        } else {
+            best.shading = normal_mapped(best.normal, best.shading, tg.xyz, tg.w > 0.5, texture_eval(nt, best.uv), d);
+        }
     }
     return best;
 }

@@ -9,7 +9,8 @@
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
-    inset, normal_mapped, shading_normal, shading_tangent, triangle_tangent, vertex_tangent, Ray,
+    bump_mapped, bump_tangent, inset, normal_mapped, shading_normal, shading_tangent,
+    sphere_partials, sphere_tangent, triangle_tangent, uv_jacobian, vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
@@ -21,7 +22,8 @@ pub(crate) fn hit_at(scene: &Scene, ray: &Ray, id: u32, t: f32, u: f32, v: f32) 
     let hit = geometric_hit(scene, ray, id, t, u, v);
     let tangent = tangent_at(scene, id, u, v, hit.normal);
     let fallback = tangent_fallback(scene, id, hit.normal);
-    shading_frame(scene, hit, ray.dir, tangent, fallback)
+    let partials = || uv_partials(scene, id, hit.normal);
+    shading_frame(scene, hit, ray.dir, tangent, fallback, partials)
 }
 
 /// The hit on primitive `id` of `geometry` before any normal map: its point, normals,
@@ -96,21 +98,54 @@ pub(crate) fn tangent_fallback(geometry: &Scene, id: u32, normal: Vec3) -> Vec3 
     }
 }
 
+/// Mitsuba's uv partials `(dp_du, dp_dv)` of primitive `id` of `geometry` (geometric normal
+/// `normal`), as its `bumpmap` reads them: a triangle's
+/// corner uvs' Jacobian (zero for a degenerate mapping), its edges without uvs; a sphere's
+/// parameterisation ([`sphere_partials`]).
+pub(crate) fn uv_partials(geometry: &Scene, id: u32, normal: Vec3) -> (Vec3, Vec3) {
+    if id & SPHERE_BIT == 0 {
+        let tri = &geometry.triangles[id as usize];
+        match geometry.uvs.get(id as usize) {
+            Some(c) => uv_jacobian(tri.e1(), tri.e2(), c),
+            None => (tri.e1(), tri.e2()),
+        }
+    } else {
+        // In the sphere's object space, where Mitsuba's parameterisation is defined.
+        let s = &geometry.spheres[(id & !SPHERE_BIT) as usize];
+        let (du, dv) = sphere_partials(s.local(normal), s.radius);
+        (s.world(du), s.world(dv))
+    }
+}
+
 /// `hit` with its shading frame: the tangent from the uv tangent `tangent` (dp/du and whether
 /// its frame is flipped) or `fallback` made orthogonal to the shading normal, then the shading
-/// normal perturbed by its material's normal map, if it has one; `dir` the ray's.
+/// normal perturbed by its material's normal map or bump map, if it has one; `dir` the ray's,
+/// `partials` the hit's uv partials (read by a bump map only).
 pub(crate) fn shading_frame(
     scene: &Scene,
     mut hit: Hit,
     dir: Vec3,
     (dp_du, flipped): (Vec3, bool),
     fallback: Vec3,
+    partials: impl FnOnce() -> (Vec3, Vec3),
 ) -> Hit {
     hit.tangent = shading_tangent(hit.shading, dp_du, fallback);
-    let normal_texture = scene.materials[hit.material as usize].normal_texture;
-    if normal_texture != NO_TEXTURE {
-        let c = scene.textures[normal_texture as usize].eval(hit.uv);
-        hit.shading = normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, dir);
+    let m = &scene.materials[hit.material as usize];
+    if m.normal_texture != NO_TEXTURE {
+        let texture = &scene.textures[m.normal_texture as usize];
+        hit.shading = match m.bump {
+            None => {
+                let c = texture.eval(hit.uv);
+                normal_mapped(hit.normal, hit.shading, dp_du, flipped, c, dir)
+            }
+            Some(scale) => {
+                let (pu, pv) = partials();
+                let grad = scale * texture.eval_grad(hit.uv);
+                let n = bump_mapped(hit.normal, hit.shading, pu, pv, grad, dir);
+                hit.tangent = bump_tangent(hit.shading, hit.tangent, pu, n);
+                n
+            }
+        };
     }
     hit
 }

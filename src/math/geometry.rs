@@ -83,6 +83,17 @@ pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, boo
     Some((dp_du, det < 0.0))
 }
 
+/// A triangle's uv partials `(dp_du, dp_dv)` (Mitsuba's, from its corner uvs `uv`; both zero
+/// for a degenerate mapping, as Mitsuba's `inv_det` is). `e1`, `e2`: the edges from corner 0
+/// to corners 1 and 2. Twin: `uv_jacobian` in `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn uv_jacobian(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> (Vec3, Vec3) {
+    let (d0, d1) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let det = d0.x * d1.y - d0.y * d1.x;
+    let inv = if det != 0.0 { 1.0 / det } else { 0.0 };
+    ((d1.y * e1 - d0.y * e2) * inv, (d0.x * e2 - d1.x * e1) * inv)
+}
+
 /// The uv tangent at barycentric `(1 - u - v, u, v)` of a triangle with vertex tangents
 /// ([`crate::scene::shapes::VertexTangents`]): the interpolated tangent and whether the frame is
 /// flipped (the interpolated `w` is negative), as [`triangle_tangent`] gives them; `None`
@@ -125,6 +136,22 @@ pub fn sphere_tangent(n: Vec3) -> Vec3 {
     Vec3::new(-n.y, n.x, 0.0)
 }
 
+/// The uv partials `(dp_du, dp_dv)` of Mitsuba's sphere parameterisation at outward unit
+/// normal `n` of a sphere of radius `r`: `2 pi r` times [`sphere_tangent`] and `pi r` times
+/// the polar direction `(z cos phi, z sin phi, -sin theta)`, `pi r x` at the poles. Twin:
+/// `sphere_partials` in `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn sphere_partials(n: Vec3, r: f32) -> (Vec3, Vec3) {
+    let rd = (n.x * n.x + n.y * n.y).sqrt();
+    let polar = if rd == 0.0 {
+        Vec3::X
+    } else {
+        Vec3::new(n.z * (n.x / rd), n.z * (n.y / rd), -rd)
+    };
+    let pi = std::f32::consts::PI;
+    (2.0 * pi * r * sphere_tangent(n), pi * r * polar)
+}
+
 /// Mitsuba 3's `normalmap` (src/bsdfs/normalmap.cpp, with `flip_invalid_normals`): the
 /// shading normal that texel `c` (linear rgb) gives at a hit with front normal `ng`, unit
 /// shading normal `ns` (on the side of `ng`), uv tangent `dp_du` (zero when the hit has no
@@ -163,6 +190,68 @@ pub fn normal_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, flipped: bool, c: Vec3, d:
         -n
     } else {
         n
+    }
+}
+
+/// Mitsuba 3's `bumpmap` (src/bsdfs/bumpmap.cpp, with `flip_invalid_normals`): the shading
+/// normal that the height gradient `grad` (the texture's `eval_1_grad` times `scale`) gives at
+/// a hit with front normal `ng`, unit shading normal `ns` (on the side of `ng`), uv partials
+/// `dp_du`, `dp_dv` (Mitsuba's, scale included), for a ray along unit `d`.
+///
+/// The partials are made tangent to `ns` and lifted by the gradient (`dp_du + ns (grad.x -
+/// ns . dp_du)`, likewise for v); their normalised cross product, turned to the side of `ng`,
+/// is the bumped normal. When the incident direction `wi = -d` has `(wi . ns) (wi . n) <= 0`,
+/// `n` is reflected about `ns` (Mitsuba's `(-n.x, -n.y, n.z)` in the shading frame). Like
+/// [`normal_mapped`], the result is on the side of `ng`, and `ns` where the cross product
+/// vanishes against the partials' lengths (degenerate uvs; Mitsuba's is noise or NaN there). Twin: `bump_mapped` in `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn bump_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, dp_dv: Vec3, grad: Vec2, d: Vec3) -> Vec3 {
+    let du = dp_du + ns * (grad.x - ns.dot(dp_du));
+    let dv = dp_dv + ns * (grad.y - ns.dot(dp_dv));
+    let c = du.cross(dv);
+    // Partials that vanish or are parallel (a degenerate mapping) leave rounding noise.
+    let crossed = c.length_squared() > 1e-12 * du.length_squared() * dv.length_squared();
+    if !crossed {
+        return ns;
+    }
+    let n = c.normalize();
+    let n = if n.dot(ng) < 0.0 { -n } else { n };
+    let wi = -d;
+    let n = if wi.dot(ns) * wi.dot(n) <= 0.0 {
+        2.0 * ns.dot(n) * ns - n
+    } else {
+        n
+    };
+    let n = n.normalize_or_zero();
+    if n == Vec3::ZERO {
+        ns
+    } else if n.dot(ng) < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+/// The tangent of Mitsuba 3.9.1's bumped frame (`bumpmap.cpp`'s `frame`): with `n` the bumped
+/// normal [`bump_mapped`] gave, written in the unperturbed shading frame (unit normal `ns`,
+/// unit tangent `s` orthogonal to it, or zero for the basis `crate::math::sampling::basis(ns)`
+/// as the BSDF frame takes it; `t = ns x s`) as `n'`, Mitsuba orthogonalises the world `dp_du` *as if it
+/// were local* against `n'` (`s' = normalize(dp_du - n' (n' . dp_du))`); `s'` taken back to
+/// world space is the tangent here. Only a nested anisotropic BSDF sees it (an isotropic one
+/// reads the normal alone); `s` itself where `s'` vanishes. Twin: `bump_tangent` in
+/// `src/bvh/intersect.wgsl`.
+#[inline]
+pub fn bump_tangent(ns: Vec3, s: Vec3, dp_du: Vec3, n: Vec3) -> Vec3 {
+    let s = if s == Vec3::ZERO {
+        crate::math::sampling::basis(ns).0
+    } else {
+        s
+    };
+    let t = ns.cross(s);
+    let local = Vec3::new(n.dot(s), n.dot(t), n.dot(ns));
+    match orthogonal_tangent(local, dp_du) {
+        Some(l) => s * l.x + t * l.y + ns * l.z,
+        None => s,
     }
 }
 

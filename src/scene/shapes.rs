@@ -92,8 +92,11 @@ impl Sphere {
         // Mitsuba's dp/du at the object's direction l, up to its scale (as
         // `math::geometry::sphere_tangent`, which imports this module).
         let l = self.local(n);
-        let t = Vec3::new(-l.y, l.x, 0.0);
-        rotate(self.frame.xyz(), self.frame.w, t)
+        self.world(Vec3::new(-l.y, l.x, 0.0))
+    }
+    /// Direction `v` of the sphere's object space in the world (its frame's rotation).
+    pub fn world(&self, v: Vec3) -> Vec3 {
+        rotate(self.frame.xyz(), self.frame.w, v)
     }
     /// `q` (a unit quaternion) rounded to four snorm16 (the GPU record's
     /// [`Sphere::frame_words`]), read back as the device does and normalised.

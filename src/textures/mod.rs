@@ -225,27 +225,61 @@ impl Texture {
     /// Linear RGB and alpha at `uv` (before the sampler's uv transform).
     pub fn eval_rgba(&self, uv: Vec2) -> Vec4 {
         let uv = self.sampler.to_uv.apply(uv);
+        let s = &self.sampler;
+        match s.filter {
+            Filter::Nearest => {
+                let (w, h) = (self.width as i32, self.height as i32);
+                let px = pixel_coord(uv.x * self.width as f32).floor() as i32;
+                let py = pixel_coord(uv.y * self.height as f32).floor() as i32;
+                self.texel(s.wrap_u.index(px, w) as u32, s.wrap_v.index(py, h) as u32)
+            }
+            Filter::Bilinear => {
+                let ([c00, c10, c01, c11], Vec2 { x: tx, y: ty }) = self.quad(uv);
+                let row0 = c00 * (1.0 - tx) + c10 * tx;
+                let row1 = c01 * (1.0 - tx) + c11 * tx;
+                row0 * (1.0 - ty) + row1 * ty
+            }
+        }
+    }
+
+    /// The four texels a bilinear lookup at transformed `uv` blends (`(x0, y0)`, `(x0 + 1,
+    /// y0)`, `(x0, y0 + 1)`, `(x0 + 1, y0 + 1)`, each wrapped) and the weights of the second
+    /// column and row.
+    fn quad(&self, uv: Vec2) -> ([Vec4; 4], Vec2) {
         let (w, h) = (self.width as i32, self.height as i32);
         let s = &self.sampler;
         let fetch =
             |x: i32, y: i32| self.texel(s.wrap_u.index(x, w) as u32, s.wrap_v.index(y, h) as u32);
-        match s.filter {
-            Filter::Nearest => {
-                let px = pixel_coord(uv.x * self.width as f32).floor();
-                let py = pixel_coord(uv.y * self.height as f32).floor();
-                fetch(px as i32, py as i32)
-            }
-            Filter::Bilinear => {
-                let px = pixel_coord(uv.x * self.width as f32 - 0.5);
-                let py = pixel_coord(uv.y * self.height as f32 - 0.5);
-                let (fx, fy) = (px.floor(), py.floor());
-                let (tx, ty) = (px - fx, py - fy);
-                let (x0, y0) = (fx as i32, fy as i32);
-                let row0 = fetch(x0, y0) * (1.0 - tx) + fetch(x0 + 1, y0) * tx;
-                let row1 = fetch(x0, y0 + 1) * (1.0 - tx) + fetch(x0 + 1, y0 + 1) * tx;
-                row0 * (1.0 - ty) + row1 * ty
-            }
+        let px = pixel_coord(uv.x * self.width as f32 - 0.5);
+        let py = pixel_coord(uv.y * self.height as f32 - 0.5);
+        let (fx, fy) = (px.floor(), py.floor());
+        let (x0, y0) = (fx as i32, fy as i32);
+        let c = [
+            fetch(x0, y0),
+            fetch(x0 + 1, y0),
+            fetch(x0, y0 + 1),
+            fetch(x0 + 1, y0 + 1),
+        ];
+        (c, Vec2::new(px - fx, py - fy))
+    }
+
+    /// The gradient of the luminance at `uv` with respect to u and v: Mitsuba 3.9.1's
+    /// `bitmap` `eval_1_grad`, which its `bumpmap` reads. The bilinear interpolant's partials
+    /// in texels, carried through the transpose of the uv transform's linear part, then
+    /// multiplied by the resolution per axis (Mitsuba's order); zero for a nearest lookup.
+    /// Twin: `texture_grad` in `src/textures/texture.wgsl`.
+    pub fn eval_grad(&self, uv: Vec2) -> Vec2 {
+        if self.sampler.filter == Filter::Nearest {
+            return Vec2::ZERO;
         }
+        let ([c00, c10, c01, c11], t) = self.quad(self.sampler.to_uv.apply(uv));
+        let [f00, f10, f01, f11] = [c00, c10, c01, c11].map(|c| luminance(c.truncate()));
+        let dx = (1.0 - t.y) * (f10 - f00) + t.y * (f11 - f01);
+        let dy = (1.0 - t.x) * (f01 - f00) + t.x * (f11 - f10);
+        let [r0, r1] = self.sampler.to_uv.rows;
+        let du = r0[0] * dx + r1[0] * dy;
+        let dv = r0[1] * dx + r1[1] * dy;
+        Vec2::new(self.width as f32 * du, self.height as f32 * dv)
     }
 
     /// Linear RGB at `uv`.
@@ -288,6 +322,11 @@ impl Texture {
     }
 }
 
+/// Rec. 709 luminance of linear RGB, as Mitsuba's `luminance()`.
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.212_671, 0.715_160, 0.072_169))
+}
+
 /// A pixel coordinate within [`COORD_LIMIT`] (NaN becomes 0).
 fn pixel_coord(p: f32) -> f32 {
     if p.is_nan() {
@@ -322,6 +361,15 @@ impl SceneTexture {
         match self {
             SceneTexture::Bitmap(t) => t.eval(uv),
             SceneTexture::Checkerboard(c) => c.eval(uv),
+        }
+    }
+
+    /// The gradient of the luminance at `uv` ([`Texture::eval_grad`]); zero for a
+    /// checkerboard (Mitsuba's has none: importers refuse it where a gradient is read).
+    pub fn eval_grad(&self, uv: Vec2) -> Vec2 {
+        match self {
+            SceneTexture::Bitmap(t) => t.eval_grad(uv),
+            SceneTexture::Checkerboard(_) => Vec2::ZERO,
         }
     }
 

@@ -80,13 +80,40 @@ fn tex_texel(t: TextureRecord, x: i32, y: i32) -> vec4<f32> {
     );
 }
 
-// Linear RGB and alpha of texture `id` at `uv` (before its uv transform).
-fn texture_eval_rgba(id: u32, uv: vec2<f32>) -> vec4<f32> {
-    let t = tex_table[id];
-    let p = vec2<f32>(
+// The four texels a bilinear lookup of t at transformed uv p blends ((x0, y0), (x0 + 1, y0),
+// (x0, y0 + 1), (x0 + 1, y0 + 1)) and the weights f of the second column and row.
+struct TexQuad {
+    c00: vec4<f32>,
+    c10: vec4<f32>,
+    c01: vec4<f32>,
+    c11: vec4<f32>,
+    f: vec2<f32>,
+}
+
+fn tex_quad(t: TextureRecord, p: vec2<f32>) -> TexQuad {
+    let size = vec2<f32>(f32(t.width), f32(t.height));
+    let px = tex_coord(p.x * size.x - 0.5);
+    let py = tex_coord(p.y * size.y - 0.5);
+    let fx = floor(px);
+    let fy = floor(py);
+    let x0 = i32(fx);
+    let y0 = i32(fy);
+    return TexQuad(tex_texel(t, x0, y0), tex_texel(t, x0 + 1, y0), tex_texel(t, x0, y0 + 1),
+        tex_texel(t, x0 + 1, y0 + 1), vec2<f32>(px - fx, py - fy));
+}
+
+// uv after texture t's uv transform.
+fn tex_uv(t: TextureRecord, uv: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(
         (t.uv_u.x * uv.x + t.uv_u.z) + t.uv_u.y * uv.y,
         (t.uv_v.x * uv.x + t.uv_v.z) + t.uv_v.y * uv.y,
     );
+}
+
+// Linear RGB and alpha of texture `id` at `uv` (before its uv transform).
+fn texture_eval_rgba(id: u32, uv: vec2<f32>) -> vec4<f32> {
+    let t = tex_table[id];
+    let p = tex_uv(t, uv);
     if t.format == TEX_FORMAT_CHECKERBOARD {
         let fx = p.x - floor(p.x) > 0.5;
         let fy = p.y - floor(p.y) > 0.5;
@@ -98,17 +125,31 @@ fn texture_eval_rgba(id: u32, uv: vec2<f32>) -> vec4<f32> {
         let py = floor(tex_coord(p.y * size.y));
         return tex_texel(t, i32(px), i32(py));
     }
-    let px = tex_coord(p.x * size.x - 0.5);
-    let py = tex_coord(p.y * size.y - 0.5);
-    let fx = floor(px);
-    let fy = floor(py);
-    let tx = px - fx;
-    let ty = py - fy;
-    let x0 = i32(fx);
-    let y0 = i32(fy);
-    let row0 = tex_texel(t, x0, y0) * (1.0 - tx) + tex_texel(t, x0 + 1, y0) * tx;
-    let row1 = tex_texel(t, x0, y0 + 1) * (1.0 - tx) + tex_texel(t, x0 + 1, y0 + 1) * tx;
-    return row0 * (1.0 - ty) + row1 * ty;
+    let q = tex_quad(t, p);
+    let row0 = q.c00 * (1.0 - q.f.x) + q.c10 * q.f.x;
+    let row1 = q.c01 * (1.0 - q.f.x) + q.c11 * q.f.x;
+    return row0 * (1.0 - q.f.y) + row1 * q.f.y;
+}
+
+// The gradient of texture id's luminance at uv with respect to u and v (Mitsuba's bitmap
+// eval_1_grad; twin of Texture::eval_grad in src/textures/mod.rs, which documents the order);
+// zero for a nearest lookup or a checkerboard.
+fn texture_grad(id: u32, uv: vec2<f32>) -> vec2<f32> {
+    let t = tex_table[id];
+    if t.format == TEX_FORMAT_CHECKERBOARD || t.filter_mode == TEX_FILTER_NEAREST {
+        return vec2<f32>(0.0);
+    }
+    let q = tex_quad(t, tex_uv(t, uv));
+    let y = vec3<f32>(0.212671, 0.715160, 0.072169);
+    let f00 = dot(q.c00.xyz, y);
+    let f10 = dot(q.c10.xyz, y);
+    let f01 = dot(q.c01.xyz, y);
+    let f11 = dot(q.c11.xyz, y);
+    let dx = (1.0 - q.f.y) * (f10 - f00) + q.f.y * (f11 - f01);
+    let dy = (1.0 - q.f.x) * (f01 - f00) + q.f.x * (f11 - f10);
+    let du = t.uv_u.x * dx + t.uv_v.x * dy;
+    let dv = t.uv_u.y * dx + t.uv_v.y * dy;
+    return vec2<f32>(f32(t.width) * du, f32(t.height) * dv);
 }
 
 // Linear RGB of texture `id` at `uv`.

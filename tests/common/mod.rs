@@ -444,3 +444,50 @@ pub fn vol_file(res: [i32; 3], channels: i32, value: impl Fn(usize) -> f32) -> V
     }
     b
 }
+
+/// The hits at which a script of `scripts/` measured Mitsuba 3.9.1 (`tests/data/{csv}`, rows
+/// `shape,ox,oy,oz,dx,dy,dz,px,py,pz,...`): for each `(name, shape)` the scene of that
+/// `<shape>` element under a camera (written to `dir`, where its relative files resolve), and
+/// each of the 12 rows named for it intersected along its ray, the hit within 1e-4 of
+/// Mitsuba's point; `check(name, scene, hit, row)` gets the row's values after the name.
+pub fn mitsuba_hits(
+    dir: &std::path::Path,
+    csv: &str,
+    shapes: &[(&str, String)],
+    mut check: impl FnMut(&str, &Scene, &gpu_photon::bvh::hit::Hit, &[f32]),
+) {
+    use glam::Vec3;
+    use gpu_photon::math::geometry::Ray;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let csv = std::fs::read_to_string(root.join("tests/data").join(csv)).unwrap();
+    for (name, shape) in shapes {
+        let text = format!(
+            r#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/>
+<transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>{shape}</scene>"#
+        );
+        let path = dir.join(format!("{name}.xml"));
+        std::fs::write(&path, text).unwrap();
+        let scene = gpu_photon::importers::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let bvh = gpu_photon::bvh::Bvh::build(&scene);
+        let rows: Vec<Vec<f32>> = (csv.lines())
+            .filter(|l| l.starts_with(&format!("{name},")))
+            .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 12, "{name}");
+        for r in rows {
+            let v = |i: usize| Vec3::new(r[i], r[i + 1], r[i + 2]);
+            let ray = Ray {
+                origin: v(0),
+                dir: v(3),
+            };
+            let hit = bvh.intersect(&scene, &ray, f32::INFINITY).expect(name);
+            let p = v(6);
+            assert!(
+                (hit.position - p).length() < 1e-4,
+                "{name}: {} vs {p}",
+                hit.position
+            );
+            check(name, &scene, &hit, &r);
+        }
+    }
+}

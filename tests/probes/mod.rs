@@ -148,6 +148,10 @@ pub struct SurfaceCase {
     pub c: [f32; 3],
     /// The ray's direction.
     pub d: [f32; 3],
+    /// `bump_mapped`'s dp/dv (its dp/du is `dp_du`).
+    pub dp_dv: [f32; 3],
+    /// `bump_mapped`'s height gradient.
+    pub grad: [f32; 2],
 }
 
 /// What the device gave for one [`SurfaceCase`].
@@ -161,6 +165,8 @@ pub struct SurfaceProbe {
     pub leaks: [bool; 2],
     /// `normal_mapped(ng, ns, dp_du, flipped, c, d)`.
     pub mapped: [f32; 3],
+    /// `bump_mapped(ng, ns, (dp_du, dp_dv), grad, d)`.
+    pub bumped: [f32; 3],
     /// `dielectric(d, ng, ns, ior)`: reflected direction, refracted direction (zero on total
     /// internal reflection) and reflectance (with the settings' Fresnel formula).
     pub dielectric: ([f32; 3], [f32; 3], f32),
@@ -180,7 +186,7 @@ pub struct SurfaceProbe {
 /// tests/probes/probe_geometry.wgsl).
 pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfaceProbe>> {
     let n = cases.len().max(1);
-    let mut init = vec![[0f32; 4]; 20 * n];
+    let mut init = vec![[0f32; 4]; 23 * n];
     let v = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
     for (i, c) in cases.iter().enumerate() {
         init[i] = [c.axis[0], c.axis[1], c.axis[2], c.exponent];
@@ -193,6 +199,8 @@ pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfacePro
             init[slot * n + i] = w.words[k].map(f32::from_bits);
         }
         init[19 * n + i] = [f32::from_bits(c.material.code()), c.u3, 0.0, 0.0];
+        init[20 * n + i] = v(c.dp_dv);
+        init[21 * n + i] = [c.grad[0], c.grad[1], 0.0, 0.0];
         for (k, x) in [c.ng, c.ns, c.dp_du, c.c, c.d].into_iter().enumerate() {
             init[(2 + k) * n + i] = v(x);
         }
@@ -208,6 +216,7 @@ pub fn surface(ctx: &GpuContext, cases: &[SurfaceCase]) -> Result<Vec<SurfacePro
                 uv: [m[0], m[1]],
                 leaks: [m[2] != 0.0, m[3] != 0.0],
                 mapped: xyz(at(9)),
+                bumped: xyz(at(22)),
                 dielectric: (xyz(g), xyz(at(11)), g[3]),
                 fresnel: at(12),
                 reflected: xyz(at(13)),

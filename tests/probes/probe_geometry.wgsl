@@ -50,7 +50,8 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
 // phong_lobe_value(axis, -d, ns, exponent)) to accum[13 w + i], and with a BSDF's words 0-2
 // = accum[14, 15, 18 w + i] (bits) and (its kind, u3) = accum[19 w + i], its
 // surface_photon_bounce at a hit of normals (ng, ns) on (u1, u2, u3) as (dir, kind),
-// (weight, 0) to accum[16, 17 w + i].
+// (weight, 0) to accum[16, 17 w + i]; with dp_dv = accum[20 w + i].xyz and a height gradient
+// accum[21 w + i].xy, bump_mapped(ng, ns, (dp_du, dp_dv), gradient, d) to accum[22 w + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -87,6 +88,8 @@ fn probe_surface(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = surface_photon_bounce(s, d, h, vec3<f32>(u.x, u.y, kind.y));
     accum[slot(16u, i)] = vec4<f32>(b.dir, f32(b.kind));
     accum[slot(17u, i)] = vec4<f32>(b.weight, 0.0);
+    let p = UvPartials(accum[slot(4u, i)].xyz, accum[slot(20u, i)].xyz);
+    accum[slot(22u, i)] = vec4<f32>(bump_mapped(ng, ns, p, accum[slot(21u, i)].xy, d), 0.0);
 }
 
 // The slots of probe_hit's per-triangle outputs when the function does not apply (a sphere,

@@ -2,7 +2,8 @@
 //! Mitsuba 3 defines it (`crate::bsdfs`): `diffuse` (constant or textured reflectance),
 //! `twosided` (the reflective kinds are one-sided without it), `conductor`, `roughconductor`
 //! (named materials, eta/k), `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
-//! `roughplastic`, `principled`, `principledthin`, and `normalmap` around any of them.
+//! `roughplastic`, `principled`, `principledthin`, and `normalmap` or `bumpmap` (`bumpmap.rs`)
+//! around any of them.
 
 use crate::bsdfs::conductor::Conductor;
 use crate::bsdfs::rough_conductor::RoughConductor;
@@ -44,7 +45,7 @@ pub(crate) struct Read {
 }
 
 /// The one `<bsdf>` (or `<ref>` to one) nested in the wrapper bsdf `p` (`twosided`,
-/// `normalmap`, `mask`) at `node`.
+/// `normalmap`, `bumpmap`, `mask`) at `node`.
 fn nested_bsdf<'f>(
     cx: &Cx<'f>,
     p: &Plugin<'f>,
@@ -60,6 +61,40 @@ fn nested_bsdf<'f>(
         return Err(cx.err(inner, field, message));
     }
     Ok(inner)
+}
+
+/// The rest of a `normalmap` or `bumpmap` `p` (nested bsdf `inner`, at `field`) once its
+/// texture `tex` is read: Mitsuba's `flip_invalid_normals` (only its default) and
+/// `use_shadowing_function` (the perturbed normal's shadowing of grazing light, default on),
+/// then the nested bsdf with `tex` as its `normal_texture` (one a material).
+fn perturbed(
+    cx: &Cx,
+    p: &Plugin,
+    inner: Node,
+    field: &str,
+    warnings: &mut Vec<String>,
+    tex: SceneTexture,
+) -> Result<Read> {
+    if !p.boolean_or(cx, "flip_invalid_normals", true)? {
+        let message = "only Mitsuba's default `true` is supported";
+        let name = "flip_invalid_normals";
+        return Err(cx.err(p.node_of(name), &p.at(name), message));
+    }
+    let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
+    p.done(cx)?;
+    let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
+    if read.normal_texture.is_some() {
+        let nested = if read.material.bump.is_some() {
+            "bumpmap"
+        } else {
+            "normalmap"
+        };
+        let message = format!("a `{nested}` inside a `{}` is not supported", p.kind);
+        return Err(cx.err(inner, field, message));
+    }
+    read.normal_texture = Some(tex);
+    read.material.normal_shadowing = shadowing;
+    Ok(read)
 }
 
 /// The microfacet roughness of a rough plugin, as Mitsuba's microfacet plugins read it:
@@ -201,7 +236,7 @@ fn conductor_ior(cx: &Cx, p: &Plugin) -> Result<(Vec3, Vec3)> {
 pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>) -> Result<Read> {
     let p = Plugin::new(cx, node, field.to_string())?;
     let kind = p.kind.as_str();
-    let wrapper = kind == "twosided" || kind == "normalmap" || kind == "mask";
+    let wrapper = matches!(kind, "twosided" | "normalmap" | "bumpmap" | "mask");
     if let Some(&extra) = p.objects.get(usize::from(wrapper)) {
         let tag = extra.tag_name().name();
         let message = format!("unsupported <{tag}> inside a `{kind}` bsdf");
@@ -234,21 +269,15 @@ pub(crate) fn bsdf(cx: &Cx, node: Node, field: &str, warnings: &mut Vec<String>)
                 return Err(cx.err(p.node_of("normalmap"), field, message));
             };
             let tex = texture(cx, t, &p.at("normalmap"))?;
-            if !p.boolean_or(cx, "flip_invalid_normals", true)? {
-                let message = "only Mitsuba's default `true` is supported";
-                let name = "flip_invalid_normals";
-                return Err(cx.err(p.node_of(name), &p.at(name), message));
-            }
-            // Mitsuba's shadowing of grazing light by the perturbed normal (default on).
-            let shadowing = p.boolean_or(cx, "use_shadowing_function", true)?;
-            p.done(cx)?;
-            let mut read = bsdf(cx, inner, &format!("{field}.bsdf"), warnings)?;
-            if read.normal_texture.is_some() {
-                let message = "a `normalmap` inside a `normalmap` is not supported";
-                return Err(cx.err(inner, field, message));
-            }
-            read.normal_texture = Some(tex);
-            read.material.normal_shadowing = shadowing;
+            return perturbed(cx, &p, inner, field, warnings, tex);
+        }
+        "bumpmap" => {
+            // Mitsuba 3's `bumpmap`: the nested bsdf with the normal that the gradient of a
+            // height texture tilts (bumpmap.rs).
+            let inner = nested_bsdf(cx, &p, node, field)?;
+            let (tex, scale) = crate::importers::mitsuba::bumpmap::height(cx, &p, field)?;
+            let mut read = perturbed(cx, &p, inner, field, warnings, tex)?;
+            read.material.bump = Some(scale);
             return Ok(read);
         }
         "mask" => {

@@ -15,6 +15,7 @@
 
 mod blend;
 mod bsdf;
+mod bumpmap;
 mod cie;
 mod emitter;
 mod include;

@@ -123,6 +123,15 @@ impl<'a> Plugin<'a> {
         Some(*node)
     }
 
+    /// The names of every `<texture>` parameter (whatever its name: Mitsuba's `bumpmap` takes
+    /// its one texture by type), not marked read.
+    pub fn texture_names(&self) -> Vec<String> {
+        (self.params.iter())
+            .filter(|(_, node, _)| node.tag_name().name() == "texture")
+            .map(|(name, _, _)| name.clone())
+            .collect()
+    }
+
     /// Marks parameters the importer accepts but does not use.
     pub fn ignore(&self, names: &[&str]) {
         for (name, _, read) in &self.params {

@@ -140,9 +140,11 @@ pub const TRIANGLE_WORDS: u32 = 3;
 /// Words per `Sphere`.
 pub const SPHERE_WORDS: u32 = 2;
 /// Words per `Material`.
-pub const MATERIAL_WORDS: u32 = 5;
+pub const MATERIAL_WORDS: u32 = 6;
 /// The word of a `Material` whose last member is its normal map (the intersection's read).
 pub const MATERIAL_NORMAL_WORD: u32 = 1;
+/// The word of a `Material` whose first two members are its bump map's scale and flag.
+pub const MATERIAL_BUMP_WORD: u32 = 5;
 /// The word of a `Material` that is its alpha test: mode, texture, factor, cutoff.
 pub const MATERIAL_ALPHA_WORD: u32 = 2;
 /// A `Material`'s `blend_first` when it is not a blend.
@@ -309,6 +311,7 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("MATERIAL_WORDS", U32(MATERIAL_WORDS)),
         ("MATERIAL_NORMAL_WORD", U32(MATERIAL_NORMAL_WORD)),
         ("MATERIAL_ALPHA_WORD", U32(MATERIAL_ALPHA_WORD)),
+        ("MATERIAL_BUMP_WORD", U32(MATERIAL_BUMP_WORD)),
         ("MEDIUM_WORDS", U32(MEDIUM_WORDS)),
         ("F32_MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
         ("F32_EPSILON", F32(f32::EPSILON)),

@@ -70,6 +70,10 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
                 .iter()
                 .any(|m| m.normal_texture != crate::scene::NO_TEXTURE) as u32 as f64,
         ),
+        (
+            "HAS_BUMP_MAPS",
+            scene.materials.iter().any(|m| m.bump.is_some()) as u32 as f64,
+        ),
         ("HAS_UVS", meshes(|s| !s.uvs.is_empty()) as u32 as f64),
         (
             "HAS_TANGENTS",

@@ -108,6 +108,15 @@ pub struct GpuMaterial {
     pub normal_shadowing: u32,
     /// The blend's weight: the probability of `blend_second`, a slot word (`Param::word`).
     pub blend_weight: [u32; 4],
+    /// A bump map's scale (`Material::bump`; word `MATERIAL_BUMP_WORD`, which the
+    /// intersection reads alone).
+    pub bump_scale: f32,
+    /// 1 when `normal_texture` is a bump map's height texture.
+    pub bump: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
 }
 
 /// Twin of WGSL `Light`: a light's kind (its code in `lights::KINDS`) and photon budgets,
@@ -283,8 +292,9 @@ pub struct GpuMapParams {
 // The word counts the WGSL accessors use (codes::*_WORDS) are the twins' sizes.
 const _: () = {
     use crate::integrators::gpu::codes::{
-        LIGHT_EMISSION_WORD, LIGHT_WORDS, MATERIAL_ALPHA_WORD, MATERIAL_NORMAL_WORD,
-        MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS, TRIANGLE_WORDS,
+        LIGHT_EMISSION_WORD, LIGHT_WORDS, MATERIAL_ALPHA_WORD, MATERIAL_BUMP_WORD,
+        MATERIAL_NORMAL_WORD, MATERIAL_WORDS, MEDIUM_WORDS, PHOTON_WORDS, SPHERE_WORDS,
+        TRIANGLE_WORDS,
     };
     use std::mem::size_of;
     assert!(size_of::<GpuTriangle>() == 16 * TRIANGLE_WORDS as usize);
@@ -296,6 +306,7 @@ const _: () = {
     assert!(
         std::mem::offset_of!(GpuMaterial, normal_texture) / 16 == MATERIAL_NORMAL_WORD as usize
     );
+    assert!(std::mem::offset_of!(GpuMaterial, bump_scale) == 16 * MATERIAL_BUMP_WORD as usize);
     assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) % 16 == 0);
     assert!(std::mem::offset_of!(GpuMaterial, alpha_mode) / 16 == MATERIAL_ALPHA_WORD as usize);
     assert!(size_of::<GpuMedium>() == 16 * MEDIUM_WORDS as usize);
@@ -358,6 +369,10 @@ impl GpuMaterial {
             blend_stores: m.blend.is_some_and(|b| b.stores_photons) as u32,
             normal_shadowing: m.normal_shadowing as u32,
             blend_weight: m.blend.map_or([0; 4], |b| b.weight.word()),
+            bump_scale: m.bump.unwrap_or(0.0),
+            bump: m.bump.is_some() as u32,
+            _pad0: 0,
+            _pad1: 0,
         }
     }
 }

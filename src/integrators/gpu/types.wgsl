@@ -97,6 +97,11 @@ struct Material {
     // 1: the normal map shadows grazing light (Material::normal_shadowing).
     normal_shadowing: u32,
     blend_weight: vec4<u32>,
+    // A bump map's scale and 1 when normal_texture is its height texture (Material::bump).
+    bump_scale: f32,
+    bump: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 struct Light {
