@@ -10,7 +10,7 @@ use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
 use crate::math::geometry::{
     bump_mapped, bump_tangent, inset, normal_mapped, shading_normal, shading_tangent,
-    sphere_partials, sphere_tangent, triangle_tangent, uv_jacobian, vertex_tangent, Ray,
+    sphere_partials, triangle_tangent, uv_jacobian, vertex_tangent, Ray,
 };
 use crate::math::rng::{pcg_hash, to_unit};
 use crate::scene::{Alpha, Scene, FLAT, NO_TEXTURE};
