@@ -99,9 +99,9 @@ pub(crate) fn tangent_fallback(geometry: &Scene, id: u32, normal: Vec3) -> Vec3 
 }
 
 /// Mitsuba's uv partials `(dp_du, dp_dv)` of primitive `id` of `geometry` (geometric normal
-/// `normal`), as its `bumpmap` reads them: a triangle's
-/// corner uvs' Jacobian (zero for a degenerate mapping), its edges without uvs; a sphere's
-/// parameterisation ([`sphere_partials`]).
+/// `normal`), as its `bumpmap` reads them: a triangle's corner uvs' Jacobian (zero for a
+/// degenerate mapping), its edges without uvs; a sphere's parameterisation
+/// ([`sphere_partials`]) in its object frame, turned to the world.
 pub(crate) fn uv_partials(geometry: &Scene, id: u32, normal: Vec3) -> (Vec3, Vec3) {
     if id & SPHERE_BIT == 0 {
         let tri = &geometry.triangles[id as usize];
@@ -153,8 +153,9 @@ pub(crate) fn shading_frame(
 /// The uv tangent of triangle `id` of `scene` at barycentrics `(1 - u - v, u, v)` and
 /// whether its frame is flipped, as a normal map reads it: the triangle's vertex tangents'
 /// ([`vertex_tangent`], flipped by their `w`) where it has them and they do not vanish there,
-/// else its corner uvs' ([`triangle_tangent`], never flipped, as in Mitsuba 3.9.1); `None` without uvs or for a degenerate mapping (the normal
-/// map then takes the shading normal's basis). Twin: `uv_tangent` in
+/// else its corner uvs' ([`triangle_tangent`], never flipped, as in Mitsuba 3.9.1); `None`
+/// without uvs or for a degenerate mapping (the normal map then takes the shading normal's
+/// basis). Twin: `uv_tangent` in
 /// `src/bvh/intersect.wgsl`.
 pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)> {
     let tri = &scene.triangles[id as usize];
