@@ -6,7 +6,8 @@
 // A slot word's value times its texture's channel at uv, as an untextured word.
 fn param_eval(w: vec4<u32>, uv: vec2<f32>) -> vec4<u32> {
     let v = bitcast<vec3<f32>>(w.xyz);
-    if w.w == NO_TEXTURE {
+    // Without textures in the scene the specialised kernel keeps no texture code.
+    if !HAS_TEXTURES || w.w == NO_TEXTURE {
         return w;
     }
     let t = w.w & ((1u << PARAM_TEXTURE_BITS) - 1u);

@@ -36,6 +36,7 @@ pub mod run;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod shape;
+pub mod specialise;
 pub mod texture_buffers;
 pub mod textures;
 pub mod types;

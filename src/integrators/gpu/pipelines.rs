@@ -6,6 +6,7 @@ use crate::integrators::gpu::bindings::Layouts;
 use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::shaders::Kernel;
 use crate::integrators::gpu::shape::KernelShape;
+use crate::integrators::gpu::specialise::specialise;
 use crate::scene::Scene;
 
 /// Per-lane loop budget on a CPU device (lavapipe): 65,535 iterations per 8-lane SIMD group
@@ -165,6 +166,67 @@ pub fn shader_module_of(dev: &wgpu::Device, label: &str, source: String) -> wgpu
     })
 }
 
+/// A kernel family's composed WGSL, parsed and validated once by naga; each entry point gets
+/// a module of its own, specialised to the render's constants (`gpu::specialise`).
+struct Family {
+    label: &'static str,
+    source: String,
+    /// `None` when naga rejects the source: wgpu then reports the error on the WGSL itself.
+    parsed: Option<(naga::Module, naga::valid::ModuleInfo)>,
+}
+
+impl Family {
+    fn new(label: &'static str, source: String) -> Self {
+        let parsed = naga::front::wgsl::parse_str(&source).ok().and_then(|m| {
+            let info = naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&m)
+            .ok()?;
+            Some((m, info))
+        });
+        Family {
+            label,
+            source,
+            parsed,
+        }
+    }
+
+    /// The module of entry point `entry` and the override constants it still takes: those
+    /// sizing arrays when specialised, else all of `constants` with the whole WGSL (a module naga cannot
+    /// specialise is left for wgpu to compile or report).
+    fn entry<'c>(
+        &self,
+        dev: &wgpu::Device,
+        entry: &str,
+        constants: &[(&'c str, f64)],
+    ) -> (wgpu::ShaderModule, Vec<(&'c str, f64)>) {
+        let label = format!("{} ({entry})", self.label);
+        if let Some((module, info)) = &self.parsed {
+            if let Ok(m) = specialise(module, info, entry, constants) {
+                // Overrides sizing workgroup arrays stay overrides.
+                let kept = constants
+                    .iter()
+                    .filter(|(name, _)| {
+                        m.overrides
+                            .iter()
+                            .any(|(_, o)| o.name.as_deref() == Some(*name))
+                    })
+                    .copied()
+                    .collect();
+                let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(m)),
+                });
+                return (module, kept);
+            }
+        }
+        let module = shader_module_of(dev, self.label, self.source.clone());
+        (module, constants.to_vec())
+    }
+}
+
 /// The pipeline layout of groups 0 (scene) and 1 (`group1`).
 pub fn pipeline_layout(
     dev: &wgpu::Device,
@@ -195,16 +257,17 @@ impl Pipelines {
         let map_layout = pipeline_layout(dev, "photon map pipeline layout", layouts, &layouts.map);
         let gather_layout =
             pipeline_layout(dev, "gather pipeline layout", layouts, &layouts.gather);
-        let pipeline = |m: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, entry: &str| {
+        let pipeline = |family: &Family, layout: &wgpu::PipelineLayout, entry: &str| {
+            let (module, constants) = family.entry(dev, entry, constants);
             // build_cache clears what it reads of its 14 KB of workgroup memory itself.
             let zero = entry != "build_cache";
             dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
-                module: m,
+                module: &module,
                 entry_point: Some(entry),
                 compilation_options: wgpu::PipelineCompilationOptions {
-                    constants,
+                    constants: &constants,
                     zero_initialize_workgroup_memory: zero,
                 },
                 cache: None,
@@ -213,11 +276,14 @@ impl Pipelines {
         let split = constants
             .iter()
             .any(|&(n, v)| n == "GLASS_SPLIT" && v != 0.0);
-        let trace = shader_module(dev, Kernel::TracePhotons);
-        let grid = shader_module(dev, Kernel::BuildGrid);
+        let family = |k: Kernel| Family::new(k.name(), k.source());
+        let trace = family(Kernel::TracePhotons);
+        let grid = family(Kernel::BuildGrid);
         let gather = match crate::integrators::gpu::faults::injected() {
-            Some(crate::integrators::gpu::faults::Fault::Shader) => malformed_module(dev),
-            _ => shader_module(dev, Kernel::Gather),
+            Some(crate::integrators::gpu::faults::Fault::Shader) => {
+                Family::new("gather (malformed)", malformed_source())
+            }
+            _ => family(Kernel::Gather),
         };
         let p = Pipelines {
             trace_photons: pipeline(&trace, &map_layout, "trace_photons"),
@@ -251,7 +317,7 @@ impl Pipelines {
 
 /// The gather kernel cut short and ended by a stray token (an injected shader fault,
 /// `gpu::faults`): a parse error.
-fn malformed_module(dev: &wgpu::Device) -> wgpu::ShaderModule {
+fn malformed_source() -> String {
     let source = Kernel::Gather.source();
     let mut half = source.len() / 2;
     while !source.is_char_boundary(half) {
@@ -259,9 +325,5 @@ fn malformed_module(dev: &wgpu::Device) -> wgpu::ShaderModule {
     }
     // A token no WGSL parses after the cut: the half alone may end between two whole
     // functions and parse, failing only later at the missing entry point.
-    let cut = format!("{}\n@@ malformed", &source[..half]);
-    dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("gather (malformed)"),
-        source: wgpu::ShaderSource::Wgsl(cut.into()),
-    })
+    format!("{}\n@@ malformed", &source[..half])
 }
