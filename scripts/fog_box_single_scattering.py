@@ -20,11 +20,19 @@ Measured (2026-12-05, media4): with the light 0.05 above the top face (y = 0.47)
 and 38 give integral 1.91 and 1.53, gpu-photon 1.71 and 1.43, Mitsuba 0.84 and 0.75 (scalar_rgb
 at 1,024 spp the same); with the light 0.14 above (y = 0.56) integral 1.39 and 1.21,
 gpu-photon 1.38 and 1.24, Mitsuba 1.20 and 1.21. Mitsuba's single scattering there falls as
-the light comes closer, which the integral cannot do: its volpath under-counts light just
-outside a null boundary; we do not reproduce that.
+the light comes closer, which the integral cannot do. Why (2026-12-05, media6): the light's
+surface was then a black `diffuse`; volpath's shadow ray, after crossing the null face, is
+spawned offset along the face's normal (about 1.4e-4 here) but keeps the distance left as
+measured from the unshifted point, less only ShadowEpsilon (8.9e-4) of the whole distance, so
+from points less than about 0.16 below the light it runs past the light's plane, hits the
+light itself, and its opaque surface stops it. With the light's surface `null` (the scene now
+has it so; --opaque-light restores the black diffuse) rows 37 and 38 at 0.05 above give
+Mitsuba 1.59 and 1.59 at 256 spp (opaque 0.84 and 0.75): the integral's 1.91 and 1.53 within
+that render's noise near the light.
 
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
     python3 scripts/fog_box_single_scattering.py --heights 0.47,0.56 [--spp 256] [--ours DIR]
+        [--opaque-light]
 """
 import argparse
 import os
@@ -39,8 +47,12 @@ SIGMA_T, ALBEDO, LE, TOP = 0.8, 0.8, 17.0, 0.42
 ORIGIN, TARGET, FOV, RES = np.array([0, 0.6, 4.0]), np.array([0, -0.2, 0.0]), 40.0, 128
 
 
-def scene_xml(light_y, max_depth):
+def scene_xml(light_y, max_depth, opaque_light=False):
     xml = open(SCENE).read()
+    if opaque_light:
+        black = '<bsdf type="diffuse"><rgb name="reflectance" value="0, 0, 0"/></bsdf>'
+        head, tail = xml.rsplit('<bsdf type="null"/>', 1)
+        xml = head + black + tail
     xml = re.sub(r'name="max_depth" value="\d+"', f'name="max_depth" value="{max_depth}"', xml)
     return re.sub(r'(<rotate x="1" angle="90"/><translate y=")[0-9.]+', rf"\g<1>{light_y}", xml)
 
@@ -81,10 +93,11 @@ def main():
     ap.add_argument("--spp", type=int, default=256)
     ap.add_argument("--ours", help="folder with gpu-photon's fog-box-LIGHTY.exr renders")
     ap.add_argument("--rows", default="36,37,38")
+    ap.add_argument("--opaque-light", action="store_true", help="the light's surface black diffuse")
     args = ap.parse_args()
     mi.set_variant("llvm_ad_rgb")
     for h in [float(s) for s in args.heights.split(",")]:
-        xml = scene_xml(h, 2)
+        xml = scene_xml(h, 2, args.opaque_light)
         if args.ours:
             with open(os.path.join(args.ours, f"fog-box-{h}.xml"), "w") as out:
                 out.write(xml.replace('filename="', f'filename="{ROOT}/scenes/mitsuba/'))

@@ -788,6 +788,7 @@ fn sealed_box(albedo: Vec3) -> Scene {
         lights: vec![],
         media: vec![],
         camera_medium: gpu_photon::media::NO_MEDIUM,
+        outer_medium: gpu_photon::media::NO_MEDIUM,
         instancing: Default::default(),
         settings: RenderSettings::default(),
     }

@@ -198,7 +198,7 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
                 filter_kind, mode, max_depth, max_photon_bounces, shadow_samples, fresnel, n_lights, n_bounds,
                 n_triangles, terms, caustic_weight, sampler, pixel_filter, filter_param,
                 aperture_radius, focus_distance, camera_medium, first_row, branch_round, orthographic,
-                _pad),
+                outer_medium),
         ),
         ("Medium", fields!(GpuMedium: sigma_t, g, sigma_s, grid)),
         ("Branch", fields!(GpuBranch: o, depth, d, medium, t, _pad)),

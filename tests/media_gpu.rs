@@ -387,6 +387,68 @@ fn device_photon_paths_through_fog_equal_the_cpus() {
     assert!(g.volume.iter().all(|p| p.normal == 0));
 }
 
+/// Lights inside a bounded medium (issue 41): fog inside a `null` sphere, the camera in it,
+/// a point and a spot light in it and a sun outside over a floor. Their photons start in the
+/// medium `enclosing_medium` finds (the sun's outside the sphere, in `Scene::outer_medium`,
+/// not the camera's); the device's photon paths are the CPU's.
+#[test]
+fn device_photons_of_lights_in_a_bounded_medium_equal_the_cpus() {
+    let Some(ctx) = gpu() else { return };
+    let text = r#"
+[camera]
+eye = [0, 0, 0.5]
+target = [0, 0, 0]
+up = [0, 1, 0]
+fov = 60.0
+width = 4
+height = 4
+medium = "fog"
+
+[media.fog]
+sigma_t = [0.6, 1.0, 1.5]
+albedo = 0.8
+
+[materials.boundary]
+type = "null"
+
+[materials.floor]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1.0
+material = "boundary"
+interior = "fog"
+
+[[shapes]]
+type = "quad"
+corners = [[-3, -1.5, 3], [3, -1.5, 3], [3, -1.5, -3], [-3, -1.5, -3]]
+material = "floor"
+
+[[lights]]
+type = "point"
+position = [0.2, 0.3, 0]
+intensity = [1, 1, 1]
+
+[[lights]]
+type = "spot"
+position = [-0.3, 0, 0.2]
+direction = [0, -1, 0.3]
+intensity = [2, 2, 2]
+outer_angle = 40.0
+
+[[lights]]
+type = "directional"
+direction = [0.3, -1, 0.2]
+irradiance = [1, 1, 1]
+"#;
+    let scene = load_str(text, "sphere.toml", Path::new(".")).expect("the fog sphere loads");
+    assert_eq!((scene.camera_medium, scene.outer_medium), (0, NO_MEDIUM));
+    assert_same_paths(&ctx, &scene);
+}
+
 /// Heterogeneous fog (issue 41): a coloured 8 x 6 x 4 grid of lumpy density over the box, so
 /// the majorant walk crosses cells; the device's delta-tracked photon paths are the CPU's
 /// (`medium_flight`, on the same streams).

@@ -78,9 +78,10 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     // Chance at seed 1, not bias: two firefly blocks of 432 since the first volume radius is
     // sized from the media's box (its 4 x 4 blocks scatter +-30%); seeds 2 and 3 pass.
     ("participating_media/test_hetero_spectral_sigmat_volpathmis.xml", Known::Off(0.0208)),
-    ("participating_media/test_homo_dielectric_envmap_volpath.xml", Known::Off(0.0074)),
     // Means within 0.2%; the rough base's dim glow (paths of 4+ rough events to the spot) is
     // noisy and 7% dark beyond max_depth 4 (scripts/media_suite_probe.py --box 4,28,44,40).
+    // Bias, not chance: block (5, 10), the base's bottom rim, fails at seeds 1, 2 and 3 at
+    // 0.03-0.13 of the reference; at max_depth 6 ours has 3% of Mitsuba's light there.
     ("participating_media/test_homo_roughdielectric_spot_volpath.xml", Known::Off(0.0020)),
 ];
 

@@ -36,12 +36,12 @@ fn light_medium(l: Light, e: Emission) -> u32 {
     return medium_interface_after(material_media[s.material], params.camera_medium, e.normal, e.dir);
 }
 
-// cpu::media::photon_medium: light_medium, except for an area light whose shape bounds no
-// medium (callers are behind HAS_MEDIA): the medium enclosing_medium finds along the photon's ray
-// from o.
+// cpu::media::photon_medium: light_medium for an area light whose shape bounds a medium, else
+// (a light without a surface, or a shape that bounds none; callers are behind HAS_MEDIA) the
+// medium enclosing_medium finds along the photon's ray from o.
 fn photon_medium(l: Light, e: Emission, o: vec3<f32>) -> u32 {
     let s = light_material(l);
-    if !s.ok || any(material_media[s.material] != vec2<u32>(NO_MEDIUM)) {
+    if s.ok && any(material_media[s.material] != vec2<u32>(NO_MEDIUM)) {
         return light_medium(l, e);
     }
     return enclosing_medium(o, e.dir);
@@ -49,7 +49,7 @@ fn photon_medium(l: Light, e: Emission, o: vec3<f32>) -> u32 {
 
 // cpu::media::enclosing_medium: the side of the first surface bounding a medium along the ray
 // from o (interior when leaving through its front), past at most MAX_CROSSINGS that bound
-// none; the camera's medium when there is none.
+// none; the medium outside every shape (Scene::outer_medium) when there is none.
 fn enclosing_medium(o_in: vec3<f32>, d: vec3<f32>) -> u32 {
     var o = o_in;
     for (var k = 0u; k < MAX_CROSSINGS && spend(); k += 1u) {
@@ -63,7 +63,7 @@ fn enclosing_medium(o_in: vec3<f32>, d: vec3<f32>) -> u32 {
         }
         o = offset_origin(hit.position, hit.normal, d);
     }
-    return params.camera_medium;
+    return params.outer_medium;
 }
 
 // Medium::transmittance: exp(-sigma_t t) per channel; a clear channel transmits everything

@@ -485,9 +485,11 @@ impl SceneBuilder {
             lights: self.lights,
             media: self.media.media,
             camera_medium: self.media.camera,
+            outer_medium: self.media.camera,
             settings: self.settings,
             instancing: self.instancing,
         };
+        scene.outer_medium = scene.medium_outside();
         // A textured emitter's power includes its texture's mean (crate::lights::emission).
         for l in 0..scene.lights.len() {
             let mean = crate::lights::emission::texture_mean(&scene, l);

@@ -15,6 +15,7 @@ mod group_build;
 pub mod instances;
 pub mod locate;
 pub mod normals;
+mod outer_medium;
 pub mod sdf_build;
 pub mod sdf_grid;
 pub mod shapes;
@@ -66,6 +67,9 @@ pub struct Scene {
     pub media: Vec<crate::media::Medium>,
     /// The medium the camera sits in, or `crate::media::NO_MEDIUM` (vacuum).
     pub camera_medium: u32,
+    /// The medium outside every shape ([`Scene::medium_outside`]), where photons that start
+    /// outside the scene or meet no boundary of a medium travel.
+    pub outer_medium: u32,
     /// Render settings from the file's `[camera]` and `[render]` tables (defaults where
     /// absent).
     pub settings: RenderSettings,
@@ -98,6 +102,7 @@ impl Scene {
             lights: vec![],
             media: vec![],
             camera_medium: crate::media::NO_MEDIUM,
+            outer_medium: crate::media::NO_MEDIUM,
             settings: RenderSettings::default(),
             instancing: Instancing::default(),
         }

@@ -46,26 +46,29 @@ pub fn light_medium(scene: &Scene, l: usize, e: &Emission) -> u32 {
 }
 
 /// The medium a photon of light `l` emitted as `e` starts in from `origin` (its ray's offset
-/// start): [`light_medium`], except for an area light whose shape bounds no medium in a scene
-/// with media. Mitsuba traces from the camera only, so its files need not say which medium
-/// such an emitter sits in (a glowing torus inside a medium-filled sphere): the photon's
-/// medium is then the one [`enclosing_medium`] finds along its ray, point by point of the
-/// emitter, so an emitter that straddles a boundary is right on both sides.
+/// start): [`light_medium`], except in a scene with media for a light without a surface
+/// (point, spot, projector, directional, environment) or an area light whose shape bounds no
+/// medium. Mitsuba traces from the camera only, so its files need not say which medium such a
+/// light sits in (a point light or a glowing torus inside a medium-filled sphere): the
+/// photon's medium is then the one [`enclosing_medium`] finds along its ray, point by point of
+/// the emitter, so an emitter that straddles a boundary is right on both sides, and a
+/// directional light's photons, which start outside the scene, enter a bounded medium at its
+/// boundary.
 pub fn photon_medium(scene: &Scene, bvh: &CpuBvh, l: usize, e: &Emission, origin: Vec3) -> u32 {
-    let medium = light_medium(scene, l, e);
-    let unnamed = scene.lights[l]
+    let named = scene.lights[l]
         .shape
         .material(&scene.triangles, &scene.spheres)
-        .is_some_and(|m| scene.materials[m as usize].media.is_vacuum());
-    match unnamed && !scene.media.is_empty() {
-        true => enclosing_medium(scene, bvh, origin, e.dir),
-        false => medium,
+        .is_some_and(|m| !scene.materials[m as usize].media.is_vacuum());
+    match named || scene.media.is_empty() {
+        true => light_medium(scene, l, e),
+        false => enclosing_medium(scene, bvh, origin, e.dir),
     }
 }
 
 /// The medium at `origin`: the side of the first surface bounding a medium that a ray along
 /// `dir` meets (the interior when the ray leaves through its front), past surfaces that bound
-/// none, at most [`MAX_CROSSINGS`] of them; the camera's medium when it meets none.
+/// none, at most [`MAX_CROSSINGS`] of them; the medium outside every shape
+/// (`Scene::outer_medium`) when it meets none.
 pub fn enclosing_medium(scene: &Scene, bvh: &CpuBvh, origin: Vec3, dir: Vec3) -> u32 {
     let mut ray = Ray { origin, dir };
     for _ in 0..MAX_CROSSINGS {
@@ -81,7 +84,7 @@ pub fn enclosing_medium(scene: &Scene, bvh: &CpuBvh, origin: Vec3, dir: Vec3) ->
         }
         ray.origin = offset_origin(hit.position, hit.normal, dir);
     }
-    scene.camera_medium
+    scene.outer_medium
 }
 
 /// The fraction of light that travels from `origin` along unit `dir` over `t_max` (infinite:

@@ -69,8 +69,9 @@ fn queue_reset(dispatch: u32) {
 // A camera path's delta bounce (surface_delta's contract). Glass and the thin dielectric as
 // cpu::gather does: on total internal reflection (glass) the reflection, no rng draw; below
 // GLASS_SPLIT_DEPTH the heavier branch (the reflection when reflectance >= 0.5) times its
-// weight, the other pushed on the pixel's stack (unless it leaks); deeper, one draw u <
-// reflectance reflects. Final-gather rays always choose one branch (surface_delta).
+// weight, the other pushed on the pixel's stack; deeper, one draw u < reflectance reflects.
+// A branch on the other side of the geometric surface than its shading normal meant goes on
+// there (Mitsuba's). Final-gather rays always choose one branch (surface_delta).
 fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, depth: u32, medium: u32, rng: ptr<function, Rng>) -> bool {
     if !GLASS_SPLIT || !surface_splits(s) {
         return surface_delta(hit, s, d, o, t, rng);
@@ -82,8 +83,7 @@ fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<functi
     if refracts && depth < GLASS_SPLIT_DEPTH {
         reflects = g.reflectance >= 0.5;
         let later = select(g.reflected, g.refracted, reflects);
-        let leaks = select(reflection_leaks(f, later), refraction_leaks(f, later), reflects);
-        if !leaks && n_branches < GLASS_SPLIT_DEPTH {
+        if n_branches < GLASS_SPLIT_DEPTH {
             var bm = medium;
             if HAS_MEDIA {
                 bm = medium_after(hit, medium, later);
@@ -100,5 +100,5 @@ fn camera_delta(hit: Hit, s: Surface, d: ptr<function, vec3<f32>>, o: ptr<functi
     }
     *d = select(g.refracted, g.reflected, reflects);
     *o = offset_origin(hit.position, hit.normal, *d);
-    return !select(refraction_leaks(f, *d), reflection_leaks(f, *d), reflects);
+    return true;
 }

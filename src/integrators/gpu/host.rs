@@ -69,6 +69,7 @@ pub fn gpu_params(scene: &Scene, s: &RenderSettings, pass: u32, n_bounds: u32) -
         focus_distance: c.focus_distance,
         orthographic: c.orthographic as u32,
         camera_medium: scene.camera_medium,
+        outer_medium: scene.outer_medium,
         ..Default::default()
     }
 }

@@ -235,8 +235,8 @@ pub struct GpuParams {
     pub branch_round: u32,
     /// 1: an orthographic camera (`Camera::orthographic`), else 0.
     pub orthographic: u32,
-    /// Padding to 16 bytes.
-    pub _pad: u32,
+    /// The medium outside every shape (`Scene::outer_medium`).
+    pub outer_medium: u32,
 }
 
 /// Twin of WGSL `Medium`: a homogeneous medium (`crate::media::Medium`) as the kernels use

@@ -178,7 +178,8 @@ struct Params {
     branch_round: u32,
     // 1: an orthographic camera.
     orthographic: u32,
-    _pad: u32,
+    // The medium outside every shape (Scene::outer_medium).
+    outer_medium: u32,
 }
 
 // A homogeneous medium (twin of crate::medium::Medium; sigma_s = albedo sigma_t).
