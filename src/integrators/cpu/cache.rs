@@ -13,7 +13,6 @@ use crate::integrators::plan::{CACHE_NORMAL_COS, CACHE_STRIDE};
 use crate::settings::Filter;
 use glam::Vec3;
 use rayon::prelude::*;
-use std::cell::Cell;
 use std::f32::consts::PI;
 
 /// Whether global photon `p` is a cache point (`(id + depth) % CACHE_STRIDE == 0`).
@@ -122,34 +121,30 @@ impl RadianceCache {
 
     /// The value of the nearest cache point to `x` within the lookup radius whose normal has
     /// a cosine of at least `CACHE_NORMAL_COS` with `n` (ties: lower id, then lower flags),
-    /// or `None` (the caller then estimates from the global map). The grid's search goes out ring by ring from `x`'s cell, skipping the cells
-    /// farther than the best point so far.
+    /// or `None` (the caller then estimates from the global map). The grid's search goes out
+    /// ring by ring from `x`'s cell, skipping the cells farther than the best point so far.
     pub fn lookup(&self, x: Vec3, n: Vec3) -> Option<Vec3> {
-        let Some(grid) = &self.grid else {
-            return None;
+        let grid = self.grid.as_ref()?;
+        let key = |e: &Entry| {
+            let p = &self.points[e.index as usize];
+            (p.id, p.flags)
         };
-        let best_d2 = Cell::new(self.radius2);
+        let x = x.to_array();
         let mut best: Option<&GridPoint<Entry>> = None;
-        grid.nearest(
-            x.to_array(),
-            self.radius2,
-            || best_d2.get(),
-            |p, d2| {
-                if d2 > best_d2.get() || p.data.normal.dot(n) < CACHE_NORMAL_COS {
-                    return;
+        grid.nearest(x, self.radius2, |run, mut bound| {
+            for p in &grid.points[run] {
+                let d2 = p.distance2(x);
+                if d2 > bound || p.data.normal.dot(n) < CACHE_NORMAL_COS {
+                    continue;
                 }
                 // Not farther than the best: nearer, or tied and first by identity.
-                let key = |e: &Entry| {
-                    let p = &self.points[e.index as usize];
-                    (p.id, p.flags)
-                };
-                let better = best.is_none_or(|b| d2 < best_d2.get() || key(&p.data) < key(&b.data));
-                if better {
+                if best.is_none_or(|b| d2 < bound || key(&p.data) < key(&b.data)) {
                     best = Some(p);
-                    best_d2.set(d2);
+                    bound = d2;
                 }
-            },
-        );
+            }
+            bound
+        });
         best.map(|p| p.data.value)
     }
 }

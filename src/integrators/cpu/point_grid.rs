@@ -27,6 +27,17 @@ pub struct GridPoint<T> {
     pub data: T,
 }
 
+impl<T> GridPoint<T> {
+    /// Squared distance to `x`: `dx*dx + dy*dy + dz*dz`, in that order (as the tests' brute
+    /// force computes it).
+    #[inline]
+    pub fn distance2(&self, x: [f32; 3]) -> f32 {
+        let p = self.position;
+        let (dx, dy, dz) = (p[0] - x[0], p[1] - x[1], p[2] - x[2]);
+        dx * dx + dy * dy + dz * dz
+    }
+}
+
 /// Points in hashed cells of one side (see the module's doc).
 pub struct PointGrid<T> {
     /// The cell's side.
@@ -54,6 +65,10 @@ fn slot_of(c: [i32; 3]) -> u32 {
         .wrapping_add((c[1] as u32).wrapping_mul(STEP_Y))
         .wrapping_add((c[2] as u32).wrapping_mul(STEP_Z))
 }
+
+/// Rings of cells whose gaps a nearest-point search computes before it starts (a search of
+/// the cell's radius reaches two).
+const NEAR_RINGS: usize = 2;
 
 /// Up to this many slot runs per search (16 rows, each split in two where it wraps).
 const MAX_RUNS: usize = 2 * MAX_SPAN * MAX_SPAN;
@@ -219,31 +234,44 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
         }
     }
 
-    /// For a nearest-point search: calls `visit(p, d2)` for points `p` within squared
-    /// distance `bound2()` of `x`, ring of cells by ring outwards from `x`'s own, where
-    /// `bound2()` (at most `r2`, any radius) is read before each row of cells and falls as the
-    /// caller finds nearer points. It stops after the ring beyond which every point lies
-    /// farther than `bound2()`. Every point within the final `bound2()` is visited at least
-    /// once (a point whose slot another cell shares may be visited twice).
+    /// For a nearest-point search: calls `scan(points, bound)` for runs `points` of sorted
+    /// points (indices into [`PointGrid::points`]) that hold every point within squared
+    /// distance `bound` of `x` of a row of cells, ring of cells by ring outwards from `x`'s
+    /// own, where `bound` starts at `r2` (any radius) and is what the last `scan` returned
+    /// (at most what it was: the caller's nearest point so far; the caller tests the
+    /// points). It stops after the ring beyond which every point lies farther than `bound`.
+    /// Every point within the final `bound` is in a run (a point whose slot another cell
+    /// shares may be in two).
     #[inline]
-    pub fn nearest<'a>(
-        &'a self,
+    pub fn nearest(
+        &self,
         x: [f32; 3],
         r2: f32,
-        mut bound2: impl FnMut() -> f32,
-        mut visit: impl FnMut(&'a GridPoint<T>, f32),
+        mut scan: impl FnMut(std::ops::Range<usize>, f32) -> f32,
     ) {
         if self.index.is_empty() || r2.is_nan() || r2 < 0.0 || !x.iter().all(|c| c.is_finite()) {
             return;
         }
         let home = x.map(|c| cell_coord(c, self.cell));
         // Squared gap from x to cell `home + o` along axis `a`.
-        let gap = |a: usize, o: i32| {
+        let gap_at = |a: usize, o: i32| {
             let c0 = home[a].wrapping_add(o) as f32 * self.cell;
             let g = (c0 - x[a]).max(x[a] - (c0 + self.cell)).max(0.0);
             g * g
         };
+        // The gaps of the nearest rings, computed once (the rows ask for each many times).
+        let mut near = [[0.0f32; 2 * NEAR_RINGS + 1]; 3];
+        for (a, gaps) in near.iter_mut().enumerate() {
+            for (k, g) in gaps.iter_mut().enumerate() {
+                *g = gap_at(a, k as i32 - NEAR_RINGS as i32);
+            }
+        }
+        let gap = |a: usize, o: i32| match near[a].get((o + NEAR_RINGS as i32) as usize) {
+            Some(&g) => g,
+            None => gap_at(a, o),
+        };
         let rings = ((r2.sqrt() * 1.00001 + 1e-30) / self.cell).ceil() as i32;
+        let mut bound = r2;
         let mut runs = [(0u32, 0u32); 2];
         for s in 0..=rings {
             // Every point outside rings 0..s lies at least this far (squared) from x.
@@ -251,18 +279,18 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
                 let inner = (0..3)
                     .map(|a| gap(a, -s).min(gap(a, s)))
                     .fold(f32::MAX, f32::min);
-                if inner > bound2() {
+                if inner > bound {
                     return;
                 }
             }
             for dz in -s..=s {
                 let gz = gap(2, dz);
                 for dy in -s..=s {
-                    let b2 = bound2();
                     let gyz = gz + gap(1, dy);
-                    if gyz > b2 {
+                    if gyz > bound {
                         continue;
                     }
+                    let b2 = bound;
                     let row = |from: i32, to: i32| {
                         let from = (from..=to).find(|&dx| gyz + gap(0, dx) <= b2)?;
                         let to = (from..=to).rev().find(|&dx| gyz + gap(0, dx) <= b2)?;
@@ -284,7 +312,13 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
                         let mut n = 0;
                         self.row_runs(c, (to - from + 1) as u32, &mut runs, &mut n);
                         for &(first, last) in &runs[..n] {
-                            self.visit_run(first, last, x, bound2(), &mut visit);
+                            let (a, b) = (
+                                self.starts[first as usize] as usize,
+                                self.starts[last as usize + 1] as usize,
+                            );
+                            if a < b {
+                                bound = scan(a..b, bound);
+                            }
                         }
                     }
                 }
@@ -308,12 +342,7 @@ impl<T: Copy + Send + Sync> PointGrid<T> {
             self.starts[last as usize + 1] as usize,
         );
         for p in &self.points[a..b] {
-            let (dx, dy, dz) = (
-                p.position[0] - x[0],
-                p.position[1] - x[1],
-                p.position[2] - x[2],
-            );
-            let d2 = dx * dx + dy * dy + dz * dz;
+            let d2 = p.distance2(x);
             if d2 <= r2 {
                 visit(p, d2);
             }
@@ -383,17 +412,16 @@ pub(crate) mod tests {
             let (mut found, mut none) = (0, 0);
             for q in 0..500 {
                 let x = [next() * 1.2 - 0.1, next() * 0.2 - 0.05, next() * 1.2 - 0.1];
-                let best = std::cell::Cell::new((r * r, u32::MAX));
-                g.nearest(
-                    x,
-                    r * r,
-                    || best.get().0,
-                    |p, d2| {
-                        if (d2, p.data) < best.get() {
-                            best.set((d2, p.data));
+                let mut best = (r * r, u32::MAX);
+                g.nearest(x, r * r, |run, bound| {
+                    for p in &g.points[run] {
+                        let d2 = p.distance2(x);
+                        if d2 <= bound && (d2, p.data) < best {
+                            best = (d2, p.data);
                         }
-                    },
-                );
+                    }
+                    best.0
+                });
                 let want = pts
                     .iter()
                     .enumerate()
@@ -403,7 +431,7 @@ pub(crate) mod tests {
                     })
                     .filter(|e| e.0 <= r * r)
                     .min_by(|a, b| a.partial_cmp(b).unwrap());
-                let got = Some(best.get()).filter(|b| b.1 != u32::MAX);
+                let got = Some(best).filter(|b| b.1 != u32::MAX);
                 assert_eq!(got, want, "query {q} at {x:?}, cell {cell}");
                 if want.is_some() {
                     found += 1
