@@ -180,6 +180,7 @@ impl SceneProbes {
                     )),
                     position: xyz(at(4, i)),
                     normal: xyz(at(5, i)),
+                    shading: [at(6, i)[1], at(6, i)[2], at(6, i)[3]],
                     occluded: at(6, i)[0] == 1.0,
                 }
             })
@@ -213,6 +214,8 @@ pub struct IntersectProbe {
     pub position: [f32; 3],
     /// The hit's geometric normal.
     pub normal: [f32; 3],
+    /// Its shading normal.
+    pub shading: [f32; 3],
     /// Whether the any-hit walk found a hit.
     pub occluded: bool,
 }
