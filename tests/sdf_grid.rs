@@ -395,10 +395,7 @@ fn device_intersects_sdf_grids_as_the_host() {
     let (mut on_grids, mut differ) = (0, 0);
     let mut worst = [0.0f32; 4];
     for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
-        let ray = Ray {
-            origin: Vec3::from_array(c.origin),
-            dir: Vec3::from_array(c.dir),
-        };
+        let ray = c.ray();
         let want = bvh.intersect(&scene, &ray, c.t_max);
         let same = match (g.nearest, want) {
             (None, None) => true,

@@ -146,3 +146,82 @@ impl SdfWords {
         Some(sdf.words)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::media::grid::VolumeGrid;
+    use crate::scene::sdf_grid::SdfGrid;
+    use glam::{Affine3A, Vec3};
+    use std::sync::Arc;
+
+    /// Two placements of one 3 x 3 x 3 plane field and one of a 2 x 2 x 2 one: the values are
+    /// stored once per field, each cell's entry names its grid's record and its corner values
+    /// (`SdfData::corners`, read back from the words), and the world hierarchy lists every
+    /// cell once beside the scene's triangles.
+    #[test]
+    fn cells_name_their_records_and_values() {
+        let field = |res: u32, z0: f32| {
+            let n = (res * res * res) as usize;
+            let data = (0..n)
+                .map(|i| (i / (res * res) as usize) as f32 / (res - 1) as f32 - z0)
+                .collect();
+            let grid = VolumeGrid {
+                res: [res; 3],
+                channels: 1,
+                bbox: [Vec3::ZERO, Vec3::ONE],
+                data,
+            };
+            Arc::new(SdfData::new(grid).unwrap())
+        };
+        let (a, b) = (field(3, 0.3), field(2, 0.6));
+        let mut scene = Scene::empty();
+        let shift = Affine3A::from_translation(Vec3::X * 2.0);
+        scene.sdf_grids = vec![
+            SdfGrid::new(a.clone(), Affine3A::IDENTITY, 0, true),
+            SdfGrid::new(b.clone(), Affine3A::IDENTITY, 1, false),
+            SdfGrid::new(a.clone(), shift, 2, true),
+        ];
+        let first = 5u64;
+        let sdf = SdfWords::pack(&scene, first).unwrap();
+        let flat: Vec<u32> = sdf.words.iter().flatten().copied().collect();
+        let word = |i: u64| f32::from_bits(flat[(i - 4 * first) as usize]);
+        let records: &[GpuSdfGrid] =
+            bytemuck::cast_slice(&sdf.words[..3 * SDF_GRID_WORDS as usize]);
+        assert_eq!(
+            records[0].values, records[2].values,
+            "shared values stored once"
+        );
+        assert_ne!(records[0].values, records[1].values);
+        assert_eq!((records[1].material, records[1].smooth_normals), (1, 0));
+        assert_eq!(records[2].to_world[0][3], 2.0);
+        let n_cells = 2 * a.cells.len() + b.cells.len();
+        assert_eq!(sdf.cells.len(), n_cells);
+        let mut k = 0;
+        for (g, grid) in scene.sdf_grids.iter().enumerate() {
+            let record = first + g as u64 * SDF_GRID_WORDS as u64;
+            for cell in &grid.data.cells {
+                let e = sdf.cells[k];
+                assert_eq!(e._pad1 as u64, record, "cell {k}");
+                assert_eq!(e.v2, cell.corner.as_vec3().to_array());
+                assert_eq!(
+                    [e.v0, e.v1],
+                    [cell.bounds.min, cell.bounds.max].map(|v| v.to_array())
+                );
+                let corners: [f32; 8] =
+                    std::array::from_fn(|i| word(4 * e._pad0 as u64 + i as u64));
+                assert_eq!(corners, grid.data.corners(cell.corner), "cell {k}");
+                let v = records[g].values as u64;
+                assert_eq!(word(v + 5), grid.data.grid.data[5]);
+                k += 1;
+            }
+        }
+        let bvh = world_bvh(&scene);
+        let mut ids = bvh.prim_ids.clone();
+        ids.sort_unstable();
+        let want: Vec<u32> = (0..n_cells as u32)
+            .map(|k| SPHERE_BIT | SDF_BIT | k)
+            .collect();
+        assert_eq!(ids, want);
+    }
+}

@@ -202,6 +202,16 @@ pub struct RayCase {
     pub primitive: u32,
 }
 
+impl RayCase {
+    /// The host's ray.
+    pub fn ray(&self) -> gpu_photon::math::geometry::Ray {
+        gpu_photon::math::geometry::Ray {
+            origin: glam::Vec3::from_array(self.origin),
+            dir: glam::Vec3::from_array(self.dir),
+        }
+    }
+}
+
 /// What the device's intersection gave for one [`RayCase`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IntersectProbe {
