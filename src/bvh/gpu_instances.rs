@@ -12,11 +12,11 @@
 
 use super::gpu_layout::{leaf_prims, traversal_nodes, GpuLeafPrim, TraversalLayout, GPU_COSTS};
 use super::gpu_layout::{FRAME_WORDS, LEAF_COUNT_SHIFT, NODE_WORDS};
-use super::gpu_sdf::SdfWords;
+use super::gpu_sdf::{rows, SdfWords};
 use super::{Bvh, SPHERE_BIT};
 use crate::scene::{Scene, FLAT};
 use bytemuck::{Pod, Zeroable};
-use glam::{Affine3A, Vec2};
+use glam::Vec2;
 
 /// Twin of WGSL `InstanceRecord`: an instance's maps as rows (`xyz` the linear part's row,
 /// `w` the translation's) and the word of its mesh's frame in `nodes`.
@@ -40,12 +40,6 @@ pub struct GpuInstance {
 /// 16-byte words per [`GpuInstance`].
 pub const INSTANCE_WORDS: u32 = (std::mem::size_of::<GpuInstance>() / 16) as u32;
 const _: () = assert!(std::mem::size_of::<GpuInstance>().is_multiple_of(16));
-
-/// The rows of `a`.
-pub(super) fn rows(a: &Affine3A) -> [[f32; 4]; 3] {
-    let m = a.matrix3;
-    std::array::from_fn(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], a.translation[r]])
-}
 
 /// What the `nodes`, `leaf_prims` bindings and the geometry buffers get.
 pub struct GpuGeometry {

@@ -18,6 +18,7 @@ use super::{Bvh, SDF_BIT, SPHERE_BIT};
 use crate::scene::sdf_grid::SdfData;
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
+use glam::Affine3A;
 use std::collections::HashMap;
 
 /// Twin of WGSL `SdfGridRecord`: a placed grid. Maps as rows (`xyz` the linear part's row,
@@ -46,6 +47,13 @@ pub struct GpuSdfGrid {
 /// 16-byte words per [`GpuSdfGrid`].
 pub const SDF_GRID_WORDS: u32 = (std::mem::size_of::<GpuSdfGrid>() / 16) as u32;
 const _: () = assert!(std::mem::size_of::<GpuSdfGrid>().is_multiple_of(16));
+
+/// The rows of `a` (`xyz` the linear part's row, `w` the translation's), as the GPU's records
+/// hold maps (also `super::gpu_instances`').
+pub fn rows(a: &Affine3A) -> [[f32; 4]; 3] {
+    let m = a.matrix3;
+    std::array::from_fn(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], a.translation[r]])
+}
 
 /// The world boxes of every grid's occupied cells with their ids (`SPHERE_BIT | SDF_BIT | k`).
 fn cell_boxes(scene: &Scene) -> Vec<(crate::math::geometry::Aabb, u32)> {
@@ -99,8 +107,8 @@ impl SdfWords {
             });
             let record = first + gi * SDF_GRID_WORDS as u64;
             records.push(GpuSdfGrid {
-                to_object: super::gpu_instances::rows(&g.to_object),
-                to_world: super::gpu_instances::rows(&g.to_world),
+                to_object: rows(&g.to_object),
+                to_world: rows(&g.to_world),
                 res: g.data.grid.res,
                 material: g.material,
                 values: u32::try_from(values).ok()?,
