@@ -16,6 +16,7 @@
 use gpu_photon::bvh;
 use gpu_photon::bvh::gpu_instances::GpuInstance;
 use gpu_photon::bvh::gpu_layout::{GpuBvhFrame, GpuLeafPrim, GpuTraversalNode, LEAF_COUNT_SHIFT};
+use gpu_photon::bvh::gpu_sdf::GpuSdfGrid;
 use gpu_photon::integrators::gpu::bindings::{
     groups_of, Access, Binding, GroupTable, GATHER_GROUP, MAP_GROUP, PARAMS, SCENE_GROUP,
 };
@@ -172,6 +173,10 @@ fn twins() -> Vec<(&'static str, RustStruct)> {
             fields!(GpuInstance: to_object, to_world, frame, _pad0, _pad1, _pad2),
         ),
         ("TraversalNode", fields!(GpuTraversalNode: qx, qy, qz, link)),
+        (
+            "SdfGridRecord",
+            fields!(GpuSdfGrid: to_object, to_world, res, material, values, smooth_normals, _pad0, _pad1),
+        ),
         (
             "LeafPrim",
             fields!(GpuLeafPrim: v0, id, v1, _pad0, v2, _pad1),

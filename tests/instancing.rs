@@ -584,10 +584,7 @@ fn device_walks_instances_as_the_host() {
         let got = probes.intersect(&cases).unwrap();
         let (mut hits, mut differ) = (0, 0);
         for (i, (c, g)) in cases.iter().zip(&got).enumerate() {
-            let ray = Ray {
-                origin: Vec3::from_array(c.origin),
-                dir: Vec3::from_array(c.dir),
-            };
+            let ray = c.ray();
             let want = bvh.intersect(&scene, &ray, c.t_max);
             let same = match (g.nearest, want) {
                 (None, None) => true,

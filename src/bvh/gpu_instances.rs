@@ -12,10 +12,11 @@
 
 use super::gpu_layout::{leaf_prims, traversal_nodes, GpuLeafPrim, TraversalLayout, GPU_COSTS};
 use super::gpu_layout::{FRAME_WORDS, LEAF_COUNT_SHIFT, NODE_WORDS};
+use super::gpu_sdf::{rows, SdfWords};
 use super::{Bvh, SPHERE_BIT};
 use crate::scene::{Scene, FLAT};
 use bytemuck::{Pod, Zeroable};
-use glam::{Affine3A, Vec2};
+use glam::Vec2;
 
 /// Twin of WGSL `InstanceRecord`: an instance's maps as rows (`xyz` the linear part's row,
 /// `w` the translation's) and the word of its mesh's frame in `nodes`.
@@ -40,18 +41,14 @@ pub struct GpuInstance {
 pub const INSTANCE_WORDS: u32 = (std::mem::size_of::<GpuInstance>() / 16) as u32;
 const _: () = assert!(std::mem::size_of::<GpuInstance>().is_multiple_of(16));
 
-/// The rows of `a`.
-fn rows(a: &Affine3A) -> [[f32; 4]; 3] {
-    let m = a.matrix3;
-    std::array::from_fn(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], a.translation[r]])
-}
-
 /// What the `nodes`, `leaf_prims` bindings and the geometry buffers get.
 pub struct GpuGeometry {
     /// The `nodes` binding's bytes.
     pub nodes: Vec<u8>,
-    /// The `leaf_prims` binding.
+    /// The `leaf_prims` binding's leaf entries.
     pub leaf_prims: Vec<GpuLeafPrim>,
+    /// The words that follow them in the binding: the SDF grids' (`super::gpu_sdf`).
+    pub sdf: Vec<[u32; 4]>,
     /// The scene's geometry with its meshes' appended ([`merged_geometry`]); `None` without
     /// instances (the scene's own is uploaded).
     pub merged: Option<Scene>,
@@ -63,9 +60,11 @@ impl GpuGeometry {
     pub fn of(scene: &Scene, bvh: &Bvh) -> Option<Self> {
         let world = traversal_nodes(bvh)?;
         if scene.instancing.is_empty() {
+            let mut prims = leaf_prims(bvh, scene);
             return Some(GpuGeometry {
                 nodes: world.bytes(),
-                leaf_prims: leaf_prims(bvh, scene),
+                sdf: SdfWords::fill(scene, &mut prims)?,
+                leaf_prims: prims,
                 merged: None,
             });
         }
@@ -150,6 +149,7 @@ impl GpuGeometry {
         }
         Some(GpuGeometry {
             nodes,
+            sdf: SdfWords::fill(scene, &mut prims)?,
             leaf_prims: prims,
             merged: Some(merged),
         })

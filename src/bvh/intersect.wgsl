@@ -218,7 +218,7 @@ struct Facing {
 fn facing(hit: Hit, front: bool) -> Facing {
     let s = select(-1.0, 1.0, front);
     return Facing(s * hit.normal, s * hit.shading,
-        (HAS_SMOOTH || HAS_NORMAL_MAPS) && any(hit.shading != hit.normal));
+        (HAS_SMOOTH || HAS_NORMAL_MAPS || HAS_SDF_GRIDS) && any(hit.shading != hit.normal));
 }
 
 // A reflected direction below the geometric surface carries nothing (smooth triangles only).
@@ -468,7 +468,8 @@ fn walk_bvh(frame: u32, o: vec3<f32>, d: vec3<f32>, best_in: PrimHit, any_hit: b
             break;
         }
         for (var i = 0u; i < count && spend(); i += 1u) {
-            // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id.
+            // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id,
+            // an SDF cell reads them as sdf_intersect_cell does.
             let w = LEAF_PRIM_WORDS * (first + i);
             let w0 = leaf_prims[w];
             let id = w0.w;
@@ -479,6 +480,14 @@ fn walk_bvh(frame: u32, o: vec3<f32>, d: vec3<f32>, best_in: PrimHit, any_hit: b
                 let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
                 if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
                     best = PrimHit(h.x, id, h.yz, true);
+                }
+            } else if HAS_SDF_GRIDS && (id & SDF_BIT) != 0u {
+                // An SDF grid's cell (src/bvh/gpu_sdf.rs): the hit's id names its grid's
+                // record instead, which the surface reads.
+                let g = leaf_prims[w + 2u].w;
+                let t = sdf_intersect_cell(g, w, o, d, best.t);
+                if t >= 0.0 {
+                    best = PrimHit(t, SPHERE_BIT | SDF_BIT | g, vec2<f32>(0.0), true);
                 }
             } else if HAS_SPHERES {
                 let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
@@ -564,7 +573,7 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
     var best = Hit(t_max_in, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0u, NO_LIGHT, vec2<f32>(0.0), false, vec3<f32>(0.0));
     var w = PrimHit(t_max_in, 0u, vec2<f32>(0.0), false);
     // A scene without primitives binds a placeholder node that must not be walked.
-    if !(params.n_triangles == 0u && !HAS_SPHERES) {
+    if !(params.n_triangles == 0u && !HAS_SPHERES && !HAS_SDF_GRIDS) {
         w = walk_bvh(0u, o, d, w, any_hit);
     }
     var inst = NO_LIGHT;
@@ -632,6 +641,15 @@ fn trace_ray(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any_hit: bool) -> Hit {
                 nt = materials[MATERIAL_WORDS * tri.material + MATERIAL_NORMAL_WORD].w;
             }
         }
+    } else if HAS_SDF_GRIDS && (best_id & SDF_BIT) != 0u {
+        // No uv, dp/du or normal map (Mitsuba's sdfgrid has no parameterisation; as the CPU's
+        // SdfBvh::intersect); never a light.
+        let g = best_id & ~(SPHERE_BIT | SDF_BIT);
+        let s = sdf_surface(g, o + w.t * d);
+        best.position = s.position;
+        best.normal = s.normal;
+        best.shading = s.shading;
+        best.material = leaf_prims[g + 6u].w;
     } else {
         let s = load_sphere(best_id & ~SPHERE_BIT);
         let n = normalize(ho + ht * hd - s.center);

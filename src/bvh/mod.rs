@@ -9,6 +9,7 @@
 
 pub mod gpu_instances;
 pub mod gpu_layout;
+pub mod gpu_sdf;
 
 use crate::math::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
 use crate::scene::Scene;
@@ -37,6 +38,9 @@ pub type CpuBvh = WideBvh;
 
 /// Marks a sphere in a leaf's primitive list.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
+/// With [`SPHERE_BIT`], marks an SDF grid's occupied cell in the GPU's hierarchy
+/// ([`gpu_sdf`]); the CPU walks the cells in a tree of their own ([`sdf`]).
+pub const SDF_BIT: u32 = 0x4000_0000;
 /// Maximum primitives in a leaf of the CPU's hierarchy.
 pub const MAX_LEAF: usize = 2;
 /// Depth bound of the tree, and so the traversal stack size on both backends.
@@ -103,11 +107,22 @@ impl Bvh {
 
     /// Builds the hierarchy over every triangle and sphere of `scene` for a walk of `costs`.
     pub fn build_with(scene: &Scene, costs: BuildCosts) -> Self {
+        Self::build_over(scene, std::iter::empty(), 0, costs)
+    }
+
+    /// Builds the hierarchy over every triangle and sphere of `scene` and the `n` `more`
+    /// boxes (with their ids) for a walk of `costs`.
+    pub fn build_over(
+        scene: &Scene,
+        more: impl Iterator<Item = (Aabb, u32)>,
+        n: usize,
+        costs: BuildCosts,
+    ) -> Self {
         let tris = (scene.triangles.iter().map(Aabb::of_triangle)).zip(0u32..);
         let balls =
             (scene.spheres.iter().map(Aabb::of_sphere)).zip((0u32..).map(|i| i | SPHERE_BIT));
-        let n = scene.triangles.len() + scene.spheres.len();
-        let mut bvh = Self::over_boxes(tris.chain(balls), n, costs);
+        let n = scene.triangles.len() + scene.spheres.len() + n;
+        let mut bvh = Self::over_boxes(tris.chain(balls).chain(more), n, costs);
         bvh.alpha = scene.materials.iter().any(|m| m.alpha.is_some());
         bvh
     }

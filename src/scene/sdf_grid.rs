@@ -96,7 +96,7 @@ impl SdfData {
 
     /// The eight corner values of the cell at `c`, corner `i` at `c + (i & 1, i >> 1 & 1,
     /// i >> 2 & 1)`.
-    fn corners(&self, c: UVec3) -> [f32; 8] {
+    pub fn corners(&self, c: UVec3) -> [f32; 8] {
         std::array::from_fn(|i| {
             let i = i as u32;
             self.value(c + UVec3::new(i & 1, (i >> 1) & 1, (i >> 2) & 1))
@@ -295,6 +295,11 @@ fn solve_quadratic(a: f32, b: f32, c: f32) -> (bool, f32, f32) {
     (valid_linear || valid_quadratic, x0, x1)
 }
 
+/// The regula falsi's steps at most (Mitsuba's `sdf_solve_cubic`; the WGSL twin's too).
+pub const CUBIC_STEPS: u32 = 51;
+/// The bracket's width at which it stops.
+pub const CUBIC_TOLERANCE: f32 = 1e-5;
+
 /// Mitsuba's `sdf_solve_cubic`: the first zero in `t_beg..t_end` of minus the cubic of
 /// coefficients `c` (constant first), bracketed between the derivative's roots and refined
 /// by regula falsi to 1e-5 (at most 51 steps).
@@ -322,7 +327,7 @@ fn solve_cubic(t_beg: f32, t_end: f32, c: [f32; 4]) -> Option<f32> {
         return None;
     }
     let mut t = 0.0;
-    for i in 1..=51 {
+    for _ in 0..CUBIC_STEPS {
         t = near + (far - near) * (-f_near / (f_far - f_near));
         let f_t = f(t);
         if f_t * f_near <= 0.0 {
@@ -330,7 +335,7 @@ fn solve_cubic(t_beg: f32, t_end: f32, c: [f32; 4]) -> Option<f32> {
         } else if f_t * f_near > 0.0 {
             (near, f_near) = (t, f_t);
         }
-        if (near - far).abs() < 1e-5 || i > 50 {
+        if (near - far).abs() < CUBIC_TOLERANCE {
             break;
         }
     }

@@ -180,6 +180,7 @@ impl SceneProbes {
                     )),
                     position: xyz(at(4, i)),
                     normal: xyz(at(5, i)),
+                    shading: [at(6, i)[1], at(6, i)[2], at(6, i)[3]],
                     occluded: at(6, i)[0] == 1.0,
                 }
             })
@@ -201,6 +202,16 @@ pub struct RayCase {
     pub primitive: u32,
 }
 
+impl RayCase {
+    /// The host's ray.
+    pub fn ray(&self) -> gpu_photon::math::geometry::Ray {
+        gpu_photon::math::geometry::Ray {
+            origin: glam::Vec3::from_array(self.origin),
+            dir: glam::Vec3::from_array(self.dir),
+        }
+    }
+}
+
 /// What the device's intersection gave for one [`RayCase`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IntersectProbe {
@@ -213,6 +224,8 @@ pub struct IntersectProbe {
     pub position: [f32; 3],
     /// The hit's geometric normal.
     pub normal: [f32; 3],
+    /// Its shading normal.
+    pub shading: [f32; 3],
     /// Whether the any-hit walk found a hit.
     pub occluded: bool,
 }

@@ -9,8 +9,8 @@
 // primitive's test to accum[2 width + i] (a triangle's (t, u, v) of intersect_triangle, a
 // sphere's (t, 0, 0) of intersect_sphere; t < 0 a miss), trace_ray's nearest hit
 // (t, found, material, light as f32 or -1) to accum[3 width + i], its position and normal to
-// accum[4 width + i] and accum[5 width + i], and the any-hit walk's (found, 0, 0, 0) to
-// accum[6 width + i].
+// accum[4 width + i] and accum[5 width + i], and the any-hit walk's found with the nearest
+// hit's shading normal, (found, shading), to accum[6 width + i].
 @compute @workgroup_size(WG_SIZE)
 fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -36,7 +36,7 @@ fn probe_intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     accum[slot(4u, i)] = vec4<f32>(h.position, 0.0);
     accum[slot(5u, i)] = vec4<f32>(h.normal, 0.0);
     let first = trace_ray(o, d, a.w, true);
-    accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, first.found), 0.0, 0.0, 0.0);
+    accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, first.found), h.shading);
 }
 
 // probe_surface: case i < width, (axis, exponent) = accum[i], (u1, u2, flipped, ior) =

@@ -335,6 +335,12 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("NO_TEXTURE", U32(crate::scene::NO_TEXTURE)),
         ("FLAT", U32(crate::scene::FLAT)),
         ("SPHERE_BIT", U32(crate::bvh::SPHERE_BIT)),
+        ("SDF_BIT", U32(crate::bvh::SDF_BIT)),
+        ("CUBIC_STEPS", U32(crate::scene::sdf_grid::CUBIC_STEPS)),
+        (
+            "CUBIC_TOLERANCE",
+            F32(crate::scene::sdf_grid::CUBIC_TOLERANCE),
+        ),
         (
             "FLAG_CAUSTIC",
             U32(crate::integrators::photon::FLAG_CAUSTIC),

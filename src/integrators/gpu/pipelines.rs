@@ -56,6 +56,7 @@ pub fn scene_features(scene: &Scene, knn: bool) -> Vec<(&'static str, f64)> {
             meshes(|s| !s.spheres.is_empty()) as u32 as f64,
         ),
         ("HAS_INSTANCES", !scene.instancing.is_empty() as u32 as f64),
+        ("HAS_SDF_GRIDS", !scene.sdf_grids.is_empty() as u32 as f64),
         // Some light is a delta light (LightKind::is_delta): the gather's shadow rays for them.
         ("HAS_POINT_LIGHTS", scene.has_delta_lights() as u32 as f64),
         ("HAS_SMOOTH", meshes(Scene::has_smooth) as u32 as f64),

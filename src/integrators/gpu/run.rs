@@ -2,7 +2,6 @@
 //! the pipelines, and the current pass's parameters and plan; plus the buffers a pass binds
 //! (the image accumulator, absent maps, uploaded maps) and the gather's group 1.
 
-use crate::bvh::Bvh;
 use crate::error::Result;
 use crate::integrators::gpu::bindings::{bind_group, Layouts, GATHER_GROUP, MAP_SLOTS};
 use crate::integrators::gpu::branches::{band_rows, stack_buffer, BRANCH_LISTS};
@@ -226,7 +225,7 @@ impl GpuRun {
         pass: u32,
         slots: u32,
     ) -> Result<(MapPlan, LightTable, GpuParams, SceneBuffers)> {
-        let bvh = Bvh::build_with(scene, crate::bvh::gpu_layout::GPU_COSTS);
+        let bvh = crate::bvh::gpu_sdf::world_bvh(scene);
         let table = LightTable::new(scene);
         let plan = MapPlan::new(scene, &table, s);
         let lights = budgeted_lights(scene, &table, &plan);

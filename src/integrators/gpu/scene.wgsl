@@ -10,7 +10,8 @@
 @group(0) @binding(1) var<storage, read> spheres: array<vec4<u32>>;
 // The BVH in the traversal's layout (src/bvh/gpu_layout.rs): the BvhFrame, then every
 // TraversalNode in left-first preorder, then every one in right-first preorder; each leaf
-// entry's LeafPrim in leaf order. Read as words too (trace_ray, intersect.wgsl).
+// entry's LeafPrim in leaf order, then the SDF grids' words (src/bvh/gpu_sdf.rs). Read as
+// words too (trace_ray, intersect.wgsl).
 @group(0) @binding(2) var<storage, read> nodes: array<vec4<u32>>;
 @group(0) @binding(3) var<storage, read> leaf_prims: array<vec4<u32>>;
 @group(0) @binding(4) var<storage, read> materials: array<vec4<u32>>;
@@ -37,6 +38,9 @@
 // Scene features, set per render as pipeline-overridable constants: code for what a scene
 // lacks folds away when the pipeline is compiled.
 override HAS_SPHERES: bool = true;
+// The scene has SDF grids (Mitsuba's sdfgrid, src/bvh/gpu_sdf.rs): the world hierarchy holds
+// their cells, which walk_bvh tests and trace_ray shades (src/scene/sdf_grid.wgsl).
+override HAS_SDF_GRIDS: bool = true;
 // The scene has instances (src/bvh/gpu_instances.rs): trace_ray walks their top level.
 override HAS_INSTANCES: bool = true;
 override HAS_POINT_LIGHTS: bool = true;

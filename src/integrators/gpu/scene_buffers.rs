@@ -67,11 +67,14 @@ impl SceneBuffers {
         if normals.is_empty() {
             normals.push(GpuShadingNormals::default());
         }
-        let (node_bytes, leaf_prims) = (geometry.nodes, geometry.leaf_prims);
+        let node_bytes = geometry.nodes;
+        // The SDF grids' words follow the leaf entries (bvh/gpu_sdf.rs).
+        let mut leaf_prims: Vec<u8> = bytemuck::cast_slice(&geometry.leaf_prims).to_vec();
+        leaf_prims.extend_from_slice(bytemuck::cast_slice(&geometry.sdf));
         let sizes = [
             ("triangles", std::mem::size_of_val(&tris[..])),
             ("nodes", node_bytes.len()),
-            ("leaf_prims", std::mem::size_of_val(&leaf_prims[..])),
+            ("leaf_prims", leaf_prims.len()),
             ("shading_normals", std::mem::size_of_val(&normals[..])),
             ("uvs", std::mem::size_of_val(&uvs[..])),
         ];

@@ -30,6 +30,7 @@ const RNG: &str = include_str!("../../math/rng.wgsl");
 const SAMPLING: &str = include_str!("../../math/sampling.wgsl");
 const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
+const SDF_GRID: &str = include_str!("../../scene/sdf_grid.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
 const HETEROGENEOUS: &str = include_str!("../../media/heterogeneous.wgsl");
@@ -51,13 +52,14 @@ const GATHER: &str = include_str!("gather.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 24] = [
+const WGSL_FILES: [(&str, &str); 25] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
     ("math/sampling.wgsl", SAMPLING),
     ("integrators/gpu/scene.wgsl", SCENE),
     ("bvh/intersect.wgsl", INTERSECT),
+    ("scene/sdf_grid.wgsl", SDF_GRID),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
     ("media/medium.wgsl", MEDIUM),
@@ -174,6 +176,7 @@ fn compose(own: &[&str]) -> String {
         SAMPLING,
         SCENE,
         INTERSECT,
+        SDF_GRID,
         &lights,
         &bsdfs,
         &textures,

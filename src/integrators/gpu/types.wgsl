@@ -73,6 +73,19 @@ struct LeafPrim {
     _pad1: u32,
 }
 
+// A placed SDF grid (twin of GpuSdfGrid in src/bvh/gpu_sdf.rs): maps as rows, its vertices per
+// axis, material, the flat word of its values, 1 for smooth normals.
+struct SdfGridRecord {
+    to_object: array<vec4<f32>, 3>,
+    to_world: array<vec4<f32>, 3>,
+    res: vec3<u32>,
+    material: u32,
+    values: u32,
+    smooth_normals: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
 struct Material {
     emission: vec3<f32>,
     two_sided: u32,
