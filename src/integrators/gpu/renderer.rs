@@ -38,8 +38,8 @@ fn check_k(s: &RenderSettings) -> Result<()> {
 }
 
 /// What in `scene` the GPU backend cannot render yet, as the refusal's message; `None` when
-/// it renders all of it. Heterogeneous media (issue 41) and SDF grids (issue 40) have no
-/// device twin yet: the GPU refuses them rather than render them wrong.
+/// it renders all of it. SDF grids (issue 40) have no device twin yet: the GPU refuses them
+/// rather than render them wrong.
 pub fn unsupported(scene: &Scene) -> Option<String> {
     if !scene.sdf_grids.is_empty() {
         return Some(
@@ -48,11 +48,7 @@ pub fn unsupported(scene: &Scene) -> Option<String> {
                 .into(),
         );
     }
-    let i = scene.media.iter().position(|m| !m.is_homogeneous())?;
-    Some(format!(
-        "medium {i} is heterogeneous (a grid or volume), which only the CPU backend renders \
-         yet: use --backend cpu"
-    ))
+    None
 }
 
 impl<'s> GpuRenderer<'s> {
