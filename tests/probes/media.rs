@@ -376,17 +376,12 @@ pub struct SegmentSample {
     pub single: [f32; 3],
     /// `gathered_in_medium` on `(seed, Caustic, 0, i)`.
     pub gathered: [f32; 3],
-    /// `in_scattered`'s light without next-event estimation (skip_direct, near, depth 0)
-    /// on `(seed, Camera, 0, i)`.
-    pub beams: [f32; 3],
-    /// Its near gather's point, direction and weight, if it drew one.
-    pub gather: Option<([f32; 3], [f32; 3], [f32; 3])>,
 }
 
 /// The device's camera-segment estimates (`probe_segment`: `single_scattering`,
-/// `gathered_in_medium`, `in_scattered`) in `scene`'s medium 0 over the volume map of
-/// `photons` (spheres of `radius`), with `settings` (seed, mode, shadow samples), per case
-/// (origin, unit direction, length: 3e38 or more for endless).
+/// `gathered_in_medium`) in `scene`'s medium 0 over the volume map of `photons` (spheres of
+/// `radius`), with `settings` (seed, shadow samples), per case (origin, unit direction,
+/// length: 3e38 or more for endless).
 pub fn segments(
     ctx: &GpuContext,
     scene: &Scene,
@@ -402,7 +397,7 @@ pub fn segments(
         ..settings.clone()
     };
     let run = run_with_volume_settings(ctx, scene, photons, radius, &s)?;
-    let mut init = vec![[0f32; 4]; 8 * n];
+    let mut init = vec![[0f32; 4]; 4 * n];
     for (i, (o, d, t)) in cases.iter().enumerate() {
         init[i] = [o[0], o[1], o[2], *t];
         init[n + i] = [d[0], d[1], d[2], 0.0];
@@ -420,14 +415,6 @@ pub fn segments(
         .map(|i| SegmentSample {
             single: v3(out[2 * n + i]),
             gathered: v3(out[3 * n + i]),
-            beams: v3(out[4 * n + i]),
-            gather: (out[5 * n + i][3] == 1.0).then(|| {
-                (
-                    v3(out[5 * n + i]),
-                    v3(out[6 * n + i]),
-                    v3(out[7 * n + i]),
-                )
-            }),
         })
         .collect())
 }

@@ -198,37 +198,42 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
             w = medium_transmittance(m, p.t) / p.pdf;
         }
         let x = o + d * t;
+        // The shadow ray's direction and length, and the light it brings as a * b: one
+        // shadow walk for every kind (a kernel inlines each call site).
+        var wi: vec3<f32>;
+        var t_max = 3.0e38;
+        var distant = true;
+        var a: vec3<f32>;
+        var b = 1.0;
         if HAS_ENVIRONMENT && light.kind == LIGHT_ENVIRONMENT {
-            let wi = hg_sample(m.g, d, u3.y, u3.z);
-            let tr = shadow_transmittance(x, wi, 3.0e38, true, medium, rng);
-            if equiangular {
-                w = medium_transmittance_along(m, o, d, t, rng) / p.pdf;
+            wi = hg_sample(m.g, d, u3.y, u3.z);
+            a = env_radiance(light, wi);
+        } else {
+            let ls = sample_light(light, x, -d, u3);
+            if all(ls.weight == vec3<f32>(0.0)) {
+                continue;
             }
-            l += sig * w * env_radiance(light, wi) * tr;
-            continue;
+            let to_light = ls.point - x;
+            let dist = length(to_light);
+            if !(dist > 0.0) {
+                continue;
+            }
+            wi = to_light / dist;
+            // Light travels along -wi, then on towards the camera (along -d).
+            a = ls.weight;
+            b = hg_eval(m.g, dot(wi, d));
+            distant = ls.distant;
+            // Stop short of an area light's own surface (as the surfaces' shadow rays do).
+            t_max = dist;
+            if !ls.distant && !is_delta_light(light) {
+                t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
+            }
         }
-        let ls = sample_light(light, x, -d, u3);
-        if all(ls.weight == vec3<f32>(0.0)) {
-            continue;
-        }
-        let to_light = ls.point - x;
-        let dist = length(to_light);
-        if !(dist > 0.0) {
-            continue;
-        }
-        let wi = to_light / dist;
-        // Light travels along -wi, then on towards the camera (along -d).
-        let phase = hg_eval(m.g, dot(wi, d));
-        // Stop short of an area light's own surface (as the surfaces' shadow rays do).
-        var t_max = dist;
-        if !ls.distant && !is_delta_light(light) {
-            t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
-        }
-        let tr = shadow_transmittance(x, wi, t_max, ls.distant, medium, rng);
+        let tr = shadow_transmittance(x, wi, t_max, distant, medium, rng);
         if equiangular {
             w = medium_transmittance_along(m, o, d, t, rng) / p.pdf;
         }
-        l += sig * w * ls.weight * phase * tr;
+        l += sig * w * a * b * tr;
     }
     return select(m.sigma_s, vec3<f32>(1.0), hetero) * l / f32(n);
 }
