@@ -6,7 +6,11 @@
 //! transmittance and delta tracking's free flights. The streams are the CPU's, so the
 //! estimates are the CPU's case by case; a logarithm or lookup a few ulps apart may flip a
 //! rare decision, so at most 1% of cases may differ, and the means over every case must
-//! agree within four standard errors. Skips without a device (CI has lavapipe).
+//! agree within four standard errors. The camera side (stage 3) likewise: single
+//! scattering (equiangular points towards the point light, free-flight points for the
+//! directional light and the environment), the final-gather rays' four point estimates and
+//! the beam estimate over one replayed ratio-tracking walk. Skips
+//! without a device (CI has lavapipe).
 
 mod common;
 mod probes;
@@ -16,6 +20,8 @@ use glam::Vec3;
 use gpu_photon::bvh::CpuBvh;
 use gpu_photon::importers::mitsuba::import;
 use gpu_photon::integrators::cpu::media::transmittance;
+use gpu_photon::integrators::cpu::volume_map::VolumeMap;
+use gpu_photon::integrators::photon::{BeamPhotons, Photon};
 use gpu_photon::math::rng::{Rng, Stream};
 use gpu_photon::media::heterogeneous::Heterogeneous;
 use gpu_photon::media::MediumKind;
@@ -51,6 +57,8 @@ fn scene(dir: &Path) -> Scene {
 </medium>
 <shape type="cube"><bsdf type="null"/><ref name="interior" id="smoke"/><transform name="to_world"><scale value="3"/></transform></shape>
 <emitter type="point"><point name="position" x="0" y="4" z="0"/><rgb name="intensity" value="1"/></emitter>
+<emitter type="directional"><vector name="direction" x="0.3" y="-1" z="0.2"/><rgb name="irradiance" value="2"/></emitter>
+<emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
 </scene>
 "#
     );
@@ -224,4 +232,154 @@ fn shadow_walk_through_the_grid_is_the_cpus() {
     assert!(off <= 20, "{off} of 2000 shadow walks differ");
     assert!(dark > 100 && dark < 1900, "{dark} of 2000 dark");
     eprintln!("2000 shadow walks: {dark} dark, {off} differ");
+}
+
+/// Volume photons of medium 0 spread through the grid's box (its corners `lo`, `hi`), depths
+/// 0 to 3, some of them caustic, distinct powers and directions.
+fn volume_photons(lo: Vec3, hi: Vec3, n: usize) -> Vec<Photon> {
+    let mut rng = Rng::new(17, Stream::Photon, 0, 0);
+    (0..n)
+        .map(|i| {
+            let u = Vec3::new(rng.next(), rng.next(), rng.next());
+            let power = Vec3::new(1.0 + rng.next(), 0.5 + rng.next(), 0.2 + rng.next()) * 1e-3;
+            let dir = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5 + 1e-3);
+            let (depth, caustic) = ((i % 4) as u32, i % 7 == 0);
+            Photon::in_medium(
+                lo + (hi - lo) * u,
+                power,
+                dir.normalize(),
+                0,
+                i as u32,
+                depth,
+                caustic,
+            )
+        })
+        .collect()
+}
+
+/// Whether `a` and `b` agree to `rel` of the larger's largest channel.
+fn near(a: [f32; 3], b: [f32; 3], rel: f32) -> bool {
+    let scale = a.iter().chain(&b).fold(0f32, |m, v| m.max(v.abs()));
+    (0..3).all(|k| (a[k] - b[k]).abs() <= rel * scale + 1e-9)
+}
+
+/// The beam estimate through the grid (`beam` with a replayed walk, `probe_beam`): the
+/// CPU's `VolumeMap::beam_through` over `Medium::transmittances` on the same stream, whole
+/// segments and their parts beyond a split (`Transmittances::split`), case by case but for
+/// rare flipped decisions.
+#[test]
+fn beam_through_the_grid_is_the_cpus() {
+    use probes::media::{beam, BeamQuery};
+    let Some(ctx) = gpu() else { return };
+    let dir = common::scratch("hetero-gpu-beam");
+    let scene = scene(&dir);
+    let h = medium(&scene);
+    let m = &scene.media[0];
+    let (photons, r) = (volume_photons(h.sigma_t.lo, h.sigma_t.hi, 20_000), 0.12f32);
+    let map = VolumeMap::build(photons.clone(), r);
+    let n = 600;
+    let queries: Vec<BeamQuery> = cases(h, n)
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let exit = map.exit(Vec3::from(c.o), Vec3::from(c.d));
+            BeamQuery {
+                o: c.o,
+                d: c.d,
+                t_max: c.t,
+                medium: 0,
+                photons: match i % 3 {
+                    0 => BeamPhotons::All,
+                    1 => BeamPhotons::SkipDirect,
+                    _ => BeamPhotons::Caustic,
+                },
+                z: match i % 2 {
+                    0 => 0.0,
+                    _ => 0.5 * c.t.min(exit),
+                },
+            }
+        })
+        .collect();
+    let got = beam(&ctx, &scene, &photons, r, &queries).expect("the probe runs");
+    let seed = RenderSettings::default().seed;
+    let (mut off, mut lit) = (0, 0);
+    for (i, (q, g)) in queries.iter().zip(&got).enumerate() {
+        let t = if q.t_max >= 3.0e38 {
+            f32::INFINITY
+        } else {
+            q.t_max
+        };
+        let (o, d) = (Vec3::from(q.o), Vec3::from(q.d));
+        let tr = m.transmittances(o, d, t, &mut Rng::new(seed, Stream::Photon, 0, i as u32));
+        let (w, far) = tr.split(q.z);
+        let want = w * map.beam_through((o + d * q.z, d, t - q.z), (m, 0), q.photons, &far);
+        off += !near(*g, want.to_array(), 1e-4) as u32;
+        lit += (want.max_element() > 0.0) as u32;
+    }
+    assert!(lit > n / 3, "only {lit} of {n} beams met photons");
+    assert!(off <= n / 100, "{off} of {n} beams differ");
+    eprintln!("{n} beams: {lit} lit, {off} differ");
+}
+
+/// A camera segment's estimates through the grid (`probe_segment`): single scattering
+/// (`cpu::media::single_scattering`: equiangular points towards the point light, free
+/// flights for the directional light and the environment) and a gather ray's four point
+/// estimates (`Gatherer::gathered_in_medium`'s steps), on the CPU's streams, case by case but
+/// for rare flipped decisions.
+#[test]
+fn camera_segments_through_the_grid_are_the_cpus() {
+    use gpu_photon::integrators::cpu::media::single_scattering;
+    use gpu_photon::lights::table::LightTable;
+    let Some(ctx) = gpu() else { return };
+    let dir = common::scratch("hetero-gpu-segment");
+    let scene = scene(&dir);
+    let h = medium(&scene);
+    let m = &scene.media[0];
+    let bvh = CpuBvh::build(&scene);
+    let lights = LightTable::new(&scene);
+    let settings = RenderSettings::default();
+    let (photons, r) = (volume_photons(h.sigma_t.lo, h.sigma_t.hi, 20_000), 0.12f32);
+    let map = VolumeMap::build(photons.clone(), r);
+    let n = 800;
+    let cases: Vec<([f32; 3], [f32; 3], f32)> =
+        cases(h, n).iter().map(|c| (c.o, c.d, c.t)).collect();
+    let device = probes::media::segments(&ctx, &scene, &settings, &photons, r, &cases)
+        .expect("the probe runs");
+    let seed = settings.seed;
+    let (mut single_off, mut gathered_off, mut single_lit, mut gathered_lit) = (0, 0, 0, 0);
+    for (i, ((o, d, t), g)) in cases.iter().zip(&device).enumerate() {
+        let (o, d, i) = (Vec3::from(*o), Vec3::from(*d), i as u32);
+        let t = if *t >= 3.0e38 { f32::INFINITY } else { *t };
+        let mut rng = Rng::new(seed, Stream::Photon, 0, i);
+        let samples = settings.shadow_samples;
+        let single = single_scattering(&scene, &bvh, &lights, o, d, t, 0, samples, &mut rng);
+        single_off += !near(g.single, single.to_array(), 1e-4) as u32;
+        single_lit += (single.max_element() > 0.0) as u32;
+        // Gatherer::gathered_in_medium.
+        let mut rng = Rng::new(seed, Stream::Caustic, 0, i);
+        let (uc, u) = (rng.next(), rng.next());
+        let mut gathered = Vec3::ZERO;
+        for k in 0..4 {
+            let uk = (k as f32 + u) / 4.0;
+            if let Some(p) = m.scatter_in_segment(o, d, (uc, uk), t, &mut rng) {
+                gathered += p.tr_over_pdf * map.point(o + d * p.t, -d, m, 0);
+            }
+        }
+        gathered /= 4.0;
+        gathered_off += !near(g.gathered, gathered.to_array(), 1e-4) as u32;
+        gathered_lit += (gathered.max_element() > 0.0) as u32;
+    }
+    eprintln!(
+        "{n} segments: single scattering {single_lit} lit, {single_off} differ; gathered \
+         {gathered_lit} lit, {gathered_off} differ"
+    );
+    assert!(single_lit > n / 3 && gathered_lit > n / 10);
+    assert!(
+        single_off <= n / 100,
+        "{single_off} of {n} single scatterings differ"
+    );
+    assert!(
+        gathered_off <= n / 100,
+        "{gathered_off} of {n} gathered estimates differ"
+    );
 }

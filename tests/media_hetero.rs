@@ -205,15 +205,6 @@ fn uniform_heterogeneous_media_render_as_homogeneous_ones() {
             );
         }
     }
-    // The GPU backend refuses a heterogeneous medium rather than render it wrong.
-    if common::gpu().is_some() {
-        let e = render(&grid, &settings, Backend::Gpu, Progress::default()).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "medium 0 is heterogeneous (a grid or volume), which only the CPU backend renders \
-             yet: use --backend cpu"
-        );
-    }
 }
 
 /// TOML's `[media.NAME]` with `type = "heterogeneous"`: grid files placed in `bounds` (or the

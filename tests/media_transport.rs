@@ -405,8 +405,14 @@ fn photons_of_delta_lights_start_in_the_medium_around_them() {
     for (kind, light) in [("point", point), ("spot", spot)] {
         let (_, medium, escaped) = balance(&absorbing_sphere(light, false));
         eprintln!("{kind}: medium {medium:.4}, escaped {escaped:.4}, expected {shell:.4}");
-        assert!((medium - shell).abs() < 6e-3, "{kind}: medium {medium}, expected {shell}");
-        assert!((escaped - (1.0 - shell)).abs() < 6e-3, "{kind}: escaped {escaped}");
+        assert!(
+            (medium - shell).abs() < 6e-3,
+            "{kind}: medium {medium}, expected {shell}"
+        );
+        assert!(
+            (escaped - (1.0 - shell)).abs() < 6e-3,
+            "{kind}: escaped {escaped}"
+        );
     }
     let e = 2.0;
     let scene = absorbing_sphere(

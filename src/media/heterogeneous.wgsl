@@ -338,3 +338,154 @@ fn hetero_sample_flight(h: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: ptr
     }
     return Flight(t_max, false, s.weight);
 }
+
+// Transmittances::Steps on the device: one ratio-tracking walk (Heterogeneous::steps, the
+// CPU's numbers in its order) replayed along a beam in order of distance, where the CPU
+// records every step. The walk runs from o over [0, t_max); its distances read s - off (a
+// beam from o + off d: Transmittances::split). `pending`: the step at (k.s, k.mu) is drawn
+// and not applied yet; `zero`: that step is where the walk ran out (it ends at zero).
+struct TrackReplay {
+    w: MajorantWalk,
+    k: Tracking,
+    rng: Rng,
+    h: u32,
+    o: vec3<f32>,
+    d: vec3<f32>,
+    off: f32,
+    tr: vec3<f32>,
+    pending: bool,
+    zero: bool,
+}
+
+// At most BEAM_CHUNK steps of a replay, in order (distances s - off in s.xyzw then u.xyzw,
+// beyond every distance where unused; the estimate after each in t0..t7) and the estimate
+// before the first: what a beam reads over one part of a cell. Fields, not an array: a
+// beam reads it in every one of its unrolled entries, and lavapipe compiles a private
+// array's dynamic index there into far more code.
+const BEAM_CHUNK: u32 = 8u;
+struct ReplaySteps {
+    n: u32,
+    before: vec3<f32>,
+    s: vec4<f32>,
+    u: vec4<f32>,
+    t0: vec3<f32>,
+    t1: vec3<f32>,
+    t2: vec3<f32>,
+    t3: vec3<f32>,
+    t4: vec3<f32>,
+    t5: vec3<f32>,
+    t6: vec3<f32>,
+    t7: vec3<f32>,
+}
+
+// Draws the replay's next step (tracking_next), noting a walk that ran out as a last step.
+// (The walk's parts are copied: naga 30's SPIR-V writer fails on a pointer to a member
+// passed on as an argument.)
+fn replay_draw(r: ptr<function, TrackReplay>) {
+    var w = (*r).w;
+    var k = (*r).k;
+    var rng = (*r).rng;
+    let next = tracking_next(&w, &k, &rng);
+    (*r).w = w;
+    (*r).k = k;
+    (*r).rng = rng;
+    (*r).zero = !next && k.exhausted;
+    (*r).pending = next || (*r).zero;
+}
+
+// Heterogeneous::steps' walk from o along unit d over [0, t_max) on a copy of rng, its
+// distances read less `off`.
+fn replay_start(h: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: Rng, off: f32) -> TrackReplay {
+    var r: TrackReplay;
+    r.h = h;
+    r.o = o;
+    r.d = d;
+    r.off = off;
+    r.rng = rng;
+    r.tr = vec3<f32>(1.0);
+    r.k = Tracking(0.0, 0.0, 0u, false, false);
+    let span = hetero_span(h, o, d, t_max);
+    if span.x < span.y {
+        r.w = majorant_walk_start(h, o, d, span.x, span.y);
+        replay_draw(&r);
+    }
+    return r;
+}
+
+// Applies the pending step as hetero_transmittance does (ratio, roulette), then draws the
+// next; a step that leaves the estimate at zero ends the walk.
+fn replay_apply(r: ptr<function, TrackReplay>) {
+    if (*r).zero {
+        (*r).tr = vec3<f32>(0.0);
+        (*r).pending = false;
+        return;
+    }
+    let x = (*r).o + (*r).d * (*r).k.s;
+    (*r).tr *= max(vec3<f32>(1.0) - hetero_sigma_t_at((*r).h, x) / (*r).k.mu, vec3<f32>(0.0));
+    let q = max((*r).tr.x, max((*r).tr.y, (*r).tr.z));
+    if q < ROULETTE_BELOW {
+        var rng = (*r).rng;
+        (*r).tr = select(vec3<f32>(0.0), (*r).tr / q, rng_next(&rng) < q);
+        (*r).rng = rng;
+    }
+    if all((*r).tr == vec3<f32>(0.0)) {
+        (*r).pending = false;
+    } else {
+        replay_draw(r);
+    }
+}
+
+// The pending step's distance as the beam reads it (beyond every distance when none).
+fn replay_next(r: ptr<function, TrackReplay>) -> f32 {
+    return select(3.4e38, (*r).k.s - (*r).off, (*r).pending);
+}
+
+// Applies the steps before `until` (beam distance) without recording them.
+fn replay_skip(r: ptr<function, TrackReplay>, until: f32) {
+    while replay_next(r) < until && spend() {
+        replay_apply(r);
+    }
+}
+
+// Chunk step j (< BEAM_CHUNK) set to distance s and estimate tr.
+fn replay_set(c: ptr<function, ReplaySteps>, j: u32, s: f32, tr: vec3<f32>) {
+    switch j {
+        case 0u: { (*c).s.x = s; (*c).t0 = tr; }
+        case 1u: { (*c).s.y = s; (*c).t1 = tr; }
+        case 2u: { (*c).s.z = s; (*c).t2 = tr; }
+        case 3u: { (*c).s.w = s; (*c).t3 = tr; }
+        case 4u: { (*c).u.x = s; (*c).t4 = tr; }
+        case 5u: { (*c).u.y = s; (*c).t5 = tr; }
+        case 6u: { (*c).u.z = s; (*c).t6 = tr; }
+        default: { (*c).u.w = s; (*c).t7 = tr; }
+    }
+}
+
+// Applies the next steps before `until`, at most BEAM_CHUNK, recording them in c (a step
+// left pending before `until` starts the next chunk).
+fn replay_fill(r: ptr<function, TrackReplay>, until: f32, c: ptr<function, ReplaySteps>) {
+    (*c).n = 0u;
+    (*c).before = (*r).tr;
+    (*c).s = vec4<f32>(3.4e38);
+    (*c).u = vec4<f32>(3.4e38);
+    while (*c).n < BEAM_CHUNK && replay_next(r) < until && spend() {
+        let s = replay_next(r);
+        replay_apply(r);
+        replay_set(c, (*c).n, s, (*r).tr);
+        (*c).n += 1u;
+    }
+}
+
+// Transmittances::at within a chunk: the estimate after the last step at or before t (the
+// steps are in order, so the last that passes wins).
+fn replay_at(c: ReplaySteps, t: f32) -> vec3<f32> {
+    var tr = c.before;
+    tr = select(tr, c.t0, c.s.x <= t);
+    tr = select(tr, c.t1, c.s.y <= t);
+    tr = select(tr, c.t2, c.s.z <= t);
+    tr = select(tr, c.t3, c.s.w <= t);
+    tr = select(tr, c.t4, c.u.x <= t);
+    tr = select(tr, c.t5, c.u.y <= t);
+    tr = select(tr, c.t6, c.u.z <= t);
+    return select(tr, c.t7, c.u.w <= t);
+}

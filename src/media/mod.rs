@@ -261,7 +261,8 @@ impl Medium {
         }
     }
 
-    /// Whether it is homogeneous (the GPU backend renders only those yet).
+    /// Whether it is homogeneous (the GPU compiles heterogeneous tracking only for scenes with
+    /// another kind: `HAS_HETERO_MEDIA`).
     pub fn is_homogeneous(&self) -> bool {
         matches!(self.kind, MediumKind::Homogeneous)
     }

@@ -193,7 +193,18 @@ fn run_with_volume(
         height: 1,
         ..Default::default()
     };
-    let mut run = GpuRun::new(ctx.clone(), scene, &settings, 0)?;
+    run_with_volume_settings(ctx, scene, photons, radius, &settings)
+}
+
+/// [`run_with_volume`] with the render settings `settings` (its width the cases').
+fn run_with_volume_settings(
+    ctx: &GpuContext,
+    scene: &Scene,
+    photons: &[Photon],
+    radius: f32,
+    settings: &RenderSettings,
+) -> Result<GpuRun> {
+    let mut run = GpuRun::new(ctx.clone(), scene, settings, 0)?;
     run.volume = VolumeBuffers::new(ctx, &run.layouts, photons.len() as u32);
     let n = photons.len() as u32;
     if n > 0 {
@@ -248,6 +259,10 @@ pub struct BeamQuery {
     pub medium: u32,
     /// Which photons count.
     pub photons: BeamPhotons,
+    /// The beam is the segment's part beyond this distance (0: all of it); a heterogeneous
+    /// medium's transmittance is the whole segment's walk on the stream
+    /// `(seed, Photon, 0, i)`, read from there on (`Transmittances::split`).
+    pub z: f32,
 }
 
 /// The device's beam estimate (`beam` in src/integrators/gpu/volume_estimate.wgsl) over `photons` (spheres
@@ -265,7 +280,7 @@ pub fn beam(
     for (i, q) in queries.iter().enumerate() {
         init[i] = [q.o[0], q.o[1], q.o[2], q.t_max];
         init[n + i] = [q.d[0], q.d[1], q.d[2], f32::from_bits(q.medium)];
-        init[2 * n + i] = [q.photons as u32 as f32, 0.0, 0.0, 0.0];
+        init[2 * n + i] = [q.photons as u32 as f32, q.z, 0.0, 0.0];
     }
     let out = dispatch_probe(
         &run,
@@ -350,6 +365,56 @@ pub fn hetero(ctx: &GpuContext, scene: &Scene, cases: &[HeteroCase]) -> Result<V
                 flight: (v3(f), f[3], w[0] == 1.0),
                 walk: (w[1] as u32, w[2], w[3] == 1.0),
             }
+        })
+        .collect())
+}
+
+/// What the device gave for one camera segment of [`segments`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentSample {
+    /// `single_scattering` on the stream `(seed, Photon, 0, i)`.
+    pub single: [f32; 3],
+    /// `gathered_in_medium` on `(seed, Caustic, 0, i)`.
+    pub gathered: [f32; 3],
+}
+
+/// The device's camera-segment estimates (`probe_segment`: `single_scattering`,
+/// `gathered_in_medium`) in `scene`'s medium 0 over the volume map of `photons` (spheres of
+/// `radius`), with `settings` (seed, shadow samples), per case (origin, unit direction,
+/// length: 3e38 or more for endless).
+pub fn segments(
+    ctx: &GpuContext,
+    scene: &Scene,
+    settings: &RenderSettings,
+    photons: &[Photon],
+    radius: f32,
+    cases: &[([f32; 3], [f32; 3], f32)],
+) -> Result<Vec<SegmentSample>> {
+    let n = cases.len().max(1);
+    let s = RenderSettings {
+        width: n as u32,
+        height: 1,
+        ..settings.clone()
+    };
+    let run = run_with_volume_settings(ctx, scene, photons, radius, &s)?;
+    let mut init = vec![[0f32; 4]; 4 * n];
+    for (i, (o, d, t)) in cases.iter().enumerate() {
+        init[i] = [o[0], o[1], o[2], *t];
+        init[n + i] = [d[0], d[1], d[2], 0.0];
+    }
+    let out = dispatch_probe(
+        &run,
+        "probe_segment",
+        &case_buffer(&run, &init),
+        n as u32,
+        None,
+        &[],
+    )?;
+    let v3 = |v: [f32; 4]| [v[0], v[1], v[2]];
+    Ok((0..cases.len())
+        .map(|i| SegmentSample {
+            single: v3(out[2 * n + i]),
+            gathered: v3(out[3 * n + i]),
         })
         .collect())
 }

@@ -119,16 +119,27 @@ fn probe_medium(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // probe_beam: the volume map's beam estimate for query i < width: (o, t_max) = accum[i],
-// (d, medium as bits) = accum[width + i], skip_direct when accum[2 width + i].x > 0; writes
-// beam(...) with the scene's medium to accum[3 width + i].
+// (d, medium as bits) = accum[width + i], (which BEAM_* code, z) = accum[2 width + i].xy;
+// writes beam(...) with the scene's medium over the segment's part beyond z to
+// accum[3 width + i]. A heterogeneous medium's transmittance is the walk of the whole
+// segment on the stream (params.seed, STREAM_PHOTON, 0, i), read from z on
+// (Transmittances::split).
 @compute @workgroup_size(WG_SIZE)
 fn probe_beam(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if i >= params.width { return; }
     let a = accum[slot(0u, i)];
     let b = accum[slot(1u, i)];
+    let c = accum[slot(2u, i)];
     let medium = bitcast<u32>(b.w);
-    let l = beam(a.xyz, b.xyz, a.w, medium, load_medium(medium), u32(accum[slot(2u, i)].x));
+    let m = load_medium(medium);
+    var walk: TrackReplay;
+    if HAS_HETERO_MEDIA && m.grid != NO_MEDIUM {
+        let rng = Rng(path_key(params.seed, STREAM_PHOTON, 0u, i), 0u);
+        walk = replay_start(hetero_record(m), a.xyz, b.xyz, a.w, rng, c.y);
+    }
+    let bt = select(a.w - c.y, a.w, a.w >= 3.0e38);
+    let l = beam(a.xyz + b.xyz * c.y, b.xyz, bt, medium, m, u32(c.x), &walk);
     accum[slot(3u, i)] = vec4<f32>(l, 0.0);
 }
 
@@ -180,4 +191,23 @@ fn probe_hetero(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     accum[slot(6u, i)] = vec4<f32>(select(0.0, 1.0, f.in_medium), cells, depth, select(0.0, 1.0, w.exhausted));
+}
+
+// probe_segment: a camera segment through the scene's medium 0 for case i < width, over the
+// volume map's grid: (o, t) = accum[i] (endless when t >= 3e38), d = accum[width + i].xyz.
+// Writes single_scattering on the stream (params.seed, STREAM_PHOTON, 0, i) to
+// accum[2 width + i] and gathered_in_medium on (params.seed, STREAM_CAUSTIC, 0, i) to
+// accum[3 width + i]. (in_scattered's beams are probe_beam's; a probe of all of it took
+// lavapipe's compiler over ten minutes.)
+@compute @workgroup_size(WG_SIZE)
+fn probe_segment(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.width { return; }
+    let a = accum[slot(0u, i)];
+    let d = accum[slot(1u, i)].xyz;
+    let endless = a.w >= 3.0e38;
+    var rng = Rng(path_key(params.seed, STREAM_PHOTON, 0u, i), 0u);
+    accum[slot(2u, i)] = vec4<f32>(single_scattering(a.xyz, d, a.w, endless, 0u, &rng), 0.0);
+    var rng2 = Rng(path_key(params.seed, STREAM_CAUSTIC, 0u, i), 0u);
+    accum[slot(3u, i)] = vec4<f32>(gathered_in_medium(a.xyz, d, a.w, endless, 0u, &rng2), 0.0);
 }

@@ -144,9 +144,14 @@ fn sample_equiangular(o: vec3<f32>, d: vec3<f32>, t_max: f32, endless: bool, y: 
 // (equiangular; by transmittance for directional lights or a ray through the point), then
 // one shadow ray, weighed by the phase function, sigma_s and the transmittance of both
 // legs; the environment's direction drawn from the phase function. params.shadow_samples
-// estimates per light, averaged, light by light (the CPU's order of random numbers).
+// estimates per light, averaged, light by light (the CPU's order of random numbers). In a
+// heterogeneous medium a transmittance-drawn point is a free flight (hetero_track: none when
+// it leaves the segment), sigma_s is the point's, and an equiangular point's transmittance is
+// ratio-tracked after its shadow ray (Medium::scatter_in_segment, sigma_s_at,
+// transmittance_along, in the CPU's order).
 fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     let m = load_medium(medium);
+    let hetero = HAS_HETERO_MEDIA && m.grid != NO_MEDIUM;
     var l = vec3<f32>(0.0);
     let n = max(params.shadow_samples, 1u);
     for (var k = 0u; k < params.n_lights * n && spend(); k += 1u) {
@@ -159,39 +164,78 @@ fn single_scattering(o: vec3<f32>, d: vec3<f32>, t_seg: f32, endless: bool, medi
         if an.ok {
             p = sample_equiangular(o, d, t_seg, endless, an.y, ut);
         }
-        if !p.ok {
-            p = sample_in_segment(m, uc, ut, t_seg, endless);
+        // sig * w: what the light scattered at x towards o is multiplied by (sig 1 and
+        // m.sigma_s after the sum for a homogeneous medium); `equiangular`: w is drawn after
+        // the shadow ray (heterogeneous).
+        var sig = vec3<f32>(1.0);
+        var w = vec3<f32>(0.0);
+        var t = p.t;
+        var equiangular = false;
+        if hetero {
+            if p.ok {
+                sig = hetero_sigma_s_at(hetero_record(m), o + d * p.t);
+                equiangular = true;
+            } else {
+                let f = hetero_track(hetero_record(m), o, d, select(t_seg, 3.0e38, endless), rng);
+                if !f.found {
+                    continue;
+                }
+                t = f.t;
+                sig = f.sigma_s;
+                w = f.tr_over_pdf;
+            }
+            if all(sig == vec3<f32>(0.0)) {
+                continue;
+            }
+        } else {
+            if !p.ok {
+                p = sample_in_segment(m, uc, ut, t_seg, endless);
+            }
+            if !p.ok {
+                continue;
+            }
+            t = p.t;
+            w = medium_transmittance(m, p.t) / p.pdf;
         }
-        if !p.ok {
-            continue;
-        }
-        let x = o + d * p.t;
-        let w = medium_transmittance(m, p.t) / p.pdf;
+        let x = o + d * t;
+        // The shadow ray's direction and length, and the light it brings as a * b: one
+        // shadow walk for every kind (a kernel inlines each call site).
+        var wi: vec3<f32>;
+        var t_max = 3.0e38;
+        var distant = true;
+        var a: vec3<f32>;
+        var b = 1.0;
         if HAS_ENVIRONMENT && light.kind == LIGHT_ENVIRONMENT {
-            let wi = hg_sample(m.g, d, u3.y, u3.z);
-            l += w * env_radiance(light, wi) * shadow_transmittance(x, wi, 3.0e38, true, medium, rng);
-            continue;
+            wi = hg_sample(m.g, d, u3.y, u3.z);
+            a = env_radiance(light, wi);
+        } else {
+            let ls = sample_light(light, x, -d, u3);
+            if all(ls.weight == vec3<f32>(0.0)) {
+                continue;
+            }
+            let to_light = ls.point - x;
+            let dist = length(to_light);
+            if !(dist > 0.0) {
+                continue;
+            }
+            wi = to_light / dist;
+            // Light travels along -wi, then on towards the camera (along -d).
+            a = ls.weight;
+            b = hg_eval(m.g, dot(wi, d));
+            distant = ls.distant;
+            // Stop short of an area light's own surface (as the surfaces' shadow rays do).
+            t_max = dist;
+            if !ls.distant && !is_delta_light(light) {
+                t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
+            }
         }
-        let ls = sample_light(light, x, -d, u3);
-        if all(ls.weight == vec3<f32>(0.0)) {
-            continue;
+        let tr = shadow_transmittance(x, wi, t_max, distant, medium, rng);
+        if equiangular {
+            w = medium_transmittance_along(m, o, d, t, rng) / p.pdf;
         }
-        let to_light = ls.point - x;
-        let dist = length(to_light);
-        if !(dist > 0.0) {
-            continue;
-        }
-        let wi = to_light / dist;
-        // Light travels along -wi, then on towards the camera (along -d).
-        let phase = hg_eval(m.g, dot(wi, d));
-        // Stop short of an area light's own surface (as the surfaces' shadow rays do).
-        var t_max = dist;
-        if !ls.distant && !is_delta_light(light) {
-            t_max = dist - OFFSET_SCALE * (max_abs(ls.point) + OFFSET_FLOOR) * 4.0;
-        }
-        l += w * ls.weight * phase * shadow_transmittance(x, wi, t_max, ls.distant, medium, rng);
+        l += sig * w * a * b * tr;
     }
-    return m.sigma_s * l / f32(n);
+    return select(m.sigma_s, vec3<f32>(1.0), hetero) * l / f32(n);
 }
 
 // What a camera segment scatters towards the viewer (l), and the near part's gather ray
@@ -213,14 +257,22 @@ struct SegmentLight {
 // photons' bounds takes only the caustic photons' beam, and a point and direction drawn there
 // for the gather ray (four rng numbers; `depth`: the segment's camera depth). Camera rays
 // pass nee = skip_direct = TERM_DIRECT, gather rays take gathered_in_medium instead.
+// In a heterogeneous medium the beams read one ratio-tracking walk of the segment (the CPU's
+// Medium::transmittances, drawn after single scattering: each beam replays it from a copy of
+// rng, and rng passes it once), and the near part's point is a free flight (hetero_track).
 fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, nee: bool, skip_direct: bool, near: bool, depth: u32, rng: ptr<function, Rng>) -> SegmentLight {
     let m = load_medium(medium);
+    let hetero = HAS_HETERO_MEDIA && m.grid != NO_MEDIUM;
     var s: SegmentLight;
     if nee && max3(m.sigma_s) > 0.0 {
         s.l += single_scattering(o, d, t, endless, medium, rng);
     }
     let which = select(BEAM_ALL, BEAM_SKIP_DIRECT, skip_direct);
     let t_max = select(t, 3.0e38, endless);
+    let walk_rng = *rng;
+    if hetero && bitcast<u32>(v_grid[2].y) != 0u {
+        _ = hetero_transmittance(hetero_record(m), o, d, t_max, rng);
+    }
     var zn = 0.0;
     if near && skip_direct && (params.terms & TERM_FINAL_GATHER) != 0u && depth < params.max_depth && max3(m.sigma_s) > 0.0 {
         zn = NEAR_GATHER_FRACTION * min(t_max, volume_exit(o, d));
@@ -233,15 +285,23 @@ fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, 
         var bt = t_max;
         var bw = vec3<f32>(1.0);
         var bwhich = which;
+        var off = 0.0;
         if split && i == 0u {
             bo = o + d * zn;
             bt = t_max - zn;
-            bw = medium_transmittance(m, zn);
+            off = zn;
+            if !hetero {
+                bw = medium_transmittance(m, zn);
+            }
         } else if split {
             bt = zn;
             bwhich = BEAM_CAUSTIC;
         }
-        s.l += bw * beam(bo, d, bt, medium, m, bwhich);
+        var walk: TrackReplay;
+        if hetero {
+            walk = replay_start(hetero_record(m), o, d, t_max, walk_rng, off);
+        }
+        s.l += bw * beam(bo, d, bt, medium, m, bwhich, &walk);
     }
     if !split {
         return s;
@@ -250,6 +310,16 @@ fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, 
     let ut = rng_next(rng);
     let u1 = rng_next(rng);
     let u2 = rng_next(rng);
+    if hetero {
+        let f = hetero_track(hetero_record(m), o, d, zn, rng);
+        if f.found {
+            s.gather = true;
+            s.x = o + d * f.t;
+            s.dir = hg_sample(m.g, d, u1, u2);
+            s.w = f.tr_over_pdf * f.sigma_s;
+        }
+        return s;
+    }
     let p = sample_in_segment(m, uc, ut, zn, false);
     if p.ok {
         s.gather = true;
@@ -263,18 +333,33 @@ fn in_scattered(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, 
 // Gatherer::gathered_in_medium: a final-gather ray's in-scattered light along its segment
 // from o along d (t long, or endless) in `medium`: the point estimate at GATHER_MEDIUM_POINTS
 // distances drawn by transmittance (one channel, the strata of one number), each weighed by
-// the transmittance over its density.
+// the transmittance over its density; in a heterogeneous medium free flights (hetero_track,
+// one each, none when it leaves the segment: Medium::scatter_in_segment).
 fn gathered_in_medium(o: vec3<f32>, d: vec3<f32>, t: f32, endless: bool, medium: u32, rng: ptr<function, Rng>) -> vec3<f32> {
     let uc = rng_next(rng);
     let u = rng_next(rng);
     let m = load_medium(medium);
+    let hetero = HAS_HETERO_MEDIA && m.grid != NO_MEDIUM;
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < GATHER_MEDIUM_POINTS; i += 1u) {
-        let p = sample_in_segment(m, uc, (f32(i) + u) / f32(GATHER_MEDIUM_POINTS), t, endless);
-        if !p.ok {
-            return vec3<f32>(0.0);
+        var x = o;
+        var w = vec3<f32>(0.0);
+        if hetero {
+            let f = hetero_track(hetero_record(m), o, d, select(t, 3.0e38, endless), rng);
+            if !f.found {
+                continue;
+            }
+            x = o + d * f.t;
+            w = f.tr_over_pdf;
+        } else {
+            let p = sample_in_segment(m, uc, (f32(i) + u) / f32(GATHER_MEDIUM_POINTS), t, endless);
+            if !p.ok {
+                return vec3<f32>(0.0);
+            }
+            x = o + d * p.t;
+            w = medium_transmittance(m, p.t) / p.pdf;
         }
-        sum += medium_transmittance(m, p.t) / p.pdf * volume_point(o + d * p.t, -d, medium, m);
+        sum += w * volume_point(x, -d, medium, m);
     }
     return sum / f32(GATHER_MEDIUM_POINTS);
 }

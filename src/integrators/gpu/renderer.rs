@@ -38,14 +38,10 @@ fn check_k(s: &RenderSettings) -> Result<()> {
 }
 
 /// What in `scene` the GPU backend cannot render yet, as the refusal's message; `None` when
-/// it renders all of it. Heterogeneous media (issue 41) have no device twin yet: the GPU
-/// refuses them rather than render them wrong.
-pub fn unsupported(scene: &Scene) -> Option<String> {
-    let i = scene.media.iter().position(|m| !m.is_homogeneous())?;
-    Some(format!(
-        "medium {i} is heterogeneous (a grid or volume), which only the CPU backend renders \
-         yet: use --backend cpu"
-    ))
+/// it renders all of it: every scene the CPU renders today. The one place a kind the device
+/// lacks would be refused, rather than rendered wrong.
+pub fn unsupported(_scene: &Scene) -> Option<String> {
+    None
 }
 
 impl<'s> GpuRenderer<'s> {

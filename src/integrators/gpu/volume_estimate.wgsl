@@ -32,6 +32,8 @@ struct BeamQuery {
     which: u32,
     m: Medium,
     scale: f32,
+    // The medium is heterogeneous: transmittances from a replayed walk's chunk.
+    hetero: bool,
 }
 
 // The volume estimates' terms T p power are at most the phase's largest value (forward for
@@ -64,8 +66,9 @@ fn beam_keeps(which: u32, flags: u32) -> bool {
 // Grid entry k's share of the beam in cell c, whose part of the ray is [t_enter, t_exit), in
 // units of q.scale: zero for another cell's entry hashed to the same slot, a photon of another
 // medium or one the beam's kind leaves out (beam_keeps), or one whose nearest point on the ray
-// lies outside that part (it counts in the cell holding that point) or farther than r.
-fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
+// lies outside that part (it counts in the cell holding that point) or farther than r. A
+// heterogeneous medium's transmittance is read from st, the walk's steps over that part.
+fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32, st: ReplaySteps) -> vec3<u32> {
     let e = v_refs[k];
     if any(bitcast<vec3<i32>>(e.yzw) != c) {
         return vec3<u32>(0u);
@@ -86,38 +89,41 @@ fn beam_entry(q: BeamQuery, k: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> 
     }
     let phase = hg_eval(q.m.g, dot(bitcast<vec3<f32>>(w.xyz), -q.d));
     let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
+    if HAS_HETERO_MEDIA && q.hetero {
+        return fixed_term(replay_at(st, t) * power, phase * q.scale);
+    }
     return fixed_term(medium_transmittance(q.m, t) * power, phase * q.scale);
 }
 
 // Entries k..k+4 (those before `last`) of beam_entry.
-fn beam_four(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
+fn beam_four(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32, st: ReplaySteps) -> vec3<u32> {
     var sum = vec3<u32>(0u);
     if k < last {
-        sum += beam_entry(q, k, c, t_enter, t_exit);
+        sum += beam_entry(q, k, c, t_enter, t_exit, st);
     }
     if k + 1u < last {
-        sum += beam_entry(q, k + 1u, c, t_enter, t_exit);
+        sum += beam_entry(q, k + 1u, c, t_enter, t_exit, st);
     }
     if k + 2u < last {
-        sum += beam_entry(q, k + 2u, c, t_enter, t_exit);
+        sum += beam_entry(q, k + 2u, c, t_enter, t_exit, st);
     }
     if k + 3u < last {
-        sum += beam_entry(q, k + 3u, c, t_enter, t_exit);
+        sum += beam_entry(q, k + 3u, c, t_enter, t_exit, st);
     }
     return sum;
 }
 
 // Entries k..k+16 (those before `last`) of beam_entry.
-fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32) -> vec3<u32> {
-    var sum = beam_four(q, k, last, c, t_enter, t_exit);
+fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_exit: f32, st: ReplaySteps) -> vec3<u32> {
+    var sum = beam_four(q, k, last, c, t_enter, t_exit, st);
     if k + 4u < last {
-        sum += beam_four(q, k + 4u, last, c, t_enter, t_exit);
+        sum += beam_four(q, k + 4u, last, c, t_enter, t_exit, st);
     }
     if k + 8u < last {
-        sum += beam_four(q, k + 8u, last, c, t_enter, t_exit);
+        sum += beam_four(q, k + 8u, last, c, t_enter, t_exit, st);
     }
     if k + 12u < last {
-        sum += beam_four(q, k + 12u, last, c, t_enter, t_exit);
+        sum += beam_four(q, k + 12u, last, c, t_enter, t_exit, st);
     }
     return sum;
 }
@@ -127,8 +133,11 @@ fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_e
 // T(t) p(cos) power / (pi r^2), over the photons `which` (a BEAM_* code) keeps. A 3D DDA over
 // the cells the segment crosses, each photon taken in the cell holding its nearest point, summed
 // in fixed point (volume_bound). A cell's entries are read 64 a loop step: lavapipe's loop cut
-// counts steps, not work.
-fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u32) -> vec3<f32> {
+// counts steps, not work. In a heterogeneous medium T(t) is `walk`'s (Transmittances::Steps:
+// the one ratio-tracking walk of the segment, replayed), read a chunk of its steps at a time:
+// a cell whose part of the ray holds more than BEAM_CHUNK steps reads its entries once per
+// chunk, each time for the photons whose nearest point lies in that chunk's part.
+fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u32, walk: ptr<function, TrackReplay>) -> vec3<f32> {
     let g2 = v_grid[2];
     if bitcast<u32>(g2.y) == 0u {
         return vec3<f32>(0.0);
@@ -153,7 +162,12 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u
     if !(bound > 1e-30) {
         return vec3<f32>(0.0);
     }
-    let q = BeamQuery(o, d, t0, t1, r * r, medium, which, m, BEAM_ONE / bound);
+    let hetero = HAS_HETERO_MEDIA && m.grid != NO_MEDIUM;
+    let q = BeamQuery(o, d, t0, t1, r * r, medium, which, m, BEAM_ONE / bound, hetero);
+    var st: ReplaySteps;
+    if hetero {
+        replay_skip(walk, t0);
+    }
     var sum = FixedSum();
     var c = volume_cell(o + d * t0, lo, cell);
     let step = vec3<i32>(sign(d));
@@ -170,17 +184,30 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u
         let t_exit = min(t_next[axis], t1);
         let h = cell_hash(c, table);
         let last = v_cells[h + 1u];
-        for (var k = v_cells[h]; k < last && spend(); k += 64u) {
-            sum = fixed_add(sum, beam_sixteen(q, k, last, c, t_enter, t_exit));
-            if k + 16u < last {
-                sum = fixed_add(sum, beam_sixteen(q, k + 16u, last, c, t_enter, t_exit));
+        // The cell's part [lo, hi): all of it, or a chunk of the walk's steps at a time.
+        var lo = t_enter;
+        loop {
+            var hi = t_exit;
+            if hetero {
+                replay_fill(walk, t_exit, &st);
+                hi = min(replay_next(walk), t_exit);
             }
-            if k + 32u < last {
-                sum = fixed_add(sum, beam_sixteen(q, k + 32u, last, c, t_enter, t_exit));
+            for (var k = v_cells[h]; k < last && spend(); k += 64u) {
+                sum = fixed_add(sum, beam_sixteen(q, k, last, c, lo, hi, st));
+                if k + 16u < last {
+                    sum = fixed_add(sum, beam_sixteen(q, k + 16u, last, c, lo, hi, st));
+                }
+                if k + 32u < last {
+                    sum = fixed_add(sum, beam_sixteen(q, k + 32u, last, c, lo, hi, st));
+                }
+                if k + 48u < last {
+                    sum = fixed_add(sum, beam_sixteen(q, k + 48u, last, c, lo, hi, st));
+                }
             }
-            if k + 48u < last {
-                sum = fixed_add(sum, beam_sixteen(q, k + 48u, last, c, t_enter, t_exit));
+            if hi >= t_exit || !spend() {
+                break;
             }
+            lo = hi;
         }
         if t_exit >= t1 {
             break;
