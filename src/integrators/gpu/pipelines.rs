@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::integrators::gpu::bindings::Layouts;
 use crate::integrators::gpu::context::GpuContext;
-use crate::integrators::gpu::shaders::Kernel;
+use crate::integrators::gpu::shaders::{parse_and_validate, Kernel};
 use crate::integrators::gpu::shape::KernelShape;
 use crate::integrators::gpu::specialise::specialise;
 use crate::scene::Scene;
@@ -154,11 +154,6 @@ pub struct CachePipelines {
     pub fixed: wgpu::ComputePipeline,
 }
 
-/// The shader module of `kernel`, labelled with its name.
-pub fn shader_module(dev: &wgpu::Device, kernel: Kernel) -> wgpu::ShaderModule {
-    shader_module_of(dev, kernel.name(), kernel.source())
-}
-
 /// A shader module of composed WGSL `source` (a kernel's, or a test's oracle probes').
 pub fn shader_module_of(dev: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
     dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -178,15 +173,7 @@ struct Family {
 
 impl Family {
     fn new(label: &'static str, source: String) -> Self {
-        let parsed = naga::front::wgsl::parse_str(&source).ok().and_then(|m| {
-            let info = naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&m)
-            .ok()?;
-            Some((m, info))
-        });
+        let parsed = parse_and_validate(&source).ok();
         Family {
             label,
             source,
@@ -194,37 +181,33 @@ impl Family {
         }
     }
 
-    /// The module of entry point `entry` and the override constants it still takes: those
-    /// sizing arrays when specialised, else all of `constants` with the whole WGSL (a module naga cannot
-    /// specialise is left for wgpu to compile or report).
+    /// The module of entry point `entry` and the override constants its pipeline takes:
+    /// specialised, those sizing workgroup arrays; else the whole WGSL and all of
+    /// `constants` (a module naga cannot specialise is left for wgpu to compile or report).
     fn entry<'c>(
         &self,
         dev: &wgpu::Device,
         entry: &str,
         constants: &[(&'c str, f64)],
     ) -> (wgpu::ShaderModule, Vec<(&'c str, f64)>) {
-        let label = format!("{} ({entry})", self.label);
-        if let Some((module, info)) = &self.parsed {
-            if let Ok(m) = specialise(module, info, entry, constants) {
-                // Overrides sizing workgroup arrays stay overrides.
-                let kept = constants
-                    .iter()
-                    .filter(|(name, _)| {
-                        m.overrides
-                            .iter()
-                            .any(|(_, o)| o.name.as_deref() == Some(*name))
-                    })
-                    .copied()
-                    .collect();
+        let specialised = self
+            .parsed
+            .as_ref()
+            .and_then(|(module, info)| specialise(module, info, entry, constants).ok());
+        match specialised {
+            Some((module, kept)) => {
+                let label = format!("{} ({entry})", self.label);
                 let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&label),
-                    source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(m)),
+                    source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
                 });
-                return (module, kept);
+                (module, kept)
             }
+            None => (
+                shader_module_of(dev, self.label, self.source.clone()),
+                constants.to_vec(),
+            ),
         }
-        let module = shader_module_of(dev, self.label, self.source.clone());
-        (module, constants.to_vec())
     }
 }
 

@@ -208,14 +208,19 @@ pub fn probe_source(own: &[&str]) -> String {
 
 /// Parses and validates a composed module with naga (no GPU needed).
 pub fn validate(source: &str) -> Result<naga::Module, String> {
+    parse_and_validate(source).map(|(module, _)| module)
+}
+
+/// [`validate`], keeping naga's analysis of the module (what `gpu::specialise` needs).
+pub fn parse_and_validate(source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
-    naga::valid::Validator::new(
+    let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     )
     .validate(&module)
     .map_err(|e| e.emit_to_string(source))?;
-    Ok(module)
+    Ok((module, info))
 }
 
 #[cfg(test)]

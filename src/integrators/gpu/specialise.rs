@@ -17,27 +17,25 @@ use naga::{
 };
 use std::collections::HashMap;
 
+/// Override constants by name, as a pipeline takes them.
+pub type Constants<'c> = Vec<(&'c str, f64)>;
+
 /// `module` (validated, with `info`) reduced to the compute entry point `entry` with the
-/// override constants `constants` substituted and the branches they decide removed: a
-/// module without overrides, or why naga could not make one.
-pub fn specialise(
+/// override constants `constants` substituted and the branches they decide removed, and the
+/// constants the pipeline must still pass (overrides sizing workgroup arrays stay
+/// overrides); or why naga could not make it.
+pub fn specialise<'c>(
     module: &Module,
     info: &naga::valid::ModuleInfo,
     entry: &str,
-    constants: &[(&str, f64)],
-) -> Result<Module, String> {
-    let mut values = PipelineConstants::default();
-    for &(name, value) in constants {
-        values.insert(name.to_string(), value);
-    }
+    constants: &[(&'c str, f64)],
+) -> Result<(Module, Constants<'c>), String> {
     // Constants only other entry points declare are not an error here.
-    let declared = |name: &str| {
-        module
-            .overrides
-            .iter()
-            .any(|(_, o)| o.name.as_deref() == Some(name))
-    };
-    values.retain(|name, _| declared(name));
+    let values: PipelineConstants = constants
+        .iter()
+        .filter(|(name, _)| declares(module, name))
+        .map(|&(name, value)| (name.to_string(), value))
+        .collect();
     let (substituted, _) = process_overrides(
         module,
         info,
@@ -54,7 +52,20 @@ pub fn specialise(
         prune_function(&mut e.function, &decided);
     }
     compact(&mut module, KeepUnused::No);
-    Ok(module)
+    let kept = constants
+        .iter()
+        .filter(|(name, _)| declares(&module, name))
+        .copied()
+        .collect();
+    Ok((module, kept))
+}
+
+/// Whether `module` declares the override constant `name`.
+fn declares(module: &Module, name: &str) -> bool {
+    module
+        .overrides
+        .iter()
+        .any(|(_, o)| o.name.as_deref() == Some(name))
 }
 
 /// The boolean value of each module-scope constant that has one.
@@ -281,17 +292,10 @@ fn exits(statement: &Statement) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrators::gpu::shaders::{validate, Kernel};
+    use crate::integrators::gpu::shaders::{parse_and_validate, Kernel};
 
     fn validated(source: &str) -> (Module, naga::valid::ModuleInfo) {
-        let module = validate(source).unwrap();
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .unwrap();
-        (module, info)
+        parse_and_validate(source).unwrap()
     }
 
     fn has_function(m: &Module, name: &str) -> bool {
@@ -316,7 +320,7 @@ mod tests {
                 .collect();
             for constants in [&[][..], &off[..]] {
                 for entry in kernel.entry_points() {
-                    let m = specialise(&module, &info, entry, constants)
+                    let (m, _) = specialise(&module, &info, entry, constants)
                         .unwrap_or_else(|e| panic!("{}: {entry}: {e}", kernel.name()));
                     naga::valid::Validator::new(
                         naga::valid::ValidationFlags::all(),
@@ -344,8 +348,12 @@ mod tests {
     #[test]
     fn a_feature_switched_off_leaves_no_code() {
         let (module, info) = validated(&Kernel::Gather.source());
-        let with = specialise(&module, &info, "gather", &[("HAS_TEXTURES", 1.0)]).unwrap();
-        let without = specialise(&module, &info, "gather", &[("HAS_TEXTURES", 0.0)]).unwrap();
+        let with = specialise(&module, &info, "gather", &[("HAS_TEXTURES", 1.0)])
+            .unwrap()
+            .0;
+        let without = specialise(&module, &info, "gather", &[("HAS_TEXTURES", 0.0)])
+            .unwrap()
+            .0;
         assert!(has_function(&with, "texture_eval_rgba"));
         assert!(!has_function(&without, "texture_eval_rgba"));
         assert!(without.functions.len() < with.functions.len());
@@ -364,7 +372,7 @@ mod tests {
                 if F || out[0] == 0u { out[3] = 3u; }\n\
             }";
         let (module, info) = validated(source);
-        let on = specialise(&module, &info, "main", &[("F", 1.0)]).unwrap();
+        let on = specialise(&module, &info, "main", &[("F", 1.0)]).unwrap().0;
         assert!(has_function(&on, "one") && !has_function(&on, "two"));
         let ifs = |m: &Module| {
             m.entry_points[0]
@@ -375,7 +383,7 @@ mod tests {
                 .count()
         };
         assert_eq!(ifs(&on), 1, "only the runtime-dependent branch is left");
-        let off = specialise(&module, &info, "main", &[("F", 0.0)]).unwrap();
+        let off = specialise(&module, &info, "main", &[("F", 0.0)]).unwrap().0;
         assert!(!has_function(&off, "one") && has_function(&off, "two"));
         assert_eq!(ifs(&off), 1);
     }
@@ -392,9 +400,9 @@ mod tests {
             }\n\
             @compute @workgroup_size(1) fn main() { out[1] = early(); }";
         let (module, info) = validated(source);
-        let off = specialise(&module, &info, "main", &[("F", 0.0)]).unwrap();
+        let off = specialise(&module, &info, "main", &[("F", 0.0)]).unwrap().0;
         assert!(has_function(&off, "early") && !has_function(&off, "three"));
-        let on = specialise(&module, &info, "main", &[("F", 1.0)]).unwrap();
+        let on = specialise(&module, &info, "main", &[("F", 1.0)]).unwrap().0;
         assert!(has_function(&on, "three"));
     }
 }
