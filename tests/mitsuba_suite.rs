@@ -75,9 +75,6 @@ const KNOWN_CPU: &[(&str, Known)] = &[
     // samples hits at seed 1 (nor at 3, 4, 5, 7; P = 0.6); 256 passes give it 0.88 of the
     // reference's and pass every block (docs/conformance.md).
     ("instancing/test_instancing_path.xml", Known::Off(0.0001)),
-    // Chance at seed 1, not bias: two firefly blocks of 432 since the first volume radius is
-    // sized from the media's box (its 4 x 4 blocks scatter +-30%); seeds 2 and 3 pass.
-    ("participating_media/test_hetero_spectral_sigmat_volpathmis.xml", Known::Off(0.0208)),
     // Means within 0.2%; the rough base's dim glow (paths of 4+ rough events to the spot) is
     // noisy and 7% dark beyond max_depth 4 (scripts/media_suite_probe.py --box 4,28,44,40).
     // Bias, not chance: block (5, 10), the base's bottom rim, fails at seeds 1, 2 and 3 at
