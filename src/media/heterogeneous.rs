@@ -12,11 +12,12 @@
 //! - **free flights** by delta tracking with spectral-tracking weights (Kutz et al. 2017,
 //!   their history-aware average): with the flight's weight `w` so far (1 at its start), a
 //!   tentative collision is real with probability `P = sum(w sigma_t) / (majorant sum(w))`;
-//!   a real one weighs `w sigma_s / (majorant P)`, a null one multiplies `w` by `(majorant
-//!   - sigma_t) / (majorant (1 - P))` per channel. A null event keeps `sum(w)` at 3, so no
-//!   weight exceeds 3 (an event's 3 times the albedo), where the plain average's null
-//!   weights grew geometrically in a channel much clearer than the others; a grey medium is
-//!   plain delta tracking (weights 1 and the albedo), a coloured one unbiased per channel;
+//!   a real one weighs `w sigma_s / (majorant P)`, a null one multiplies `w` by
+//!   `(majorant - sigma_t) / (majorant (1 - P))` per channel. A null event keeps `sum(w)`
+//!   at 3, so no weight exceeds 3 (an event's 3 times the albedo), where the plain
+//!   average's null weights grew geometrically in a channel much clearer than the others; a
+//!   grey medium is plain delta tracking (weights 1 and the albedo), a coloured one unbiased
+//!   per channel;
 //! - **points in a segment** where light scatters towards the camera (single scattering's
 //!   distance for a directional light or the environment, the near gather's, a gather ray's
 //!   point estimates) are free flights too ([`Heterogeneous::track`]): in a sparse medium a

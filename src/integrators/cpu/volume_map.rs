@@ -22,6 +22,10 @@ use std::f32::consts::PI;
 pub const MAX_STEPS: usize = 1 << 16;
 /// Photons a grid cell is sized to hold at the mean density (see [`VolumeMap::build`]).
 pub const PHOTONS_PER_CELL: f32 = 16.0;
+// A point query reads the cells within R of its point, at most 3 an axis: cells are at
+// least 2 r wide.
+const _: () = assert!(POINT_RADIUS_FACTOR <= 2.0);
+
 /// Marks an empty slot of the cell table.
 const EMPTY: u64 = u64::MAX;
 
