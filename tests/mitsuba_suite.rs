@@ -73,9 +73,6 @@ enum Known {
 /// [`CPU_BUDGET`], as measured (docs/conformance.md has the table).
 #[rustfmt::skip]
 const KNOWN_CPU: &[(&str, Known)] = &[
-    // Heavy-tailed: 2 to 4 blocks of 432 inside the chromatic medium fail at most seeds,
-    // 0.6-0.8 of the reference; and at 64 passes red is 6-8% low below the medium.
-    ("participating_media/test_hetero_spectral_sigmat_volpathmis.xml", Known::Off(0.0208)),
 ];
 
 /// The scenes the GPU backend does not pass yet, in the [`GPU_BUDGET`], as measured on

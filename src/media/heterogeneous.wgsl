@@ -302,8 +302,9 @@ struct HeteroScatter {
 }
 
 // Heterogeneous::track: delta tracking with spectral-tracking weights over [0, t_max) of the
-// ray from o along unit d. A tentative collision is real with probability
-// mean(sigma_t) / majorant; a null one weighs (majorant - sigma_t) / (majorant - mean).
+// ray from o along unit d (history-aware: w the weight so far). A tentative collision is real
+// with probability P = sum(w sigma_t) / (majorant sum(w)), weighing w / (majorant P); a null
+// one multiplies w by (majorant - sigma_t) / (majorant (1 - P)), keeping sum(w) at 3.
 fn hetero_track(h: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: ptr<function, Rng>) -> HeteroScatter {
     let none = HeteroScatter(false, t_max, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(1.0));
     let span = hetero_span(h, o, d, t_max);
@@ -316,12 +317,13 @@ fn hetero_track(h: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32, rng: ptr<functio
     while tracking_next(&w, &k, rng) {
         let x = o + d * k.s;
         let sigma = hetero_sigma_t_at(h, x);
-        let mean = (sigma.x + sigma.y + sigma.z) / 3.0;
-        if rng_next(rng) * k.mu < mean {
+        let ws = weight * sigma;
+        let p_real = min((ws.x + ws.y + ws.z) / (k.mu * (weight.x + weight.y + weight.z)), 1.0);
+        if rng_next(rng) < p_real {
             let sigma_s = sigma * volume_eval(h + HETERO_ALBEDO, x);
-            return HeteroScatter(true, k.s, weight / mean, sigma_s, vec3<f32>(0.0));
+            return HeteroScatter(true, k.s, weight / (k.mu * p_real), sigma_s, vec3<f32>(0.0));
         }
-        weight *= max(vec3<f32>(k.mu) - sigma, vec3<f32>(0.0)) / (k.mu - mean);
+        weight *= max(vec3<f32>(k.mu) - sigma, vec3<f32>(0.0)) / (k.mu * (1.0 - p_real));
     }
     if k.exhausted {
         weight = vec3<f32>(0.0);

@@ -33,6 +33,15 @@ pub use crate::media::flight::{Flight, Scatter};
 /// point estimate (the CPU's `Gatherer::gathered_in_medium`, the GPU's `gathered_in_medium`).
 pub const GATHER_MEDIUM_POINTS: u32 = 4;
 
+/// The point estimate's radius over the beam's r (at most 2: a query reads the cells within
+/// that of its point, each no narrower than 2 r; the CPU's `VolumeMap::point`, the GPU's
+/// `volume_point`). The first pass's r is sized for beams (K / 4 photons along a segment as
+/// long as the media's box), where a ball of radius r holds about a fifth of a photon at
+/// the mean density: a gather ray's point estimates mostly found none, and in a dense
+/// medium a few passes carried most of a block's light (docs/media.md). Twice the radius
+/// holds eight times the photons.
+pub const POINT_RADIUS_FACTOR: f32 = 2.0;
+
 /// The near part of a camera segment through a medium, as a fraction of its length inside
 /// the volume photons' bounds, whose multiply scattered light one gather ray brings instead
 /// of the beam estimate (in `gather` mode). The beam gives each photon near the camera a

@@ -12,7 +12,7 @@
 //! once.
 
 use crate::integrators::photon::{BeamPhotons, Photon};
-use crate::media::{Medium, Transmittances};
+use crate::media::{Medium, Transmittances, POINT_RADIUS_FACTOR};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -22,6 +22,10 @@ use std::f32::consts::PI;
 pub const MAX_STEPS: usize = 1 << 16;
 /// Photons a grid cell is sized to hold at the mean density (see [`VolumeMap::build`]).
 pub const PHOTONS_PER_CELL: f32 = 16.0;
+// A point query reads the cells within R of its point, at most 3 an axis: cells are at
+// least 2 r wide.
+const _: () = assert!(POINT_RADIUS_FACTOR <= 2.0);
+
 /// Marks an empty slot of the cell table.
 const EMPTY: u64 = u64::MAX;
 
@@ -162,24 +166,37 @@ impl VolumeMap {
     }
 
     /// The volume radiance estimate at the point `x` for light leaving towards `wo` (unit), in
-    /// medium `medium` (index `medium_index`): the sum over that medium's photons within r of
-    /// `x` of `p(cos) power / (4/3 pi r^3)` (`cos` between the photon's travel and `wo`),
-    /// which estimates `sigma_s` times the in-scattered radiance there. One table probe:
-    /// every photon within r of `x` is listed in `x`'s cell.
+    /// medium `medium` (index `medium_index`): the sum over that medium's photons within
+    /// `R = POINT_RADIUS_FACTOR r` of `x` of `p(cos) power / (4/3 pi R^3)` (`cos` between the
+    /// photon's travel and `wo`), which estimates `sigma_s` times the in-scattered radiance
+    /// there. It reads the cells `R` around `x` reaches (at most 3 an axis), in each the
+    /// photons whose position lies in it, so each photon counts once.
     pub fn point(&self, x: Vec3, wo: Vec3, medium: &Medium, medium_index: u32) -> Vec3 {
         if self.photons.is_empty() || x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() {
             return Vec3::ZERO;
         }
-        let r2 = self.radius * self.radius;
+        let r = POINT_RADIUS_FACTOR * self.radius;
+        let (a, b) = (self.cell_coords(x - r), self.cell_coords(x + r));
         let mut sum = Vec3::ZERO;
-        for &i in self.list(self.cell_coords(x)) {
-            let p = &self.photons[i as usize];
-            if p.normal != medium_index || (p.pos() - x).length_squared() >= r2 {
-                continue;
+        for z in a.z..=b.z {
+            for y in a.y..=b.y {
+                for cx in a.x..=b.x {
+                    let c = IVec3::new(cx, y, z);
+                    for &i in self.list(c) {
+                        let p = &self.photons[i as usize];
+                        let (q, medium_of) = (p.pos(), p.normal);
+                        if medium_of != medium_index
+                            || (q - x).length_squared() >= r * r
+                            || self.cell_coords(q) != c
+                        {
+                            continue;
+                        }
+                        sum += medium.phase.eval(Vec3::from(p.dir).dot(wo)) * Vec3::from(p.power);
+                    }
+                }
             }
-            sum += medium.phase.eval(Vec3::from(p.dir).dot(wo)) * Vec3::from(p.power);
         }
-        sum * (3.0 / (4.0 * PI * r2 * self.radius))
+        sum * (3.0 / (4.0 * PI * r * r * r))
     }
 
     /// Where the ray from `o` along unit `d` leaves the photons' bounds (0 where it never

@@ -270,6 +270,10 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
             U32(crate::media::GATHER_MEDIUM_POINTS),
         ),
         (
+            "POINT_RADIUS_FACTOR",
+            F32(crate::media::POINT_RADIUS_FACTOR),
+        ),
+        (
             "HG_ISOTROPIC_BELOW",
             F32(crate::media::phase::HG_ISOTROPIC_BELOW),
         ),

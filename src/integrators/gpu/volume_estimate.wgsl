@@ -230,9 +230,10 @@ fn volume_exit(o: vec3<f32>, d: vec3<f32>) -> f32 {
     return max(min(min(tf.x, tf.y), tf.z), 0.0);
 }
 
-// VolumeMap::point: the sum over the volume photons of `medium` within r of x of
-// p(cos) power / (4/3 pi r^3), cos between the photon's travel and wo; one cell's entries
-// (every photon within r of x is listed in x's cell), summed in fixed point (volume_bound).
+// VolumeMap::point: the sum over the volume photons of `medium` within R of x (R =
+// POINT_RADIUS_FACTOR r) of p(cos) power / (4/3 pi R^3), cos between the photon's travel and
+// wo; the cells R around x reaches (at most 3 an axis), in each the photons whose position
+// lies in it (each counts once), summed in fixed point (volume_bound).
 fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32> {
     let g2 = v_grid[2];
     let lo = v_grid[0].xyz;
@@ -241,30 +242,38 @@ fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32
         return vec3<f32>(0.0);
     }
     let cell = v_grid[0].w;
-    let r = v_grid[1].w;
-    let c = volume_cell(x, lo, cell);
-    let h = cell_hash(c, bitcast<u32>(g2.x));
-    let last = v_cells[h + 1u];
+    let r = POINT_RADIUS_FACTOR * v_grid[1].w;
     let bound = volume_bound(m);
     if !(bound > 1e-30) {
         return vec3<f32>(0.0);
     }
     let scale = POINT_ONE / bound;
+    let a = volume_cell(x - vec3<f32>(r), lo, cell);
+    let b = volume_cell(x + vec3<f32>(r), lo, cell);
     var sum = FixedSum();
-    for (var k = v_cells[h]; k < last && spend(); k += 1u) {
-        let e = v_refs[k];
-        if any(bitcast<vec3<i32>>(e.yzw) != c) {
+    // At most 27 cells (a cell is no narrower than R).
+    for (var n = 0; n < 27; n += 1) {
+        let c = a + vec3<i32>(n % 3, (n / 3) % 3, n / 9);
+        if any(c > b) {
             continue;
         }
-        let a = v_photons[PHOTON_WORDS * e.x];
-        let w = v_photons[PHOTON_WORDS * e.x + 2u];
-        let v = bitcast<vec3<f32>>(a.xyz) - x;
-        if w.w != medium || dot(v, v) >= r * r {
-            continue;
+        let h = cell_hash(c, bitcast<u32>(g2.x));
+        let last = v_cells[h + 1u];
+        for (var k = v_cells[h]; k < last && spend(); k += 1u) {
+            let e = v_refs[k];
+            if any(bitcast<vec3<i32>>(e.yzw) != c) {
+                continue;
+            }
+            let q = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x].xyz);
+            let w = v_photons[PHOTON_WORDS * e.x + 2u];
+            let v = q - x;
+            if w.w != medium || dot(v, v) >= r * r || any(volume_cell(q, lo, cell) != c) {
+                continue;
+            }
+            let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
+            let phase = hg_eval(m.g, dot(bitcast<vec3<f32>>(w.xyz), wo));
+            sum = fixed_add(sum, fixed_term(power, phase * scale));
         }
-        let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
-        let phase = hg_eval(m.g, dot(bitcast<vec3<f32>>(w.xyz), wo));
-        sum = fixed_add(sum, fixed_term(power, phase * scale));
     }
     return fixed_value(sum) * (bound / POINT_ONE) * (3.0 / (4.0 * PI * r * r * r));
 }
