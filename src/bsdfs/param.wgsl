@@ -12,18 +12,16 @@ fn param_eval(w: vec4<u32>, uv: vec2<f32>) -> vec4<u32> {
     }
     let t = w.w & ((1u << PARAM_TEXTURE_BITS) - 1u);
     let channel = w.w >> PARAM_TEXTURE_BITS;
+    // One lookup for every channel (drivers inline each call site's whole texture code).
+    let c = texture_eval_rgba(t, uv);
     var r: vec3<f32>;
-    if channel == PARAM_CHANNEL_A {
-        r = v * texture_alpha(t, uv);
-    } else {
-        let c = texture_eval(t, uv);
-        switch channel {
-            case PARAM_CHANNEL_R: { r = v * c.x; }
-            case PARAM_CHANNEL_G: { r = v * c.y; }
-            case PARAM_CHANNEL_B: { r = v * c.z; }
-            case PARAM_CHANNEL_LUMINANCE: { r = v * (0.212671 * c.x + 0.71516 * c.y + 0.072169 * c.z); }
-            default: { r = v * c; }
-        }
+    switch channel {
+        case PARAM_CHANNEL_R: { r = v * c.x; }
+        case PARAM_CHANNEL_G: { r = v * c.y; }
+        case PARAM_CHANNEL_B: { r = v * c.z; }
+        case PARAM_CHANNEL_A: { r = v * c.w; }
+        case PARAM_CHANNEL_LUMINANCE: { r = v * (0.212671 * c.x + 0.71516 * c.y + 0.072169 * c.z); }
+        default: { r = v * c.xyz; }
     }
     return vec4<u32>(bitcast<vec3<u32>>(r), NO_TEXTURE);
 }

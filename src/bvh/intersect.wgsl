@@ -379,11 +379,9 @@ fn alpha_passes(id: u32, t: f32, bc: vec2<f32>, o: vec3<f32>, d: vec3<f32>) -> b
     }
     var tex = 1.0;
     if HAS_TEXTURES && w.y != NO_TEXTURE {
-        if (w.x & ALPHA_LUMINANCE) != 0u {
-            tex = dot(texture_eval(w.y, uv), vec3<f32>(0.212671, 0.715160, 0.072169));
-        } else {
-            tex = texture_alpha(w.y, uv);
-        }
+        // One lookup (drivers inline each call site's whole texture code).
+        let c = texture_eval_rgba(w.y, uv);
+        tex = select(c.w, dot(c.xyz, vec3<f32>(0.212671, 0.715160, 0.072169)), (w.x & ALPHA_LUMINANCE) != 0u);
     }
     let opacity = clamp(bitcast<f32>(w.z) * tex, 0.0, 1.0);
     if mode == ALPHA_MASK {
