@@ -242,7 +242,10 @@ mod tests {
             let mut b = a;
             let smooth = rd.surface_sample_lobe(frame, -v, &Facing::new(ng, ns, true), &mut a);
             let flat = rd.surface_sample_lobe(frame, -v, &Facing::new(ns, ns, true), &mut b);
-            assert_eq!(smooth.map(|l| (l.dir, l.weight)), flat.map(|l| (l.dir, l.weight)));
+            assert_eq!(
+                smooth.map(|l| (l.dir, l.weight)),
+                flat.map(|l| (l.dir, l.weight))
+            );
             if let Some(l) = smooth {
                 kept += 1;
                 let reflects = l.dir.dot(ns) > 0.0;
@@ -250,6 +253,9 @@ mod tests {
             }
         }
         assert!(kept > 5_000, "{kept} rays");
-        assert!(across > 50, "{across} of {kept} rays end across the geometric surface");
+        assert!(
+            across > 50,
+            "{across} of {kept} rays end across the geometric surface"
+        );
     }
 }
