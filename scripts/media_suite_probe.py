@@ -111,7 +111,7 @@ def main():
             if ours_path != path:
                 os.remove(ours_path)
         ratio = m_ours / np.maximum(m_ref, 1e-12)
-        fmt = lambda v: " ".join(f"{x:.5f}" for x in v)  # noqa: E731
+        fmt = lambda v: " ".join(f"{x:.5g}" for x in v)  # noqa: E731
         print(f"max_depth {depth:3}: mitsuba {fmt(m_ref)}  ours {fmt(m_ours)}  ratio {fmt(ratio)}",
               flush=True)
 

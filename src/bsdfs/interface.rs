@@ -369,11 +369,18 @@ pub trait BsdfKind: Copy {
     }
 
     /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), normals
-    /// `f` facing `-d`; by default three numbers from `rng` through the local frame.
+    /// `f` facing `-d`; by default three numbers from `rng` through the local frame. A
+    /// transmitting lobe's ray goes on on whichever side of the geometric surface it ends
+    /// (Mitsuba's spawned rays; the lobe chose reflection or refraction in the shading frame);
+    /// other lobes' rays that leak through it carry nothing.
     fn surface_sample_lobe(&self, n: Frame, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let u = [rng.next(), rng.next(), rng.next()];
         let s = self.sample_lobe(local(n, -d), u, Transport::Radiance)?;
-        let (dir, weight) = world_direction(n, s.wi, s.weight, f)?;
+        let (dir, weight) = match self.lobe_transmits() {
+            true => Some((n.world(s.wi).normalize(), s.weight))
+                .filter(|(_, w)| w.max_element() > 0.0)?,
+            false => world_direction(n, s.wi, s.weight, f)?,
+        };
         Some(LobeRay {
             dir,
             weight,

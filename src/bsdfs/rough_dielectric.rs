@@ -205,3 +205,57 @@ pub fn sample(
         delta: false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdfs::interface::Frame;
+    use crate::bsdfs::microfacet::Distribution;
+    use crate::math::geometry::Facing;
+    use crate::math::rng::{Rng, Stream};
+
+    /// On a smooth triangle (shading normal tilted off the geometric one) the lobe's rays
+    /// are the shading frame's alone, as Mitsuba spawns them: the same directions and weights
+    /// as with the geometric normal equal to the shading one, including rays that end on the
+    /// other side of the geometric surface than the lobe chose (a reflection below it, a
+    /// refraction above it), which the test requires to occur.
+    #[test]
+    fn lobe_rays_go_on_past_the_geometric_surface() {
+        let rd = RoughDielectric::new(
+            1.3,
+            Vec3::ONE,
+            Vec3::ONE,
+            Microfacet::new(Distribution::Beckmann, 0.3, 0.3),
+        );
+        let ng = Vec3::Z;
+        let mut r = Rng::new(7, Stream::Camera, 0, 0);
+        let (mut kept, mut across) = (0, 0);
+        for i in 0..20_000u32 {
+            // Shading normal up to ~40 degrees off ng, a viewer above both surfaces.
+            let ns = (ng + Vec3::new(r.next() - 0.5, r.next() - 0.5, 0.0) * 1.6).normalize();
+            let v = Vec3::new(2.0 * r.next() - 1.0, 2.0 * r.next() - 1.0, r.next()).normalize();
+            if v.dot(ng) <= 0.0 || v.dot(ns) <= 0.0 {
+                continue;
+            }
+            let frame = Frame::new(ns, Vec3::X);
+            let mut a = Rng::new(7, Stream::Camera, 1, i);
+            let mut b = a;
+            let smooth = rd.surface_sample_lobe(frame, -v, &Facing::new(ng, ns, true), &mut a);
+            let flat = rd.surface_sample_lobe(frame, -v, &Facing::new(ns, ns, true), &mut b);
+            assert_eq!(
+                smooth.map(|l| (l.dir, l.weight)),
+                flat.map(|l| (l.dir, l.weight))
+            );
+            if let Some(l) = smooth {
+                kept += 1;
+                let reflects = l.dir.dot(ns) > 0.0;
+                across += usize::from(reflects != (l.dir.dot(ng) > 0.0));
+            }
+        }
+        assert!(kept > 5_000, "{kept} rays");
+        assert!(
+            across > 50,
+            "{across} of {kept} rays end across the geometric surface"
+        );
+    }
+}

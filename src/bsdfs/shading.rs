@@ -276,7 +276,9 @@ impl SurfaceBsdf<'_> {
     /// One ray drawn from the lobe for a path arriving along `d` (towards the surface), with
     /// the hit's normals `f` facing `-d`: the direction, its weight `f cos / pdf` and the pdf
     /// (0 for a delta lobe), or `None` below the shading or the geometric surface (or across
-    /// it for a reflection). The Phong lobe takes two numbers from `rng`, the other kinds three.
+    /// it for a reflection), except for a transmitting lobe, whose ray goes on on either side
+    /// of the geometric surface. The Phong lobe takes two numbers from `rng`, the other kinds
+    /// three.
     #[inline]
     pub fn sample_lobe(&self, d: Vec3, f: &Facing, rng: &mut Rng) -> Option<LobeRay> {
         let mut lobe = self.b.surface_sample_lobe(self.n, d, f, rng)?;

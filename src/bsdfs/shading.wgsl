@@ -221,10 +221,17 @@ fn default_surface_lobe_takes_point_lights(s: Surface) -> bool {
 fn default_surface_stores_photons(s: Surface) -> bool {
     return bsdf_has_diffuse(s.b);
 }
-// Three numbers from rng through the local frame.
+// Three numbers from rng through the local frame. A transmitting lobe's ray goes on on
+// whichever side of the geometric surface it ends (Mitsuba's spawned rays); other lobes'
+// rays that leak through it carry nothing.
 fn default_surface_sample_lobe(s: Surface, d: vec3<f32>, f: Facing, rng: ptr<function, Rng>) -> LobeRay {
     let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
-    return surface_world_ray(s, bsdf_sample_lobe(s.b, surface_local(s, -d), u, true), f);
+    let ls = bsdf_sample_lobe(s.b, surface_local(s, -d), u, true);
+    if bsdf_lobe_transmits(s.b) {
+        let dir = normalize(surface_world(s, ls.wi));
+        return LobeRay(dir, ls.weight, ls.ok && max3(ls.weight) > 0.0, ls.pdf);
+    }
+    return surface_world_ray(s, ls, f);
 }
 // The mirror direction, weighted by the lobe's own delta sample (a smooth conductor).
 fn default_surface_delta(hit: Hit, s: Surface, f: Facing, d: ptr<function, vec3<f32>>, t: ptr<function, vec3<f32>>, rng: ptr<function, Rng>) -> bool {

@@ -411,7 +411,8 @@ impl Gatherer<'_> {
     /// delta lights' glossy lobe. A directional light's shadow ray has no end.
     /// With `sobol`, the first area-light sample takes its three numbers from it. The BRDF
     /// and cosine use the shading normal `f.ns`; a light below the geometric surface gives
-    /// nothing, unless it is a delta light and the lobe transmits (a rough dielectric).
+    /// nothing, unless it is a delta light and the lobe transmits (a rough dielectric: then
+    /// the shading frame alone decides, on either side).
     /// In scenes with media, shadow rays carry the transmittance of the media they cross
     /// (starting in the one a ray leaving the hit is in, `medium` the viewer's).
     #[allow(clippy::too_many_arguments)]
@@ -456,9 +457,12 @@ impl Gatherer<'_> {
                 let cos = wi.dot(ns);
                 // A delta light behind a transmitting lobe is lit through it (no lobe ray
                 // can reach it); an area light there is the lobe ray's alone (`Mis::ns`).
-                let through = cos < 0.0 && is_delta && bsdf.lobe_transmits();
-                let leaks = match through {
-                    true => f.refraction_leaks(wi),
+                // Through a transmitting lobe, the shading frame alone says which side a
+                // delta light is on (Mitsuba's emitter sampling): the shadow ray leaves on
+                // the geometric side it points to, as the lobe's rays do.
+                let free = is_delta && bsdf.lobe_transmits();
+                let leaks = match free {
+                    true => cos == 0.0,
                     false => cos <= 0.0 || f.reflection_leaks(wi),
                 };
                 if leaks {

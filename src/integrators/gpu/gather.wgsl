@@ -45,9 +45,11 @@ fn direct_light(hit: Hit, f: Facing, wo: vec3<f32>, m: Surface, rng: ptr<functio
             let wi = to_light / dist;
             let c_signed = dot(wi, ns);
             // A delta light behind a transmitting lobe is lit through it (no lobe ray can
-            // reach it); an area light there is the lobe ray's alone.
-            let through = c_signed < 0.0 && is_delta && bsdf_lobe_transmits(m.b);
-            let leaks = select(c_signed <= 0.0 || reflection_leaks(f, wi), refraction_leaks(f, wi), through);
+            // reach it); an area light there is the lobe ray's alone. Through a transmitting
+            // lobe the shading frame alone says which side a delta light is on (Mitsuba's
+            // emitter sampling), as the lobe's rays go on on either side.
+            let free = is_delta && bsdf_lobe_transmits(m.b);
+            let leaks = select(c_signed <= 0.0 || reflection_leaks(f, wi), c_signed == 0.0, free);
             if leaks {
                 continue;
             }
