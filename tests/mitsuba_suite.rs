@@ -586,6 +586,50 @@ fn mitsuba_suite_gpu_media() {
     check(&outcomes, KNOWN_GPU, "KNOWN_GPU");
 }
 
+/// Every scene renders through the command line from the suite's own folder layout (the
+/// file named relative to its folder, as a user runs it there): a zero exit and an image of
+/// the film's size with finite pixels. A short budget: the renders are judged above.
+#[test]
+fn every_scene_renders_from_the_command_line() {
+    let out = std::env::temp_dir().join(format!("mitsuba_suite_cli_{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let mut problems = Vec::new();
+    for name in scenes() {
+        let path = suite_root().join(&name);
+        let (dir, file) = (path.parent().unwrap(), path.file_name().unwrap());
+        let image = out.join(name.replace(['/', '.'], "_") + ".exr");
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_gpu-photon"))
+            .current_dir(dir)
+            .arg("render")
+            .arg(file)
+            .arg("-o")
+            .arg(&image)
+            .args(["--backend", "cpu", "--spp", "1", "--passes", "1"])
+            .args(["--photons", "2000", "--caustic-photons", "1000"])
+            .output()
+            .unwrap();
+        if !run.status.success() {
+            let err = String::from_utf8_lossy(&run.stderr);
+            problems.push(format!("{name}: {}: {err}", run.status));
+            continue;
+        }
+        let film = load(&path).unwrap().settings;
+        match Image::read(&image) {
+            Ok(i) if (i.width, i.height) != (film.width, film.height) => problems.push(format!(
+                "{name}: {}x{}, the film is {}x{}",
+                i.width, i.height, film.width, film.height
+            )),
+            Ok(i) if i.pixels.iter().flatten().any(|v| !v.is_finite()) => {
+                problems.push(format!("{name}: a pixel is not finite"))
+            }
+            Ok(_) => {}
+            Err(e) => problems.push(format!("{name}: {e}")),
+        }
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
 /// `default`, or the budget `MITSUBA_SUITE_BUDGET=PASSES,SPP,PHOTONS` names: the suite at
 /// another budget, e.g. the GPU suite's short one on the CPU to tell the budget's failures from
 /// the backend's (the CPU ratchet's figures hold at [`CPU_BUDGET`] only).
