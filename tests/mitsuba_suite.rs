@@ -16,7 +16,7 @@
 //!   and a block passes when either test passes it: the pass-to-pass variance (P - 1 degrees
 //!   of freedom, hence Student's t with Welch-Satterthwaite's degrees of freedom), and the
 //!   variance Mitsuba's own test assumes of any render it judges, the reference's floored
-//!   per-sample variance over the render's samples per pixel ([`mitsuba_model_variance`],
+//!   per-sample variance over the render's samples per pixel ([`pixel_variance`],
 //!   known: a normal test). A few passes underestimate the variance of a block whose rare
 //!   paths none of them drew (a silhouette pixel 0.4% covered, a caustic's firefly): its mean
 //!   is then low and looks certain, and such a render, which Mitsuba's test accepts at the
@@ -266,10 +266,11 @@ fn block_sums(w: u32, h: u32, f: impl Fn(usize, usize) -> f64) -> Vec<[f64; 3]> 
     out
 }
 
-/// The variance Mitsuba's test (`z_test` in its `test_renders.py`) assumes of a render's
-/// pixel at `samples` samples per pixel: the reference's per-sample variance, floored as it
-/// floors it, over `samples`.
-fn mitsuba_model_variance(per_sample: f32, samples: f64) -> f64 {
+/// The variance of a pixel's mean over `samples` samples as Mitsuba's test (`z_test` in its
+/// `test_renders.py`) takes it: the reference's per-sample variance, floored as it floors it,
+/// over `samples`. The reference's own (over [`REFERENCE_SPP`]), and the one the test
+/// assumes of any render it judges (over that render's samples per pixel).
+fn pixel_variance(per_sample: f32, samples: f64) -> f64 {
     f64::from(per_sample).max(VARIANCE_FLOOR) / samples
 }
 
@@ -285,8 +286,7 @@ fn judge(
     let n_px = (w * h) as f64;
     let dof = (passes.len() - 1) as f64;
     let ref_mean = reference.mean();
-    let ref_var =
-        |i: usize, c: usize| (variance.pixels[i][c] as f64).max(VARIANCE_FLOOR) / REFERENCE_SPP;
+    let ref_var = |i: usize, c: usize| pixel_variance(variance.pixels[i][c], REFERENCE_SPP);
     let mut failures = Vec::new();
     let mut ratio = [0.0; 3];
     for c in 0..3 {
@@ -311,7 +311,7 @@ fn judge(
         .map(|(v, t)| [0, 1, 2].map(|c| v[c] + (bias * t[c]).powi(2)))
         .collect();
     let model = block_sums(w, h, |i, c| {
-        mitsuba_model_variance(variance.pixels[i][c], samples) / (area * area)
+        pixel_variance(variance.pixels[i][c], samples) / (area * area)
     });
     let ours: Vec<Vec<[f64; 3]>> = passes
         .iter()
