@@ -22,8 +22,8 @@ use std::f32::consts::PI;
 pub const MAX_STEPS: usize = 1 << 16;
 /// Photons a grid cell is sized to hold at the mean density (see [`VolumeMap::build`]).
 pub const PHOTONS_PER_CELL: f32 = 16.0;
-// A point query reads the cells within R of its point, at most 3 an axis: cells are at
-// least 2 r wide.
+// A point query finds every photon within R of its point in the cells its own box of half-width
+// r overlaps (at most 2 an axis: cells are at least 2 r wide) only while R <= 2 r.
 const _: () = assert!(POINT_RADIUS_FACTOR <= 2.0);
 
 /// Marks an empty slot of the cell table.
@@ -169,14 +169,19 @@ impl VolumeMap {
     /// medium `medium` (index `medium_index`): the sum over that medium's photons within
     /// `R = POINT_RADIUS_FACTOR r` of `x` of `p(cos) power / (4/3 pi R^3)` (`cos` between the
     /// photon's travel and `wo`), which estimates `sigma_s` times the in-scattered radiance
-    /// there. It reads the cells `R` around `x` reaches (at most 3 an axis), in each the
-    /// photons whose position lies in it, so each photon counts once.
+    /// there. A photon within `R <= 2 r` of `x` is listed in a cell that `x`'s own box of
+    /// half-width `r` overlaps (the two boxes overlap), so the query reads those cells only (at
+    /// most 2 an axis), and counts a photon in one of them alone: the corner of the cells both
+    /// boxes overlap, componentwise the larger of the two boxes' lowest cells.
     pub fn point(&self, x: Vec3, wo: Vec3, medium: &Medium, medium_index: u32) -> Vec3 {
         if self.photons.is_empty() || x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() {
             return Vec3::ZERO;
         }
         let r = POINT_RADIUS_FACTOR * self.radius;
-        let (a, b) = (self.cell_coords(x - r), self.cell_coords(x + r));
+        let (a, b) = (
+            self.cell_coords(x - self.radius),
+            self.cell_coords(x + self.radius),
+        );
         let mut sum = Vec3::ZERO;
         for z in a.z..=b.z {
             for y in a.y..=b.y {
@@ -187,7 +192,7 @@ impl VolumeMap {
                         let (q, medium_of) = (p.pos(), p.normal);
                         if medium_of != medium_index
                             || (q - x).length_squared() >= r * r
-                            || self.cell_coords(q) != c
+                            || self.cell_coords(q - self.radius).max(a) != c
                         {
                             continue;
                         }
