@@ -232,8 +232,9 @@ fn volume_exit(o: vec3<f32>, d: vec3<f32>) -> f32 {
 
 // VolumeMap::point: the sum over the volume photons of `medium` within R of x (R =
 // POINT_RADIUS_FACTOR r) of p(cos) power / (4/3 pi R^3), cos between the photon's travel and
-// wo; the cells R around x reaches (at most 3 an axis), in each the photons whose position
-// lies in it (each counts once), summed in fixed point (volume_bound).
+// wo; the cells x's box of half-width r overlaps (at most 2 an axis: every photon within R <= 2r
+// is listed in one), each photon counted in one of them alone (the larger, componentwise, of
+// its box's lowest cell and x's), summed in fixed point (volume_bound).
 fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32> {
     let g2 = v_grid[2];
     let lo = v_grid[0].xyz;
@@ -242,18 +243,19 @@ fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32
         return vec3<f32>(0.0);
     }
     let cell = v_grid[0].w;
-    let r = POINT_RADIUS_FACTOR * v_grid[1].w;
+    let r1 = v_grid[1].w;
+    let r = POINT_RADIUS_FACTOR * r1;
     let bound = volume_bound(m);
     if !(bound > 1e-30) {
         return vec3<f32>(0.0);
     }
     let scale = POINT_ONE / bound;
-    let a = volume_cell(x - vec3<f32>(r), lo, cell);
-    let b = volume_cell(x + vec3<f32>(r), lo, cell);
+    let a = volume_cell(x - vec3<f32>(r1), lo, cell);
+    let b = volume_cell(x + vec3<f32>(r1), lo, cell);
     var sum = FixedSum();
-    // At most 27 cells (a cell is no narrower than R).
-    for (var n = 0; n < 27; n += 1) {
-        let c = a + vec3<i32>(n % 3, (n / 3) % 3, n / 9);
+    // At most 8 cells (a cell is no narrower than 2r).
+    for (var n = 0; n < 8; n += 1) {
+        let c = a + vec3<i32>(n % 2, (n / 2) % 2, n / 4);
         if any(c > b) {
             continue;
         }
@@ -267,7 +269,7 @@ fn volume_point(x: vec3<f32>, wo: vec3<f32>, medium: u32, m: Medium) -> vec3<f32
             let q = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x].xyz);
             let w = v_photons[PHOTON_WORDS * e.x + 2u];
             let v = q - x;
-            if w.w != medium || dot(v, v) >= r * r || any(volume_cell(q, lo, cell) != c) {
+            if w.w != medium || dot(v, v) >= r * r || any(max(volume_cell(q - vec3<f32>(r1), lo, cell), a) != c) {
                 continue;
             }
             let power = bitcast<vec3<f32>>(v_photons[PHOTON_WORDS * e.x + 1u].xyz);
