@@ -22,17 +22,13 @@ fn hetero_record(m: Medium) -> u32 {
     return 4u * m.grid;
 }
 
-// VolumeGrid::voxel: voxel (x, y, z) of the grid whose record starts at word v, as RGB (a
-// one-channel grid's value in all three).
-fn volume_voxel(v: u32, x: u32, y: u32, z: u32) -> vec3<f32> {
-    let rx = media_u32(v + VOLUME_RES);
-    let ry = media_u32(v + VOLUME_RES + 1u);
-    let channels = media_u32(v + VOLUME_CHANNELS);
-    let i = media_u32(v + VOLUME_DATA) + ((z * ry + y) * rx + x) * channels;
-    if channels == 1u {
-        return vec3<f32>(media_f32(i));
-    }
-    return media_vec3(i);
+// VolumeGrid::voxel: voxel (x, y, z) of a grid of resolution n whose data starts at word
+// `data`, as RGB (`three` channels, else one: its value in all three). Branch-free (a
+// one-channel grid's word read three times): a lookup inlines eight of these.
+fn volume_voxel(data: u32, n: vec3<u32>, three: bool, x: u32, y: u32, z: u32) -> vec3<f32> {
+    let s = select(0u, 1u, three);
+    let i = data + ((z * n.y + y) * n.x + x) * (1u + 2u * s);
+    return vec3<f32>(media_f32(i), media_f32(i + s), media_f32(i + 2u * s));
 }
 
 // VolumeGrid::lookup's clamp: index i (a whole number) clamped to 0..=last.
@@ -47,9 +43,11 @@ fn grid_lookup(v: u32, p: vec3<f32>) -> vec3<f32> {
     let n = vec3<u32>(media_u32(v + VOLUME_RES), media_u32(v + VOLUME_RES + 1u), media_u32(v + VOLUME_RES + 2u));
     let res = vec3<f32>(n);
     let last = n - vec3<u32>(1u);
+    let data = media_u32(v + VOLUME_DATA);
+    let three = media_u32(v + VOLUME_CHANNELS) != 1u;
     if media_u32(v + VOLUME_FILTER) == FILTER_NEAREST {
         let i = floor(p * res);
-        return volume_voxel(v, volume_index(i.x, last.x), volume_index(i.y, last.y), volume_index(i.z, last.z));
+        return volume_voxel(data, n, three, volume_index(i.x, last.x), volume_index(i.y, last.y), volume_index(i.z, last.z));
     }
     let pos = p * res - 0.5;
     let i0 = floor(pos);
@@ -62,14 +60,14 @@ fn grid_lookup(v: u32, p: vec3<f32>) -> vec3<f32> {
     let z0 = volume_index(i0.z, last.z);
     let z1 = volume_index(i0.z + 1.0, last.z);
     var value = vec3<f32>(0.0);
-    value += volume_voxel(v, x0, y0, z0) * (g.x * g.y * g.z);
-    value += volume_voxel(v, x1, y0, z0) * (f.x * g.y * g.z);
-    value += volume_voxel(v, x0, y1, z0) * (g.x * f.y * g.z);
-    value += volume_voxel(v, x1, y1, z0) * (f.x * f.y * g.z);
-    value += volume_voxel(v, x0, y0, z1) * (g.x * g.y * f.z);
-    value += volume_voxel(v, x1, y0, z1) * (f.x * g.y * f.z);
-    value += volume_voxel(v, x0, y1, z1) * (g.x * f.y * f.z);
-    value += volume_voxel(v, x1, y1, z1) * (f.x * f.y * f.z);
+    value += volume_voxel(data, n, three, x0, y0, z0) * (g.x * g.y * g.z);
+    value += volume_voxel(data, n, three, x1, y0, z0) * (f.x * g.y * g.z);
+    value += volume_voxel(data, n, three, x0, y1, z0) * (g.x * f.y * g.z);
+    value += volume_voxel(data, n, three, x1, y1, z0) * (f.x * f.y * g.z);
+    value += volume_voxel(data, n, three, x0, y0, z1) * (g.x * g.y * f.z);
+    value += volume_voxel(data, n, three, x1, y0, z1) * (f.x * g.y * f.z);
+    value += volume_voxel(data, n, three, x0, y1, z1) * (g.x * f.y * f.z);
+    value += volume_voxel(data, n, three, x1, y1, z1) * (f.x * f.y * f.z);
     return value;
 }
 

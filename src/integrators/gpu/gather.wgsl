@@ -251,6 +251,17 @@ fn follow_chain(o: ptr<function, vec3<f32>>, d: ptr<function, vec3<f32>>, t: ptr
     return end;
 }
 
+// Where a camera path's gather ray starts (gather_ray's arguments) and what its light is
+// weighed by.
+struct GatherStart {
+    x: vec3<f32>,
+    n: vec3<f32>,
+    dir: vec3<f32>,
+    depth: u32,
+    medium: u32,
+    w: vec3<f32>,
+}
+
 // A final-gather ray from a hit at x (geometric normal n, camera depth `depth`) along dir:
 // through mirrors (times ks) and glass (one Fresnel-chosen branch, one rng draw), depth + 1
 // per bounce up to max_depth, to its first shaded hit y, where it adds throughput *
@@ -343,59 +354,73 @@ fn camera_path(o_in: vec3<f32>, d_in: vec3<f32>, t_in: vec3<f32>, depth_in: u32,
         // pushed.
         let end = follow_chain(&o, &d, &throughput, &depth, &medium, true, rng, mis_pdf, mis_from, mis_ns);
         radiance += end.emitted;
-        if HAS_MEDIA && end.gather {
-            radiance += end.gather_w * gather_ray(end.gather_x, vec3<f32>(0.0), end.gather_dir, end.gather_depth, end.gather_medium, rng);
-        }
-        if !end.shade {
-            break;
-        }
         let hit = end.hit;
         let m = end.m;
+        // Light arriving at a hit makes the path a bounce longer: past max_depth bounces a
+        // hit only emits (as the CPU's shade).
         let can_continue = depth < params.max_depth;
-        // Diffuse or glossy: shade.
         let wo = -d;
         let f = facing(hit, dot(wo, hit.normal) >= 0.0);
         let ns = f.ns;
-        var l = vec3<f32>(0.0);
-        let use_sobol = *first_shade;
-        *first_shade = false;
-        // Light arriving here makes the path a bounce longer: past max_depth bounces a hit
-        // only emits (as the CPU's shade).
-        if !can_continue {
-            break;
+        // The first diffuse or glossy hit takes the Sobol samples.
+        let use_sobol = *first_shade && end.shade;
+        if end.shade {
+            *first_shade = false;
         }
-        if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
-            l += direct_light(hit, f, wo, m, rng, sob, use_sobol, medium);
-        }
-        let kd_pi = surface_estimate_brdf(m, wo);
-        let albedo = surface_diffuse_albedo(m, wo);
-        let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
-        // The geometric normal: photons carry their surface's.
-        if !final_gather {
-            l += estimate(0u, hit.position, f.ng, kd_pi);
-        }
-        if params.caustic_weight > 0.0 {
-            l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
-        }
-        if final_gather && max3(albedo) > 0.0 && can_continue {
-            var gu: vec2<f32>;
-            if use_sobol {
-                gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
+        // The chain's near gather ray in a medium (traced first, as on the CPU), then the
+        // shaded hit's light and its final-gather ray: one gather_ray call site for both
+        // (a driver inlines every call site, and lavapipe's compile time grows faster than
+        // the code).
+        for (var k = 0u; k < 2u; k += 1u) {
+            var g: GatherStart;
+            if k == 0u {
+                if !(HAS_MEDIA && end.gather) {
+                    continue;
+                }
+                g = GatherStart(end.gather_x, vec3<f32>(0.0), end.gather_dir, end.gather_depth, end.gather_medium, end.gather_w);
             } else {
-                gu.x = rng_next(rng);
-                gu.y = rng_next(rng);
-            }
-            let dir = cosine_hemisphere(ns, gu.x, gu.y);
-            if !reflection_leaks(f, dir) {
+                if !end.shade || !can_continue {
+                    break;
+                }
+                // Diffuse or glossy: shade.
+                var l = vec3<f32>(0.0);
+                if (params.terms & TERM_DIRECT) != 0u || ((params.terms & TERM_POINT_LOBE) != 0u && surface_lobe_takes_point_lights(m)) {
+                    l += direct_light(hit, f, wo, m, rng, sob, use_sobol, medium);
+                }
+                let kd_pi = surface_estimate_brdf(m, wo);
+                let albedo = surface_diffuse_albedo(m, wo);
+                let final_gather = (params.terms & TERM_FINAL_GATHER) != 0u;
+                // The geometric normal: photons carry their surface's.
+                if !final_gather {
+                    l += estimate(0u, hit.position, f.ng, kd_pi);
+                }
+                if params.caustic_weight > 0.0 {
+                    l += params.caustic_weight * estimate(1u, hit.position, f.ng, kd_pi);
+                }
+                radiance += throughput * l;
+                if !final_gather || !(max3(albedo) > 0.0) {
+                    break;
+                }
+                var gu: vec2<f32>;
+                if use_sobol {
+                    gu = sobol_sample_pair(sob.key, sob.index, SOBOL_PAIR_GATHER);
+                } else {
+                    gu.x = rng_next(rng);
+                    gu.y = rng_next(rng);
+                }
+                let dir = cosine_hemisphere(ns, gu.x, gu.y);
+                if reflection_leaks(f, dir) {
+                    break;
+                }
                 var gm = medium;
                 if HAS_MEDIA {
                     gm = medium_after(hit, medium, dir);
                 }
-                l += albedo * gather_ray(hit.position, hit.normal, dir, depth, gm, rng) * surface_store_weight(m, dir);
+                g = GatherStart(hit.position, hit.normal, dir, depth, gm, throughput * albedo * surface_store_weight(m, dir));
             }
+            radiance += g.w * gather_ray(g.x, g.n, g.dir, g.depth, g.medium, rng);
         }
-        radiance += throughput * l;
-        if (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) || !can_continue {
+        if !end.shade || !can_continue || (params.terms & TERM_LOBE_RAY) == 0u || !surface_has_lobe(m) {
             break;
         }
         let lr = surface_sample_lobe(m, -wo, f, rng);

@@ -133,7 +133,8 @@ fn beam_sixteen(q: BeamQuery, k: u32, last: u32, c: vec3<i32>, t_enter: f32, t_e
 // T(t) p(cos) power / (pi r^2), over the photons `which` (a BEAM_* code) keeps. A 3D DDA over
 // the cells the segment crosses, each photon taken in the cell holding its nearest point, summed
 // in fixed point (volume_bound). A cell's entries are read 64 a loop step: lavapipe's loop cut
-// counts steps, not work. In a heterogeneous medium T(t) is `walk`'s (Transmittances::Steps:
+// counts steps, not work (the 64 go through one copy of 16 entries: inlined code is lavapipe's
+// compile time). In a heterogeneous medium T(t) is `walk`'s (Transmittances::Steps:
 // the one ratio-tracking walk of the segment, replayed), read a chunk of its steps at a time:
 // a cell whose part of the ray holds more than BEAM_CHUNK steps reads its entries once per
 // chunk, each time for the photons whose nearest point lies in that chunk's part.
@@ -193,15 +194,12 @@ fn beam(o: vec3<f32>, d: vec3<f32>, t_max: f32, medium: u32, m: Medium, which: u
                 hi = min(replay_next(walk), t_exit);
             }
             for (var k = v_cells[h]; k < last && spend(); k += 64u) {
-                sum = fixed_add(sum, beam_sixteen(q, k, last, c, lo, hi, st));
-                if k + 16u < last {
-                    sum = fixed_add(sum, beam_sixteen(q, k + 16u, last, c, lo, hi, st));
-                }
-                if k + 32u < last {
-                    sum = fixed_add(sum, beam_sixteen(q, k + 32u, last, c, lo, hi, st));
-                }
-                if k + 48u < last {
-                    sum = fixed_add(sum, beam_sixteen(q, k + 48u, last, c, lo, hi, st));
+                // Four runs of 16 through one inlined copy of beam_sixteen: a loop of four
+                // steps, not counted by the budget (spend) nor near lavapipe's cut.
+                for (var j = 0u; j < 64u; j += 16u) {
+                    if k + j < last {
+                        sum = fixed_add(sum, beam_sixteen(q, k + j, last, c, lo, hi, st));
+                    }
                 }
             }
             if hi >= t_exit || !spend() {
