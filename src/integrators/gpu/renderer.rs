@@ -49,13 +49,34 @@ impl<'s> GpuRenderer<'s> {
     /// creates every pipeline, for a render with `settings`. A scene the GPU cannot render
     /// ([`unsupported`]) is an [`Error::Unsupported`].
     pub fn new(scene: &'s Scene, settings: &RenderSettings) -> Result<Self> {
+        let t = Instant::now();
+        let ctx = GpuContext::shared()?;
+        Self::build(ctx, t, scene, settings)
+    }
+
+    /// [`GpuRenderer::new`] on the device of `ctx` rather than the process's shared one: a
+    /// context per thread renders side by side (lavapipe compiles a device's kernels on that
+    /// device's own queue thread, one at a time).
+    pub fn on_context(
+        ctx: GpuContext,
+        scene: &'s Scene,
+        settings: &RenderSettings,
+    ) -> Result<Self> {
+        Self::build(ctx, Instant::now(), scene, settings)
+    }
+
+    /// The renderer on `ctx`, whose opening began at `t` (the report's first phase).
+    fn build(
+        mut ctx: GpuContext,
+        t: Instant,
+        scene: &'s Scene,
+        settings: &RenderSettings,
+    ) -> Result<Self> {
         if let Some(why) = unsupported(scene) {
             return Err(Error::Unsupported(why));
         }
         let s = settings;
         let mut report = RenderReport::default();
-        let t = Instant::now();
-        let mut ctx = GpuContext::shared()?;
         // The shared device outlives this render: GPU_PHOTON_KERNEL_SHAPE is read per render.
         ctx.shape = KernelShape::from_env(&AdapterFacts::of(&ctx.adapter)).map_err(Error::Gpu)?;
         let accum_bytes = s.width as u64 * s.height as u64 * 16;
