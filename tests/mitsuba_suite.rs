@@ -48,6 +48,7 @@
 mod common;
 
 use gpu_photon::importers::load;
+use gpu_photon::integrators::gpu::pipelines::scene_features;
 use gpu_photon::integrators::gpu::{GpuContext, GpuRenderer};
 use gpu_photon::render::film::Image;
 use gpu_photon::render::progressive::pass_settings;
@@ -579,6 +580,19 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
         .min(by_memory)
         .min(names.len())
         .max(1);
+    // Scenes of one feature set share their kernels, compiled once (Mesa's shader cache
+    // serves the other devices): the first scene of each set goes first, so that two
+    // workers do not compile the same kernels side by side.
+    let features: Vec<Option<Vec<(&str, u64)>>> = names
+        .iter()
+        .map(|n| {
+            let scene = load(&suite_root().join(n)).ok()?;
+            let f = scene_features(&scene, false);
+            Some(f.into_iter().map(|(k, v)| (k, v.to_bits())).collect())
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..names.len()).collect();
+    order.sort_by_key(|&i| features[..i].contains(&features[i]));
     let next = AtomicUsize::new(0);
     let done: Mutex<Vec<(usize, Outcome)>> = Mutex::new(Vec::new());
     std::thread::scope(|threads| {
@@ -586,8 +600,10 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
             threads.spawn(|| {
                 let ctx = GpuContext::new().expect("a GPU worker opens its device");
                 loop {
-                    let i = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(name) = names.get(i) else { break };
+                    let Some(&i) = order.get(next.fetch_add(1, Ordering::SeqCst)) else {
+                        break;
+                    };
+                    let name = &names[i];
                     let o = run_scene(name, BackendChoice::Gpu, budget, Some(&ctx));
                     eprintln!("{label}: {name}: {:.1} s", o.seconds);
                     done.lock().unwrap().push((i, o));
