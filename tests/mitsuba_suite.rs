@@ -599,10 +599,7 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
         for _ in 0..workers {
             threads.spawn(|| {
                 let ctx = GpuContext::new().expect("a GPU worker opens its device");
-                loop {
-                    let Some(&i) = order.get(next.fetch_add(1, Ordering::SeqCst)) else {
-                        break;
-                    };
+                while let Some(&i) = order.get(next.fetch_add(1, Ordering::SeqCst)) {
                     let name = &names[i];
                     let o = run_scene(name, BackendChoice::Gpu, budget, Some(&ctx));
                     eprintln!("{label}: {name}: {:.1} s", o.seconds);
