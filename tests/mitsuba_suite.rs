@@ -367,9 +367,16 @@ fn judge(
     (failure, ratio, (fraction, min_p))
 }
 
-/// Loads, renders and judges one scene (on `device` when given: a GPU worker's own).
+/// The suite's scene `name` loaded by our importer, or its refusal.
+fn load_scene(name: &str) -> Result<gpu_photon::scene::Scene, String> {
+    load(&suite_root().join(name)).map_err(|e| e.to_string())
+}
+
+/// Renders and judges one scene, `loaded` by [`load_scene`] (on `device` when given: a GPU
+/// worker's own).
 fn run_scene(
     name: &str,
+    loaded: &Result<gpu_photon::scene::Scene, String>,
     backend: BackendChoice,
     budget: Budget,
     device: Option<&GpuContext>,
@@ -383,10 +390,10 @@ fn run_scene(
         z: None,
         seconds: 0.0,
     };
-    let scene = match load(&path) {
+    let scene = match loaded {
         Ok(s) => s,
         Err(e) => {
-            outcome.status = Status::Refused(e.to_string());
+            outcome.status = Status::Refused(e.clone());
             return outcome;
         }
     };
@@ -400,7 +407,7 @@ fn run_scene(
         ..scene.settings.clone()
     }
     .as_default_render();
-    let passes = render_passes(&scene, &settings, backend, budget.passes, device);
+    let passes = render_passes(scene, &settings, backend, budget.passes, device);
     outcome.seconds = start.elapsed().as_secs_f64();
     let passes = match passes {
         Ok(p) => p,
@@ -506,7 +513,7 @@ fn run_suite(
         _ => names
             .iter()
             .map(|name| {
-                let o = run_scene(name, backend, budget, None);
+                let o = run_scene(name, &load_scene(name), backend, budget, None);
                 eprintln!("{label}: {name}: {:.1} s", o.seconds);
                 o
             })
@@ -583,11 +590,11 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
     // Scenes of one feature set share their kernels, compiled once (Mesa's shader cache
     // serves the other devices): the first scene of each set goes first, so that two
     // workers do not compile the same kernels side by side.
-    let features: Vec<Option<Vec<(&str, u64)>>> = names
+    let scenes: Vec<_> = names.iter().map(|n| load_scene(n)).collect();
+    let features: Vec<Option<Vec<(&str, u64)>>> = scenes
         .iter()
-        .map(|n| {
-            let scene = load(&suite_root().join(n)).ok()?;
-            let f = scene_features(&scene, false);
+        .map(|loaded| {
+            let f = scene_features(loaded.as_ref().ok()?, false);
             Some(f.into_iter().map(|(k, v)| (k, v.to_bits())).collect())
         })
         .collect();
@@ -601,7 +608,7 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
                 let ctx = GpuContext::new().expect("a GPU worker opens its device");
                 while let Some(&i) = order.get(next.fetch_add(1, Ordering::SeqCst)) {
                     let name = &names[i];
-                    let o = run_scene(name, BackendChoice::Gpu, budget, Some(&ctx));
+                    let o = run_scene(name, &scenes[i], BackendChoice::Gpu, budget, Some(&ctx));
                     eprintln!("{label}: {name}: {:.1} s", o.seconds);
                     done.lock().unwrap().push((i, o));
                 }
