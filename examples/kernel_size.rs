@@ -85,17 +85,7 @@ fn own_size(f: &Function) -> usize {
 
 fn statements(b: &Block) -> usize {
     b.iter()
-        .map(|s| {
-            1 + match s {
-                Statement::Block(b) => statements(b),
-                Statement::If { accept, reject, .. } => statements(accept) + statements(reject),
-                Statement::Loop {
-                    body, continuing, ..
-                } => statements(body) + statements(continuing),
-                Statement::Switch { cases, .. } => cases.iter().map(|c| statements(&c.body)).sum(),
-                _ => 0,
-            }
-        })
+        .map(|s| 1 + children(s).into_iter().map(statements).sum::<usize>())
         .sum()
 }
 
@@ -103,26 +93,25 @@ fn statements(b: &Block) -> usize {
 fn calls(b: &Block) -> Vec<Handle<Function>> {
     let mut out = Vec::new();
     for s in b.iter() {
-        match s {
-            Statement::Call { function, .. } => out.push(*function),
-            Statement::Block(b) => out.extend(calls(b)),
-            Statement::If { accept, reject, .. } => {
-                out.extend(calls(accept));
-                out.extend(calls(reject));
-            }
-            Statement::Loop {
-                body, continuing, ..
-            } => {
-                out.extend(calls(body));
-                out.extend(calls(continuing));
-            }
-            Statement::Switch { cases, .. } => {
-                for c in cases {
-                    out.extend(calls(&c.body));
-                }
-            }
-            _ => {}
+        if let Statement::Call { function, .. } = s {
+            out.push(*function);
+        }
+        for c in children(s) {
+            out.extend(calls(c));
         }
     }
     out
+}
+
+/// The blocks nested in statement `s`.
+fn children(s: &Statement) -> Vec<&Block> {
+    match s {
+        Statement::Block(b) => vec![b],
+        Statement::If { accept, reject, .. } => vec![accept, reject],
+        Statement::Loop {
+            body, continuing, ..
+        } => vec![body, continuing],
+        Statement::Switch { cases, .. } => cases.iter().map(|c| &c.body).collect(),
+        _ => vec![],
+    }
 }
