@@ -18,6 +18,7 @@ pub enum Kernel {
     /// `volume_estimate.wgsl` (the volume map's estimates),
     /// `media_camera.wgsl` (segments through media),
     /// `glass_branches.wgsl` (the camera path's deferred glass branches),
+    /// `gather_ray.wgsl` (the final-gather ray),
     /// `radiance_cache.wgsl` (the final gather's cache lookup), `cache_build.wgsl`
     /// and `cache_fixed.wgsl` (its build) and the Sobol library
     /// (`crate::math::sobol::wgsl_library`).
@@ -49,10 +50,11 @@ const CACHE_BUILD: &str = include_str!("cache_build.wgsl");
 const CACHE_FIXED: &str = include_str!("cache_fixed.wgsl");
 const GLASS_BRANCHES: &str = include_str!("glass_branches.wgsl");
 const GATHER: &str = include_str!("gather.wgsl");
+const GATHER_RAY: &str = include_str!("gather_ray.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 25] = [
+const WGSL_FILES: [(&str, &str); 26] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
@@ -80,6 +82,7 @@ const WGSL_FILES: [(&str, &str); 25] = [
     ("integrators/gpu/cache_build.wgsl", CACHE_BUILD),
     ("integrators/gpu/cache_fixed.wgsl", CACHE_FIXED),
     ("integrators/gpu/glass_branches.wgsl", GLASS_BRANCHES),
+    ("integrators/gpu/gather_ray.wgsl", GATHER_RAY),
     ("integrators/gpu/gather.wgsl", GATHER),
 ];
 
@@ -153,6 +156,7 @@ impl Kernel {
                 CACHE_BUILD,
                 CACHE_FIXED,
                 GLASS_BRANCHES,
+                GATHER_RAY,
                 GATHER,
             ],
         };
