@@ -2,8 +2,8 @@
 """Time to error on the participating-media scenes, Mitsuba 3's volpath against gpu-photon,
 in one run (issue 24).
 
-For each scene (scenes/mitsuba/NAME.xml for Mitsuba, scenes/NAME.toml for gpu-photon, the
-same scene: tests/media_scenes.rs), renders
+For each scene (scenes/mitsuba/NAME.xml for Mitsuba; for gpu-photon scenes/NAME.toml, the
+same scene (tests/media_scenes.rs), or where there is none the same XML file), renders
 
 - Mitsuba 3.9.1 (llvm_ad_rgb, the file's own integrator: volpath) at each of --spp, after
   one 4-spp JIT warm-up render, seeds 1001, 1002, ...;
@@ -23,7 +23,7 @@ Needs `pip install mitsuba==3.9.1 numpy`, `apt-get install libllvm19` and
 DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1, and a release build
 (target/release/gpu-photon, or --binary).
 
-    python3 scripts/media_race.py [--scenes fog-cornell,volume-caustic] [--spp 256,1024]
+    python3 scripts/media_race.py [--scenes fog-cornell,volume-caustic,smoke-caustic] [--spp 256,1024]
         [--backend cpu] [--json race.json]
 """
 import argparse
@@ -67,10 +67,16 @@ def mitsuba_render(name, spp, seed):
     return time.perf_counter() - t, img
 
 
+def our_scene(name):
+    """gpu-photon's file for NAME: its TOML twin where there is one, else the Mitsuba file."""
+    toml = ROOT / f"scenes/{name}.toml"
+    return toml if toml.exists() else ROOT / f"scenes/mitsuba/{name}.xml"
+
+
 def ours(binary, name, seed, backend, out):
     t = time.perf_counter()
     subprocess.run(
-        [str(binary), "render", str(ROOT / f"scenes/{name}.toml"), "-o", str(out),
+        [str(binary), "render", str(our_scene(name)), "-o", str(out),
          "--backend", backend, "--seed", str(seed), "-q"],
         check=True,
     )
@@ -127,7 +133,7 @@ def race(name, spps, backend, binary, tmp):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--scenes", default="fog-cornell,volume-caustic")
+    ap.add_argument("--scenes", default="fog-cornell,volume-caustic,smoke-caustic")
     ap.add_argument("--spp", default="256,1024")
     ap.add_argument("--backend", default="cpu")
     ap.add_argument("--binary", default=str(ROOT / "target/release/gpu-photon"))

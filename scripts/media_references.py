@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The participating-media scenes' Mitsuba 3.9.1 references (issue 24).
 
-Renders scenes/mitsuba/fog-cornell.xml, scenes/mitsuba/volume-caustic.xml and
-scenes/mitsuba/fog-box-null.xml (issue 41: the fog inside a null cube, camera and light outside) with the
+Renders scenes/mitsuba/fog-cornell.xml, scenes/mitsuba/volume-caustic.xml,
+scenes/mitsuba/fog-box-null.xml (issue 41: the fog inside a null cube, camera and light outside) and
+scenes/mitsuba/smoke-caustic.xml (issue 41: a volume caustic in a heterogeneous smoke grid) with the
 files' own integrator (Mitsuba's `volpath`, max_depth 64, rr_depth 16) in the llvm_ad_rgb
 variant as two independent halves (mitsuba_refs.render_halves: seeds 1 and 2, each half
 rendered in chunks of CHUNK samples per pixel, half h's k-th chunk with seed h + 2k, since
@@ -20,7 +21,9 @@ a JIT variant traces a render's samples as one wavefront), and writes for each s
 
 The default spp per half were chosen so that each scene's two halves take about 30 minutes
 of the 2-core machine this was written on (chunks of 1024 spp measured at 42 s for
-fog-cornell and 78 s for volume-caustic); pass --spp to change them.
+fog-cornell and 78 s for volume-caustic); smoke-caustic's heterogeneous volpath takes about
+100 s per 1024 spp, so its halves are 4096 spp (about 15 minutes in all); pass --spp to
+change them.
 
     pip install mitsuba==3.9.1 numpy; apt-get install libllvm19
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
@@ -40,7 +43,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mitsuba_refs import block_rmse, render_halves  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-SCENES = {"fog-cornell": 20480, "volume-caustic": 11264, "fog-box-null": 1536}
+SCENES = {"fog-cornell": 20480, "volume-caustic": 11264, "fog-box-null": 1536,
+          "smoke-caustic": 4096}
 VARIANT = "llvm_ad_rgb"
 
 

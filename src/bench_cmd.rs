@@ -20,6 +20,9 @@ pub(crate) fn run_bench(args: &BenchArgs) -> Result<()> {
         None => vec![s.mode],
     };
     println!("{}", bench::heading(&args.scene, &s, args.runs));
+    bench::media_memory(&scene)
+        .iter()
+        .for_each(|l| println!("{l}"));
     println!("{}", bench::Throughput::header());
     let results = bench::throughputs(&scene, &s, &which, args.runs, |r| match r {
         Ok(t) => println!("{t}"),

@@ -239,6 +239,12 @@ fn toml_heterogeneous_media_load_grids_and_constants() {
     let s = scene("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nscale = 2\nalbedo = [0.5, 0.6, 0.7]").unwrap();
     let h = hetero(&s);
     assert_eq!(h.majorant, 6.0);
+    // What `gpu-photon bench` reports of it: two f32 voxels (the albedo is a constant), and
+    // one majorant cell (a grid of at most VOXELS_PER_CELL voxels a side).
+    assert_eq!(
+        gpu_photon::bench::media_memory(&s),
+        ["medium 0 (heterogeneous): grids 8 bytes, majorant grid 1x1x1 cells 4 bytes"]
+    );
     assert!((h.sigma_t_at(v(1.0)).x - 4.0).abs() < 1e-6);
     assert!((h.sigma_t_at(v(1.5)).x - 6.0).abs() < 1e-6);
     assert_eq!(h.sigma_t_at(v(2.5)).x, 0.0);

@@ -98,6 +98,27 @@ pub fn heading(scene_path: &std::path::Path, s: &RenderSettings, runs: usize) ->
     )
 }
 
+/// The memory of the scene's heterogeneous media, one line each: the grids' voxels (every
+/// volume read from a file) and the majorant grid's cells, in bytes. Empty without such media.
+pub fn media_memory(scene: &Scene) -> Vec<String> {
+    use crate::media::MediumKind;
+    let mut lines = Vec::new();
+    for (i, m) in scene.media.iter().enumerate() {
+        if let MediumKind::Heterogeneous(h) = &m.kind {
+            let (_, _, res, cells) = h.majorants.parts();
+            lines.push(format!(
+                "medium {i} (heterogeneous): grids {} bytes, majorant grid {}x{}x{} cells {} bytes",
+                h.grid_bytes(),
+                res.x,
+                res.y,
+                res.z,
+                std::mem::size_of_val(cells)
+            ));
+        }
+    }
+    lines
+}
+
 /// How the GPU's times compare with the CPU's, phase by phase (above 1: the GPU is slower).
 pub fn ratios(cpu: &Throughput, gpu: &Throughput) -> String {
     format!(
