@@ -21,7 +21,7 @@ DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 (set here when unse
 release build (target/release/gpu-photon).
 
     python3 scripts/cpu_race.py [--spp 256] [--scenes cornell-box,cornell-caustics,materials]
-        [--binary target/release/gpu-photon] [--json out.json]
+        [--binary target/release/gpu-photon] [--json out.json] [--args '--adaptive 16']
 """
 import argparse
 import json
@@ -74,12 +74,12 @@ def mitsuba(xml, spp, reference):
     return time.perf_counter() - t, rmse(img, reference)
 
 
-def ours(binary, scene, reference_path):
+def ours(binary, scene, reference_path, extra):
     with tempfile.TemporaryDirectory() as d:
         out = Path(d) / "ours.exr"
         t = time.perf_counter()
         subprocess.run([str(binary), "render", str(ROOT / scene), "-o", str(out),
-                        "--backend", "cpu", "-q"], check=True)
+                        "--backend", "cpu", "-q"] + extra, check=True)
         wall = time.perf_counter() - t
         diff = subprocess.run([str(binary), "diff", str(out), str(reference_path)], check=True,
                               capture_output=True, text=True).stdout
@@ -94,6 +94,8 @@ def main():
     ap.add_argument("--binary", default=str(ROOT / "target/release/gpu-photon"))
     ap.add_argument("--references", default=None)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--args", default="",
+                    help="more flags for our render, e.g. '--adaptive 16' (default: none)")
     args = ap.parse_args()
     os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
     import mitsuba as mi
@@ -108,7 +110,7 @@ def main():
         scene, xml, ref_name, noise = SCENES[name]
         ref_path = find_reference(ref_name, args.references)
         reference = np.array(mi.TensorXf(mi.Bitmap(str(ref_path))))[:, :, :3]
-        t_ours, e_ours = ours(args.binary, scene, ref_path)
+        t_ours, e_ours = ours(args.binary, scene, ref_path, args.args.split())
         t_mi, e_mi = mitsuba(xml, args.spp, reference)
         t_equal = t_mi * (e_mi / e_ours) ** 2
         t_true = t_mi * (true_error(e_mi, noise) / true_error(e_ours, noise)) ** 2

@@ -58,6 +58,11 @@ pub(crate) struct RenderArgs {
     /// light along a camera segment in a medium.
     #[arg(long)]
     shadow_samples: Option<u32>,
+    /// Adaptive sampling: a pixel takes up to N times spp camera samples a pass, by the noise
+    /// two pilot images show around it (1: spp everywhere; 0, the default: 16 for passes of
+    /// 16 spp or more on 64 x 64 pixels or more, else 1; CPU backend only).
+    #[arg(long)]
+    adaptive: Option<u32>,
     /// Run the caustic-map estimate on one camera sample in N (1: every sample).
     #[arg(long)]
     caustic_every: Option<u32>,
@@ -156,6 +161,7 @@ impl RenderArgs {
             volume_radius
         );
         set!(spp, shadow_samples, caustic_every, seed, width);
+        set!(adaptive);
         set!(height, exposure, alpha);
         if self.initial_radius.is_some() {
             s.initial_radius = self.initial_radius;

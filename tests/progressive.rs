@@ -272,3 +272,52 @@ fn cpu_renderer_built_once_renders_every_pass_like_a_fresh_one() {
     assert!(report.backend.starts_with("cpu"));
     assert!(report.stored.iter().all(|&n| n > 0), "{:?}", report.stored);
 }
+
+/// Adaptive sampling (`render::adaptive`): the counts come from pass 0's pilots whatever the
+/// range, so slices still merge into the whole range exactly; they change the image (pixels
+/// take more samples than `spp`), and each pixel stays the mean of its own samples, so the
+/// image's mean is the uniform render's within the noise of a 32 x 32 image (a mean divided
+/// by `spp` instead of the pixel's count would be off by the mean count, 1.3x or more).
+#[test]
+fn adaptive_slices_merge_and_keep_the_mean() {
+    let scene = load("cornell-box");
+    let s = RenderSettings {
+        spp: 2,
+        adaptive: 8,
+        ..small(&scene)
+    };
+    let run = |s: &RenderSettings, r: std::ops::Range<u32>| {
+        render_progressive(&scene, s, Backend::Cpu, Progress::default(), r, |_| {
+            Flow::Continue
+        })
+        .unwrap()
+        .0
+        .mean()
+    };
+    let (a, b, whole) = (run(&s, 0..1), run(&s, 1..3), run(&s, 0..3));
+    for i in 0..whole.pixels.len() {
+        for c in 0..3 {
+            let merged = (a.pixels[i][c] as f64 + 2.0 * b.pixels[i][c] as f64) / 3.0;
+            let want = whole.pixels[i][c] as f64;
+            assert!(
+                (merged - want).abs() <= 1e-5 * want.abs().max(1e-3),
+                "pixel {i} channel {c}: {merged} vs {want}"
+            );
+        }
+    }
+    let uniform = run(
+        &RenderSettings {
+            adaptive: 1,
+            ..s.clone()
+        },
+        0..3,
+    );
+    assert!(uniform != whole, "adaptive sampling changed nothing");
+    let (m, u) = (whole.mean(), uniform.mean());
+    for c in 0..3 {
+        assert!(
+            (m[c] / u[c] - 1.0).abs() < 0.02,
+            "means {m:?} against {u:?}"
+        );
+    }
+}

@@ -52,6 +52,13 @@ fn open_backend<'s>(
 ) -> Result<Box<dyn PassRenderer + 's>> {
     // Before anything of the render is allocated.
     crate::render::budget::check(scene, settings, backend == Backend::Cpu)?;
+    if backend == Backend::Gpu && settings.adaptive > 1 {
+        crate::warning::warn(format!(
+            "adaptive sampling (adaptive {}) is the CPU backend's only: the GPU renders {} \
+             samples in every pixel",
+            settings.adaptive, settings.spp
+        ));
+    }
     Ok(match backend {
         Backend::Cpu => Box::new(crate::integrators::cpu::CpuRenderer::new(scene, settings)?),
         Backend::Gpu => Box::new(crate::integrators::gpu::GpuRenderer::new(scene, settings)?),

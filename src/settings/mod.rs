@@ -35,6 +35,12 @@ pub struct RenderSettings {
     /// Shadow rays per area light sample where direct light is estimated, and next-event
     /// estimates of single scattering per light along a camera segment in a medium.
     pub shadow_samples: u32,
+    /// Adaptive sampling: a pixel may take up to this many times `spp` camera samples in each
+    /// pass (rounded down to a power of two), by the noise of two pilot images
+    /// (`crate::render::adaptive`); 1: every pixel takes `spp`; 0 (the default): 16 where a
+    /// pass has at least 16 samples per pixel and the image at least 64 x 64 pixels, else 1
+    /// (`adaptive::resolve`). CPU backend only (the GPU takes `spp` everywhere).
+    pub adaptive: u32,
     /// The caustic-map estimate runs on one camera sample in this many (see
     /// [`crate::integrators::plan::caustic_weight`]); 1: on every sample.
     pub caustic_every: u32,
@@ -86,6 +92,7 @@ impl Default for RenderSettings {
             volume_radius: 0.25,
             spp: 64,
             shadow_samples: 1,
+            adaptive: 0,
             caustic_every: 4,
             mode: Mode::Gather,
             filter: Filter::Disc,
@@ -135,6 +142,9 @@ pub fn split_samples(total: u32, max_passes: u32) -> (u32, u32) {
         .unwrap_or(1);
     (p, total / p)
 }
+
+/// Largest accepted `adaptive` multiple of `spp`.
+pub const MAX_ADAPTIVE: u32 = 64;
 
 /// Largest accepted progressive pass count (pass indices leave the RNG's top 8 bits free).
 pub const MAX_PASSES: u32 = u32::MAX >> 8;
@@ -341,6 +351,8 @@ pub static SETTINGS: &[Setting] = &[
     row!(spp, "spp", RENDER, int(1, MAX_SPP), u32, "camera samples per pixel"),
     row!(shadow_samples, "shadow-samples", RENDER, int(1, MAX_SHADOW_SAMPLES), u32,
         "shadow rays per area light and camera sample; single-scattering estimates per light in media"),
+    row!(adaptive, "adaptive", RENDER, int(0, MAX_ADAPTIVE), u32,
+        "most camera samples of a pixel, as a multiple of spp, by the pilots' noise (1: spp everywhere; 0: automatic)"),
     row!(caustic_every, "caustic-every", RENDER, int(1, MAX_SPP), u32,
         "camera samples per caustic-map estimate (1: every sample)"),
     row!(max_photon_bounces, "max-photon-bounces", RENDER, int(1, MAX_BOUNCES), u32,

@@ -49,6 +49,7 @@ pub struct Mis {
 }
 
 /// Everything the camera pass reads.
+#[derive(Clone)]
 pub struct Gatherer<'a> {
     /// The scene rendered.
     pub scene: &'a Scene,
@@ -77,16 +78,26 @@ pub struct Gatherer<'a> {
 impl Gatherer<'_> {
     /// Mean radiance of pixel (x, y) over `spp` jittered camera samples.
     pub fn pixel(&self, x: u32, y: u32, pass: u32) -> Vec3 {
+        self.pixel_samples(x, y, pass, self.settings.spp)
+    }
+
+    /// Mean radiance of pixel (x, y) over `count` jittered camera samples (adaptive
+    /// sampling's count, `crate::render::adaptive`, the same in every pass): sample i is
+    /// index `pass * count + i` of the pixel's Sobol sequence, so the passes continue one
+    /// sequence, and RNG index `pixel * stride + i` with `stride` = `adaptive::stride`
+    /// (`spp` without adaptive sampling).
+    pub fn pixel_samples(&self, x: u32, y: u32, pass: u32, count: u32) -> Vec3 {
         let s = self.settings;
         let pixel_index = y * s.width + x;
-        let sobol = SobolSampler::new(s.seed, pass, pixel_index, s.spp);
+        let stride = crate::render::adaptive::stride(s.spp, s.adaptive);
+        let sobol = SobolSampler::new(s.seed, pass, pixel_index, count);
         let mut sum = Vec3::ZERO;
-        for i in 0..s.spp {
+        for i in 0..count {
             let mut rng = Rng::new(
                 s.seed,
                 crate::math::rng::Stream::Camera,
                 pass,
-                pixel_index.wrapping_mul(s.spp).wrapping_add(i),
+                pixel_index.wrapping_mul(stride).wrapping_add(i),
             );
             let st = sobol.stream(i);
             // `sampler = "independent"`: the jitter, light and gather numbers from the RNG.
@@ -108,12 +119,12 @@ impl Gatherer<'_> {
                 0,
                 &mut rng,
                 &mut stream,
-                caustic_weight(s.spp, s.caustic_every, i),
+                caustic_weight(count, s.caustic_every, i),
                 None,
                 self.scene.camera_medium,
             );
         }
-        sum / s.spp as f32
+        sum / count as f32
     }
 
     /// Radiance arriving along `ray` (the chain of specular bounces, then shading), which

@@ -13,6 +13,7 @@ use crate::integrators::cpu::volume_map::VolumeMap;
 use crate::integrators::photon::Photon;
 use crate::integrators::plan::{MapPlan, Terms};
 use crate::lights::table::LightTable;
+use crate::render::adaptive;
 use crate::render::film::Image;
 use crate::render::report::{PassRenderer, Progress, RenderReport};
 use crate::scene::Scene;
@@ -30,6 +31,19 @@ pub struct CpuRenderer<'s> {
     /// which the plan does not read.
     plan: MapPlan,
     report: RenderReport,
+    /// The render's settings (a pass's come from them, `progressive::pass_settings`).
+    settings: RenderSettings,
+    /// Adaptive sampling's camera samples per pixel, from pass 0's pilots
+    /// (`crate::render::adaptive`), once the first pass has them.
+    counts: Option<Vec<u32>>,
+}
+
+/// A pass's photon maps, its volume map and radiance cache, as the plan asks for them.
+struct PassMaps {
+    global: Option<PhotonMap>,
+    caustic: Option<PhotonMap>,
+    volume: Option<VolumeMap>,
+    cache: Option<RadianceCache>,
 }
 
 impl<'s> CpuRenderer<'s> {
@@ -51,14 +65,17 @@ impl<'s> CpuRenderer<'s> {
             lights,
             plan,
             report,
+            settings: settings.clone(),
+            counts: None,
         })
     }
 }
 
-impl PassRenderer for CpuRenderer<'_> {
-    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
+impl CpuRenderer<'_> {
+    /// Traces pass `pass`'s photons and builds its maps (and in `gather` mode the radiance
+    /// cache over the global map).
+    fn maps(&self, pass: u32, settings: &RenderSettings, report: &mut RenderReport) -> PassMaps {
         let (scene, plan) = (self.scene, &self.plan);
-        let mut report = RenderReport::default();
         let ctx = TraceContext {
             scene,
             bvh: &self.bvh,
@@ -97,9 +114,7 @@ impl PassRenderer for CpuRenderer<'_> {
             report.phase("build volume grid", t);
             map
         });
-
-        let terms = Terms::of(plan.mode);
-        let cache = match (&global, terms.final_gather) {
+        let cache = match (&global, Terms::of(plan.mode).final_gather) {
             (Some(global), true) => {
                 let t = Instant::now();
                 let cache =
@@ -109,36 +124,94 @@ impl PassRenderer for CpuRenderer<'_> {
             }
             _ => None,
         };
+        PassMaps {
+            global,
+            caustic,
+            volume,
+            cache,
+        }
+    }
 
-        let t = Instant::now();
-        let g = Gatherer {
-            scene,
+    /// The camera pass's reader of `maps` with `settings`.
+    fn gatherer<'a>(&'a self, settings: &'a RenderSettings, maps: &'a PassMaps) -> Gatherer<'a> {
+        Gatherer {
+            scene: self.scene,
             bvh: &self.bvh,
             lights: &self.lights,
             settings,
-            global: global.as_ref(),
-            caustic: caustic.as_ref(),
-            terms,
-            cache: cache.as_ref(),
-            volume: volume.as_ref(),
-            volume_spec: plan.volume,
-            media: scene.has_media_transport(),
+            global: maps.global.as_ref(),
+            caustic: maps.caustic.as_ref(),
+            terms: Terms::of(self.plan.mode),
+            cache: maps.cache.as_ref(),
+            volume: maps.volume.as_ref(),
+            volume_spec: self.plan.volume,
+            media: self.scene.has_media_transport(),
+        }
+    }
+
+    /// Adaptive sampling's counts (`crate::render::adaptive`): two pilot images of pass 0 over
+    /// pass 0's maps (`maps` when this pass is pass 0, else traced again here, so that a
+    /// range of passes rendered on its own gets the counts of the whole render).
+    fn adaptive_counts(&self, pass: u32, maps: &PassMaps, report: &mut RenderReport) -> Vec<u32> {
+        let zero;
+        let (settings, maps) = if pass == 0 {
+            (self.pass_zero(), maps)
+        } else {
+            let s = self.pass_zero();
+            zero = self.maps(0, &s, &mut RenderReport::default());
+            (s, &zero)
         };
-        let mut image = Image::new(settings.width, settings.height);
+        let t = Instant::now();
+        let pilot = |half: u32| {
+            let s = RenderSettings {
+                spp: adaptive::PILOT_SPP,
+                seed: adaptive::pilot_seed(settings.seed, half),
+                adaptive: 1,
+                ..settings.clone()
+            };
+            let g = self.gatherer(&s, maps);
+            rows(&s, None, |x, y| g.pixel(x, y, 0))
+        };
+        let counts = adaptive::sample_counts(&pilot(0), &pilot(1), settings.spp, settings.adaptive);
+        report.phase("adaptive pilot", t);
+        counts
+    }
+
+    /// Pass 0's settings (those of the render when it is one classic pass), `adaptive`
+    /// resolved.
+    fn pass_zero(&self) -> RenderSettings {
+        let s = match self.settings.pass_range {
+            Some(_) => crate::render::progressive::pass_settings(self.scene, &self.settings, 0),
+            None => self.settings.clone(),
+        };
+        RenderSettings {
+            adaptive: adaptive::resolve(&s),
+            ..s
+        }
+    }
+}
+
+impl PassRenderer for CpuRenderer<'_> {
+    fn pass(&mut self, pass: u32, settings: &RenderSettings, progress: &Progress) -> Result<Image> {
+        let settings = &RenderSettings {
+            adaptive: adaptive::resolve(settings),
+            ..settings.clone()
+        };
+        let mut report = RenderReport::default();
+        let maps = self.maps(pass, settings, &mut report);
+        if settings.adaptive > 1 && self.counts.is_none() {
+            self.counts = Some(self.adaptive_counts(pass, &maps, &mut report));
+        }
+        let g = self.gatherer(settings, &maps);
+        let t = Instant::now();
         let bar = progress.bar(settings.height as u64, "gather");
-        image
-            .pixels
-            .par_chunks_mut(settings.width as usize)
-            .enumerate()
-            .for_each(|(y, row)| {
-                for (x, px) in row.iter_mut().enumerate() {
-                    *px = g.pixel(x as u32, y as u32, pass).to_array();
-                }
-                bar.inc(1);
-            });
+        let image = rows(settings, Some(&bar), |x, y| match &self.counts {
+            Some(n) => g.pixel_samples(x, y, pass, n[(y * settings.width + x) as usize]),
+            None => g.pixel(x, y, pass),
+        });
         bar.finish_and_clear();
         report.phase("gather", t);
-        report.narrowed = [&global, &caustic]
+        report.narrowed = [&maps.global, &maps.caustic]
             .iter()
             .filter_map(|m| m.as_ref().map(PhotonMap::narrowed))
             .sum();
@@ -149,4 +222,27 @@ impl PassRenderer for CpuRenderer<'_> {
     fn report(&mut self) -> Result<RenderReport> {
         Ok(self.report.clone())
     }
+}
+
+/// The image of `s`'s size whose pixel (x, y) is `pixel(x, y)`, rows in parallel, `bar`
+/// advanced by one a row.
+fn rows(
+    s: &RenderSettings,
+    bar: Option<&indicatif::ProgressBar>,
+    pixel: impl Fn(u32, u32) -> glam::Vec3 + Sync,
+) -> Image {
+    let mut image = Image::new(s.width, s.height);
+    image
+        .pixels
+        .par_chunks_mut(s.width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                *px = pixel(x as u32, y as u32).to_array();
+            }
+            if let Some(bar) = bar {
+                bar.inc(1);
+            }
+        });
+    image
 }
