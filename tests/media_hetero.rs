@@ -221,6 +221,10 @@ fn toml_heterogeneous_media_load_grids_and_constants() {
     }
     std::fs::write(dir.join("ramp.vol"), &ramp).unwrap();
     std::fs::write(dir.join("short.vol"), &ramp[..50]).unwrap();
+    // An OpenVDB file's first bytes: its magic number 0x56444220 as a little-endian i64.
+    let mut vdb = vec![0x20u8, 0x42, 0x44, 0x56, 0, 0, 0, 0];
+    vdb.resize(256, 0);
+    std::fs::write(dir.join("smoke.vdb"), &vdb).unwrap();
     let scene = |media: &str| {
         let text = format!(
             "[camera]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n{media}\n\
@@ -271,6 +275,7 @@ fn toml_heterogeneous_media_load_grids_and_constants() {
     let cases = [
         ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = 2", "s.toml:9: media.smoke.sigma_t: a heterogeneous medium without a grid file for sigma_t needs `bounds`".to_string()),
         ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"short.vol\"", format!("s.toml:9: media.smoke.sigma_t: {d}/short.vol: byte 50: truncated data (2x1x1 voxels of 1 channel(s) need 56 bytes)")),
+        ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"smoke.vdb\"", format!("s.toml:9: media.smoke.sigma_t: {d}/smoke.vdb: byte 0: an OpenVDB file; grids are read from Mitsuba's .vol files only (write the grid out densely in that format: docs/media.md, \"Grid files\")")),
         ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nbounds = [[0, 0, 0], [0, 1, 1]]", "s.toml:10: media.smoke.bounds: needs min < max on every axis".to_string()),
         ("[media.smoke]\ntype = \"heterogeneous\"\nsigma_t = \"ramp.vol\"\nfilter = \"cubic\"", "s.toml:10: media.smoke.filter: must be one of \"trilinear\", \"nearest\"".to_string()),
         ("[media.smoke]\nsigma_t = 1\nbounds = [[0, 0, 0], [1, 1, 1]]", "s.toml:9: media.smoke.bounds: `bounds` does not apply to type \"homogeneous\"".to_string()),

@@ -79,6 +79,15 @@ impl VolumeGrid {
         r.read_exact(&mut head)
             .map_err(|e| format!("byte 0: reading the header: {e}"))?;
         let h = Header { bytes: &head };
+        // OpenVDB's magic number, 0x56444220, as its files begin (little-endian).
+        if head[0..4] == [0x20, 0x42, 0x44, 0x56] {
+            return Err(
+                "byte 0: an OpenVDB file; grids are read from Mitsuba's .vol files \
+                        only (write the grid out densely in that format: docs/media.md, \
+                        \"Grid files\")"
+                    .into(),
+            );
+        }
         if &head[0..3] != b"VOL" {
             return Err("byte 0: not a .vol file (it does not start with `VOL`)".into());
         }
