@@ -1085,9 +1085,9 @@ fn every_scene_file_setting_has_the_range_of_validate() {
             assert!(validate(&s.settings).is_ok(), "{} = {value}", row.name);
         }
     }
-    // Two bad values for every setting but passes and caustic_photons (one: their bottom is
-    // 0) and seed and exposure (none: every u32, every finite number).
-    assert_eq!(checked, 26);
+    // Two bad values for every setting but passes, caustic_photons and adaptive (one: their
+    // bottom is 0) and seed and exposure (none: every u32, every finite number).
+    assert_eq!(checked, 27);
 }
 
 #[test]
