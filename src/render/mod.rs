@@ -1,6 +1,7 @@
-//! A render around the backends: adaptive sampling's counts, the session that opens a backend (and `--backend auto`'s
-//! rule), the memory budget, progressive passes and their accumulation, slices and their
-//! merge, the report and progress, the signals that end a render early, and images.
+//! A render around the backends: the session that opens a backend (and `--backend auto`'s
+//! rule), the memory budget, progressive passes and their accumulation, adaptive sampling's
+//! per-pixel counts, slices and their merge, the report and progress, the signals that end a
+//! render early, and images.
 
 pub mod adaptive;
 pub mod budget;

@@ -49,7 +49,6 @@ pub struct Mis {
 }
 
 /// Everything the camera pass reads.
-#[derive(Clone)]
 pub struct Gatherer<'a> {
     /// The scene rendered.
     pub scene: &'a Scene,

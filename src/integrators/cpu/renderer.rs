@@ -153,13 +153,13 @@ impl CpuRenderer<'_> {
     /// pass 0's maps (`maps` when this pass is pass 0, else traced again here, so that a
     /// range of passes rendered on its own gets the counts of the whole render).
     fn adaptive_counts(&self, pass: u32, maps: &PassMaps, report: &mut RenderReport) -> Vec<u32> {
+        let settings = self.pass_zero();
         let zero;
-        let (settings, maps) = if pass == 0 {
-            (self.pass_zero(), maps)
+        let maps = if pass == 0 {
+            maps
         } else {
-            let s = self.pass_zero();
-            zero = self.maps(0, &s, &mut RenderReport::default());
-            (s, &zero)
+            zero = self.maps(0, &settings, &mut RenderReport::default());
+            &zero
         };
         let t = Instant::now();
         let pilot = |half: u32| {
