@@ -14,7 +14,7 @@ use crate::scene::Scene;
 use glam::{Vec3, Vec4};
 
 /// Bins per axis.
-const BINS: usize = 16;
+const BINS: usize = 32;
 /// Most primitives in a leaf.
 pub const MAX_LEAF: usize = 4 * BLOCK;
 /// Subtrees above this size are built in parallel.
