@@ -80,10 +80,12 @@ fn block(scene: &Scene, ids: &[u32]) -> TriBlock {
             continue;
         }
         let t = &scene.triangles[id as usize];
+        let n = t.e1().cross(t.e2());
         for axis in 0..3 {
             block.v0[axis][lane] = t.v0[axis];
             block.v1[axis][lane] = t.v1[axis];
             block.v2[axis][lane] = t.v2[axis];
+            block.n[axis][lane] = n[axis];
         }
     }
     block

@@ -47,9 +47,9 @@ impl Node8 {
     };
 }
 
-/// Four primitives, structure of arrays: triangles' corners `v0[axis][lane]` and so on
-/// (160 bytes, three cache lines; the normal `intersect_triangle` needs is computed from
-/// them for the lanes the ray passes through). A sphere's lane has its id (with `SPHERE_BIT`) and degenerate corners (all
+/// Four primitives, structure of arrays: triangles' corners `v0[axis][lane]` and so on,
+/// `n` each triangle's unnormalised normal `(v1 - v0) x (v2 - v0)` as `intersect_triangle`
+/// computes it. A sphere's lane has its id (with `SPHERE_BIT`) and degenerate corners (all
 /// zero), as has an unused lane (id [`NO_PRIM`]): the triangle test never hits them.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -60,6 +60,8 @@ pub struct TriBlock {
     pub v1: [[f32; BLOCK]; 3],
     /// Third corners.
     pub v2: [[f32; BLOCK]; 3],
+    /// Unnormalised normals.
+    pub n: [[f32; BLOCK]; 3],
     /// Primitive ids as in `Bvh::prim_ids`, or [`NO_PRIM`].
     pub id: [u32; BLOCK],
 }

@@ -65,14 +65,7 @@ impl Kernel for Scalar {
             if det == 0.0 {
                 continue;
             }
-            // `tri.e1().cross(tri.e2())`, operation for operation.
-            let e = |v: &[[f32; BLOCK]; 3], a: usize| v[a][i] - b.v0[a][i];
-            let (p, q) = ([0, 1, 2].map(|a| e(&b.v1, a)), [0, 1, 2].map(|a| e(&b.v2, a)));
-            let n = [
-                p[1] * q[2] - q[1] * p[2],
-                p[2] * q[0] - q[2] * p[0],
-                p[0] * q[1] - q[0] * p[1],
-            ];
+            let n = [b.n[0][i], b.n[1][i], b.n[2][i]];
             let num = (b.v0[0][i] - r.o[0]) * n[0]
                 + (b.v0[1][i] - r.o[1]) * n[1]
                 + (b.v0[2][i] - r.o[2]) * n[2];

@@ -83,11 +83,7 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
     if _mm_movemask_ps(inside) == 0 {
         return 0;
     }
-    // `tri.e1().cross(tri.e2())`, operation for operation.
-    let p = [0, 1, 2].map(|a| _mm_sub_ps(ld(&b.v1[a]), ld(&b.v0[a])));
-    let q = [0, 1, 2].map(|a| _mm_sub_ps(ld(&b.v2[a]), ld(&b.v0[a])));
-    let cross = |i: usize, j: usize| _mm_sub_ps(_mm_mul_ps(p[i], q[j]), _mm_mul_ps(q[i], p[j]));
-    let n = [cross(1, 2), cross(2, 0), cross(0, 1)];
+    let n = [ld(&b.n[0]), ld(&b.n[1]), ld(&b.n[2])];
     let rel = |a: usize| _mm_sub_ps(ld(&b.v0[a]), r.o[a]);
     let num = _mm_add_ps(
         _mm_add_ps(_mm_mul_ps(rel(0), n[0]), _mm_mul_ps(rel(1), n[1])),
