@@ -60,10 +60,11 @@ pub struct TriBlock {
     pub v1: [[f32; BLOCK]; 3],
     /// Third corners.
     pub v2: [[f32; BLOCK]; 3],
+    /// Primitive ids as in `Bvh::prim_ids`, or [`NO_PRIM`] (before the normals: a ray
+    /// that misses every lane reads the first 160 bytes only).
+    pub id: [u32; BLOCK],
     /// Unnormalised normals.
     pub n: [[f32; BLOCK]; 3],
-    /// Primitive ids as in `Bvh::prim_ids`, or [`NO_PRIM`].
-    pub id: [u32; BLOCK],
 }
 
 impl TriBlock {
