@@ -343,16 +343,15 @@ impl Shear {
     }
 }
 
-/// `p.x q.y - p.y q.x`, always evaluated with the two end points in one canonical order, so
-/// that the two triangles sharing an edge get exactly opposite values (one of them sees a
-/// point on the edge as inside, whatever the rounding and even if the arithmetic is fused).
+/// `p.x q.y - p.y q.x`. The two triangles sharing an edge get exactly opposite values (one
+/// of them sees a point on the edge as inside, whatever the rounding): Rust never fuses a
+/// multiply and an add, products commute exactly and rounding is symmetric, so
+/// `edge_function(q, p) == -edge_function(p, q)` up to the sign of a zero (which no test
+/// reads). The WGSL twin orders the end points canonically instead: a shader compiler may
+/// fuse.
 #[inline]
 pub fn edge_function(p: Vec2, q: Vec2) -> f32 {
-    if p.x < q.x || (p.x == q.x && p.y < q.y) {
-        p.x * q.y - p.y * q.x
-    } else {
-        -(q.x * p.y - q.y * p.x)
-    }
+    p.x * q.y - p.y * q.x
 }
 
 /// Watertight ray-triangle test: `(t, u, v)` of the hit with `t` in (0, t_max), where `u` and

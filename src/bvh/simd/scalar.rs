@@ -50,13 +50,7 @@ impl Kernel for Scalar {
                 (px - r.s[0] * pz, py - r.s[1] * pz)
             };
             let (a, bb, c) = (proj(&b.v0), proj(&b.v1), proj(&b.v2));
-            let edge = |p: (f32, f32), q: (f32, f32)| {
-                if p.0 < q.0 || (p.0 == q.0 && p.1 < q.1) {
-                    p.0 * q.1 - p.1 * q.0
-                } else {
-                    -(q.0 * p.1 - q.1 * p.0)
-                }
-            };
+            let edge = |p: (f32, f32), q: (f32, f32)| p.0 * q.1 - p.1 * q.0;
             let (e0, e1, e2) = (edge(c, bb), edge(a, c), edge(bb, a));
             if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
                 continue;

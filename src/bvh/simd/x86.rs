@@ -38,11 +38,6 @@ unsafe fn tri_ray(p: &Prepared) -> TriRay {
     }
 }
 
-#[inline(always)]
-unsafe fn select(m: __m128, a: __m128, b: __m128) -> __m128 {
-    _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b))
-}
-
 /// `intersect_triangle` on four lanes: the mask of lanes hit in (0, t_max).
 #[inline(always)]
 unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32 {
@@ -58,15 +53,8 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
         )
     };
     let (a, bb, c) = (proj(&b.v0), proj(&b.v1), proj(&b.v2));
-    let sign = _mm_set1_ps(-0.0);
     let edge = |p: (__m128, __m128), q: (__m128, __m128)| {
-        let first = _mm_or_ps(
-            _mm_cmplt_ps(p.0, q.0),
-            _mm_and_ps(_mm_cmpeq_ps(p.0, q.0), _mm_cmplt_ps(p.1, q.1)),
-        );
-        let fwd = _mm_sub_ps(_mm_mul_ps(p.0, q.1), _mm_mul_ps(p.1, q.0));
-        let back = _mm_xor_ps(_mm_sub_ps(_mm_mul_ps(q.0, p.1), _mm_mul_ps(q.1, p.0)), sign);
-        select(first, fwd, back)
+        _mm_sub_ps(_mm_mul_ps(p.0, q.1), _mm_mul_ps(p.1, q.0))
     };
     let (e0, e1, e2) = (edge(c, bb), edge(a, c), edge(bb, a));
     let zero = _mm_setzero_ps();
