@@ -185,21 +185,34 @@ fn short_max_depth_caps_paths_in_the_direct_mode() {
         (s.mode, s.max_photon_bounces, s.max_depth),
         (Mode::Direct, 3, 3)
     );
-    // A long max_depth caps the lengths and keeps the mode.
+    // A long max_depth sets the camera paths' length (past our default), caps the
+    // photons' and keeps the mode.
     let s = integrator_settings(
         r#"<integrator type="path"><integer name="max_depth" value="6"/></integrator>"#,
     );
     assert_eq!(s.mode, default.mode);
     assert_eq!(
         (s.max_photon_bounces, s.max_depth),
-        (5.min(default.max_photon_bounces), 5.min(default.max_depth))
+        (5.min(default.max_photon_bounces), 5)
     );
+    let s = integrator_settings(
+        r#"<integrator type="path"><integer name="max_depth" value="64"/></integrator>"#,
+    );
+    assert_eq!(
+        (s.mode, s.max_photon_bounces, s.max_depth),
+        (default.mode, default.max_photon_bounces, 63)
+    );
+    // Unbounded: our longest camera paths.
     let s = integrator_settings(
         r#"<integrator type="path"><integer name="max_depth" value="-1"/></integrator>"#,
     );
     assert_eq!(
         (s.mode, s.max_photon_bounces, s.max_depth),
-        (default.mode, default.max_photon_bounces, default.max_depth)
+        (
+            default.mode,
+            default.max_photon_bounces,
+            gpu_photon::settings::MAX_BOUNCES
+        )
     );
 }
 
