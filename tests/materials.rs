@@ -51,6 +51,13 @@ fn the_materials_file_imports_exactly() {
     assert_eq!(im.scene.uvs.len(), im.scene.triangles.len());
     // The file's 256 samples per pixel are the total, spread over the 4 default passes.
     assert_eq!(im.scene.settings.spp * im.scene.settings.passes, 256);
+    // 64 samples per pass share each pass's caustic map: four times the default photons.
+    let default = gpu_photon::settings::RenderSettings::default();
+    assert_eq!(im.scene.settings.spp, 64);
+    assert_eq!(
+        im.scene.settings.caustic_photons,
+        4 * default.caustic_photons
+    );
 }
 
 #[test]
