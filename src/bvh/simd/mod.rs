@@ -64,13 +64,31 @@ impl Prepared {
 }
 
 /// The lanes of a block the ray hits before `t_max`, with what `intersect_triangle` returns
-/// for them: `t`, and `u = e1 / det`, `v = e2 / det`.
-#[derive(Clone, Copy, Debug, Default)]
+/// for them: `t`, and `u = e1 / det`, `v = e2 / det`. Left uninitialised until a block test
+/// writes the lanes it hits: zeroing its 64 bytes per leaf made LLVM emit a 512-bit store in
+/// the AVX-512 walks, and on Intel cores any 512-bit instruction slows the vector units around
+/// it (the Cornell box's shadow rays ran 25% slower than with the AVX2 kernel).
+#[derive(Clone, Copy, Debug)]
 pub(super) struct TriHits {
     pub t: [f32; 4],
     pub e1: [f32; 4],
     pub e2: [f32; 4],
     pub det: [f32; 4],
+}
+
+impl TriHits {
+    /// `t`, `e1`, `e2` and `det` of `lane`, which the last block test wrote (a lane of its
+    /// mask).
+    #[inline(always)]
+    unsafe fn lane(h: *const TriHits, lane: usize) -> (f32, f32, f32, f32) {
+        let at = |row: *const [f32; 4]| row.cast::<f32>().add(lane).read();
+        (
+            at(std::ptr::addr_of!((*h).t)),
+            at(std::ptr::addr_of!((*h).e1)),
+            at(std::ptr::addr_of!((*h).e2)),
+            at(std::ptr::addr_of!((*h).det)),
+        )
+    }
 }
 
 /// A node test and a block test for one instruction set.
@@ -92,12 +110,13 @@ pub(super) trait Kernel {
     /// kernel has no prefetch).
     #[inline(always)]
     unsafe fn prefetch(_at: *const u8, _bytes: usize) {}
-    /// The lanes of `block` hit in (0, t_max) as a bit mask; fills `out` when any.
+    /// The lanes of `block` hit in (0, t_max) as a bit mask; writes (at least) those lanes
+    /// of `*out`.
     unsafe fn block(
         block: &super::wide_layout::TriBlock,
         r: &Self::Ray,
         t_max: f32,
-        out: &mut TriHits,
+        out: *mut TriHits,
     ) -> u32;
 }
 
@@ -241,27 +260,26 @@ struct ClosestVisit<'a, K: Kernel> {
 impl<K: Kernel> Visit for ClosestVisit<'_, K> {
     #[inline(always)]
     unsafe fn leaf(&mut self, blocks: &[TriBlock], t_max: f32) -> Option<f32> {
-        let mut hits = TriHits::default();
+        let mut hits = MaybeUninit::<TriHits>::uninit();
+        let h = hits.as_mut_ptr();
         let mut t_lim = t_max;
         let mut found = false;
         for b in blocks {
-            let mut m = K::block(b, &self.test.r, t_lim, &mut hits);
+            let mut m = K::block(b, &self.test.r, t_lim, h);
             while m != 0 {
                 // The nearest lane, the first of equal ones.
                 let mut lane = m.trailing_zeros() as usize;
                 let mut rest = m & (m - 1);
                 while rest != 0 {
                     let j = rest.trailing_zeros() as usize;
-                    if hits.t[j] < hits.t[lane] {
+                    if TriHits::lane(h, j).0 < TriHits::lane(h, lane).0 {
                         lane = j;
                     }
                     rest &= rest - 1;
                 }
-                let (id, t) = (b.id[lane], hits.t[lane]);
-                let (u, v) = (
-                    hits.e1[lane] / hits.det[lane],
-                    hits.e2[lane] / hits.det[lane],
-                );
+                let (t, e1, e2, det) = TriHits::lane(h, lane);
+                let id = b.id[lane];
+                let (u, v) = (e1 / det, e2 / det);
                 if self.test.passes(id, t, u, v) {
                     m &= !(1 << lane);
                     continue;
@@ -298,14 +316,15 @@ struct OccludedVisit<'a, K: Kernel> {
 impl<K: Kernel> Visit for OccludedVisit<'_, K> {
     #[inline(always)]
     unsafe fn leaf(&mut self, blocks: &[TriBlock], t_max: f32) -> Option<f32> {
-        let mut hits = TriHits::default();
+        let mut hits = MaybeUninit::<TriHits>::uninit();
+        let h = hits.as_mut_ptr();
         for b in blocks {
-            let mut m = K::block(b, &self.test.r, t_max, &mut hits);
+            let mut m = K::block(b, &self.test.r, t_max, h);
             while m != 0 {
                 let lane = m.trailing_zeros() as usize;
                 m &= m - 1;
-                let (t, det) = (hits.t[lane], hits.det[lane]);
-                let (u, v) = (hits.e1[lane] / det, hits.e2[lane] / det);
+                let (t, e1, e2, det) = TriHits::lane(h, lane);
+                let (u, v) = (e1 / det, e2 / det);
                 if !self.test.passes(b.id[lane], t, u, v) {
                     self.hit = true;
                     return Some(-1.0);

@@ -41,7 +41,7 @@ impl Kernel for Scalar {
     }
 
     #[inline(always)]
-    unsafe fn block(b: &TriBlock, r: &Prepared, t_max: f32, out: &mut TriHits) -> u32 {
+    unsafe fn block(b: &TriBlock, r: &Prepared, t_max: f32, out: *mut TriHits) -> u32 {
         let [kx, ky, kz] = r.k;
         let mut mask = 0;
         for i in 0..BLOCK {
@@ -67,10 +67,11 @@ impl Kernel for Scalar {
             let t = num / den;
             if t > 0.0 && t < t_max {
                 mask |= 1 << i;
-                out.t[i] = t;
-                out.e1[i] = e1;
-                out.e2[i] = e2;
-                out.det[i] = det;
+                let put = |row: *mut [f32; 4], v: f32| row.cast::<f32>().add(i).write(v);
+                put(std::ptr::addr_of_mut!((*out).t), t);
+                put(std::ptr::addr_of_mut!((*out).e1), e1);
+                put(std::ptr::addr_of_mut!((*out).e2), e2);
+                put(std::ptr::addr_of_mut!((*out).det), det);
             }
         }
         mask

@@ -40,7 +40,7 @@ unsafe fn tri_ray(p: &Prepared) -> TriRay {
 
 /// `intersect_triangle` on four lanes: the mask of lanes hit in (0, t_max).
 #[inline(always)]
-unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32 {
+unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: *mut TriHits) -> u32 {
     let ld = |row: &[f32; 4]| _mm_load_ps(row.as_ptr());
     let [kx, ky, kz] = r.k;
     let proj = |v: &[[f32; 4]; 3]| {
@@ -88,10 +88,11 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: &mut TriHits) -> u32
     );
     let mask = _mm_movemask_ps(ok) as u32;
     if mask != 0 {
-        _mm_storeu_ps(out.t.as_mut_ptr(), t);
-        _mm_storeu_ps(out.e1.as_mut_ptr(), e1);
-        _mm_storeu_ps(out.e2.as_mut_ptr(), e2);
-        _mm_storeu_ps(out.det.as_mut_ptr(), det);
+        let row = |r: *mut [f32; 4]| r.cast::<f32>();
+        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).t)), t);
+        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).e1)), e1);
+        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).e2)), e2);
+        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).det)), det);
     }
     mask
 }
@@ -135,7 +136,7 @@ macro_rules! x86_kernel_methods {
         }
 
         #[inline(always)]
-        unsafe fn block(b: &TriBlock, r: &$ray, t_max: f32, out: &mut TriHits) -> u32 {
+        unsafe fn block(b: &TriBlock, r: &$ray, t_max: f32, out: *mut TriHits) -> u32 {
             block4(b, &r.tri, t_max, out)
         }
     };
