@@ -546,14 +546,16 @@ fn any_integrator_is_one_warning() {
     }
 }
 
-/// Mitsuba's `max_depth` M bounds path segments: photon paths and camera paths get M - 1
-/// bounces, never more than our defaults; -1 bounds nothing.
+/// Mitsuba's `max_depth` M bounds path segments: camera paths get M - 1 bounces (-1,
+/// unbounded: our most), photon paths M - 1 but never more than our default.
 #[test]
 fn integrator_max_depth_caps_path_lengths() {
     let d = RenderSettings::default();
+    let most = gpu_photon::settings::MAX_BOUNCES;
     for (depth, photon, camera) in [
-        ("-1", d.max_photon_bounces, d.max_depth),
-        ("64", d.max_photon_bounces, d.max_depth),
+        ("-1", d.max_photon_bounces, most),
+        ("64", d.max_photon_bounces, 63),
+        ("100", d.max_photon_bounces, most),
         ("8", 7, 7),
         ("3", 2, 2),
         ("2", 1, 1),
