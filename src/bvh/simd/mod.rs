@@ -77,17 +77,25 @@ pub(super) struct TriHits {
 }
 
 impl TriHits {
+    /// The first floats of the rows `t`, `e1`, `e2` and `det` of `*h`, which may be
+    /// uninitialised (no reference to it is made): the block tests write through them.
+    #[inline(always)]
+    pub(super) unsafe fn rows(h: *mut TriHits) -> [*mut f32; 4] {
+        use std::ptr::addr_of_mut;
+        [
+            addr_of_mut!((*h).t).cast(),
+            addr_of_mut!((*h).e1).cast(),
+            addr_of_mut!((*h).e2).cast(),
+            addr_of_mut!((*h).det).cast(),
+        ]
+    }
+
     /// `t`, `e1`, `e2` and `det` of `lane`, which the last block test wrote (a lane of its
     /// mask).
     #[inline(always)]
-    unsafe fn lane(h: *const TriHits, lane: usize) -> (f32, f32, f32, f32) {
-        let at = |row: *const [f32; 4]| row.cast::<f32>().add(lane).read();
-        (
-            at(std::ptr::addr_of!((*h).t)),
-            at(std::ptr::addr_of!((*h).e1)),
-            at(std::ptr::addr_of!((*h).e2)),
-            at(std::ptr::addr_of!((*h).det)),
-        )
+    unsafe fn lane(h: *mut TriHits, lane: usize) -> (f32, f32, f32, f32) {
+        let [t, e1, e2, det] = Self::rows(h).map(|row| row.add(lane).read());
+        (t, e1, e2, det)
     }
 }
 

@@ -67,11 +67,9 @@ impl Kernel for Scalar {
             let t = num / den;
             if t > 0.0 && t < t_max {
                 mask |= 1 << i;
-                let put = |row: *mut [f32; 4], v: f32| row.cast::<f32>().add(i).write(v);
-                put(std::ptr::addr_of_mut!((*out).t), t);
-                put(std::ptr::addr_of_mut!((*out).e1), e1);
-                put(std::ptr::addr_of_mut!((*out).e2), e2);
-                put(std::ptr::addr_of_mut!((*out).det), det);
+                for (row, v) in TriHits::rows(out).into_iter().zip([t, e1, e2, det]) {
+                    row.add(i).write(v);
+                }
             }
         }
         mask

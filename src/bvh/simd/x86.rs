@@ -88,11 +88,9 @@ unsafe fn block4(b: &TriBlock, r: &TriRay, t_max: f32, out: *mut TriHits) -> u32
     );
     let mask = _mm_movemask_ps(ok) as u32;
     if mask != 0 {
-        let row = |r: *mut [f32; 4]| r.cast::<f32>();
-        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).t)), t);
-        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).e1)), e1);
-        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).e2)), e2);
-        _mm_storeu_ps(row(std::ptr::addr_of_mut!((*out).det)), det);
+        for (row, v) in TriHits::rows(out).into_iter().zip([t, e1, e2, det]) {
+            _mm_storeu_ps(row, v);
+        }
     }
     mask
 }

@@ -4,8 +4,8 @@
 //! Mitsuba nests integrators: `moment` and `aov` wrap the one that renders (its `max_depth`
 //! is inside), so the whole nest is read. `max_depth` M counts path segments (-1: unbounded);
 //! the `direct` integrator renders what `path` with M = 2 does (emitters seen directly and
-//! light after one bounce). M caps our photon paths at M - 1 bounces and sets camera paths' to
-//! M - 1 (`max_depth`, whatever our own default; -1, unbounded, is [`MAX_BOUNCES`]: the rough
+//! light after one bounce). M caps our photon paths at M - 1 bounces and sets camera paths'
+//! length to M - 1 (`max_depth`, whatever our own default; -1, unbounded, is [`MAX_BOUNCES`]: the rough
 //! glass sphere of `scenes/mitsuba/materials.xml` at M = 64 was 4% dark on its rim with our
 //! default 12): a hit after M - 1 bounces only emits, one before it also
 //! takes direct light and photon estimates (M = 2: a mirror shows the emitters it reflects,
