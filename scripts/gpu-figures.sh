@@ -6,7 +6,10 @@
 # with its glass sphere as a generated 500,000-triangle mesh, plus the progressive curve
 # against tests/data/cornell-diffuse.exr and the default render on both backends, and writes
 # DIR/figures.json and DIR/figures.md: photon paths/s, grid build time per million photons,
-# camera samples/s, time to RMSE 0.0058 and the GPU/CPU ratio. --quick shrinks every size
+# camera samples/s, time to RMSE 0.0058 and the GPU/CPU ratio; and the ray benchmark on the
+# device (`bench --rays --backend gpu`: the binary walk the renderer uses against the candidate
+# four-wide one, docs/bvh.md) on the Cornell box alone and with a 1,000,000-triangle mesh,
+# as DIR/rays-cornell.json and DIR/rays-mesh.json. --quick shrinks every size
 # (a smoke run that also passes on lavapipe in a few minutes; its figures mean nothing).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -30,8 +33,10 @@ mkdir -p "$out"
 
 if [ "$quick" = 1 ]; then
     big=(--width 64 --height 36 --spp 1) paths=20000 runs=1 curve_passes=2 slices=40
+    ray_size=(--width 32 --height 32) ray_mesh=20000
 else
     big=(--width 1920 --height 1080 --spp 16) paths=4000000 runs=5 curve_passes=8 slices=500
+    ray_size=(--width 512 --height 512) ray_mesh=1000000
 fi
 
 # The caustics scene with its glass sphere as a UV-sphere mesh of 2 slices (slices) triangles
@@ -83,6 +88,15 @@ bench caustics scenes/cornell-caustics.toml --backend gpu --photons "$paths" "${
 # The mesh's scene file is in $out; its --json path is relative to here.
 bench mesh "$out/mesh-sphere.toml" --backend gpu --photons "$paths" "${big[@]}"
 bench default scenes/cornell-box.toml --default-render
+rays() { # NAME ARGS...: the device's ray benchmark into $out/rays-NAME.json (none without a device)
+    local name="$1"
+    shift
+    echo "== ray bench $name: $*"
+    "$bin" bench scenes/cornell-box.toml --rays --backend gpu --runs "$runs" --json "$out/rays-$name.json" \
+        "${ray_size[@]}" "$@" || echo "no GPU ray figures for $name"
+}
+rays cornell
+rays mesh --mesh "$ray_mesh"
 echo "== progressive curve against tests/data/cornell-diffuse.exr"
 "$bin" bench scenes/cornell-box.toml --backend gpu --runs 1 --reference tests/data/cornell-diffuse.exr \
     --passes "$curve_passes" --spp 32 --width 256 --height 256 | tee "$out/curve.txt"
@@ -111,8 +125,22 @@ for line in open(f"{out}/curve.txt"):
     if len(f) >= 4 and f[0] == "gpu" and f[1].isdigit() and float(f[3]) <= 0.0058:
         target = float(f[2])
         break
+# The ray benchmark: per scene and ray kind, Mrays/s of each walk and wide over binary.
+ray_rows = []
+for name in ("cornell", "mesh"):
+    try:
+        r = json.load(open(f"{out}/rays-{name}.json"))
+    except FileNotFoundError:
+        continue
+    by = {(x["kind"], x["tracer"]): x for x in r["rates"]}
+    for kind in ("camera", "shadow", "gather", "photon"):
+        b, w = by.get((kind, "gpu binary")), by.get((kind, "gpu wide"))
+        if b and w:
+            ray_rows.append((f'{name} ({r["triangles"]} triangles)', kind, f'{b["rays_per_s"] / 1e6:.1f}',
+                             f'{w["rays_per_s"] / 1e6:.1f}', f'{w["rays_per_s"] / b["rays_per_s"]:.2f}',
+                             f'{w["agree"] / max(w["rays"], 1):.4f}'))
 figures = {"quick": quick, "adapters": runs["cornell"]["adapters"], "scenes": rows,
-           "default_render_gpu_over_cpu": ratio, "seconds_to_rmse_0.0058": target}
+           "default_render_gpu_over_cpu": ratio, "seconds_to_rmse_0.0058": target, "rays": ray_rows}
 json.dump(figures, open(f"{out}/figures.json", "w"), indent=2)
 lines = ["| scene | photon paths/s | grid build per M photons | camera samples/s | device |", "|---|---|---|---|---|"]
 lines += [f"| {' | '.join(str(c) for c in row)} |" for row in rows]
@@ -124,6 +152,9 @@ for a in runs["cornell"]["adapters"]:
                      f'cache lanes {k["cache_lanes"]}, loop guard {"on" if k["loop_guard"] else "off"}')
 lines.append(f"default render GPU/CPU time: {ratio:.2f}x" if ratio else "default render GPU/CPU: not both backends")
 lines.append(f"time to RMSE 0.0058 against cornell-diffuse.exr: {target:.2f} s" if target else "RMSE 0.0058 not reached in the curve's passes")
+if ray_rows:
+    lines += ["", "| scene | rays | binary walk Mrays/s | wide walk Mrays/s | wide/binary | agree |", "|---|---|---|---|---|---|"]
+    lines += [f"| {' | '.join(row)} |" for row in ray_rows]
 if quick:
     lines.append("(--quick: sizes shrunk; a smoke run, not figures)")
 open(f"{out}/figures.md", "w").write("\n".join(lines) + "\n")

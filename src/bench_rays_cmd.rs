@@ -28,6 +28,9 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
         t.elapsed().as_secs_f64(),
         args.runs,
     );
+    if matches!(args.backend, Some(crate::BackendArg::Gpu)) {
+        return run_gpu(args, &scene, &sets);
+    }
     let ours = rays::our_tracers(&scene, 3);
     let prims = (scene.triangles.len() + scene.spheres.len()).max(1) as f64;
     let mut builds: Vec<String> = Vec::new();
@@ -75,6 +78,70 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
             "spheres": scene.spheres.len(),
             "width": w, "height": h, "rounds": args.runs,
             "build": json_builds,
+            "rates": rows,
+        });
+        let text = serde_json::to_string_pretty(&v)?;
+        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The GPU's walks: one row per ray kind (Mrays/s of the whole device), and JSON with
+/// --json.
+fn run_gpu(
+    args: &BenchArgs,
+    scene: &gpu_photon::scene::Scene,
+    sets: &[rays::RaySet],
+) -> Result<()> {
+    use gpu_photon::bench::gpu_rays::{measure, GpuRays};
+    use gpu_photon::integrators::gpu::context::GpuContext;
+    let ctx = GpuContext::new()?;
+    let t = Instant::now();
+    let mut gpu = GpuRays::new(&ctx, scene)?;
+    let device = ctx.describe();
+    println!(
+        "device: {device}; set-up {:.2} s; nodes: binary {:.1} MB, wide {:.1} MB; Mrays/s of the device, medians of {} dispatches",
+        t.elapsed().as_secs_f64(),
+        gpu.node_bytes[0] as f64 / 1e6,
+        gpu.node_bytes[1] as f64 / 1e6,
+        args.runs
+    );
+    let rates = measure(&mut gpu, sets, args.runs)?;
+    println!(
+        "{:<8} {:>8} {:>12} {:>12} {:>12} {:>10}",
+        "kind", "rays", "gpu binary", "gpu wide", "wide/binary", "agree"
+    );
+    for pair in rates.chunks(2) {
+        let (b, w) = (&pair[0], &pair[1]);
+        println!(
+            "{:<8} {:>8} {:>12.2} {:>12.2} {:>12.2} {:>9.2}%",
+            b.kind.name(),
+            b.rays,
+            b.rays_per_s / 1e6,
+            w.rays_per_s / 1e6,
+            w.rays_per_s / b.rays_per_s,
+            100.0 * w.agree as f64 / w.rays.max(1) as f64
+        );
+    }
+    if let Some(path) = &args.json {
+        let rows: Vec<_> = rates
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "tracer": r.tracer, "kind": r.kind.name(), "rays": r.rays,
+                    "rays_per_s": r.rays_per_s, "hits": r.hits, "agree": r.agree,
+                })
+            })
+            .collect();
+        let v = serde_json::json!({
+            "scene": args.scene.display().to_string(),
+            "mesh": args.mesh,
+            "triangles": scene.triangles.len(),
+            "spheres": scene.spheres.len(),
+            "width": args.width, "height": args.height, "rounds": args.runs,
+            "device": device,
+            "node_bytes": {"binary": gpu.node_bytes[0], "wide": gpu.node_bytes[1]},
             "rates": rows,
         });
         let text = serde_json::to_string_pretty(&v)?;

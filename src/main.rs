@@ -99,7 +99,8 @@ pub(crate) struct BenchArgs {
     json: Option<PathBuf>,
     /// Ray throughput instead: the renderer's camera, shadow, gather and photon rays at
     /// --width x --height, traced one thread by our BVHs (and Embree when built with the
-    /// `embree` feature), in rays per second per core.
+    /// `embree` feature), in rays per second per core; with `--backend gpu`, on the device by
+    /// its binary and its four-wide walk, in rays per second.
     #[arg(long)]
     rays: bool,
     /// With --rays: add a generated displaced sphere of about N triangles to the scene.

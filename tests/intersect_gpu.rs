@@ -481,3 +481,74 @@ fn surface_helpers_equal_the_hosts() {
     assert!(mapped_checked > 1500, "{mapped_checked}");
     assert!(bumped_checked > 1500, "{bumped_checked}");
 }
+
+/// The four-wide walk (`walk_wide`, src/bvh/gpu_wide.wgsl) finds what the host's hierarchy
+/// finds, and so does the binary walk, both run by the ray benchmark's kernel
+/// (src/bench/gpu_rays.rs): on this file's scene
+/// (random, edge and sphere rays, nearest and any hit) and on the Cornell box with a
+/// displaced sphere of 20,000 triangles (a deeper tree; the benchmark's camera, shadow,
+/// gather and photon rays), the same hit or miss, the nearest t within `T_ULPS`, the same
+/// occlusion.
+#[test]
+fn the_wide_walk_finds_the_hosts_hits() {
+    use gpu_photon::bench::gpu_rays::{GpuRays, Walk};
+    use gpu_photon::bench::rays::{ray_sets, RayKind, RaySet};
+    let Some(ctx) = gpu() else { return };
+    let small = scene();
+    let mut r = TestRng(0x51de);
+    let mut cases = random_rays(&small, &mut r, 2000);
+    cases.extend(edge_rays(&small, &mut r).0);
+    cases.extend(sphere_rays(&small, &mut r));
+    let set = |kind| RaySet {
+        kind,
+        rays: cases.iter().map(RayCase::ray).collect(),
+        t_max: cases.iter().map(|c| c.t_max).collect(),
+    };
+    let cornell = gpu_photon::importers::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml"),
+    )
+    .expect("the Cornell box loads");
+    let big = gpu_photon::bench::mesh::with_mesh(&cornell, 20_000);
+    let big_sets = ray_sets(&big, 40, 40, 3);
+    for (name, scene, sets) in [
+        (
+            "rays.toml",
+            &small,
+            vec![set(RayKind::Camera), set(RayKind::Shadow)],
+        ),
+        ("cornell-box + mesh", &big, big_sets),
+    ] {
+        let bvh = Bvh::build(scene);
+        let mut device = GpuRays::new(&ctx, scene).expect("the benchmark's set-up");
+        for set in &sets {
+            for walk in Walk::ALL {
+                let (got, _) = device.trace(walk, set).expect("traced");
+                let mut hits = 0;
+                for (i, ((ray, &t_max), g)) in set.rays.iter().zip(&set.t_max).zip(&got).enumerate()
+                {
+                    let at = format!("{name}, {} ray {i}, {}", set.kind.name(), walk.name());
+                    if set.kind == RayKind::Shadow {
+                        assert_eq!(
+                            g.is_some(),
+                            bvh.occluded(scene, ray, t_max),
+                            "{at}: any hit"
+                        );
+                        continue;
+                    }
+                    match (g, bvh.closest(scene, ray, t_max)) {
+                        (None, None) => {}
+                        (Some((_, t)), Some(h)) => {
+                            assert!(ulps(*t, h.1) <= T_ULPS, "{at}: nearest t {t} vs {}", h.1);
+                            hits += 1;
+                        }
+                        (g, w) => panic!("{at}: device {g:?}, host {:?}", w.map(|h| h.1)),
+                    }
+                }
+                assert!(
+                    set.kind == RayKind::Shadow || hits > set.rays.len() / 4,
+                    "{name}: {hits} hits"
+                );
+            }
+        }
+    }
+}

@@ -91,7 +91,10 @@ const TWINS: &[(&str, &str, &str, &str, Check)] = &[
     ("bvh/intersect.wgsl", "trace_ray", "bvh/mod.rs", "intersect", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "dominant_axis", "", "", Helper),
     ("bvh/intersect.wgsl", "next_leaf", "", "", Helper),
+    ("bvh/intersect.wgsl", "leaf_hits", "", "", Helper),
     ("bvh/intersect.wgsl", "walk_bvh", "bvh/mod.rs", "closest", Caller("intersect_gpu.rs")),
+    ("bvh/gpu_wide.wgsl", "slabs4", "", "", Helper),
+    ("bvh/gpu_wide.wgsl", "walk_wide", "bvh/mod.rs", "closest", Oracle("intersect_gpu.rs")),
     ("bvh/intersect.wgsl", "affine_row", "", "", Helper),
     ("bvh/intersect.wgsl", "affine_point", "", "", Helper),
     ("bvh/intersect.wgsl", "affine_vector", "", "", Helper),
@@ -483,6 +486,10 @@ fn functions(src: &str) -> impl Iterator<Item = &str> {
 /// or the GPU backend's own libraries (its structs, bindings, photon and grid helpers), not a
 /// part of a kernel family.
 fn is_library(path: &str) -> bool {
+    // The benchmarks' kernels are entry points, as the integrators' are.
+    if path.starts_with("bench/") {
+        return false;
+    }
     match path.strip_prefix("integrators/gpu/") {
         Some(f) => [
             "types.wgsl",

@@ -7,6 +7,7 @@ pub mod curve;
 #[cfg(feature = "embree")]
 #[allow(unsafe_code)]
 pub mod embree;
+pub mod gpu_rays;
 pub mod ladder;
 pub mod mesh;
 pub mod peer;

@@ -159,6 +159,45 @@ fn axis_grid(lo: f32, hi: f32) -> Option<(i64, i32)> {
     None
 }
 
+/// The grid of a hierarchy's quantised boxes, spanning its root's box: per axis the base
+/// and the step's exponent (`axis_grid`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxGrid([(i64, i32); 3]);
+
+impl BoxGrid {
+    /// The grid of the hierarchy whose root is `root`; None where no exact grid covers it.
+    pub(crate) fn of(root: &crate::bvh::BvhNode) -> Option<Self> {
+        let grid = [0, 1, 2].map(|a| axis_grid(root.bmin[a], root.bmax[a]));
+        Some(BoxGrid([grid[0]?, grid[1]?, grid[2]?]))
+    }
+
+    /// Its frame, for a copy of `nodes` nodes.
+    pub(crate) fn frame(&self, nodes: u32) -> GpuBvhFrame {
+        GpuBvhFrame {
+            base: self.0.map(|g| g.0 as i32),
+            nodes,
+            step: self.0.map(|g| 2f32.powi(g.1)),
+            next: 0,
+        }
+    }
+
+    /// Outward-rounded grid coordinates of a node's box, lower in the low 16 bits and upper
+    /// in the high 16 (zero for a non-finite one: only the placeholder of a scene without
+    /// primitives, which is never walked).
+    pub(crate) fn quantise(&self, b: &crate::bvh::BvhNode) -> [u32; 3] {
+        std::array::from_fn(|a| {
+            let (base, e) = self.0[a];
+            let (lo, hi) = (b.bmin[a] as f64, b.bmax[a] as f64);
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return 0;
+            }
+            let step = 2f64.powi(e);
+            let q = |v: i64| (v - base).clamp(0, GRID_MAX) as u32;
+            q((lo / step).floor() as i64) | q((hi / step).ceil() as i64) << 16
+        })
+    }
+}
+
 /// The traversal layout of `bvh`. None when it does not fit: 2^28 nodes or leaf entries
 /// (where a storage binding runs out long before), a leaf of 16 primitives (which the build
 /// never makes), or a scene wider than 65,535 x 2^100 (about 8e34) or farther out than
@@ -173,29 +212,8 @@ pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
         return None;
     }
     let n = bvh.nodes.len();
-    let root = &bvh.nodes[0];
-    let grid = [0, 1, 2].map(|a| axis_grid(root.bmin[a], root.bmax[a]));
-    let grid = [grid[0]?, grid[1]?, grid[2]?];
-    let frame = GpuBvhFrame {
-        base: grid.map(|g| g.0 as i32),
-        nodes: n as u32,
-        step: grid.map(|g| 2f32.powi(g.1)),
-        next: 0,
-    };
-    // Outward-rounded grid coordinates of a node's box (zero for a non-finite one: only the
-    // placeholder of a scene without primitives, which is never walked).
-    let quantise = |b: &crate::bvh::BvhNode| -> [u32; 3] {
-        std::array::from_fn(|a| {
-            let (base, e) = grid[a];
-            let (lo, hi) = (b.bmin[a] as f64, b.bmax[a] as f64);
-            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-                return 0;
-            }
-            let step = 2f64.powi(e);
-            let q = |v: i64| (v - base).clamp(0, GRID_MAX) as u32;
-            q((lo / step).floor() as i64) | q((hi / step).ceil() as i64) << 16
-        })
-    };
+    let grid = BoxGrid::of(&bvh.nodes[0])?;
+    let frame = grid.frame(n as u32);
     let mut nodes: Vec<GpuTraversalNode> = Vec::with_capacity(2 * n);
     let mut position = [vec![0u32; n], vec![0u32; n]];
     for (copy, right_first) in [false, true].into_iter().enumerate() {
@@ -211,7 +229,7 @@ pub fn traversal_nodes(bvh: &Bvh) -> Option<TraversalLayout> {
                 continue;
             }
             start[i] = (nodes.len() - offset) as u32;
-            let [qx, qy, qz] = quantise(b);
+            let [qx, qy, qz] = grid.quantise(b);
             let link = if b.count > 0 {
                 b.left_first | b.count << LEAF_COUNT_SHIFT
             } else {

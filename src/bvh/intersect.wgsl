@@ -435,6 +435,42 @@ fn next_leaf(first_word: u32, n_nodes: u32, ni: ptr<function, u32>, grid_base: v
     return vec2<u32>(0u);
 }
 
+// The nearest of leaf entries first .. first + count along o + t d before best.t, or best
+// (the leaf step of walk_bvh, and of the ray benchmark's walk_wide in src/bvh/gpu_wide.wgsl).
+fn leaf_hits(first: u32, count: u32, o: vec3<f32>, d: vec3<f32>, sh: Shear, best_in: PrimHit) -> PrimHit {
+    var best = best_in;
+    for (var i = 0u; i < count && spend(); i += 1u) {
+        // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id,
+        // an SDF cell reads them as sdf_intersect_cell does.
+        let w = LEAF_PRIM_WORDS * (first + i);
+        let w0 = leaf_prims[w];
+        let id = w0.w;
+        if (id & SPHERE_BIT) == 0u {
+            let v0 = bitcast<vec3<f32>>(w0.xyz);
+            let v1 = bitcast<vec3<f32>>(leaf_prims[w + 1u].xyz);
+            let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
+            let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
+            if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
+                best = PrimHit(h.x, id, h.yz, true);
+            }
+        } else if HAS_SDF_GRIDS && (id & SDF_BIT) != 0u {
+            // An SDF grid's cell (src/bvh/gpu_sdf.rs): the hit's id names its grid's
+            // record instead, which the surface reads.
+            let g = leaf_prims[w + 2u].w;
+            let t = sdf_intersect_cell(g, w, o, d, best.t);
+            if t >= 0.0 {
+                best = PrimHit(t, SPHERE_BIT | SDF_BIT | g, vec2<f32>(0.0), true);
+            }
+        } else if HAS_SPHERES {
+            let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
+            if t > 0.0 && !(HAS_ALPHA && alpha_passes(id, t, vec2<f32>(0.0), o, d)) {
+                best = PrimHit(t, id, vec2<f32>(0.0), true);
+            }
+        }
+    }
+    return best;
+}
+
 // Walks the hierarchy whose BvhFrame starts at word `frame` of `nodes` (the world's at 0, a
 // mesh's after it) for the primitive nearest along o + t d before best.t (the first found
 // when any_hit).
@@ -465,35 +501,7 @@ fn walk_bvh(frame: u32, o: vec3<f32>, d: vec3<f32>, best_in: PrimHit, any_hit: b
         if count == 0u {
             break;
         }
-        for (var i = 0u; i < count && spend(); i += 1u) {
-            // LeafPrim's words: (v0, id), (v1, _pad0), (v2, _pad1); a sphere needs only id,
-            // an SDF cell reads them as sdf_intersect_cell does.
-            let w = LEAF_PRIM_WORDS * (first + i);
-            let w0 = leaf_prims[w];
-            let id = w0.w;
-            if (id & SPHERE_BIT) == 0u {
-                let v0 = bitcast<vec3<f32>>(w0.xyz);
-                let v1 = bitcast<vec3<f32>>(leaf_prims[w + 1u].xyz);
-                let v2 = bitcast<vec3<f32>>(leaf_prims[w + 2u].xyz);
-                let h = intersect_triangle(v0, v1, v2, o, d, sh, best.t);
-                if h.x > 0.0 && !(HAS_ALPHA && alpha_passes(id, h.x, h.yz, o, d)) {
-                    best = PrimHit(h.x, id, h.yz, true);
-                }
-            } else if HAS_SDF_GRIDS && (id & SDF_BIT) != 0u {
-                // An SDF grid's cell (src/bvh/gpu_sdf.rs): the hit's id names its grid's
-                // record instead, which the surface reads.
-                let g = leaf_prims[w + 2u].w;
-                let t = sdf_intersect_cell(g, w, o, d, best.t);
-                if t >= 0.0 {
-                    best = PrimHit(t, SPHERE_BIT | SDF_BIT | g, vec2<f32>(0.0), true);
-                }
-            } else if HAS_SPHERES {
-                let t = intersect_sphere(load_sphere(id & ~SPHERE_BIT), o, d, best.t);
-                if t > 0.0 && !(HAS_ALPHA && alpha_passes(id, t, vec2<f32>(0.0), o, d)) {
-                    best = PrimHit(t, id, vec2<f32>(0.0), true);
-                }
-            }
-        }
+        best = leaf_hits(first, count, o, d, sh, best);
         if any_hit && best.found {
             return best;
         }

@@ -10,6 +10,7 @@
 pub mod gpu_instances;
 pub mod gpu_layout;
 pub mod gpu_sdf;
+pub mod gpu_wide;
 
 use crate::math::geometry::{intersect_sphere, intersect_triangle, Aabb, Ray, Shear};
 use crate::scene::Scene;

@@ -303,6 +303,11 @@ pub fn shared_constants() -> Vec<(&'static str, WgslValue)> {
         ("NODE_WORDS", U32(crate::bvh::gpu_layout::NODE_WORDS)),
         ("FRAME_WORDS", U32(crate::bvh::gpu_layout::FRAME_WORDS)),
         (
+            "WIDE_NODE_WORDS",
+            U32(crate::bvh::gpu_wide::WIDE_NODE_WORDS),
+        ),
+        ("WIDE_STACK", U32(crate::bvh::gpu_wide::WIDE_STACK)),
+        (
             "INSTANCE_WORDS",
             U32(crate::bvh::gpu_instances::INSTANCE_WORDS),
         ),

@@ -24,6 +24,8 @@ pub struct SceneBuffers {
     pub stats: wgpu::Buffer,
     /// Group 0 over these buffers.
     pub bind_group: wgpu::BindGroup,
+    /// Every binding's buffer but `params`, by binding name.
+    buffers: Vec<(&'static str, wgpu::Buffer)>,
 }
 
 impl SceneBuffers {
@@ -159,42 +161,75 @@ impl SceneBuffers {
             &[0u32; STATS_LEN],
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
-        let params_slot = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-            buffer: &params_buf,
-            offset: 0,
-            size: std::num::NonZeroU64::new(std::mem::size_of::<GpuParams>() as u64),
-        });
-        let bind_group = bind_group(
-            dev,
-            "scene bind group",
-            &layouts.scene,
-            &SCENE_GROUP,
-            vec![
-                ("triangles", triangles.as_entire_binding()),
-                ("spheres", spheres.as_entire_binding()),
-                ("nodes", nodes.as_entire_binding()),
-                ("leaf_prims", leaf_prims.as_entire_binding()),
-                ("materials", materials.as_entire_binding()),
-                ("lights", lights.as_entire_binding()),
-                ("light_cdf", light_cdf.as_entire_binding()),
-                ("spec_bounds", spec_bounds.as_entire_binding()),
-                (PARAMS, params_slot),
-                ("stats", stats.as_entire_binding()),
-                ("shading_normals", shading_normals.as_entire_binding()),
-                ("bsdfs", bsdfs.as_entire_binding()),
-                ("bsdf_tables", bsdf_tables.as_entire_binding()),
-                ("uvs", uvs.as_entire_binding()),
-                ("tex_table", textures.table.as_entire_binding()),
-                ("tex_words", textures.words.as_entire_binding()),
-                ("media", media.as_entire_binding()),
-                ("material_media", material_media.as_entire_binding()),
-            ],
-        );
+        let buffers = vec![
+            ("triangles", triangles),
+            ("spheres", spheres),
+            ("nodes", nodes),
+            ("leaf_prims", leaf_prims),
+            ("materials", materials),
+            ("lights", lights.clone()),
+            ("light_cdf", light_cdf),
+            ("spec_bounds", spec_bounds),
+            ("stats", stats.clone()),
+            ("shading_normals", shading_normals),
+            ("bsdfs", bsdfs),
+            ("bsdf_tables", bsdf_tables),
+            ("uvs", uvs),
+            ("tex_table", textures.table),
+            ("tex_words", textures.words),
+            ("media", media),
+            ("material_media", material_media),
+        ];
+        let bind_group = group(dev, layouts, &buffers, &params_buf, None);
         Ok(SceneBuffers {
             lights,
             params: params_buf,
             stats,
             bind_group,
+            buffers,
         })
     }
+}
+
+impl SceneBuffers {
+    /// Group 0 over these buffers with `nodes` bound in place of the scene's hierarchy (the
+    /// ray benchmark's other layout, src/bench/gpu_rays.rs).
+    pub fn bind_group_with_nodes(
+        &self,
+        dev: &wgpu::Device,
+        layouts: &Layouts,
+        nodes: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        group(dev, layouts, &self.buffers, &self.params, Some(nodes))
+    }
+}
+
+/// Group 0 over `buffers` and one `params` slot, with `nodes` in place of theirs if given.
+fn group(
+    dev: &wgpu::Device,
+    layouts: &Layouts,
+    buffers: &[(&'static str, wgpu::Buffer)],
+    params: &wgpu::Buffer,
+    nodes: Option<&wgpu::Buffer>,
+) -> wgpu::BindGroup {
+    let params_slot = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer: params,
+        offset: 0,
+        size: std::num::NonZeroU64::new(std::mem::size_of::<GpuParams>() as u64),
+    });
+    let mut entries: Vec<(&str, wgpu::BindingResource)> = buffers
+        .iter()
+        .map(|(name, b)| match (*name, nodes) {
+            ("nodes", Some(n)) => (*name, n.as_entire_binding()),
+            _ => (*name, b.as_entire_binding()),
+        })
+        .collect();
+    entries.push((PARAMS, params_slot));
+    bind_group(
+        dev,
+        "scene bind group",
+        &layouts.scene,
+        &SCENE_GROUP,
+        entries,
+    )
 }

@@ -51,10 +51,12 @@ const CACHE_FIXED: &str = include_str!("cache_fixed.wgsl");
 const GLASS_BRANCHES: &str = include_str!("glass_branches.wgsl");
 const GATHER: &str = include_str!("gather.wgsl");
 const GATHER_RAY: &str = include_str!("gather_ray.wgsl");
+const GPU_WIDE: &str = include_str!("../../bvh/gpu_wide.wgsl");
+const BENCH_RAYS: &str = include_str!("../../bench/gpu_rays.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 26] = [
+const WGSL_FILES: [(&str, &str); 28] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
@@ -84,6 +86,9 @@ const WGSL_FILES: [(&str, &str); 26] = [
     ("integrators/gpu/glass_branches.wgsl", GLASS_BRANCHES),
     ("integrators/gpu/gather_ray.wgsl", GATHER_RAY),
     ("integrators/gpu/gather.wgsl", GATHER),
+    // The ray benchmark's module only (`bench_source`): the four-wide walk, its kernel.
+    ("bvh/gpu_wide.wgsl", GPU_WIDE),
+    ("bench/gpu_rays.wgsl", BENCH_RAYS),
 ];
 
 /// Every WGSL file the kernels compose, by its path under `src/` (for tests that read them).
@@ -210,6 +215,12 @@ pub fn probe_source(own: &[&str]) -> String {
     compose(&all)
 }
 
+/// The ray benchmark's module (src/bench/gpu_rays.rs): the libraries, the four-wide walk
+/// (src/bvh/gpu_wide.wgsl) and the benchmark's kernel.
+pub fn bench_source() -> String {
+    compose(&[GPU_WIDE, BENCH_RAYS])
+}
+
 /// Parses and validates a composed module with naga (no GPU needed).
 pub fn validate(source: &str) -> Result<naga::Module, String> {
     parse_and_validate(source).map(|(module, _)| module)
@@ -230,6 +241,13 @@ pub fn parse_and_validate(source: &str) -> Result<(naga::Module, naga::valid::Mo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_ray_benchmark_parses_and_validates() {
+        if let Err(e) = validate(&bench_source()) {
+            panic!("bench_rays: {e}");
+        }
+    }
 
     #[test]
     fn every_kernel_parses_and_validates() {
