@@ -42,6 +42,9 @@ impl Walk {
     }
 }
 
+/// A ray's nearest (or first) hit: the primitive id as in `Bvh::prim_ids`, and t.
+pub type Answer = Option<(u32, f32)>;
+
 /// One scene on the device with both layouts of its world hierarchy and the benchmark's
 /// pipelines (per walk, nearest and first hit).
 pub struct GpuRays {
@@ -136,7 +139,7 @@ impl GpuRays {
 
     /// Traces `set` by `walk`: each ray's nearest hit (or, for shadow rays, the first found)
     /// as (primitive id as in `Bvh::prim_ids`, t), and the dispatch's wall-clock seconds.
-    pub fn trace(&mut self, walk: Walk, set: &RaySet) -> Result<(Vec<Option<(u32, f32)>>, f64)> {
+    pub fn trace(&mut self, walk: Walk, set: &RaySet) -> Result<(Vec<Answer>, f64)> {
         let ctx = self.run.ctx.clone();
         let n = set.rays.len();
         let mut init = vec![[0f32; 4]; 3 * n.max(1)];

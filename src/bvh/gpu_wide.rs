@@ -62,7 +62,7 @@ impl WideTraversal {
         let grid = BoxGrid::of(&bvh.nodes[0])?;
         let link_of = |i: usize| -> Option<u32> {
             let b = &bvh.nodes[i];
-            (b.count > 0).then(|| b.left_first | b.count << LEAF_COUNT_SHIFT)
+            (b.count > 0).then_some(b.left_first | b.count << LEAF_COUNT_SHIFT)
         };
         let mut nodes = vec![GpuWideNode::default()];
         // (binary node, wide node, depth in wide nodes)
@@ -79,8 +79,8 @@ impl WideTraversal {
             let mut node = GpuWideNode::default();
             for (slot, &c) in children.iter().enumerate() {
                 let q = grid.quantise(&bvh.nodes[c]);
-                for a in 0..3 {
-                    node.q[a][slot] = q[a];
+                for (axis, &bounds) in node.q.iter_mut().zip(&q) {
+                    axis[slot] = bounds;
                 }
                 node.link[slot] = match link_of(c) {
                     Some(leaf) => {
