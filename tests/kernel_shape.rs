@@ -2,7 +2,8 @@
 //! loop guard (so its images stay byte for byte what they were), a 32- or 64-wide adapter gets
 //! wider workgroups and cache builds, the cache build's workgroup memory is what Rust thinks,
 //! and four example scenes rendered on lavapipe with the shape a 32-wide adapter gets (forced
-//! by GPU_PHOTON_KERNEL_SHAPE) agree with the default shape's within seed noise.
+//! by GPU_PHOTON_KERNEL_SHAPE) agree with the default shape's within seed noise. A context's
+//! feature floor (shared kernels) renders as a scene's own kernels do.
 //!
 //! The simulated shape keeps the loop guard ON: lavapipe needs it (it ends loops silently after
 //! 65,535 iterations), so this test simulates the widths only, not a guard-free device; that
@@ -235,3 +236,53 @@ fn a_32_wide_shape_renders_the_same_images() {
 
 /// Largest same-seed difference of the two shapes, as a fraction of the seed noise.
 const SAME_SEED_FRACTION: f64 = 0.25;
+
+/// A context's feature floor (`GpuContext::with_feature_floor`, which the Mitsuba suite uses
+/// to share kernels among scenes) changes the kernels, not the images: the Cornell box
+/// rendered with five shareable features it lacks on (the suite shares all) is as close to
+/// its own kernels' render at another seed as two of those are, and at the same seed far
+/// closer (`SAME_SEED_FRACTION`).
+#[test]
+fn a_feature_floor_renders_the_same_images() {
+    use gpu_photon::integrators::gpu::pipelines::{shareable_features, with_floor};
+    use gpu_photon::integrators::gpu::GpuRenderer;
+    use gpu_photon::render::session::PassRenderer;
+    let Some(ctx) = gpu() else { return };
+    let scene =
+        gpu_photon::importers::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
+    // A few shareable features the scene lacks, each guarding code the scene's data then
+    // skips; cheap ones (with textures and a BSDF kind more, lavapipe took 100 s to compile).
+    let lacks = [
+        "HAS_SMOOTH",
+        "HAS_ALPHA",
+        "HAS_SDF_GRIDS",
+        "HAS_INSTANCES",
+        "HAS_LIGHT_POINT",
+    ];
+    assert!(lacks.iter().all(|f| shareable_features().contains(f)));
+    let floor: Vec<(&'static str, f64)> = lacks.iter().map(|&f| (f, 1.0)).collect();
+    let floored = ctx.with_feature_floor(&floor);
+    let device_type = ctx.adapter.get_info().device_type;
+    let own = feature_constants(&scene, &ctx.shape, device_type, true);
+    assert_ne!(
+        with_floor(own.clone(), &floored.feature_floor),
+        own,
+        "the floor changes no kernel"
+    );
+    let run = |ctx: &gpu_photon::integrators::gpu::GpuContext, seed| {
+        let s = settings(&scene, seed);
+        let mut r = GpuRenderer::on_context(ctx.clone(), &scene, &s).unwrap();
+        r.pass(0, &s, &Progress { enabled: false }).unwrap()
+    };
+    let (d1, d2, f1) = (run(&ctx, 1), run(&ctx, 2), run(&floored, 1));
+    assert_eq!(f1.non_finite(), 0);
+    let noise = diff(&d1, &d2, 8).unwrap();
+    let cross = diff(&f1, &d2, 8).unwrap();
+    let same = diff(&f1, &d1, 8).unwrap();
+    eprintln!(
+        "floor1-own2 {:.5} vs own1-own2 {:.5}; same seed {:.2e}",
+        cross.rmse, noise.rmse, same.rmse
+    );
+    let (pixels, blocks) = common::within_seed_noise(&cross, &noise, 1e-6);
+    assert!(pixels && blocks && same.rmse <= SAME_SEED_FRACTION * noise.rmse);
+}

@@ -36,8 +36,10 @@
 //!
 //! The GPU suites (lavapipe in CI) render at a shorter budget ([`GPU_BUDGET`]) with their own
 //! ratchet ([`KNOWN_GPU`]), the scenes without media and the media scenes as two tests; most
-//! of their time on lavapipe is each feature set's first kernel compile, so each suite
-//! renders on a device per core (`on_gpu_workers`). On a real GPU run them at the CPU's
+//! of their time on lavapipe is each feature set's first kernel compile, so scenes whose
+//! features differ only in shareable ones render on kernels compiled for their union
+//! (`GpuContext::with_feature_floor`), and each suite renders on a device per core
+//! (`on_gpu_workers`). On a real GPU run them at the CPU's
 //! budget: `MITSUBA_SUITE_BUDGET=8,16,100000 cargo test --release --test mitsuba_suite --
 //! gpu`. `MITSUBA_SUITE_BUDGET=PASSES,SPP,PHOTONS` sets any suite's budget
 //! (docs/conformance.md compares both backends at one budget).
@@ -48,7 +50,7 @@
 mod common;
 
 use gpu_photon::importers::load;
-use gpu_photon::integrators::gpu::pipelines::scene_features;
+use gpu_photon::integrators::gpu::pipelines::{scene_features, shareable_features};
 use gpu_photon::integrators::gpu::{GpuContext, GpuRenderer};
 use gpu_photon::render::film::Image;
 use gpu_photon::render::progressive::pass_settings;
@@ -587,27 +589,51 @@ fn on_gpu_workers(label: &str, names: &[String], budget: Budget) -> Vec<Outcome>
         .min(by_memory)
         .min(names.len())
         .max(1);
-    // Scenes of one feature set share their kernels, compiled once (Mesa's shader cache
-    // serves the other devices): the first scene of each set goes first, so that two
-    // workers do not compile the same kernels side by side.
+    // Most of the suite's time on lavapipe is compiling kernels, one set per combination of
+    // scene features (31 for 41 scenes). Scenes whose features differ only in shareable ones
+    // (`pipelines::shareable_features`: presence flags whose code also checks the scene's
+    // data) render on kernels compiled with the union of theirs (`with_feature_floor`):
+    // each renders as on its own kernels, and the suite compiles a few sets. Scenes of one
+    // set share their kernels, compiled once (Mesa's shader cache serves the other
+    // devices): the first scene of each set goes first, so that two workers do not compile
+    // the same kernels side by side.
     let scenes: Vec<_> = names.iter().map(|n| load_scene(n)).collect();
-    let features: Vec<Option<Vec<(&str, u64)>>> = scenes
+    let shareable = shareable_features();
+    let features: Vec<Option<Vec<(&'static str, f64)>>> = scenes
         .iter()
-        .map(|loaded| {
-            let f = scene_features(loaded.as_ref().ok()?, false);
-            Some(f.into_iter().map(|(k, v)| (k, v.to_bits())).collect())
+        .map(|loaded| Some(scene_features(loaded.as_ref().ok()?, false)))
+        .collect();
+    let group = |f: &Option<Vec<(&'static str, f64)>>| -> Option<Vec<(&'static str, u64)>> {
+        let f = f.as_ref()?.iter().filter(|(k, _)| !shareable.contains(k));
+        Some(f.map(|&(k, v)| (k, v.to_bits())).collect())
+    };
+    let groups: Vec<_> = features.iter().map(group).collect();
+    let floors: Vec<Vec<(&'static str, f64)>> = (0..names.len())
+        .map(|i| {
+            let members = (0..names.len()).filter(|&j| groups[j] == groups[i]);
+            let mut floor: Vec<(&'static str, f64)> = Vec::new();
+            for f in members.filter_map(|j| features[j].as_ref()) {
+                for &(k, v) in f.iter().filter(|(k, _)| shareable.contains(k)) {
+                    match floor.iter_mut().find(|(n, _)| *n == k) {
+                        Some((_, m)) => *m = m.max(v),
+                        None => floor.push((k, v)),
+                    }
+                }
+            }
+            floor
         })
         .collect();
     let mut order: Vec<usize> = (0..names.len()).collect();
-    order.sort_by_key(|&i| features[..i].contains(&features[i]));
+    order.sort_by_key(|&i| groups[..i].contains(&groups[i]));
     let next = AtomicUsize::new(0);
     let done: Mutex<Vec<(usize, Outcome)>> = Mutex::new(Vec::new());
     std::thread::scope(|threads| {
         for _ in 0..workers {
             threads.spawn(|| {
-                let ctx = GpuContext::new().expect("a GPU worker opens its device");
+                let device = GpuContext::new().expect("a GPU worker opens its device");
                 while let Some(&i) = order.get(next.fetch_add(1, Ordering::SeqCst)) {
                     let name = &names[i];
+                    let ctx = device.with_feature_floor(&floors[i]);
                     let o = run_scene(name, &scenes[i], BackendChoice::Gpu, budget, Some(&ctx));
                     eprintln!("{label}: {name}: {:.1} s", o.seconds);
                     done.lock().unwrap().push((i, o));

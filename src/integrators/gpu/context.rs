@@ -37,6 +37,9 @@ pub struct GpuContext {
     /// a pass's phases are then timed on the device, in one submission. Clearing it makes
     /// renders take the fallback (see `gpu::recorder`).
     pub timestamps: bool,
+    /// Scene features the kernels of renders on this context are compiled with even where a
+    /// scene lacks them ([`GpuContext::with_feature_floor`]); empty by default.
+    pub feature_floor: Vec<(&'static str, f64)>,
 }
 
 /// One adapter, described for `gpu-photon adapters` and `bench --json`.
@@ -258,7 +261,23 @@ impl GpuContext {
             },
             shape,
             timestamps,
+            feature_floor: Vec::new(),
         })
+    }
+
+    /// This context (the same device) with its renders' kernels compiled with at least the
+    /// features of `floor` on: scenes whose features differ only in those then share one
+    /// compile, each rendering as with its own (slower where a feature it lacks is on). Only
+    /// the features in `pipelines::shareable_features` are kept (the others change what a
+    /// kernel computes, or need buffers a scene without them lacks).
+    pub fn with_feature_floor(&self, floor: &[(&'static str, f64)]) -> Self {
+        let shareable = crate::integrators::gpu::pipelines::shareable_features();
+        let mut ctx = self.clone();
+        ctx.feature_floor = (floor.iter())
+            .filter(|(name, _)| shareable.contains(name))
+            .copied()
+            .collect();
+        ctx
     }
 
     /// The process's context, opened by the first call and shared by every render after it

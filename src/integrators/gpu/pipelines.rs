@@ -36,6 +36,44 @@ pub fn feature_constants(
     constants
 }
 
+/// The scene features whose code in the kernels also checks the scene's data (a primitive's
+/// kind, a material's texture or alpha mode, a BSDF's or light's kind, a medium's grid), so
+/// that a kernel compiled with one on renders a scene without it as the scene's own kernel
+/// does, only slower: the BSDF and light kind flags and the presence flags below, for scenes
+/// with primitives. Not shareable: `HAS_ENVIRONMENT` (the last light is then read as the
+/// environment), `HAS_MEDIA` (null surfaces pass rays), `HAS_UVS` (the tangent's fallback),
+/// `GLASS_SPLIT` (its branch stacks), `KNN` and the rest.
+pub fn shareable_features() -> Vec<&'static str> {
+    let mut out = vec![
+        "HAS_SPHERES",
+        "HAS_SDF_GRIDS",
+        "HAS_INSTANCES",
+        "HAS_SMOOTH",
+        "HAS_TEXTURES",
+        "HAS_NORMAL_MAPS",
+        "HAS_BUMP_MAPS",
+        "HAS_ALPHA",
+        "HAS_HETERO_MEDIA",
+        "HAS_LINEAR_SPOTS",
+    ];
+    out.extend(crate::bsdfs::gpu::kind_flags().iter().map(String::as_str));
+    out.extend(crate::lights::gpu::kind_flags().iter().map(String::as_str));
+    out
+}
+
+/// `constants` with each feature of `floor` raised to at least its value there.
+pub fn with_floor(
+    mut constants: Vec<(&'static str, f64)>,
+    floor: &[(&'static str, f64)],
+) -> Vec<(&'static str, f64)> {
+    for (name, value) in &mut constants {
+        if let Some((_, f)) = floor.iter().find(|(n, _)| n == name) {
+            *value = value.max(*f);
+        }
+    }
+    constants
+}
+
 /// The scene's features (and `knn`, whether any pass may run K-nearest estimates) as the
 /// pipeline-overridable constants a render's pipelines, and the probes on its scene, are
 /// specialised with.

@@ -11,7 +11,7 @@ use crate::integrators::gpu::context::GpuContext;
 use crate::integrators::gpu::host::{budgeted_lights, gpu_params};
 use crate::integrators::gpu::maps::{probe_map_params, MapBuffers};
 use crate::integrators::gpu::pipeline_cache::{self, PipelineKey};
-use crate::integrators::gpu::pipelines::{feature_constants, glass_split, Pipelines};
+use crate::integrators::gpu::pipelines::{feature_constants, glass_split, with_floor, Pipelines};
 use crate::integrators::gpu::recorder::Recorder;
 use crate::integrators::gpu::scene_buffers::SceneBuffers;
 use crate::integrators::gpu::types::{GpuAabb, GpuMapParams, GpuParams};
@@ -85,8 +85,10 @@ impl GpuRun {
     ) -> Result<Self> {
         // A progressive render's passes all use fixed radii (`progressive::pass_settings`).
         let knn = s.pass_range.is_none();
-        let constants =
-            feature_constants(scene, &ctx.shape, ctx.adapter.get_info().device_type, knn);
+        let constants = with_floor(
+            feature_constants(scene, &ctx.shape, ctx.adapter.get_info().device_type, knn),
+            &ctx.feature_floor,
+        );
         let final_gather = crate::integrators::plan::Terms::of(s.mode).final_gather;
         let key = PipelineKey::new(&constants, final_gather, knn);
         let cached = pipeline_cache::get(&ctx, &key);
