@@ -61,29 +61,8 @@ pub(crate) fn run(args: &BenchArgs) -> Result<()> {
     println!("build: {}", builds.join("; "));
     let rates = rays::measure(&sets, &tracers, args.runs);
     print_table(&rates, &tracers);
-    if let Some(path) = &args.json {
-        let rows: Vec<_> = rates
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "tracer": r.tracer, "kind": r.kind.name(), "rays": r.rays,
-                    "rays_per_s": r.rays_per_s, "hits": r.hits, "agree": r.agree,
-                })
-            })
-            .collect();
-        let v = serde_json::json!({
-            "scene": args.scene.display().to_string(),
-            "mesh": args.mesh,
-            "triangles": scene.triangles.len(),
-            "spheres": scene.spheres.len(),
-            "width": w, "height": h, "rounds": args.runs,
-            "build": json_builds,
-            "rates": rows,
-        });
-        let text = serde_json::to_string_pretty(&v)?;
-        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
-    }
+    let extra = serde_json::json!({ "build": json_builds });
+    write_json(args, &scene, &rates, extra)?;
     Ok(())
 }
 
@@ -124,30 +103,47 @@ fn run_gpu(
             100.0 * w.agree as f64 / w.rays.max(1) as f64
         );
     }
-    if let Some(path) = &args.json {
-        let rows: Vec<_> = rates
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "tracer": r.tracer, "kind": r.kind.name(), "rays": r.rays,
-                    "rays_per_s": r.rays_per_s, "hits": r.hits, "agree": r.agree,
-                })
+    let extra = serde_json::json!({
+        "device": device,
+        "node_bytes": {"binary": gpu.node_bytes[0], "wide": gpu.node_bytes[1]},
+    });
+    write_json(args, scene, &rates, extra)?;
+    Ok(())
+}
+
+/// With --json: the scene, the sizes and `rates` with the fields of `extra`, to the file.
+fn write_json(
+    args: &BenchArgs,
+    scene: &gpu_photon::scene::Scene,
+    rates: &[RayRate],
+    extra: serde_json::Value,
+) -> Result<()> {
+    let Some(path) = &args.json else {
+        return Ok(());
+    };
+    let rows: Vec<_> = rates
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "tracer": r.tracer, "kind": r.kind.name(), "rays": r.rays,
+                "rays_per_s": r.rays_per_s, "hits": r.hits, "agree": r.agree,
             })
-            .collect();
-        let v = serde_json::json!({
-            "scene": args.scene.display().to_string(),
-            "mesh": args.mesh,
-            "triangles": scene.triangles.len(),
-            "spheres": scene.spheres.len(),
-            "width": args.width, "height": args.height, "rounds": args.runs,
-            "device": device,
-            "node_bytes": {"binary": gpu.node_bytes[0], "wide": gpu.node_bytes[1]},
-            "rates": rows,
-        });
-        let text = serde_json::to_string_pretty(&v)?;
-        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {}", path.display());
+        })
+        .collect();
+    let mut v = serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "mesh": args.mesh,
+        "triangles": scene.triangles.len(),
+        "spheres": scene.spheres.len(),
+        "width": args.width, "height": args.height, "rounds": args.runs,
+        "rates": rows,
+    });
+    if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
+        v.extend(extra);
     }
+    let text = serde_json::to_string_pretty(&v)?;
+    std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+    println!("wrote {}", path.display());
     Ok(())
 }
 
