@@ -268,15 +268,11 @@ impl GpuContext {
     /// This context (the same device) with its renders' kernels compiled with at least the
     /// features of `floor` on: scenes whose features differ only in those then share one
     /// compile, each rendering as with its own (slower where a feature it lacks is on). Only
-    /// the features in `pipelines::shareable_features` are kept (the others change what a
-    /// kernel computes, or need buffers a scene without them lacks).
+    /// the features in `pipelines::shareable_features` are raised (`pipelines::with_floor`:
+    /// the others change what a kernel computes, or need buffers a scene without them lacks).
     pub fn with_feature_floor(&self, floor: &[(&'static str, f64)]) -> Self {
-        let shareable = crate::integrators::gpu::pipelines::shareable_features();
         let mut ctx = self.clone();
-        ctx.feature_floor = (floor.iter())
-            .filter(|(name, _)| shareable.contains(name))
-            .copied()
-            .collect();
+        ctx.feature_floor = floor.to_vec();
         ctx
     }
 

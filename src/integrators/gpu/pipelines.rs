@@ -61,12 +61,17 @@ pub fn shareable_features() -> Vec<&'static str> {
     out
 }
 
-/// `constants` with each feature of `floor` raised to at least its value there.
+/// `constants` with each shareable feature of `floor` ([`shareable_features`]) raised to at
+/// least its value there; the others as they are.
 pub fn with_floor(
     mut constants: Vec<(&'static str, f64)>,
     floor: &[(&'static str, f64)],
 ) -> Vec<(&'static str, f64)> {
+    let shareable = shareable_features();
     for (name, value) in &mut constants {
+        if !shareable.contains(name) {
+            continue;
+        }
         if let Some((_, f)) = floor.iter().find(|(n, _)| n == name) {
             *value = value.max(*f);
         }
