@@ -4,11 +4,11 @@
 //! src/bvh/gpu_wide.rs): nearest hits for camera, gather and photon rays, the
 //! first hit for shadow rays. One dispatch traces a whole set; it is timed from submission to
 //! completion (wall clock: the device's throughput, all its cores), in rounds that alternate
-//! the walks, and medians are reported. Both walks read the same leaves; each layout has its
-//! own `nodes` buffer, bound in place of the scene's (the binary one, as a render uploads it).
+//! the walks, and medians are reported. Both walks read the same leaves: the binary walk the
+//! `nodes` binding a render uploads, the wide one its own buffer bound in its place.
 
 use super::rays::{RayKind, RayRate, RaySet};
-use crate::bvh::gpu_layout::traversal_nodes;
+use crate::bvh::gpu_layout::{traversal_nodes, FRAME_WORDS, NODE_WORDS};
 use crate::bvh::gpu_wide::WideTraversal;
 use crate::error::{Error, Result};
 use crate::integrators::gpu::buffers::{grid_2d, read_back, storage_buffer, wait};
@@ -69,9 +69,8 @@ impl GpuRays {
             ));
         }
         let bvh = crate::bvh::gpu_sdf::world_bvh(scene);
-        let binary = traversal_nodes(&bvh)
-            .ok_or_else(|| Error::Gpu("the scene's BVH does not fit the GPU's layout".into()))?
-            .bytes();
+        // The render's upload (below) lays the same hierarchy out binary, or fails.
+        let binary_nodes = traversal_nodes(&bvh).map_or(0, |t| t.nodes.len());
         let wide = WideTraversal::of(&bvh)
             .ok_or_else(|| {
                 Error::Gpu(
@@ -119,19 +118,25 @@ impl GpuRays {
             })
         };
         let pipelines = Walk::ALL.map(|w| [pipeline(w, false), pipeline(w, true)]);
-        let none = wgpu::BufferUsages::empty();
-        let groups = [("binary", &binary), ("wide", &wide)].map(|(name, bytes)| {
-            let label = format!("ray benchmark {name} nodes");
-            let nodes = storage_buffer(dev, &label, bytes, none);
-            run.scene_buffers
-                .bind_group_with_nodes(dev, &run.layouts, &nodes)
-        });
+        let wide_nodes = storage_buffer(
+            dev,
+            "ray benchmark wide nodes",
+            &wide,
+            wgpu::BufferUsages::empty(),
+        );
+        let groups = [
+            run.scene_buffers.bind_group.clone(),
+            (run.scene_buffers).bind_group_with_nodes(dev, &run.layouts, &wide_nodes),
+        ];
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(format!("ray benchmark pipeline: {e}")));
         }
         Ok(GpuRays {
             run,
-            node_bytes: [binary.len(), wide.len()],
+            node_bytes: [
+                16 * (FRAME_WORDS + NODE_WORDS * binary_nodes as u32) as usize,
+                wide.len(),
+            ],
             groups,
             pipelines,
         })
