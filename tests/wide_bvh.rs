@@ -6,6 +6,7 @@
 //! inside boxes and along the axes.
 
 use glam::Vec3;
+use gpu_photon::bvh::wide::{leaf_blocks, EMPTY, WIDTH};
 use gpu_photon::bvh::{alpha_passes, Bvh, Isa, WideBvh, SPHERE_BIT};
 use gpu_photon::math::geometry::{intersect_sphere, intersect_triangle, Ray, Shear};
 use gpu_photon::math::rng::{pcg_hash, to_unit};
@@ -210,4 +211,32 @@ fn an_empty_scene_has_nothing_to_hit() {
     };
     assert!(wide.closest(&scene, &ray, f32::INFINITY).is_none());
     assert!(!wide.occluded(&scene, &ray, f32::INFINITY));
+}
+
+#[test]
+fn the_cornell_boxs_walls_do_not_share_leaves() {
+    // Its binary build keeps leaves of 8-12 triangles (the walls with the boxes' faces:
+    // every split's boxes span the room) and its wide root had three children, one a
+    // leaf of the floor, ceiling, back and right walls that every ray entered.
+    let scene = gpu_photon::importers::load(Path::new("scenes/cornell-box.toml")).unwrap();
+    let walls = 0..10u32; // Floor, ceiling, back, left, right: two triangles each.
+    for t in walls.clone().map(|t| &scene.triangles[t as usize]) {
+        assert!(
+            t.e1().cross(t.e2()).length() > 3.99,
+            "a wall's triangle: half a 2 x 2 square"
+        );
+    }
+    let w = WideBvh::build(&scene);
+    assert_eq!(w.nodes.len(), 1);
+    let root = &w.nodes[0];
+    for slot in (0..WIDTH).filter(|&s| root.child[s] != EMPTY) {
+        let (first, count) = leaf_blocks(root.child[slot]);
+        let mut faces: Vec<u32> = (w.blocks[first..first + count].iter())
+            .flat_map(|b| b.id)
+            .filter(|id| walls.contains(id))
+            .map(|id| id / 2)
+            .collect();
+        faces.dedup();
+        assert!(faces.len() <= 1, "slot {slot}: walls {faces:?} in one leaf");
+    }
 }
