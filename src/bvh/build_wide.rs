@@ -1,10 +1,10 @@
 //! Collapsing a binary hierarchy into the 8-wide one: each wide node takes a binary node's
 //! two children and keeps opening the largest (by surface area) until it has eight; a
 //! subtree of at most [`LEAF_PRIMS`] primitives becomes one leaf (its triangles one block).
-//! Slots still free then take halves of the node's leaves of more than one block (the node's
-//! test costs the same with eight boxes as with three, and a smaller leaf is entered by fewer
-//! rays): the binary build keeps leaves of up to 16 primitives where a binary node step does
-//! not pay, which left the Cornell box's root with three leaves of 8-12 triangles.
+//! Slots still free then take halves of the node's leaves, split by the surface-area
+//! heuristic: the binary build keeps leaves of up to 16 primitives where a binary node step
+//! does not pay, but a wide node's test costs the same with eight boxes as with three, and a
+//! smaller leaf is entered by fewer rays.
 
 use super::wide_layout::{leaf_blocks, Node8, TriBlock, WideBvh};
 use super::wide_layout::{BLOCK, LEAF_BIT, LEAF_COUNT_SHIFT, MAX_LEAF_BLOCKS, NO_PRIM, WIDTH};
@@ -223,9 +223,8 @@ impl Collapse<'_> {
 
     /// Splits the run of `n` primitives at `start` in two by the surface-area heuristic
     /// (a leaf's cost its box's area times its blocks, a part-filled block counted whole),
-    /// ordered by centroid along the axis where the centroids spread most (one sort: the
-    /// wide build of a million triangles took 0.32 s with the best of three axes, 0.2 s
-    /// without splitting); reorders that run of `ids`. `None` where no split costs less
+    /// ordered by centroid along the axis where the centroids spread most (one sort, not
+    /// three: the build's time, see docs/bvh.md); reorders that run of `ids`. `None` where no split costs less
     /// than `cost`, the run as one leaf.
     fn split_run(&mut self, start: usize, n: usize, cost: f32) -> Option<[Slot; 2]> {
         let mut order: Vec<(f32, u32, Aabb)> = (self.ids[start..start + n].iter())
