@@ -1,5 +1,6 @@
-//! Oracle test of a hit's surface on the device (src/bvh/intersect.wgsl) against
-//! src/math/geometry.rs and src/bvh/surface.rs, through the probe `probe_hit`
+//! Oracle test of a hit's surface on the device (src/bvh/intersect.wgsl and
+//! src/bvh/shading_frame.wgsl) against src/math/geometry.rs and src/bvh/surface.rs, through
+//! the probe `probe_hit`
 //! (tests/probes/probe_geometry.wgsl, `gpu::probe_hit`) on scenes built by the scene builder and
 //! uploaded as a render uploads them (pipelines specialised with their features):
 //! `shading_normal` (smooth triangles, vertex normals that cancel at a point or point

@@ -1,5 +1,6 @@
-//! Oracle test of ray intersection on the device (src/bvh/intersect.wgsl) against
-//! src/math/geometry.rs and src/bvh/, through the probe `tests/probes/probe_geometry.wgsl`
+//! Oracle test of ray intersection on the device (src/bvh/intersect.wgsl; the surface
+//! helpers' test, src/bvh/shading_frame.wgsl's too) against src/math/geometry.rs and
+//! src/bvh/, through the probe `tests/probes/probe_geometry.wgsl`
 //! (`gpu::probe_light::intersect`): each primitive's own test (the watertight
 //! ray-triangle test, the sphere's) and the BVH walk (nearest and any hit) over a small scene
 //! of quads, a box, spheres and a degenerate triangle, on random rays and on the edge cases

@@ -3,8 +3,8 @@
 //! itself makes or needs: whether an alpha-tested surface lets the ray pass, and a
 //! triangle's uv tangent for its normal map.
 //!
-//! Twins: `facing`, `alpha_passes`, `uv_tangent` and `trace_ray`'s hit (its tangent included) in
-//! `src/bvh/intersect.wgsl`.
+//! Twins: `alpha_passes` and `trace_ray`'s hit (its tangent included) in
+//! `src/bvh/intersect.wgsl`, `facing` and `uv_tangent` in `src/bvh/shading_frame.wgsl`.
 
 use crate::bvh::hit::Hit;
 use crate::bvh::SPHERE_BIT;
@@ -156,7 +156,7 @@ pub(crate) fn shading_frame(
 /// else its corner uvs' ([`triangle_tangent`], never flipped, as in Mitsuba 3.9.1); `None`
 /// without uvs or for a degenerate mapping (the normal map then takes the shading normal's
 /// basis). Twin: `uv_tangent` in
-/// `src/bvh/intersect.wgsl`.
+/// `src/bvh/shading_frame.wgsl`.
 pub fn uv_tangent(scene: &Scene, id: u32, u: f32, v: f32) -> Option<(Vec3, bool)> {
     let tri = &scene.triangles[id as usize];
     (scene.tangents.get(id as usize))

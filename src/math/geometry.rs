@@ -1,6 +1,7 @@
 //! Rays, ray-primitive intersection and robust ray offsets.
 //!
-//! Twin: `src/bvh/intersect.wgsl`.
+//! Twins: `src/bvh/intersect.wgsl`, and `src/bvh/shading_frame.wgsl` for the shading frame
+//! (`shading_normal` to `bump_tangent`, `Facing` and its leak tests).
 
 use crate::scene::shapes::{Sphere, Triangle, VertexNormals};
 use glam::{Vec2, Vec3};
@@ -54,7 +55,7 @@ pub fn inset(tri: &Triangle, p: Vec3) -> Vec3 {
 /// The shading normal at barycentric `(1 - u - v, u, v)` of a smooth triangle with unit
 /// geometric normal `ng` and vertex normals `n`: their normalised interpolation, negated
 /// when it points against `ng` (vertex normals wound the other way round), and `ng` itself
-/// where the interpolation vanishes. Twin: `shading_normal` in `src/bvh/intersect.wgsl`.
+/// where the interpolation vanishes. Twin: `shading_normal` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn shading_normal(ng: Vec3, n: &VertexNormals, u: f32, v: f32) -> Vec3 {
     let ns = ((1.0 - u - v) * n[0] + u * n[1] + v * n[2]).normalize_or_zero();
@@ -71,7 +72,7 @@ pub fn shading_normal(ng: Vec3, n: &VertexNormals, u: f32, v: f32) -> Vec3 {
 /// scale `1 / |det|`, the sign included) and whether the parameterisation is flipped
 /// (`det < 0` for the corner uvs' determinant, Mitsuba's `FaceUVFlipped`); `None` for a
 /// degenerate mapping (`det == 0`). `e1`, `e2`: the edges from corner 0 to corners 1 and 2.
-/// Twin: `triangle_tangent` in `src/bvh/intersect.wgsl`.
+/// Twin: `triangle_tangent` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, bool)> {
     let (d0, d1) = (uv[1] - uv[0], uv[2] - uv[0]);
@@ -85,7 +86,7 @@ pub fn triangle_tangent(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> Option<(Vec3, boo
 
 /// A triangle's uv partials `(dp_du, dp_dv)` (Mitsuba's, from its corner uvs `uv`; both zero
 /// for a degenerate mapping, as Mitsuba's `inv_det` is). `e1`, `e2`: the edges from corner 0
-/// to corners 1 and 2. Twin: `uv_jacobian` in `src/bvh/intersect.wgsl`.
+/// to corners 1 and 2. Twin: `uv_jacobian` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn uv_jacobian(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> (Vec3, Vec3) {
     let (d0, d1) = (uv[1] - uv[0], uv[2] - uv[0]);
@@ -98,7 +99,7 @@ pub fn uv_jacobian(e1: Vec3, e2: Vec3, uv: &[Vec2; 3]) -> (Vec3, Vec3) {
 /// ([`crate::scene::shapes::VertexTangents`]): the interpolated tangent and whether the frame is
 /// flipped (the interpolated `w` is negative), as [`triangle_tangent`] gives them; `None`
 /// where the interpolated tangent vanishes. Twin: `vertex_tangent` in
-/// `src/bvh/intersect.wgsl`.
+/// `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn vertex_tangent(
     t: &crate::scene::shapes::VertexTangents,
@@ -111,7 +112,7 @@ pub fn vertex_tangent(
 }
 
 /// `tangent` made orthogonal to unit `n` and normalised (Gram-Schmidt), or `None` where that
-/// vanishes or is not finite. Twin: `orthogonal_tangent` in `src/bvh/intersect.wgsl`.
+/// vanishes or is not finite. Twin: `orthogonal_tangent` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn orthogonal_tangent(n: Vec3, tangent: Vec3) -> Option<Vec3> {
     let s = tangent - n * n.dot(tangent);
@@ -122,7 +123,7 @@ pub fn orthogonal_tangent(n: Vec3, tangent: Vec3) -> Option<Vec3> {
 /// The unit tangent of a hit's shading frame (Mitsuba 3.9.1's `sh_frame.s`, from
 /// `initialize_sh_frame`) at unit shading normal `ns`: the surface's uv tangent `dp_du`, or
 /// `fallback` where that is zero, made orthogonal to `ns` and normalised; zero where that
-/// vanishes. Twin: `shading_tangent` in `src/bvh/intersect.wgsl`.
+/// vanishes. Twin: `shading_tangent` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn shading_tangent(ns: Vec3, dp_du: Vec3, fallback: Vec3) -> Vec3 {
     let t = if dp_du == Vec3::ZERO { fallback } else { dp_du };
@@ -139,7 +140,7 @@ pub fn sphere_tangent(n: Vec3) -> Vec3 {
 /// The uv partials `(dp_du, dp_dv)` of Mitsuba's sphere parameterisation at outward unit
 /// normal `n` of a sphere of radius `r`: `2 pi r` times [`sphere_tangent`] and `pi r` times
 /// the polar direction `(z cos phi, z sin phi, -sin theta)`, `pi r x` at the poles. Twin:
-/// `sphere_partials` in `src/bvh/intersect.wgsl`.
+/// `sphere_partials` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn sphere_partials(n: Vec3, r: f32) -> (Vec3, Vec3) {
     let rd = (n.x * n.x + n.y * n.y).sqrt();
@@ -164,7 +165,7 @@ pub fn sphere_partials(n: Vec3, r: f32) -> (Vec3, Vec3) {
 /// construction). The texel's normal is `m = 2 c - 1` in that frame; when the incident
 /// direction `wi = -d` has `(wi . ns) (wi . m) <= 0`, `m` becomes `(-m.x, -m.y, m.z)`. The
 /// result is normalised and, like [`shading_normal`], turned to the side of `ng` (and `ns`
-/// itself where it vanishes). Twin: `normal_mapped` in `src/bvh/intersect.wgsl`.
+/// itself where it vanishes). Twin: `normal_mapped` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn normal_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, flipped: bool, c: Vec3, d: Vec3) -> Vec3 {
     let s = dp_du - ns * ns.dot(dp_du);
@@ -203,7 +204,7 @@ pub fn normal_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, flipped: bool, c: Vec3, d:
 /// is the bumped normal. When the incident direction `wi = -d` has `(wi . ns) (wi . n) <= 0`,
 /// `n` is reflected about `ns` (Mitsuba's `(-n.x, -n.y, n.z)` in the shading frame). Like
 /// [`normal_mapped`], the result is on the side of `ng`, and `ns` where the cross product
-/// vanishes against the partials' lengths (degenerate uvs; Mitsuba's is noise or NaN there). Twin: `bump_mapped` in `src/bvh/intersect.wgsl`.
+/// vanishes against the partials' lengths (degenerate uvs; Mitsuba's is noise or NaN there). Twin: `bump_mapped` in `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn bump_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, dp_dv: Vec3, grad: Vec2, d: Vec3) -> Vec3 {
     let du = dp_du + ns * (grad.x - ns.dot(dp_du));
@@ -239,7 +240,7 @@ pub fn bump_mapped(ng: Vec3, ns: Vec3, dp_du: Vec3, dp_dv: Vec3, grad: Vec2, d: 
 /// were local* against `n'` (`s' = normalize(dp_du - n' (n' . dp_du))`); `s'` taken back to
 /// world space is the tangent here. Only a nested anisotropic BSDF sees it (an isotropic one
 /// reads the normal alone); `s` itself where `s'` vanishes. Twin: `bump_tangent` in
-/// `src/bvh/intersect.wgsl`.
+/// `src/bvh/shading_frame.wgsl`.
 #[inline]
 pub fn bump_tangent(ns: Vec3, s: Vec3, dp_du: Vec3, n: Vec3) -> Vec3 {
     let s = if s == Vec3::ZERO {

@@ -120,7 +120,7 @@ pub fn cosine_hemisphere(
 }
 
 /// One case of [`surface`]: the inputs of the surface-frame functions of
-/// src/bvh/intersect.wgsl and sampling.wgsl, and of material.wgsl's.
+/// src/bvh/intersect.wgsl, src/bvh/shading_frame.wgsl and sampling.wgsl, and of material.wgsl's.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SurfaceCase {
     /// `phong_lobe`'s axis (and `sphere_uv`'s point).

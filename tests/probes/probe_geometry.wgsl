@@ -1,4 +1,4 @@
-// Oracle probes of ray intersection and a hit's surface (common/intersect.wgsl) for
+// Oracle probes of ray intersection and a hit's surface (src/bvh/*.wgsl) for
 // tests/intersect_gpu.rs and hit_gpu.rs, never used by a render: primitive tests, the BVH walk,
 // surface-frame helpers, and shading normals, uv tangents, alpha tests and frames on a scene.
 // Dispatch: ceil(width / WG_SIZE) workgroups of WG_SIZE, one invocation per ray. Writes:

@@ -51,10 +51,10 @@ override HAS_SMOOTH: bool = true;
 // Some material has a texture: hits carry uvs.
 override HAS_TEXTURES: bool = true;
 // Some material has a normal map (Mitsuba's normalmap): the nearest hit perturbs its shading
-// normal (intersect.wgsl's normal_mapped). Implies HAS_TEXTURES.
+// normal (shading_frame.wgsl's normal_mapped). Implies HAS_TEXTURES.
 override HAS_NORMAL_MAPS: bool = true;
 // Some material's normal texture is a bump map (Mitsuba's bumpmap): the nearest hit carries
-// its uv partials and tilts its shading normal by the texture's gradient (intersect.wgsl's
+// its uv partials and tilts its shading normal by the texture's gradient (shading_frame.wgsl's
 // bump_mapped). Implies HAS_NORMAL_MAPS.
 override HAS_BUMP_MAPS: bool = true;
 // Some triangle has uvs: the uv record of every triangle is bound and gives the shading frame's

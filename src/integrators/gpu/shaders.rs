@@ -31,6 +31,7 @@ const RNG: &str = include_str!("../../math/rng.wgsl");
 const SAMPLING: &str = include_str!("../../math/sampling.wgsl");
 const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
+const SHADING_FRAME: &str = include_str!("../../bvh/shading_frame.wgsl");
 const SDF_GRID: &str = include_str!("../../scene/sdf_grid.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
@@ -56,13 +57,14 @@ const BENCH_RAYS: &str = include_str!("../../bench/gpu_rays.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 28] = [
+const WGSL_FILES: [(&str, &str); 29] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
     ("math/sampling.wgsl", SAMPLING),
     ("integrators/gpu/scene.wgsl", SCENE),
     ("bvh/intersect.wgsl", INTERSECT),
+    ("bvh/shading_frame.wgsl", SHADING_FRAME),
     ("scene/sdf_grid.wgsl", SDF_GRID),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
@@ -185,6 +187,7 @@ fn compose(own: &[&str]) -> String {
         SAMPLING,
         SCENE,
         INTERSECT,
+        SHADING_FRAME,
         SDF_GRID,
         &lights,
         &bsdfs,
