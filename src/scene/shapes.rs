@@ -120,7 +120,7 @@ fn frame_words(q: Quat) -> [u32; 2] {
 }
 
 /// `v` rotated by the unit quaternion `(u, w)`: `v + 2 u x (u x v + w v)` (the same
-/// arithmetic as `sphere_local` in `src/bvh/intersect.wgsl`; exact for the identity).
+/// arithmetic as `sphere_rotate` in `src/bvh/intersect.wgsl`; exact for the identity).
 fn rotate(u: Vec3, w: f32, v: Vec3) -> Vec3 {
     v + 2.0 * u.cross(u.cross(v) + w * v)
 }
