@@ -19,6 +19,7 @@ mod outer_medium;
 pub mod sdf_build;
 pub mod sdf_grid;
 pub mod shapes;
+mod shape_build;
 pub mod tangents;
 
 pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
