@@ -1,5 +1,5 @@
 //! The rules of building a [`Scene`], shared by every importer: the TOML scene files
-//! (`toml.rs`), OBJ meshes (`obj.rs`) and the importers to come (glTF, Mitsuba XML, PLY).
+//! (`importers/toml/`), Mitsuba 3 XML, glTF 2.0, PLY and OBJ meshes.
 //!
 //! An importer reads its format and calls a [`SceneBuilder`]: materials (named or not),
 //! shapes with a [`Surface`] (a material and optionally the shape's own emission), point
@@ -19,7 +19,8 @@
 //!   `two_sided` only applies to emissive surfaces. A call that fails changes nothing, so an
 //!   importer may skip what it cannot use and go on.
 //!
-//! The builder never knows the file format. Every call that can fail takes a [`Locate`],
+//! The calls for shapes are in `shape_build.rs`, for SDF grids in `sdf_build.rs` and for
+//! shape groups in `group_build.rs`. The builder never knows the file format. Every call that can fail takes a [`Locate`],
 //! which turns a message about one [`Part`] of what is added into an [`Error::Scene`](crate::Error::Scene) naming
 //! the file, line and field (a TOML table maps each part to its key; [`Origin`](crate::scene::Origin) names one
 //! fixed place).
@@ -28,16 +29,14 @@ use crate::bsdfs::blend::{Blend, MAX_BLEND_DEPTH};
 use crate::camera::pixel_filter::PixelFilter;
 use crate::camera::Camera;
 use crate::error::Result;
-use crate::scene::checks::{check_emission, check_light, check_material, SceneBudgets};
-use crate::scene::cost::MeshCost;
+use crate::scene::checks::{check_emission, check_material, SceneBudgets};
 use crate::scene::locate::{unknown_name, Locate, Part};
-use crate::scene::normals::{is_flat, unit_normals};
 use crate::scene::{
-    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, FLAT, NO_LIGHT, NO_TEXTURE,
+    Light, LightShape, Material, Scene, Sphere, Triangle, VertexNormals, NO_TEXTURE,
 };
 use crate::settings::RenderSettings;
 use crate::textures::SceneTexture;
-use glam::{Mat3, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::f32::consts::PI;
 

@@ -18,8 +18,8 @@ pub mod normals;
 mod outer_medium;
 pub mod sdf_build;
 pub mod sdf_grid;
-pub mod shapes;
 mod shape_build;
+pub mod shapes;
 pub mod tangents;
 
 pub use crate::bsdfs::material::{Alpha, AlphaMode, Material, NO_TEXTURE};
