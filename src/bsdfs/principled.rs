@@ -25,19 +25,22 @@
 //! weighted for the lobe part's remainder. The anisotropic roughness is along the local
 //! frame's x (Mitsuba: the surface's `dp/du`). Inside Mitsuba's `twosided` (as the
 //! mitsuba-blender exporter writes a reflective one) both sides are the front. Twin:
-//! `principled.wgsl`.
+//! `principled.wgsl`. The terms it shares with `principledthin` are in `principled_terms.rs`.
 
 use crate::bsdfs::interface::{back_to_side, BsdfKind, LobeSample, SurfaceClass, Transport};
 use crate::bsdfs::math::{
-    cosine_hemisphere_pdf, mulsign, reflect, refract, safe_sqrt, square_to_cosine_hemisphere,
+    cosine_hemisphere_pdf, mulsign, reflect, refract, square_to_cosine_hemisphere,
 };
 use crate::bsdfs::metallic_roughness::schlick_weight;
 use crate::bsdfs::microfacet::{fresnel_dielectric, Distribution, Microfacet};
 use crate::bsdfs::param::{GpuWords, Param};
+use crate::bsdfs::principled_terms::{
+    calc_schlick, compatible, disney_diffuse, gtr1_d, gtr1_sample, mean, smith_ggx1, tint,
+};
 use crate::bsdfs::rough_dielectric::half_vector;
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_1_PI, PI};
+use std::f32::consts::FRAC_1_PI;
 
 /// The WGSL twin.
 pub const WGSL: &str = include_str!("principled.wgsl");
@@ -77,114 +80,6 @@ pub struct Principled {
     /// Inside Mitsuba's `twosided`: a viewer behind the surface sees it as from the front
     /// (both directions mirrored), as the mitsuba-blender exporter writes reflective ones.
     pub two_sided: bool,
-}
-
-/// Mitsuba's RGB luminance.
-#[inline]
-pub(crate) fn luminance(c: Vec3) -> f32 {
-    0.212_671 * c.x + 0.715_160 * c.y + 0.072_169 * c.z
-}
-
-#[inline]
-pub(crate) fn mean(v: Vec3) -> f32 {
-    (v.x + v.y + v.z) / 3.0
-}
-
-/// Schlick's approximation with reflectance `r0` at `cos_i` (Mitsuba's `calc_schlick`: the
-/// transmitted cosine when the index seen from `cos_i`'s side is below 1).
-pub(crate) fn calc_schlick(r0: Vec3, cos_i: f32, eta: f32) -> Vec3 {
-    let outside = cos_i >= 0.0;
-    let (eta_it, eta_ti) = if outside {
-        (eta, 1.0 / eta)
-    } else {
-        (1.0 / eta, eta)
-    };
-    let cos_t = safe_sqrt(1.0 - (1.0 - cos_i * cos_i) * (eta_ti * eta_ti));
-    let w = if eta_it > 1.0 {
-        schlick_weight(cos_i.abs())
-    } else {
-        schlick_weight(cos_t)
-    };
-    Vec3::splat(w) + (Vec3::ONE - Vec3::splat(w)) * r0
-}
-
-/// `base` over its luminance (one where the luminance is zero): the tint of the sheen and of
-/// the tinted specular.
-pub(crate) fn tint(base: Vec3) -> Vec3 {
-    let lum = luminance(base);
-    if lum > 0.0 {
-        base / lum
-    } else {
-        Vec3::ONE
-    }
-}
-
-/// Disney's diffuse response at the cosines `cos_o`, `cos_i` (both positive) and `cos_d` (the
-/// half vector's with a direction), split as the photon mapper splits it: the separable
-/// `(1 - flatness) f_diff` and the rest, `(1 - flatness) f_retro + flatness f_ss`.
-pub(crate) fn disney_diffuse(
-    cos_o: f32,
-    cos_i: f32,
-    cos_d: f32,
-    roughness: f32,
-    flatness: f32,
-) -> (f32, f32) {
-    let (fo, fi) = (schlick_weight(cos_o), schlick_weight(cos_i));
-    let f_diff = (1.0 - 0.5 * fi) * (1.0 - 0.5 * fo);
-    let rr = 2.0 * roughness * cos_d * cos_d;
-    let f_retro = rr * (fo + fi + fo * fi * (rr - 1.0));
-    let fss90 = rr / 2.0;
-    let fss = (1.0 + (fss90 - 1.0) * fo) * (1.0 + (fss90 - 1.0) * fi);
-    let f_ss = 1.25 * (fss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
-    (
-        (1.0 - flatness) * f_diff,
-        (1.0 - flatness) * f_retro + flatness * f_ss,
-    )
-}
-
-/// GTR1's distribution of normals (clearcoat) of roughness `alpha`.
-fn gtr1_d(alpha: f32, m: Vec3) -> f32 {
-    let a2 = alpha * alpha;
-    let r = (a2 - 1.0) / (PI * a2.ln() * (1.0 + (a2 - 1.0) * m.z * m.z));
-    if r * m.z > 1e-20 {
-        r
-    } else {
-        0.0
-    }
-}
-
-/// GTR1's sampled normal from `u` (density `cos_m D(m)`).
-fn gtr1_sample(alpha: f32, u: Vec2) -> Vec3 {
-    let (sin_phi, cos_phi) = (2.0 * PI * u.x).sin_cos();
-    let a2 = alpha * alpha;
-    let cos2 = (1.0 - a2.powf(1.0 - u.y)) / (1.0 - a2);
-    let sin_t = (1.0 - cos2).max(0.0).sqrt();
-    Vec3::new(cos_phi * sin_t, sin_phi * sin_t, cos2.max(0.0).sqrt())
-}
-
-/// The separable GGX masking term of the clearcoat (alpha 0.25) for one direction.
-fn smith_ggx1(v: Vec3, m: Vec3, alpha: f32) -> f32 {
-    if v.dot(m) * v.z <= 0.0 {
-        return 0.0;
-    }
-    if v.z == 1.0 {
-        return 1.0;
-    }
-    let c2 = v.z * v.z;
-    let tan2 = (1.0 - c2) / c2;
-    2.0 / (1.0 + (1.0 + alpha * alpha * tan2).sqrt())
-}
-
-/// Whether `m` (flipped to `wo`'s side) is seen from the front by `wo` and, for a
-/// reflection, by `wi`, for a transmission from behind (Mitsuba's `mac_mic_compatibility`).
-pub(crate) fn compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
-    let ms = mulsign(m, wo.z);
-    wo.dot(ms) > 0.0
-        && if reflection {
-            wi.dot(ms) > 0.0
-        } else {
-            wi.dot(ms) < 0.0
-        }
 }
 
 /// The unnormalised choice weights of the sampler's components at a dielectric Fresnel `f`:

@@ -1,8 +1,8 @@
-// Mitsuba 3.9's principled BSDF (twin of src/bsdfs/principled.rs, same operation order): one
-// interface, wo.z < 0 the viewer inside. Words (slots): 0 base_color, 1 roughness,
-// 2 anisotropic, 3 metallic, 4 spec_trans, 5 spec_tint, 6 sheen, 7 sheen_tint, 8 clearcoat,
-// 9 clearcoat_gloss, 10 flatness; 11 eta and two-sidedness (u32). Uses gltf_schlick_weight and gltf_mean
-// (metallic_roughness.wgsl) and rough_dielectric_half_vector. Library.
+// Mitsuba 3.9's principled BSDF (twin of src/bsdfs/principled.rs and, pr_luminance to pr_compatible,
+// principled_terms.rs; same operation order): one interface, wo.z < 0 the viewer inside. Words
+// (slots): 0 base_color, 1 roughness, 2 anisotropic, 3 metallic, 4 spec_trans, 5 spec_tint, 6 sheen,
+// 7 sheen_tint, 8 clearcoat, 9 clearcoat_gloss, 10 flatness; 11 eta and two-sidedness (u32). Uses
+// gltf_schlick_weight, gltf_mean (metallic_roughness.wgsl), rough_dielectric_half_vector. Library.
 
 struct PrParams {
     base: vec3<f32>, roughness: f32, anisotropic: f32, metallic: f32, spec_trans: f32,

@@ -31,7 +31,8 @@ use crate::bsdfs::math::{cosine_hemisphere_pdf, mulsign, reflect, square_to_cosi
 use crate::bsdfs::metallic_roughness::schlick_weight;
 use crate::bsdfs::microfacet::{fresnel_dielectric, Distribution, Microfacet};
 use crate::bsdfs::param::{GpuWords, Param};
-use crate::bsdfs::principled::{calc_schlick, compatible, disney_diffuse, mean, tint, Principled};
+use crate::bsdfs::principled::Principled;
+use crate::bsdfs::principled_terms::{calc_schlick, compatible, disney_diffuse, mean, tint};
 use crate::textures::SceneTexture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
