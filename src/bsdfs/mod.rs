@@ -35,6 +35,7 @@ pub mod param;
 pub mod shading;
 
 mod ior;
+mod plastic_coating;
 mod principled_terms;
 
 pub mod black;
