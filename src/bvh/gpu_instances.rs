@@ -1,4 +1,5 @@
-//! The GPU's two-level hierarchy (`trace_ray` in src/bvh/intersect.wgsl walks it): for a
+//! The GPU's two-level hierarchy (`trace_ray` in src/bvh/intersect.wgsl walks it, the top
+//! level and the instances' meshes through `walk_instances` in src/bvh/instances.wgsl): for a
 //! scene with instances, the `nodes` binding holds, after the world's hierarchy, each
 //! mesh's hierarchy once (its own [`GpuBvhFrame`] and both copies of its nodes, in the
 //! layout of src/bvh/gpu_layout.rs), the top level over the instances' world boxes, and one

@@ -7,6 +7,8 @@
 //! transpose (right under non-uniform scales), a normal map's tangent by `to_world`.
 //!
 //! Scenes without instances build none of it (`WideBvh::instances` is `None`).
+//!
+//! Twin: `walk_instances` in `src/bvh/instances.wgsl` (over the layout of `gpu_instances.rs`).
 
 use super::surface::{geometric_hit, shading_frame, tangent_at, tangent_fallback, uv_partials};
 use super::{BuildCosts, Bvh, Hit, WideBvh, SPHERE_BIT};

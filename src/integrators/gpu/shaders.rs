@@ -32,6 +32,7 @@ const SAMPLING: &str = include_str!("../../math/sampling.wgsl");
 const SCENE: &str = include_str!("scene.wgsl");
 const INTERSECT: &str = include_str!("../../bvh/intersect.wgsl");
 const SHADING_FRAME: &str = include_str!("../../bvh/shading_frame.wgsl");
+const INSTANCES: &str = include_str!("../../bvh/instances.wgsl");
 const SDF_GRID: &str = include_str!("../../scene/sdf_grid.wgsl");
 const TEXTURE: &str = include_str!("../../textures/texture.wgsl");
 const MEDIUM: &str = include_str!("../../media/medium.wgsl");
@@ -57,7 +58,7 @@ const BENCH_RAYS: &str = include_str!("../../bench/gpu_rays.wgsl");
 
 /// The WGSL files outside `src/bsdfs/` and `src/lights/` the kernels compose, by their paths
 /// under `src/` ([`wgsl_files`] adds the BSDFs' and the lights').
-const WGSL_FILES: [(&str, &str); 29] = [
+const WGSL_FILES: [(&str, &str); 30] = [
     ("integrators/gpu/types.wgsl", TYPES),
     ("integrators/gpu/photon.wgsl", PHOTON),
     ("math/rng.wgsl", RNG),
@@ -65,6 +66,7 @@ const WGSL_FILES: [(&str, &str); 29] = [
     ("integrators/gpu/scene.wgsl", SCENE),
     ("bvh/intersect.wgsl", INTERSECT),
     ("bvh/shading_frame.wgsl", SHADING_FRAME),
+    ("bvh/instances.wgsl", INSTANCES),
     ("scene/sdf_grid.wgsl", SDF_GRID),
     // Composed by `gpu::textures::wgsl_library()` (behind its generated constants).
     ("textures/texture.wgsl", TEXTURE),
@@ -188,6 +190,7 @@ fn compose(own: &[&str]) -> String {
         SCENE,
         INTERSECT,
         SHADING_FRAME,
+        INSTANCES,
         SDF_GRID,
         &lights,
         &bsdfs,
