@@ -4,6 +4,7 @@
 
 pub mod cache;
 pub mod density;
+mod direct_light;
 pub mod final_gather;
 pub mod gather;
 mod gather_media;
