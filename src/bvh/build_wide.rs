@@ -143,6 +143,11 @@ impl Collapse<'_> {
         )
     }
 
+    /// The two children of binary interior node `j`.
+    fn kids(&self, j: usize) -> [Slot; 2] {
+        [j + 1, self.bin.nodes[j].left_first as usize].map(Slot::Node)
+    }
+
     /// The box of `slot`.
     fn slot_box(&self, slot: Slot) -> Aabb {
         match slot {
@@ -162,7 +167,6 @@ impl Collapse<'_> {
     /// Fills wide node `at` with the slots `open`, opening binary nodes and then splitting
     /// leaves while it has room.
     fn fill(&mut self, mut open: Vec<Slot>, at: usize) {
-        let kids = |j: usize| [j + 1, self.bin.nodes[j].left_first as usize].map(Slot::Node);
         while open.len() < WIDTH {
             // Open the largest child that is not to become a leaf.
             let best = (open.iter().enumerate())
@@ -176,7 +180,7 @@ impl Collapse<'_> {
                 });
             let Some((k, j)) = best else { break };
             open.swap_remove(k);
-            open.extend(kids(j));
+            open.extend(self.kids(j));
         }
         let mut whole = vec![false; WIDTH];
         while open.len() < WIDTH {
@@ -211,8 +215,7 @@ impl Collapse<'_> {
                 (Slot::Node(j), None) => {
                     let idx = self.out.nodes.len();
                     self.out.nodes.push(Node8::EMPTY);
-                    let kids = [j + 1, self.bin.nodes[j].left_first as usize].map(Slot::Node);
-                    self.fill(kids.to_vec(), idx);
+                    self.fill(self.kids(j).to_vec(), idx);
                     idx as u32
                 }
                 (Slot::Run { .. }, None) => unreachable!("a run is always a leaf"),
@@ -224,8 +227,8 @@ impl Collapse<'_> {
     /// Splits the run of `n` primitives at `start` in two by the surface-area heuristic
     /// (a leaf's cost its box's area times its blocks, a part-filled block counted whole),
     /// ordered by centroid along the axis where the centroids spread most (one sort, not
-    /// three: the build's time, see docs/bvh.md); reorders that run of `ids`. `None` where no split costs less
-    /// than `cost`, the run as one leaf.
+    /// three: the build's time, see docs/bvh.md); reorders that run of `ids`. `None` where
+    /// no split costs less than `cost`, the run as one leaf.
     fn split_run(&mut self, start: usize, n: usize, cost: f32) -> Option<[Slot; 2]> {
         let mut order: Vec<(f32, u32, Aabb)> = (self.ids[start..start + n].iter())
             .map(|&id| (0.0, id, prim_box(self.scene, id)))
@@ -256,17 +259,17 @@ impl Collapse<'_> {
         for (slot, o) in self.ids[start..start + n].iter_mut().zip(&order) {
             *slot = o.1;
         }
-        let boxed = |s: &[(f32, u32, Aabb)]| s.iter().fold(Aabb::EMPTY, |b, o| b.union(o.2));
+        let left = (order[..k].iter()).fold(Aabb::EMPTY, |b, o| b.union(o.2));
         Some([
             Slot::Run {
                 start,
                 n: k,
-                b: boxed(&order[..k]),
+                b: left,
             },
             Slot::Run {
                 start: start + k,
                 n: n - k,
-                b: boxed(&order[k..]),
+                b: right[k],
             },
         ])
     }
