@@ -8,7 +8,6 @@
 //! `nodes` binding a render uploads, the wide one its own buffer bound in its place.
 
 use super::rays::{RayKind, RayRate, RaySet};
-use crate::bvh::gpu_layout::{traversal_nodes, FRAME_WORDS, NODE_WORDS};
 use crate::bvh::gpu_wide::WideTraversal;
 use crate::error::{Error, Result};
 use crate::integrators::gpu::buffers::{grid_2d, read_back, storage_buffer, wait};
@@ -69,8 +68,6 @@ impl GpuRays {
             ));
         }
         let bvh = crate::bvh::gpu_sdf::world_bvh(scene);
-        // The render's upload (below) lays the same hierarchy out binary, or fails.
-        let binary_nodes = traversal_nodes(&bvh).map_or(0, |t| t.nodes.len());
         let wide = WideTraversal::of(&bvh)
             .ok_or_else(|| {
                 Error::Gpu(
@@ -124,6 +121,8 @@ impl GpuRays {
             &wide,
             wgpu::BufferUsages::empty(),
         );
+        // The binary layout is the one the render uploaded (the frame and the nodes).
+        let binary_bytes = (run.scene_buffers.buffer("nodes")).map_or(0, |b| b.size() as usize);
         let groups = [
             run.scene_buffers.bind_group.clone(),
             (run.scene_buffers).bind_group_with_nodes(dev, &run.layouts, &wide_nodes),
@@ -133,10 +132,7 @@ impl GpuRays {
         }
         Ok(GpuRays {
             run,
-            node_bytes: [
-                16 * (FRAME_WORDS + NODE_WORDS * binary_nodes as u32) as usize,
-                wide.len(),
-            ],
+            node_bytes: [binary_bytes, wide.len()],
             groups,
             pipelines,
         })

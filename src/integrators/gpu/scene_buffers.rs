@@ -202,6 +202,11 @@ impl SceneBuffers {
     ) -> wgpu::BindGroup {
         group(dev, layouts, &self.buffers, &self.params, Some(nodes))
     }
+
+    /// The buffer bound as `name` (any binding of group 0 but `params`).
+    pub fn buffer(&self, name: &str) -> Option<&wgpu::Buffer> {
+        (self.buffers.iter()).find_map(|(n, b)| (*n == name).then_some(b))
+    }
 }
 
 /// Group 0 over `buffers` and one `params` slot, with `nodes` in place of theirs if given.
